@@ -1,0 +1,103 @@
+// Image helpers and I/O through OpenImageIO (DESIGN: prefer a library for image I/O).
+#include "sim/core/image.h"
+
+#include <unistd.h>
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+
+#include "sim/core/error.h"
+#include "sim/core/files.h"
+#include "sim/core/math.h"
+
+namespace fovsim {
+
+Image to_luma(const Image& rgb) {
+  if (rgb.channels == 1) return rgb;
+  Image out(rgb.width, rgb.height, 1);
+  const size_t n = rgb.pixels();
+  for (size_t i = 0; i < n; ++i) {
+    const float* p = &rgb.data[i * size_t(rgb.channels)];
+    out.data[i] = luma(p[0], p[1], p[2]);
+  }
+  return out;
+}
+
+void write_image(const std::string& path, const Image& img) {
+  if (img.empty()) throw Error(path, "refusing to write an empty image");
+  namespace fs = std::filesystem;
+  fs::path p(path);
+  if (p.has_parent_path()) make_dirs(p.parent_path().string());
+  std::string ext = p.extension().string();
+  // Keep the real extension on the temp file so OIIO picks the right format.
+  std::string tmp = (p.parent_path() / (".tmp." + std::to_string(::getpid()) + "." + p.filename().string())).string();
+  bool is_exr = ext == ".exr";
+  auto out = OIIO::ImageOutput::create(tmp);
+  if (!out) throw Error(path, "unsupported image format \"" + ext + "\" (use .png or .exr)");
+  OIIO::ImageSpec spec(img.width, img.height, img.channels, is_exr ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
+  if (!out->open(tmp, spec)) throw Error(path, "cannot open image for writing: " + out->geterror());
+  bool ok;
+  if (is_exr) {
+    ok = out->write_image(OIIO::TypeDesc::FLOAT, img.data.data());
+  } else {
+    std::vector<unsigned char> bytes(img.data.size());
+    for (size_t i = 0; i < bytes.size(); ++i) {
+      float v = img.data[i];
+      v = std::isfinite(v) ? clamp01(v) : 0.f;
+      bytes[i] = static_cast<unsigned char>(std::lround(v * 255.f));
+    }
+    ok = out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
+  }
+  ok = out->close() && ok;
+  if (!ok) {
+    std::remove(tmp.c_str());
+    throw Error(path, "image write failed: " + out->geterror());
+  }
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) throw Error(path, "cannot rename temporary image: " + ec.message());
+}
+
+Image read_image(const std::string& path) {
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) throw Error(path, "cannot read image: " + OIIO::geterror());
+  const OIIO::ImageSpec& spec = in->spec();
+  Image img(spec.width, spec.height, spec.nchannels);
+  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, img.data.data()))
+    throw Error(path, "cannot decode image: " + in->geterror());
+  in->close();
+  return img;
+}
+
+// Polynomial fit of Google's Turbo colour map (Mikhailov 2019), public domain approximation.
+static glm::vec3 turbo(float t) {
+  t = clamp01(t);
+  const glm::vec4 kr(0.13572138f, 4.61539260f, -42.66032258f, 132.13108234f);
+  const glm::vec4 kg(0.09140261f, 2.19418839f, 4.84296658f, -14.18503333f);
+  const glm::vec4 kb(0.10667330f, 12.64194608f, -60.58204836f, 110.36276771f);
+  const glm::vec2 kr2(-152.94239396f, 59.28637943f), kg2(4.27729857f, 2.82956604f),
+      kb2(-89.90310912f, 27.34824973f);
+  glm::vec4 v4(1.f, t, t * t, t * t * t);
+  glm::vec2 v2 = glm::vec2(v4.z, v4.w) * v4.z;
+  return glm::clamp(glm::vec3(glm::dot(v4, kr) + glm::dot(v2, kr2), glm::dot(v4, kg) + glm::dot(v2, kg2),
+                              glm::dot(v4, kb) + glm::dot(v2, kb2)),
+                    0.f, 1.f);
+}
+
+Image heatmap(const Image& scalar, float lo, float hi) {
+  Image out(scalar.width, scalar.height, 3);
+  float inv = hi > lo ? 1.f / (hi - lo) : 0.f;
+  for (size_t i = 0; i < scalar.pixels(); ++i) {
+    float v = scalar.data[i * size_t(scalar.channels)];
+    glm::vec3 c = turbo(std::isfinite(v) ? (v - lo) * inv : 1.f);
+    out.data[3 * i] = c.r;
+    out.data[3 * i + 1] = c.g;
+    out.data[3 * i + 2] = c.b;
+  }
+  return out;
+}
+
+}  // namespace fovsim

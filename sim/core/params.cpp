@@ -1,0 +1,328 @@
+#include "sim/core/params.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "sim/core/error.h"
+#include "sim/core/files.h"
+
+namespace fovsim {
+
+bool Range::contains(double v) const {
+  if (!std::isfinite(v)) return false;
+  if (lo_open ? !(v > lo) : !(v >= lo)) return false;
+  if (hi_open ? !(v < hi) : !(v <= hi)) return false;
+  return true;
+}
+
+static std::string fmt_num(double v) {
+  if (v >= 1e299) return "inf";
+  if (v <= -1e299) return "-inf";
+  std::ostringstream o;
+  o << v;
+  return o.str();
+}
+
+std::string Range::str() const {
+  return std::string(lo_open ? "(" : "[") + fmt_num(lo) + ", " + fmt_num(hi) + (hi_open ? ")" : "]");
+}
+
+std::string describe_json(const Json& v) {
+  std::string dump = v.dump();
+  if (dump.size() > 40) dump = dump.substr(0, 37) + "...";
+  switch (v.type()) {
+    case Json::value_t::null: return "null";
+    case Json::value_t::boolean: return "a boolean " + dump;
+    case Json::value_t::string: return "a string " + dump;
+    case Json::value_t::array: return "an array " + dump;
+    case Json::value_t::object: return "an object";
+    default: return "a number " + dump;
+  }
+}
+
+Params::Params(Json j, std::string file, std::string path)
+    : j_(std::move(j)), st_(std::make_shared<State>()), path_(std::move(path)) {
+  st_->file = std::move(file);
+  if (!j_.is_object()) throw Error(where(), "expected a JSON object, got " + describe_json(j_));
+}
+
+Params::Params(Json j, std::shared_ptr<State> st, std::string path, Json::json_pointer ptr)
+    : j_(std::move(j)), st_(std::move(st)), path_(std::move(path)), ptr_(std::move(ptr)) {}
+
+Json Params::parse_json_file(const std::string& file) {
+  std::string text = read_file(file);
+  try {
+    return Json::parse(text, nullptr, true, /*ignore_comments=*/true);
+  } catch (const Json::parse_error& e) {
+    size_t byte = e.byte > 0 ? e.byte - 1 : 0;
+    long line = 1, col = 1;
+    for (size_t i = 0; i < byte && i < text.size(); ++i) {
+      if (text[i] == '\n') {
+        ++line;
+        col = 1;
+      } else {
+        ++col;
+      }
+    }
+    std::string msg = e.what();
+    auto p = msg.find("parse error");
+    if (p != std::string::npos) msg = msg.substr(p);
+    throw Error(file_location(file, line, col), "malformed JSON: " + msg);
+  }
+}
+
+Params Params::from_file(const std::string& file) { return Params(parse_json_file(file), file); }
+
+std::string Params::path_of(const std::string& key) const {
+  if (key.empty()) return path_;
+  return path_.empty() ? key : path_ + "." + key;
+}
+
+std::string Params::where(const std::string& key) const {
+  std::string p = path_of(key);
+  if (p.empty()) p = "(root)";
+  return st_->file.empty() ? p : st_->file + ": " + p;
+}
+
+void Params::fail(const std::string& key, const std::string& msg) const { throw Error(where(key), msg); }
+
+bool Params::has(const std::string& key) const { return j_.contains(key); }
+
+const Json* Params::find(const std::string& key) const {
+  auto it = j_.find(key);
+  if (it == j_.end()) return nullptr;
+  return &*it;
+}
+
+void Params::mark(const std::string& key, const Json& value) {
+  auto p = ptr_ / key;
+  st_->used.insert(p.to_string());
+  st_->resolved[p] = value;
+}
+
+void Params::ignore(const std::string& key) {
+  if (has(key)) st_->used.insert((ptr_ / key).to_string());
+}
+
+void Params::check_range(const std::string& key, double v, const Range& r) const {
+  if (!r.contains(v)) {
+    std::ostringstream o;
+    o << "value " << v << " is out of range " << r.str();
+    fail(key, o.str());
+  }
+}
+
+double Params::number(const std::string& key, double def, Range r) {
+  const Json* v = find(key);
+  if (!v) {
+    mark(key, def);
+    return def;
+  }
+  return number(key, r);
+}
+
+double Params::number(const std::string& key, Range r) {
+  const Json* v = find(key);
+  if (!v) fail(key, "required number is missing (allowed range " + r.str() + ")");
+  if (!v->is_number()) fail(key, "expected a number in " + r.str() + ", got " + describe_json(*v));
+  double d = v->get<double>();
+  check_range(key, d, r);
+  mark(key, *v);
+  return d;
+}
+
+int Params::integer(const std::string& key, int def, Range r) {
+  if (!find(key)) {
+    mark(key, def);
+    return def;
+  }
+  return integer(key, r);
+}
+
+int Params::integer(const std::string& key, Range r) {
+  const Json* v = find(key);
+  if (!v) fail(key, "required integer is missing (allowed range " + r.str() + ")");
+  if (!v->is_number()) fail(key, "expected an integer in " + r.str() + ", got " + describe_json(*v));
+  double d = v->get<double>();
+  if (d != std::floor(d) || std::fabs(d) > 2e9) fail(key, "expected an integer, got " + v->dump());
+  check_range(key, d, r);
+  mark(key, *v);
+  return int(d);
+}
+
+bool Params::boolean(const std::string& key, bool def) {
+  const Json* v = find(key);
+  if (!v) {
+    mark(key, def);
+    return def;
+  }
+  if (!v->is_boolean()) fail(key, "expected true or false, got " + describe_json(*v));
+  mark(key, *v);
+  return v->get<bool>();
+}
+
+static std::string join(const std::vector<std::string>& v) {
+  std::string s;
+  for (size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + v[i];
+  return s;
+}
+
+std::string Params::string(const std::string& key, const std::string& def,
+                           const std::vector<std::string>& allowed) {
+  if (!find(key)) {
+    mark(key, def);
+    return def;
+  }
+  return string(key, allowed);
+}
+
+std::string Params::string(const std::string& key, const std::vector<std::string>& allowed) {
+  const Json* v = find(key);
+  if (!v) fail(key, "required string is missing" + (allowed.empty() ? "" : " (one of: " + join(allowed) + ")"));
+  if (!v->is_string()) fail(key, "expected a string, got " + describe_json(*v));
+  std::string s = v->get<std::string>();
+  if (!allowed.empty()) {
+    bool ok = false;
+    for (auto& a : allowed) ok = ok || a == s;
+    if (!ok) fail(key, "unknown value \"" + s + "\" (allowed: " + join(allowed) + ")");
+  }
+  mark(key, *v);
+  return s;
+}
+
+std::vector<double> Params::numbers(const std::string& key, const std::vector<double>& def, Range r) {
+  const Json* v = find(key);
+  if (!v) {
+    mark(key, def);
+    return def;
+  }
+  if (!v->is_array()) fail(key, "expected an array of numbers, got " + describe_json(*v));
+  std::vector<double> out;
+  for (size_t i = 0; i < v->size(); ++i) {
+    const Json& e = (*v)[i];
+    std::string k = key + "[" + std::to_string(i) + "]";
+    if (!e.is_number()) fail(k, "expected a number in " + r.str() + ", got " + describe_json(e));
+    check_range(k, e.get<double>(), r);
+    out.push_back(e.get<double>());
+  }
+  mark(key, *v);
+  return out;
+}
+
+Params Params::child(const std::string& key) {
+  const Json* v = find(key);
+  Json obj = v ? *v : Json::object();
+  if (!obj.is_object()) fail(key, "expected an object, got " + describe_json(obj));
+  auto p = ptr_ / key;
+  st_->used.insert(p.to_string());
+  if (!st_->resolved.contains(p)) st_->resolved[p] = Json::object();
+  return Params(obj, st_, path_of(key), p);
+}
+
+std::vector<Params> Params::children(const std::string& key) {
+  const Json* v = find(key);
+  std::vector<Params> out;
+  if (!v) return out;
+  if (!v->is_array()) fail(key, "expected an array of objects, got " + describe_json(*v));
+  auto p = ptr_ / key;
+  st_->used.insert(p.to_string());
+  if (!st_->resolved.contains(p)) st_->resolved[p] = Json::array();
+  for (size_t i = 0; i < v->size(); ++i) {
+    std::string k = key + "[" + std::to_string(i) + "]";
+    if (!(*v)[i].is_object()) fail(k, "expected an object, got " + describe_json((*v)[i]));
+    auto pi = p / i;
+    st_->used.insert(pi.to_string());
+    if (!st_->resolved.contains(pi)) st_->resolved[pi] = Json::object();
+    out.push_back(Params((*v)[i], st_, path_of(k), pi));
+  }
+  return out;
+}
+
+const Json& Params::raw(const std::string& key) {
+  const Json* v = find(key);
+  if (!v) fail(key, "required key is missing");
+  mark(key, *v);
+  // A raw value is consumed whole: mark everything below it as used.
+  std::vector<std::pair<Json::json_pointer, const Json*>> stack{{ptr_ / key, v}};
+  while (!stack.empty()) {
+    auto [p, node] = stack.back();
+    stack.pop_back();
+    st_->used.insert(p.to_string());
+    if (node->is_object())
+      for (auto it = node->begin(); it != node->end(); ++it) stack.push_back({p / it.key(), &it.value()});
+    else if (node->is_array())
+      for (size_t i = 0; i < node->size(); ++i) stack.push_back({p / i, &(*node)[i]});
+  }
+  return *v;
+}
+
+void Params::finish_rec(const Json& j, const Json::json_pointer& ptr, const std::string& path) const {
+  if (j.is_object()) {
+    for (auto it = j.begin(); it != j.end(); ++it) {
+      auto p = ptr / it.key();
+      std::string sp = path.empty() ? it.key() : path + "." + it.key();
+      if (!st_->used.count(p.to_string())) {
+        std::string loc = st_->file.empty() ? sp : st_->file + ": " + sp;
+        throw Error(loc, "unknown key \"" + it.key() + "\" (not a parameter here; check spelling)");
+      }
+      finish_rec(it.value(), p, sp);
+    }
+  } else if (j.is_array()) {
+    for (size_t i = 0; i < j.size(); ++i) {
+      auto p = ptr / i;
+      if (st_->used.count(p.to_string()))
+        finish_rec(j[i], p, path + "[" + std::to_string(i) + "]");
+    }
+  }
+}
+
+void Params::finish() const { finish_rec(j_, ptr_, path_); }
+
+void apply_override(Json& doc, const std::string& assignment) {
+  auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw Error("override \"" + assignment + "\"", "expected key.path=value");
+  std::string key = assignment.substr(0, eq), val = assignment.substr(eq + 1);
+  Json value;
+  try {
+    value = Json::parse(val);
+  } catch (...) {
+    value = val;
+  }
+  Json* node = &doc;
+  size_t i = 0;
+  std::string walked;
+  while (i < key.size()) {
+    size_t j = key.find_first_of(".[", i);
+    std::string part = key.substr(i, j == std::string::npos ? std::string::npos : j - i);
+    if (!part.empty()) {
+      if (!node->is_object() && !node->is_null())
+        throw Error("override " + key, "\"" + walked + "\" is not an object");
+      walked += (walked.empty() ? "" : ".") + part;
+      node = &(*node)[part];
+    }
+    if (j == std::string::npos) break;
+    if (key[j] == '[') {
+      size_t close = key.find(']', j);
+      if (close == std::string::npos) throw Error("override " + key, "missing ']'");
+      std::string idx = key.substr(j + 1, close - j - 1);
+      size_t n = 0;
+      try {
+        n = std::stoul(idx);
+      } catch (...) {
+        throw Error("override " + key, "bad array index \"" + idx + "\"");
+      }
+      if (!node->is_array() || n >= node->size())
+        throw Error("override " + key, "\"" + walked + "\" has no element [" + idx + "]");
+      node = &(*node)[n];
+      walked += "[" + idx + "]";
+      i = close + 1;
+      if (i < key.size() && key[i] == '.') ++i;
+    } else {
+      i = j + 1;
+    }
+  }
+  *node = value;
+}
+
+}  // namespace fovsim

@@ -1,0 +1,96 @@
+// JSON parameter wrapper (nori PropertyList / pbrt ParameterDictionary role, DESIGN §10).
+// Every read names its JSON path; wrong types and out-of-range values throw fovsim::Error
+// with "file: json.path"; keys never read are reported by finish() as unknown, so a typo
+// never silently falls back to a default. Reads record the value used (defaults included)
+// into a shared "resolved" document written to manifest.json.
+#pragma once
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace fovsim {
+
+using Json = nlohmann::json;
+
+struct Range {
+  double lo = -1e300, hi = 1e300;
+  bool lo_open = false, hi_open = false;
+  static Range any() { return {}; }
+  static Range closed(double a, double b) { return {a, b, false, false}; }
+  static Range above(double a, double b = 1e300) { return {a, b, true, false}; }  // (a, b]
+  static Range at_least(double a) { return {a, 1e300, false, false}; }
+  bool contains(double v) const;
+  std::string str() const;  // "[1, 64]", "(0, inf)"
+};
+
+class Params {
+ public:
+  // `file` is used in error locations; `path` is the JSON path of `j` ("" at the root).
+  Params(Json j, std::string file = "", std::string path = "");
+  // Parses a JSON file; syntax errors report file:line:col.
+  static Params from_file(const std::string& file);
+  static Json parse_json_file(const std::string& file);
+
+  bool has(const std::string& key) const;
+  const std::string& file() const { return st_->file; }
+  const std::string& path() const { return path_; }
+  std::string path_of(const std::string& key) const;
+  std::string where(const std::string& key = "") const;  // "file: path.key"
+  [[noreturn]] void fail(const std::string& key, const std::string& msg) const;
+
+  // Typed getters. The two-argument-default forms are optional keys; the others required.
+  double number(const std::string& key, double def, Range r = Range::any());
+  double number(const std::string& key, Range r = Range::any());
+  int integer(const std::string& key, int def, Range r = Range::any());
+  int integer(const std::string& key, Range r = Range::any());
+  bool boolean(const std::string& key, bool def);
+  std::string string(const std::string& key, const std::string& def,
+                     const std::vector<std::string>& allowed = {});
+  std::string string(const std::string& key, const std::vector<std::string>& allowed = {});
+  std::vector<double> numbers(const std::string& key, const std::vector<double>& def,
+                              Range r = Range::any());
+
+  // Nested object (missing -> empty object, so its own getters apply defaults).
+  Params child(const std::string& key);
+  // Array of objects.
+  std::vector<Params> children(const std::string& key);
+  // Raw access (marks the key used; records it resolved as given).
+  const Json& raw(const std::string& key);
+  const Json& json() const { return j_; }
+
+  // Throws for the first key below this object that no getter read.
+  void finish() const;
+  // The resolved document (all reads with defaults filled in) of the root.
+  const Json& resolved() const { return st_->resolved; }
+  // Marks a key as consumed without reading it (e.g. documentation keys like "comment").
+  void ignore(const std::string& key);
+
+ private:
+  struct State {
+    std::string file;
+    Json resolved = Json::object();
+    std::set<std::string> used;  // JSON pointers of keys that were read
+  };
+  Params(Json j, std::shared_ptr<State> st, std::string path, Json::json_pointer ptr);
+  const Json* find(const std::string& key) const;
+  void mark(const std::string& key, const Json& value);
+  void check_range(const std::string& key, double v, const Range& r) const;
+  void finish_rec(const Json& j, const Json::json_pointer& ptr, const std::string& path) const;
+
+  Json j_;
+  std::shared_ptr<State> st_;
+  std::string path_;
+  Json::json_pointer ptr_;
+};
+
+// Applies a command-line override "a.b[2].c=value" to a JSON document. The value is parsed
+// as JSON when it is valid JSON (numbers, true/false, arrays, quoted strings), else taken as
+// a string. Intermediate objects are created; array indices must exist.
+void apply_override(Json& doc, const std::string& assignment);
+
+// Describes a JSON value's type for error messages ("a number", "a string \"abc\"").
+std::string describe_json(const Json& v);
+
+}  // namespace fovsim

@@ -1,0 +1,7 @@
+#pragma once
+#include <string>
+
+namespace fovsim {
+std::string version_string();  // e.g. "0.1.0"
+std::string git_commit();      // short commit hash at build time, or "unknown"
+}  // namespace fovsim

@@ -1,0 +1,37 @@
+// GPU pipeline cost model (DESIGN §6). A frame is the list of passes that exist for this
+// scene and method; each pass time is a small linear model of measured counters with
+// coefficients from a GPU profile (models/gpus/*.json) plus a fixed overhead.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "sim/core/counters.h"
+#include "sim/core/params.h"
+#include "sim/display/display.h"
+#include "sim/scene/scene.h"
+
+namespace fovsim {
+
+struct PassCost {
+  std::string pass;  // column suffix: est_ms_<pass>
+  double ms = 0;
+};
+
+struct FrameCost {
+  std::vector<PassCost> passes;
+  double total_ms = 0;
+};
+
+struct GpuProfile;  // defined in gpu_profile.h
+
+struct CostInputs {
+  std::string method;               // factory name
+  const Counters* counters = nullptr;  // measured at the simulated resolution
+  SceneFeatures features;
+  Display display;                  // the real (unscaled) display being costed
+  double pixel_scale = 1.0;         // (display W*H) / (simulated W*H): scales pixel counters
+};
+
+FrameCost estimate_frame(const GpuProfile& gpu, const CostInputs& in);
+
+}  // namespace fovsim

@@ -1,0 +1,119 @@
+#include "sim/display/display.h"
+
+#include <tbb/parallel_for.h>
+
+#include <filesystem>
+
+#include "sim/core/error.h"
+
+namespace fovsim {
+
+Display Display::from_params(Params& p) {
+  Display d;
+  d.name = p.string("name", "custom");
+  d.width = p.integer("width", Range::closed(1, 16384));
+  d.height = p.integer("height", Range::closed(1, 16384));
+  d.fov_h_deg = p.number("fov_h_deg", Range::above(0, 179));
+  d.fov_v_deg = p.number("fov_v_deg", Range::above(0, 179));
+  d.refresh_hz = p.number("refresh_hz", 90.0, Range::above(0, 1000));
+  d.eyes = p.integer("eyes", 1, Range::closed(1, 2));
+  d.source = p.string("source", "");
+  p.ignore("comment");
+  return d;
+}
+
+Display Display::load(const std::string& name_or_path, const std::string& models_dir) {
+  std::string path = name_or_path;
+  if (path.find('/') == std::string::npos && path.find(".json") == std::string::npos)
+    path = models_dir + "/displays/" + name_or_path + ".json";
+  if (!std::filesystem::exists(path))
+    throw Error(path, "display model not found (give a name from models/displays/ or a path)");
+  Params p = Params::from_file(path);
+  Display d = from_params(p);
+  p.finish();
+  return d;
+}
+
+Json Display::to_json() const {
+  return Json{{"name", name},           {"width", width},           {"height", height},
+              {"fov_h_deg", fov_h_deg}, {"fov_v_deg", fov_v_deg}, {"refresh_hz", refresh_hz},
+              {"eyes", eyes},           {"source", source}};
+}
+
+Display Display::scaled(double s) const {
+  Display d = *this;
+  d.width = std::max(1, int(std::lround(width * s)));
+  d.height = std::max(1, int(std::lround(height * s)));
+  return d;
+}
+
+double Display::ppd_center() const {
+  Camera c = Camera::from_pose(*this, glm::dvec3(0), glm::dquat(1, 0, 0, 0));
+  return c.ppd_at(width * 0.5, height * 0.5);
+}
+
+Camera Camera::from_pose(const Display& d, const glm::dvec3& pos, const glm::dquat& rot) {
+  Camera c;
+  c.width = d.width;
+  c.height = d.height;
+  c.tan_half_h = d.tan_half_h();
+  c.tan_half_v = d.tan_half_v();
+  c.position = pos;
+  c.orientation = glm::normalize(rot);
+  return c;
+}
+
+glm::dvec3 Camera::dir_head(double px, double py) const {
+  double x = (2.0 * px / width - 1.0) * tan_half_h;
+  double y = (1.0 - 2.0 * py / height) * tan_half_v;
+  return glm::normalize(glm::dvec3(x, y, -1.0));
+}
+
+bool Camera::project_head(const glm::dvec3& dir, glm::dvec2& px) const {
+  if (!(dir.z < 0.0)) return false;
+  double x = dir.x / -dir.z, y = dir.y / -dir.z;
+  px.x = (x / tan_half_h + 1.0) * 0.5 * width;
+  px.y = (1.0 - y / tan_half_v) * 0.5 * height;
+  return true;
+}
+
+bool Camera::project_world(const glm::dvec3& p, glm::dvec2& px, double* depth) const {
+  glm::dvec3 h = glm::conjugate(orientation) * (p - position);
+  if (depth) *depth = -h.z;
+  return project_head(h, px);
+}
+
+double Camera::ppd_at(double px, double py) const {
+  // Central difference of the angle over one pixel, horizontally and vertically; report
+  // the mean of the two (the local sampling rate in pixels per degree).
+  const double h = 0.5;
+  double ax = rad2deg(angle_between(dir_head(px - h, py), dir_head(px + h, py)));
+  double ay = rad2deg(angle_between(dir_head(px, py - h), dir_head(px, py + h)));
+  return 0.5 * (1.0 / ax + 1.0 / ay);
+}
+
+std::vector<float> eccentricity_map(const Camera& cam, const glm::dvec3& gaze_dir_head) {
+  std::vector<float> e(size_t(cam.width) * size_t(cam.height));
+  glm::dvec3 g = glm::normalize(gaze_dir_head);
+  tbb::parallel_for(0, cam.height, [&](int y) {
+    for (int x = 0; x < cam.width; ++x)
+      e[size_t(y) * size_t(cam.width) + size_t(x)] = float(cam.eccentricity_deg(x + 0.5, y + 0.5, g));
+  });
+  return e;
+}
+
+glm::dvec3 gaze_dir_from_screen(const Display& d, double u, double v) {
+  double x = (2.0 * u - 1.0) * d.tan_half_h();
+  double y = (1.0 - 2.0 * v) * d.tan_half_v();
+  return glm::normalize(glm::dvec3(x, y, -1.0));
+}
+
+bool gaze_screen_from_dir(const Display& d, const glm::dvec3& dir, double& u, double& v) {
+  if (!(dir.z < 0.0)) return false;
+  double x = dir.x / -dir.z, y = dir.y / -dir.z;
+  u = (x / d.tan_half_h() + 1.0) * 0.5;
+  v = (1.0 - y / d.tan_half_v()) * 0.5;
+  return true;
+}
+
+}  // namespace fovsim

@@ -1,0 +1,29 @@
+#include "sim/foveation/factory.h"
+
+#include "sim/core/error.h"
+#include "sim/foveation/methods.h"
+
+namespace fovsim {
+
+const std::vector<MethodEntry>& method_table() {
+  // One line per method; each method's file defines create_<name> and <name>_params.
+  static const std::vector<MethodEntry> table = {
+      {"full", "full-resolution deferred shading (reference pipeline)", create_full, full_params},
+  };
+  return table;
+}
+
+std::unique_ptr<FoveationMethod> make_method(const std::string& name, Params& p) {
+  std::string names;
+  for (auto& e : method_table()) {
+    if (name == e.name) {
+      auto m = e.create(p);
+      p.finish();
+      return m;
+    }
+    names += (names.empty() ? "" : ", ") + std::string(e.name);
+  }
+  p.fail("method", "unknown method \"" + name + "\" (available: " + names + ")");
+}
+
+}  // namespace fovsim

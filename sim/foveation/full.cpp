@@ -1,0 +1,33 @@
+// `full`: full-resolution deferred shading, the reference pipeline (for cost).
+//
+// | name | type | default | range | source | meaning |
+// |------|------|---------|-------|--------|---------|
+// | (none) | | | | | |
+#include "sim/foveation/methods.h"
+
+namespace fovsim {
+namespace {
+
+class FullMethod final : public FoveationMethod {
+ public:
+  std::string name() const override { return "full"; }
+  uint32_t required_channels() const override { return kShadingChannels; }
+  void render(const FrameContext& ctx, FrameOutput& out) override {
+    // The shared reference *is* full-resolution shading: reuse it, no copy, no second shade.
+    out.image_is_reference = true;
+    const double n = double(ctx.gbuffer->size());
+    out.counters.set("shaded_samples", n);
+    out.counters.set("gbuffer_samples", n);
+    out.counters.set("fullres_pixels", n);
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<FoveationMethod> create_full(Params&) { return std::make_unique<FullMethod>(); }
+const std::vector<ParamInfo>& full_params() {
+  static const std::vector<ParamInfo> t;
+  return t;
+}
+
+}  // namespace fovsim

@@ -1,0 +1,70 @@
+// The FoveationMethod interface (DESIGN §5). A method declares the G-buffer channels it
+// needs (Falcor reflect() role), renders one frame from the shared full-resolution G-buffer
+// and reference, fills per-pass counters for the cost model and may emit debug buffers.
+// Temporal methods keep state across frames and reset on request.
+#pragma once
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "sim/core/counters.h"
+#include "sim/core/image.h"
+#include "sim/core/params.h"
+#include "sim/display/display.h"
+#include "sim/render/gbuffer.h"
+#include "sim/render/renderer.h"
+#include "sim/scene/scene.h"
+
+namespace fovsim {
+
+struct FrameContext {
+  int frame = 0;             // index in the resampled trace
+  double t = 0;              // seconds
+  const Scene* scene = nullptr;
+  const Renderer* renderer = nullptr;
+  const Display* display = nullptr;   // simulated (render-scaled) display
+  const Camera* camera = nullptr;
+  const Camera* prev_camera = nullptr;  // nullptr on the first frame
+  glm::dvec3 gaze_dir{0, 0, -1};      // head space, unit
+  glm::dvec2 gaze_px{0, 0};           // pixels; may lie outside the screen
+  bool gaze_valid = true;
+  const GBuffer* gbuffer = nullptr;   // full-res primary-ray G-buffer (channels = union of needs)
+  const Image* reference = nullptr;   // full-res linear shading of `gbuffer`
+  const std::vector<float>* eccentricity = nullptr;  // degrees per pixel, W*H
+  bool want_debug = false;            // fill FrameOutput::debug
+};
+
+struct FrameOutput {
+  Image image;                        // linear RGB, W x H
+  bool image_is_reference = false;    // set instead of copying ctx.reference into image
+  Counters counters;                  // see results/README.md for names
+  std::vector<std::pair<std::string, Image>> debug;  // name -> image (RGB or 1-channel)
+  std::optional<Image> reference;     // when the method's ground truth differs (FLC: all VPLs)
+  std::vector<std::string> flags;     // limitations hit this frame (e.g. "moving_lights")
+};
+
+class FoveationMethod {
+ public:
+  virtual ~FoveationMethod() = default;
+  virtual std::string name() const = 0;
+  virtual uint32_t required_channels() const = 0;
+  virtual void render(const FrameContext& ctx, FrameOutput& out) = 0;
+  virtual void reset() {}
+  virtual bool temporal() const { return false; }
+  // Parameter values as named columns for frames.csv (e.g. {"sigma", 1.8}).
+  virtual std::vector<std::pair<std::string, double>> param_columns() const { return {}; }
+};
+
+// Descriptor of one parameter (the table at the top of each method file).
+struct ParamInfo {
+  const char* name;
+  const char* type;
+  const char* def;
+  const char* range;
+  const char* source;  // seed section
+  const char* doc;
+};
+
+}  // namespace fovsim

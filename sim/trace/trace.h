@@ -1,0 +1,46 @@
+// Head+gaze traces (DESIGN §3). Canonical CSV documented in traces/README.md.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "sim/core/math.h"
+#include "sim/core/params.h"
+#include "sim/display/display.h"
+
+namespace fovsim {
+
+struct TraceSample {
+  double t = 0;                         // seconds, strictly increasing
+  glm::dvec3 head_pos{0.0};             // metres, world
+  glm::dquat head_rot{1, 0, 0, 0};      // world-from-head, unit
+  glm::dvec3 gaze_dir{0, 0, -1};        // unit, head space (-Z forward)
+  bool valid = true;                    // false during blinks / tracking loss
+};
+
+struct Trace {
+  std::string source;  // file path or "synthetic:<scenario>:<seed>"
+  std::vector<TraceSample> samples;
+  double duration() const { return samples.empty() ? 0 : samples.back().t - samples.front().t; }
+};
+
+// What to do with a problem sample (NaN, gaze outside the FOV, invalid flag): never silent.
+enum class BadSamplePolicy { Fail, Skip, Hold };
+
+struct TraceReadOptions {
+  BadSamplePolicy on_bad = BadSamplePolicy::Fail;
+  double quat_tolerance = 1e-3;  // | |q| - 1 | beyond this is an error
+};
+
+// Reads the canonical CSV. Errors name file:line:column. Gaze given as a normalized screen
+// point (columns gaze_u, gaze_v) is converted with `display`.
+Trace read_trace_csv(const std::string& path, const Display& display, const TraceReadOptions& opt = {});
+void write_trace_csv(const std::string& path, const Trace& trace);
+
+// Resamples to `hz` from the first sample: lerp positions, slerp orientations, normalized lerp of
+// gaze (nearest for `valid`). Frames past the end are not produced.
+Trace resample(const Trace& trace, double hz);
+
+// Trace from a run config's "trace" block: {"file": ...} or {"synthetic": {...}}.
+Trace load_trace(Params& p, const Display& display, const std::string& base_dir);
+
+}  // namespace fovsim
