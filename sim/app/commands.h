@@ -1,0 +1,13 @@
+// Each CLI subcommand group lives in its own file and registers itself here, called
+// explicitly from main.cpp (no static registration).
+#pragma once
+#include <CLI/CLI.hpp>
+#include <functional>
+
+namespace fovsim::app {
+
+// A registered subcommand sets `action`; main runs it inside the one try/catch.
+using Action = std::function<int()>;
+
+void register_run(CLI::App& app, Action& action);      // fovsim run
+}  // namespace fovsim::app

@@ -1,0 +1,49 @@
+#include "sim/foveation/frame.h"
+
+namespace fovsim {
+
+glm::dvec2 gaze_pixel(const Camera& cam, const glm::dvec3& gaze_dir) {
+  glm::dvec2 px;
+  if (!cam.project_head(glm::normalize(gaze_dir), px)) {
+    // Behind the eye: push far outside in the direction of the gaze, keeping it finite.
+    px = glm::dvec2(gaze_dir.x >= 0 ? 1e6 : -1e6, gaze_dir.y >= 0 ? -1e6 : 1e6);
+  }
+  px = glm::clamp(px, glm::dvec2(-1e6), glm::dvec2(1e6));
+  return px;
+}
+
+void prepare_frame(const Renderer& r, const Display& d, const TraceSample& s, int frame,
+                   uint32_t channels, const Camera* prev, FrameData& out) {
+  out.frame = frame;
+  out.t = s.t;
+  out.camera = Camera::from_pose(d, s.head_pos, s.head_rot);
+  if (prev) out.prev_camera = *prev; else out.prev_camera.reset();
+  out.gaze_dir = glm::normalize(s.gaze_dir);
+  out.gaze_valid = s.valid;
+  out.gaze_px = gaze_pixel(out.camera, out.gaze_dir);
+  out.counters.clear();
+  r.trace_gbuffer(out.camera, channels | kShadingChannels, out.gbuffer, &out.counters, prev);
+  r.shade(out.gbuffer, out.camera.position, out.reference, nullptr, &out.counters);
+  out.eccentricity = eccentricity_map(out.camera, out.gaze_dir);
+}
+
+FrameContext FrameData::context(const Scene& scene, const Renderer& r, const Display& d, bool debug) const {
+  FrameContext c;
+  c.frame = frame;
+  c.t = t;
+  c.scene = &scene;
+  c.renderer = &r;
+  c.display = &d;
+  c.camera = &camera;
+  c.prev_camera = prev_camera ? &*prev_camera : nullptr;
+  c.gaze_dir = gaze_dir;
+  c.gaze_px = gaze_px;
+  c.gaze_valid = gaze_valid;
+  c.gbuffer = &gbuffer;
+  c.reference = &reference;
+  c.eccentricity = &eccentricity;
+  c.want_debug = debug;
+  return c;
+}
+
+}  // namespace fovsim

@@ -1,0 +1,37 @@
+// Shared per-frame inputs (DESIGN §2): camera, full-res G-buffer, reference shading and
+// eccentricity, computed once per frame and shared by every method and sweep cell.
+#pragma once
+#include <optional>
+#include <vector>
+
+#include "sim/foveation/method.h"
+#include "sim/trace/trace.h"
+
+namespace fovsim {
+
+struct FrameData {
+  int frame = 0;
+  double t = 0;
+  Camera camera;
+  std::optional<Camera> prev_camera;
+  glm::dvec3 gaze_dir{0, 0, -1};
+  glm::dvec2 gaze_px{0, 0};
+  bool gaze_valid = true;
+  GBuffer gbuffer;          // channels: kShadingChannels | what the methods asked for
+  Image reference;          // linear RGB
+  std::vector<float> eccentricity;  // degrees, W*H
+  Counters counters;        // rays etc. of the reference pass
+
+  FrameContext context(const Scene& scene, const Renderer& r, const Display& d, bool debug) const;
+};
+
+// Renders the shared data of one frame. `prev` is the previous frame's camera (or nullptr).
+// The renderer's time must already be set to s.t.
+void prepare_frame(const Renderer& r, const Display& d, const TraceSample& s, int frame,
+                   uint32_t channels, const Camera* prev, FrameData& out);
+
+// Gaze pixel of a head-space gaze direction (may be outside the screen; a direction behind
+// the eye maps far outside, at +-1e6).
+glm::dvec2 gaze_pixel(const Camera& cam, const glm::dvec3& gaze_dir);
+
+}  // namespace fovsim
