@@ -1,7 +1,40 @@
-// fovsim CLI entry point: the only place that catches fovsim::Error and exits.
+// fovsim CLI entry point: the only place that catches fovsim::Error, prints one line and exits.
 #include <cstdio>
+#include <exception>
+#include <string>
 
-int main() {
-  std::puts("fovsim: under construction");
-  return 0;
+#include "sim/app/commands.h"
+#include "sim/core/error.h"
+#include "sim/core/version.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "fovsim " + fovsim::version_string() +
+      " — trace-driven simulator and design-space explorer for foveated rendering.\n"
+      "Replays head+gaze traces through CPU implementations of foveation methods and a\n"
+      "cost-modelled GPU pipeline; reports per-frame costs, counters and image metrics."};
+  app.set_version_flag("--version", fovsim::version_string() + " (" + fovsim::git_commit() + ")");
+  app.require_subcommand(1);
+  fovsim::app::Action action;
+  // Explicit registration, one line per command group.
+  fovsim::app::register_run(app, action);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    int rc = app.exit(e);
+    return rc == 0 ? 0 : 2;
+  }
+  try {
+    return action ? action() : 0;
+  } catch (const fovsim::Error& e) {
+    std::fprintf(stderr, "fovsim: error: %s\n", e.what());
+    return 2;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "fovsim: error: out of memory (try a smaller render.scale or fewer frames)\n");
+    return 3;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "fovsim: internal error: %s\n", e.what());
+    return 3;
+  }
 }

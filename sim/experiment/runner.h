@@ -1,0 +1,33 @@
+// `fovsim run`: one config = scene + display + trace + methods + metrics + GPU profiles +
+// outputs (DESIGN §2, §8). Frames stream: the reference of a frame is rendered once and
+// shared by every method; no whole-trace image storage.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "sim/experiment/config.h"
+#include "sim/experiment/table.h"
+
+namespace fovsim {
+
+struct RunOptions {
+  std::string out_dir;          // empty -> results/<name>
+  std::string models_dir;       // empty -> default_models_dir()
+  int threads = 0;              // 0 = TBB default
+  bool print_summary = true;    // summary table on stdout at the end
+  std::string command_line;     // recorded in the manifest
+};
+
+struct RunResult {
+  std::string out_dir;
+  ResultTable frames;
+  ResultTable summary;
+};
+
+RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt);
+
+// Per-config summary of a frames table: means of numeric columns, frames, est_ms_total
+// p50/p95/p99, fits_budget (p95 <= budget_ms).
+ResultTable summarize(const ResultTable& frames, double budget_ms);
+
+}  // namespace fovsim
