@@ -13,7 +13,7 @@ DEB_OPT  := python3-skimage assimp-testmodels
 
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
-.PHONY: all deps build demo test bench clean format
+.PHONY: all deps build demo test bench clean format update-golden
 
 all: build
 
@@ -49,3 +49,7 @@ format:
 
 clean:
 	rm -rf $(BUILD)
+
+# Rewrites the regression goldens from the current build (review the diff before committing).
+update-golden: build
+	$(BUILD)/test_app --gtest_filter='Golden*' --update-golden

@@ -1,0 +1,136 @@
+// Bad input gets one clear line naming what and where, exit code 2, and no results that
+// look complete (issue 2 item 9).
+#include <gtest/gtest.h>
+
+#include "tests/app/app_util.h"
+
+using namespace fovsim_test;
+
+namespace {
+
+// A valid base config; each test breaks one thing.
+std::string base_config(const std::string& dir) {
+  return R"({
+  "name": "cli_test",
+  "display": "htc_vive_pro_eye",
+  "render": {"scale": 0.05},
+  "scene": {"type": "atrium", "complexity": 0},
+  "trace": {"file": ")" + std::string(FOVSIM_SOURCE_DIR) + R"(/tests/golden/golden_trace.csv"},
+  "frames": {"count": 2},
+  "methods": [{"method": "full"}],
+  "outputs": {"print_summary": false}
+})";
+}
+
+struct Case {
+  std::string name, config, expect;
+  std::vector<std::string> overrides;
+};
+
+CmdResult run_config(const std::string& dir, const std::string& cfg, const std::vector<std::string>& ov = {}) {
+  write_text(dir + "/c.json", cfg);
+  std::string cmd = fovsim_bin() + " run " + dir + "/c.json --out " + dir + "/out";
+  for (auto& o : ov) cmd += " '" + o + "'";
+  return run_cmd(cmd);
+}
+
+int count_lines(const std::string& s) {
+  int n = 0;
+  for (char c : s) n += c == '\n';
+  return n;
+}
+
+}  // namespace
+
+TEST(Cli, HelpExplainsOptions) {
+  auto r = run_cmd(fovsim_bin() + " --help");
+  EXPECT_EQ(r.code, 0);
+  EXPECT_NE(r.output.find("run"), std::string::npos);
+  auto rr = run_cmd(fovsim_bin() + " run --help");
+  EXPECT_EQ(rr.code, 0);
+  EXPECT_NE(rr.output.find("--out"), std::string::npos);
+  EXPECT_NE(rr.output.find("key.path=value"), std::string::npos);
+}
+
+TEST(Cli, BadInputIsOneLineExit2) {
+  std::string dir = temp_dir("cli");
+  std::string good = base_config(dir);
+  auto replace = [&](const std::string& from, const std::string& to) {
+    std::string s = good;
+    auto p = s.find(from);
+    EXPECT_NE(p, std::string::npos) << from;
+    return s.replace(p, from.size(), to);
+  };
+  std::vector<Case> cases = {
+      {"malformed", replace("\"frames\": {\"count\": 2},", "\"frames\": {\"count\": 2,,"), "c.json:8:"},
+      {"unknown key", replace("\"render\": {\"scale\": 0.05}", "\"render\": {\"scale\": 0.05, \"scael\": 1}"),
+       "render.scael: unknown key"},
+      {"wrong type", replace("{\"count\": 2}", "{\"count\": \"two\"}"), "frames.count: expected an integer"},
+      {"out of range", replace("\"scale\": 0.05", "\"scale\": -1"), "render.scale: value -1 is out of range"},
+      {"unknown method", replace("\"method\": \"full\"", "\"method\": \"fool\""), "unknown method \"fool\""},
+      {"missing scene file", replace("{\"type\": \"atrium\", \"complexity\": 0}", "{\"type\": \"file\", \"path\": \"/nonexistent/x.gltf\"}"),
+       "/nonexistent/x.gltf"},
+      {"unreadable trace", replace("/tests/golden/golden_trace.csv", "/tests/golden/no_such_trace.csv"), "no_such_trace.csv"},
+      {"override type", good, "methods[0].label"},
+  };
+  cases.back().overrides = {"methods[0].label=3"};
+  for (auto& c : cases) {
+    SCOPED_TRACE(c.name);
+    auto r = run_config(dir, c.config, c.overrides);
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_EQ(count_lines(r.output), 1) << r.output;
+    EXPECT_EQ(r.output.rfind("fovsim: error: ", 0), 0u) << r.output;
+    EXPECT_NE(r.output.find(c.expect), std::string::npos) << r.output;
+    // Nothing that looks like a complete result.
+    EXPECT_FALSE(std::filesystem::exists(dir + "/out/frames.csv")) << r.output;
+    EXPECT_FALSE(std::filesystem::exists(dir + "/out/summary.csv"));
+  }
+}
+
+TEST(Cli, TooShortTraceIsReported) {
+  std::string dir = temp_dir("short");
+  auto r = run_config(dir, base_config(dir), {"frames.count=500"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("frames.count: trace is too short"), std::string::npos) << r.output;
+  auto ok = run_config(dir, base_config(dir), {"frames.count=500", "frames.on_short_trace=\"truncate\""});
+  EXPECT_EQ(ok.code, 0) << ok.output;
+}
+
+TEST(Cli, RunWritesCompleteOutputs) {
+  std::string dir = temp_dir("outputs");
+  auto r = run_config(dir, base_config(dir), {"outputs.image_frames=[0]"});
+  ASSERT_EQ(r.code, 0) << r.output;
+  for (const char* f : {"manifest.json", "frames.csv", "summary.csv", "summary.json", "images/frame_0/reference.png",
+                        "images/frame_0/full.png", "images/frame_0/full_error.png"})
+    EXPECT_TRUE(std::filesystem::exists(dir + "/out/" + f)) << f;
+  std::string man = read_text(dir + "/out/manifest.json");
+  EXPECT_NE(man.find("\"status\": \"complete\""), std::string::npos);
+  EXPECT_NE(man.find("\"git_commit\""), std::string::npos);
+  EXPECT_NE(man.find("\"resolved_config\""), std::string::npos);
+  Csv c = read_csv(dir + "/out/frames.csv");
+  for (const char* col : {"config_id", "method", "frame", "t", "gaze_x", "gaze_y", "shaded_samples", "shaded_fraction",
+                          "prims_submitted", "prims_culled", "est_ms_total", "psnr", "ssim", "fpsnr", "rmse_fovea",
+                          "rmse_periphery", "sim_ms"})
+    EXPECT_GE(c.col(col), 0) << col;
+  ASSERT_EQ(c.rows.size(), 2u);
+  // The full method is the reference: shaded fraction 1, SSIM 1.
+  EXPECT_DOUBLE_EQ(std::stod(c.rows[0][size_t(c.col("shaded_fraction"))]), 1.0);
+  EXPECT_NEAR(std::stod(c.rows[0][size_t(c.col("ssim"))]), 1.0, 1e-12);
+}
+
+TEST(Cli, SameNumbersAtAnyThreadCount) {
+  std::string dir = temp_dir("threads");
+  write_text(dir + "/c.json", base_config(dir));
+  auto a = run_cmd(fovsim_bin() + " run " + dir + "/c.json -j 1 --out " + dir + "/a");
+  auto b = run_cmd(fovsim_bin() + " run " + dir + "/c.json -j 2 --out " + dir + "/b");
+  ASSERT_EQ(a.code, 0) << a.output;
+  ASSERT_EQ(b.code, 0) << b.output;
+  Csv ca = read_csv(dir + "/a/frames.csv"), cb = read_csv(dir + "/b/frames.csv");
+  ASSERT_EQ(ca.header, cb.header);
+  ASSERT_EQ(ca.rows.size(), cb.rows.size());
+  for (size_t r = 0; r < ca.rows.size(); ++r)
+    for (size_t k = 0; k < ca.header.size(); ++k) {
+      if (ca.header[k] == "sim_ms" || ca.header[k] == "ref_ms") continue;  // wall time
+      EXPECT_EQ(ca.rows[r][k], cb.rows[r][k]) << ca.header[k];
+    }
+}
