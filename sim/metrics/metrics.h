@@ -1,5 +1,6 @@
 // Image-quality metrics (DESIGN §7), on display-encoded values in [0,1]. Each metric is
-// defined once here, with its formula in metrics.cpp.
+// declared once here and defined once in sim/metrics/*.cpp. Formulas and config keys:
+// docs/metrics.md.
 #pragma once
 #include <string>
 #include <vector>
@@ -11,16 +12,29 @@
 
 namespace fovsim {
 
+// All functions throw fovsim::Error("metrics.<name>", ...) when the two images differ in
+// size or channel count, or an eccentricity map does not have width*height entries.
 double mse(const Image& a, const Image& b);   // mean over all pixels and channels
-double psnr(const Image& a, const Image& b);  // 10 log10(1 / MSE), data range 1; +inf -> 100 cap? no: returns +inf if equal
+// 10 log10(1 / MSE), data range 1. Returns +inf for identical images (no cap here;
+// frames.csv writes it as "inf", see docs/metrics.md).
+double psnr(const Image& a, const Image& b);
 // SSIM (Wang et al. 2004) on Rec.709 luma: 11x11 Gaussian window sigma 1.5, K1 0.01, K2 0.03,
 // population covariance; equals skimage structural_similarity(gaussian_weights=True,
 // sigma=1.5, use_sample_covariance=False, data_range=1) (mean over the cropped valid region).
+// Images smaller than 11x11 throw (as skimage does).
 double ssim(const Image& a, const Image& b);
 // Foveated PSNR (Lee, Pattichis, Bovik 2002): per-pixel weight = cutoff frequency
 // f_c(e) = e2 ln(1/CT0) / (alpha (e + e2)), CT0 = 1/64, alpha = 0.106, e2 = 2.3 deg,
 // clipped at the local Nyquist frequency ppd/2 of the display.
+// FPSNR = 10 log10(1 / (sum w e^2 / sum w)), e^2 = per-pixel squared error (channel mean).
 double fpsnr(const Image& a, const Image& b, const std::vector<float>& ecc_deg, const Camera& cam);
+
+// The FPSNR weight of one pixel: min(f_c(ecc_deg), ppd / 2), in cycles/degree.
+double fpsnr_weight(double ecc_deg, double ppd);
+// Local pixels per degree at pixel point (px, py): the analytic (h -> 0) limit of
+// Camera::ppd_at (mean of the horizontal and vertical angular sampling rates of the
+// rectilinear projection); cheap enough to evaluate per pixel.
+double local_ppd(const Camera& cam, double px, double py);
 
 struct MetricsConfig {
   bool psnr = true, ssim = true, fpsnr = true, regions = true, temporal = true;
@@ -29,14 +43,26 @@ struct MetricsConfig {
   static MetricsConfig from_params(Params& p);
 };
 
+// Column name of the eccentricity band [a, b): "rmse_ecc_<a>_<b>", numbers printed
+// shortest ("0", "5", "2.5" -> "2p5").
+std::string band_column(double a, double b);
+
 // State for the temporal error: frame-to-frame change of the error image in the periphery.
 struct TemporalState {
   Image prev_error;  // signed error (test - ref), luma
+  Image scratch;     // reused buffer for the current frame's error (no per-frame allocation)
   void reset() { prev_error = Image(); }
 };
 
+// Temporal error: RMS over peripheral pixels (ecc >= fovea_deg) of err_t - err_{t-1}, where
+// err = luma(test) - luma(ref). NaN when `st` holds no previous error (first frame after
+// reset, or a size change); always stores err_t into `st`.
+double temporal_error(const Image& test, const Image& ref, const std::vector<float>& ecc_deg,
+                      double fovea_deg, TemporalState& st);
+
 // Computes every enabled metric and returns them by column name: psnr, ssim, fpsnr,
 // rmse_fovea, rmse_periphery, rmse_ecc_<a>_<b>, temporal_error (NaN on the first frame).
+// Region RMSEs are over all channels of the pixels in the region; an empty region is NaN.
 Counters compute_metrics(const MetricsConfig& cfg, const Image& test, const Image& ref,
                          const Camera& cam, const std::vector<float>& ecc_deg, TemporalState* temporal);
 
