@@ -20,9 +20,13 @@ struct PassCost {
 struct FrameCost {
   std::vector<PassCost> passes;
   double total_ms = 0;
+  // Counters the passes read that the method did not fill (charged as 0, DESIGN §6 note).
+  std::vector<std::string> missing_counters;
+  double pass_ms(const std::string& pass) const;  // 0 when the pass does not exist
 };
 
 struct GpuProfile;  // defined in gpu_profile.h
+struct Workload;    // defined in workload.h
 
 struct CostInputs {
   std::string method;               // factory name
@@ -30,8 +34,13 @@ struct CostInputs {
   SceneFeatures features;
   Display display;                  // the real (unscaled) display being costed
   double pixel_scale = 1.0;         // (display W*H) / (simulated W*H): scales pixel counters
+  // Scene cost descriptor (overdraw, shading cost, optional passes). nullptr: defaults
+  // resolved against `features` (Workload{}), see docs/cost_model.md.
+  const Workload* workload = nullptr;
 };
 
+// Per-pass and total estimate. Per-eye passes are charged display.eyes times; shadow maps
+// and RSMs once per frame. Pixel counters are multiplied by pixel_scale, triangles are not.
 FrameCost estimate_frame(const GpuProfile& gpu, const CostInputs& in);
 
 }  // namespace fovsim

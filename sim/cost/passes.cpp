@@ -1,0 +1,199 @@
+// Pass lists and term values (DESIGN §6). Terms and their units:
+//   tris           triangles submitted to a raster pass (not scaled by pixel_scale)
+//   frags          rasterised fragments = pixels * overdraw
+//   gbuffer_bytes  bytes written to the G-buffer = pixels * workload.gbuffer_bytes
+//   shadow_tris    triangles * shadowed lights (one shadow map per light, shared by both eyes)
+//   shadow_texels  shadow_map_res^2 * shadowed lights
+//   shade_flops    shaded samples * lights * workload.shading_flops
+//   vpl_flops      (FLC) shaded sample-VPL pairs * workload.vpl_flops
+//   taps           (pass 2) full-resolution pixels * filter taps
+//   pixels         full-resolution pixels a screen pass touches
+//   holes          (TWFR) hole pixels filled by push-pull, summed over mip levels
+//   texels         (FLC) RSM texels; samples: importance samples * chain length;
+//   evals          (FLC) contribution evaluations (VPLs * samples, eq. 14); vpls: VPLs culled
+#include "sim/cost/passes.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "sim/core/error.h"
+
+namespace fovsim {
+
+namespace {
+
+struct TermDef {
+  const char* pass;
+  const char* term;
+  Resource res;
+};
+
+const std::vector<TermDef>& term_table() {
+  static const std::vector<TermDef> t = {
+      {"depth", "tris", Resource::Geometry},          {"depth", "frags", Resource::Raster},
+      {"shadow", "shadow_tris", Resource::Geometry},  {"shadow", "shadow_texels", Resource::Raster},
+      {"rsm", "tris", Resource::Geometry},            {"rsm", "texels", Resource::Raster},
+      {"gbuffer", "tris", Resource::Geometry},        {"gbuffer", "frags", Resource::Raster},
+      {"gbuffer", "gbuffer_bytes", Resource::Memory}, {"skybox", "pixels", Resource::Raster},
+      {"reproject", "pixels", Resource::Memory},      {"reproject", "holes", Resource::Memory},
+      {"importance", "pixels", Resource::Memory},     {"importance", "samples", Resource::Shading},
+      {"contribution", "evals", Resource::Shading},   {"light_culling", "vpls", Resource::Shading},
+      {"lighting", "shade_flops", Resource::Shading}, {"lighting", "vpl_flops", Resource::Shading},
+      {"pass2", "taps", Resource::Memory},            {"ssao", "pixels", Resource::Memory},
+      {"tonemap", "pixels", Resource::Memory},        {"taa", "pixels", Resource::Memory},
+      {"post_aa", "pixels", Resource::Memory},
+  };
+  return t;
+}
+
+}  // namespace
+
+const std::vector<std::string>& known_passes() {
+  static const std::vector<std::string> p = {"depth",   "shadow",   "rsm",       "gbuffer",
+                                             "skybox",  "reproject", "importance", "contribution",
+                                             "light_culling", "lighting", "pass2", "ssao",
+                                             "tonemap", "taa",       "post_aa"};
+  return p;
+}
+
+bool is_known_pass(const std::string& p) {
+  auto& k = known_passes();
+  return std::find(k.begin(), k.end(), p) != k.end();
+}
+
+const std::vector<std::string>& known_methods() {
+  static const std::vector<std::string> m = {"full", "kfr",  "rmfr", "hyperbolic",
+                                             "linear", "fvrs", "twfr", "flc"};
+  return m;
+}
+
+bool is_known_method(const std::string& m) {
+  auto& k = known_methods();
+  return std::find(k.begin(), k.end(), m) != k.end();
+}
+
+bool is_mapping_method(const std::string& m) {
+  return m == "kfr" || m == "rmfr" || m == "hyperbolic" || m == "linear";
+}
+
+Resource term_resource(const std::string& pass, const std::string& term, const std::string& where) {
+  for (auto& d : term_table())
+    if (pass == d.pass && term == d.term) return d.res;
+  std::string known;
+  for (auto& d : term_table())
+    if (pass == d.pass) known += std::string(known.empty() ? "" : ", ") + d.term;
+  if (known.empty()) {
+    std::string all;
+    for (auto& p : known_passes()) all += (all.empty() ? "" : ", ") + p;
+    throw Error(where, "unknown pass '" + pass + "' (known: " + all + ")");
+  }
+  throw Error(where, "unknown term '" + term + "' of pass '" + pass + "' (known: " + known + ")");
+}
+
+std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
+                                      std::vector<std::string>* missing) {
+  const std::string& m = in.method;
+  if (!is_known_method(m)) {
+    std::string all;
+    for (auto& k : known_methods()) all += (all.empty() ? "" : ", ") + k;
+    throw Error("cost", "unknown method '" + m + "' (known: " + all + ")");
+  }
+  const Counters empty;
+  const Counters& c = in.counters ? *in.counters : empty;
+  auto note = [&](const char* name) {
+    if (missing && std::find(missing->begin(), missing->end(), name) == missing->end())
+      missing->push_back(name);
+  };
+  // A counter the method should have filled: 0 (noted) when absent.
+  auto need = [&](const char* name, double fallback, bool note_it = true) {
+    if (c.has(name)) return std::max(0.0, c.get(name));
+    if (note_it) note(name);
+    return fallback;
+  };
+  auto fin0 = [](double v) { return std::isfinite(v) ? std::max(0.0, v) : 0.0; };
+  // A per-pixel counter measured at the simulated resolution, scaled to the display;
+  // `fallback` is already in display pixels.
+  auto need_px = [&](const char* name, double fallback) {
+    if (c.has(name)) return fin0(c.get(name)) * fin0(in.pixel_scale);
+    note(name);
+    return fallback;
+  };
+  auto fin = [](double v) { return std::isfinite(v) ? std::max(0.0, v) : 0.0; };
+
+  const SceneFeatures& f = in.features;
+  const double scale = fin(in.pixel_scale);
+  const double eyes = std::max(1, in.display.eyes);
+  const double P = double(std::max(0, in.display.width)) * double(std::max(0, in.display.height));
+  const double T = fin(w.tris(f) * w.submitted_fraction);
+  const double lights = fin(w.nlights(f));
+  const double shadowed = fin(w.nshadowed(f));
+  const bool twfr = m == "twfr", flc = m == "flc";
+
+  // Shaded samples per eye at the real resolution. `full` shades every pixel by definition.
+  const double S = m == "full" ? (c.has("shaded_samples") ? c.get("shaded_samples") * scale : P)
+                               : need_px("shaded_samples", 0);
+
+  std::vector<PassWork> out;
+  auto add = [&](const char* pass, std::vector<Term> terms) {
+    for (auto& t : terms) t.value = fin(t.value);
+    out.push_back({pass, std::move(terms)});
+  };
+  const double Tsub = twfr ? need("prims_submitted", T) : T;  // foveation culling (seed 002 §6.1)
+
+  if (w.pipeline.depth_prepass)
+    add("depth", {{"tris", Resource::Geometry, T * eyes}, {"frags", Resource::Raster, P * w.overdraw * eyes}});
+  if (shadowed > 0)  // no shadow pass without shadowed lights
+    add("shadow", {{"shadow_tris", Resource::Geometry, T * shadowed},
+                   {"shadow_texels", Resource::Raster, w.shadow_map_res * w.shadow_map_res * shadowed}});
+  if (flc) {  // reflective shadow maps, one per light (seed 001 §3, S-2)
+    double texels = need("rsm_texels", w.rsm_res * w.rsm_res * std::max(1.0, lights));
+    add("rsm", {{"tris", Resource::Geometry, T * std::max(1.0, lights)}, {"texels", Resource::Raster, texels}});
+  }
+  if (twfr) {  // reprojection + push-pull + confidence (seed 002 §4-§5)
+    double rp = need_px("reprojected_pixels", P);
+    double holes = 0;
+    for (auto& kv : c.items())
+      if (kv.first.rfind("holes_mip", 0) == 0) holes += std::max(0.0, kv.second);
+    add("reproject", {{"pixels", Resource::Memory, rp * eyes}, {"holes", Resource::Memory, holes * scale * eyes}});
+  }
+  // G-buffer (deferred) or forward geometry pass (fVRS); TWFR discards confident pixels.
+  {
+    double written = twfr ? need_px("pixels_redrawn", S) : P;
+    add("gbuffer", {{"tris", Resource::Geometry, Tsub * eyes},
+                    {"frags", Resource::Raster, P * w.overdraw * eyes},
+                    {"gbuffer_bytes", Resource::Memory, written * w.gbuffer_bytes * eyes}});
+  }
+  if (w.pipeline.skybox) add("skybox", {{"pixels", Resource::Raster, P * eyes}});
+  if (flc) {  // importance map (eqs. 3-9) + quasi-MH sampling (Alg. 1)
+    double ns = need("importance_samples", 0);
+    add("importance", {{"pixels", Resource::Memory, P * eyes},
+                       {"samples", Resource::Shading, ns * w.chain_length * eyes}});
+    double vt = need("vpls_total", 0);
+    double evals = c.has("contribution_evals") ? c.get("contribution_evals") : vt * ns;
+    if (!c.has("contribution_evals")) note("contribution_evals");
+    add("contribution", {{"evals", Resource::Shading, evals * eyes}});  // eq. 14 with BLSO
+    add("light_culling", {{"vpls", Resource::Shading, vt * eyes}});
+  }
+  {
+    std::vector<Term> t = {{"shade_flops", Resource::Shading, S * lights * w.shading_flops * eyes}};
+    if (flc) {
+      double vf = w.vpl_flops >= 0 ? w.vpl_flops : w.shading_flops;
+      t.push_back({"vpl_flops", Resource::Shading, need_px("shaded_sample_vpls", 0) * vf * eyes});
+    }
+    add("lighting", std::move(t));
+  }
+  if (is_mapping_method(m)) {  // inverse map to the screen (pass 2)
+    double full = need_px("fullres_pixels", P);
+    double taps = c.has("filter_taps") ? c.get("filter_taps") : 4.0;  // bilinear
+    if (!c.has("filter_taps")) note("filter_taps");
+    add("pass2", {{"taps", Resource::Memory, full * taps * eyes}});
+  }
+  const double post_px = twfr ? need_px("pixels_redrawn", S) : P;
+  if (w.pipeline.ssao) add("ssao", {{"pixels", Resource::Memory, post_px * eyes}});  // TWFR skips reprojected
+  if (w.pipeline.tonemap) add("tonemap", {{"pixels", Resource::Memory, post_px * eyes}});
+  if (w.pipeline.taa) add("taa", {{"pixels", Resource::Memory, P * eyes}});
+  if (w.pipeline.post_aa) add("post_aa", {{"pixels", Resource::Memory, P * eyes}});
+  return out;
+}
+
+}  // namespace fovsim

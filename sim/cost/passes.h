@@ -1,0 +1,41 @@
+// Pass assembly (DESIGN §6): which passes exist for a scene + method, and the value of every
+// term of their linear models. Shared by estimate_frame and calibration so the fit and the
+// prediction use the same equations. Term units are in docs/cost_model.md.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "sim/cost/cost_model.h"
+#include "sim/cost/gpu_profile.h"
+#include "sim/cost/workload.h"
+
+namespace fovsim {
+
+struct Term {
+  std::string name;
+  Resource res;
+  double value = 0;  // counter units for the whole frame (all eyes)
+};
+
+struct PassWork {
+  std::string pass;
+  std::vector<Term> terms;
+};
+
+// Method families.
+bool is_known_method(const std::string& m);
+bool is_mapping_method(const std::string& m);  // kfr, rmfr, hyperbolic, linear: LP/RS pass 2
+const std::vector<std::string>& known_methods();
+
+// The resource class of a (pass, term); throws fovsim::Error(where, ...) for unknown pairs.
+Resource term_resource(const std::string& pass, const std::string& term, const std::string& where);
+// Every pass name the model knows, in pipeline order (est_ms_<pass> columns).
+const std::vector<std::string>& known_passes();
+bool is_known_pass(const std::string& p);
+
+// Passes that exist for these inputs, with term values. `missing` receives the names of
+// counters the passes read but the method did not fill.
+std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
+                                      std::vector<std::string>* missing = nullptr);
+
+}  // namespace fovsim
