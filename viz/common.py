@@ -1,0 +1,109 @@
+"""Shared helpers for fovsim's plotting scripts (Debian python3 + numpy + matplotlib).
+
+CSV values follow results/README.md: numbers written with %.10g, `inf`/`nan` spelled so,
+empty cells for parameters a method does not have.
+"""
+import csv
+import json
+import math
+import os
+
+import matplotlib
+
+matplotlib.use("Agg")  # no display needed; must precede pyplot imports
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def log(msg):
+    print(f"plot: {msg}", flush=True)
+
+
+def to_float(s):
+    """Parses a CSV cell; empty or non-numeric cells become NaN."""
+    if s is None:
+        return math.nan
+    s = s.strip()
+    if not s:
+        return math.nan
+    try:
+        return float(s)
+    except ValueError:
+        return math.nan
+
+
+def read_csv(path):
+    """Returns (columns, rows) with rows as dicts of raw strings, or (None, None) if absent."""
+    if not os.path.exists(path):
+        return None, None
+    with open(path, newline="") as f:
+        r = csv.DictReader(f)
+        rows = list(r)
+        return (r.fieldnames or []), rows
+
+
+def read_json(path):
+    if not os.path.exists(path):
+        return None
+    try:
+        with open(path) as f:
+            return json.load(f)
+    except (OSError, ValueError) as e:
+        log(f"cannot read {path}: {e}")
+        return None
+
+
+def finite_mean(values):
+    v = [x for x in values if math.isfinite(x)]
+    return sum(v) / len(v) if v else math.nan
+
+
+def find_display(manifest):
+    """The display object of a manifest: top level "display", else inside "resolved"/"config"."""
+    if not isinstance(manifest, dict):
+        return None
+    for holder in (manifest, manifest.get("resolved"), manifest.get("config")):
+        if isinstance(holder, dict) and isinstance(holder.get("display"), dict):
+            return holder["display"]
+    return None
+
+
+def budget_ms(manifest, summary_rows=None):
+    """Frame budget 1000 / display.refresh_hz from the manifest, else summary.csv's budget_ms."""
+    d = find_display(manifest)
+    if d is not None:
+        hz = d.get("refresh_hz")
+        if isinstance(hz, (int, float)) and hz > 0:
+            return 1000.0 / hz
+    for row in summary_rows or []:
+        b = to_float(row.get("budget_ms"))
+        if math.isfinite(b) and b > 0:
+            return b
+    return None
+
+
+def pareto_front(points):
+    """Indices of the non-dominated points for (cost to minimise, quality to maximise),
+    ordered by increasing cost."""
+    idx = [i for i, (c, q) in enumerate(points) if math.isfinite(c) and math.isfinite(q)]
+    idx.sort(key=lambda i: (points[i][0], -points[i][1]))
+    front, best = [], -math.inf
+    for i in idx:
+        if points[i][1] > best:
+            front.append(i)
+            best = points[i][1]
+    return front
+
+
+def save(fig, path):
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    tmp = path + ".tmp.png"
+    fig.savefig(tmp, dpi=110, bbox_inches="tight")
+    plt.close(fig)
+    os.replace(tmp, path)  # atomic, like every fovsim output
+
+
+def write_text_atomic(path, text):
+    tmp = path + ".tmp"
+    with open(tmp, "w") as f:
+        f.write(text)
+    os.replace(tmp, path)

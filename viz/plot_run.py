@@ -1,0 +1,317 @@
+#!/usr/bin/python3
+"""Plots of one fovsim result directory (DESIGN §8).
+
+    /usr/bin/python3 viz/plot_run.py results/<name> [--out DIR]
+
+Reads results/<name>/frames.csv, summary.csv and manifest.json (column names:
+results/README.md) and writes PNGs plus an index.html to results/<name>/plots/ (or DIR):
+  timeline.png          est_ms_total per frame and config, with the frame-budget line
+                        (1000 / display.refresh_hz from manifest.json)
+  quality_vs_cost.png   mean fpsnr / psnr / ssim vs mean est_ms_total per config, one marker
+                        per method, Pareto front (lower cost, higher quality) drawn
+  shaded_fraction.png   mean shaded_fraction per config
+  gaze.png              gaze path on the screen (pixels, row 0 on top)
+  quality_timeline.png  fpsnr / psnr / ssim per frame and config
+A plot whose columns are missing is skipped with a message (and listed in index.html).
+Means use finite values only (psnr is inf for identical images, temporal_error nan on the
+first frame). Exit status: 0, or 2 when the directory has neither frames.csv nor summary.csv.
+"""
+import argparse
+import html
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import common  # noqa: E402
+from common import finite_mean, log, plt, to_float  # noqa: E402
+
+MARKERS = ["o", "s", "^", "D", "v", "P", "X", "*", "<", ">", "h"]
+MAX_LEGEND = 14
+
+
+class Skip(Exception):
+    """A plot that cannot be drawn from the available data (reason in the message)."""
+
+
+class Run:
+    def __init__(self, d):
+        self.dir = d
+        self.fcols, self.frames = common.read_csv(os.path.join(d, "frames.csv"))
+        self.scols, self.summary = common.read_csv(os.path.join(d, "summary.csv"))
+        self.manifest = common.read_json(os.path.join(d, "manifest.json"))
+        self.fcols = self.fcols or []
+        self.scols = self.scols or []
+        # Configurations in order of first appearance.
+        self.configs, self.by_config = [], {}
+        src = self.frames if self.frames else (self.summary or [])
+        for row in src:
+            cid = row.get("config_id") or row.get("label") or row.get("method") or "?"
+            if cid not in self.by_config:
+                self.configs.append(cid)
+                self.by_config[cid] = []
+            self.by_config[cid].append(row)
+        if self.frames:
+            for rows in self.by_config.values():
+                rows.sort(key=lambda r: to_float(r.get("frame")))
+
+    def has(self, col):
+        return col in self.fcols
+
+    def series(self, cid, col):
+        return [to_float(r.get(col)) for r in self.by_config[cid]]
+
+    def mean(self, cid, col):
+        """Per-config mean from frames.csv, else summary.csv's value (already a mean)."""
+        if self.frames and self.has(col):
+            return finite_mean(self.series(cid, col))
+        if self.summary and col in self.scols:
+            for r in self.summary:
+                if (r.get("config_id") or r.get("label") or r.get("method")) == cid:
+                    return to_float(r.get(col))
+        return math.nan
+
+    def mean_available(self, col):
+        return (self.frames and self.has(col)) or (self.summary and col in self.scols)
+
+    def method(self, cid):
+        rows = self.by_config[cid]
+        return (rows[0].get("method") or cid) if rows else cid
+
+    def methods(self):
+        out = []
+        for c in self.configs:
+            m = self.method(c)
+            if m not in out:
+                out.append(m)
+        return out
+
+    def style(self, cid):
+        ms = self.methods()
+        i = ms.index(self.method(cid))
+        return MARKERS[i % len(MARKERS)], f"C{i % 10}"
+
+
+def need(run, *cols):
+    if not run.frames:
+        raise Skip("no frames.csv")
+    missing = [c for c in cols if not run.has(c)]
+    if missing:
+        raise Skip("frames.csv has no column " + ", ".join(missing))
+
+
+def legend(ax, n):
+    if n <= MAX_LEGEND:
+        ax.legend(fontsize=7, loc="best")
+
+
+def plot_timeline(run, out):
+    need(run, "est_ms_total")
+    xcol = "frame" if run.has("frame") else ("t" if run.has("t") else None)
+    if xcol is None:
+        raise Skip("frames.csv has neither frame nor t")
+    fig, ax = plt.subplots(figsize=(9, 4.5))
+    for cid in run.configs:
+        ax.plot(run.series(cid, xcol), run.series(cid, "est_ms_total"), lw=1, label=cid, color=None)
+    b = common.budget_ms(run.manifest, run.summary)
+    if b is not None:
+        ax.axhline(b, color="red", ls="--", lw=1.2, label=f"budget {b:.2f} ms ({1000 / b:.0f} Hz)")
+    else:
+        log("timeline: no display.refresh_hz in manifest.json and no budget_ms in summary.csv; no budget line")
+    ax.set_xlabel(xcol)
+    ax.set_ylabel("estimated GPU frame time [ms]")
+    ax.set_title("Estimated frame time per frame")
+    ax.set_ylim(bottom=0)
+    ax.grid(alpha=0.3)
+    legend(ax, len(run.configs) + 1)
+    common.save(fig, os.path.join(out, "timeline.png"))
+    return "timeline.png"
+
+
+def plot_quality_vs_cost(run, out):
+    if not run.mean_available("est_ms_total"):
+        raise Skip("no est_ms_total column")
+    metrics = [m for m in ("fpsnr", "psnr", "ssim") if run.mean_available(m)]
+    if not metrics:
+        raise Skip("no fpsnr, psnr or ssim column")
+    b = common.budget_ms(run.manifest, run.summary)
+    fig, axes = plt.subplots(1, len(metrics), figsize=(5.2 * len(metrics), 4.5), squeeze=False)
+    for ax, m in zip(axes[0], metrics):
+        pts = [(run.mean(c, "est_ms_total"), run.mean(c, m)) for c in run.configs]
+        seen = set()
+        for cid, (x, y) in zip(run.configs, pts):
+            if not (math.isfinite(x) and math.isfinite(y)):
+                continue
+            mk, col = run.style(cid)
+            meth = run.method(cid)
+            ax.scatter([x], [y], marker=mk, color=col, s=40, label=None if meth in seen else meth, zorder=3)
+            seen.add(meth)
+            if len(run.configs) <= 20:
+                ax.annotate(cid, (x, y), fontsize=6, xytext=(3, 3), textcoords="offset points")
+        front = common.pareto_front(pts)
+        if front:
+            fx = [pts[i][0] for i in front]
+            fy = [pts[i][1] for i in front]
+            # Staircase of the attainable set: at cost >= x_i, quality >= y_i is reachable.
+            ax.step(fx, fy, where="post", color="k", ls="--", lw=1, zorder=2)
+            ax.scatter(fx, fy, s=130, facecolors="none", edgecolors="k", lw=1, label="Pareto front", zorder=4)
+        nonfinite = [c for c, (x, y) in zip(run.configs, pts) if not (math.isfinite(x) and math.isfinite(y))]
+        if nonfinite:
+            shown = ", ".join(nonfinite[:4]) + (" …" if len(nonfinite) > 4 else "")
+            note = f"\nnot drawn (no finite mean; psnr is inf when exact): {shown}"
+        else:
+            note = ""
+        if b is not None:
+            ax.axvline(b, color="red", ls=":", lw=1, label="budget")
+        ax.set_xlabel("mean est_ms_total [ms]" + note, fontsize=9)
+        ax.set_ylabel(f"mean {m}" + (" [dB]" if m != "ssim" else ""))
+        ax.set_title(f"{m} vs. frame time")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7, loc="best")
+    skipped = [m for m in ("fpsnr", "psnr") if m not in metrics]
+    if skipped:
+        log("quality_vs_cost: no column " + ", ".join(skipped) + " (panel left out)")
+    common.save(fig, os.path.join(out, "quality_vs_cost.png"))
+    return "quality_vs_cost.png"
+
+
+def plot_shaded_fraction(run, out):
+    if not run.mean_available("shaded_fraction"):
+        raise Skip("no shaded_fraction column")
+    vals = [run.mean(c, "shaded_fraction") for c in run.configs]
+    fig, ax = plt.subplots(figsize=(max(5, 0.45 * len(run.configs) + 2), 4.5))
+    colors = [run.style(c)[1] for c in run.configs]
+    ax.bar(range(len(vals)), [v if math.isfinite(v) else 0 for v in vals], color=colors)
+    for i, v in enumerate(vals):
+        ax.text(i, (v if math.isfinite(v) else 0) + 0.01, f"{v:.3f}" if math.isfinite(v) else "n/a",
+                ha="center", fontsize=7)
+    ax.set_xticks(range(len(vals)))
+    ax.set_xticklabels(run.configs, rotation=45 if len(vals) > 4 else 0, ha="right" if len(vals) > 4 else "center",
+                       fontsize=8)
+    ax.set_ylabel("mean shaded_fraction (of W·H)")
+    ax.set_ylim(0, max([1.05] + [v + 0.08 for v in vals if math.isfinite(v)]))
+    ax.set_title("Shaded samples per configuration")
+    ax.grid(axis="y", alpha=0.3)
+    common.save(fig, os.path.join(out, "shaded_fraction.png"))
+    return "shaded_fraction.png"
+
+
+def plot_gaze(run, out):
+    need(run, "gaze_x", "gaze_y")
+    cid = run.configs[0]  # the gaze is the same for every configuration
+    xs, ys = run.series(cid, "gaze_x"), run.series(cid, "gaze_y")
+    valid = run.series(cid, "gaze_valid") if run.has("gaze_valid") else [1.0] * len(xs)
+    tcol = "t" if run.has("t") else "frame"
+    ts = run.series(cid, tcol) if run.has(tcol) else list(range(len(xs)))
+    ok = [i for i in range(len(xs)) if math.isfinite(xs[i]) and math.isfinite(ys[i]) and valid[i] != 0]
+    bad = [i for i in range(len(xs)) if math.isfinite(xs[i]) and math.isfinite(ys[i]) and valid[i] == 0]
+    if not ok and not bad:
+        raise Skip("no finite gaze samples")
+    fig, ax = plt.subplots(figsize=(6, 6))
+    ax.plot([xs[i] for i in ok], [ys[i] for i in ok], color="0.7", lw=0.8, zorder=1)
+    sc = ax.scatter([xs[i] for i in ok], [ys[i] for i in ok], c=[ts[i] for i in ok], cmap="viridis", s=8, zorder=2)
+    if ok:
+        fig.colorbar(sc, ax=ax, label=tcol, shrink=0.8)
+    if bad:
+        ax.scatter([xs[i] for i in bad], [ys[i] for i in bad], marker="x", color="red", s=12, label="gaze_valid = 0")
+        ax.legend(fontsize=7)
+    d = common.find_display(run.manifest)
+    if d and isinstance(d.get("width"), (int, float)) and isinstance(d.get("height"), (int, float)):
+        w, h = d["width"], d["height"]
+        ax.plot([0, w, w, 0, 0], [0, 0, h, h, 0], color="k", lw=1)
+        ax.set_title(f"Gaze path on the {int(w)}×{int(h)} screen")
+    else:
+        ax.set_title("Gaze path (screen size unknown)")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.invert_yaxis()  # row 0 on top (sim/core/math.h)
+    ax.set_xlabel("gaze_x [px]")
+    ax.set_ylabel("gaze_y [px]")
+    common.save(fig, os.path.join(out, "gaze.png"))
+    return "gaze.png"
+
+
+def plot_quality_timeline(run, out):
+    if not run.frames:
+        raise Skip("no frames.csv")
+    metrics = [m for m in ("fpsnr", "psnr", "ssim") if run.has(m)]
+    if not metrics:
+        raise Skip("frames.csv has no fpsnr, psnr or ssim column")
+    xcol = "frame" if run.has("frame") else "t"
+    if not run.has(xcol):
+        raise Skip("frames.csv has neither frame nor t")
+    fig, axes = plt.subplots(len(metrics), 1, figsize=(9, 2.6 * len(metrics)), sharex=True, squeeze=False)
+    for ax, m in zip(axes[:, 0], metrics):
+        for cid in run.configs:
+            x, y = run.series(cid, xcol), run.series(cid, m)
+            pts = [(a, b) for a, b in zip(x, y) if math.isfinite(b)]
+            if pts:
+                ax.plot([p[0] for p in pts], [p[1] for p in pts], lw=1, label=cid)
+        ax.set_ylabel(m)
+        ax.grid(alpha=0.3)
+    legend(axes[0, 0], len(run.configs))
+    axes[-1, 0].set_xlabel(xcol)
+    axes[0, 0].set_title("Quality per frame (non-finite values not drawn)")
+    common.save(fig, os.path.join(out, "quality_timeline.png"))
+    return "quality_timeline.png"
+
+
+PLOTS = [
+    ("Estimated frame time per frame", plot_timeline),
+    ("Quality vs. cost", plot_quality_vs_cost),
+    ("Shaded fraction per configuration", plot_shaded_fraction),
+    ("Gaze path", plot_gaze),
+    ("Quality per frame", plot_quality_timeline),
+]
+
+
+def write_index(run, out, made, skipped):
+    name = os.path.basename(os.path.normpath(run.dir))
+    parts = [
+        "<!DOCTYPE html>",
+        f"<html><head><meta charset='utf-8'><title>fovsim: {html.escape(name)}</title>",
+        "<style>body{font-family:sans-serif;margin:2em}img{max-width:100%;border:1px solid #ccc}</style>",
+        f"</head><body><h1>fovsim results: {html.escape(name)}</h1>",
+        f"<p>{len(run.configs)} configuration(s): {html.escape(', '.join(run.configs))}</p>",
+    ]
+    if made:
+        parts.append("<ul>" + "".join(f"<li><a href='#{f}'>{html.escape(t)}</a></li>" for t, f in made) + "</ul>")
+    for title, f in made:
+        parts.append(f"<h2 id='{f}'>{html.escape(title)}</h2><a href='{f}'><img src='{f}' alt='{html.escape(title)}'></a>")
+    if skipped:
+        parts.append("<h2>Skipped</h2><ul>")
+        parts += [f"<li>{html.escape(t)}: {html.escape(r)}</li>" for t, r in skipped]
+        parts.append("</ul>")
+    parts.append("</body></html>\n")
+    common.write_text_atomic(os.path.join(out, "index.html"), "\n".join(parts))
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("results_dir", help="results/<name> with frames.csv, summary.csv, manifest.json")
+    ap.add_argument("--out", help="output directory (default: RESULTS_DIR/plots)")
+    a = ap.parse_args(argv)
+    run = Run(a.results_dir)
+    if run.frames is None and run.summary is None:
+        print(f"plot_run: error: {a.results_dir}: no frames.csv or summary.csv", file=sys.stderr)
+        return 2
+    if not run.configs:
+        print(f"plot_run: error: {a.results_dir}: frames.csv and summary.csv have no rows", file=sys.stderr)
+        return 2
+    out = a.out or os.path.join(a.results_dir, "plots")
+    os.makedirs(out, exist_ok=True)
+    made, skipped = [], []
+    for title, fn in PLOTS:
+        try:
+            f = fn(run, out)
+            made.append((title, f))
+            log(f"wrote {os.path.join(out, f)}")
+        except Skip as e:
+            skipped.append((title, str(e)))
+            log(f"skipped '{title}': {e}")
+    write_index(run, out, made, skipped)
+    log(f"wrote {os.path.join(out, 'index.html')} ({len(made)} plots, {len(skipped)} skipped)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
