@@ -1,0 +1,702 @@
+// Embree 3 ray caster (DESIGN §4). Static objects are flattened into one BVH (world-space
+// vertices); when the scene has dynamic objects, the static BVH becomes one instance and
+// each dynamic object another, so a frame's recommit only rebuilds the small top level.
+// Primary rays go through Embree's stream API (rtcIntersect1M, coherent flag) one tile
+// at a time; tiles run in parallel with TBB. Every pixel is computed independently, so
+// results are identical at any thread count.
+#include "sim/render/renderer.h"
+
+#include <embree3/rtcore.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "sim/core/error.h"
+
+namespace fovsim {
+
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+void embree_error(void*, RTCError code, const char* str) {
+  // Errors are collected by check() after each build step; nothing to do here.
+  (void)code;
+  (void)str;
+}
+
+inline glm::vec3 xform_point(const glm::mat4& m, const glm::vec3& p) {
+  return glm::vec3(m * glm::vec4(p, 1.f));
+}
+
+}  // namespace
+
+RenderSettings RenderSettings::from_params(Params& p) {
+  RenderSettings s;
+  s.shadows = p.boolean("shadows", true);
+  s.tile = p.integer("tile", 32, Range::closed(4, 256));
+  return s;
+}
+
+// Light state at the current time.
+struct LightNow {
+  Light::Type type;
+  glm::vec3 pos, dir, radiance;  // radiance = color * intensity
+  float cos_inner, cos_outer;
+  bool shadows;
+};
+
+// Renderer state (a plain struct so the file's helpers can use it; Impl derives from it).
+struct RenderState {
+  RTCDevice device = nullptr;
+  RTCScene top = nullptr;
+  RTCScene static_scene = nullptr;          // == top when there are no dynamic objects
+  unsigned static_inst = RTC_INVALID_GEOMETRY_ID;
+  std::vector<int> static_geom_object;      // geomID in static_scene -> object
+  std::vector<int> inst_object;             // geomID in top (instances) -> object, -1 = static
+  std::vector<RTCScene> child_scenes;
+  std::vector<unsigned> dyn_geom;           // object -> instance geomID in top (or invalid)
+
+  // Per object: shading data.
+  struct Obj {
+    std::vector<glm::vec3> pos;     // world space (static) or object space (dynamic), +1 pad
+    std::vector<glm::vec3> nrm;     // world/object space vertex normals (may be empty)
+    glm::mat4 xf{1.f}, inv{1.f}, prev_xf{1.f};
+    glm::mat3 nxf{1.f};             // normal matrix of xf
+    bool dynamic = false;
+    std::vector<int32_t> tri_sub;   // primitive -> sub-model index
+  };
+  std::vector<Obj> objs;
+  std::vector<LightNow> lights;
+  float scene_scale = 1.f;  // for ray offsets
+
+  void check(const char* what) {
+    RTCError e = rtcGetDeviceError(device);
+    if (e != RTC_ERROR_NONE)
+      throw Error("embree", std::string(what) + " failed (RTCError " + std::to_string(int(e)) + ")");
+  }
+
+  ~RenderState() {
+    for (RTCScene s : child_scenes) rtcReleaseScene(s);
+    if (static_scene && static_scene != top) rtcReleaseScene(static_scene);
+    if (top) rtcReleaseScene(top);
+    if (device) rtcReleaseDevice(device);
+  }
+};
+
+struct Renderer::Impl : RenderState {};
+
+namespace {
+
+// Shared vertex buffers need 16 readable bytes past the last vertex (Embree SIMD loads).
+void attach_mesh(RTCDevice dev, RTCScene sc, const std::vector<glm::vec3>& pos, const Mesh& m,
+                 unsigned* geom_id) {
+  RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
+  rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, pos.data(), 0,
+                             sizeof(glm::vec3), pos.size() - 1);
+  rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, m.triangles.data(), 0,
+                             sizeof(glm::uvec3), m.triangles.size());
+  rtcCommitGeometry(g);
+  *geom_id = rtcAttachGeometry(sc, g);
+  rtcReleaseGeometry(g);
+}
+
+}  // namespace
+
+Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
+    : scene_(scene), settings_(settings), impl_(std::make_unique<Impl>()) {
+  Impl& I = *impl_;
+  I.device = rtcNewDevice(nullptr);
+  if (!I.device) throw Error("embree", "rtcNewDevice failed");
+  rtcSetDeviceErrorFunction(I.device, embree_error, nullptr);
+
+  bool any_dynamic = false;
+  for (const Object& o : scene.objects) any_dynamic |= o.dynamic();
+
+  I.top = rtcNewScene(I.device);
+  I.static_scene = any_dynamic ? rtcNewScene(I.device) : I.top;
+  rtcSetSceneBuildQuality(I.static_scene, RTC_BUILD_QUALITY_HIGH);
+  if (any_dynamic) {
+    rtcSetSceneFlags(I.top, RTC_SCENE_FLAG_DYNAMIC);
+    rtcSetSceneBuildQuality(I.top, RTC_BUILD_QUALITY_LOW);
+  }
+
+  I.objs.resize(scene.objects.size());
+  I.dyn_geom.assign(scene.objects.size(), RTC_INVALID_GEOMETRY_ID);
+  AABB world;
+  // Sub-model lookup per primitive.
+  for (size_t si = 0; si < scene.submodels.size(); ++si) {
+    const SubModel& sm = scene.submodels[si];
+    auto& ts = I.objs[size_t(sm.object)].tri_sub;
+    if (ts.empty()) ts.assign(scene.meshes[size_t(scene.objects[size_t(sm.object)].mesh)].triangles.size(), -1);
+    for (uint32_t t = sm.first_tri; t < sm.first_tri + sm.tri_count && t < ts.size(); ++t)
+      ts[t] = int32_t(si);
+  }
+
+  for (size_t oi = 0; oi < scene.objects.size(); ++oi) {
+    const Object& o = scene.objects[oi];
+    const Mesh& m = scene.meshes[size_t(o.mesh)];
+    RenderState::Obj& ob = I.objs[oi];
+    ob.dynamic = o.dynamic();
+    ob.xf = ob.prev_xf = o.dynamic() ? o.transform_at(0.0) : o.transform;
+    ob.inv = glm::inverse(ob.xf);
+    ob.nxf = glm::transpose(glm::inverse(glm::mat3(ob.xf)));
+    ob.pos.reserve(m.positions.size() + 1);
+    if (ob.dynamic) {
+      ob.pos = m.positions;
+      ob.nrm = m.normals;
+    } else {
+      for (const glm::vec3& p : m.positions) ob.pos.push_back(xform_point(ob.xf, p));
+      ob.nrm.reserve(m.normals.size());
+      for (const glm::vec3& n : m.normals) {
+        glm::vec3 w = ob.nxf * n;
+        float l = glm::length(w);
+        ob.nrm.push_back(l > 0.f ? w / l : w);
+      }
+    }
+    for (const glm::vec3& p : m.positions) world.extend(xform_point(ob.xf, p));
+    ob.pos.push_back(glm::vec3(0.f));  // padding
+    if (m.triangles.empty()) continue;
+    if (!ob.dynamic) {
+      unsigned gid;
+      attach_mesh(I.device, I.static_scene, ob.pos, m, &gid);
+      if (I.static_geom_object.size() <= gid) I.static_geom_object.resize(gid + 1, -1);
+      I.static_geom_object[gid] = int(oi);
+    } else {
+      RTCScene child = rtcNewScene(I.device);
+      rtcSetSceneBuildQuality(child, RTC_BUILD_QUALITY_HIGH);
+      unsigned gid;
+      attach_mesh(I.device, child, ob.pos, m, &gid);
+      rtcCommitScene(child);
+      I.child_scenes.push_back(child);
+      RTCGeometry inst = rtcNewGeometry(I.device, RTC_GEOMETRY_TYPE_INSTANCE);
+      rtcSetGeometryInstancedScene(inst, child);
+      rtcSetGeometryTransform(inst, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &ob.xf[0][0]);
+      rtcCommitGeometry(inst);
+      unsigned iid = rtcAttachGeometry(I.top, inst);
+      rtcReleaseGeometry(inst);
+      I.dyn_geom[oi] = iid;
+      if (I.inst_object.size() <= iid) I.inst_object.resize(iid + 1, -1);
+      I.inst_object[iid] = int(oi);
+    }
+  }
+  if (any_dynamic) {
+    rtcCommitScene(I.static_scene);
+    RTCGeometry inst = rtcNewGeometry(I.device, RTC_GEOMETRY_TYPE_INSTANCE);
+    rtcSetGeometryInstancedScene(inst, I.static_scene);
+    glm::mat4 id(1.f);
+    rtcSetGeometryTransform(inst, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &id[0][0]);
+    rtcCommitGeometry(inst);
+    I.static_inst = rtcAttachGeometry(I.top, inst);
+    rtcReleaseGeometry(inst);
+    if (I.inst_object.size() <= I.static_inst) I.inst_object.resize(I.static_inst + 1, -1);
+    I.inst_object[I.static_inst] = -1;
+  }
+  rtcCommitScene(I.top);
+  I.check("scene build");
+  if (!world.empty()) {
+    glm::vec3 e = glm::max(glm::abs(world.lo), glm::abs(world.hi));
+    I.scene_scale = std::max(1.f, std::max(e.x, std::max(e.y, e.z)));
+  }
+  time_ = 0.0;
+  // Lights at t = 0.
+  const_cast<Renderer*>(this)->set_time(0.0);
+  for (auto& ob : I.objs) ob.prev_xf = ob.xf;
+}
+
+Renderer::~Renderer() = default;
+
+void* Renderer::embree_scene() const { return impl_->top; }
+
+void Renderer::set_time(double t) {
+  Impl& I = *impl_;
+  time_ = t;
+  bool changed = false;
+  for (size_t oi = 0; oi < scene_.objects.size(); ++oi) {
+    RenderState::Obj& ob = I.objs[oi];
+    ob.prev_xf = ob.xf;
+    if (!ob.dynamic) continue;
+    ob.xf = scene_.objects[oi].transform_at(t);
+    ob.inv = glm::inverse(ob.xf);
+    ob.nxf = glm::transpose(glm::inverse(glm::mat3(ob.xf)));
+    if (I.dyn_geom[oi] != RTC_INVALID_GEOMETRY_ID) {
+      RTCGeometry g = rtcGetGeometry(I.top, I.dyn_geom[oi]);
+      rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &ob.xf[0][0]);
+      rtcCommitGeometry(g);
+      changed = true;
+    }
+  }
+  if (changed) {
+    rtcCommitScene(I.top);
+    I.check("scene update");
+  }
+  I.lights.clear();
+  for (const Light& l : scene_.lights) {
+    LightNow n;
+    n.type = l.type;
+    n.pos = l.position;
+    n.dir = glm::normalize(l.direction);
+    if (l.moving()) {
+      // Keys move the light: translation offsets the position, rotation turns the direction.
+      Object tmp;
+      tmp.keys = l.keys;
+      glm::mat4 m = tmp.transform_at(t);
+      n.pos = l.position + glm::vec3(m[3]);
+      n.dir = glm::normalize(glm::mat3(m) * n.dir);
+    }
+    n.radiance = l.color * l.intensity;
+    n.cos_inner = float(std::cos(deg2rad(std::min(l.spot_inner_deg, l.spot_outer_deg))));
+    n.cos_outer = float(std::cos(deg2rad(l.spot_outer_deg)));
+    n.shadows = l.shadows;
+    I.lights.push_back(n);
+  }
+}
+
+namespace {
+
+struct HitInfo {
+  int object = -1;
+  uint32_t prim = 0;
+  float u = 0, v = 0;
+};
+
+inline int hit_object(const RenderState& I, const RTCHit& h) {
+  if (h.geomID == RTC_INVALID_GEOMETRY_ID) return -1;
+  unsigned inst = h.instID[0];
+  if (inst == RTC_INVALID_GEOMETRY_ID) return I.static_geom_object[h.geomID];
+  int o = I.inst_object[inst];
+  return o >= 0 ? o : I.static_geom_object[h.geomID];
+}
+
+}  // namespace
+
+// Fills every requested channel of sample `i` from a hit (or a miss when obj < 0).
+// `px` is the sample's screen point (for motion).
+struct SampleWriter {
+  const Scene& scene;
+  const RenderState& I;
+  const Camera* prev;
+  uint32_t ch;
+
+  void miss(GBuffer& g, size_t i) const {
+    g.depth[i] = kInf;
+    if (ch & kPosition) g.position[i] = glm::vec3(0.f);
+    if (ch & kNormal) g.normal[i] = glm::vec3(0.f);
+    if (ch & kAlbedo) g.albedo[i] = glm::vec3(0.f);
+    if (ch & kMaterial) g.material[i] = -1;
+    if (ch & kObjectId) g.object_id[i] = -1;
+    if (ch & kSubModel) g.submodel[i] = -1;
+    if (ch & kMotion) g.motion[i] = glm::vec2(0.f);
+    if (ch & kUV) g.uv[i] = glm::vec2(0.f);
+  }
+
+  void hit(GBuffer& g, size_t i, const glm::vec3& org, const glm::vec3& dir, float t, int obj,
+           uint32_t prim, float bu, float bv, const glm::vec2& px) const {
+    g.depth[i] = t;
+    if (!(ch & ~kDepth)) return;
+    const Object& o = scene.objects[size_t(obj)];
+    const Mesh& m = scene.meshes[size_t(o.mesh)];
+    const RenderState::Obj& ob = I.objs[size_t(obj)];
+    const glm::uvec3 tri = m.triangles[prim];
+    const glm::vec3 P = org + t * dir;
+    if (ch & kPosition) g.position[i] = P;
+    if (ch & kObjectId) g.object_id[i] = obj;
+    if (ch & kSubModel) g.submodel[i] = ob.tri_sub.empty() ? -1 : ob.tri_sub[prim];
+    const int mat = m.tri_material.empty() ? m.material : m.tri_material[prim];
+    if (ch & kMaterial) g.material[i] = mat;
+    const float bw = 1.f - bu - bv;
+    const bool need_uv = (ch & (kUV | kAlbedo)) != 0;
+    glm::vec3 ng(0.f);
+    if ((ch & kNormal) || (need_uv && m.uvs.empty())) {
+      const glm::vec3 &p0 = ob.pos[tri.x], &p1 = ob.pos[tri.y], &p2 = ob.pos[tri.z];
+      ng = glm::cross(p1 - p0, p2 - p0);  // world (static) or object (dynamic) space
+    }
+    glm::vec2 uv(0.f);
+    if (need_uv) {
+      if (!m.uvs.empty()) {
+        uv = bw * m.uvs[tri.x] + bu * m.uvs[tri.y] + bv * m.uvs[tri.z];
+      } else {
+        // No uvs: planar projection along the dominant axis of the object-space normal.
+        glm::vec3 po = ob.dynamic ? xform_point(ob.inv, P) : P;
+        glm::vec3 a = glm::abs(ng);
+        uv = (a.x >= a.y && a.x >= a.z) ? glm::vec2(po.z, po.y)
+             : (a.y >= a.z)            ? glm::vec2(po.x, po.z)
+                                       : glm::vec2(po.x, po.y);
+      }
+      if (ch & kUV) g.uv[i] = uv;
+    }
+    if (ch & kAlbedo) {
+      const Material& mt = scene.materials[size_t(mat)];
+      g.albedo[i] = eval_albedo(scene, mt, uv);
+    }
+    if (ch & kNormal) {
+      glm::vec3 n;
+      if (ob.dynamic) ng = ob.nxf * ng;
+      if (!ob.nrm.empty()) {
+        n = bw * ob.nrm[tri.x] + bu * ob.nrm[tri.y] + bv * ob.nrm[tri.z];
+        if (ob.dynamic) n = ob.nxf * n;
+      } else {
+        n = ng;
+      }
+      // Face the viewer: geometric normal against the ray, shading normal on its side.
+      if (glm::dot(ng, dir) > 0.f) ng = -ng;
+      if (glm::dot(n, ng) < 0.f) n = -n;
+      float l = glm::length(n);
+      if (!(l > 0.f)) {
+        n = ng;
+        l = glm::length(n);
+      }
+      g.normal[i] = l > 0.f ? n / l : -dir;
+    }
+    if (ch & kMotion) {
+      glm::vec2 mv(0.f);
+      if (prev) {
+        glm::vec3 Pp = ob.dynamic ? xform_point(ob.prev_xf, xform_point(ob.inv, P)) : P;
+        glm::dvec2 pp;
+        if (prev->project_world(glm::dvec3(Pp), pp)) mv = px - glm::vec2(pp);
+      }
+      g.motion[i] = mv;
+    }
+  }
+};
+
+namespace {
+
+// Traces `n` rays (origin o, directions dirs[k], screen points pts[k]) into samples
+// base..base+n-1 of g with the stream API.
+void trace_batch(const RenderState& I, const SampleWriter& w, RTCRayHit* rh, unsigned n,
+                 const glm::vec3& o, GBuffer& g, const size_t* idx, const glm::vec2* pts) {
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  rtcIntersect1M(I.top, &ctx, rh, n, sizeof(RTCRayHit));
+  for (unsigned k = 0; k < n; ++k) {
+    const RTCRayHit& r = rh[k];
+    if (r.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
+      w.miss(g, idx[k]);
+    } else {
+      glm::vec3 d(r.ray.dir_x, r.ray.dir_y, r.ray.dir_z);
+      w.hit(g, idx[k], o, d, r.ray.tfar, hit_object(I, r.hit), r.hit.primID, r.hit.u, r.hit.v,
+            pts[k]);
+    }
+  }
+}
+
+inline void init_ray(RTCRayHit& r, const glm::vec3& o, const glm::vec3& d) {
+  r.ray.org_x = o.x;
+  r.ray.org_y = o.y;
+  r.ray.org_z = o.z;
+  r.ray.tnear = 0.f;
+  r.ray.dir_x = d.x;
+  r.ray.dir_y = d.y;
+  r.ray.dir_z = d.z;
+  r.ray.time = 0.f;
+  r.ray.tfar = kInf;
+  r.ray.mask = 0xffffffffu;
+  r.ray.id = 0;
+  r.ray.flags = 0;
+  r.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  r.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+}
+
+}  // namespace
+
+void Renderer::trace_gbuffer(const Camera& cam, uint32_t channels, GBuffer& out, Counters* c,
+                             const Camera* prev) const {
+  const Impl& I = *impl_;
+  channels |= kDepth;
+  if (out.width != cam.width || out.height != cam.height || out.channels != channels)
+    out.resize(cam.width, cam.height, channels);
+  const int T = std::max(1, settings_.tile);
+  const int tx = (cam.width + T - 1) / T, ty = (cam.height + T - 1) / T;
+  const glm::vec3 org(cam.position);
+  const glm::dmat3 R = glm::mat3_cast(cam.orientation);
+  SampleWriter w{scene_, I, prev, channels};
+  tbb::parallel_for(
+      tbb::blocked_range<int>(0, tx * ty, 1),
+      [&](const tbb::blocked_range<int>& r) {
+        std::vector<RTCRayHit> rh(size_t(T) * size_t(T));
+        std::vector<size_t> idx(rh.size());
+        std::vector<glm::vec2> pts(rh.size());
+        for (int tile = r.begin(); tile != r.end(); ++tile) {
+          const int x0 = (tile % tx) * T, y0 = (tile / tx) * T;
+          const int x1 = std::min(x0 + T, cam.width), y1 = std::min(y0 + T, cam.height);
+          unsigned n = 0;
+          for (int y = y0; y < y1; ++y)
+            for (int x = x0; x < x1; ++x) {
+              // Camera::dir_world(x + 0.5, y + 0.5), with the rotation as a matrix.
+              glm::dvec3 d = R * cam.dir_head(x + 0.5, y + 0.5);
+              init_ray(rh[n], org, glm::vec3(d));
+              idx[n] = size_t(y) * size_t(cam.width) + size_t(x);
+              pts[n] = glm::vec2(float(x) + 0.5f, float(y) + 0.5f);
+              ++n;
+            }
+          trace_batch(I, w, rh.data(), n, org, out, idx.data(), pts.data());
+        }
+      },
+      tbb::simple_partitioner());
+  const double n = double(cam.width) * double(cam.height);
+  rays_ += uint64_t(n);
+  if (c) c->add("primary_rays", n);
+}
+
+void Renderer::trace_points(const Camera& cam, const std::vector<glm::vec2>& pts_in,
+                            uint32_t channels, GBuffer& out, Counters* c) const {
+  const Impl& I = *impl_;
+  channels |= kDepth;
+  const int n_pts = int(pts_in.size());
+  if (out.width != n_pts || out.height != 1 || out.channels != channels)
+    out.resize(n_pts, 1, channels);
+  const glm::vec3 org(cam.position);
+  const glm::dmat3 R = glm::mat3_cast(cam.orientation);
+  SampleWriter w{scene_, I, nullptr, channels & ~uint32_t(kMotion)};
+  if (channels & kMotion)
+    for (auto& m : out.motion) m = glm::vec2(0.f);
+  const int B = 256;
+  tbb::parallel_for(
+      tbb::blocked_range<int>(0, (n_pts + B - 1) / B, 1),
+      [&](const tbb::blocked_range<int>& r) {
+        std::vector<RTCRayHit> rh(B);
+        std::vector<size_t> idx(B);
+        for (int b = r.begin(); b != r.end(); ++b) {
+          const int i0 = b * B, i1 = std::min(n_pts, i0 + B);
+          unsigned n = 0;
+          for (int i = i0; i < i1; ++i, ++n) {
+            glm::dvec3 d = R * cam.dir_head(pts_in[size_t(i)].x, pts_in[size_t(i)].y);
+            init_ray(rh[n], org, glm::vec3(d));
+            idx[n] = size_t(i);
+          }
+          trace_batch(I, w, rh.data(), n, org, out, idx.data(), pts_in.data() + i0);
+        }
+      },
+      tbb::simple_partitioner());
+  rays_ += uint64_t(n_pts);
+  if (c) c->add("primary_rays", double(n_pts));
+}
+
+namespace {
+
+inline float smooth01(float e0, float e1, float x) {
+  if (e1 <= e0) return x >= e1 ? 1.f : 0.f;
+  float t = clamp01((x - e0) / (e1 - e0));
+  return t * t * (3.f - 2.f * t);
+}
+
+inline bool occluded_ray(RTCScene sc, const glm::vec3& o, const glm::vec3& d, float tnear,
+                         float tfar) {
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  RTCRay r;
+  r.org_x = o.x;
+  r.org_y = o.y;
+  r.org_z = o.z;
+  r.tnear = tnear;
+  r.dir_x = d.x;
+  r.dir_y = d.y;
+  r.dir_z = d.z;
+  r.time = 0.f;
+  r.tfar = tfar;
+  r.mask = 0xffffffffu;
+  r.id = 0;
+  r.flags = 0;
+  rtcOccluded1(sc, &ctx, &r);
+  return r.tfar < 0.f;  // Embree sets tfar = -inf when blocked
+}
+
+}  // namespace
+
+// Lambert (albedo * cos * E) + Blinn-Phong (ks * (n.h)^s * cos * E) per light, hard shadows,
+// ambient * albedo, emission. Deterministic: no sampling.
+static glm::vec3 shade_one(const Scene& scene, const RenderState& I, bool shadows,
+                           const GBuffer& g, size_t i, const glm::vec3& eye, uint64_t* shadow_rays) {
+  if (!g.hit(i)) return scene.background;
+  const glm::vec3 P = g.position[i], N = g.normal[i], A = g.albedo[i];
+  const int mi = g.material[i];
+  const Material* m = (mi >= 0 && size_t(mi) < scene.materials.size()) ? &scene.materials[size_t(mi)]
+                                                                       : nullptr;
+  glm::vec3 col = scene.ambient * A;
+  if (m) col += m->emission;
+  const glm::vec3 V = glm::normalize(eye - P);
+  const float eps = 2e-4f * I.scene_scale;
+  const glm::vec3 O = P + N * eps;
+  for (const LightNow& l : I.lights) {
+    glm::vec3 L, E;
+    float dist = kInf;
+    if (l.type == Light::Type::Directional) {
+      L = -l.dir;
+      E = l.radiance;
+    } else {
+      glm::vec3 d = l.pos - P;
+      float r2 = glm::dot(d, d);
+      if (!(r2 > 0.f)) continue;
+      dist = std::sqrt(r2);
+      L = d / dist;
+      E = l.radiance / r2;
+      if (l.type == Light::Type::Spot) {
+        float f = smooth01(l.cos_outer, l.cos_inner, glm::dot(-L, l.dir));
+        if (f <= 0.f) continue;
+        E *= f;
+      }
+    }
+    const float ndl = glm::dot(N, L);
+    if (ndl <= 0.f) continue;
+    if (shadows && l.shadows) {
+      if (shadow_rays) ++*shadow_rays;
+      float tfar = std::isinf(dist) ? kInf : std::max(0.f, dist - 2.f * eps);
+      if (occluded_ray(I.top, O, L, 0.f, tfar)) continue;
+    }
+    glm::vec3 brdf = A;
+    if (m && m->specular > 0.f) {
+      glm::vec3 H = glm::normalize(L + V);
+      float ndh = std::max(0.f, glm::dot(N, H));
+      brdf += glm::vec3(m->specular * std::pow(ndh, m->shininess));
+    }
+    col += brdf * E * ndl;
+  }
+  return col;
+}
+
+glm::vec3 Renderer::shade_sample(const GBuffer& g, size_t i, const glm::vec3& eye) const {
+  uint64_t n = 0;
+  glm::vec3 c = shade_one(scene_, *impl_, settings_.shadows, g, i, eye, &n);
+  rays_ += n;
+  return c;
+}
+
+void Renderer::shade(const GBuffer& g, const glm::dvec3& eye_d, Image& out, const uint8_t* mask,
+                     Counters* c) const {
+  if (!g.has(kShadingChannels))
+    throw Error("renderer", "shade() needs a G-buffer with depth, position, normal, albedo, material");
+  if (out.width != g.width || out.height != g.height || out.channels != 3)
+    out.resize(g.width, g.height, 3);
+  const glm::vec3 eye(eye_d);
+  const size_t n = g.size();
+  const size_t B = 4096;
+  const size_t nb = (n + B - 1) / B;
+  std::vector<uint64_t> shadow(nb, 0), shaded(nb, 0);
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, nb, 1),
+      [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t b = r.begin(); b != r.end(); ++b) {
+          uint64_t sr = 0, ss = 0;
+          for (size_t i = b * B, e = std::min(n, i + B); i < e; ++i) {
+            if (mask && !mask[i]) continue;
+            glm::vec3 col = shade_one(scene_, *impl_, settings_.shadows, g, i, eye, &sr);
+            float* o = &out.data[i * 3];
+            o[0] = col.x;
+            o[1] = col.y;
+            o[2] = col.z;
+            ++ss;
+          }
+          shadow[b] = sr;
+          shaded[b] = ss;
+        }
+      },
+      tbb::simple_partitioner());
+  uint64_t sr = 0, ss = 0;
+  for (size_t b = 0; b < nb; ++b) {
+    sr += shadow[b];
+    ss += shaded[b];
+  }
+  rays_ += sr;
+  if (c) {
+    c->add("shaded_samples", double(ss));
+    c->add("shadow_rays", double(sr));
+  }
+}
+
+bool Renderer::occluded(const glm::vec3& from, const glm::vec3& to) const {
+  glm::vec3 d = to - from;
+  float dist = glm::length(d);
+  if (!(dist > 0.f)) return false;
+  const float eps = 1e-4f * impl_->scene_scale;
+  rays_ += 1;
+  if (dist <= 2.f * eps) return false;
+  return occluded_ray(impl_->top, from, d / dist, eps, dist - eps);
+}
+
+float Renderer::intersect(const glm::vec3& org, const glm::vec3& dir_in, int* object, int* prim,
+                          glm::vec3* normal, glm::vec2* uv) const {
+  const Impl& I = *impl_;
+  glm::vec3 dir = glm::normalize(dir_in);
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  RTCRayHit rh;
+  init_ray(rh, org, dir);
+  rtcIntersect1(I.top, &ctx, &rh);
+  rays_ += 1;
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
+    if (object) *object = -1;
+    if (prim) *prim = -1;
+    return kInf;
+  }
+  int obj = hit_object(I, rh.hit);
+  if (object) *object = obj;
+  if (prim) *prim = int(rh.hit.primID);
+  if (normal || uv) {
+    GBuffer g;
+    g.resize(1, 1, kNormal | kUV);
+    SampleWriter w{scene_, I, nullptr, g.channels};
+    w.hit(g, 0, org, dir, rh.ray.tfar, obj, rh.hit.primID, rh.hit.u, rh.hit.v, glm::vec2(0.f));
+    if (normal) *normal = g.normal[0];
+    if (uv) *uv = g.uv[0];
+  }
+  return rh.ray.tfar;
+}
+
+AABB Renderer::submodel_bounds_world(size_t i) const {
+  const SubModel& sm = scene_.submodels[i];
+  const glm::mat4& xf = impl_->objs[size_t(sm.object)].xf;
+  AABB b;
+  if (sm.bounds.empty()) return b;
+  for (int k = 0; k < 8; ++k) {
+    glm::vec3 p((k & 1) ? sm.bounds.hi.x : sm.bounds.lo.x, (k & 2) ? sm.bounds.hi.y : sm.bounds.lo.y,
+                (k & 4) ? sm.bounds.hi.z : sm.bounds.lo.z);
+    b.extend(xform_point(xf, p));
+  }
+  return b;
+}
+
+// ---- tone mapping -------------------------------------------------------------------------
+
+namespace {
+
+inline float aces(float x) {
+  // Narkowicz 2015 fit of the ACES filmic curve.
+  const float a = 2.51f, b = 0.03f, c = 2.43f, d = 0.59f, e = 0.14f;
+  return clamp01((x * (a * x + b)) / (x * (c * x + d) + e));
+}
+
+inline float srgb_oetf(float x) {
+  x = clamp01(x);
+  return x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.f / 2.4f) - 0.055f;
+}
+
+}  // namespace
+
+void ToneMap::apply(const Image& linear, Image& display) const {
+  if (display.width != linear.width || display.height != linear.height ||
+      display.channels != linear.channels)
+    display.resize(linear.width, linear.height, linear.channels);
+  const float ex = float(exposure);
+  const Curve cv = curve;
+  const size_t n = linear.data.size();
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1 << 14), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      float x = linear.data[i] * ex;
+      if (!(x > 0.f)) x = 0.f;  // negatives and NaN -> black
+      float y;
+      switch (cv) {
+        case Curve::Reinhard: y = std::isinf(x) ? 1.f : x / (1.f + x); break;
+        case Curve::Aces: y = std::isinf(x) ? 1.f : aces(x); break;
+        default: y = clamp01(x); break;
+      }
+      display.data[i] = srgb_oetf(y);
+    }
+  });
+}
+
+}  // namespace fovsim

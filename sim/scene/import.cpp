@@ -1,0 +1,322 @@
+// `file` scenes: glTF / OBJ (anything assimp reads) with base colours, diffuse textures
+// (through OpenImageIO, linearised from sRGB), normals and uvs.
+#include <OpenImageIO/filesystem.h>
+#include <OpenImageIO/imageio.h>
+
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <cmath>
+#include <filesystem>
+#include <map>
+
+#include "sim/core/error.h"
+#include "sim/scene/builtin.h"
+
+namespace fovsim {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+float srgb_to_linear(float c) {
+  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
+
+bool load_image_file(const std::string& path, TextureImage& out) {
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) return false;
+  const OIIO::ImageSpec& spec = in->spec();
+  int nc = spec.nchannels;
+  std::vector<float> px(size_t(spec.width) * size_t(spec.height) * size_t(nc));
+  bool ok = in->read_image(0, 0, 0, nc, OIIO::TypeDesc::FLOAT, px.data());
+  in->close();
+  if (!ok || nc < 1) return false;
+  out.width = spec.width;
+  out.height = spec.height;
+  out.texels.resize(size_t(spec.width) * size_t(spec.height));
+  for (size_t i = 0; i < out.texels.size(); ++i) {
+    const float* p = &px[i * size_t(nc)];
+    glm::vec3 c = nc >= 3 ? glm::vec3(p[0], p[1], p[2]) : glm::vec3(p[0]);
+    out.texels[i] = {srgb_to_linear(c.x), srgb_to_linear(c.y), srgb_to_linear(c.z)};
+  }
+  return true;
+}
+
+bool load_image_memory(const aiTexture* t, TextureImage& out) {
+  if (t->mHeight == 0) {  // compressed (png/jpg) bytes in memory
+    OIIO::Filesystem::IOMemReader mem(t->pcData, t->mWidth);
+    void* ptr = &mem;
+    OIIO::ImageSpec config;
+    config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &ptr);
+    std::string ext = std::string("x.") + (t->achFormatHint[0] ? t->achFormatHint : "png");
+    auto in = OIIO::ImageInput::open(ext, &config);
+    if (!in) return false;
+    const OIIO::ImageSpec& spec = in->spec();
+    int nc = spec.nchannels;
+    std::vector<float> px(size_t(spec.width) * size_t(spec.height) * size_t(nc));
+    bool ok = in->read_image(0, 0, 0, nc, OIIO::TypeDesc::FLOAT, px.data());
+    in->close();
+    if (!ok || nc < 1) return false;
+    out.width = spec.width;
+    out.height = spec.height;
+    out.texels.resize(size_t(spec.width) * size_t(spec.height));
+    for (size_t i = 0; i < out.texels.size(); ++i) {
+      const float* p = &px[i * size_t(nc)];
+      glm::vec3 c = nc >= 3 ? glm::vec3(p[0], p[1], p[2]) : glm::vec3(p[0]);
+      out.texels[i] = {srgb_to_linear(c.x), srgb_to_linear(c.y), srgb_to_linear(c.z)};
+    }
+    return true;
+  }
+  out.width = int(t->mWidth);
+  out.height = int(t->mHeight);
+  out.texels.resize(size_t(t->mWidth) * size_t(t->mHeight));
+  for (size_t i = 0; i < out.texels.size(); ++i) {
+    const aiTexel& x = t->pcData[i];
+    out.texels[i] = {srgb_to_linear(x.r / 255.f), srgb_to_linear(x.g / 255.f),
+                     srgb_to_linear(x.b / 255.f)};
+  }
+  return true;
+}
+
+glm::mat4 to_glm(const aiMatrix4x4& m) {
+  // assimp is row-major (a1..a4 is the first row); glm is column-major.
+  return glm::mat4(m.a1, m.b1, m.c1, m.d1, m.a2, m.b2, m.c2, m.d2, m.a3, m.b3, m.c3, m.d3, m.a4,
+                   m.b4, m.c4, m.d4);
+}
+
+struct Loader {
+  const aiScene* ai = nullptr;
+  Scene* s = nullptr;
+  std::string dir;
+  std::map<std::string, int> image_index;
+  std::vector<int> mesh_map;  // assimp mesh -> Scene mesh
+
+  int image(const std::string& ref) {
+    auto it = image_index.find(ref);
+    if (it != image_index.end()) return it->second;
+    TextureImage img;
+    bool ok = false;
+    if (const aiTexture* emb = ai->GetEmbeddedTexture(ref.c_str())) {
+      ok = load_image_memory(emb, img);
+    } else {
+      fs::path p = fs::path(ref).is_absolute() ? fs::path(ref) : fs::path(dir) / ref;
+      ok = load_image_file(p.string(), img);
+    }
+    int idx = -1;
+    if (ok) {
+      s->images.push_back(std::move(img));
+      idx = int(s->images.size() - 1);
+    }
+    image_index[ref] = idx;  // a missing texture falls back to the base colour
+    return idx;
+  }
+
+  void materials() {
+    for (unsigned i = 0; i < ai->mNumMaterials; ++i) {
+      const aiMaterial* am = ai->mMaterials[i];
+      Material m;
+      aiString name;
+      if (am->Get(AI_MATKEY_NAME, name) == AI_SUCCESS) m.name = name.C_Str();
+      aiColor4D c;
+      if (am->Get(AI_MATKEY_BASE_COLOR, c) == AI_SUCCESS ||
+          am->Get(AI_MATKEY_COLOR_DIFFUSE, c) == AI_SUCCESS)
+        m.base_color = {c.r, c.g, c.b};
+      aiColor3D e;
+      if (am->Get(AI_MATKEY_COLOR_EMISSIVE, e) == AI_SUCCESS) m.emission = {e.r, e.g, e.b};
+      float shin = 0.f;
+      if (am->Get(AI_MATKEY_SHININESS, shin) == AI_SUCCESS && shin > 1.f) {
+        m.shininess = std::min(shin, 512.f);
+      }
+      float opacity = 1.f;
+      if (am->Get(AI_MATKEY_OPACITY, opacity) == AI_SUCCESS && opacity < 0.999f) m.transparent = true;
+      aiString tex;
+      if (am->GetTexture(aiTextureType_BASE_COLOR, 0, &tex) == AI_SUCCESS ||
+          am->GetTexture(aiTextureType_DIFFUSE, 0, &tex) == AI_SUCCESS) {
+        int idx = image(tex.C_Str());
+        if (idx >= 0) {
+          m.tex = TexKind::Image;
+          m.image = idx;
+        }
+      }
+      s->materials.push_back(m);
+    }
+    if (s->materials.empty()) s->materials.push_back(Material{});
+  }
+
+  void meshes() {
+    mesh_map.assign(ai->mNumMeshes, -1);
+    for (unsigned i = 0; i < ai->mNumMeshes; ++i) {
+      const aiMesh* am = ai->mMeshes[i];
+      if (!(am->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
+      Mesh m;
+      m.name = am->mName.C_Str();
+      m.material = int(am->mMaterialIndex) < int(s->materials.size()) ? int(am->mMaterialIndex) : 0;
+      m.positions.resize(am->mNumVertices);
+      for (unsigned v = 0; v < am->mNumVertices; ++v)
+        m.positions[v] = {am->mVertices[v].x, am->mVertices[v].y, am->mVertices[v].z};
+      if (am->HasNormals()) {
+        m.normals.resize(am->mNumVertices);
+        for (unsigned v = 0; v < am->mNumVertices; ++v) {
+          glm::vec3 n(am->mNormals[v].x, am->mNormals[v].y, am->mNormals[v].z);
+          float l = glm::length(n);
+          m.normals[v] = (l > 0.f && std::isfinite(l)) ? n / l : glm::vec3(0, 1, 0);
+        }
+      }
+      if (am->HasTextureCoords(0)) {
+        m.uvs.resize(am->mNumVertices);
+        for (unsigned v = 0; v < am->mNumVertices; ++v)
+          m.uvs[v] = {am->mTextureCoords[0][v].x, am->mTextureCoords[0][v].y};
+      }
+      for (unsigned f = 0; f < am->mNumFaces; ++f) {
+        const aiFace& face = am->mFaces[f];
+        if (face.mNumIndices != 3) continue;  // points/lines after triangulation
+        glm::uvec3 t(face.mIndices[0], face.mIndices[1], face.mIndices[2]);
+        if (t.x >= am->mNumVertices || t.y >= am->mNumVertices || t.z >= am->mNumVertices) continue;
+        m.triangles.push_back(t);
+      }
+      if (m.triangles.empty()) continue;
+      s->meshes.push_back(std::move(m));
+      mesh_map[i] = int(s->meshes.size() - 1);
+    }
+  }
+
+  void nodes(const aiNode* n, const glm::mat4& parent, const glm::mat4& root) {
+    glm::mat4 xf = parent * to_glm(n->mTransformation);
+    for (unsigned i = 0; i < n->mNumMeshes; ++i) {
+      int mi = mesh_map[n->mMeshes[i]];
+      if (mi < 0) continue;
+      Object o;
+      o.name = std::string(n->mName.C_Str());
+      if (o.name.empty()) o.name = s->meshes[size_t(mi)].name;
+      o.mesh = mi;
+      o.transform = root * xf;
+      s->objects.push_back(o);
+    }
+    for (unsigned c = 0; c < n->mNumChildren; ++c) nodes(n->mChildren[c], xf, root);
+  }
+};
+
+}  // namespace
+
+Scene load_file_scene(Params& p, const std::string& models_dir) {
+  const std::string rel = p.string("path");
+  const double scale = p.number("scale", 1.0, Range::above(0, 1e9));
+  const std::vector<double> tr = p.numbers("translate", {0, 0, 0});
+  const std::vector<double> rot = p.numbers("rotate_deg", {0, 0, 0});
+  const std::vector<double> eye = p.numbers("default_eye", {});
+  const bool want_default_lights = p.boolean("default_lights", true);
+  const double exposure = p.number("exposure", 1.0, Range::above(0, 1e6));
+  p.ignore("comment");
+  if (tr.size() != 3) p.fail("translate", "expected 3 numbers [x, y, z]");
+  if (rot.size() != 3) p.fail("rotate_deg", "expected 3 numbers [x, y, z] (degrees, applied x, y, z)");
+  if (!eye.empty() && eye.size() != 3) p.fail("default_eye", "expected 3 numbers [x, y, z]");
+
+  // Relative paths: next to the config file first, then under models/scenes/.
+  fs::path path(rel);
+  if (!path.is_absolute()) {
+    fs::path base = p.file().empty() ? fs::current_path() : fs::path(p.file()).parent_path();
+    fs::path a = base / rel, b = fs::path(models_dir) / "scenes" / rel;
+    path = fs::exists(a) ? a : (fs::exists(b) ? b : a);
+  }
+  if (!fs::exists(path))
+    throw Error(p.where("path"), "scene file not found: " + path.string());
+
+  Assimp::Importer imp;
+  const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                         aiProcess_GenSmoothNormals | aiProcess_SortByPType |
+                         aiProcess_ValidateDataStructure;
+  const aiScene* ai = imp.ReadFile(path.string(), flags);
+  if (!ai || !ai->mRootNode || (ai->mFlags & AI_SCENE_FLAGS_INCOMPLETE))
+    throw Error(p.where("path"), "cannot import " + path.string() + ": " + imp.GetErrorString());
+
+  Scene s;
+  s.name = path.stem().string();
+  Loader L;
+  L.ai = ai;
+  L.s = &s;
+  L.dir = path.parent_path().string();
+  L.materials();
+  L.meshes();
+  glm::mat4 root(1.f);
+  root[3] = glm::vec4(float(tr[0]), float(tr[1]), float(tr[2]), 1.f);
+  glm::quat q = glm::angleAxis(float(deg2rad(rot[2])), glm::vec3(0, 0, 1)) *
+                glm::angleAxis(float(deg2rad(rot[1])), glm::vec3(0, 1, 0)) *
+                glm::angleAxis(float(deg2rad(rot[0])), glm::vec3(1, 0, 0));
+  root = root * glm::mat4_cast(q);
+  root[0] *= float(scale);
+  root[1] *= float(scale);
+  root[2] *= float(scale);
+  L.nodes(ai->mRootNode, glm::mat4(1.f), root);
+  if (s.objects.empty()) throw Error(p.where("path"), "no triangles in " + path.string());
+
+  // World bounds, for default lights and viewpoint.
+  AABB wb;
+  for (const Object& o : s.objects)
+    for (const glm::vec3& v : s.meshes[size_t(o.mesh)].positions)
+      wb.extend(glm::vec3(o.transform * glm::vec4(v, 1.f)));
+  glm::vec3 ctr = 0.5f * (wb.lo + wb.hi);
+  float radius = std::max(1e-3f, 0.5f * glm::length(wb.hi - wb.lo));
+
+  // Lights from the file (point/spot/directional), in world space.
+  for (unsigned i = 0; i < ai->mNumLights; ++i) {
+    const aiLight* al = ai->mLights[i];
+    Light l;
+    const aiNode* n = ai->mRootNode->FindNode(al->mName);
+    glm::mat4 xf = root;
+    if (n) {
+      glm::mat4 acc(1.f);
+      for (const aiNode* k = n; k; k = k->mParent) acc = to_glm(k->mTransformation) * acc;
+      xf = root * acc;
+    }
+    glm::vec3 pos = glm::vec3(xf * glm::vec4(al->mPosition.x, al->mPosition.y, al->mPosition.z, 1.f));
+    glm::vec3 dir = glm::vec3(xf * glm::vec4(al->mDirection.x, al->mDirection.y, al->mDirection.z, 0.f));
+    if (glm::length(dir) < 1e-6f) dir = {0, -1, 0};
+    glm::vec3 col(al->mColorDiffuse.r, al->mColorDiffuse.g, al->mColorDiffuse.b);
+    float mx = std::max(col.x, std::max(col.y, col.z));
+    if (!(mx > 0.f)) continue;
+    l.color = col / mx;
+    l.intensity = mx;
+    l.position = pos;
+    l.direction = glm::normalize(dir);
+    if (al->mType == aiLightSource_DIRECTIONAL) {
+      l.type = Light::Type::Directional;
+    } else if (al->mType == aiLightSource_SPOT) {
+      l.type = Light::Type::Spot;
+      l.spot_inner_deg = float(rad2deg(al->mAngleInnerCone));
+      l.spot_outer_deg = float(rad2deg(al->mAngleOuterCone));
+    } else if (al->mType == aiLightSource_POINT) {
+      l.type = Light::Type::Point;
+      // glTF point intensities are candela (W/sr-like); our point light is I / d^2 too.
+    } else {
+      continue;
+    }
+    s.lights.push_back(l);
+  }
+  if (s.lights.empty() && want_default_lights) {
+    // A key light (directional, shadowed) from above-front-right and a fill point light.
+    Light key;
+    key.type = Light::Type::Directional;
+    key.direction = glm::normalize(glm::vec3(-0.4f, -1.f, -0.6f));
+    key.intensity = 2.5f;
+    key.shadows = true;
+    s.lights.push_back(key);
+    Light fill;
+    fill.type = Light::Type::Point;
+    fill.position = ctr + glm::vec3(-1.5f, 1.2f, 2.0f) * radius;
+    fill.intensity = 0.6f * glm::dot(fill.position - ctr, fill.position - ctr);
+    fill.shadows = false;
+    s.lights.push_back(fill);
+  }
+  s.ambient = glm::vec3(0.06f);
+  s.background = glm::vec3(0.05f, 0.05f, 0.07f);
+  s.exposure = exposure;
+  if (eye.size() == 3)
+    s.default_eye = {float(eye[0]), float(eye[1]), float(eye[2])};
+  else  // in front of the model (+z), far enough to see it whole with a ~90 deg FOV
+    s.default_eye = ctr + glm::vec3(0, 0, 1.8f * radius);
+  return s;
+}
+
+}  // namespace fovsim
