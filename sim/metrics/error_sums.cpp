@@ -9,6 +9,7 @@
 #include <string>
 
 #include "sim/core/error.h"
+#include "sim/core/math.h"
 #include "sim/metrics/metrics.h"
 
 namespace fovsim {
@@ -51,6 +52,25 @@ ErrorSums error_sums(const Image& a, const Image& b, const ErrorSumsRequest& req
   const float* ecc = req.ecc ? req.ecc->data() : nullptr;
   const double* edges = nb ? req.band_edges->data() : nullptr;
 
+  // FPSNR weight, factored per row/column (same formula as local_ppd and fpsnr_weight):
+  //   ppd = 0.5 (deg/rate_h + deg/rate_v) = 0.5 deg r2 (A(v) + B(u)),
+  //   A(v) = 1 / (kh sqrt(1+v^2)), B(u) = 1 / (kv sqrt(1+u^2)), r2 = 1 + u^2 + v^2.
+  std::vector<double> col_u2, col_b;
+  double kh = 0, kv = 0;
+  const double deg = kPi / 180.0;
+  if (req.weighted) {
+    const Camera& cam = *req.cam;
+    kh = 2.0 * cam.tan_half_h / cam.width;
+    kv = 2.0 * cam.tan_half_v / cam.height;
+    col_u2.resize(size_t(W));
+    col_b.resize(size_t(W));
+    for (int x = 0; x < W; ++x) {
+      const double u = (2.0 * (x + 0.5) / cam.width - 1.0) * cam.tan_half_h;
+      col_u2[size_t(x)] = u * u;
+      col_b[size_t(x)] = 1.0 / (kv * std::sqrt(1.0 + u * u));
+    }
+  }
+
   tbb::parallel_for(tbb::blocked_range<int>(0, H), [&](const tbb::blocked_range<int>& r) {
     for (int y = r.begin(); y < r.end(); ++y) {
       double* s = &rows[size_t(y) * K];
@@ -58,6 +78,12 @@ ErrorSums error_sums(const Image& a, const Image& b, const ErrorSumsRequest& req
       const float* pb = b.row(y);
       const float* er = ecc ? ecc + size_t(y) * size_t(W) : nullptr;
       double sq = 0, w_sq = 0, w = 0, f_sq = 0, f_n = 0, p_sq = 0, p_n = 0;
+      double v2 = 0, row_a = 0;
+      if (req.weighted) {
+        const double v = (1.0 - 2.0 * (y + 0.5) / req.cam->height) * req.cam->tan_half_v;
+        v2 = v * v;
+        row_a = 1.0 / (kh * std::sqrt(1.0 + v2));
+      }
       for (int x = 0; x < W; ++x) {
         double e2 = 0;
         for (int c = 0; c < C; ++c) {
@@ -68,7 +94,8 @@ ErrorSums error_sums(const Image& a, const Image& b, const ErrorSumsRequest& req
         sq += e2;
         if (req.weighted) {
           // Lee-Pattichis-Bovik 2002: weight = min(f_c(e), ppd/2) (DESIGN §7).
-          double wt = fpsnr_weight(er[x], local_ppd(*req.cam, x + 0.5, y + 0.5));
+          const double ppd = 0.5 * deg * (1.0 + col_u2[size_t(x)] + v2) * (row_a + col_b[size_t(x)]);
+          const double wt = fpsnr_weight(er[x], ppd);
           w_sq += wt * e2;
           w += wt;
         }

@@ -21,7 +21,8 @@ constexpr double kE2 = 2.3;
 }  // namespace
 
 double fpsnr_weight(double ecc_deg, double ppd) {
-  const double fc = kE2 * std::log(1.0 / kCT0) / (kAlpha * (std::max(ecc_deg, 0.0) + kE2));
+  static const double kNum = kE2 * std::log(1.0 / kCT0) / kAlpha;
+  const double fc = kNum / (std::max(ecc_deg, 0.0) + kE2);
   return std::min(fc, 0.5 * ppd);
 }
 

@@ -92,10 +92,13 @@ double ssim(const Image& a, const Image& b) {
         for (int c = 0; c < 5; ++c) {
           const double* src = &prod[size_t(c) * W];
           double* dst = &hbuf[(size_t(c) * nsrc + j) * size_t(Wv)];
-          for (int x = 0; x < Wv; ++x) {
-            double s = 0;
-            for (int k = 0; k < kTaps; ++k) s += K.g[k] * src[x + k];
-            dst[x] = s;
+          // Tap-outer loops vectorise over x; the kernel is symmetric (g[k] = g[2R-k]).
+          for (int x = 0; x < Wv; ++x) dst[x] = K.g[R] * src[x + R];
+          for (int k = 0; k < R; ++k) {
+            const double g = K.g[k];
+            const double* lo = src + k;
+            const double* hi = src + (2 * R - k);
+            for (int x = 0; x < Wv; ++x) dst[x] += g * (lo[x] + hi[x]);
           }
         }
       }
@@ -104,11 +107,13 @@ double ssim(const Image& a, const Image& b) {
         const int j0 = y - y0;  // first source row of the window in hbuf
         for (int c = 0; c < 5; ++c) {
           double* dst = &vrow[size_t(c) * Wv];
-          for (int x = 0; x < Wv; ++x) dst[x] = 0;
-          for (int k = 0; k < kTaps; ++k) {
-            const double* src = &hbuf[(size_t(c) * nsrc + j0 + k) * size_t(Wv)];
+          const double* mid = &hbuf[(size_t(c) * nsrc + j0 + R) * size_t(Wv)];
+          for (int x = 0; x < Wv; ++x) dst[x] = K.g[R] * mid[x];
+          for (int k = 0; k < R; ++k) {
+            const double* lo = &hbuf[(size_t(c) * nsrc + j0 + k) * size_t(Wv)];
+            const double* hi = &hbuf[(size_t(c) * nsrc + j0 + 2 * R - k) * size_t(Wv)];
             const double g = K.g[k];
-            for (int x = 0; x < Wv; ++x) dst[x] += g * src[x];
+            for (int x = 0; x < Wv; ++x) dst[x] += g * (lo[x] + hi[x]);
           }
         }
         const double* ux = &vrow[0];
