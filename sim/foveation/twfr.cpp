@@ -1,0 +1,406 @@
+// `twfr`: time-warped foveated rendering (seed 002, Franke et al. 2021, §4-§8).
+//
+// | name | type | default | range | source | meaning |
+// |------|------|---------|-------|--------|---------|
+// | epsilon | number | 0.2 | [0, 1] | §5.2, §8.1 | confidence threshold: redraw iff c <= epsilon |
+// | phi_f | number (deg) | 10 | [0, 180] | §5.2 | fovea angle phi_F: c_e = 0 inside, splats discarded inside |
+// | phi_0 | number (deg) | 30 | [phi_f, 180] | §5.2 | angle fully in the periphery: c_e = 1 beyond |
+// | A | number | 0.6 | (0, 1] | §5.2 | hole-size confidence c_s(m) = A^m |
+// | D | number | 0.75 | (0, 1] | §7 | dynamic confidence c_d(t) = D^t |
+// | taa | bool | false | | §6.2 | TAA on redrawn pixels + motion smoothing on reprojected ones |
+// | taa_alpha | number | 0.1 | (0, 1] | §6.2 | accumulation factor of TAA / motion smoothing |
+// | redraw_transparent | bool | true | | §8.5 | transparent surfaces are rendered every frame |
+//
+// Pipeline per frame (Fig. 2): forward reprojection of last frame's colour + world positions
+// (twfr_reproject), push-pull hole filling (twfr_pushpull), confidence and redraw map
+// (twfr_confidence), OR-mipmap + sub-model culling (twfr_cull), redraw shading only where
+// marked (Renderer::shade with a mask over the shared full-resolution G-buffer: the redraw
+// pass's G-buffer and shading are discarded outside the map, §6.1), composition, optional TAA /
+// motion smoothing (§6.2). The first frame (and any reset) redraws everything.
+#include "sim/foveation/twfr.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include "sim/foveation/methods.h"
+
+namespace fovsim {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+bool finite_mat(const glm::mat4& m) {
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r)
+      if (!std::isfinite(m[c][r])) return false;
+  return true;
+}
+
+}  // namespace
+
+TwfrParams TwfrParams::from_params(Params& p) {
+  TwfrParams t;
+  t.conf.epsilon = float(p.number("epsilon", 0.2, Range::closed(0, 1)));
+  t.conf.phi_f = float(p.number("phi_f", 10.0, Range::closed(0, 180)));
+  t.conf.phi_0 = float(p.number("phi_0", 30.0, Range::closed(0, 180)));
+  if (t.conf.phi_0 < t.conf.phi_f)
+    p.fail("phi_0", "must be >= phi_f (" + std::to_string(t.conf.phi_f) + " deg), got " +
+                        std::to_string(t.conf.phi_0));
+  t.conf.A = float(p.number("A", 0.6, Range::above(0, 1)));
+  t.conf.D = float(p.number("D", 0.75, Range::above(0, 1)));
+  t.taa = p.boolean("taa", false);
+  t.taa_alpha = float(p.number("taa_alpha", 0.1, Range::above(0, 1)));
+  t.redraw_transparent = p.boolean("redraw_transparent", true);
+  return t;
+}
+
+TwfrMethod::TwfrMethod(const TwfrParams& p) : p_(p) {}
+
+uint32_t TwfrMethod::required_channels() const {
+  // Object ids: dynamic objects (§7); sub-model ids: which pixels a culled sub-model covers.
+  return kShadingChannels | kObjectId | kSubModel;
+}
+
+std::vector<std::pair<std::string, double>> TwfrMethod::param_columns() const {
+  return {{"epsilon", p_.conf.epsilon}, {"phi_f", p_.conf.phi_f}, {"phi_0", p_.conf.phi_0},
+          {"A", p_.conf.A},             {"D", p_.conf.D}};
+}
+
+void TwfrMethod::reset() {
+  has_state_ = false;
+  prev_color_ = Image();
+  prev_display_ = Image();
+  samples_.clear();
+}
+
+void TwfrMethod::compute_object_motion(const Scene& scene, double t) {
+  // §7: each sprite of a dynamic object moves with its object's change of transform.
+  const size_t no = scene.objects.size();
+  motion_.assign(no, glm::mat4(1.f));
+  object_dynamic_.assign(no, 0);
+  for (size_t o = 0; o < no; ++o) {
+    const Object& ob = scene.objects[o];
+    if (!ob.dynamic()) continue;
+    object_dynamic_[o] = 1;
+    glm::mat4 m = ob.transform_at(t) * glm::inverse(ob.transform_at(prev_t_));
+    motion_[o] = finite_mat(m) ? m : glm::mat4(std::numeric_limits<float>::quiet_NaN());
+  }
+}
+
+void TwfrMethod::render(const FrameContext& ctx, FrameOutput& out) {
+  const GBuffer& g = *ctx.gbuffer;
+  const Scene& scene = *ctx.scene;
+  const Camera& cam = *ctx.camera;
+  const int W = g.width, H = g.height;
+  const size_t n = g.size();
+  const std::vector<float>& ecc = *ctx.eccentricity;
+  Counters& c = out.counters;
+  timings_ = TwfrTimings{};
+
+  // §8.5 limitations: reported, the run continues.
+  bool moving_lights = false, transparency = false;
+  for (const Light& l : scene.lights) moving_lights = moving_lights || l.moving();
+  for (const Material& m : scene.materials) transparency = transparency || m.transparent;
+  if (moving_lights) out.flags.push_back("twfr_moving_lights");
+  if (transparency) out.flags.push_back("twfr_transparency");
+
+  // First frame of a trace, a reset or a new resolution: redraw everything.
+  const bool restart = !has_state_ || width_ != W || height_ != H || ctx.prev_camera == nullptr;
+  if (restart) {
+    width_ = W;
+    height_ = H;
+    prev_t_ = ctx.t;
+    samples_.assign(n, twfr::Sample{});
+    prev_color_.resize(W, H, 3);
+  }
+
+  // ---- 1. forward reprojection (§4, §7) ----
+  auto t0 = Clock::now();
+  compute_object_motion(scene, ctx.t);
+  fovea_.resize(n);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1 << 14), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) fovea_[i] = ecc[i] < p_.conf.phi_f;
+  });
+  twfr::ReprojectInput ri;
+  ri.color = &prev_color_;
+  ri.samples = &samples_;
+  ri.object_motion = &motion_;
+  ri.object_dynamic = &object_dynamic_;
+  ri.camera = &cam;
+  ri.eccentricity = &ecc;
+  ri.fovea_deg = p_.conf.phi_f;
+  twfr::ReprojectStats rs = twfr::forward_reproject(ri, color_, next_samples_, covered_, splat_);
+  timings_.reproject_ms = ms_since(t0);
+
+  // ---- 2. push-pull hole filling (§5.1), outside the fovea (redrawn anyway) ----
+  t0 = Clock::now();
+  twfr::PushPullStats ps =
+      twfr::push_pull_fill(color_, covered_, fovea_.data(), float(scene.exposure), level_, cc_, pushpull_);
+  timings_.pushpull_ms = ms_since(t0);
+
+  // ---- 3. confidence and redraw map (§5.2, §7) ----
+  t0 = Clock::now();
+  const bool use_forced = transparency && p_.redraw_transparent && g.has(kMaterial);
+  dynamic_.resize(n);
+  age_.resize(n);
+  forced_.resize(use_forced ? n : 0);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1 << 14), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      const twfr::Sample& s = next_samples_[i];
+      const bool dyn = covered_[i] && s.kind == twfr::kSurface && s.object >= 0 &&
+                       size_t(s.object) < object_dynamic_.size() && object_dynamic_[size_t(s.object)];
+      dynamic_[i] = dyn;
+      age_[i] = s.age;
+      if (use_forced) {
+        const int32_t m = g.material[i];
+        forced_[i] = g.hit(i) && m >= 0 && size_t(m) < scene.materials.size() &&
+                     scene.materials[size_t(m)].transparent;
+      }
+    }
+  });
+  twfr::ConfidenceInputs ci;
+  ci.eccentricity = ecc.data();
+  ci.hole_level = level_.data();
+  ci.contrast = cc_.data();
+  ci.dynamic = dynamic_.data();
+  ci.age = age_.data();
+  ci.fovea = fovea_.data();
+  ci.forced = use_forced ? forced_.data() : nullptr;
+  twfr::ConfidenceStats cs = twfr::compute_redraw_map(ci, p_.conf, W, H, conf_, redraw_);
+  timings_.confidence_ms = ms_since(t0);
+
+  // ---- 4. OR-mipmap and sub-model culling (§6.1) ----
+  t0 = Clock::now();
+  ormip_.build(redraw_, W, H);
+  const Renderer& rdr = *ctx.renderer;
+  twfr::CullStats cu = twfr::cull_submodels(
+      cam, ormip_, scene.submodels.size(), [&](size_t s) { return rdr.submodel_bounds_world(s); },
+      [&](size_t s) { return double(scene.submodels[s].tri_count); }, culled_);
+  // Pixels of culled sub-models are not shaded: their fragments are never generated. By
+  // construction no marked pixel lies on a culled sub-model (counted, must stay 0).
+  mask_.resize(n);
+  const bool has_sub = g.has(kSubModel);
+  conflicts_ = tbb::parallel_reduce(
+      tbb::blocked_range<size_t>(0, n, 1 << 14), size_t(0),
+      [&](const tbb::blocked_range<size_t>& r, size_t acc) {
+        for (size_t i = r.begin(); i != r.end(); ++i) {
+          uint8_t m = redraw_[i] ? 1 : 0;
+          if (m && has_sub) {
+            const int32_t s = g.submodel[i];
+            if (s >= 0 && size_t(s) < culled_.size() && culled_[size_t(s)]) {
+              m = 0;
+              ++acc;
+            }
+          }
+          mask_[i] = m;
+        }
+        return acc;
+      },
+      [](size_t a, size_t b) { return a + b; });
+  timings_.cull_ms = ms_since(t0);
+
+  // ---- 5. redraw where marked, compose (§6.1, §6.2) ----
+  t0 = Clock::now();
+  Image reprojected;
+  if (ctx.want_debug) reprojected = color_;
+  c.set("shaded_samples", 0);
+  rdr.shade(g, cam.position, color_, mask_.data(), &c);
+  // Redrawn pixels carry their exact world position (or sky direction) into the next frame;
+  // hole-filled pixels carry none (§4).
+  size_t shaded = tbb::parallel_reduce(
+      tbb::blocked_range<int>(0, H), size_t(0),
+      [&](const tbb::blocked_range<int>& rows, size_t acc) {
+        for (int y = rows.begin(); y != rows.end(); ++y) {
+          for (int x = 0; x < W; ++x) {
+            const size_t i = size_t(y) * size_t(W) + size_t(x);
+            twfr::Sample& s = next_samples_[i];
+            if (mask_[i]) {
+              ++acc;
+              s.age = 0;
+              if (g.hit(i)) {
+                s.kind = twfr::kSurface;
+                s.pos = g.position[i];
+                s.object = g.has(kObjectId) ? g.object_id[i] : -1;
+              } else {
+                s.kind = twfr::kSky;
+                s.pos = glm::vec3(cam.dir_world(x + 0.5, y + 0.5));
+                s.object = -1;
+              }
+            } else if (!covered_[i]) {
+              s = twfr::Sample{};
+            }
+          }
+        }
+        return acc;
+      },
+      [](size_t a, size_t b) { return a + b; });
+  timings_.redraw_ms = ms_since(t0);
+
+  // Composed colour (without TAA) is the next frame's reprojection input (§6.2).
+  if (p_.taa) {
+    t0 = Clock::now();
+    apply_taa(ctx, color_, out.image, c);
+    timings_.taa_ms = ms_since(t0);
+  } else {
+    out.image = color_;
+  }
+  std::swap(prev_color_, color_);
+  std::swap(samples_, next_samples_);
+  prev_cam_ = cam;
+  prev_t_ = ctx.t;
+  has_state_ = true;
+
+  // ---- counters (fixed order, stable CSV columns) ----
+  c.set("gbuffer_samples", double(shaded));
+  c.set("fullres_pixels", double(n));
+  c.set("pixels_redrawn", double(cs.redrawn));
+  c.set("redraw_confidence_pixels", double(cs.by_confidence));
+  c.set("fovea_pixels", double(cs.fovea));
+  c.set("uncovered_pixels", double(cs.uncovered));
+  c.set("forced_pixels", double(cs.forced));
+  c.set("dynamic_pixels", double(cs.dynamic));
+  c.set("reproject_splats", double(rs.splats));
+  c.set("reprojected_pixels", double(rs.landed));
+  c.set("fovea_splats_discarded", double(rs.fovea_discarded));
+  c.set("holes_filled", double(ps.holes));
+  for (size_t m = 1; m < ps.holes_per_level.size(); ++m)
+    c.set("holes_mip" + std::to_string(m), double(ps.holes_per_level[m]));
+  c.set("prims_submitted", cu.prims_submitted);
+  c.set("prims_culled", cu.prims_culled + cu.prims_offscreen);
+  c.set("prims_offscreen", cu.prims_offscreen);
+  c.set("prims_foveation_culled", cu.prims_culled);
+  c.set("submodels_submitted", double(cu.submodels - cu.submodels_culled - cu.submodels_offscreen));
+  c.set("submodels_culled", double(cu.submodels_culled + cu.submodels_offscreen));
+  c.set("cull_conflicts", double(conflicts_));
+  c.set("twfr_restart", restart ? 1.0 : 0.0);
+
+  if (ctx.want_debug) {
+    Image rm(W, H, 3);
+    for (size_t i = 0; i < n; ++i) {
+      glm::vec3 col(0.f);
+      const uint8_t r = redraw_[i];
+      if (r & twfr::kRedrawForced) col = {0.2f, 1.f, 0.2f};
+      else if (r & twfr::kRedrawFovea) col = {0.3f, 0.5f, 1.f};
+      else if (r & twfr::kRedrawUncovered) col = {1.f, 0.2f, 0.2f};
+      else if (r & twfr::kRedrawConfidence) col = {1.f, 1.f, 1.f};
+      rm.data[3 * i] = col.r;
+      rm.data[3 * i + 1] = col.g;
+      rm.data[3 * i + 2] = col.b;
+    }
+    Image conf(W, H, 1), holes(W, H, 1);
+    for (size_t i = 0; i < n; ++i) {
+      conf.data[i] = conf_[i];
+      holes.data[i] = level_[i] == twfr::kUncovered ? 8.f : float(level_[i]);
+    }
+    out.debug.emplace_back("redraw", std::move(rm));
+    out.debug.emplace_back("confidence", heatmap(conf, 0.f, 1.f));
+    out.debug.emplace_back("holes", heatmap(holes, 0.f, 8.f));
+    out.debug.emplace_back("reprojected", std::move(reprojected));
+  }
+}
+
+// §6.2: redrawn pixels get TAA, reprojected pixels motion smoothing: both reproject the pixel's
+// world position into the previous frame, fetch the history colour (bilinear), clip it to the
+// 3x3 colour box of the current pixel and accumulate with alpha. Hole-filled pixels pass through.
+void TwfrMethod::apply_taa(const FrameContext& ctx, const Image& cur, Image& out, Counters& c) {
+  const int W = cur.width, H = cur.height;
+  out = cur;
+  const bool have_hist = has_state_ && prev_display_.width == W && prev_display_.height == H;
+  size_t taa = 0, smooth = 0;
+  if (have_hist) {
+    std::vector<glm::mat4> inv_motion(motion_.size(), glm::mat4(1.f));
+    for (size_t o = 0; o < motion_.size(); ++o)
+      if (object_dynamic_[o]) inv_motion[o] = glm::inverse(motion_[o]);
+    const float a = p_.taa_alpha;
+    struct Acc {
+      size_t taa = 0, smooth = 0;
+    };
+    Acc acc = tbb::parallel_reduce(
+        tbb::blocked_range<int>(0, H), Acc{},
+        [&](const tbb::blocked_range<int>& rows, Acc ac) {
+          for (int y = rows.begin(); y != rows.end(); ++y) {
+            for (int x = 0; x < W; ++x) {
+              const size_t i = size_t(y) * size_t(W) + size_t(x);
+              const twfr::Sample& s = next_samples_[i];
+              if (s.kind == twfr::kNoSample) continue;
+              glm::dvec2 px;
+              bool ok;
+              if (s.kind == twfr::kSky) {
+                ok = prev_cam_.project_head(prev_cam_.to_head_dir(glm::dvec3(s.pos)), px);
+              } else {
+                glm::vec3 p = s.pos;
+                if (s.object >= 0 && size_t(s.object) < inv_motion.size() && object_dynamic_[size_t(s.object)])
+                  p = glm::vec3(inv_motion[size_t(s.object)] * glm::vec4(p, 1.f));
+                ok = prev_cam_.project_world(glm::dvec3(p), px);
+              }
+              if (!ok || !std::isfinite(px.x) || !std::isfinite(px.y) || !prev_cam_.inside(px)) continue;
+              // Bilinear history fetch.
+              const double u = px.x - 0.5, v = px.y - 0.5;
+              const int x0 = std::clamp(int(std::floor(u)), 0, W - 1), y0 = std::clamp(int(std::floor(v)), 0, H - 1);
+              const int x1 = std::min(x0 + 1, W - 1), y1 = std::min(y0 + 1, H - 1);
+              const float fx = float(std::clamp(u - std::floor(u), 0.0, 1.0)),
+                          fy = float(std::clamp(v - std::floor(v), 0.0, 1.0));
+              float hist[3], lo[3] = {1e30f, 1e30f, 1e30f}, hi[3] = {-1e30f, -1e30f, -1e30f};
+              for (int k = 0; k < 3; ++k) {
+                hist[k] = (1 - fy) * ((1 - fx) * prev_display_.at(x0, y0)[k] + fx * prev_display_.at(x1, y0)[k]) +
+                          fy * ((1 - fx) * prev_display_.at(x0, y1)[k] + fx * prev_display_.at(x1, y1)[k]);
+              }
+              for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                  const int nx = std::clamp(x + dx, 0, W - 1), ny = std::clamp(y + dy, 0, H - 1);
+                  const float* q = cur.at(nx, ny);
+                  for (int k = 0; k < 3; ++k) {
+                    lo[k] = std::min(lo[k], q[k]);
+                    hi[k] = std::max(hi[k], q[k]);
+                  }
+                }
+              float* o = out.at(x, y);
+              const float* q = cur.at(x, y);
+              for (int k = 0; k < 3; ++k) o[k] = a * q[k] + (1 - a) * std::clamp(hist[k], lo[k], hi[k]);
+              if (mask_[i]) ++ac.taa; else ++ac.smooth;
+            }
+          }
+          return ac;
+        },
+        [](Acc l, const Acc& r) {
+          l.taa += r.taa;
+          l.smooth += r.smooth;
+          return l;
+        });
+    taa = acc.taa;
+    smooth = acc.smooth;
+  }
+  prev_display_ = out;
+  c.set("taa_pixels", double(taa));
+  c.set("motion_smoothed_pixels", double(smooth));
+}
+
+std::unique_ptr<FoveationMethod> create_twfr(Params& p) {
+  return std::make_unique<TwfrMethod>(TwfrParams::from_params(p));
+}
+
+const std::vector<ParamInfo>& twfr_params() {
+  static const std::vector<ParamInfo> t = {
+      {"epsilon", "number", "0.2", "[0, 1]", "§5.2, §8.1", "confidence threshold: a pixel is redrawn iff c <= epsilon"},
+      {"phi_f", "number", "10", "[0, 180] deg", "§5.2", "fovea angle phi_F (c_e = 0 inside; reprojected splats discarded inside)"},
+      {"phi_0", "number", "30", "[phi_f, 180] deg", "§5.2", "eccentricity fully in the periphery (c_e = 1 beyond)"},
+      {"A", "number", "0.6", "(0, 1]", "§5.2", "hole-size confidence c_s(m) = A^m"},
+      {"D", "number", "0.75", "(0, 1]", "§7", "dynamic confidence c_d(t) = D^t"},
+      {"taa", "bool", "false", "", "§6.2", "TAA on redrawn pixels and motion smoothing on reprojected ones"},
+      {"taa_alpha", "number", "0.1", "(0, 1]", "§6.2", "TAA / motion-smoothing accumulation factor"},
+      {"redraw_transparent", "bool", "true", "", "§8.5", "transparent surfaces are redrawn every frame"},
+  };
+  return t;
+}
+
+}  // namespace fovsim
