@@ -20,6 +20,9 @@ struct TraceSample {
 struct Trace {
   std::string source;  // file path or "synthetic:<scenario>:<seed>"
   std::vector<TraceSample> samples;
+  // Problems that a skip/hold policy handled (one line per kind, with the first location and
+  // a count) or that a caller should know. Never empty when something was changed.
+  std::vector<std::string> warnings;
   double duration() const { return samples.empty() ? 0 : samples.back().t - samples.front().t; }
 };
 
@@ -39,6 +42,10 @@ void write_trace_csv(const std::string& path, const Trace& trace);
 // Resamples to `hz` from the first sample: lerp positions, slerp orientations, normalized lerp of
 // gaze (nearest for `valid`). Frames past the end are not produced.
 Trace resample(const Trace& trace, double hz);
+
+// True if a head-space direction is in front of the eye and projects inside the display's
+// screen rectangle (normalized screen point in [0,1]^2).
+bool gaze_inside_fov(const Display& display, const glm::dvec3& dir);
 
 // Trace from a run config's "trace" block: {"file": ...} or {"synthetic": {...}}.
 Trace load_trace(Params& p, const Display& display, const std::string& base_dir);

@@ -1,0 +1,114 @@
+#include "sim/trace/csv_table.h"
+
+#include <charconv>
+#include <cmath>
+
+#include "sim/core/error.h"
+#include "sim/core/files.h"
+
+namespace fovsim {
+
+static bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r'; }
+
+std::vector<CsvField> split_csv_line(const std::string& line, char delim, const std::string& file, long line_no) {
+  std::vector<CsvField> out;
+  size_t i = 0, n = line.size();
+  while (true) {
+    CsvField f;
+    // Leading spaces (but a tab delimiter is never trimmed away).
+    while (i < n && is_space(line[i]) && line[i] != delim) ++i;
+    f.col = int(i) + 1;
+    if (i < n && line[i] == '"') {
+      size_t q = i++;
+      bool closed = false;
+      while (i < n) {
+        if (line[i] == '"') {
+          if (i + 1 < n && line[i + 1] == '"') {
+            f.text += '"';
+            i += 2;
+            continue;
+          }
+          closed = true;
+          ++i;
+          break;
+        }
+        f.text += line[i++];
+      }
+      if (!closed) throw Error(file_location(file, line_no, long(q) + 1), "unterminated quoted field");
+      while (i < n && is_space(line[i]) && line[i] != delim) ++i;
+      if (i < n && line[i] != delim)
+        throw Error(file_location(file, line_no, long(i) + 1), "unexpected text after a quoted field");
+    } else {
+      size_t s = i;
+      while (i < n && line[i] != delim) ++i;
+      size_t e = i;
+      while (e > s && is_space(line[e - 1]) && line[e - 1] != delim) --e;
+      f.text = line.substr(s, e - s);
+    }
+    out.push_back(std::move(f));
+    if (i >= n) break;
+    ++i;  // skip the delimiter; a trailing delimiter yields a final empty field
+    if (i == n) {
+      CsvField last;
+      last.col = int(n) + 1;
+      out.push_back(last);
+      break;
+    }
+  }
+  return out;
+}
+
+std::vector<CsvRow> read_csv_rows(const std::string& path, char delim, char comment) {
+  std::string text = read_file(path);
+  std::vector<CsvRow> rows;
+  size_t pos = 0;
+  long line_no = 0;
+  if (text.size() >= 3 && (unsigned char)text[0] == 0xEF && (unsigned char)text[1] == 0xBB &&
+      (unsigned char)text[2] == 0xBF)
+    pos = 3;
+  while (pos < text.size()) {
+    size_t e = text.find('\n', pos);
+    if (e == std::string::npos) e = text.size();
+    std::string line = text.substr(pos, e - pos);
+    pos = e + 1;
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    size_t k = 0;
+    while (k < line.size() && (line[k] == ' ' || line[k] == '\t')) ++k;
+    if (k == line.size()) continue;
+    if (comment && line[k] == comment) continue;
+    CsvRow r;
+    r.line = line_no;
+    r.fields = split_csv_line(line, delim, path, line_no);
+    rows.push_back(std::move(r));
+  }
+  return rows;
+}
+
+bool parse_number(const std::string& text, double& out, std::string& why) {
+  if (text.empty()) {
+    why = "empty field";
+    return false;
+  }
+  const char* b = text.data();
+  const char* e = b + text.size();
+  if (*b == '+') ++b;  // from_chars rejects a leading '+'
+  double v = 0;
+  auto r = std::from_chars(b, e, v);
+  if (r.ec == std::errc::result_out_of_range) {
+    why = "number out of range: \"" + text + "\"";
+    return false;
+  }
+  if (r.ec != std::errc() || r.ptr != e) {
+    why = "not a number: \"" + text + "\"";
+    return false;
+  }
+  if (!std::isfinite(v)) {
+    why = "non-finite value \"" + text + "\"";
+    return false;
+  }
+  out = v;
+  return true;
+}
+
+}  // namespace fovsim

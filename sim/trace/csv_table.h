@@ -1,0 +1,33 @@
+// Line-oriented delimited-text reading shared by the canonical trace reader and the
+// importer: every field keeps its 1-based line and character column so that errors can
+// name file:line:column.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace fovsim {
+
+struct CsvField {
+  std::string text;  // unquoted, surrounding spaces trimmed
+  int col = 1;       // 1-based character column of the field's first character
+};
+
+struct CsvRow {
+  long line = 0;  // 1-based line number in the file
+  std::vector<CsvField> fields;
+};
+
+// Splits one line (without its newline) on `delim`. Double-quoted fields may contain the
+// delimiter; "" inside quotes is a literal quote. An unterminated quote throws Error at
+// file:line:col.
+std::vector<CsvField> split_csv_line(const std::string& line, char delim, const std::string& file, long line_no);
+
+// Reads a whole text file into rows. Blank lines are dropped; lines whose first non-space
+// character is `comment` (if non-zero) are dropped. Handles \n and \r\n; a UTF-8 BOM is skipped.
+std::vector<CsvRow> read_csv_rows(const std::string& path, char delim, char comment = '#');
+
+// Strict number parsing: the whole (trimmed) text must be a finite decimal number.
+// Returns false and sets `why` ("empty field", "not a number: \"x\"", "non-finite value nan").
+bool parse_number(const std::string& text, double& out, std::string& why);
+
+}  // namespace fovsim

@@ -1,0 +1,91 @@
+// The run config's "trace" block (keys documented in traces/README.md "Run config").
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+
+#include "sim/core/error.h"
+#include "sim/trace/synth.h"
+#include "sim/trace/trace.h"
+
+namespace fovsim {
+
+static std::string resolve(const std::string& base_dir, const std::string& f) {
+  std::filesystem::path p(f);
+  if (p.is_absolute() || base_dir.empty()) return f;
+  return (std::filesystem::path(base_dir) / p).lexically_normal().string();
+}
+
+Trace load_trace(Params& p, const Display& display, const std::string& base_dir) {
+  p.ignore("comment");
+  bool has_file = p.has("file"), has_syn = p.has("synthetic");
+  if (has_file == has_syn)
+    p.fail("", has_file ? "give either \"file\" or \"synthetic\", not both"
+                        : "needs \"file\": \"traces/x.csv\" or \"synthetic\": {\"scenario\": ...}");
+  TraceReadOptions opt;
+  std::string pol = p.string("on_bad_sample", "fail", {"fail", "skip", "hold"});
+  opt.on_bad = pol == "fail" ? BadSamplePolicy::Fail : pol == "skip" ? BadSamplePolicy::Skip : BadSamplePolicy::Hold;
+  opt.quat_tolerance = p.number("quat_tolerance", 1e-3, Range::above(0, 0.5));
+  double start = p.number("start", 0.0, Range::at_least(0));
+  double duration = p.number("duration", 0.0, Range::at_least(0));
+  std::string on_short = p.string("on_short", "fail", {"fail", "truncate", "hold"});
+  bool do_resample = p.boolean("resample", true);
+  double rate = p.number("rate_hz", display.refresh_hz, Range::above(0, 10000));
+
+  Trace tr;
+  if (has_file) {
+    std::string f = p.string("file");
+    std::string path = resolve(base_dir, f);
+    if (!std::filesystem::exists(path)) p.fail("file", "trace file not found: " + path);
+    tr = read_trace_csv(path, display, opt);
+  } else {
+    Params s = p.child("synthetic");
+    SynthOptions so;
+    so.scenario = s.string("scenario", synth_scenarios());
+    so.seed = uint64_t(s.integer("seed", 1, Range::at_least(0)));
+    so.duration_s = s.number("duration", start + (duration > 0 ? duration : 10.0), Range::above(0, 36000));
+    so.rate_hz = rate;
+    EyeModel m;
+    if (s.has("params")) {
+      const Json& j = s.raw("params");
+      m = load_eye_model(j, p.file(), s.path_of("params"), base_dir);
+    }
+    tr = synthesize(m, so, display);
+  }
+  if (tr.samples.empty()) p.fail(has_file ? "file" : "synthetic", "trace has no samples");
+  if (do_resample) tr = resample(tr, rate);
+
+  // Frame range: [first + start, first + start + duration).
+  const double t_first = tr.samples.front().t, t_last = tr.samples.back().t;
+  const double period = do_resample ? 1.0 / rate : 0.0, eps = 1e-9 + 1e-6 * period;
+  const double from = t_first + start;
+  if (from > t_last + eps)
+    p.fail("start", "start " + std::to_string(start) + " s is past the end of the trace (" +
+                        std::to_string(t_last - t_first) + " s long)");
+  double to = duration > 0 ? from + duration : t_last + period;
+  if (duration > 0 && to > t_last + period + eps) {
+    std::string msg = "trace " + tr.source + " covers " + std::to_string(t_last - t_first + period) +
+                      " s but start+duration asks for " + std::to_string(start + duration) + " s";
+    if (on_short == "fail") p.fail("duration", msg + " (set on_short to truncate or hold)");
+    tr.warnings.push_back(msg + (on_short == "truncate" ? ": truncated (on_short=truncate)"
+                                                         : ": last sample held (on_short=hold)"));
+  }
+  Trace out;
+  out.source = tr.source;
+  out.warnings = tr.warnings;
+  for (const auto& s : tr.samples)
+    if (s.t >= from - eps && s.t < to - eps) out.samples.push_back(s);
+  if (on_short == "hold" && duration > 0 && !out.samples.empty() && period > 0) {
+    TraceSample h = out.samples.back();
+    for (long k = 1;; ++k) {
+      TraceSample c = h;
+      c.t = h.t + double(k) * period;
+      if (c.t >= to - eps) break;
+      out.samples.push_back(c);
+    }
+  }
+  if (out.samples.empty()) p.fail("duration", "the selected range contains no samples");
+  for (const auto& w : out.warnings) std::cerr << "warning: " << w << "\n";
+  return out;
+}
+
+}  // namespace fovsim

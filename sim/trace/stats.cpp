@@ -1,0 +1,74 @@
+#include "sim/trace/stats.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <vector>
+
+namespace fovsim {
+
+static double pct(std::vector<double> v, double p) {
+  if (v.empty()) return 0;
+  size_t k = size_t(std::clamp(p / 100.0, 0.0, 1.0) * double(v.size() - 1) + 0.5);
+  std::nth_element(v.begin(), v.begin() + long(k), v.end());
+  return v[k];
+}
+
+TraceStats trace_stats(const Trace& tr) {
+  TraceStats s;
+  const auto& x = tr.samples;
+  s.samples = x.size();
+  if (x.empty()) return s;
+  s.duration_s = tr.duration();
+  std::vector<double> dts, ecc, speed, hspeed;
+  long invalid = 0;
+  for (size_t i = 0; i < x.size(); ++i) {
+    if (!x[i].valid) ++invalid;
+    if (x[i].valid) ecc.push_back(rad2deg(angle_between(x[i].gaze_dir, glm::dvec3(0, 0, -1))));
+    if (i == 0) continue;
+    double dt = x[i].t - x[i - 1].t;
+    dts.push_back(dt);
+    if (dt <= 0) continue;
+    if (x[i].valid && x[i - 1].valid) speed.push_back(rad2deg(angle_between(x[i].gaze_dir, x[i - 1].gaze_dir)) / dt);
+    glm::dquat d = glm::conjugate(x[i - 1].head_rot) * x[i].head_rot;
+    double ang = 2 * std::atan2(std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z), std::fabs(d.w));
+    hspeed.push_back(rad2deg(ang) / dt);
+    s.head_path_m += glm::length(x[i].head_pos - x[i - 1].head_pos);
+  }
+  s.invalid_fraction = double(invalid) / double(x.size());
+  if (!dts.empty()) {
+    double med = pct(dts, 50);
+    s.rate_hz = med > 0 ? 1.0 / med : 0;
+    for (double dt : dts) {
+      if (dt > 1.5 * med) ++s.gaps;
+      s.max_gap_s = std::max(s.max_gap_s, dt);
+    }
+  }
+  s.ecc_p50 = pct(ecc, 50);
+  s.ecc_p95 = pct(ecc, 95);
+  s.ecc_max = ecc.empty() ? 0 : *std::max_element(ecc.begin(), ecc.end());
+  s.speed_p50 = pct(speed, 50);
+  s.speed_p95 = pct(speed, 95);
+  s.speed_p99 = pct(speed, 99);
+  s.head_speed_p50 = pct(hspeed, 50);
+  s.head_speed_p99 = pct(hspeed, 99);
+  return s;
+}
+
+std::string format_stats(const TraceStats& s) {
+  char b[1024];
+  std::snprintf(b, sizeof b,
+                "samples            %zu\n"
+                "duration           %.3f s\n"
+                "rate               %.2f Hz (median interval)\n"
+                "gaps               %ld (> 1.5x median interval), longest %.1f ms\n"
+                "invalid            %.1f %%\n"
+                "gaze eccentricity  p50 %.1f  p95 %.1f  max %.1f deg\n"
+                "gaze speed         p50 %.1f  p95 %.1f  p99 %.1f deg/s (eye in head)\n"
+                "head speed         p50 %.1f  p99 %.1f deg/s, path %.2f m\n",
+                s.samples, s.duration_s, s.rate_hz, s.gaps, s.max_gap_s * 1e3, 100.0 * s.invalid_fraction, s.ecc_p50,
+                s.ecc_p95, s.ecc_max, s.speed_p50, s.speed_p95, s.speed_p99, s.head_speed_p50, s.head_speed_p99,
+                s.head_path_m);
+  return b;
+}
+
+}  // namespace fovsim

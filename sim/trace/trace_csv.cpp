@@ -1,0 +1,251 @@
+// Canonical trace CSV (DESIGN §3, traces/README.md): reading with validation and a
+// bad-sample policy, and writing.
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+#include "sim/core/error.h"
+#include "sim/core/files.h"
+#include "sim/trace/csv_table.h"
+#include "sim/trace/issue_log.h"
+#include "sim/trace/trace.h"
+
+namespace fovsim {
+
+bool gaze_inside_fov(const Display& display, const glm::dvec3& dir) {
+  double u = 0, v = 0;
+  if (!gaze_screen_from_dir(display, dir, u, v)) return false;
+  return u >= 0.0 && u <= 1.0 && v >= 0.0 && v <= 1.0;
+}
+
+namespace {
+
+const char* kCols[] = {"t", "px", "py", "pz", "qw", "qx", "qy", "qz", "gx", "gy", "gz", "gaze_u", "gaze_v", "valid"};
+enum Col { T, PX, PY, PZ, QW, QX, QY, QZ, GX, GY, GZ, GU, GV, VALID, NCOL };
+
+// Which part of a sample a problem touches: a time/row problem cannot be held.
+enum class Part { Row, Pose, Gaze };
+
+struct Problem {
+  Part part;
+  int col;
+  std::string kind, msg;
+};
+
+const char* policy_name(BadSamplePolicy p) {
+  return p == BadSamplePolicy::Fail ? "on_bad_sample=fail" : p == BadSamplePolicy::Skip ? "on_bad_sample=skip"
+                                                                                         : "on_bad_sample=hold";
+}
+
+}  // namespace
+
+Trace read_trace_csv(const std::string& path, const Display& display, const TraceReadOptions& opt) {
+  std::vector<CsvRow> rows = read_csv_rows(path, ',', '#');
+  if (rows.empty()) throw Error(path, "empty trace file: expected a header row (see traces/README.md)");
+  const CsvRow& head = rows[0];
+  int idx[NCOL];
+  for (int& i : idx) i = -1;
+  for (size_t f = 0; f < head.fields.size(); ++f) {
+    const std::string& name = head.fields[f].text;
+    int c = -1;
+    for (int k = 0; k < NCOL; ++k)
+      if (name == kCols[k]) c = k;
+    auto loc = file_location(path, head.line, head.fields[f].col);
+    if (c < 0)
+      throw Error(loc, "unknown column \"" + name +
+                           "\" (canonical columns: t,px,py,pz,qw,qx,qy,qz, gx,gy,gz or gaze_u,gaze_v, optional "
+                           "valid; see traces/README.md)");
+    if (idx[c] >= 0) throw Error(loc, "duplicate column \"" + name + "\"");
+    idx[c] = int(f);
+  }
+  auto header_loc = file_location(path, head.line);
+  for (int k = T; k <= QZ; ++k)
+    if (idx[k] < 0) throw Error(header_loc, std::string("missing column \"") + kCols[k] + "\" in the header");
+  bool dir_gaze = idx[GX] >= 0 || idx[GY] >= 0 || idx[GZ] >= 0;
+  bool scr_gaze = idx[GU] >= 0 || idx[GV] >= 0;
+  if (dir_gaze && scr_gaze)
+    throw Error(header_loc, "gaze given both as gx,gy,gz and as gaze_u,gaze_v: keep exactly one");
+  if (!dir_gaze && !scr_gaze)
+    throw Error(header_loc, "missing gaze columns: give gx,gy,gz (head-space direction) or gaze_u,gaze_v");
+  for (int k : dir_gaze ? std::vector<int>{GX, GY, GZ} : std::vector<int>{GU, GV})
+    if (idx[k] < 0) throw Error(header_loc, std::string("missing column \"") + kCols[k] + "\" in the header");
+
+  Trace tr;
+  tr.source = path;
+  IssueLog log;
+  const size_t ncols = head.fields.size();
+  bool have_last = false;
+  TraceSample last_good;                       // last accepted sample (for hold)
+  glm::dvec3 last_valid_gaze(0.0, 0.0, -1.0);  // gaze shown while valid=0
+  double last_t = -INFINITY;
+  long last_t_line = 0;
+
+  for (size_t r = 1; r < rows.size(); ++r) {
+    const CsvRow& row = rows[r];
+    if (row.fields.size() != ncols) {
+      int col = row.fields.size() > ncols ? row.fields[ncols].col : row.fields.back().col;
+      throw Error(file_location(path, row.line, col),
+                  "expected " + std::to_string(ncols) + " fields as in the header, got " +
+                      std::to_string(row.fields.size()));
+    }
+    std::vector<Problem> probs;
+    double v[NCOL] = {};
+    bool ok[NCOL] = {};
+    std::string why[NCOL];
+    for (int k = 0; k < NCOL; ++k)
+      if (idx[k] >= 0) ok[k] = parse_number(row.fields[idx[k]].text, v[k], why[k]);
+    auto col_of = [&](int k) { return row.fields[idx[k]].col; };
+    auto bad_number = [&](int k, Part part) {
+      probs.push_back({part, col_of(k), why[k].rfind("empty", 0) == 0 ? "empty field" : "bad number",
+                       std::string("column \"") + kCols[k] + "\": " + why[k]});
+    };
+    TraceSample s;
+    // Time.
+    if (!ok[T]) {
+      bad_number(T, Part::Row);
+    } else if (!(v[T] > last_t)) {
+      probs.push_back({Part::Row, col_of(T), "non-monotonic time",
+                       "time not strictly increasing: t=" + row.fields[idx[T]].text + " after t=" +
+                           std::to_string(last_t) + " (line " + std::to_string(last_t_line) + ")"});
+    }
+    s.t = v[T];
+    // Validity flag.
+    if (idx[VALID] >= 0) {
+      const std::string& f = row.fields[idx[VALID]].text;
+      if (f == "1" || f == "true")
+        s.valid = true;
+      else if (f == "0" || f == "false")
+        s.valid = false;
+      else
+        probs.push_back({Part::Row, col_of(VALID), "bad valid flag",
+                         "column \"valid\": expected 0 or 1, got \"" + f + "\""});
+    }
+    // Head pose.
+    bool pose_ok = true;
+    for (int k = PX; k <= QZ; ++k)
+      if (!ok[k]) {
+        bad_number(k, Part::Pose);
+        pose_ok = false;
+      }
+    if (pose_ok) {
+      s.head_pos = {v[PX], v[PY], v[PZ]};
+      glm::dquat q(v[QW], v[QX], v[QY], v[QZ]);
+      double n = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
+      if (std::fabs(n - 1.0) > opt.quat_tolerance) {
+        char buf[160];
+        std::snprintf(buf, sizeof buf, "quaternion (qw,qx,qy,qz) has norm %.6g, not unit within %.3g", n,
+                      opt.quat_tolerance);
+        probs.push_back({Part::Pose, col_of(QW), "non-unit quaternion", buf});
+      } else {
+        s.head_rot = q / n;
+      }
+    }
+    // Gaze. Rows flagged valid=0 may carry any gaze (or none): the last valid gaze is shown.
+    std::vector<Problem> gprobs;
+    glm::dvec3 g(0.0);
+    bool gaze_ok = true;
+    if (dir_gaze) {
+      for (int k : {GX, GY, GZ})
+        if (!ok[k]) {
+          gprobs.push_back({Part::Gaze, col_of(k), why[k] == "empty field" ? "empty field" : "bad number",
+                            std::string("column \"") + kCols[k] + "\": " + why[k]});
+          gaze_ok = false;
+        }
+      if (gaze_ok) {
+        g = {v[GX], v[GY], v[GZ]};
+        double n = glm::length(g);
+        if (std::fabs(n - 1.0) > opt.quat_tolerance) {
+          char buf[160];
+          std::snprintf(buf, sizeof buf, "gaze direction (gx,gy,gz) has length %.6g, not unit within %.3g", n,
+                        opt.quat_tolerance);
+          gprobs.push_back({Part::Gaze, col_of(GX), "non-unit gaze", buf});
+          gaze_ok = false;
+        } else {
+          g /= n;
+        }
+      }
+    } else {
+      for (int k : {GU, GV})
+        if (!ok[k]) {
+          gprobs.push_back({Part::Gaze, col_of(k), why[k] == "empty field" ? "empty field" : "bad number",
+                            std::string("column \"") + kCols[k] + "\": " + why[k]});
+          gaze_ok = false;
+        }
+      if (gaze_ok) {
+        if (v[GU] < 0 || v[GU] > 1 || v[GV] < 0 || v[GV] > 1) {
+          char buf[160];
+          std::snprintf(buf, sizeof buf, "gaze outside the display FOV: screen point (%.4g, %.4g) not in [0,1]^2",
+                        v[GU], v[GV]);
+          gprobs.push_back({Part::Gaze, col_of(GU), "gaze outside the display FOV", buf});
+          gaze_ok = false;
+        } else {
+          g = gaze_dir_from_screen(display, v[GU], v[GV]);
+        }
+      }
+    }
+    if (gaze_ok && dir_gaze && !gaze_inside_fov(display, g)) {
+      double u = 0, w = 0;
+      bool front = gaze_screen_from_dir(display, g, u, w);
+      char buf[200];
+      if (front)
+        std::snprintf(buf, sizeof buf,
+                      "gaze outside the display FOV (%s %.1fx%.1f deg): screen point (%.3f, %.3f) not in [0,1]^2",
+                      display.name.c_str(), display.fov_h_deg, display.fov_v_deg, u, w);
+      else
+        std::snprintf(buf, sizeof buf, "gaze outside the display FOV: direction points behind the eye (gz >= 0)");
+      gprobs.push_back({Part::Gaze, col_of(dir_gaze ? GX : GU), "gaze outside the display FOV", buf});
+      gaze_ok = false;
+    }
+    if (s.valid) {
+      for (auto& p : gprobs) probs.push_back(p);
+      if (gaze_ok) s.gaze_dir = g;
+    } else {
+      s.gaze_dir = gaze_ok ? g : last_valid_gaze;
+    }
+
+    if (!probs.empty()) {
+      const Problem& p = probs.front();
+      std::string where = file_location(path, row.line, p.col);
+      if (opt.on_bad == BadSamplePolicy::Fail)
+        throw Error(where, p.msg + " (set the trace's on_bad_sample to skip or hold to continue past it)");
+      bool can_hold = opt.on_bad == BadSamplePolicy::Hold && have_last;
+      for (auto& q : probs) can_hold = can_hold && q.part != Part::Row;
+      if (!can_hold) {
+        log.add(opt.on_bad == BadSamplePolicy::Hold ? "skipped (cannot hold)" : "skipped", p.kind, where, p.msg);
+        continue;
+      }
+      for (auto& q : probs) {
+        if (q.part == Part::Pose) {
+          s.head_pos = last_good.head_pos;
+          s.head_rot = last_good.head_rot;
+        } else if (q.part == Part::Gaze) {
+          s.gaze_dir = last_good.gaze_dir;
+        }
+      }
+      log.add("held", p.kind, where, p.msg);
+    }
+    if (s.valid) last_valid_gaze = s.gaze_dir;
+    last_t = s.t;
+    last_t_line = row.line;
+    last_good = s;
+    have_last = true;
+    tr.samples.push_back(s);
+  }
+  if (tr.samples.empty()) throw Error(path, "trace has no usable samples");
+  for (auto& l : log.lines(policy_name(opt.on_bad))) tr.warnings.push_back(path + ": " + l);
+  return tr;
+}
+
+void write_trace_csv(const std::string& path, const Trace& trace) {
+  std::string out = "t,px,py,pz,qw,qx,qy,qz,gx,gy,gz,valid\n";
+  char buf[512];
+  for (const TraceSample& s : trace.samples) {
+    std::snprintf(buf, sizeof buf, "%.9f,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d\n", s.t, s.head_pos.x,
+                  s.head_pos.y, s.head_pos.z, s.head_rot.w, s.head_rot.x, s.head_rot.y, s.head_rot.z, s.gaze_dir.x,
+                  s.gaze_dir.y, s.gaze_dir.z, s.valid ? 1 : 0);
+    out += buf;
+  }
+  write_file_atomic(path, out);
+}
+
+}  // namespace fovsim
