@@ -9,6 +9,7 @@ const std::vector<MethodEntry>& method_table() {
   // One line per method; each method's file defines create_<name> and <name>_params.
   static const std::vector<MethodEntry> table = {
       {"full", "full-resolution deferred shading (reference pipeline)", create_full, full_params},
+      {"flc", "foveated light culling of VPLs for indirect light (seed 001)", create_flc, flc_params},
   };
   return table;
 }

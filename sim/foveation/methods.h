@@ -9,5 +9,7 @@ namespace fovsim {
 
 std::unique_ptr<FoveationMethod> create_full(Params& p);
 const std::vector<ParamInfo>& full_params();
+std::unique_ptr<FoveationMethod> create_flc(Params& p);
+const std::vector<ParamInfo>& flc_params();
 
 }  // namespace fovsim

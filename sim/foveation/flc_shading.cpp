@@ -1,0 +1,196 @@
+// FLC shading passes (seed 001 §6). See flc_shading.h.
+#include "sim/foveation/flc_shading.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+
+#include "sim/core/math.h"
+
+namespace fovsim {
+
+std::vector<VplSoA> flc_interleave_groups(const std::vector<VPL>& vpls, const std::vector<uint32_t>& idx,
+                                          const std::vector<float>& weight, int n) {
+  n = std::max(1, n);
+  const size_t G = size_t(n) * size_t(n);
+  std::vector<VplSoA> groups(G);
+  for (size_t k = 0; k < idx.size(); ++k)
+    groups[k % G].push(vpls[idx[k]], (weight.empty() ? 1.f : weight[k]) * float(G));
+  return groups;
+}
+
+void flc_gauss3(Image& img, const std::vector<uint8_t>& valid, bool wrap_y) {
+  const int W = img.width, H = img.height, C = img.channels;
+  if (W == 0 || H == 0) return;
+  Image src = img;  // the filter needs the unfiltered neighbours
+  static const float k1[3] = {1.f, 2.f, 1.f};
+  tbb::parallel_for(0, H, [&](int y) {
+    for (int x = 0; x < W; ++x) {
+      const size_t i = size_t(y) * size_t(W) + size_t(x);
+      if (!valid[i]) continue;
+      float acc[4] = {0, 0, 0, 0};
+      float wsum = 0.f;
+      for (int dy = -1; dy <= 1; ++dy) {
+        int yy = y + dy;
+        if (wrap_y) yy = (yy + H) % H;
+        else if (yy < 0 || yy >= H) continue;
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int xx = x + dx;
+          if (xx < 0 || xx >= W) continue;
+          const size_t j = size_t(yy) * size_t(W) + size_t(xx);
+          if (!valid[j]) continue;
+          const float w = k1[dx + 1] * k1[dy + 1];
+          const float* p = src.at(xx, yy);
+          for (int ch = 0; ch < C && ch < 4; ++ch) acc[ch] += w * p[ch];
+          wsum += w;
+        }
+      }
+      float* o = img.at(x, y);
+      for (int ch = 0; ch < C && ch < 4; ++ch) o[ch] = acc[ch] / wsum;  // wsum >= 4 (centre)
+    }
+  });
+}
+
+void flc_shade_cartesian(const GBuffer& g, const std::vector<VplSoA>& groups, int n, const VplShading& s,
+                         const Renderer* r, Image& out, Counters* c) {
+  n = std::max(1, n);
+  if (out.width != g.width || out.height != g.height || out.channels != 3) out.resize(g.width, g.height, 3);
+  std::atomic<uint64_t> shaded{0}, pairs{0}, rays{0};
+  tbb::parallel_for(tbb::blocked_range<int>(0, g.height, 4), [&](const tbb::blocked_range<int>& b) {
+    uint64_t ns = 0, np = 0, nr = 0;
+    for (int y = b.begin(); y < b.end(); ++y)
+      for (int x = 0; x < g.width; ++x) {
+        const size_t i = size_t(y) * size_t(g.width) + size_t(x);
+        float* o = out.at(x, y);
+        if (!g.hit(i)) {
+          o[0] = o[1] = o[2] = 0.f;
+          continue;
+        }
+        const VplSoA& grp = groups[size_t(x % n) + size_t(n) * size_t(y % n)];
+        glm::vec3 L = shade_vpls_point(grp, g.position[i], g.normal[i], g.albedo[i], s, r, 1.f, &nr);
+        ++ns;
+        np += grp.size();
+        o[0] = L.x;
+        o[1] = L.y;
+        o[2] = L.z;
+      }
+    shaded += ns;
+    pairs += np;
+    rays += nr;
+  });
+  if (n > 1) {
+    std::vector<uint8_t> valid(g.size());
+    for (size_t i = 0; i < g.size(); ++i) valid[i] = g.hit(i) ? 1 : 0;
+    flc_gauss3(out, valid, false);
+  }
+  if (c) {
+    c->add("shaded_samples", double(shaded.load()));
+    c->add("shaded_sample_vpls", double(pairs.load()));
+    if (s.visibility) c->add("vpl_shadow_rays", double(rays.load()));
+  }
+}
+
+void flc_shade_logpolar(const GBuffer& g, const glm::dvec2& gaze_px, double sigma, const std::vector<VplSoA>& groups,
+                        int n, const VplShading& s, const Renderer* r, Image& out, Counters* c, Image* lp_debug) {
+  n = std::max(1, n);
+  sigma = std::max(1.0, sigma);
+  const int W = g.width, H = g.height;
+  if (out.width != W || out.height != H || out.channels != 3) out.resize(W, H, 3);
+  const int w = std::max(1, int(std::ceil(W / sigma))), h = std::max(1, int(std::ceil(H / sigma)));
+  // L = log of the largest distance from the gaze to a screen corner (KFR eq. 2.12 role).
+  double maxd = 0.0;
+  for (int k = 0; k < 4; ++k) {
+    const double cx = (k & 1) ? W : 0, cy = (k & 2) ? H : 0;
+    maxd = std::max(maxd, std::hypot(cx - gaze_px.x, cy - gaze_px.y));
+  }
+  const double L = std::log(std::max(maxd, 2.0));
+  const double two_pi = 2.0 * kPi;
+  Image lp(w, h, 3);
+  std::vector<uint8_t> valid(size_t(w) * size_t(h), 0);
+  std::atomic<uint64_t> shaded{0}, pairs{0}, rays{0};
+  // Backward transform: each LP texel fetches the G-buffer sample it maps to, then is shaded.
+  tbb::parallel_for(0, h, [&](int v) {
+    uint64_t ns = 0, np = 0, nr = 0;
+    for (int u = 0; u < w; ++u) {
+      const double rho = std::exp((u + 0.5) / w * L);
+      const double th = (v + 0.5) / h * two_pi;
+      const double x = gaze_px.x + rho * std::cos(th), y = gaze_px.y + rho * std::sin(th);
+      float* o = lp.at(u, v);
+      o[0] = o[1] = o[2] = 0.f;
+      if (!(x >= 0 && y >= 0 && x < W && y < H)) continue;
+      const size_t i = size_t(int(y)) * size_t(W) + size_t(int(x));
+      if (!g.hit(i)) continue;
+      valid[size_t(v) * size_t(w) + size_t(u)] = 1;
+      const VplSoA& grp = groups[size_t(u % n) + size_t(n) * size_t(v % n)];
+      glm::vec3 Lo = shade_vpls_point(grp, g.position[i], g.normal[i], g.albedo[i], s, r, 1.f, &nr);
+      ++ns;
+      np += grp.size();
+      o[0] = Lo.x;
+      o[1] = Lo.y;
+      o[2] = Lo.z;
+    }
+    shaded += ns;
+    pairs += np;
+    rays += nr;
+  });
+  if (n > 1) flc_gauss3(lp, valid, true);
+  // Full VPL set for the rare pixels with no valid LP neighbour (weights / n^2 undo the groups).
+  const float inv_g = 1.f / float(n * n);
+  std::atomic<uint64_t> fallback{0};
+  tbb::parallel_for(0, H, [&](int y) {
+    uint64_t nf = 0, np = 0, nr = 0;
+    for (int x = 0; x < W; ++x) {
+      const size_t i = size_t(y) * size_t(W) + size_t(x);
+      float* o = out.at(x, y);
+      o[0] = o[1] = o[2] = 0.f;
+      if (!g.hit(i)) continue;
+      const double dx = x + 0.5 - gaze_px.x, dy = y + 0.5 - gaze_px.y;
+      const double rho = std::max(1.0, std::hypot(dx, dy));
+      double th = std::atan2(dy, dx);
+      if (th < 0) th += two_pi;
+      const double uf = std::log(rho) / L * w - 0.5, vf = th / two_pi * h - 0.5;
+      const int u0 = int(std::floor(uf)), v0 = int(std::floor(vf));
+      const double fu = uf - u0, fv = vf - v0;
+      double acc[3] = {0, 0, 0}, ws = 0;
+      for (int k = 0; k < 4; ++k) {
+        int uu = u0 + (k & 1), vv = v0 + ((k >> 1) & 1);
+        const double wk = ((k & 1) ? fu : 1 - fu) * ((k & 2) ? fv : 1 - fv);
+        uu = std::clamp(uu, 0, w - 1);
+        vv = ((vv % h) + h) % h;
+        if (!valid[size_t(vv) * size_t(w) + size_t(uu)] || wk <= 0) continue;
+        const float* p = lp.at(uu, vv);
+        for (int ch = 0; ch < 3; ++ch) acc[ch] += wk * p[ch];
+        ws += wk;
+      }
+      if (ws > 1e-9) {
+        for (int ch = 0; ch < 3; ++ch) o[ch] = float(acc[ch] / ws);
+        continue;
+      }
+      glm::vec3 Lo(0.f);
+      for (const VplSoA& grp : groups) {
+        Lo += shade_vpls_point(grp, g.position[i], g.normal[i], g.albedo[i], s, r, inv_g, &nr);
+        np += grp.size();
+      }
+      ++nf;
+      o[0] = Lo.x;
+      o[1] = Lo.y;
+      o[2] = Lo.z;
+    }
+    fallback += nf;
+    pairs += np;
+    rays += nr;
+  });
+  if (c) {
+    c->add("shaded_samples", double(shaded.load() + fallback.load()));
+    c->add("shaded_sample_vpls", double(pairs.load()));
+    c->add("lp_texels", double(size_t(w) * size_t(h)));
+    c->add("lp_fallback_samples", double(fallback.load()));
+    if (s.visibility) c->add("vpl_shadow_rays", double(rays.load()));
+  }
+  if (lp_debug) *lp_debug = std::move(lp);
+}
+
+}  // namespace fovsim

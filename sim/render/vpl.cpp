@@ -1,0 +1,141 @@
+// VPLs from RSMs and single-bounce diffuse VPL shading (seed 001 §3 S-2, S-7). See vpl.h.
+#include "sim/render/vpl.h"
+
+#include <tbb/blocked_range2d.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+
+#include "sim/render/renderer.h"
+
+namespace fovsim {
+
+void vpls_from_rsm(const RSM& rsm, std::vector<VPL>& out) {
+  for (size_t i = 0; i < rsm.texels(); ++i) {
+    if (!rsm.hit(i)) continue;
+    const glm::vec3& f = rsm.flux[i];
+    if (!(f.x > 0.f || f.y > 0.f || f.z > 0.f)) continue;
+    VPL v;
+    v.position = rsm.position[i];
+    v.normal = rsm.normal[i];
+    v.flux = f;
+    v.light = rsm.light;
+    v.texel = int(i);
+    out.push_back(v);
+  }
+}
+
+void VplSoA::clear() {
+  for (auto* a : {&px, &py, &pz, &nx, &ny, &nz, &fr, &fg, &fb}) a->clear();
+}
+
+void VplSoA::push(const VPL& v, float weight) {
+  const float s = weight * float(1.0 / kPi);  // vpl.h: Phi cos cos / (pi d^2)
+  px.push_back(v.position.x);
+  py.push_back(v.position.y);
+  pz.push_back(v.position.z);
+  nx.push_back(v.normal.x);
+  ny.push_back(v.normal.y);
+  nz.push_back(v.normal.z);
+  fr.push_back(v.flux.x * s);
+  fg.push_back(v.flux.y * s);
+  fb.push_back(v.flux.z * s);
+}
+
+VplSoA make_soa(const std::vector<VPL>& vpls, const std::vector<uint32_t>& idx, const std::vector<float>& weight) {
+  VplSoA s;
+  for (size_t k = 0; k < idx.size(); ++k) s.push(vpls[idx[k]], weight.empty() ? 1.f : weight[k]);
+  return s;
+}
+
+VplSoA make_soa(const std::vector<VPL>& vpls) {
+  VplSoA s;
+  for (const VPL& v : vpls) s.push(v, 1.f);
+  return s;
+}
+
+glm::vec3 shade_vpls_point(const VplSoA& v, const glm::vec3& p, const glm::vec3& n, const glm::vec3& a,
+                           const VplShading& s, const Renderer* r, float scale, uint64_t* rays) {
+  const size_t m = v.size();
+  if (m == 0) return glm::vec3(0.f);
+  const float dmin2 = s.min_dist * s.min_dist;
+  float ar = 0.f, ag = 0.f, ab = 0.f;
+  const float* px = v.px.data();
+  const float* py = v.py.data();
+  const float* pz = v.pz.data();
+  const float* nx = v.nx.data();
+  const float* ny = v.ny.data();
+  const float* nz = v.nz.data();
+  const float* fr = v.fr.data();
+  const float* fg = v.fg.data();
+  const float* fb = v.fb.data();
+  if (!s.visibility || !r) {
+    // Branch-free loop over the SoA so the compiler vectorises it.
+    for (size_t k = 0; k < m; ++k) {
+      const float dx = p.x - px[k], dy = p.y - py[k], dz = p.z - pz[k];
+      const float d2 = dx * dx + dy * dy + dz * dz;
+      const float inv = 1.f / std::sqrt(std::max(d2, 1e-20f));
+      const float cv = std::max(0.f, (nx[k] * dx + ny[k] * dy + nz[k] * dz) * inv);
+      const float cx = std::max(0.f, -(n.x * dx + n.y * dy + n.z * dz) * inv);
+      const float g = cv * cx / std::max(d2, dmin2);
+      ar += fr[k] * g;
+      ag += fg[k] * g;
+      ab += fb[k] * g;
+    }
+  } else {
+    uint64_t nr = 0;
+    const glm::vec3 pe = p + n * s.ray_offset;
+    for (size_t k = 0; k < m; ++k) {
+      const float dx = p.x - px[k], dy = p.y - py[k], dz = p.z - pz[k];
+      const float d2 = dx * dx + dy * dy + dz * dz;
+      const float inv = 1.f / std::sqrt(std::max(d2, 1e-20f));
+      const float cv = (nx[k] * dx + ny[k] * dy + nz[k] * dz) * inv;
+      const float cx = -(n.x * dx + n.y * dy + n.z * dz) * inv;
+      if (cv <= 0.f || cx <= 0.f) continue;  // no contribution: no ray needed
+      ++nr;
+      const glm::vec3 ve(px[k] + nx[k] * s.ray_offset, py[k] + ny[k] * s.ray_offset, pz[k] + nz[k] * s.ray_offset);
+      if (r->occluded(ve, pe)) continue;
+      const float g = cv * cx / std::max(d2, dmin2);
+      ar += fr[k] * g;
+      ag += fg[k] * g;
+      ab += fb[k] * g;
+    }
+    if (rays) *rays += nr;
+  }
+  return a * glm::vec3(ar, ag, ab) * scale;
+}
+
+void shade_indirect(const GBuffer& g, const VplSoA& v, const VplShading& s, Image& out, const Renderer* r,
+                    const uint8_t* mask, Counters* c) {
+  if (out.width != g.width || out.height != g.height || out.channels != 3) out.resize(g.width, g.height, 3);
+  std::atomic<uint64_t> shaded{0}, rays{0};
+  const int tile = std::max(1, s.tile);
+  tbb::parallel_for(tbb::blocked_range2d<int>(0, g.height, tile, 0, g.width, tile), [&](const tbb::blocked_range2d<int>& b) {
+    uint64_t ns = 0, nr = 0;
+    for (int y = b.rows().begin(); y < b.rows().end(); ++y)
+      for (int x = b.cols().begin(); x < b.cols().end(); ++x) {
+        const size_t i = size_t(y) * size_t(g.width) + size_t(x);
+        float* o = out.at(x, y);
+        if (!g.hit(i) || (mask && !mask[i])) {
+          o[0] = o[1] = o[2] = 0.f;
+          continue;
+        }
+        ++ns;
+        glm::vec3 L = shade_vpls_point(v, g.position[i], g.normal[i], g.albedo[i], s, r, 1.f, &nr);
+        o[0] = L.x;
+        o[1] = L.y;
+        o[2] = L.z;
+      }
+    shaded += ns;
+    rays += nr;
+  });
+  if (c) {
+    c->add("shaded_samples", double(shaded.load()));
+    c->add("shaded_sample_vpls", double(shaded.load()) * double(v.size()));
+    if (s.visibility) c->add("vpl_shadow_rays", double(rays.load()));
+  }
+}
+
+}  // namespace fovsim
