@@ -10,6 +10,11 @@ const std::vector<MethodEntry>& method_table() {
   static const std::vector<MethodEntry> table = {
       {"full", "full-resolution deferred shading (reference pipeline)", create_full, full_params},
       {"flc", "foveated light culling of VPLs for indirect light (seed 001)", create_flc, flc_params},
+      {"kfr", "kernel log-polar foveated rendering (seed 004 ch. 2)", create_kfr, kfr_params},
+      {"rmfr", "rectangular mapping-based foveated rendering (seed 003 §3.2)", create_rmfr, rmfr_params},
+      {"hyperbolic", "Guenter three-layer baseline (seed 003 §5.1)", create_hyperbolic, hyperbolic_params},
+      {"linear", "Weier linear fall-off baseline (seed 003 §5.1)", create_linear, linear_params},
+      {"fvrs", "foveated coarse-pixel shading baseline (seed 002 §8.4)", create_fvrs, fvrs_params},
   };
   return table;
 }

@@ -1,0 +1,112 @@
+// `fvrs`: foveated variable-rate / coarse pixel shading (Patney et al. 2016 as run in seed 002
+// §8.4): shading rate 1x1 inside r1 = 10 deg, 2x2 to r2 = 20 deg, 4x4 beyond, chosen per 4x4
+// screen tile from the eccentricity at its centre. Visibility stays full resolution (the
+// G-buffer); each coarse pixel is shaded once at the sample next to its centre and that colour
+// is broadcast. With edge_aware, a pixel whose surface differs from its coarse sample (other
+// material, hit vs. miss, depth off by > 5 %, normals > ~25 deg apart) is shaded itself, as
+// coarse pixel shading shades once per coarse pixel *per primitive*.
+//
+// | name | type | default | range | source | meaning |
+// |------|------|---------|-------|--------|---------|
+// | r1 | number | 10 | [0, 180] | seed 002 §8.4 | 1x1 rate inside, deg |
+// | r2 | number | 20 | [r1, 180] | seed 002 §8.4 | 2x2 rate inside, 4x4 beyond, deg |
+// | edge_aware | bool | true | | Vaidyanathan 2014 CPS | shade pixels of another surface separately |
+// | radius_scale | number | 1 | (0, inf) | iso-budget free parameter | multiplies r1, r2 |
+// | target_shaded_fraction | number | none | (0, 1] | seed 003 §5.1 | iso-budget: solve radius_scale |
+#include <algorithm>
+#include <cmath>
+
+#include "sim/foveation/mapping_method.h"
+#include "sim/foveation/methods.h"
+
+namespace fovsim {
+namespace {
+
+inline bool same_surface(const GBuffer& g, size_t a, size_t b) {
+  const bool ha = g.hit(a), hb = g.hit(b);
+  if (ha != hb) return false;
+  if (!ha) return true;
+  if (g.has(kMaterial) && g.material[a] != g.material[b]) return false;
+  if (std::abs(g.depth[a] - g.depth[b]) > 0.05f * std::max(g.depth[a], g.depth[b])) return false;
+  if (g.has(kNormal) && glm::dot(g.normal[a], g.normal[b]) < 0.9f) return false;
+  return true;
+}
+
+class FvrsMethod final : public MappingMethodBase {
+ public:
+  using MappingMethodBase::MappingMethodBase;
+
+  void render(const FrameContext& ctx, FrameOutput& out) override {
+    const MappingSpec& s = resolve(ctx, out);
+    const GBuffer& gb = *ctx.gbuffer;
+    const int W = gb.width, H = gb.height;
+    const MappingView view = view_of(ctx);
+    const int bw = (W + 3) / 4, bh = (H + 3) / 4;
+    mask_.assign(gb.size(), 0);
+    rep_.assign(gb.size(), 0);
+    std::vector<double> extra_rows(size_t(bh), 0.0);
+    // Per 4x4 tile: rate, coarse-pixel representative sample, edge-aware extra samples.
+    parallel_rows(bh, [&](int by) {
+      double extra = 0;
+      for (int bx = 0; bx < bw; ++bx) {
+        const int r = fvrs_rate(s, view, bx, by);
+        const int xe = std::min(bx * 4 + 4, W), ye = std::min(by * 4 + 4, H);
+        for (int cy = by * 4; cy < ye; cy += r)
+          for (int cx = bx * 4; cx < xe; cx += r) {
+            const int rx = std::min(cx + r / 2, xe - 1), ry = std::min(cy + r / 2, ye - 1);
+            const size_t ri = size_t(ry) * size_t(W) + size_t(rx);
+            mask_[ri] = 1;
+            for (int y = cy; y < std::min(cy + r, ye); ++y)
+              for (int x = cx; x < std::min(cx + r, xe); ++x) {
+                const size_t i = size_t(y) * size_t(W) + size_t(x);
+                rep_[i] = uint32_t(ri);
+                if (i != ri && s.edge_aware && !same_surface(gb, i, ri)) {
+                  mask_[i] = 1;
+                  rep_[i] = uint32_t(i);
+                  extra += 1;
+                }
+              }
+          }
+      }
+      extra_rows[size_t(by)] = extra;
+    });
+    double extra = 0;
+    for (double e : extra_rows) extra += e;
+    const double shaded = shade_buffer(ctx, gb, out.image, &mask_, out);
+    if (out.image.width != W || out.image.height != H) out.image.resize(W, H, 3);
+    // Broadcast each coarse pixel's colour (reads only shaded slots, writes only unshaded ones).
+    parallel_rows(H, [&](int y) {
+      for (int x = 0; x < W; ++x) {
+        const size_t i = size_t(y) * size_t(W) + size_t(x);
+        if (mask_[i]) continue;
+        std::copy_n(&out.image.data[size_t(rep_[i]) * 3], 3, &out.image.data[i * 3]);
+      }
+    });
+    set_counters(out, shaded, shaded, double(W) * H, shaded, double(W) * H, double(W) * H - shaded);
+    out.counters.set("edge_samples", extra);
+    if (ctx.want_debug) debug_density(ctx, s, out);
+  }
+
+ private:
+  std::vector<uint8_t> mask_;
+  std::vector<uint32_t> rep_;
+};
+
+}  // namespace
+
+std::unique_ptr<FoveationMethod> create_fvrs(Params& p) {
+  return std::make_unique<FvrsMethod>(MappingSpec::from_params("fvrs", p));
+}
+
+const std::vector<ParamInfo>& fvrs_params() {
+  static const std::vector<ParamInfo> t = {
+      {"r1", "number", "10", "[0, 180]", "seed 002 §8.4", "1x1 shading inside (deg)"},
+      {"r2", "number", "20", "[r1, 180]", "seed 002 §8.4", "2x2 inside, 4x4 beyond (deg)"},
+      {"edge_aware", "bool", "true", "", "Vaidyanathan 2014", "pixels of another surface shade themselves"},
+      {"radius_scale", "number", "1", "(0, inf)", "iso-budget", "multiplies r1 and r2"},
+      {"target_shaded_fraction", "number", "none", "(0, 1]", "seed 003 §5.1", "iso-budget: solve radius_scale"},
+  };
+  return t;
+}
+
+}  // namespace fovsim

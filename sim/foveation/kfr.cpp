@@ -1,0 +1,156 @@
+// `kfr`: Kernel Foveated Rendering (seed 004, ch. 2).
+// Pass 1: every LP-buffer pixel (u, v) of the (W/sigma) x (H/sigma) buffer takes the nearest
+// G-buffer sample at its inverse-mapped screen point (Alg. 2, eqs. 2.10-2.13 inverted), only
+// samples landing on the screen are shaded (KFR leaves LP corners unused); a 3x3 Gaussian is
+// applied to the peripheral (right) part of the LP-buffer (§2.2.3). Pass 2: each screen pixel
+// maps forward (eq. 2.10) and reads the LP-buffer bilinearly, then the eq. 2.14 Gaussian
+// post filter with size eta(r / e^L) runs (§2.3.2; TAA with Halton jitter is not simulated).
+//
+// | name | type | default | range | source | meaning |
+// |------|------|---------|-------|--------|---------|
+// | sigma | number | 1.8 | [1, inf) | §2.1 eq. 2.8 | W / w = H / h of the LP-buffer |
+// | alpha | number | 4 | [1e-3, 1e3] | §2.1 eq. 2.9 | exponent of K(x) = x^alpha |
+// | kernel | string | power | power, sine, exp | §2.1 after eq. 2.9 | x^alpha, sin(x pi/2), (e^x-1)/(e-1) |
+// | internal_aa | bool | true | | §2.2.3 | 3x3 Gaussian on the peripheral LP part |
+// | internal_aa_start | number | 0.5 | [0, 1] | §2.2.3 (boundary not given) | u/w where "the right part" starts |
+// | post_aa | bool | true | | §2.3.2 eq. 2.14 | eccentricity-sized Gaussian post filter |
+// | target_shaded_fraction | number | none | (0, 1] | seed 003 §5.1 | iso-budget: solve sigma |
+#include "sim/foveation/mapping_method.h"
+#include "sim/foveation/methods.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace fovsim {
+namespace {
+
+// Fills unused LP pixels from the used ones so bilinear taps next to the screen border read
+// shaded colours: along each row (one direction from the fovea) the used pixels form one run
+// (the ray meets the convex screen in one segment), extend it both ways; empty rows copy the
+// nearest non-empty row (angle wraps).
+void extend_unused(Image& img, const std::vector<uint8_t>& used) {
+  const int w = img.width, h = img.height;
+  std::vector<uint8_t> row_ok(size_t(h), 0);
+  parallel_rows(h, [&](int v) {
+    const uint8_t* u = &used[size_t(v) * size_t(w)];
+    int first = -1, last = -1;
+    for (int x = 0; x < w; ++x)
+      if (u[x]) {
+        if (first < 0) first = x;
+        last = x;
+      }
+    if (first < 0) return;
+    row_ok[size_t(v)] = 1;
+    for (int x = 0; x < w; ++x) {
+      if (u[x]) continue;
+      const int src = x < first ? first : (x > last ? last : -1);
+      if (src < 0) {  // interior gap (rounding at a corner): nearest used to the left
+        int s = x - 1;
+        while (s > first && !u[s]) --s;
+        std::copy_n(img.at(s, v), 3, img.at(x, v));
+      } else {
+        std::copy_n(img.at(src, v), 3, img.at(x, v));
+      }
+    }
+  });
+  bool any = false;
+  for (uint8_t b : row_ok) any |= (b != 0);
+  if (!any) return;
+  for (int v = 0; v < h; ++v) {
+    if (row_ok[size_t(v)]) continue;
+    for (int d = 1; d <= h; ++d) {
+      int a = ((v - d) % h + h) % h, b = (v + d) % h;
+      int src = row_ok[size_t(a)] ? a : (row_ok[size_t(b)] ? b : -1);
+      if (src >= 0) {
+        std::copy_n(img.row(src), size_t(w) * 3, img.row(v));
+        break;
+      }
+    }
+  }
+}
+
+class KfrMethod final : public MappingMethodBase {
+ public:
+  using MappingMethodBase::MappingMethodBase;
+
+  void render(const FrameContext& ctx, FrameOutput& out) override {
+    const MappingSpec& s = resolve(ctx, out);
+    const GBuffer& gb = *ctx.gbuffer;
+    const int W = gb.width, H = gb.height;
+    const int w = reduced_size(W, s.sigma), h = reduced_size(H, s.sigma);
+    const LogPolarMap map = LogPolarMap::make(W, H, w, h, ctx.gaze_px, s.kernel);
+
+    // Pass 1: forward kernel log-polar transformation of the G-buffer (§2.2.1-2.2.2).
+    const size_t n_used = gather_gbuffer(gb, w, h, [&](double u, double v) { return map.inverse(u, v); },
+                                         lp_, used_);
+    shade_buffer(ctx, lp_, lp_col_, &used_, out);
+    extend_unused(lp_col_, used_);
+    double taps = 0;
+    // §2.2.3 internal anti-aliasing: 3x3 Gaussian on the right (peripheral) part.
+    if (s.internal_aa) taps += gaussian3x3_from(lp_col_, int(std::floor(s.internal_aa_start * w)), true);
+
+    // Pass 2: inverse transformation by sampling the LP-buffer at each pixel's forward map
+    // (Alg. 2 as a gather), bilinear, angle wrapping.
+    out.image.resize(W, H, 3);
+    parallel_rows(H, [&](int y) {
+      for (int x = 0; x < W; ++x) {
+        glm::dvec2 uv = map.forward(x + 0.5, y + 0.5);
+        glm::vec3 c = bilinear(lp_col_, uv.x, uv.y, true);
+        float* o = out.image.at(x, y);
+        o[0] = c.x; o[1] = c.y; o[2] = c.z;
+      }
+    });
+    taps += 4.0 * W * H;
+
+    // §2.3.2 post anti-aliasing, eq. 2.14: eta = 3 + 2 ceil((r / e^L - 0.10) / 0.05);
+    // eta < 3 (r / e^L <= 0.05) leaves the pixel unfiltered; r <= e^L caps eta at 39.
+    if (s.post_aa) {
+      eta_.assign(size_t(W) * size_t(H), 1);
+      const double eL = std::exp(map.L);
+      parallel_rows(H, [&](int y) {
+        for (int x = 0; x < W; ++x) {
+          const double q = std::min(std::hypot(x + 0.5 - map.gx, y + 0.5 - map.gy) / eL, 1.0);
+          const double e = 3.0 + 2.0 * std::ceil((q - 0.10) / 0.05 - 1e-9);
+          eta_[size_t(y) * size_t(W) + size_t(x)] = uint8_t(e < 3 ? 1 : std::min(e, 39.0));
+        }
+      });
+      taps += variable_gaussian(out.image, eta_, 39);
+    }
+
+    set_counters(out, double(n_used), double(n_used), double(w) * h, double(n_used), double(W) * H, taps);
+    if (ctx.want_debug) {
+      out.debug.emplace_back("lp_buffer", lp_col_);
+      Image m(w, h, 1);
+      for (size_t i = 0; i < used_.size(); ++i) m.data[i] = used_[i];
+      out.debug.emplace_back("lp_used", std::move(m));
+      debug_density(ctx, s, out);
+    }
+  }
+
+ private:
+  GBuffer lp_;                 // reused across frames (no per-frame reallocation when sizes match)
+  Image lp_col_;
+  std::vector<uint8_t> used_, eta_;
+};
+
+}  // namespace
+
+std::unique_ptr<FoveationMethod> create_kfr(Params& p) {
+  return std::make_unique<KfrMethod>(MappingSpec::from_params("kfr", p));
+}
+
+const std::vector<ParamInfo>& kfr_params() {
+  static const std::vector<ParamInfo> t = {
+      {"sigma", "number", "1.8", "[1, inf)", "seed 004 §2.1 eq. 2.8", "W / w = H / h of the LP-buffer"},
+      {"alpha", "number", "4", "[1e-3, 1e3]", "seed 004 §2.1 eq. 2.9", "exponent of K(x) = x^alpha"},
+      {"kernel", "string", "power", "power | sine | exp", "seed 004 §2.1",
+       "K(x) = x^alpha, sin(x pi/2) or (e^x - 1)/(e - 1)"},
+      {"internal_aa", "bool", "true", "", "seed 004 §2.2.3", "3x3 Gaussian on the peripheral LP part"},
+      {"internal_aa_start", "number", "0.5", "[0, 1]", "seed 004 §2.2.3", "u/w where the filtered part starts"},
+      {"post_aa", "bool", "true", "", "seed 004 §2.3.2 eq. 2.14", "eccentricity-sized Gaussian post filter"},
+      {"target_shaded_fraction", "number", "none", "(0, 1]", "seed 003 §5.1", "iso-budget: solve sigma"},
+  };
+  return t;
+}
+
+}  // namespace fovsim

@@ -1,0 +1,72 @@
+// `linear`: Weier et al. 2016 linear fall-off with seed 003 §5.1's parameters. Each pixel is
+// shaded with probability p(e): 1 inside r1, falling linearly to p_min at r2, p_min beyond
+// (stochastic sampling as in Weier's ray tracer; per-pixel hash of (seed, frame, pixel), so the
+// pattern is the same at any thread count and changes every frame). Unshaded pixels are
+// reconstructed from the shaded ones by push-pull interpolation (Gortler et al. 1996, the
+// sparse-sample fill seed 003 §2 names for this family).
+//
+// | name | type | default | range | source | meaning |
+// |------|------|---------|-------|--------|---------|
+// | r1 | number | 10 | [0, 180] | seed 003 §5.1 | full-rate region, deg |
+// | r2 | number | 20 | [r1, 180] | seed 003 §5.1 | end of the linear fall-off, deg |
+// | p_min | number | 0.047 | (0, 1] | seed 003 §5.1 | minimum sampling probability |
+// | seed | integer | 0 | [0, 2^31) | | sample pattern seed |
+// | radius_scale | number | 1 | (0, inf) | iso-budget free parameter | multiplies r1, r2 |
+// | target_shaded_fraction | number | none | (0, 1] | seed 003 §5.1 | iso-budget: solve radius_scale |
+#include "sim/foveation/mapping_method.h"
+#include "sim/foveation/methods.h"
+
+namespace fovsim {
+namespace {
+
+class LinearMethod final : public MappingMethodBase {
+ public:
+  using MappingMethodBase::MappingMethodBase;
+
+  void render(const FrameContext& ctx, FrameOutput& out) override {
+    const MappingSpec& s = resolve(ctx, out);
+    const GBuffer& gb = *ctx.gbuffer;
+    const int W = gb.width, H = gb.height;
+    const std::vector<float>& ecc = *ctx.eccentricity;
+    mask_.assign(gb.size(), 0);
+    parallel_rows(H, [&](int y) {
+      for (int x = 0; x < W; ++x) {
+        const size_t i = size_t(y) * size_t(W) + size_t(x);
+        mask_[i] = hash01(s.seed, uint64_t(ctx.frame), i) < linear_probability(s, ecc[i]) ? 1 : 0;
+      }
+    });
+    const double shaded = shade_buffer(ctx, gb, out.image, &mask_, out);
+    if (out.image.width != W || out.image.height != H) out.image.resize(W, H, 3);
+    if (ctx.want_debug) {
+      Image m(W, H, 1);
+      for (size_t i = 0; i < mask_.size(); ++i) m.data[i] = mask_[i];
+      out.debug.emplace_back("sample_mask", std::move(m));
+    }
+    const double taps = push_pull_fill(out.image, mask_);
+    set_counters(out, shaded, shaded, double(W) * H, shaded, double(W) * H, taps);
+    if (ctx.want_debug) debug_density(ctx, s, out);
+  }
+
+ private:
+  std::vector<uint8_t> mask_;
+};
+
+}  // namespace
+
+std::unique_ptr<FoveationMethod> create_linear(Params& p) {
+  return std::make_unique<LinearMethod>(MappingSpec::from_params("linear", p));
+}
+
+const std::vector<ParamInfo>& linear_params() {
+  static const std::vector<ParamInfo> t = {
+      {"r1", "number", "10", "[0, 180]", "seed 003 §5.1", "full-rate region (deg)"},
+      {"r2", "number", "20", "[r1, 180]", "seed 003 §5.1", "end of the linear fall-off (deg)"},
+      {"p_min", "number", "0.047", "(0, 1]", "seed 003 §5.1", "minimum sampling probability"},
+      {"seed", "integer", "0", "[0, 2^31)", "", "stochastic sample pattern seed"},
+      {"radius_scale", "number", "1", "(0, inf)", "iso-budget", "multiplies r1 and r2"},
+      {"target_shaded_fraction", "number", "none", "(0, 1]", "seed 003 §5.1", "iso-budget: solve radius_scale"},
+  };
+  return t;
+}
+
+}  // namespace fovsim

@@ -1,0 +1,350 @@
+#include "sim/foveation/mapping.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "sim/core/error.h"
+
+namespace fovsim {
+
+namespace {
+constexpr double kE = 2.718281828459045;
+constexpr double kTiny = 1e-12;
+inline double clampd(double v, double lo, double hi) { return v < lo ? lo : (v > hi ? hi : v); }
+inline double finite_or(double v, double d) { return std::isfinite(v) ? v : d; }
+}  // namespace
+
+// ---- kernels (seed 004 §2.1, eq. 2.9 and the two alternatives named after it) ----------
+double KernelFn::K(double x) const {
+  x = clampd(x, 0.0, 1.0);
+  switch (kind) {
+    case KernelKind::Power: return std::pow(x, alpha);
+    case KernelKind::Sine: return std::sin(x * kPi * 0.5);
+    case KernelKind::Exp: return (std::exp(x) - 1.0) / (kE - 1.0);
+  }
+  return x;
+}
+double KernelFn::Kinv(double y) const {
+  y = clampd(y, 0.0, 1.0);
+  switch (kind) {
+    case KernelKind::Power: return std::pow(y, 1.0 / alpha);
+    case KernelKind::Sine: return std::asin(y) * 2.0 / kPi;
+    case KernelKind::Exp: return std::log1p(y * (kE - 1.0));
+  }
+  return y;
+}
+double KernelFn::Kinv_deriv(double y) const {
+  y = clampd(y, kTiny, 1.0 - kTiny);
+  switch (kind) {
+    case KernelKind::Power: return std::pow(y, 1.0 / alpha - 1.0) / alpha;
+    case KernelKind::Sine: return (2.0 / kPi) / std::sqrt(1.0 - y * y);
+    case KernelKind::Exp: return (kE - 1.0) / (1.0 + y * (kE - 1.0));
+  }
+  return 1.0;
+}
+KernelKind KernelFn::parse(const std::string& s) {
+  if (s == "power") return KernelKind::Power;
+  if (s == "sine") return KernelKind::Sine;
+  if (s == "exp") return KernelKind::Exp;
+  throw Error("kernel", "unknown kernel \"" + s + "\" (power, sine, exp)");
+}
+const char* KernelFn::name(KernelKind k) {
+  switch (k) {
+    case KernelKind::Power: return "power";
+    case KernelKind::Sine: return "sine";
+    case KernelKind::Exp: return "exp";
+  }
+  return "power";
+}
+
+// ---- kernel log-polar map ---------------------------------------------------------------
+LogPolarMap LogPolarMap::make(int W, int H, int w, int h, glm::dvec2 gaze, KernelFn k) {
+  LogPolarMap m;
+  m.W = W;
+  m.H = H;
+  m.w = w;
+  m.h = h;
+  m.gx = finite_or(gaze.x, W * 0.5);
+  m.gy = finite_or(gaze.y, H * 0.5);
+  m.k = k;
+  // Eqs. 2.12-2.13: L = log of the largest fovea-to-corner distance (gaze-dependent).
+  double l1 = std::hypot(m.gx, m.gy), l2 = std::hypot(W - m.gx, H - m.gy);
+  double l3 = std::hypot(m.gx, H - m.gy), l4 = std::hypot(W - m.gx, m.gy);
+  double lmax = std::max(std::max(l1, l2), std::max(l3, l4));
+  // A screen smaller than e pixels from the fovea would give L <= 1: keep L > 0.
+  m.L = std::max(std::log(std::max(lmax, 1.0)), 1e-9);
+  return m;
+}
+
+glm::dvec2 LogPolarMap::forward(double x, double y) const {
+  const double dx = x - gx, dy = y - gy;
+  const double r = std::hypot(dx, dy);
+  // Eq. 2.10; log r < 0 (r < 1 px, incl. log 0 at the gaze) clamps to the first column.
+  const double t = r > 1.0 ? std::min(std::log(r) / L, 1.0) : 0.0;
+  const double u = k.Kinv(t) * w;
+  double th = std::atan2(dy, dx);  // eq. 2.10's arctan(y'/x') + 1[y' < 0] 2 pi, quadrant-correct
+  if (th < 0) th += 2.0 * kPi;
+  double v = th * h / (2.0 * kPi);
+  if (!(v < h)) v = 0;  // th == 2 pi after rounding
+  return {u, v};
+}
+
+glm::dvec2 LogPolarMap::inverse(double u, double v) const {
+  // Alg. 2: x'' = exp(L K(u/w)) cos(B v) + x^, y'' = exp(L K(u/w)) sin(B v) + y^, B = 2 pi / h.
+  const double r = std::exp(L * k.K(u / w));
+  const double th = v * 2.0 * kPi / h;
+  return {gx + r * std::cos(th), gy + r * std::sin(th)};
+}
+
+double LogPolarMap::density(double x, double y) const {
+  const double r = std::max(std::hypot(x - gx, y - gy), 1.0);
+  const double t = std::min(std::log(r) / L, 1.0);
+  // du/dr = w K^-1'(t) / (L r); dv/(r dtheta) = h / (2 pi r).
+  return w * h * k.Kinv_deriv(t) / (2.0 * kPi * L * r * r);
+}
+
+// ---- rectangular map (seed 003 eqs. 4-7) -----------------------------------------------
+RectAxis RectAxis::make(int S, int s, double gaze, double f) {
+  RectAxis a;
+  a.S = S;
+  a.s = s;
+  a.c = clampd(finite_or(gaze, S * 0.5), 0.0, double(S));  // off-screen gaze: nearest edge
+  a.f = f;
+  return a;
+}
+
+double RectAxis::forward(double x) const {
+  const double xp = x - c;
+  const double E = xp >= 0 ? S - c : c;  // eq. 5: W - x^ right of the gaze, x^ left of it
+  double N = 0;
+  if (E > 0) N = clampd(xp * (f + E) / (E * (f + std::abs(xp))), -1.0, 1.0);
+  return s / S * (c + N * E);  // eq. 4: N w (1 - x^/W) + x^ w / W (sign-symmetric)
+}
+
+double RectAxis::inverse(double u) const {
+  const double q = u * S / s - c;  // eq. 7 numerator, scaled to screen pixels
+  const double E = q >= 0 ? S - c : c;
+  if (!(E > 0)) return c;
+  const double N = clampd(q / E, -1.0, 1.0);
+  // Eq. 6 x'' = f N_U / (f - |N_U|) with N_U = N f E / (f + E): rewritten without cancellation.
+  return c + f * E * N / (f + E * (1.0 - std::abs(N)));
+}
+
+double RectAxis::deriv(double x) const {
+  const double xp = x - c;
+  const double E = xp >= 0 ? S - c : c;
+  if (!(E > 0)) return 0.0;
+  const double d = f + std::abs(xp);
+  return s / S * f * ((f + E) / d) / d;
+}
+
+RectMap RectMap::make(int W, int H, int w, int h, glm::dvec2 gaze, double fx_px, double fy_px) {
+  return {RectAxis::make(W, w, gaze.x, fx_px), RectAxis::make(H, h, gaze.y, fy_px)};
+}
+
+int reduced_size(int S, double sigma) {
+  double v = std::round(double(S) / sigma);
+  if (!(v >= 1)) return 1;
+  return int(std::min(v, double(S)));
+}
+
+// ---- buffer passes ------------------------------------------------------------------------
+glm::vec3 bilinear(const Image& img, double x, double y, bool wrap_y) {
+  const int w = img.width, h = img.height;
+  double fx = finite_or(x, 0.0) - 0.5, fy = finite_or(y, 0.0) - 0.5;
+  fx = clampd(fx, -1.0, double(w));
+  if (!wrap_y) fy = clampd(fy, -1.0, double(h));
+  const double x0f = std::floor(fx), y0f = std::floor(fy);
+  const float tx = float(fx - x0f), ty = float(fy - y0f);
+  int x0 = int(x0f), y0 = int(y0f), x1 = x0 + 1, y1 = y0 + 1;
+  x0 = std::clamp(x0, 0, w - 1);
+  x1 = std::clamp(x1, 0, w - 1);
+  if (wrap_y) {
+    long m0 = long(y0f) % h, m1 = (long(y0f) + 1) % h;
+    y0 = int(m0 < 0 ? m0 + h : m0);
+    y1 = int(m1 < 0 ? m1 + h : m1);
+  } else {
+    y0 = std::clamp(y0, 0, h - 1);
+    y1 = std::clamp(y1, 0, h - 1);
+  }
+  const float* a = img.at(x0, y0);
+  const float* b = img.at(x1, y0);
+  const float* c = img.at(x0, y1);
+  const float* d = img.at(x1, y1);
+  glm::vec3 top = glm::vec3(a[0], a[1], a[2]) * (1 - tx) + glm::vec3(b[0], b[1], b[2]) * tx;
+  glm::vec3 bot = glm::vec3(c[0], c[1], c[2]) * (1 - tx) + glm::vec3(d[0], d[1], d[2]) * tx;
+  return top * (1 - ty) + bot * ty;
+}
+
+double gaussian3x3_from(Image& img, int x0, bool wrap_y) {
+  const int w = img.width, h = img.height;
+  x0 = std::clamp(x0, 0, w);
+  if (x0 >= w || h == 0) return 0;
+  Image tmp = img;  // horizontal result for the filtered columns (small reduced buffer)
+  parallel_rows(h, [&](int y) {
+    for (int x = x0; x < w; ++x) {
+      const float* l = img.at(std::max(x - 1, 0), y);
+      const float* m = img.at(x, y);
+      const float* r = img.at(std::min(x + 1, w - 1), y);
+      float* o = tmp.at(x, y);
+      for (int c = 0; c < 3; ++c) o[c] = 0.25f * l[c] + 0.5f * m[c] + 0.25f * r[c];
+    }
+  });
+  parallel_rows(h, [&](int y) {
+    int ya = y - 1, yb = y + 1;
+    if (wrap_y) {
+      ya = (ya + h) % h;
+      yb = yb % h;
+    } else {
+      ya = std::max(ya, 0);
+      yb = std::min(yb, h - 1);
+    }
+    for (int x = x0; x < w; ++x) {
+      const float* a = tmp.at(x, ya);
+      const float* m = tmp.at(x, y);
+      const float* b = tmp.at(x, yb);
+      float* o = img.at(x, y);
+      for (int c = 0; c < 3; ++c) o[c] = 0.25f * a[c] + 0.5f * m[c] + 0.25f * b[c];
+    }
+  });
+  return 6.0 * double(w - x0) * double(h);
+}
+
+double variable_gaussian(Image& img, const std::vector<uint8_t>& eta, int max_eta) {
+  const int w = img.width, h = img.height;
+  max_eta = std::max(1, max_eta | 1);
+  // Kernel weights per odd size (OpenCV getGaussianKernel sigma rule), index by eta.
+  std::vector<std::vector<float>> k(size_t(max_eta) + 1);
+  for (int n = 3; n <= max_eta; n += 2) {
+    const double sg = 0.3 * ((n - 1) * 0.5 - 1.0) + 0.8;
+    std::vector<float> v(static_cast<size_t>(n));
+    double sum = 0;
+    for (int i = 0; i < n; ++i) {
+      double d = i - (n - 1) * 0.5;
+      v[size_t(i)] = float(std::exp(-d * d / (2 * sg * sg)));
+      sum += v[size_t(i)];
+    }
+    for (auto& e : v) e = float(e / sum);
+    k[size_t(n)] = std::move(v);
+  }
+  Image tmp(w, h, 3);
+  std::vector<double> row_taps(size_t(h), 0.0);
+  auto size_at = [&](int x, int y) {
+    int n = std::min<int>(eta[size_t(y) * size_t(w) + size_t(x)], max_eta);
+    return (n >= 3) ? (n | 1) : 1;
+  };
+  parallel_rows(h, [&](int y) {
+    double taps = 0;
+    for (int x = 0; x < w; ++x) {
+      const int n = size_at(x, y);
+      float* o = tmp.at(x, y);
+      if (n < 3) {
+        const float* s = img.at(x, y);
+        o[0] = s[0]; o[1] = s[1]; o[2] = s[2];
+        continue;
+      }
+      const auto& kv = k[size_t(n)];
+      const int half = n / 2;
+      float acc[3] = {0, 0, 0};
+      for (int i = 0; i < n; ++i) {
+        const float* s = img.at(std::clamp(x + i - half, 0, w - 1), y);
+        for (int c = 0; c < 3; ++c) acc[c] += kv[size_t(i)] * s[c];
+      }
+      o[0] = acc[0]; o[1] = acc[1]; o[2] = acc[2];
+      taps += n;
+    }
+    row_taps[size_t(y)] = taps;
+  });
+  parallel_rows(h, [&](int y) {
+    double taps = 0;
+    for (int x = 0; x < w; ++x) {
+      const int n = size_at(x, y);
+      if (n < 3) continue;
+      const auto& kv = k[size_t(n)];
+      const int half = n / 2;
+      float acc[3] = {0, 0, 0};
+      for (int i = 0; i < n; ++i) {
+        const float* s = tmp.at(x, std::clamp(y + i - half, 0, h - 1));
+        for (int c = 0; c < 3; ++c) acc[c] += kv[size_t(i)] * s[c];
+      }
+      float* o = img.at(x, y);
+      o[0] = acc[0]; o[1] = acc[1]; o[2] = acc[2];
+      taps += n;
+    }
+    row_taps[size_t(y)] += taps;
+  });
+  double total = 0;
+  for (double t : row_taps) total += t;
+  return total;
+}
+
+double push_pull_fill(Image& img, const std::vector<uint8_t>& valid) {
+  // Level 0: premultiplied colour + weight; pull halves the size until 1x1 (weights clamped
+  // to 1), push fills each level's deficit (1 - w) from the bilinear parent colour.
+  struct Level {
+    int w, h;
+    std::vector<glm::vec4> p;  // rgb premultiplied, a = weight
+  };
+  std::vector<Level> lv;
+  lv.push_back({img.width, img.height, std::vector<glm::vec4>(img.pixels())});
+  for (size_t i = 0; i < img.pixels(); ++i) {
+    const float* s = &img.data[i * size_t(img.channels)];
+    lv[0].p[i] = valid[i] ? glm::vec4(s[0], s[1], s[2], 1.f) : glm::vec4(0.f);
+  }
+  double taps = 0;
+  while (lv.back().w > 1 || lv.back().h > 1) {
+    const Level& f = lv.back();
+    Level c{(f.w + 1) / 2, (f.h + 1) / 2, {}};
+    c.p.assign(size_t(c.w) * size_t(c.h), glm::vec4(0.f));
+    for (int y = 0; y < c.h; ++y)
+      for (int x = 0; x < c.w; ++x) {
+        glm::vec4 acc(0.f);
+        for (int dy = 0; dy < 2; ++dy)
+          for (int dx = 0; dx < 2; ++dx) {
+            int fx = std::min(2 * x + dx, f.w - 1), fy = std::min(2 * y + dy, f.h - 1);
+            acc += f.p[size_t(fy) * size_t(f.w) + size_t(fx)];
+          }
+        if (acc.a > 1.f) acc /= acc.a;
+        c.p[size_t(y) * size_t(c.w) + size_t(x)] = acc;
+      }
+    taps += 4.0 * double(c.w) * double(c.h);
+    lv.push_back(std::move(c));
+  }
+  for (size_t l = lv.size() - 1; l-- > 0;) {
+    Level& f = lv[l];
+    const Level& c = lv[l + 1];
+    for (int y = 0; y < f.h; ++y)
+      for (int x = 0; x < f.w; ++x) {
+        glm::vec4& q = f.p[size_t(y) * size_t(f.w) + size_t(x)];
+        if (q.a >= 1.f) continue;
+        // Bilinear parent at this pixel's centre in parent coordinates.
+        double px = (x + 0.5) * 0.5 - 0.5, py = (y + 0.5) * 0.5 - 0.5;
+        int x0 = int(std::floor(px)), y0 = int(std::floor(py));
+        float tx = float(px - x0), ty = float(py - y0);
+        glm::vec4 acc(0.f);
+        for (int dy = 0; dy < 2; ++dy)
+          for (int dx = 0; dx < 2; ++dx) {
+            int cx = std::clamp(x0 + dx, 0, c.w - 1), cy = std::clamp(y0 + dy, 0, c.h - 1);
+            float wgt = (dx ? tx : 1 - tx) * (dy ? ty : 1 - ty);
+            const glm::vec4& s = c.p[size_t(cy) * size_t(c.w) + size_t(cx)];
+            if (s.a > 0.f) acc += wgt * glm::vec4(glm::vec3(s) / s.a, 1.f);
+          }
+        taps += 4;
+        if (acc.a > 0.f) {
+          glm::vec3 col = glm::vec3(acc) / acc.a;
+          q = glm::vec4(glm::vec3(q) + (1.f - q.a) * col, 1.f);
+        }
+      }
+  }
+  for (size_t i = 0; i < img.pixels(); ++i) {
+    if (valid[i]) continue;
+    float* d = &img.data[i * size_t(img.channels)];
+    const glm::vec4& q = lv[0].p[i];
+    glm::vec3 col = q.a > 0.f ? glm::vec3(q) / q.a : glm::vec3(0.f);
+    d[0] = col.x; d[1] = col.y; d[2] = col.z;
+  }
+  return taps;
+}
+
+}  // namespace fovsim

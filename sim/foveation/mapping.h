@@ -1,0 +1,158 @@
+// Image-mapping math shared by the mapping methods (kfr, rmfr) and the baselines
+// (hyperbolic, linear, fvrs): the forward/inverse maps with their Jacobians, the kernel
+// functions of seed 004 §2.1, and the buffer passes (gather from the G-buffer, bilinear
+// reconstruction, Gaussian filters, push-pull fill). Pure math + TBB loops; no renderer here.
+//
+// Coordinates: screen points in pixels with pixel i's centre at i + 0.5 (sim/core/math.h);
+// reduced-buffer points (u, v) the same way in the w x h buffer.
+#pragma once
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "sim/core/image.h"
+#include "sim/core/math.h"
+#include "sim/render/gbuffer.h"
+
+namespace fovsim {
+
+// ---- Kernel functions K: [0,1] -> [0,1], monotonic, K(0) = 0, K(1) = 1 (seed 004 eq. 2.9).
+enum class KernelKind { Power, Sine, Exp };
+struct KernelFn {
+  KernelKind kind = KernelKind::Power;
+  double alpha = 4.0;  // exponent of K(x) = x^alpha (Power only)
+  // K(x) = x^alpha (eq. 2.9 with one term), sin(x pi/2), (e^x - 1)/(e - 1) (seed 004 §2.1).
+  double K(double x) const;
+  double Kinv(double y) const;        // inverse, y clamped to [0, 1]
+  double Kinv_deriv(double y) const;  // d K^-1 / dy, finite (clamped away from 0 and 1)
+  static KernelKind parse(const std::string& s);  // "power" | "sine" | "exp"
+  static const char* name(KernelKind k);
+};
+
+// ---- Kernel log-polar map (seed 004 eqs. 2.10-2.13, Alg. 2) for a W x H screen and a
+// w x h LP-buffer around the gaze (gx, gy), which may lie anywhere (also off-screen).
+struct LogPolarMap {
+  double W = 0, H = 0, w = 0, h = 0, gx = 0, gy = 0;
+  double L = 1;  // eq. 2.12: log of the largest distance from the fovea to a screen corner
+  KernelFn k;
+
+  static LogPolarMap make(int W, int H, int w, int h, glm::dvec2 gaze, KernelFn k);
+  // Eq. 2.10: screen point -> LP coords. Radii below 1 px (log < 0, log 0 at the gaze) clamp to u = 0.
+  glm::dvec2 forward(double x, double y) const;
+  // Alg. 2 (with A K(u) read as L K(u/w), the inverse of eq. 2.10): LP coords -> screen point.
+  glm::dvec2 inverse(double u, double v) const;
+  // LP samples per screen pixel at (x, y): |det d(u,v)/d(x,y)| = w h K^-1'(t) / (2 pi L r^2),
+  // t = log r / L; radii below 1 px use r = 1 (the clamp of forward()).
+  double density(double x, double y) const;
+};
+
+// ---- Rectangular map (seed 003 eqs. 4-7) per axis, all four quadrants: the side of the
+// gaze a pixel lies on selects the extent E (W - x^ or x^) of the normalisation N_X (eq. 5).
+struct RectAxis {
+  double S = 0;  // screen extent (W or H), pixels
+  double s = 0;  // buffer extent (w or h)
+  double c = 0;  // gaze coordinate, clamped to [0, S]
+  double f = 1;  // fx or fy in pixels (> 0)
+  static RectAxis make(int S, int s, double gaze, double f);
+  // Eqs. 4-5 (stable form N = x' (f + E) / (E (f + |x'|)), u = s/S (c + N E)).
+  double forward(double x) const;
+  // Eqs. 6-7 (stable form x'' = f E N / (f + E (1 - |N|))), returns a screen coordinate.
+  double inverse(double u) const;
+  // du/dx = (s/S) f (f + E) / (f + |x'|)^2.
+  double deriv(double x) const;
+};
+struct RectMap {
+  RectAxis ax, ay;
+  static RectMap make(int W, int H, int w, int h, glm::dvec2 gaze, double fx_px, double fy_px);
+  glm::dvec2 forward(double x, double y) const { return {ax.forward(x), ay.forward(y)}; }
+  glm::dvec2 inverse(double u, double v) const { return {ax.inverse(u), ay.inverse(v)}; }
+  double density(double x, double y) const { return ax.deriv(x) * ay.deriv(y); }
+};
+
+// Reduced-buffer size for a screen extent and sigma = W/w (seed 004 §2.1, seed 003 §3.2):
+// round(S / sigma), at least 1.
+int reduced_size(int S, double sigma);
+
+// ---- Buffer passes ---------------------------------------------------------------------
+
+// tbb::parallel_for over rows [0, n) (grain 4 rows); body(int row).
+template <class Body>
+void parallel_rows(int n, Body&& body) {
+  tbb::parallel_for(tbb::blocked_range<int>(0, n, 4), [&](const tbb::blocked_range<int>& r) {
+    for (int y = r.begin(); y != r.end(); ++y) body(y);
+  });
+}
+
+// Pass 1 gather (seed 004 §2.2.2, seed 003 §3.2 "TG-buffer"): slot i = (iu, iv) of a w x h
+// buffer takes the nearest full-res G-buffer sample at the screen point inv(iu + 0.5, iv + 0.5);
+// points outside the screen (or not finite) leave the slot cleared and used[i] = 0.
+// Returns the number of used slots. Parallel over rows; deterministic.
+template <class InvFn>
+size_t gather_gbuffer(const GBuffer& src, int w, int h, InvFn&& inv, GBuffer& out,
+                      std::vector<uint8_t>& used) {
+  out.resize(w, h, src.channels);
+  used.assign(size_t(w) * size_t(h), 0);
+  const double W = src.width, H = src.height;
+  parallel_rows(h, [&](int iv) {
+    for (int iu = 0; iu < w; ++iu) {
+      const size_t i = size_t(iv) * size_t(w) + size_t(iu);
+      glm::dvec2 p = inv(iu + 0.5, iv + 0.5);
+      if (std::isfinite(p.x) && std::isfinite(p.y) && p.x >= 0 && p.y >= 0 && p.x < W && p.y < H) {
+        size_t sx = std::min(size_t(p.x), size_t(src.width - 1));
+        size_t sy = std::min(size_t(p.y), size_t(src.height - 1));
+        out.copy_sample(src, sy * size_t(src.width) + sx, i);
+        used[i] = 1;
+      } else {
+        out.clear_sample(i);
+      }
+    }
+  });
+  size_t n = 0;
+  for (uint8_t b : used) n += b;
+  return n;
+}
+
+// Bilinear sample of an RGB image at continuous pixel coordinates (centres at i + 0.5).
+// x clamps at the borders; y wraps around when wrap_y (LP-buffer angle axis), else clamps.
+glm::vec3 bilinear(const Image& img, double x, double y, bool wrap_y);
+
+// Separable 3x3 Gaussian [1 2 1]/4 x [1 2 1]/4 applied to columns x >= x0 of an RGB
+// image (rows wrap when wrap_y). In place (uses one temporary). Returns taps used.
+double gaussian3x3_from(Image& img, int x0, bool wrap_y);
+
+// Spatially varying separable Gaussian: radius_of(x, y) gives the kernel size eta (odd,
+// eta <= 1 means untouched) per pixel; sigma of a size-eta kernel follows OpenCV's
+// getGaussianKernel rule 0.3 ((eta - 1)/2 - 1) + 0.8. Horizontal then vertical pass.
+// Returns the number of taps read.
+double variable_gaussian(Image& img, const std::vector<uint8_t>& eta, int max_eta);
+
+// Push-pull hole filling (Gortler et al. 1996, as used by seed 003 §2 for sparse samples):
+// pixels with valid[i] == 0 get an interpolation of valid neighbours at the coarsest needed
+// scale. Valid pixels are unchanged. Returns the number of filter taps read.
+double push_pull_fill(Image& img, const std::vector<uint8_t>& valid);
+
+// Pixel radius, along each of the 4 screen axes from the gaze, at which the eccentricity
+// reaches `deg` (bisection on `ecc(x, y)`); returns the largest of the 4 (square layer
+// extent for the baselines). `ecc` is any callable (x, y) -> degrees.
+template <class EccFn>
+double radius_px_for_deg(EccFn&& ecc, glm::dvec2 gaze, double deg, double max_px) {
+  double best = 0;
+  const glm::dvec2 dirs[4] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+  for (auto d : dirs) {
+    double lo = 0, hi = max_px;
+    if (ecc(gaze.x + d.x * hi, gaze.y + d.y * hi) < deg) { best = std::max(best, hi); continue; }
+    for (int it = 0; it < 48; ++it) {
+      double mid = 0.5 * (lo + hi);
+      if (ecc(gaze.x + d.x * mid, gaze.y + d.y * mid) < deg) lo = mid; else hi = mid;
+    }
+    best = std::max(best, 0.5 * (lo + hi));
+  }
+  return best;
+}
+
+}  // namespace fovsim

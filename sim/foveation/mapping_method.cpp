@@ -1,0 +1,97 @@
+#include "sim/foveation/mapping_method.h"
+
+#include <cmath>
+
+namespace fovsim {
+
+std::vector<std::pair<std::string, double>> MappingMethodBase::param_columns() const {
+  auto c = active_.columns();
+  if (spec_.target_shaded_fraction > 0) {
+    c.push_back({"target_shaded_fraction", spec_.target_shaded_fraction});
+    c.push_back({"iso_achieved_fraction", achieved_});
+  }
+  return c;
+}
+
+MappingView MappingMethodBase::view_of(const FrameContext& ctx) {
+  MappingView v;
+  v.W = ctx.gbuffer->width;
+  v.H = ctx.gbuffer->height;
+  v.cam = ctx.camera;
+  v.gaze_px = ctx.gaze_px;
+  v.gaze_dir = ctx.gaze_dir;
+  v.ecc = ctx.eccentricity;
+  return v;
+}
+
+const MappingSpec& MappingMethodBase::resolve(const FrameContext& ctx, FrameOutput& out) {
+  if (!(spec_.target_shaded_fraction > 0)) return active_;
+  const int W = ctx.gbuffer->width, H = ctx.gbuffer->height;
+  if (W != res_w_ || H != res_h_ || ctx.camera->tan_half_h != res_tan_h_ ||
+      ctx.camera->tan_half_v != res_tan_v_) {
+    // Solve at the centre gaze (seed 003 §5.1 fixes the theoretical speedup per method, not
+    // per frame), with an eccentricity map for that gaze.
+    MappingView v = MappingView::at(*ctx.camera, glm::dvec2(W * 0.5, H * 0.5));
+    std::vector<float> ecc = eccentricity_map(*ctx.camera, v.gaze_dir);
+    v.ecc = &ecc;
+    reachable_ = solve_iso_budget(spec_, v, spec_.target_shaded_fraction, active_, &achieved_);
+    res_w_ = W;
+    res_h_ = H;
+    res_tan_h_ = ctx.camera->tan_half_h;
+    res_tan_v_ = ctx.camera->tan_half_v;
+  }
+  if (!reachable_) out.flags.push_back("iso_budget_unreachable");
+  return active_;
+}
+
+void MappingMethodBase::set_counters(FrameOutput& out, double shaded, double gbuffer_samples,
+                                     double allocated, double used, double fullres, double taps) {
+  out.counters.set("shaded_samples", shaded);
+  out.counters.set("gbuffer_samples", gbuffer_samples);
+  out.counters.set("buffer_pixels_allocated", allocated);
+  out.counters.set("buffer_pixels_used", used);
+  out.counters.set("fullres_pixels", fullres);
+  out.counters.set("filter_taps", taps);
+}
+
+void MappingMethodBase::debug_density(const FrameContext& ctx, const MappingSpec& s, FrameOutput& out) const {
+  MappingView v = view_of(ctx);
+  Image d(v.W, v.H, 1);
+  if (s.method == "hyperbolic") {
+    // Layer geometry once, then per pixel (sample_density would rebuild it per call).
+    auto layers = hyperbolic_layers(s, v);
+    parallel_rows(v.H, [&](int y) {
+      for (int x = 0; x < v.W; ++x) {
+        double e = (*v.ecc)[size_t(y) * size_t(v.W) + size_t(x)], val = 1.0 / (s.s3 * s.s3);
+        for (auto& L : layers)
+          if (L.w > 0 && e < L.ecc_limit && x + 0.5 >= L.x0 && x + 0.5 < L.x1 && y + 0.5 >= L.y0 && y + 0.5 < L.y1) {
+            val = 1.0 / (L.s * L.s);
+            break;
+          }
+        d.at(x, y)[0] = float(val);
+      }
+    });
+  } else {
+    parallel_rows(v.H, [&](int y) {
+      for (int x = 0; x < v.W; ++x) d.at(x, y)[0] = float(sample_density(s, v, x + 0.5, y + 0.5));
+    });
+  }
+  out.debug.emplace_back("sample_density", std::move(d));
+}
+
+double shade_buffer(const FrameContext& ctx, const GBuffer& g, Image& col, const std::vector<uint8_t>* used,
+                    FrameOutput& out) {
+  Counters c;
+  ctx.renderer->shade(g, ctx.camera->position, col, used ? used->data() : nullptr, &c);
+  double n = 0;
+  if (used) {
+    for (uint8_t b : *used) n += b;
+  } else {
+    n = double(g.size());
+  }
+  for (auto& kv : c.items())
+    if (kv.first != "shaded_samples") out.counters.add(kv.first, kv.second);
+  return n;
+}
+
+}  // namespace fovsim

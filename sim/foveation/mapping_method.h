@@ -1,0 +1,58 @@
+// Common plumbing of the mapping methods and baselines: a base class that holds the
+// MappingSpec, resolves an iso-budget target once per screen size, reports param_columns,
+// and helpers for counters and debug buffers.
+#pragma once
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "sim/core/rng.h"
+#include "sim/foveation/density.h"
+#include "sim/foveation/method.h"
+
+namespace fovsim {
+
+class MappingMethodBase : public FoveationMethod {
+ public:
+  explicit MappingMethodBase(MappingSpec s) : spec_(std::move(s)), active_(spec_) {}
+  std::string name() const override { return spec_.method; }
+  uint32_t required_channels() const override { return kShadingChannels; }
+  // The spec's columns with the free parameter as resolved (iso-budget), plus
+  // iso_achieved_fraction when a target was given.
+  std::vector<std::pair<std::string, double>> param_columns() const override;
+  const MappingSpec& active_spec() const { return active_; }
+
+ protected:
+  // Resolves target_shaded_fraction (if any) for this screen: solves the free parameter with
+  // the gaze at the screen centre (so the setting does not change with gaze) once per
+  // screen size and camera FOV. Returns the spec to render with.
+  const MappingSpec& resolve(const FrameContext& ctx, FrameOutput& out);
+  static MappingView view_of(const FrameContext& ctx);
+  // Writes the counters every mapping method reports (see docs/methods.md).
+  static void set_counters(FrameOutput& out, double shaded, double gbuffer_samples, double allocated,
+                           double used, double fullres, double taps);
+  // Appends a 1-channel "sample_density" debug image (samples per pixel, analytic).
+  void debug_density(const FrameContext& ctx, const MappingSpec& s, FrameOutput& out) const;
+
+  MappingSpec spec_;     // as configured
+  MappingSpec active_;   // as rendered (free parameter resolved)
+  int res_w_ = -1, res_h_ = -1;
+  double res_tan_h_ = 0, res_tan_v_ = 0;
+  double achieved_ = -1;
+  bool reachable_ = true;
+};
+
+// Shades the used slots of a gathered buffer with the frame's renderer; returns the number of
+// shaded samples (the renderer's shaded_samples counter when it reports one) and merges the
+// renderer's other counters (shadow_rays, ...) into out.counters.
+double shade_buffer(const FrameContext& ctx, const GBuffer& g, Image& col, const std::vector<uint8_t>* used,
+                    FrameOutput& out);
+
+// Uniform [0,1) from (seed, frame, index): thread-count independent per-pixel randomness.
+inline double hash01(uint64_t seed, uint64_t frame, uint64_t i) {
+  uint64_t h = splitmix64(seed ^ splitmix64(frame + 0x9e3779b97f4a7c15ull) ^
+                          splitmix64(i * 0xd1b54a32d192ed03ull + 1));
+  return double(h >> 11) * (1.0 / 9007199254740992.0);
+}
+
+}  // namespace fovsim
