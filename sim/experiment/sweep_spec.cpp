@@ -1,0 +1,544 @@
+#include "sim/experiment/sweep_spec.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <set>
+
+#include "sim/core/error.h"
+#include "sim/core/hash.h"
+#include "sim/core/rng.h"
+#include "sim/foveation/factory.h"
+
+namespace fovsim {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using Row = std::vector<Assignment>;  // one point of a block: the assignments it makes
+
+const std::set<std::string> kBlockKinds = {"grid", "list", "zip", "random", "lhs"};
+
+std::string key_where(const std::string& where, const std::string& key) { return where + "." + key; }
+
+double num_of(const Json& j, const std::string& where, const char* key) {
+  if (!j.contains(key)) throw Error(where, std::string("missing \"") + key + "\"");
+  const Json& v = j[key];
+  if (!v.is_number()) throw Error(key_where(where, key), "expected a number, got " + describe_json(v));
+  double d = v.get<double>();
+  if (!std::isfinite(d)) throw Error(key_where(where, key), "expected a finite number");
+  return d;
+}
+
+void only_keys(const Json& j, const std::string& where, const std::set<std::string>& allowed) {
+  for (auto it = j.begin(); it != j.end(); ++it)
+    if (!allowed.count(it.key())) {
+      std::string names;
+      for (auto& a : allowed) names += (names.empty() ? "" : ", ") + a;
+      throw Error(key_where(where, it.key()), "unknown key (allowed here: " + names + ")");
+    }
+}
+
+Json number_json(double v) {
+  v = tidy(v);
+  if (std::fabs(v) < 9e15 && v == std::floor(v)) return Json(int64_t(v));
+  return Json(v);
+}
+
+// Ordered (path, spec) axes of a grid or zip block: an object (keys in sorted order, as JSON
+// objects are read) or an array of one-key objects (order as written).
+std::vector<std::pair<std::string, std::pair<Json, std::string>>> ordered_axes(const Json& j,
+                                                                                const std::string& where) {
+  std::vector<std::pair<std::string, std::pair<Json, std::string>>> out;
+  if (j.is_object()) {
+    for (auto it = j.begin(); it != j.end(); ++it)
+      out.push_back({it.key(), {it.value(), key_where(where, it.key())}});
+  } else if (j.is_array()) {
+    for (size_t i = 0; i < j.size(); ++i) {
+      std::string w = where + "[" + std::to_string(i) + "]";
+      if (!j[i].is_object() || j[i].size() != 1)
+        throw Error(w, "expected a one-key object {\"config.path\": values}, got " + describe_json(j[i]));
+      out.push_back({j[i].begin().key(), {j[i].begin().value(), key_where(w, j[i].begin().key())}});
+    }
+  } else {
+    throw Error(where, "expected an object {\"config.path\": values, ...}, got " + describe_json(j));
+  }
+  if (out.empty()) throw Error(where, "no axes (expected at least one \"config.path\": values)");
+  return out;
+}
+
+std::vector<Row> grid_rows(const Json& j, const std::string& where) {
+  std::vector<Row> rows{Row{}};
+  for (auto& [path, sv] : ordered_axes(j, where)) {
+    auto vals = axis_values(sv.first, sv.second);
+    std::vector<Row> next;
+    for (auto& r : rows)
+      for (auto& v : vals) {
+        Row n = r;
+        n.push_back({path, v, sv.second});
+        next.push_back(std::move(n));
+      }
+    rows = std::move(next);
+  }
+  return rows;
+}
+
+std::vector<Row> zip_rows(const Json& j, const std::string& where) {
+  auto axes = ordered_axes(j, where);
+  std::vector<std::vector<Json>> vals;
+  for (auto& a : axes) vals.push_back(axis_values(a.second.first, a.second.second));
+  for (size_t i = 1; i < axes.size(); ++i)
+    if (vals[i].size() != vals[0].size())
+      throw Error(where, "zip axes must have equal lengths: \"" + axes[0].first + "\" has " +
+                             std::to_string(vals[0].size()) + " values, \"" + axes[i].first + "\" has " +
+                             std::to_string(vals[i].size()));
+  std::vector<Row> rows(vals[0].size());
+  for (size_t k = 0; k < rows.size(); ++k)
+    for (size_t i = 0; i < axes.size(); ++i) rows[k].push_back({axes[i].first, vals[i][k], axes[i].second.second});
+  return rows;
+}
+
+std::vector<Row> list_rows(const Json& j, const std::string& where) {
+  if (!j.is_array()) throw Error(where, "expected an array of {\"config.path\": value} objects, got " + describe_json(j));
+  if (j.empty()) throw Error(where, "empty list (no runs)");
+  std::vector<Row> rows;
+  for (size_t i = 0; i < j.size(); ++i) {
+    std::string w = where + "[" + std::to_string(i) + "]";
+    if (!j[i].is_object() || j[i].empty())
+      throw Error(w, "expected a non-empty object {\"config.path\": value}, got " + describe_json(j[i]));
+    Row r;
+    for (auto it = j[i].begin(); it != j[i].end(); ++it) r.push_back({it.key(), it.value(), key_where(w, it.key())});
+    rows.push_back(std::move(r));
+  }
+  return rows;
+}
+
+// A dimension of a random/LHS block: continuous range (optionally log, quantized, integer)
+// or a choice among listed values.
+struct Dim {
+  std::string path, where;
+  std::vector<Json> choices;
+  double lo = 0, hi = 1, step = 0;
+  bool log = false, integer = false;
+  Json value(double u) const {  // u in [0, 1)
+    if (!choices.empty()) return choices[std::min(choices.size() - 1, size_t(u * double(choices.size())))];
+    double v = log ? std::exp(std::log(lo) + u * (std::log(hi) - std::log(lo))) : lo + u * (hi - lo);
+    if (step > 0) v = std::min(hi, lo + std::round((v - lo) / step) * step);
+    if (integer) v = std::round(v);
+    return number_json(v);
+  }
+};
+
+Dim parse_dim(const std::string& path, const Json& j, const std::string& where) {
+  Dim d;
+  d.path = path;
+  d.where = where;
+  if (j.is_array() || (j.is_object() && j.contains("values"))) {
+    d.choices = axis_values(j, where);
+    return d;
+  }
+  if (!j.is_object())
+    throw Error(where, "expected {\"from\": a, \"to\": b} or an array of choices, got " + describe_json(j));
+  only_keys(j, where, {"from", "to", "step", "log", "integer"});
+  d.lo = num_of(j, where, "from");
+  d.hi = num_of(j, where, "to");
+  if (!(d.hi > d.lo)) throw Error(where, "empty axis: \"to\" must be greater than \"from\"");
+  if (j.contains("step")) {
+    d.step = num_of(j, where, "step");
+    if (!(d.step > 0)) throw Error(key_where(where, "step"), "must be > 0");
+  }
+  for (const char* k : {"log", "integer"})
+    if (j.contains(k) && !j[k].is_boolean()) throw Error(key_where(where, k), "expected true or false");
+  d.log = j.value("log", false);
+  d.integer = j.value("integer", false);
+  if (d.log && d.lo <= 0) throw Error(key_where(where, "from"), "a log axis needs from > 0");
+  return d;
+}
+
+std::vector<Row> sampled_rows(const Json& j, const std::string& where, bool lhs) {
+  if (!j.is_object()) throw Error(where, "expected {\"count\": n, \"seed\": s, \"axes\": {...}}");
+  only_keys(j, where, {"count", "seed", "axes"});
+  double cnt = num_of(j, where, "count");
+  if (cnt < 1 || cnt > 1e6 || cnt != std::floor(cnt))
+    throw Error(key_where(where, "count"), "expected an integer in [1, 1000000]");
+  uint64_t seed = 1;
+  if (j.contains("seed")) {
+    double s = num_of(j, where, "seed");
+    if (s < 0 || s != std::floor(s)) throw Error(key_where(where, "seed"), "expected a non-negative integer");
+    seed = uint64_t(s);
+  }
+  if (!j.contains("axes")) throw Error(where, "missing \"axes\"");
+  std::vector<Dim> dims;
+  for (auto& [path, sv] : ordered_axes(j["axes"], key_where(where, "axes"))) dims.push_back(parse_dim(path, sv.first, sv.second));
+  size_t n = size_t(cnt);
+  std::vector<std::vector<double>> u(n, std::vector<double>(dims.size()));
+  if (!lhs) {
+    Rng rng(seed, 0x5eed);  // one sequence: sample-major, dimension-minor
+    for (size_t i = 0; i < n; ++i)
+      for (size_t d = 0; d < dims.size(); ++d) u[i][d] = rng.uniform();
+  } else {
+    // Latin hypercube (McKay et al. 1979): each dimension's n strata used exactly once, a
+    // seeded permutation per dimension, jittered inside the stratum.
+    for (size_t d = 0; d < dims.size(); ++d) {
+      Rng rng(seed, 0x1a5 + d);
+      std::vector<size_t> perm(n);
+      for (size_t i = 0; i < n; ++i) perm[i] = i;
+      for (size_t i = n; i > 1; --i) std::swap(perm[i - 1], perm[rng.below(uint32_t(i))]);
+      for (size_t i = 0; i < n; ++i) u[i][d] = (double(perm[i]) + rng.uniform()) / double(n);
+    }
+  }
+  std::vector<Row> rows(n);
+  for (size_t i = 0; i < n; ++i)
+    for (size_t d = 0; d < dims.size(); ++d) rows[i].push_back({dims[d].path, dims[d].value(u[i][d]), dims[d].where});
+  return rows;
+}
+
+std::vector<Row> block_rows(const Json& block, const std::string& where) {
+  if (!block.is_object() || block.size() != 1 || !kBlockKinds.count(block.begin().key()))
+    throw Error(where, "expected one of {\"grid\": ...}, {\"list\": ...}, {\"zip\": ...}, {\"random\": ...}, {\"lhs\": ...}");
+  const std::string kind = block.begin().key();
+  const Json& j = block.begin().value();
+  std::string w = key_where(where, kind);
+  if (kind == "grid") return grid_rows(j, w);
+  if (kind == "zip") return zip_rows(j, w);
+  if (kind == "list") return list_rows(j, w);
+  return sampled_rows(j, w, kind == "lhs");
+}
+
+// One path component: a key, or an index/label in brackets.
+struct PathPart {
+  std::string key;
+  bool bracket = false;
+};
+
+std::vector<PathPart> split_path(const std::string& path, const std::string& where) {
+  std::vector<PathPart> parts;
+  size_t i = 0;
+  while (i < path.size()) {
+    if (path[i] == '[') {
+      size_t close = path.find(']', i);
+      if (close == std::string::npos || close == i + 1) throw Error(where, "bad path \"" + path + "\": missing or empty [...]");
+      parts.push_back({path.substr(i + 1, close - i - 1), true});
+      i = close + 1;
+      if (i < path.size() && path[i] == '.') ++i;
+    } else {
+      size_t j = path.find_first_of(".[", i);
+      std::string k = path.substr(i, j == std::string::npos ? std::string::npos : j - i);
+      if (k.empty()) throw Error(where, "bad path \"" + path + "\": empty key");
+      parts.push_back({k, false});
+      if (j == std::string::npos) break;
+      i = path[j] == '.' ? j + 1 : j;
+      if (path[j] == '.' && i == path.size()) throw Error(where, "bad path \"" + path + "\": trailing '.'");
+    }
+  }
+  if (parts.empty()) throw Error(where, "empty config path");
+  return parts;
+}
+
+bool all_digits(const std::string& s) {
+  return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
+}  // namespace
+
+double tidy(double v) {
+  if (!std::isfinite(v) || v == 0) return v;
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.12g", v);
+  return std::strtod(buf, nullptr);
+}
+
+std::string SweepCell::id() const {
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "%04d", index);
+  return std::string(buf) + "-" + hash;
+}
+
+std::vector<Json> axis_values(const Json& spec, const std::string& where) {
+  std::vector<Json> out;
+  if (spec.is_array()) {
+    for (auto& v : spec) out.push_back(v.is_number_float() ? number_json(v.get<double>()) : v);
+  } else if (spec.is_object() && spec.contains("values")) {
+    only_keys(spec, where, {"values"});
+    return axis_values(spec["values"], key_where(where, "values"));
+  } else if (spec.is_object()) {
+    only_keys(spec, where, {"from", "to", "step", "count"});
+    double a = num_of(spec, where, "from"), b = num_of(spec, where, "to");
+    if (spec.contains("step") == spec.contains("count"))
+      throw Error(where, "a range needs exactly one of \"step\" or \"count\": {\"from\": a, \"to\": b, \"step\": s}");
+    if (spec.contains("step")) {
+      double s = num_of(spec, where, "step");
+      if (s == 0 || (b - a) * s < 0)
+        throw Error(key_where(where, "step"), "step " + std::to_string(s) + " never reaches \"to\" from \"from\"");
+      double n = std::floor((b - a) / s + 1e-9);
+      if (n > 1e6) throw Error(where, "range has more than a million values");
+      for (int64_t k = 0; k <= int64_t(n); ++k) out.push_back(number_json(a + double(k) * s));
+    } else {
+      double c = num_of(spec, where, "count");
+      if (c < 1 || c != std::floor(c) || c > 1e6) throw Error(key_where(where, "count"), "expected an integer >= 1");
+      int n = int(c);
+      for (int k = 0; k < n; ++k) out.push_back(number_json(n == 1 ? a : a + (b - a) * double(k) / double(n - 1)));
+    }
+  } else {
+    throw Error(where, "expected an array of values or a range {\"from\": a, \"to\": b, \"step\": s}, got " +
+                           describe_json(spec));
+  }
+  if (out.empty()) throw Error(where, "empty axis (no values)");
+  return out;
+}
+
+std::string apply_assignment(Json& doc, const std::string& path, const Json& value, const std::string& where) {
+  auto parts = split_path(path, where);
+  Json* node = &doc;
+  std::string concrete;
+  for (size_t i = 0; i < parts.size(); ++i) {
+    auto& p = parts[i];
+    if (!p.bracket) {
+      if (!node->is_object() && !node->is_null())
+        throw Error(where, "\"" + concrete + "\" is not an object, cannot set \"" + path + "\"");
+      concrete += (concrete.empty() ? "" : ".") + p.key;
+      node = &(*node)[p.key];
+      continue;
+    }
+    if (!node->is_array()) throw Error(where, "\"" + concrete + "\" is not an array, cannot set \"" + path + "\"");
+    size_t idx = 0;
+    if (all_digits(p.key)) {
+      idx = std::stoul(p.key);
+      if (idx >= node->size())
+        throw Error(where, "\"" + concrete + "\" has no element [" + p.key + "] (it has " + std::to_string(node->size()) + ")");
+    } else {
+      // Method-scoped form: the element whose "label" (or, without a label, "method") matches.
+      std::vector<size_t> hits;
+      std::string names;
+      for (size_t k = 0; k < node->size(); ++k) {
+        const Json& e = (*node)[k];
+        if (!e.is_object()) continue;
+        std::string lab = e.contains("label") && e["label"].is_string() ? e["label"].get<std::string>()
+                          : e.contains("method") && e["method"].is_string() ? e["method"].get<std::string>()
+                                                                            : "";
+        names += (names.empty() ? "" : ", ") + lab;
+        if (lab == p.key) hits.push_back(k);
+      }
+      if (hits.empty())
+        throw Error(where, "no entry of \"" + concrete + "\" has label \"" + p.key + "\" (labels: " + names + ")");
+      if (hits.size() > 1)
+        throw Error(where, "several entries of \"" + concrete + "\" are called \"" + p.key + "\"; give them labels");
+      idx = hits[0];
+    }
+    concrete += "[" + std::to_string(idx) + "]";
+    node = &(*node)[idx];
+  }
+  *node = value;
+  return concrete;
+}
+
+SweepPlan expand_sweep(const LoadedConfig& cfg) {
+  SweepPlan plan;
+  plan.file = cfg.file;
+  plan.base_dir = cfg.base_dir;
+  plan.base = cfg.doc;
+  plan.base.erase("sweep");
+  plan.name = plan.base.contains("name") && plan.base["name"].is_string() ? plan.base["name"].get<std::string>()
+                                                                       : fs::path(cfg.file).stem().string();
+  const std::string W = cfg.file.empty() ? "sweep" : cfg.file + ": sweep";
+  std::vector<std::vector<Row>> blocks;
+  if (cfg.doc.contains("sweep")) {
+    const Json& sw = cfg.doc["sweep"];
+    if (!sw.is_object()) throw Error(W, "expected an object, got " + describe_json(sw));
+    only_keys(sw, W, {"axes", "grid", "list", "zip", "random", "lhs", "objectives", "pareto", "iso_budget", "search", "comment"});
+    int direct = 0;
+    for (auto& k : kBlockKinds)
+      if (sw.contains(k)) {
+        ++direct;
+        blocks.push_back(block_rows(Json{{k, sw[k]}}, W));
+      }
+    if (direct > 1 || (direct && sw.contains("axes")))
+      throw Error(W, "give one block directly, or several under \"axes\": [...] (their order is the loop order)");
+    if (sw.contains("axes")) {
+      const Json& ax = sw["axes"];
+      if (!ax.is_array() || ax.empty()) throw Error(W + ".axes", "expected a non-empty array of blocks");
+      for (size_t i = 0; i < ax.size(); ++i) blocks.push_back(block_rows(ax[i], W + ".axes[" + std::to_string(i) + "]"));
+    }
+    // Objectives: [{"minimize": "est_ms_total"}, {"maximize": "fpsnr"}].
+    if (sw.contains("objectives")) {
+      const Json& ob = sw["objectives"];
+      if (!ob.is_array()) throw Error(W + ".objectives", "expected an array like [{\"minimize\": \"est_ms_total\"}, {\"maximize\": \"fpsnr\"}]");
+      for (size_t i = 0; i < ob.size(); ++i) {
+        std::string w = W + ".objectives[" + std::to_string(i) + "]";
+        if (!ob[i].is_object() || ob[i].size() != 1 || !ob[i].begin().value().is_string() ||
+            (ob[i].begin().key() != "minimize" && ob[i].begin().key() != "maximize"))
+          throw Error(w, "expected {\"minimize\": \"column\"} or {\"maximize\": \"column\"}");
+        plan.objectives.push_back({ob[i].begin().value().get<std::string>(), ob[i].begin().key() == "maximize"});
+      }
+    }
+    plan.pareto_group_by = {"gpu"};
+    if (sw.contains("pareto")) {
+      const Json& p = sw["pareto"];
+      only_keys(p, W + ".pareto", {"group_by"});
+      if (p.contains("group_by")) {
+        plan.pareto_group_by.clear();
+        if (!p["group_by"].is_array()) throw Error(W + ".pareto.group_by", "expected an array of column names");
+        for (auto& g : p["group_by"]) {
+          if (!g.is_string()) throw Error(W + ".pareto.group_by", "expected column names (strings)");
+          plan.pareto_group_by.push_back(g.get<std::string>());
+        }
+      }
+    }
+    if (sw.contains("iso_budget")) {
+      const Json& ib = sw["iso_budget"];
+      std::string w = W + ".iso_budget";
+      if (!ib.is_object()) throw Error(w, "expected an object");
+      only_keys(ib, w, {"column", "budgets", "tolerance", "quality", "group_by"});
+      if (!ib.contains("column") || !ib["column"].is_string()) throw Error(w + ".column", "expected a column name, e.g. \"shaded_fraction\"");
+      plan.iso.column = ib["column"].get<std::string>();
+      if (!ib.contains("budgets")) throw Error(w, "missing \"budgets\"");
+      for (auto& v : axis_values(ib["budgets"], w + ".budgets")) {
+        if (!v.is_number()) throw Error(w + ".budgets", "budgets must be numbers");
+        plan.iso.budgets.push_back(v.get<double>());
+      }
+      if (ib.contains("tolerance")) plan.iso.tolerance = num_of(ib, w, "tolerance");
+      plan.iso.quality = {"fpsnr", "ssim", "psnr"};
+      if (ib.contains("quality")) {
+        plan.iso.quality.clear();
+        const Json& q = ib["quality"];
+        if (!q.is_array() || q.empty()) throw Error(w + ".quality", "expected a non-empty array of column names");
+        for (auto& c : q) {
+          if (!c.is_string()) throw Error(w + ".quality", "expected column names (strings)");
+          plan.iso.quality.push_back(c.get<std::string>());
+        }
+      }
+      plan.iso.group_by = {"gpu"};
+      if (ib.contains("group_by")) {
+        plan.iso.group_by.clear();
+        for (auto& c : ib["group_by"]) plan.iso.group_by.push_back(c.get<std::string>());
+      }
+    }
+    if (sw.contains("search")) {
+      const Json& s = sw["search"];
+      std::string w = W + ".search";
+      if (!s.is_object()) throw Error(w, "expected an object");
+      only_keys(s, w, {"space", "maximize", "minimize", "subject_to", "label", "evaluations", "batch", "seed"});
+      if (!s.contains("space")) throw Error(w, "missing \"space\": {\"config.path\": {\"from\": a, \"to\": b}, ...}");
+      for (auto& [path, sv] : ordered_axes(s["space"], w + ".space")) {
+        Dim d = parse_dim(path, sv.first, sv.second);
+        if (!d.choices.empty()) throw Error(sv.second, "a search dimension must be a range {\"from\": a, \"to\": b}");
+        plan.search.space.push_back({path, d.lo, d.hi, d.step, d.log, d.integer, d.where});
+      }
+      if (s.contains("maximize") == s.contains("minimize")) throw Error(w, "give exactly one of \"maximize\" or \"minimize\": \"column\"");
+      const Json& oc = s.contains("maximize") ? s["maximize"] : s["minimize"];
+      if (!oc.is_string()) throw Error(w, "the objective must be a column name");
+      plan.search.objective = {oc.get<std::string>(), s.contains("maximize")};
+      if (s.contains("subject_to")) {
+        const Json& c = s["subject_to"];
+        std::string cw = w + ".subject_to";
+        if (!c.is_object() || c.size() != 1 || !c.begin().value().is_object() || !c.begin().value().contains("max"))
+          throw Error(cw, "expected {\"column\": {\"max\": value}}, e.g. {\"est_ms_total\": {\"max\": 11.1}}");
+        plan.search.constraint_column = c.begin().key();
+        only_keys(c.begin().value(), cw + "." + c.begin().key(), {"max"});
+        plan.search.constraint_max = num_of(c.begin().value(), cw + "." + c.begin().key(), "max");
+      }
+      if (s.contains("label")) {
+        if (!s["label"].is_string()) throw Error(w + ".label", "expected a method label");
+        plan.search.select_label = s["label"].get<std::string>();
+      }
+      if (s.contains("evaluations")) plan.search.evaluations = int(num_of(s, w, "evaluations"));
+      if (s.contains("batch")) plan.search.batch = int(num_of(s, w, "batch"));
+      if (s.contains("seed")) plan.search.seed = uint64_t(num_of(s, w, "seed"));
+      if (plan.search.evaluations < 1 || plan.search.evaluations > 100000) throw Error(w + ".evaluations", "expected 1..100000");
+      if (plan.search.batch < 1 || plan.search.batch > 1024) throw Error(w + ".batch", "expected 1..1024");
+    }
+  }
+  if (plan.pareto_group_by.empty() && !cfg.doc.contains("sweep")) plan.pareto_group_by = {"gpu"};
+
+  // Cartesian product of blocks, first block slowest.
+  std::vector<Row> rows{Row{}};
+  for (auto& b : blocks) {
+    std::vector<Row> next;
+    next.reserve(rows.size() * b.size());
+    for (auto& r : rows)
+      for (auto& br : b) {
+        Row n = r;
+        n.insert(n.end(), br.begin(), br.end());
+        next.push_back(std::move(n));
+      }
+    rows = std::move(next);
+    if (rows.size() > 1000000) throw Error(W, "sweep expands to more than a million cells");
+  }
+  std::set<std::string> seen_paths;
+  std::string all;
+  for (size_t i = 0; i < rows.size(); ++i) {
+    SweepCell c;
+    c.index = int(i);
+    c.assign = rows[i];
+    c.doc = plan.base;
+    std::set<std::string> set_here;
+    for (auto& a : c.assign) {
+      std::string concrete = apply_assignment(c.doc, a.path, a.value, a.where);
+      if (!set_here.insert(concrete).second)
+        throw Error(a.where, "\"" + a.path + "\" is set by two axes of the same sweep (it is " + concrete + ")");
+      if (seen_paths.insert(a.path).second) plan.axis_paths.push_back(a.path);
+    }
+    c.hash = short_hash(c.doc.dump());
+    all += c.hash;
+    plan.cells.push_back(std::move(c));
+  }
+  plan.hash = short_hash(all);
+  return plan;
+}
+
+void validate_cells(const SweepPlan& plan) {
+  std::map<std::string, std::vector<std::string>> known;  // method -> parameter names
+  for (auto& e : method_table()) {
+    auto& v = known[e.name];
+    for (auto& p : e.params()) v.push_back(p.name);
+  }
+  std::set<std::string> built;
+  for (auto& c : plan.cells) {
+    // An axis that targets a method parameter must name one the method declares.
+    for (auto& a : c.assign) {
+      Json probe = c.doc;
+      std::string concrete = apply_assignment(probe, a.path, a.value, a.where);
+      if (concrete.rfind("methods[", 0) != 0) continue;
+      size_t close = concrete.find(']');
+      if (close + 1 >= concrete.size() || concrete[close + 1] != '.') continue;
+      size_t mi = std::stoul(concrete.substr(8, close - 8));
+      std::string key = concrete.substr(close + 2);
+      key = key.substr(0, key.find_first_of(".["));
+      if (key == "method" || key == "label") continue;
+      const Json& m = c.doc["methods"][mi];
+      std::string mname = m.contains("method") && m["method"].is_string() ? m["method"].get<std::string>() : "";
+      auto it = known.find(mname);
+      if (it == known.end()) continue;  // make_method below reports the unknown method
+      if (std::find(it->second.begin(), it->second.end(), key) == it->second.end()) {
+        std::string names;
+        for (auto& n : it->second) names += (names.empty() ? "" : ", ") + n;
+        throw Error(a.where, "unknown parameter \"" + key + "\" for method \"" + mname + "\" (parameters: " +
+                                 (names.empty() ? "none" : names) + ")");
+      }
+    }
+    // Construct each distinct method block once: range and type errors surface now.
+    if (!c.doc.contains("methods") || !c.doc["methods"].is_array()) continue;
+    const Json& ms = c.doc["methods"];
+    for (size_t i = 0; i < ms.size(); ++i) {
+      std::string key = ms[i].dump();
+      if (!built.insert(key).second || !ms[i].is_object()) continue;
+      Json mj = ms[i];
+      std::string mname = mj.contains("method") && mj["method"].is_string() ? mj["method"].get<std::string>() : "";
+      mj.erase("method");
+      mj.erase("label");
+      try {
+        Params mp(mj, plan.file, "methods[" + std::to_string(i) + "]");
+        make_method(mname, mp);
+      } catch (const Error& e) {
+        std::string how;
+        for (auto& a : c.assign) how += (how.empty() ? "" : ", ") + a.path + "=" + a.value.dump();
+        throw Error(e.where(), e.message() + " (in sweep cell " + std::to_string(c.index) + (how.empty() ? "" : ": " + how) + ")");
+      }
+    }
+  }
+}
+
+}  // namespace fovsim

@@ -1,0 +1,106 @@
+// Sweep configs (DESIGN §3, §9; docs/sweeps.md): a run config plus a "sweep" block whose
+// parameter axes expand to an ordered list of cells. Cell i is always the same run (same
+// assignments, same hash) for a given config, so any engine can execute it by index.
+//
+// Axis kinds: grid (cartesian), list (explicit assignments), zip (advance together),
+// random and lhs (Latin hypercube, seeded). Blocks combine as a cartesian product, the first
+// block varying slowest. Axis paths address the run config: "render.scale",
+// "methods[0].sigma", or method-scoped "methods[kfr].sigma" (the entry whose label, or
+// method name when it has no label, is kfr).
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "sim/core/params.h"
+#include "sim/experiment/config.h"
+
+namespace fovsim {
+
+struct Assignment {
+  std::string path;   // as written in the sweep ("methods[kfr].sigma")
+  Json value;
+  std::string where;  // location of the axis in the sweep config, for errors
+};
+
+struct SweepCell {
+  int index = 0;
+  std::vector<Assignment> assign;  // axis order
+  Json doc;                        // the run config of this cell (sweep block removed)
+  std::string hash;                // short_hash of doc: changes whenever the cell's run changes
+  std::string id() const;          // "0007-<hash>": its folder under runs/
+};
+
+struct Objective {
+  std::string column;
+  bool maximize = false;
+};
+
+// Iso-budget comparison (RMFR §5.1): per method, the best cell whose `column` stays within
+// each budget.
+struct IsoBudgetSpec {
+  std::string column;               // e.g. "shaded_fraction" or "est_ms_total"
+  std::vector<double> budgets;
+  double tolerance = 0.0;           // relative slack: value <= budget * (1 + tolerance)
+  std::vector<std::string> quality; // first one ranks; all are reported
+  std::vector<std::string> group_by;
+  bool enabled() const { return !column.empty(); }
+};
+
+// Per-context ask/tell search (docs/sweeps.md "search"): the sweep's axes define contexts
+// (e.g. scenes); inside each, a searcher proposes points of `space`.
+struct SearchDim {
+  std::string path;
+  double lo = 0, hi = 1;
+  double step = 0;      // > 0: quantized
+  bool log = false;
+  bool integer = false;
+  std::string where;
+};
+struct SearchSpec {
+  std::vector<SearchDim> space;
+  Objective objective;                  // maximize/minimize a summary column
+  std::string constraint_column;        // optional "value <= max" constraint
+  double constraint_max = 0;
+  std::string select_label;             // which summary row is scored (label); "" = first row
+  int evaluations = 32;
+  int batch = 8;
+  uint64_t seed = 1;
+  bool enabled() const { return !space.empty(); }
+};
+
+struct SweepPlan {
+  std::string name;
+  std::string file, base_dir;
+  Json base;                           // run config without the sweep block
+  std::vector<std::string> axis_paths; // distinct assignment paths in first-seen order
+  std::vector<SweepCell> cells;
+  std::vector<Objective> objectives;
+  std::vector<std::string> pareto_group_by;  // default {"gpu"}
+  IsoBudgetSpec iso;
+  SearchSpec search;
+  std::string hash;                    // of all cell hashes in order
+};
+
+// Expands cfg.doc's "sweep" block (a config without one is a single cell). Every error
+// names the sweep's JSON path.
+SweepPlan expand_sweep(const LoadedConfig& cfg);
+
+// Checks every cell's method blocks: an axis naming a parameter the method does not have is
+// an error at the axis location; each method is constructed once per distinct block, so
+// out-of-range values fail before anything is computed.
+void validate_cells(const SweepPlan& plan);
+
+// Applies one assignment to a run config; method-scoped indices are resolved by label.
+// Returns the concrete path ("methods[1].sigma").
+std::string apply_assignment(Json& doc, const std::string& path, const Json& value,
+                             const std::string& where);
+
+// Values of one axis spec: a JSON array, {"values": [...]}, {"from","to","step"} (inclusive)
+// or {"from","to","count"} (evenly spaced). `where` locates errors.
+std::vector<Json> axis_values(const Json& spec, const std::string& where);
+
+// Rounds to 12 significant digits so 1.2 + 0.2*k prints and hashes as typed.
+double tidy(double v);
+
+}  // namespace fovsim

@@ -1,0 +1,158 @@
+// Sweep expansion: order and counts of every block kind, determinism of cell ids, and bad
+// specs failing with the JSON path of the offending axis.
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "sim/core/error.h"
+#include "sim/experiment/sweep_spec.h"
+
+using namespace fovsim;
+
+namespace {
+
+LoadedConfig cfg_of(const std::string& sweep_json) {
+  LoadedConfig c;
+  c.file = "s.json";
+  c.doc = Json::parse(R"({"name": "t", "render": {"scale": 0.1},
+    "methods": [{"method": "full"}, {"method": "full", "label": "kfr"}],
+    "sweep": )" + sweep_json + "}");
+  return c;
+}
+
+std::string err_of(const std::string& sweep_json) {
+  try {
+    auto p = expand_sweep(cfg_of(sweep_json));
+    validate_cells(p);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+double num(const SweepCell& c, const std::string& path) {
+  for (auto& a : c.assign)
+    if (a.path == path) return a.value.get<double>();
+  return NAN;
+}
+
+}  // namespace
+
+TEST(SweepSpec, RangeValuesAreTidyAndInclusive) {
+  auto v = axis_values(Json::parse(R"({"from": 1.2, "to": 2.4, "step": 0.2})"), "x");
+  ASSERT_EQ(v.size(), 7u);
+  EXPECT_EQ(v[1].dump(), "1.4");  // not 1.4000000000000001
+  EXPECT_EQ(v[6].dump(), "2.4");
+  auto c = axis_values(Json::parse(R"({"from": 0, "to": 1, "count": 5})"), "x");
+  ASSERT_EQ(c.size(), 5u);
+  EXPECT_EQ(c[0].dump(), "0");
+  EXPECT_DOUBLE_EQ(c[3].get<double>(), 0.75);
+  auto d = axis_values(Json::parse(R"({"from": 4, "to": 1, "step": -1})"), "x");
+  EXPECT_EQ(d.size(), 4u);
+}
+
+TEST(SweepSpec, GridIsCartesianFirstAxisSlowest) {
+  auto p = expand_sweep(cfg_of(R"({"grid": [{"methods[kfr].sigma": [1, 2, 3]}, {"render.scale": [0.1, 0.2]}]})"));
+  ASSERT_EQ(p.cells.size(), 6u);
+  std::vector<std::pair<double, double>> got;
+  for (auto& c : p.cells) got.push_back({num(c, "methods[kfr].sigma"), num(c, "render.scale")});
+  std::vector<std::pair<double, double>> want = {{1, .1}, {1, .2}, {2, .1}, {2, .2}, {3, .1}, {3, .2}};
+  EXPECT_EQ(got, want);
+  // The method-scoped path lands in the labelled entry.
+  EXPECT_EQ(p.cells[4].doc["methods"][1]["sigma"], 3);
+  EXPECT_FALSE(p.cells[4].doc["methods"][0].contains("sigma"));
+  EXPECT_FALSE(p.cells[0].doc.contains("sweep"));
+  EXPECT_EQ(p.axis_paths, (std::vector<std::string>{"methods[kfr].sigma", "render.scale"}));
+}
+
+TEST(SweepSpec, ZipAdvancesTogetherAndAxesMultiply) {
+  auto p = expand_sweep(cfg_of(R"({"axes": [
+      {"list": [{"render.scale": 0.1}, {"render.scale": 0.2, "seed": 7}]},
+      {"zip": {"methods[0].fx": [0.1, 0.2, 0.3], "methods[0].fy": {"from": 0.5, "to": 0.7, "step": 0.1}}}]})"));
+  ASSERT_EQ(p.cells.size(), 6u);
+  for (auto& c : p.cells) EXPECT_NEAR(num(c, "methods[0].fy") - num(c, "methods[0].fx"), 0.4, 1e-12);
+  EXPECT_EQ(p.cells[3].doc["seed"], 7);
+  EXPECT_EQ(num(p.cells[3], "methods[0].fx"), 0.1);
+  EXPECT_EQ(num(p.cells[2], "render.scale"), 0.1);
+}
+
+TEST(SweepSpec, RandomAndLhsAreSeededAndInRange) {
+  auto spec = [](const char* kind, int seed) {
+    return std::string(R"({")") + kind + R"(": {"count": 10, "seed": )" + std::to_string(seed) +
+           R"(, "axes": {"methods[0].a": {"from": 1, "to": 4}, "methods[0].b": {"from": 0.05, "to": 0.8, "log": true}}}})";
+  };
+  for (const char* kind : {"random", "lhs"}) {
+    SCOPED_TRACE(kind);
+    auto a = expand_sweep(cfg_of(spec(kind, 3))), b = expand_sweep(cfg_of(spec(kind, 3))),
+         c = expand_sweep(cfg_of(spec(kind, 4)));
+    ASSERT_EQ(a.cells.size(), 10u);
+    EXPECT_EQ(a.hash, b.hash);
+    EXPECT_NE(a.hash, c.hash);
+    for (auto& cell : a.cells) {
+      EXPECT_GE(num(cell, "methods[0].a"), 1);
+      EXPECT_LE(num(cell, "methods[0].a"), 4);
+      EXPECT_GE(num(cell, "methods[0].b"), 0.05);
+      EXPECT_LE(num(cell, "methods[0].b"), 0.8);
+    }
+  }
+  // LHS: each of the 10 strata of each axis holds exactly one sample.
+  auto l = expand_sweep(cfg_of(spec("lhs", 3)));
+  std::set<int> strata;
+  for (auto& cell : l.cells) strata.insert(int((num(cell, "methods[0].a") - 1) / 3 * 10));
+  EXPECT_EQ(strata.size(), 10u);
+}
+
+TEST(SweepSpec, CellIdsAreStableAndTrackContent) {
+  auto a = expand_sweep(cfg_of(R"({"grid": {"methods[0].x": [1, 2, 3]}})"));
+  auto b = expand_sweep(cfg_of(R"({"grid": {"methods[0].x": [1, 2, 3]}})"));
+  auto c = expand_sweep(cfg_of(R"({"grid": {"methods[0].x": [1, 5, 3]}})"));
+  ASSERT_EQ(a.cells.size(), 3u);
+  for (size_t i = 0; i < 3; ++i) EXPECT_EQ(a.cells[i].id(), b.cells[i].id());
+  EXPECT_EQ(a.cells[0].id(), c.cells[0].id());
+  EXPECT_NE(a.cells[1].id(), c.cells[1].id());  // changed config -> new hash, never mixed
+  EXPECT_EQ(a.cells[2].id().substr(0, 5), "0002-");
+  std::set<std::string> ids;
+  for (auto& x : a.cells) ids.insert(x.hash);
+  EXPECT_EQ(ids.size(), 3u);
+}
+
+TEST(SweepSpec, NoSweepBlockIsOneCell) {
+  LoadedConfig c;
+  c.file = "r.json";
+  c.doc = Json::parse(R"({"name": "r", "methods": [{"method": "full"}]})");
+  auto p = expand_sweep(c);
+  ASSERT_EQ(p.cells.size(), 1u);
+  EXPECT_EQ(p.cells[0].doc, c.doc);
+}
+
+TEST(SweepSpec, BadSpecsNameTheJsonPath) {
+  struct Case {
+    const char* sweep;
+    const char* expect;
+  };
+  std::vector<Case> cases = {
+      {R"({"grid": {"methods[0].sigma": []}})", "s.json: sweep.grid.methods[0].sigma: empty axis"},
+      {R"({"grid": {"methods[0].sigma": {"from": 2, "to": 1, "step": 0.5}}})", "sweep.grid.methods[0].sigma.step"},
+      {R"({"zip": {"methods[0].fx": [1, 2, 3], "methods[0].fy": [1, 2]}})",
+       "s.json: sweep.zip: zip axes must have equal lengths: \"methods[0].fx\" has 3 values, \"methods[0].fy\" has 2"},
+      {R"({"grid": {"methods[0].sigmaa": [1, 2]}})",
+       "s.json: sweep.grid.methods[0].sigmaa: unknown parameter \"sigmaa\" for method \"full\""},
+      {R"({"axes": [{"grid": {"render.scale": [0.1]}}, {"grid": {"methods[kfr].alpha": [1]}}]})",
+       "sweep.axes[1].grid.methods[kfr].alpha: unknown parameter \"alpha\" for method \"full\""},
+      {R"({"grid": {"methods[rmfr].fx": [1]}})", "sweep.grid.methods[rmfr].fx: no entry of \"methods\" has label \"rmfr\""},
+      {R"({"grid": {"methods[5].fx": [1]}})", "has no element [5]"},
+      {R"({"grdi": {"render.scale": [1]}})", "sweep.grdi: unknown key"},
+      {R"({"random": {"count": 3, "axes": {"render.scale": {"from": 1, "to": 1}}}})", "sweep.random.axes.render.scale: empty axis"},
+      {R"({"lhs": {"count": 0, "axes": {"render.scale": {"from": 0, "to": 1}}}})", "sweep.lhs.count"},
+      {R"({"grid": {"render.scale": {"from": 0, "to": 1}}})", "exactly one of \"step\" or \"count\""},
+      {R"({"grid": {"render.scale": [1]}, "zip": {"seed": [1]}})", "several under \"axes\""},
+      {R"({"list": [{"render.scale": 1}], "objectives": [{"minimise": "x"}]})", "sweep.objectives[0]"},
+      {R"({"axes": [{"grid": {"render.scale": [1]}}, {"grid": {"render.scale": [2]}}]})", "set by two axes"},
+      {R"({"grid": {"methods[0].method": ["nope"]}})", "unknown method \"nope\""},
+  };
+  for (auto& c : cases) {
+    SCOPED_TRACE(c.sweep);
+    std::string e = err_of(c.sweep);
+    EXPECT_NE(e.find(c.expect), std::string::npos) << e;
+  }
+}
