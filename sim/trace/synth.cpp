@@ -354,7 +354,9 @@ class Simulator {
     } else {
       G_ = fix_target_;
     }
-    bool out_of_range = !eye_ok(G_, 0.5);
+    // While a head-assisted shift is still under way the eye may be beyond its usual range
+    // (the head is bringing the target towards the centre): only the FOV limits it then.
+    bool out_of_range = hm_active_ ? !in_fov(G_) : !eye_ok(G_, 0.5);
     if (t_ >= fix_end_ || out_of_range) start_saccade(choose_target(out_of_range));
   }
 
@@ -428,7 +430,9 @@ class Simulator {
       dvec3 c = rotate_towards(G_, A, phi);
       double az_rel = wrap180(az_of(c) - yb0), el_rel = el_of(c) - (pb0 + elev);
       if (std::fabs(az_rel) > roi_h / 2 || std::fabs(el_rel) > roi_v / 2) continue;
-      if (head_assist_ ? !in_fov(c) : !eye_ok(c)) continue;
+      bool ok = eye_ok(c) || (head_assist_ && in_fov(c) &&
+                              rad2deg(angle_between(H_ * dvec3(0, 0, -1), c)) > m_.head_eye_only_range_deg);
+      if (!ok) continue;
       return c;
     }
     // Fallback: re-centre on the head's forward direction.

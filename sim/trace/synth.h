@@ -28,11 +28,11 @@ struct EyeModel {
          head_dur_slope_ms_per_deg = 5;
   double vor_gain = 1.0;
   // Smooth pursuit.
-  double pursuit_gain = 0.9, pursuit_catchup_deg = 2.0, pursuit_latency_ms = 130;
+  double pursuit_gain = 0.9, pursuit_catchup_deg = 1.5, pursuit_latency_ms = 130;
   // Blinks.
   double blink_rate_per_min = 15, blink_mean_ms = 150, blink_min_ms = 100, blink_max_ms = 300;
   // Tracker.
-  double noise_deg = 0.3;
+  double noise_deg = 0.15;
   int latency_samples = 0;
   // Scenario parameters.
   struct Fixate {

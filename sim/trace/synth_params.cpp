@@ -105,7 +105,7 @@ Params section(Params& root, const std::string& sec, std::vector<Params>& keep) 
 EyeModel EyeModel::from_params(Params& p) {
   EyeModel m;
   p.ignore("comment");
-  p.ignore("sources");
+  if (p.has("sources")) p.raw("sources");  // documentation only
   std::vector<Params> keep;
   for (auto& f : fields(m)) {
     Params s = section(p, f.section, keep);
