@@ -15,6 +15,7 @@ const std::vector<MethodEntry>& method_table() {
       {"hyperbolic", "Guenter three-layer baseline (seed 003 §5.1)", create_hyperbolic, hyperbolic_params},
       {"linear", "Weier linear fall-off baseline (seed 003 §5.1)", create_linear, linear_params},
       {"fvrs", "foveated coarse-pixel shading baseline (seed 002 §8.4)", create_fvrs, fvrs_params},
+      {"twfr", "time-warped foveated rendering: reprojection + confidence redraw (seed 002)", create_twfr, twfr_params},
   };
   return table;
 }

@@ -21,5 +21,7 @@ std::unique_ptr<FoveationMethod> create_linear(Params& p);
 const std::vector<ParamInfo>& linear_params();
 std::unique_ptr<FoveationMethod> create_fvrs(Params& p);
 const std::vector<ParamInfo>& fvrs_params();
+std::unique_ptr<FoveationMethod> create_twfr(Params& p);
+const std::vector<ParamInfo>& twfr_params();
 
 }  // namespace fovsim
