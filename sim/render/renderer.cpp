@@ -349,7 +349,12 @@ struct SampleWriter {
         n = ng;
         l = glm::length(n);
       }
-      g.normal[i] = l > 0.f ? n / l : -dir;
+      n = l > 0.f ? n / l : -dir;
+      // Interpolated normals can still point away from the eye near silhouettes: bend them
+      // just past the view-perpendicular so every normal faces the viewer.
+      const float nv = glm::dot(n, dir);
+      if (nv > 0.f) n = glm::normalize(n - dir * (nv + 1e-3f));
+      g.normal[i] = n;
     }
     if (ch & kMotion) {
       glm::vec2 mv(0.f);
@@ -672,7 +677,8 @@ inline float aces(float x) {
 
 inline float srgb_oetf(float x) {
   x = clamp01(x);
-  return x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.f / 2.4f) - 0.055f;
+  if (x >= 1.f) return 1.f;  // exact white (the formula rounds to 0.99999994)
+  return clamp01(x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.f / 2.4f) - 0.055f);
 }
 
 }  // namespace

@@ -315,7 +315,7 @@ Scene load_file_scene(Params& p, const std::string& models_dir) {
   if (eye.size() == 3)
     s.default_eye = {float(eye[0]), float(eye[1]), float(eye[2])};
   else  // in front of the model (+z), far enough to see it whole with a ~90 deg FOV
-    s.default_eye = ctr + glm::vec3(0, 0, 1.8f * radius);
+    s.default_eye = ctr + glm::vec3(0, 0, 1.3f * radius);
   return s;
 }
 
