@@ -10,4 +10,5 @@ namespace fovsim::app {
 using Action = std::function<int()>;
 
 void register_run(CLI::App& app, Action& action);      // fovsim run
+void register_cost(CLI::App& app, Action& action);     // fovsim calibrate | predict | budget | validate-cost
 }  // namespace fovsim::app

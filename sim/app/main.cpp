@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   fovsim::app::Action action;
   // Explicit registration, one line per command group.
   fovsim::app::register_run(app, action);
+  fovsim::app::register_cost(app, action);
 
   try {
     app.parse(argc, argv);

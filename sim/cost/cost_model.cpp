@@ -24,9 +24,12 @@ FrameCost estimate_frame(const GpuProfile& gpu, const CostInputs& in) {
     auto it = gpu.passes.find(pw.pass);
     if (it != gpu.passes.end()) {
       ms = it->second.overhead_ms;
+      fc.resource_ms["fixed"] += it->second.overhead_ms;
       for (const Term& t : pw.terms) {
         auto c = it->second.terms.find(t.name);
-        if (c != it->second.terms.end()) ms += c->second * t.value;
+        if (c == it->second.terms.end()) continue;
+        ms += c->second * t.value;
+        fc.resource_ms[resource_name(t.res)] += c->second * t.value;
       }
     }
     if (!std::isfinite(ms)) ms = HUGE_VAL;  // overflow on absurd inputs stays ordered

@@ -2,6 +2,7 @@
 // scene and method; each pass time is a small linear model of measured counters with
 // coefficients from a GPU profile (models/gpus/*.json) plus a fixed overhead.
 #pragma once
+#include <map>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,8 @@ struct FrameCost {
   double total_ms = 0;
   // Counters the passes read that the method did not fill (charged as 0, DESIGN §6 note).
   std::vector<std::string> missing_counters;
+  // Time per resource class (geometry, raster, shading, memory, fixed = overheads); sums to total.
+  std::map<std::string, double> resource_ms;
   double pass_ms(const std::string& pass) const;  // 0 when the pass does not exist
 };
 

@@ -61,18 +61,18 @@ bool is_known_pass(const std::string& p) {
   return std::find(k.begin(), k.end(), p) != k.end();
 }
 
-const std::vector<std::string>& known_methods() {
+const std::vector<std::string>& cost_methods() {
   static const std::vector<std::string> m = {"full", "kfr",  "rmfr", "hyperbolic",
                                              "linear", "fvrs", "twfr", "flc"};
   return m;
 }
 
-bool is_known_method(const std::string& m) {
-  auto& k = known_methods();
+bool is_cost_method(const std::string& m) {
+  auto& k = cost_methods();
   return std::find(k.begin(), k.end(), m) != k.end();
 }
 
-bool is_mapping_method(const std::string& m) {
+bool has_mapping_pass2(const std::string& m) {
   return m == "kfr" || m == "rmfr" || m == "hyperbolic" || m == "linear";
 }
 
@@ -93,9 +93,9 @@ Resource term_resource(const std::string& pass, const std::string& term, const s
 std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
                                       std::vector<std::string>* missing) {
   const std::string& m = in.method;
-  if (!is_known_method(m)) {
+  if (!is_cost_method(m)) {
     std::string all;
-    for (auto& k : known_methods()) all += (all.empty() ? "" : ", ") + k;
+    for (auto& k : cost_methods()) all += (all.empty() ? "" : ", ") + k;
     throw Error("cost", "unknown method '" + m + "' (known: " + all + ")");
   }
   const Counters empty;
@@ -175,14 +175,16 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
     add("light_culling", {{"vpls", Resource::Shading, vt * eyes}});
   }
   {
-    std::vector<Term> t = {{"shade_flops", Resource::Shading, S * lights * w.shading_flops * eyes}};
+    // fVRS is a forward renderer (seed 002 §8.4): every rasterised fragment is shaded.
+    const double fwd = m == "fvrs" ? std::max(1.0, w.overdraw) : 1.0;
+    std::vector<Term> t = {{"shade_flops", Resource::Shading, S * fwd * lights * w.shading_flops * eyes}};
     if (flc) {
       double vf = w.vpl_flops >= 0 ? w.vpl_flops : w.shading_flops;
       t.push_back({"vpl_flops", Resource::Shading, need_px("shaded_sample_vpls", 0) * vf * eyes});
     }
     add("lighting", std::move(t));
   }
-  if (is_mapping_method(m)) {  // inverse map to the screen (pass 2)
+  if (has_mapping_pass2(m)) {  // inverse map to the screen (pass 2)
     double full = need_px("fullres_pixels", P);
     double taps = c.has("filter_taps") ? c.get("filter_taps") : 4.0;  // bilinear
     if (!c.has("filter_taps")) note("filter_taps");

@@ -23,9 +23,9 @@ struct PassWork {
 };
 
 // Method families.
-bool is_known_method(const std::string& m);
-bool is_mapping_method(const std::string& m);  // kfr, rmfr, hyperbolic, linear: LP/RS pass 2
-const std::vector<std::string>& known_methods();
+bool is_cost_method(const std::string& m);
+bool has_mapping_pass2(const std::string& m);  // kfr, rmfr, hyperbolic, linear: LP/RS pass 2
+const std::vector<std::string>& cost_methods();
 
 // The resource class of a (pass, term); throws fovsim::Error(where, ...) for unknown pairs.
 Resource term_resource(const std::string& pass, const std::string& term, const std::string& where);

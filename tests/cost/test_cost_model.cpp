@@ -45,3 +45,191 @@ TEST(CostModel, LoadsProfileAndEstimatesFull) {
   EXPECT_GT(fc.pass_ms("lighting"), 0);
   EXPECT_EQ(fc.pass_ms("pass2"), 0);  // pass 2 only for mapping methods
 }
+
+namespace {
+Workload twfr_like() {
+  Workload w;
+  w.triangles = 1e6;
+  w.lights = 3;
+  w.shadowed_lights = 1;
+  w.pipeline.ssao = true;
+  w.pipeline.taa = true;
+  w.pipeline.skybox = true;
+  return w;
+}
+}  // namespace
+
+TEST(CostModel, PassesThatDoNotExistCostNothing) {
+  GpuProfile g = GpuProfile::load("gtx1080", kModels);
+  Counters c;
+  c.set("shaded_samples", 1000);
+  CostInputs in = base_inputs("full", &c);
+  Workload w;  // generic: no ssao, no taa
+  in.features.shadowed_lights = 0;
+  in.workload = &w;
+  FrameCost fc = estimate_frame(g, in);
+  for (const char* p : {"shadow", "ssao", "taa", "rsm", "contribution", "importance", "reproject", "pass2", "post_aa"})
+    for (auto& pc : fc.passes) EXPECT_NE(pc.pass, p) << "pass " << p << " should not exist";
+  // RSM/contribution only for FLC, reprojection only for TWFR, pass 2 only for mappings.
+  in.method = "flc";
+  fc = estimate_frame(g, in);
+  EXPECT_GT(fc.pass_ms("rsm"), 0);
+  EXPECT_EQ(fc.pass_ms("reproject"), 0);
+  in.method = "twfr";
+  fc = estimate_frame(g, in);
+  EXPECT_GT(fc.pass_ms("reproject"), 0);
+  EXPECT_EQ(fc.pass_ms("rsm"), 0);
+  in.method = "kfr";
+  fc = estimate_frame(g, in);
+  EXPECT_GT(fc.pass_ms("pass2"), 0);
+  in.method = "fvrs";
+  fc = estimate_frame(g, in);
+  EXPECT_EQ(fc.pass_ms("pass2"), 0);
+}
+
+TEST(CostModel, EveryPassNonDecreasingInEachCounter) {
+  const char* names[] = {"shaded_samples", "gbuffer_samples", "buffer_pixels_allocated", "buffer_pixels_used",
+                         "fullres_pixels", "filter_taps", "prims_submitted", "prims_culled", "pixels_redrawn",
+                         "reprojected_pixels", "holes_mip0", "holes_mip3", "vpls_total", "vpls_kept",
+                         "importance_samples", "contribution_evals", "shaded_sample_vpls", "rsm_texels"};
+  Workload w = twfr_like();
+  w.pipeline.post_aa = true;
+  for (const std::string& gpu : GpuProfile::available(kModels)) {
+    GpuProfile g = GpuProfile::load(gpu, kModels);
+    for (const std::string& m : cost_methods()) {
+      Counters base;
+      for (auto* n : names) base.set(n, 1000);
+      CostInputs in = base_inputs(m, &base);
+      in.workload = &w;
+      FrameCost f0 = estimate_frame(g, in);
+      for (auto* n : names) {
+        Counters more = base;
+        more.set(n, 1e6);
+        in.counters = &more;
+        FrameCost f1 = estimate_frame(g, in);
+        ASSERT_EQ(f0.passes.size(), f1.passes.size());
+        for (size_t i = 0; i < f0.passes.size(); ++i)
+          EXPECT_GE(f1.passes[i].ms, f0.passes[i].ms - 1e-12) << gpu << " " << m << " " << n << " " << f0.passes[i].pass;
+      }
+      // Scene features too: more triangles / lights never cost less.
+      in.counters = &base;
+      Workload w2 = w;
+      w2.triangles *= 10;
+      w2.lights += 5;
+      w2.shadowed_lights += 1;
+      in.workload = &w2;
+      EXPECT_GE(estimate_frame(g, in).total_ms, f0.total_ms) << gpu << " " << m;
+    }
+  }
+}
+
+TEST(CostModel, FiniteForZeroAndHugeInputs) {
+  GpuProfile g = GpuProfile::load("gtx1080", kModels);
+  Workload w = twfr_like();
+  for (const std::string& m : cost_methods()) {
+    for (double v : {0.0, 1e15}) {
+      Counters c;
+      for (auto* n : {"shaded_samples", "fullres_pixels", "pixels_redrawn", "vpls_total", "importance_samples",
+                      "shaded_sample_vpls", "prims_submitted"})
+        c.set(n, v);
+      CostInputs in = base_inputs(m, &c);
+      in.workload = &w;
+      in.display.width = v == 0 ? 0 : 100000;
+      in.display.height = v == 0 ? 0 : 100000;
+      in.pixel_scale = v == 0 ? 0 : 1e4;
+      FrameCost fc = estimate_frame(g, in);
+      EXPECT_TRUE(std::isfinite(fc.total_ms)) << m << " " << v;
+      EXPECT_GE(fc.total_ms, 0) << m;
+    }
+    // NaN counters are treated as 0, never propagate.
+    Counters c;
+    c.set("shaded_samples", std::nan(""));
+    CostInputs in = base_inputs(m, &c);
+    in.workload = &w;
+    EXPECT_TRUE(std::isfinite(estimate_frame(g, in).total_ms)) << m;
+  }
+}
+
+TEST(CostModel, PixelCountersScaleTrianglesDoNot) {
+  GpuProfile g = GpuProfile::load("gtx1080", kModels);
+  Counters c;
+  c.set("shaded_samples", 1000);
+  CostInputs in = base_inputs("kfr", &c);
+  Workload w;
+  w.triangles = 1e5;
+  in.workload = &w;
+  FrameCost a = estimate_frame(g, in);
+  in.pixel_scale = 4;
+  FrameCost b = estimate_frame(g, in);
+  const double oh = g.passes.at("lighting").overhead_ms;
+  EXPECT_NEAR(b.pass_ms("lighting") - oh, 4 * (a.pass_ms("lighting") - oh), 1e-9);
+  EXPECT_NEAR(b.pass_ms("depth"), a.pass_ms("depth"), 1e-12);  // display pixels + triangles: unchanged
+}
+
+TEST(CostModel, EyesChargePerEyePassesTwiceShadowOnce) {
+  GpuProfile g = GpuProfile::load("gtx1080", kModels);
+  CostInputs in = base_inputs("full", nullptr);
+  Workload w = twfr_like();
+  in.workload = &w;
+  in.display.eyes = 1;
+  FrameCost one = estimate_frame(g, in);
+  in.display.eyes = 2;
+  FrameCost two = estimate_frame(g, in);
+  EXPECT_NEAR(two.pass_ms("shadow"), one.pass_ms("shadow"), 1e-12);
+  const double oh = g.passes.at("lighting").overhead_ms;
+  EXPECT_NEAR(two.pass_ms("lighting") - oh, 2 * (one.pass_ms("lighting") - oh), 1e-9);
+}
+
+TEST(CostModel, BadProfilesAndUnknownNamesNameTheLocation) {
+  try {
+    GpuProfile::load("no_such_gpu", kModels);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("no_such_gpu.json"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("gtx1080"), std::string::npos) << e.what();  // lists available
+  }
+  Json j = Params::parse_json_file(kModels + "/gpus/gtx1080.json");
+  Json bad = j;
+  bad["passes"]["lighting"]["terms"]["shade_flops"] = -1;
+  try {
+    GpuProfile::from_json(bad, "x.json");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("x.json: passes.lighting.terms.shade_flops"), std::string::npos) << e.what();
+  }
+  bad = j;
+  bad["passes"]["lightning"] = {{"overhead_ms", 0}};
+  try {
+    GpuProfile::from_json(bad, "x.json");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("passes.lightning"), std::string::npos) << e.what();
+  }
+  bad = j;
+  bad["passes"]["depth"]["terms"]["pixels"] = 1e-9;
+  EXPECT_THROW(GpuProfile::from_json(bad, "x.json"), Error);
+  bad = j;
+  bad["spec"].erase("fp32_gflops");
+  try {
+    GpuProfile::from_json(bad, "x.json");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("spec.fp32_gflops"), std::string::npos) << e.what();
+  }
+  bad = j;
+  bad["typo_key"] = 1;
+  EXPECT_THROW(GpuProfile::from_json(bad, "x.json"), Error);
+  EXPECT_THROW(Workload::load("no_such_workload", kModels), Error);
+  CostInputs in = base_inputs("nope", nullptr);
+  EXPECT_THROW(estimate_frame(GpuProfile::load("gtx1080", kModels), in), Error);
+}
+
+TEST(CostModel, WhatIfScalingDividesOneResource) {
+  GpuProfile g = GpuProfile::load("gtx1080", kModels);
+  CostInputs in = base_inputs("full", nullptr);
+  FrameCost a = estimate_frame(g, in);
+  FrameCost b = estimate_frame(g.scaled(Resource::Shading, 2.0), in);
+  EXPECT_NEAR(b.resource_ms["shading"], a.resource_ms["shading"] / 2, 1e-9);
+  EXPECT_NEAR(b.resource_ms["geometry"], a.resource_ms["geometry"], 1e-12);
+  EXPECT_THROW(g.scaled(Resource::Memory, 0.0), Error);
+}

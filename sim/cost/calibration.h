@@ -1,0 +1,77 @@
+// Calibration (issue 7 item 3): the seeds' per-pass tables (models/calibration/*.json) are
+// fitted by non-negative least squares on relative error. Unknowns: per (pass, term) a work
+// amount per counter unit (theta, shared by all GPUs: a GPU's coefficient is theta divided by
+// its spec-sheet rate of the term's resource, models/calibration/gpu_specs.json), a fixed
+// overhead per pass, and one shading cost per workload (shading_flops, or vpl_flops for FLC).
+#pragma once
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "sim/cost/cost_model.h"
+#include "sim/cost/gpu_profile.h"
+#include "sim/cost/workload.h"
+
+namespace fovsim {
+
+struct CalEntry {
+  std::string table, id, row, config, workload, gpu, method;
+  std::vector<std::string> passes;  // empty: every pass of the frame
+  double published_ms = 0;
+  bool fit = true;                  // false: a check row (totals), compared but not fitted
+  bool baseline = false;            // a non-foveated config (full-resolution method)
+  Json params = Json::object();
+  Json workload_overrides = Json::object();
+  Display display;
+};
+
+struct CalTable {
+  std::string id, source, gpu, file;
+  Json json;
+  std::vector<CalEntry> entries;
+};
+
+struct GpuSpecEntry {
+  std::string description;
+  GpuSpec spec;
+};
+
+struct CalData {
+  std::string models_dir;
+  std::vector<CalTable> tables;
+  std::map<std::string, GpuSpecEntry> specs;
+  std::map<std::string, Workload> workloads;
+};
+
+CalData load_calibration(const std::string& models_dir);
+
+struct FitOptions {
+  std::set<std::string> tables;   // tables used for the fit (empty: all)
+  double ridge = 1e-4;            // on standardised term columns
+  double ridge_overhead = 3e-3;   // on standardised overheads: per-unit terms explain first
+};
+
+struct CostFit {
+  std::map<std::string, double> theta;  // "pass.term" (work units per counter unit), "pass.overhead_ms"
+  std::map<std::string, Workload> workloads;  // with fitted shading costs
+  std::set<std::string> fitted_workloads;
+  std::set<std::string> seen_passes;          // passes that had data
+  int rows = 0;
+};
+
+CostFit fit_cost_model(const CalData& data, const FitOptions& opt);
+// The workload's fitted parameter: "vpl_flops" for FLC workloads, else "shading_flops".
+std::string fitted_param(const Workload& w);
+// Fits only the shading cost of `workload` from `rows`, other parameters fixed.
+void refit_workload(CostFit& fit, const CalData& data, const std::string& workload,
+                    const std::vector<const CalEntry*>& rows);
+
+GpuProfile profile_from_fit(const CostFit& fit, const std::string& gpu, const CalData& data);
+// Inputs for an entry (analytic counters); `display`/`params` override the entry's.
+Workload entry_workload(const CostFit& fit, const CalData& data, const CalEntry& e);
+double predict_entry(const CostFit& fit, const CalData& data, const CalEntry& e);
+// Sum of the entry's passes (all when e.passes is empty) for a given profile/workload.
+double entry_ms(const GpuProfile& g, const Workload& w, const CalEntry& e, FrameCost* fc = nullptr);
+
+}  // namespace fovsim

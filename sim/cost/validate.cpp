@@ -1,0 +1,176 @@
+#include "sim/cost/validate.h"
+
+#include <cmath>
+#include <set>
+
+#include "sim/core/error.h"
+#include "sim/cost/passes.h"
+
+namespace fovsim {
+
+namespace {
+
+// Sum of a config's modelled frame (all passes) for a table/workload.
+double config_total(const CostFit& fit, const CalData& data, const CalTable& t, const std::string& workload,
+                    const std::string& config, const Json& disp_over, const Json& params_over) {
+  for (auto& e : t.entries) {
+    if (e.workload != workload || e.config != config) continue;
+    CalEntry c = e;
+    c.passes.clear();
+    if (disp_over.is_object()) {
+      if (disp_over.contains("width")) c.display.width = disp_over.at("width").get<int>();
+      if (disp_over.contains("height")) c.display.height = disp_over.at("height").get<int>();
+    }
+    if (params_over.is_object() && !c.baseline) c.params.merge_patch(params_over);
+    return predict_entry(fit, data, c);
+  }
+  throw Error(t.file, "no entry for config '" + config + "' and workload '" + workload + "'");
+}
+
+// Published total of a config: its "all" check row (first one), else the sum of its rows.
+double published_total(const CalTable& t, const std::string& workload, const std::string& config) {
+  double sum = 0;
+  for (auto& e : t.entries) {
+    if (e.workload != workload || e.config != config) continue;
+    if (e.passes.empty()) return e.published_ms;
+    sum += e.published_ms;
+  }
+  return sum;
+}
+
+struct Unit {
+  std::string name;
+  std::set<std::string> fit_tables;     // tables in the fit (empty set + excluded workload: all)
+  std::string exclude_workload;         // rows of this workload are left out of the fit
+  std::string target_table, target_workload;  // what is predicted ("" workload: all of the table)
+};
+
+}  // namespace
+
+ValidationReport validate_cost(const CalData& data, const CostFit& fit, const FitOptions& opt) {
+  ValidationReport rep;
+  // 1. Calibration entries with the full fit.
+  for (auto& t : data.tables)
+    for (auto& e : t.entries) {
+      ValidationRow r{"calibration", e.id, t.id, e.gpu, e.workload, e.config, e.row,
+                      e.fit ? "fitted" : "check", e.published_ms, predict_entry(fit, data, e)};
+      rep.rows.push_back(r);
+    }
+  // 2. Withheld figures: predictions only (the seeds' copies withhold the published values).
+  for (auto& t : data.tables) {
+    if (!t.json.contains("withheld")) continue;
+    for (auto& w : t.json.at("withheld")) {
+      std::string id = w.at("id").get<std::string>();
+      Json disp = w.value("display", Json::object());
+      Json params = w.value("params", Json::object());
+      std::set<std::string> wls;
+      for (auto& e : t.entries) wls.insert(e.workload);
+      for (auto& wl : wls)
+        for (auto& cfg : w.at("configs")) {
+          std::string c = cfg.get<std::string>();
+          double ms = config_total(fit, data, t, wl, c, disp, params);
+          rep.rows.push_back({"withheld", id, t.id, t.gpu, wl, c, "total", "withheld", -1, ms});
+        }
+    }
+  }
+  // 3. Cross-predictions.
+  std::vector<Unit> units;
+  std::set<std::string> all;
+  for (auto& t : data.tables) all.insert(t.id);
+  auto has = [&](const std::string& id) { return all.count(id) > 0; };
+  if (has("kfr") && has("rmfr")) {
+    units.push_back({"fit kfr -> predict rmfr", {"kfr"}, "", "rmfr", ""});
+    units.push_back({"fit rmfr -> predict kfr", {"rmfr"}, "", "kfr", ""});
+  }
+  for (auto& t : data.tables) {
+    std::set<std::string> others = all;
+    others.erase(t.id);
+    units.push_back({"fit all but " + t.id + " -> predict " + t.id, others, "", t.id, ""});
+  }
+  for (auto& t : data.tables) {
+    std::set<std::string> wls;
+    for (auto& e : t.entries) wls.insert(e.workload);
+    if (wls.size() < 2) continue;
+    for (auto& wl : wls) units.push_back({"fit all but " + wl + " -> predict " + wl, all, wl, t.id, wl});
+  }
+  for (const Unit& u : units) {
+    CrossPrediction cp;
+    cp.name = u.name;
+    cp.target = u.target_workload.empty() ? u.target_table : u.target_workload;
+    for (auto& s : u.fit_tables) cp.fit_on += (cp.fit_on.empty() ? "" : "+") + s;
+    if (!u.exclude_workload.empty()) cp.fit_on += " minus " + u.exclude_workload;
+    // Fit without the target rows.
+    CalData d2 = data;
+    for (auto& t : d2.tables) {
+      std::vector<CalEntry> keep;
+      for (auto& e : t.entries)
+        if (u.exclude_workload.empty() || e.workload != u.exclude_workload) keep.push_back(e);
+      t.entries = keep;
+    }
+    FitOptions o = opt;
+    o.tables = u.fit_tables;
+    CostFit f = fit_cost_model(d2, o);
+    const CalTable* target = nullptr;
+    for (auto& t : data.tables)
+      if (t.id == u.target_table) target = &t;
+    if (!target) continue;
+    // Passes of the target never seen by the fit cannot be predicted.
+    std::set<std::string> unseen;
+    for (auto& e : target->entries)
+      if (u.target_workload.empty() || e.workload == u.target_workload)
+        for (auto& p : e.passes)
+          if (!f.seen_passes.count(p)) unseen.insert(p);
+    if (!unseen.empty()) {
+      cp.possible = false;
+      for (auto& p : unseen) cp.why += (cp.why.empty() ? "passes never calibrated: " : ", ") + p;
+      rep.cross.push_back(cp);
+      continue;
+    }
+    // Shading cost of each target workload from its baseline lighting rows (or, with no
+    // baseline config, from its lighting rows): the one scene-specific input a user supplies.
+    std::set<std::string> wls;
+    for (auto& e : target->entries)
+      if (u.target_workload.empty() || e.workload == u.target_workload) wls.insert(e.workload);
+    std::set<std::string> refit_ids;
+    for (auto& wl : wls) {
+      std::vector<const CalEntry*> rows;
+      bool any_baseline = false;
+      for (auto& e : target->entries) any_baseline |= e.workload == wl && e.baseline;
+      for (auto& e : target->entries)
+        if (e.workload == wl && e.fit && e.passes.size() == 1 && e.passes[0] == "lighting" &&
+            (e.baseline || !any_baseline))
+          rows.push_back(&e), refit_ids.insert(e.id);
+      refit_workload(f, data, wl, rows);
+    }
+    double sum = 0;
+    for (auto& e : target->entries) {
+      if (!(u.target_workload.empty() || e.workload == u.target_workload)) continue;
+      double ms = predict_entry(f, data, e);
+      std::string kind = refit_ids.count(e.id) ? "refit" : "predicted";
+      rep.rows.push_back({"cross:" + u.name, e.id, target->id, e.gpu, e.workload, e.config, e.row, kind,
+                          e.published_ms, ms});
+      if (kind == "predicted" && e.published_ms > 0) {
+        sum += std::fabs(ms - e.published_ms) / e.published_ms;
+        ++cp.n;
+      }
+    }
+    cp.mean_abs_rel_err = cp.n ? sum / cp.n : 0;
+    // Speedup: the first baseline config vs the first foveated config (first workload).
+    std::string base, fov;
+    for (auto& e : target->entries) {
+      if (e.baseline && base.empty()) base = e.config;
+      if (!e.baseline && fov.empty()) fov = e.config;
+    }
+    if (!base.empty() && !fov.empty()) {
+      std::string wl = *wls.begin();
+      double pb = published_total(*target, wl, base), pf = published_total(*target, wl, fov);
+      double mb = config_total(f, data, *target, wl, base, nullptr, nullptr);
+      double mf = config_total(f, data, *target, wl, fov, nullptr, nullptr);
+      if (pf > 0 && mf > 0) cp.speedup_published = pb / pf, cp.speedup_model = mb / mf;
+    }
+    rep.cross.push_back(cp);
+  }
+  return rep;
+}
+
+}  // namespace fovsim

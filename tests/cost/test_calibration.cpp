@@ -1,0 +1,126 @@
+// Calibration invariants (issue 7 item 6): the committed profiles reproduce the seeds'
+// tables within the residuals stored with them; KFR shading scales with 1/sigma^2.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "sim/core/error.h"
+#include "sim/cost/analytic.h"
+#include "sim/cost/calibration.h"
+#include "sim/cost/nnls.h"
+#include "sim/cost/passes.h"
+#include "sim/cost/validate.h"
+
+using namespace fovsim;
+
+namespace {
+const std::string kModels = std::string(FOVSIM_SOURCE_DIR) + "/models";
+}
+
+TEST(Calibration, CommittedProfilesReproduceTablesWithinStoredResiduals) {
+  CalData data = load_calibration(kModels);
+  int checked = 0;
+  for (auto& t : data.tables) {
+    GpuProfile g = GpuProfile::load(t.gpu, kModels);
+    ASSERT_TRUE(g.calibrated) << t.gpu;
+    for (auto& e : t.entries) {
+      const CalibrationResidual* r = nullptr;
+      for (auto& cr : g.residuals)
+        if (cr.id == e.id) r = &cr;
+      ASSERT_NE(r, nullptr) << "no stored residual for " << e.id;
+      Workload w = Workload::load(e.workload, kModels);
+      CalEntry ce = e;
+      Json ov = e.workload_overrides;
+      if (ov.is_object() && !ov.empty()) {  // same overrides as the fit
+        Json j = w.to_json();
+        j.merge_patch(ov);
+        Params p(j);
+        w = Workload::from_params(p);
+      }
+      double ms = entry_ms(g, w, ce);
+      EXPECT_NEAR(r->published_ms, e.published_ms, 1e-9) << e.id;
+      EXPECT_NEAR(ms, r->model_ms, 1e-6 * std::max(1.0, ms)) << e.id;  // profile reproduces its own fit
+      EXPECT_LE(std::fabs(ms - e.published_ms) / e.published_ms, std::fabs(r->rel_err) + 1e-6) << e.id;
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 80);
+}
+
+TEST(Calibration, FitIsDeterministicAndMatchesCommittedCoefficients) {
+  CalData data = load_calibration(kModels);
+  CostFit fit = fit_cost_model(data, FitOptions{});
+  for (auto& [gpu, se] : data.specs) {
+    GpuProfile fresh = profile_from_fit(fit, gpu, data);
+    GpuProfile committed = GpuProfile::load(gpu, kModels);
+    for (auto& [pass, pc] : fresh.passes) {
+      EXPECT_NEAR(pc.overhead_ms, committed.passes.at(pass).overhead_ms, 1e-9 + 1e-6 * pc.overhead_ms) << gpu << pass;
+      for (auto& [term, v] : pc.terms)
+        EXPECT_NEAR(v, committed.coef(pass, term), 1e-6 * std::fabs(v) + 1e-300) << gpu << " " << pass << "." << term;
+    }
+  }
+}
+
+TEST(Calibration, KfrShadingScalesWithInverseSigmaSquared) {
+  GpuProfile g = GpuProfile::load("gtx1080", kModels);
+  Workload w = Workload::load("kfr_bistro", kModels);
+  Display d;
+  d.width = 1920;
+  d.height = 1080;
+  d.eyes = 1;
+  auto lighting = [&](const std::string& m, double sigma) {
+    Counters c = analytic_counters(m, Json{{"sigma", sigma}}, w, d);
+    CostInputs in;
+    in.method = m;
+    in.counters = &c;
+    in.display = d;
+    in.workload = &w;
+    return estimate_frame(g, in).pass_ms("lighting") - g.passes.at("lighting").overhead_ms;
+  };
+  const double full = lighting("full", 1.0);
+  ASSERT_GT(full, 0);
+  for (double s : {1.0, 1.2, 1.8, 2.4, 4.0, 64.0}) {
+    EXPECT_NEAR(lighting("kfr", s), full / (s * s), 1e-9 * full) << s;
+    EXPECT_NEAR(lighting("rmfr", s), full / (s * s), 1e-9 * full) << s;
+  }
+}
+
+TEST(Calibration, AnalyticCountersStayWithinScreen) {
+  Workload w;
+  w.triangles = 1000;
+  Display d;
+  const double P = double(d.width) * d.height;
+  for (const std::string& m : cost_methods()) {
+    Counters c = analytic_counters(m, Json::object(), w, d);
+    EXPECT_GE(c.get("shaded_samples"), 0) << m;
+    EXPECT_LE(c.get("shaded_samples"), P + 1e-6) << m;
+  }
+  double f = fvrs_shaded_fraction(d, 0.5, 0.5, 10, 20);
+  EXPECT_GT(f, 1.0 / 16);
+  EXPECT_LT(f, 0.5);
+  EXPECT_NEAR(fvrs_shaded_fraction(d, 0.5, 0.5, 0, 0), 1.0 / 16, 1e-12);
+  EXPECT_NEAR(fvrs_shaded_fraction(d, 0.5, 0.5, 1000, 1000), 1.0, 1e-12);
+  EXPECT_THROW(analytic_counters("kfr", Json{{"sigma", 0.5}}, w, d), Error);
+}
+
+TEST(Calibration, NnlsKeepsCoefficientsNonNegative) {
+  // b = 2*x0 - 1*x1 exactly: unconstrained solution has x1 < 0.
+  std::vector<double> A = {1, 0, 0, 1, 1, 1};
+  std::vector<double> b = {2, -1, 1};
+  auto x = nnls(A, 3, 2, b);
+  EXPECT_GE(x[1], 0);
+  EXPECT_NEAR(x[0], 1.5, 1e-9);  // least squares of (x0-2)^2 + x0^2... with x1 = 0: rows (2),(1) -> mean 1.5
+  EXPECT_EQ(x[1], 0);
+}
+
+TEST(Calibration, BadTablesNameTheirLocation) {
+  Json bad = {{"id", "x"}, {"source", "s"}, {"gpu", "gtx1080"}};
+  EXPECT_NO_THROW(load_calibration(kModels));
+  try {
+    Params p(bad, "t.json");
+    p.string("missing_key");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("t.json"), std::string::npos);
+  }
+}
