@@ -396,6 +396,7 @@ int do_validate(const ValidateArgs& a) {
     txt << " rows " << c.n << ", mean |rel err| " << fmt("%.1f%%", 100 * c.mean_abs_rel_err);
     if (c.speedup_published > 0)
       txt << ", speedup published " << fmt("%.2fx", c.speedup_published) << " model " << fmt("%.2fx", c.speedup_model);
+    if (!c.why.empty()) txt << " [rows skipped, " << c.why << "]";
     txt << "\n";
   }
   make_dirs(a.out);

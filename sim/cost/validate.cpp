@@ -1,6 +1,7 @@
 #include "sim/cost/validate.h"
 
 #include <cmath>
+#include <map>
 #include <set>
 
 #include "sim/core/error.h"
@@ -25,17 +26,6 @@ double config_total(const CostFit& fit, const CalData& data, const CalTable& t, 
     return predict_entry(fit, data, c);
   }
   throw Error(t.file, "no entry for config '" + config + "' and workload '" + workload + "'");
-}
-
-// Published total of a config: its "all" check row (first one), else the sum of its rows.
-double published_total(const CalTable& t, const std::string& workload, const std::string& config) {
-  double sum = 0;
-  for (auto& e : t.entries) {
-    if (e.workload != workload || e.config != config) continue;
-    if (e.passes.empty()) return e.published_ms;
-    sum += e.published_ms;
-  }
-  return sum;
 }
 
 struct Unit {
@@ -114,15 +104,24 @@ ValidationReport validate_cost(const CalData& data, const CostFit& fit, const Fi
     for (auto& t : data.tables)
       if (t.id == u.target_table) target = &t;
     if (!target) continue;
-    // Passes of the target never seen by the fit cannot be predicted.
+    // Rows with passes never seen by the fit cannot be predicted: they are listed, not scored.
     std::set<std::string> unseen;
+    auto row_seen = [&](const CalEntry& e) {
+      if (e.passes.empty()) return false;  // totals include unseen passes of the target
+      for (auto& p : e.passes)
+        if (!f.seen_passes.count(p)) return false;
+      return true;
+    };
+    int predictable = 0;
     for (auto& e : target->entries)
-      if (u.target_workload.empty() || e.workload == u.target_workload)
+      if (u.target_workload.empty() || e.workload == u.target_workload) {
         for (auto& p : e.passes)
           if (!f.seen_passes.count(p)) unseen.insert(p);
-    if (!unseen.empty()) {
+        predictable += row_seen(e);
+      }
+    for (auto& p : unseen) cp.why += (cp.why.empty() ? "passes never calibrated: " : ", ") + p;
+    if (predictable == 0) {
       cp.possible = false;
-      for (auto& p : unseen) cp.why += (cp.why.empty() ? "passes never calibrated: " : ", ") + p;
       rep.cross.push_back(cp);
       continue;
     }
@@ -143,30 +142,36 @@ ValidationReport validate_cost(const CalData& data, const CostFit& fit, const Fi
       refit_workload(f, data, wl, rows);
     }
     double sum = 0;
+    std::map<std::string, double> pub_cfg, mod_cfg;  // over predictable rows, first workload
+    const std::string wl0 = *wls.begin();
     for (auto& e : target->entries) {
       if (!(u.target_workload.empty() || e.workload == u.target_workload)) continue;
+      if (!row_seen(e)) {
+        rep.rows.push_back({"cross:" + u.name, e.id, target->id, e.gpu, e.workload, e.config, e.row, "unseen",
+                            e.published_ms, 0.0});
+        continue;
+      }
       double ms = predict_entry(f, data, e);
       std::string kind = refit_ids.count(e.id) ? "refit" : "predicted";
       rep.rows.push_back({"cross:" + u.name, e.id, target->id, e.gpu, e.workload, e.config, e.row, kind,
                           e.published_ms, ms});
+      if (e.workload == wl0) pub_cfg[e.config] += e.published_ms, mod_cfg[e.config] += ms;
       if (kind == "predicted" && e.published_ms > 0) {
         sum += std::fabs(ms - e.published_ms) / e.published_ms;
         ++cp.n;
       }
     }
     cp.mean_abs_rel_err = cp.n ? sum / cp.n : 0;
-    // Speedup: the first baseline config vs the first foveated config (first workload).
+    // Speedup over the predictable rows: first baseline config vs first foveated config.
+    // Rows present in only one config (pass 2) count as they are: that pass is the method's cost.
     std::string base, fov;
     for (auto& e : target->entries) {
       if (e.baseline && base.empty()) base = e.config;
       if (!e.baseline && fov.empty()) fov = e.config;
     }
-    if (!base.empty() && !fov.empty()) {
-      std::string wl = *wls.begin();
-      double pb = published_total(*target, wl, base), pf = published_total(*target, wl, fov);
-      double mb = config_total(f, data, *target, wl, base, nullptr, nullptr);
-      double mf = config_total(f, data, *target, wl, fov, nullptr, nullptr);
-      if (pf > 0 && mf > 0) cp.speedup_published = pb / pf, cp.speedup_model = mb / mf;
+    if (!base.empty() && !fov.empty() && pub_cfg[fov] > 0 && mod_cfg[fov] > 0) {
+      cp.speedup_published = pub_cfg[base] / pub_cfg[fov];
+      cp.speedup_model = mod_cfg[base] / mod_cfg[fov];
     }
     rep.cross.push_back(cp);
   }
