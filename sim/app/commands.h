@@ -11,4 +11,6 @@ using Action = std::function<int()>;
 
 void register_run(CLI::App& app, Action& action);      // fovsim run
 void register_cost(CLI::App& app, Action& action);     // fovsim calibrate | predict | budget | validate-cost
+void register_sweeps(CLI::App& app, Action& action);   // fovsim sweep | sweep expand | merge | search
+void register_trace(CLI::App& app, Action& action);    // fovsim trace import | validate | stats | synth
 }  // namespace fovsim::app

@@ -19,6 +19,8 @@ int main(int argc, char** argv) {
   // Explicit registration, one line per command group.
   fovsim::app::register_run(app, action);
   fovsim::app::register_cost(app, action);
+  fovsim::app::register_trace(app, action);
+  fovsim::app::register_sweeps(app, action);
 
   try {
     app.parse(argc, argv);

@@ -1,0 +1,453 @@
+#include "sim/experiment/engine.h"
+
+#include <tbb/info.h>
+#include <tbb/parallel_for.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <set>
+#include <thread>
+
+#include "sim/core/error.h"
+#include "sim/core/files.h"
+#include "sim/core/hash.h"
+#include "sim/core/progress.h"
+#include "sim/core/version.h"
+#include "sim/cost/cost_model.h"
+#include "sim/cost/gpu_profile.h"
+#include "sim/experiment/config.h"
+#include "sim/experiment/runner.h"
+#include "sim/foveation/factory.h"
+#include "sim/foveation/frame.h"
+#include "sim/metrics/metrics.h"
+#include "sim/render/renderer.h"
+#include "sim/trace/trace.h"
+
+namespace fovsim {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+const std::vector<std::string>& per_cell_keys() {
+  static const std::vector<std::string> k = {"name", "methods", "metrics", "gpus", "outputs", "comment", "description"};
+  return k;
+}
+
+std::string reference_key(const Json& run_doc) {
+  Json j = run_doc;
+  if (j.is_object())
+    for (auto& k : per_cell_keys()) j.erase(k);
+  j.erase("sweep");
+  return short_hash(j.dump());
+}
+
+namespace {
+
+std::string iso_now() {
+  std::time_t t = std::time(nullptr);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
+  return buf;
+}
+
+Json machine_info() {
+  char host[256] = {0};
+  ::gethostname(host, sizeof host - 1);
+  return Json{{"hostname", host}, {"hardware_threads", int(std::thread::hardware_concurrency())}};
+}
+
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+struct MethodRun {
+  std::string label;
+  std::string method;
+  std::unique_ptr<FoveationMethod> impl;
+  TemporalState temporal;
+};
+
+struct ImageOutputs {
+  std::set<int> frames;
+  bool png = true, exr = false, debug = false;
+};
+
+void write_images(const std::string& dir, const std::string& stem, const Image& display_img, const Image* linear,
+                  const ImageOutputs& io) {
+  if (io.png) write_image(dir + "/" + stem + ".png", display_img);
+  if (io.exr && linear) write_image(dir + "/" + stem + ".exr", *linear);
+}
+
+Image error_heatmap(const Image& a, const Image& b) {
+  Image e(a.width, a.height, 1);
+  for (size_t i = 0; i < a.pixels(); ++i) {
+    const float* p = &a.data[3 * i];
+    const float* q = &b.data[3 * i];
+    e.data[i] = std::fabs(luma(p[0], p[1], p[2]) - luma(q[0], q[1], q[2]));
+  }
+  return heatmap(e, 0.f, 0.25f);  // |luma error| 0 .. 0.25 mapped to the colour ramp
+}
+
+// Everything the references depend on, parsed once per group.
+struct Shared {
+  std::string models;
+  uint64_t seed = 1;
+  Display display, sim_display;
+  double scale = 1;
+  RenderSettings rs;
+  std::unique_ptr<Scene> scene;  // the Renderer keeps a reference: stable address
+  ToneMap tonemap;
+  Trace trace;
+  int start = 0, stride = 1, count = 0;
+  double pixel_scale = 1;
+  Json resolved;                 // resolved shared keys (for every cell's manifest)
+
+  void parse(Params& root, const std::string& cfg_file, const std::string& base_dir) {
+    seed = uint64_t(root.integer("seed", 1, Range::closed(0, 2e9)));
+    if (root.has("display") && root.json()["display"].is_object()) {
+      Params dp = root.child("display");
+      display = Display::from_params(dp);
+    } else {
+      std::string dname = root.string("display", "htc_vive_pro_eye");
+      display = Display::load(dname, models);
+    }
+    Params rp = root.child("render");
+    scale = rp.number("scale", 1.0, Range::above(0, 4));
+    rs = RenderSettings::from_params(rp);
+    Params tp = rp.child("tonemap");
+    sim_display = display.scaled(scale);
+
+    Params sp = root.child("scene");
+    scene = std::make_unique<Scene>(make_scene(sp, models));
+    tonemap.exposure = tp.number("exposure", scene->exposure, Range::above(0, 1e6));
+    std::string curve = tp.string("curve", "aces", {"aces", "reinhard", "clamp"});
+    tonemap.curve = curve == "aces" ? ToneMap::Curve::Aces
+                                    : (curve == "reinhard" ? ToneMap::Curve::Reinhard : ToneMap::Curve::Clamp);
+
+    Params trp = root.child("trace");
+    Trace raw_trace = load_trace(trp, display, base_dir);
+    std::string placement = root.string("trace_placement", "scene", {"scene", "absolute"});
+    trace = resample(raw_trace, display.refresh_hz);
+    if (trace.samples.empty()) throw Error(root.where("trace"), "trace has no samples after resampling");
+    if (placement == "scene") {
+      // The trace's first head position is placed at the scene's default eye (recordings use
+      // their own world origin); orientation is kept as recorded.
+      glm::dvec3 p0 = trace.samples.front().head_pos;
+      for (auto& s : trace.samples) s.head_pos = glm::dvec3(scene->default_eye) + (s.head_pos - p0);
+    }
+
+    Params fp = root.child("frames");
+    start = fp.integer("start", 0, Range::at_least(0));
+    stride = fp.integer("stride", 1, Range::closed(1, 1e6));
+    int avail = int(trace.samples.size());
+    count = fp.integer("count", 0, Range::at_least(0));  // 0 = all available
+    std::string on_short = fp.string("on_short_trace", "fail", {"fail", "truncate"});
+    if (start >= avail)
+      fp.fail("start", "frame " + std::to_string(start) + " is past the end of the trace (" + std::to_string(avail) +
+                           " frames at " + format_number(display.refresh_hz) + " Hz)");
+    int max_count = (avail - start + stride - 1) / stride;
+    if (count == 0) count = max_count;
+    if (count > max_count) {
+      if (on_short == "fail")
+        fp.fail("count", "trace is too short: " + std::to_string(count) + " frames requested from frame " +
+                             std::to_string(start) + " with stride " + std::to_string(stride) + ", only " +
+                             std::to_string(max_count) + " available (set frames.on_short_trace=\"truncate\" to accept)");
+      count = max_count;
+    }
+    pixel_scale = double(display.width) * display.height / (double(sim_display.width) * sim_display.height);
+    (void)cfg_file;
+  }
+};
+
+// One cell: its methods, metrics, GPU profiles, outputs and accumulated rows.
+struct Cell {
+  const CellJob* job = nullptr;
+  std::string name;
+  std::vector<MethodRun> methods;
+  MetricsConfig mcfg;
+  std::vector<GpuProfile> gpus;
+  ImageOutputs io;
+  bool print_table = false;
+  uint32_t channels = 0;
+  Json manifest;
+  std::set<std::string> flags_seen;
+  ResultTable frames;
+  double cell_ms = 0;
+  Image out_display, override_display;  // per-cell scratch, reused every frame
+
+  void parse(Params& root, const std::string& models, bool default_print) {
+    name = root.string("name", fs::path(job->file).stem().string());
+    std::set<std::string> labels;
+    channels = kShadingChannels;
+    auto mps = root.children("methods");
+    if (mps.empty()) root.fail("methods", "at least one method is required, e.g. [{\"method\": \"full\"}]");
+    for (size_t i = 0; i < mps.size(); ++i) {
+      Params& mp = mps[i];
+      MethodRun m;
+      m.method = mp.string("method");
+      m.label = mp.string("label", m.method);
+      if (!labels.insert(m.label).second)
+        mp.fail("label", "duplicate label \"" + m.label + "\" (give each method entry a unique \"label\")");
+      m.impl = make_method(m.method, mp);
+      channels |= m.impl->required_channels();
+      methods.push_back(std::move(m));
+    }
+    {
+      Params mp = root.child("metrics");
+      mcfg = MetricsConfig::from_params(mp);
+    }
+    std::vector<std::string> names;
+    if (root.has("gpus")) {
+      const Json& gj = root.raw("gpus");
+      if (!gj.is_array() || gj.empty()) root.fail("gpus", "expected a non-empty array of GPU profile names");
+      for (size_t i = 0; i < gj.size(); ++i) {
+        if (!gj[i].is_string())
+          root.fail("gpus[" + std::to_string(i) + "]", "expected a profile name, got " + describe_json(gj[i]));
+        names.push_back(gj[i].get<std::string>());
+      }
+    } else {
+      names.push_back("gtx1080");
+    }
+    for (auto& n : names) gpus.push_back(GpuProfile::load(n, models));
+
+    Params op = root.child("outputs");
+    for (double f : op.numbers("image_frames", {}, Range::at_least(0))) io.frames.insert(int(f));
+    io.png = op.boolean("png", true);
+    io.exr = op.boolean("exr", false);
+    io.debug = op.boolean("debug_images", false);
+    print_table = op.boolean("print_summary", default_print);
+  }
+
+  // This cell's work on one frame: methods, tone mapping, metrics, cost, images, rows.
+  void process(const Shared& sh, const Renderer& renderer, const FrameData& fd, const Image& ref_display, int fi,
+               double ref_ms) {
+    auto c0 = Clock::now();
+    const TraceSample& s = sh.trace.samples[size_t(fi)];
+    const SceneFeatures features = sh.scene->features();
+    bool want_images = io.frames.count(fi) > 0;
+    std::string img_dir = job->out_dir + "/images/frame_" + std::to_string(fi);
+    if (want_images) write_images(img_dir, "reference", ref_display, &fd.reference, io);
+    FrameContext ctx = fd.context(*sh.scene, renderer, sh.sim_display, want_images && io.debug);
+
+    for (size_t mi = 0; mi < methods.size(); ++mi) {
+      MethodRun& m = methods[mi];
+      FrameOutput fo;
+      auto m0 = Clock::now();
+      m.impl->render(ctx, fo);
+      double sim_ms = ms_since(m0);
+      const Image& lin = fo.image_is_reference ? fd.reference : fo.image;
+      if (lin.width != sh.sim_display.width || lin.height != sh.sim_display.height || lin.channels != 3)
+        throw Error("method " + m.label, "produced an image of the wrong size");
+      sh.tonemap.apply(lin, out_display);
+      const Image* refd = &ref_display;
+      if (fo.reference) {
+        sh.tonemap.apply(*fo.reference, override_display);
+        refd = &override_display;
+      }
+      Counters metrics = compute_metrics(mcfg, out_display, *refd, fd.camera, fd.eccentricity, &m.temporal);
+      for (auto& f : fo.flags) flags_seen.insert(m.label + ":" + f);
+
+      if (want_images) {
+        write_images(img_dir, m.label, out_display, &lin, io);
+        write_image(img_dir + "/" + m.label + "_error.png", error_heatmap(out_display, *refd));
+        if (fo.reference) write_images(img_dir, m.label + "_reference", override_display, &*fo.reference, io);
+        for (auto& [dname, dimg] : fo.debug) write_image(img_dir + "/" + m.label + "_" + dname + ".png", dimg);
+      }
+
+      for (auto& gpu : gpus) {
+        CostInputs ci;
+        ci.method = m.method;
+        ci.counters = &fo.counters;
+        ci.features = features;
+        ci.display = sh.display;
+        ci.pixel_scale = sh.pixel_scale;
+        FrameCost cost = estimate_frame(gpu, ci);
+        ResultRow row;
+        row.set_text("config_id", gpus.size() > 1 ? m.label + "@" + gpu.name : m.label);
+        row.set_text("method", m.method);
+        row.set_text("label", m.label);
+        row.set_text("gpu", gpu.name);
+        for (auto& [pn, pv] : m.impl->param_columns()) row.set(pn, pv);
+        row.set("frame", fi);
+        row.set("t", s.t);
+        row.set("gaze_x", fd.gaze_px.x / sh.scale);  // pixels of the real display
+        row.set("gaze_y", fd.gaze_px.y / sh.scale);
+        row.set("gaze_valid", fd.gaze_valid ? 1 : 0);
+        double shaded = fo.counters.get("shaded_samples");
+        row.set("shaded_samples", shaded * sh.pixel_scale);
+        row.set("shaded_fraction", shaded / double(sh.sim_display.width * sh.sim_display.height));
+        row.set("prims_submitted", fo.counters.get("prims_submitted", double(features.triangles)));
+        row.set("prims_culled", fo.counters.get("prims_culled", 0.0));
+        for (auto& [cn, cv] : fo.counters.items())
+          if (cn != "shaded_samples" && cn != "prims_submitted" && cn != "prims_culled") row.set(cn, cv);
+        row.set("est_ms_total", cost.total_ms);
+        for (auto& pc : cost.passes) row.set("est_ms_" + pc.pass, pc.ms);
+        for (auto& [mn, mv] : metrics.items()) row.set(mn, mv);
+        row.set("ref_ms", ref_ms);
+        row.set("sim_ms", sim_ms);
+        frames.add(std::move(row));
+      }
+    }
+    cell_ms += ms_since(c0);
+  }
+};
+
+}  // namespace
+
+std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const EngineOptions& opt, GroupStats* stats) {
+  auto g0 = Clock::now();
+  std::vector<CellResult> results;
+  if (jobs.empty()) return results;
+  const std::string key = reference_key(jobs.front().doc);
+  for (auto& j : jobs)
+    if (reference_key(j.doc) != key)
+      throw Error(j.file, "internal: cells of one reference group differ in a reference key");
+
+  // ---- configuration: the first cell parses the shared keys (scene, trace, ...); every
+  // cell parses its own keys; all are validated before any frame is computed ----
+  Shared sh;
+  sh.models = opt.models_dir.empty() ? default_models_dir() : opt.models_dir;
+  std::vector<std::unique_ptr<Cell>> cells;
+  for (size_t ci = 0; ci < jobs.size(); ++ci) {
+    const CellJob& job = jobs[ci];
+    // Later cells read only their own keys (the shared ones were validated by the first).
+    Json own = job.doc;
+    if (ci > 0 && own.is_object())
+      for (auto it = job.doc.begin(); it != job.doc.end(); ++it)
+        if (std::find(per_cell_keys().begin(), per_cell_keys().end(), it.key()) == per_cell_keys().end())
+          own.erase(it.key());
+    Params root(own, job.file);
+    root.ignore("comment");
+    root.ignore("description");
+    auto cell = std::make_unique<Cell>();
+    cell->job = &job;
+    if (ci == 0) {
+      // Same reading order as a single run, so the first error reported is the same.
+      cell->name = root.string("name", fs::path(job.file).stem().string());
+      sh.parse(root, job.file, job.base_dir);
+      cell->parse(root, sh.models, opt.print_summary);
+    } else {
+      cell->parse(root, sh.models, opt.print_summary);
+    }
+    root.finish();  // any key nobody read is a typo: fail before computing anything
+    Json resolved = ci == 0 ? root.resolved() : sh.resolved;
+    if (ci == 0) {
+      sh.resolved = resolved;
+    } else {
+      for (auto& k : per_cell_keys()) {
+        resolved.erase(k);
+        if (root.resolved().contains(k)) resolved[k] = root.resolved()[k];
+      }
+    }
+    cell->manifest = Json{{"tool", "fovsim"},
+                          {"version", version_string()},
+                          {"git_commit", git_commit()},
+                          {"command_line", job.command_line},
+                          {"config_file", job.file},
+                          {"config", job.doc},
+                          {"resolved_config", resolved},
+                          {"seed", sh.seed},
+                          {"display", sh.display.to_json()},
+                          {"simulated_resolution", {sh.sim_display.width, sh.sim_display.height}},
+                          {"scene", {{"name", sh.scene->name}, {"triangles", sh.scene->triangle_count()}}},
+                          {"trace", {{"source", sh.trace.source}, {"samples", sh.trace.samples.size()}}},
+                          {"frames", {{"start", sh.start}, {"count", sh.count}, {"stride", sh.stride}}},
+                          {"machine", machine_info()},
+                          {"threads", opt.threads > 0 ? opt.threads : int(tbb::info::default_concurrency())},
+                          {"start_time", iso_now()},
+                          {"status", "running"}};
+    if (job.extra_manifest.is_object())
+      for (auto it = job.extra_manifest.begin(); it != job.extra_manifest.end(); ++it) cell->manifest[it.key()] = it.value();
+    cells.push_back(std::move(cell));
+  }
+
+  // ---- output folders: a cell in progress is marked so it never looks complete ----
+  for (auto& c : cells) {
+    const std::string& out = c->job->out_dir;
+    make_dirs(out);
+    for (const char* f : {"frames.csv", "summary.csv", "summary.json"}) {
+      std::error_code ec;
+      fs::remove(fs::path(out) / f, ec);
+    }
+    write_file_atomic(out + "/manifest.json", c->manifest.dump(2) + "\n");
+  }
+
+  // ---- frame loop: one reference per frame, shared by every cell ----
+  uint32_t channels = kShadingChannels;
+  for (auto& c : cells) channels |= c->channels;
+  Renderer renderer(*sh.scene, sh.rs);
+  double setup_ms = ms_since(g0);
+  FrameData fd;
+  Image ref_display;
+  std::optional<Camera> prev_cam;
+  Progress progress(jobs.size() > 1 ? "frames x " + std::to_string(jobs.size()) + " cells" : "frames", size_t(sh.count));
+  double ref_total = 0;
+  for (int k = 0; k < sh.count; ++k) {
+    int fi = sh.start + k * sh.stride;
+    const TraceSample& s = sh.trace.samples[size_t(fi)];
+    auto t0 = Clock::now();
+    renderer.set_time(s.t);
+    prepare_frame(renderer, sh.sim_display, s, fi, channels, prev_cam ? &*prev_cam : nullptr, fd);
+    sh.tonemap.apply(fd.reference, ref_display);
+    double ref_ms = ms_since(t0);
+    ref_total += ref_ms;
+    if (cells.size() == 1) {
+      cells[0]->process(sh, renderer, fd, ref_display, fi, ref_ms);
+    } else {
+      // Cells are independent (own methods, state, scratch); each row list stays in order.
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, cells.size(), 1),
+                        [&](const tbb::blocked_range<size_t>& r) {
+                          for (size_t i = r.begin(); i != r.end(); ++i)
+                            cells[i]->process(sh, renderer, fd, ref_display, fi, ref_ms);
+                        });
+    }
+    prev_cam = fd.camera;
+    progress.step();
+  }
+  progress.done();
+
+  // ---- outputs (atomic; manifest "complete" last) ----
+  for (auto& c : cells) {
+    const std::string& out = c->job->out_dir;
+    CellResult r;
+    r.out_dir = out;
+    r.name = c->name;
+    r.budget_ms = sh.display.frame_budget_ms();
+    r.refresh_hz = sh.display.refresh_hz;
+    r.print_summary = c->print_table;
+    r.flags.assign(c->flags_seen.begin(), c->flags_seen.end());
+    r.cell_ms = c->cell_ms;
+    r.summary = summarize(c->frames, r.budget_ms);
+    write_file_atomic(out + "/frames.csv", c->frames.to_csv());
+    write_file_atomic(out + "/summary.csv", r.summary.to_csv());
+    Json sj = Json::array();
+    for (auto& row : r.summary.rows()) {
+      Json o;
+      for (auto& [k, v] : row.text) o[k] = v;
+      for (auto& [k, v] : row.num) o[k] = std::isfinite(v) ? Json(v) : Json(format_number(v));
+      sj.push_back(o);
+    }
+    Json summary{{"name", c->name}, {"budget_ms", r.budget_ms}, {"configs", sj}, {"flags", r.flags}};
+    write_file_atomic(out + "/summary.json", summary.dump(2) + "\n");
+    c->manifest["status"] = "complete";
+    c->manifest["end_time"] = iso_now();
+    c->manifest["rays_traced"] = renderer.rays_traced();
+    write_file_atomic(out + "/manifest.json", c->manifest.dump(2) + "\n");
+    r.frames = std::move(c->frames);
+    results.push_back(std::move(r));
+  }
+  if (stats) {
+    stats->frames += sh.count;
+    stats->ref_ms += ref_total;
+    stats->setup_ms += setup_ms;
+    stats->wall_ms += ms_since(g0);
+    stats->rays += renderer.rays_traced();
+  }
+  return results;
+}
+
+}  // namespace fovsim

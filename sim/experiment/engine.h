@@ -1,0 +1,60 @@
+// The frame engine behind `fovsim run` and `fovsim sweep` (DESIGN §2, §9). A group of cells
+// (run configs) that agree on everything a reference depends on — scene, display, render
+// settings, trace, frame range — is replayed in one frame loop: each frame's G-buffer and
+// reference are rendered once, then every cell's methods run on it in parallel (TBB), each
+// cell writing its own results folder. Frames stream; no whole-trace image storage.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "sim/core/params.h"
+#include "sim/experiment/table.h"
+
+namespace fovsim {
+
+// Keys of a run config that do not influence the reference images (per-cell keys).
+const std::vector<std::string>& per_cell_keys();
+// Hash of everything a reference depends on: cells with equal keys share references.
+std::string reference_key(const Json& run_doc);
+
+struct CellJob {
+  Json doc;                    // the run config
+  std::string file;            // config file (error locations)
+  std::string base_dir;        // for relative paths in the config
+  std::string out_dir;         // results folder of this cell
+  std::string command_line;    // recorded in its manifest
+  Json extra_manifest;         // merged into manifest.json (e.g. sweep cell index, hash)
+};
+
+struct EngineOptions {
+  std::string models_dir;      // empty -> default_models_dir()
+  bool print_summary = true;   // default of outputs.print_summary
+  int threads = 0;             // recorded in manifests (the caller sets TBB's limit)
+};
+
+struct CellResult {
+  std::string out_dir;
+  std::string name;
+  ResultTable frames, summary;
+  double budget_ms = 0;
+  double refresh_hz = 0;
+  bool print_summary = false;
+  std::vector<std::string> flags;
+  double cell_ms = 0;          // wall time spent in this cell's own work (methods, metrics, cost, images)
+};
+
+struct GroupStats {
+  int frames = 0;              // references rendered (= frames of the group)
+  double ref_ms = 0;           // wall time of reference rendering
+  double wall_ms = 0;          // whole group, including setup
+  double setup_ms = 0;         // scene build, trace load, BVH
+  uint64_t rays = 0;
+};
+
+// Runs `jobs`, which must share one reference_key (checked). Every cell's config is fully
+// validated before the first frame. Each cell's folder receives manifest.json (status
+// "running", then "complete"), frames.csv, summary.csv, summary.json, images.
+std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const EngineOptions& opt,
+                                  GroupStats* stats = nullptr);
+
+}  // namespace fovsim

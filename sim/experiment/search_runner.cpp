@@ -1,0 +1,137 @@
+#include "sim/experiment/search_runner.h"
+
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <map>
+#include <memory>
+
+#include "sim/core/error.h"
+#include "sim/core/files.h"
+#include "sim/core/hash.h"
+#include "sim/experiment/engine.h"
+#include "sim/experiment/search.h"
+
+namespace fovsim {
+
+namespace {
+
+// The summary row a search scores: the method entry named by search.label, else the first.
+const ResultRow* scored_row(const ResultTable& t, const std::string& label) {
+  for (auto& r : t.rows()) {
+    const std::string* l = r.text_of("label");
+    if (label.empty() || (l && *l == label)) return &r;
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const SweepOptions& opt) {
+  const SearchSpec& sp = plan.search;
+  if (!sp.enabled()) throw Error(cfg.file + ": sweep.search", "missing: a search needs sweep.search.space and an objective");
+  std::unique_ptr<tbb::global_control> threads;
+  if (opt.threads > 0)
+    threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, size_t(opt.threads));
+  SearchReport rep;
+  rep.out_dir = sweep_out_dir(plan, opt.out_dir);
+  const std::string evals_dir = rep.out_dir + "/search/evals";
+  make_dirs(evals_dir);
+  EngineOptions eo;
+  eo.models_dir = opt.models_dir;
+  eo.print_summary = false;
+  eo.threads = opt.threads;
+
+  ResultTable history, best;
+  auto [first, last] = shard_range(int(plan.cells.size()), opt.shard, opt.shards);
+  for (int ci = first; ci < last; ++ci) {
+    const SweepCell& ctx = plan.cells[size_t(ci)];
+    ++rep.contexts;
+    Searcher s(sp.space, sp.objective.maximize, sp.seed + uint64_t(ci), sp.batch);
+    int n = 0;
+    while (n < sp.evaluations) {
+      auto pts = s.ask();
+      if (pts.empty()) break;
+      if (int(pts.size()) > sp.evaluations - n) pts.resize(size_t(sp.evaluations - n));
+      std::vector<CellJob> jobs;
+      std::vector<std::string> dirs;
+      for (auto& x : pts) {
+        Json doc = ctx.doc;
+        for (size_t d = 0; d < x.size(); ++d) apply_assignment(doc, sp.space[d].path, Json(x[d]), sp.space[d].where);
+        std::string h = short_hash(doc.dump());
+        std::string dir = evals_dir + "/" + h;
+        dirs.push_back(dir);
+        if (file_exists(dir + "/done.json")) {
+          ++rep.cached;
+          continue;
+        }
+        CellJob j;
+        j.doc = std::move(doc);
+        j.file = cfg.file;
+        j.base_dir = cfg.base_dir;
+        j.out_dir = dir;
+        j.command_line = opt.command_line;
+        j.extra_manifest = Json{{"search", {{"context", ci}, {"hash", h}}}};
+        jobs.push_back(std::move(j));
+      }
+      // One reference pass per batch (all points of a context share the reference key).
+      std::map<std::string, std::vector<CellJob>> groups;
+      for (auto& j : jobs) groups[reference_key(j.doc)].push_back(std::move(j));
+      for (auto& [k, js] : groups) {
+        auto res = run_cells(js, eo);
+        for (size_t i = 0; i < res.size(); ++i) {
+          const ResultRow* r = scored_row(res[i].summary, sp.select_label);
+          if (!r) throw Error(cfg.file + ": sweep.search.label", "no method labelled \"" + sp.select_label + "\"");
+          auto num = [](double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); };
+          Json done{{"score", num(r->get(sp.objective.column, NAN))},
+                    {"constraint", sp.constraint_column.empty() ? Json(nullptr) : num(r->get(sp.constraint_column, NAN))}};
+          write_file_atomic(js[i].out_dir + "/done.json", done.dump() + "\n");
+        }
+      }
+      std::vector<SearchEval> ev;
+      for (size_t i = 0; i < pts.size(); ++i) {
+        Json done = Json::parse(read_file(dirs[i] + "/done.json"));
+        SearchEval e;
+        e.x = pts[i];
+        e.score = done["score"].is_number() ? done["score"].get<double>() : NAN;
+        double cv = done["constraint"].is_number() ? done["constraint"].get<double>() : NAN;
+        e.violation = sp.constraint_column.empty() ? 0.0 : (std::isnan(cv) ? INFINITY : std::max(0.0, cv - sp.constraint_max));
+        ev.push_back(e);
+        ResultRow h;
+        h.set_text("context_id", ctx.id());
+        h.set_text("eval_dir", "search/evals/" + dirs[i].substr(dirs[i].rfind('/') + 1));
+        h.set("context", ci);
+        h.set("eval", n + int(i));
+        for (size_t d = 0; d < e.x.size(); ++d) h.set(sp.space[d].path, e.x[d]);
+        h.set(sp.objective.column, e.score);
+        if (!sp.constraint_column.empty()) h.set(sp.constraint_column, cv);
+        h.set("feasible", e.violation <= 0 ? 1 : 0);
+        history.add(std::move(h));
+      }
+      n += int(pts.size());
+      s.tell(ev);
+    }
+    rep.evaluations += n;
+    ResultRow b;
+    b.set_text("context_id", ctx.id());
+    for (auto& a : ctx.assign)
+      if (a.value.is_string()) b.set_text(a.path, a.value.get<std::string>());
+    b.set("context", ci);
+    for (auto& a : ctx.assign)
+      if (a.value.is_number()) b.set(a.path, a.value.get<double>());
+    b.set("evaluations", n);
+    if (s.has_best()) {
+      for (size_t d = 0; d < s.best().x.size(); ++d) b.set(sp.space[d].path, s.best().x[d]);
+      b.set(sp.objective.column, s.best().score);
+      b.set("feasible", s.best().violation <= 0 ? 1 : 0);
+    }
+    best.add(std::move(b));
+  }
+  std::string suffix = opt.shards > 1 ? ".shard" + std::to_string(opt.shard) + "of" + std::to_string(opt.shards) : "";
+  write_file_atomic(rep.out_dir + "/search_history" + suffix + ".csv", history.to_csv());
+  write_file_atomic(rep.out_dir + "/search_best" + suffix + ".csv", best.to_csv());
+  rep.best = std::move(best);
+  return rep;
+}
+
+}  // namespace fovsim

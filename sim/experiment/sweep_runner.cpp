@@ -1,0 +1,362 @@
+#include "sim/experiment/sweep_runner.h"
+
+#include <tbb/global_control.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <set>
+
+#include "sim/core/error.h"
+#include "sim/core/files.h"
+#include "sim/core/version.h"
+#include "sim/experiment/engine.h"
+#include "sim/experiment/pareto.h"
+
+namespace fovsim {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+Json num_json(double v) { return std::isfinite(v) ? Json(v) : Json(format_number(v)); }
+double json_num(const Json& j) {
+  if (j.is_number()) return j.get<double>();
+  if (j.is_string()) {
+    std::string s = j.get<std::string>();
+    if (s == "inf") return INFINITY;
+    if (s == "-inf") return -INFINITY;
+  }
+  return NAN;
+}
+
+Json assign_json(const SweepCell& c) {
+  Json a = Json::array();
+  for (auto& x : c.assign) a.push_back(Json{{"path", x.path}, {"value", x.value}});
+  return a;
+}
+
+// Summary rows of one cell, prefixed with its identity and axis values, for summary.csv.
+void add_cell_rows(ResultTable& out, const SweepCell& c, const ResultTable& cell_summary) {
+  char idx[16];
+  std::snprintf(idx, sizeof idx, "%04d", c.index);
+  for (auto& r : cell_summary.rows()) {
+    ResultRow n;
+    const std::string* id = r.text_of("config_id");
+    n.set_text("config_id", std::string(idx) + "/" + (id ? *id : ""));
+    n.set_text("cell_id", c.id());
+    for (auto& [k, v] : r.text)
+      if (k != "config_id") n.set_text(k, v);
+    n.set("cell", c.index);
+    for (auto& a : c.assign) {
+      if (a.value.is_number()) n.set(a.path, a.value.get<double>());
+      else if (a.value.is_string()) n.set_text(a.path, a.value.get<std::string>());
+      else if (a.value.is_boolean()) n.set(a.path, a.value.get<bool>() ? 1 : 0);
+    }
+    for (auto& [k, v] : r.num) n.set(k, v);
+    out.add(std::move(n));
+  }
+}
+
+void write_cell_json(const std::string& dir, const SweepCell& c, const ResultTable& summary, double cell_ms) {
+  Json rows = Json::array();
+  for (auto& r : summary.rows()) {
+    Json t = Json::object(), n = Json::array();
+    for (auto& [k, v] : r.text) t[k] = v;
+    for (auto& [k, v] : r.num) n.push_back(Json::array({k, num_json(v)}));  // keeps column order
+    rows.push_back(Json{{"text", t}, {"num", n}});
+  }
+  Json j{{"status", "complete"}, {"index", c.index}, {"hash", c.hash}, {"assign", assign_json(c)},
+         {"cell_ms", cell_ms}, {"summary", rows}};
+  write_file_atomic(dir + "/cell.json", j.dump(1) + "\n");
+}
+
+void write_sweep_json(const std::string& out, const SweepPlan& plan, const LoadedConfig& cfg) {
+  Json cells = Json::array();
+  for (auto& c : plan.cells) cells.push_back(Json{{"index", c.index}, {"id", c.id()}, {"assign", assign_json(c)}});
+  Json objectives = Json::array();
+  for (auto& o : plan.objectives) objectives.push_back(Json{{o.maximize ? "maximize" : "minimize", o.column}});
+  Json j{{"tool", "fovsim"},
+         {"version", version_string()},
+         {"name", plan.name},
+         {"plan_hash", plan.hash},
+         {"config_file", cfg.file},
+         {"base_dir", cfg.base_dir},
+         {"config", cfg.doc},
+         {"axes", plan.axis_paths},
+         {"objectives", objectives},
+         {"cells", cells}};
+  std::string path = out + "/sweep.json";
+  std::string text = j.dump(1) + "\n";
+  if (file_exists(path) && read_file(path) == text) return;  // shards write the same file
+  write_file_atomic(path, text);
+}
+
+std::string cell_dir(const std::string& out, const SweepCell& c) { return out + "/runs/" + c.id(); }
+
+}  // namespace
+
+std::pair<int, int> shard_range(int cells, int i, int n) {
+  long a = long(cells) * i / n, b = long(cells) * (i + 1) / n;
+  return {int(a), int(b)};
+}
+
+void parse_shard(const std::string& s, int& index, int& count) {
+  auto slash = s.find('/');
+  try {
+    if (slash == std::string::npos) throw 0;
+    size_t p1 = 0, p2 = 0;
+    index = std::stoi(s.substr(0, slash), &p1);
+    count = std::stoi(s.substr(slash + 1), &p2);
+    if (p1 != slash || p2 != s.size() - slash - 1) throw 0;
+  } catch (...) {
+    throw Error("--shard " + s, "expected i/N, e.g. 0/4");
+  }
+  if (count < 1 || index < 0 || index >= count)
+    throw Error("--shard " + s, "need 0 <= i < N (shards are numbered from 0)");
+}
+
+bool shard_from_env(int& index, int& count) {
+  const char* id = std::getenv("SLURM_ARRAY_TASK_ID");
+  const char* cnt = std::getenv("SLURM_ARRAY_TASK_COUNT");
+  if (!id || !cnt) return false;
+  const char* mn = std::getenv("SLURM_ARRAY_TASK_MIN");
+  int i = std::atoi(id) - (mn ? std::atoi(mn) : 0);
+  int n = std::atoi(cnt);
+  if (n < 1 || i < 0 || i >= n)
+    throw Error("SLURM_ARRAY_TASK_ID=" + std::string(id),
+                "array task ids must be contiguous (e.g. --array=0-" + std::to_string(n - 1) + ")");
+  index = i;
+  count = n;
+  return true;
+}
+
+std::string find_viz_script(const std::string& name) {
+  if (file_exists("viz/" + name)) return "viz/" + name;
+  std::string src = std::string(FOVSIM_SOURCE_DIR) + "/viz/" + name;
+  return file_exists(src) ? src : "";
+}
+
+std::string sweep_out_dir(const SweepPlan& plan, const std::string& out_dir) {
+  return out_dir.empty() ? "results/" + plan.name : out_dir;
+}
+
+bool cell_complete(const std::string& dir, const std::string& hash) {
+  std::string p = dir + "/cell.json";
+  if (!file_exists(p)) return false;
+  try {
+    Json j = Json::parse(read_file(p));
+    return j.value("status", "") == "complete" && j.value("hash", "") == hash && j.contains("summary");
+  } catch (...) {
+    return false;  // unreadable: recompute
+  }
+}
+
+ResultTable read_cell_summary(const std::string& dir) {
+  std::string p = dir + "/cell.json";
+  Json j;
+  try {
+    j = Json::parse(read_file(p));
+  } catch (const Json::exception& e) {
+    throw Error(p, std::string("corrupt cell record: ") + e.what());
+  }
+  ResultTable t;
+  for (auto& r : j.at("summary")) {
+    ResultRow row;
+    // Text columns in the order the runner writes them, then any others.
+    const Json& tx = r.at("text");
+    for (const char* k : {"config_id", "method", "label", "gpu"})
+      if (tx.contains(k)) row.set_text(k, tx[k].get<std::string>());
+    for (auto it = tx.begin(); it != tx.end(); ++it) row.set_text(it.key(), it.value().get<std::string>());
+    for (auto& kv : r.at("num")) row.set(kv.at(0).get<std::string>(), json_num(kv.at(1)));
+    t.add(std::move(row));
+  }
+  return t;
+}
+
+SweepPlan load_sweep_plan(const std::string& dir) {
+  std::string p = dir + "/sweep.json";
+  if (!file_exists(p)) throw Error(p, "not found: is " + dir + " the output folder of a sweep?");
+  Json j = Params::parse_json_file(p);
+  LoadedConfig cfg;
+  cfg.doc = j.at("config");
+  cfg.file = j.value("config_file", "");
+  cfg.base_dir = j.value("base_dir", "");
+  SweepPlan plan = expand_sweep(cfg);
+  if (plan.hash != j.value("plan_hash", ""))
+    throw Error(p, "the recorded sweep expands differently with this fovsim version (plan hash " + plan.hash +
+                       " vs " + j.value("plan_hash", "") + ")");
+  return plan;
+}
+
+SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const SweepOptions& opt) {
+  auto t0 = Clock::now();
+  std::unique_ptr<tbb::global_control> threads;
+  if (opt.threads > 0)
+    threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, size_t(opt.threads));
+  SweepReport rep;
+  rep.out_dir = sweep_out_dir(plan, opt.out_dir);
+  rep.cells_total = int(plan.cells.size());
+  const std::string& out = rep.out_dir;
+  make_dirs(out + "/runs");
+  write_sweep_json(out, plan, cfg);
+
+  // Folders of cells that are not in this expansion (an earlier config): reported, never read.
+  std::set<std::string> ids;
+  for (auto& c : plan.cells) ids.insert(c.id());
+  for (auto& e : fs::directory_iterator(out + "/runs"))
+    if (e.is_directory() && !ids.count(e.path().filename().string())) ++rep.stale_dirs;
+
+  auto [first, last] = shard_range(int(plan.cells.size()), opt.shard, opt.shards);
+  rep.cells_in_shard = last - first;
+  std::vector<const SweepCell*> pending;
+  for (int i = first; i < last; ++i) {
+    const SweepCell& c = plan.cells[size_t(i)];
+    if (cell_complete(cell_dir(out, c), c.hash)) ++rep.cells_done_before;
+    else pending.push_back(&c);
+  }
+
+  // Group pending cells by reference key, groups in order of their first cell.
+  std::vector<std::string> order;
+  std::map<std::string, std::vector<const SweepCell*>> groups;
+  for (auto* c : pending) {
+    std::string k = reference_key(c->doc);
+    if (!groups.count(k)) order.push_back(k);
+    groups[k].push_back(c);
+  }
+  rep.groups = int(order.size());
+  EngineOptions eo;
+  eo.models_dir = opt.models_dir;
+  eo.print_summary = false;
+  eo.threads = opt.threads;
+  for (auto& k : order) {
+    auto& cells = groups[k];
+    size_t step = opt.batch > 0 ? size_t(opt.batch) : cells.size();
+    for (size_t b = 0; b < cells.size(); b += step) {
+      std::vector<CellJob> jobs;
+      std::vector<const SweepCell*> batch(cells.begin() + long(b), cells.begin() + long(std::min(cells.size(), b + step)));
+      for (auto* c : batch) {
+        CellJob j;
+        j.doc = c->doc;
+        j.file = cfg.file;
+        j.base_dir = cfg.base_dir;
+        j.out_dir = cell_dir(out, *c);
+        j.command_line = opt.command_line;
+        j.extra_manifest = Json{{"sweep", {{"name", plan.name}, {"cell", c->index}, {"hash", c->hash},
+                                           {"plan_hash", plan.hash}, {"assign", assign_json(*c)}}}};
+        jobs.push_back(std::move(j));
+      }
+      GroupStats gs;
+      auto res = run_cells(jobs, eo, &gs);
+      for (size_t i = 0; i < res.size(); ++i) {
+        write_cell_json(jobs[i].out_dir, *batch[i], res[i].summary, res[i].cell_ms);
+        rep.cell_ms += res[i].cell_ms;
+      }
+      rep.cells_run += int(res.size());
+      rep.reference_passes += 1;
+      rep.reference_frames += gs.frames;
+      rep.ref_ms += gs.ref_ms;
+      rep.setup_ms += gs.setup_ms;
+    }
+  }
+
+  // Summaries once every cell of the sweep is complete here (the last shard to finish writes
+  // them; concurrent writers produce the same bytes, atomically).
+  bool all = true;
+  for (auto& c : plan.cells) all = all && cell_complete(cell_dir(out, c), c.hash);
+  if (all) {
+    merge_sweep(out, {}, false);
+    rep.complete = true;
+  }
+  rep.wall_ms = ms_since(t0);
+  return rep;
+}
+
+MergeReport merge_sweep(const std::string& out_dir, const std::vector<std::string>& sources, bool allow_partial) {
+  SweepPlan plan = load_sweep_plan(out_dir);
+  MergeReport rep;
+  rep.cells = int(plan.cells.size());
+  ResultTable summary;
+  for (auto& c : plan.cells) {
+    std::string here = cell_dir(out_dir, c);
+    bool ok = cell_complete(here, c.hash);
+    if (!ok) {
+      for (auto& s : sources) {
+        std::string there = cell_dir(s, c);
+        if (!cell_complete(there, c.hash)) continue;
+        // Copy into a temporary folder, then rename: a half-copied cell never looks complete.
+        std::string tmp = here + ".merge-tmp";
+        std::error_code ec;
+        fs::remove_all(tmp, ec);
+        fs::create_directories(fs::path(tmp).parent_path());
+        fs::copy(there, tmp, fs::copy_options::recursive, ec);
+        if (ec) throw Error(there, "cannot copy cell: " + ec.message());
+        fs::remove_all(here, ec);
+        fs::rename(tmp, here, ec);
+        if (ec) throw Error(here, "cannot move merged cell into place: " + ec.message());
+        ++rep.copied;
+        ok = true;
+        break;
+      }
+    }
+    if (!ok) {
+      rep.missing.push_back(c.index);
+      continue;
+    }
+    ++rep.found;
+    add_cell_rows(summary, c, read_cell_summary(here));
+  }
+  if (!rep.missing.empty() && !allow_partial) {
+    std::string list;
+    for (size_t i = 0; i < rep.missing.size() && i < 20; ++i) list += (i ? ", " : "") + std::to_string(rep.missing[i]);
+    if (rep.missing.size() > 20) list += ", ...";
+    throw Error(out_dir, std::to_string(rep.missing.size()) + " of " + std::to_string(rep.cells) +
+                             " cells are missing or incomplete (cells " + list +
+                             "): run the remaining shards, or rerun `fovsim sweep` to resume");
+  }
+
+  // Pareto front over the declared objectives (per pareto.group_by, default per GPU).
+  std::vector<std::string> params;
+  for (auto& col : summary.numeric_columns())
+    for (const char* p : {"sigma", "alpha", "fx", "fy", "epsilon", "vpl_budget", "kernel"})
+      if (col == p) params.push_back(col);
+  for (auto& a : plan.axis_paths) params.push_back(a);
+  Json files = Json::array({"summary.csv"});
+  if (!plan.objectives.empty()) {
+    auto front = pareto_front(summary, plan.objectives, plan.pareto_group_by);
+    std::set<size_t> on(front.begin(), front.end());
+    ResultTable marked, pf;
+    for (size_t i = 0; i < summary.rows().size(); ++i) {
+      ResultRow r = summary.rows()[i];
+      r.set("pareto", on.count(i) ? 1 : 0);
+      if (on.count(i)) pf.add(r);
+      marked.add(std::move(r));
+    }
+    summary = std::move(marked);
+    write_file_atomic(out_dir + "/pareto.csv", pf.to_csv());
+    files.push_back("pareto.csv");
+  }
+  write_file_atomic(out_dir + "/summary.csv", summary.to_csv());
+  if (plan.iso.enabled()) {
+    write_file_atomic(out_dir + "/iso_budget.csv", iso_budget_table(summary, plan.iso, params).to_csv());
+    files.push_back("iso_budget.csv");
+  }
+  Json objectives = Json::array();
+  for (auto& o : plan.objectives) objectives.push_back(Json{{o.maximize ? "maximize" : "minimize", o.column}});
+  Json ss{{"name", plan.name},       {"plan_hash", plan.hash}, {"cells", rep.cells},   {"cells_found", rep.found},
+          {"missing", rep.missing},  {"axes", plan.axis_paths}, {"objectives", objectives},
+          {"pareto_group_by", plan.pareto_group_by}, {"files", files}};
+  if (plan.iso.enabled())
+    ss["iso_budget"] = Json{{"column", plan.iso.column}, {"budgets", plan.iso.budgets}, {"quality", plan.iso.quality}};
+  write_file_atomic(out_dir + "/sweep_summary.json", ss.dump(2) + "\n");
+  rep.summary = std::move(summary);
+  return rep;
+}
+
+}  // namespace fovsim

@@ -1,0 +1,76 @@
+// Executing sweeps (DESIGN §9, docs/sweeps.md): cells run over shared references (one frame
+// loop per reference group), each cell's results in <out>/runs/<index>-<hash>/, completed
+// cells marked by cell.json (written last, atomically) so a rerun resumes and skips them; a
+// cell whose config changed has a new hash and is recomputed, never mixed with old results.
+// Shards (--shard i/N or SLURM_ARRAY_TASK_ID/COUNT) take contiguous index ranges; merge
+// collects cells (also from other folders) into summary.csv, pareto.csv, iso_budget.csv.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "sim/experiment/config.h"
+#include "sim/experiment/sweep_spec.h"
+#include "sim/experiment/table.h"
+
+namespace fovsim {
+
+struct SweepOptions {
+  std::string out_dir;         // empty -> results/<name>
+  std::string models_dir;      // empty -> default_models_dir()
+  int threads = 0;             // 0 = TBB default
+  int shard = 0, shards = 1;   // run only cells [shard_range(n, shard, shards))
+  int batch = 0;               // max cells per reference pass; 0 = every pending cell of a group
+  std::string command_line;    // recorded in manifests
+};
+
+struct SweepReport {
+  std::string out_dir;
+  int cells_total = 0;         // in the whole sweep
+  int cells_in_shard = 0;
+  int cells_done_before = 0;   // found complete (resumed), not recomputed
+  int cells_run = 0;
+  int stale_dirs = 0;          // runs/ folders of cells that no longer exist in this config
+  int groups = 0;              // distinct reference keys among cells run
+  int reference_passes = 0;    // frame loops (groups x batches)
+  int reference_frames = 0;    // references rendered
+  double wall_ms = 0, ref_ms = 0, cell_ms = 0, setup_ms = 0;
+  bool complete = false;       // every cell of the sweep is complete in out_dir (summary written)
+};
+
+// Contiguous index range [first, last) of shard `i` of `n` over `cells` cells.
+std::pair<int, int> shard_range(int cells, int i, int n);
+// SLURM_ARRAY_TASK_ID (minus SLURM_ARRAY_TASK_MIN when set) / SLURM_ARRAY_TASK_COUNT.
+// Returns false when not inside an array job.
+bool shard_from_env(int& index, int& count);
+// Parses "i/N" (0 <= i < N). Throws fovsim::Error.
+void parse_shard(const std::string& s, int& index, int& count);
+
+std::string sweep_out_dir(const SweepPlan& plan, const std::string& out_dir);
+
+SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const SweepOptions& opt);
+
+struct MergeReport {
+  int cells = 0, found = 0, copied = 0;
+  std::vector<int> missing;
+  ResultTable summary;
+};
+
+// Collects every cell of the sweep described by <out_dir>/sweep.json from out_dir and the
+// `sources` folders (complete cells found only in a source are copied into out_dir). Writes
+// summary.csv (one row per cell x method x GPU), pareto.csv, iso_budget.csv and
+// sweep_summary.json when no cell is missing (or allow_partial). Throws listing missing cells.
+MergeReport merge_sweep(const std::string& out_dir, const std::vector<std::string>& sources, bool allow_partial);
+
+// The plan recorded in <dir>/sweep.json (re-expanded; its hash is checked).
+SweepPlan load_sweep_plan(const std::string& dir);
+
+// True when <cell_dir>/cell.json exists and records `hash`.
+bool cell_complete(const std::string& cell_dir, const std::string& hash);
+
+// Path of a viz/ script: ./viz/<name> if present, else the source tree's; "" if neither.
+std::string find_viz_script(const std::string& name);
+
+// Rows of a complete cell (typed: numbers stay numbers, text stays text).
+ResultTable read_cell_summary(const std::string& cell_dir);
+
+}  // namespace fovsim
