@@ -235,7 +235,9 @@ TEST(Synth, LatencyShiftsGazeBySamples) {
   Trace ta = synthesize(a, opts("pursuit", 3), vive()), tb = synthesize(b, opts("pursuit", 3), vive());
   ASSERT_EQ(ta.samples.size(), tb.samples.size());
   for (size_t i = 3; i < ta.samples.size(); ++i) {
-    if (ta.samples[i - 3].valid) EXPECT_EQ(tb.samples[i].gaze_dir, ta.samples[i - 3].gaze_dir);
+    if (ta.samples[i - 3].valid) {
+      EXPECT_EQ(tb.samples[i].gaze_dir, ta.samples[i - 3].gaze_dir);
+    }
   }
   EXPECT_EQ(tb.samples[5].head_rot, ta.samples[5].head_rot);  // head pose is not delayed
 }

@@ -1,0 +1,157 @@
+// `fovsim trace import|validate|stats|synth` (traces/README.md).
+#include <cstdio>
+#include <iostream>
+#include <memory>
+
+#include "sim/app/commands.h"
+#include "sim/core/error.h"
+#include "sim/experiment/config.h"
+#include "sim/trace/importer.h"
+#include "sim/trace/stats.h"
+#include "sim/trace/synth.h"
+#include "sim/trace/trace.h"
+
+namespace fovsim::app {
+
+namespace {
+
+struct TraceArgs {
+  std::string in, map, out, display = "htc_vive_pro_eye", models, on_bad = "fail";
+  std::string scenario, params;
+  long long seed = 1;
+  double duration = 10, rate = 0;
+};
+
+Display load_display(const TraceArgs& a) {
+  return Display::load(a.display, a.models.empty() ? default_models_dir() : a.models);
+}
+
+BadSamplePolicy policy(const std::string& s) {
+  return s == "skip" ? BadSamplePolicy::Skip : s == "hold" ? BadSamplePolicy::Hold : BadSamplePolicy::Fail;
+}
+
+long outside_fov(const Trace& tr, const Display& d) {
+  long n = 0;
+  for (auto& s : tr.samples)
+    if (s.valid && !gaze_inside_fov(d, s.gaze_dir)) ++n;
+  return n;
+}
+
+void print_summary(const Trace& tr, const Display& d) {
+  std::printf("%s", format_stats(trace_stats(tr)).c_str());
+  long out = outside_fov(tr, d);
+  std::printf("outside FOV        %ld valid samples outside the %s FOV (%.0fx%.0f deg)\n", out, d.name.c_str(),
+              d.fov_h_deg, d.fov_v_deg);
+  for (auto& w : tr.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+}
+
+void add_display_opts(CLI::App* c, TraceArgs& a) {
+  c->add_option("--display", a.display, "Display name or path (models/displays/NAME.json); bounds the gaze FOV")
+      ->capture_default_str();
+  c->add_option("--models", a.models, "Models directory (default: $FOVSIM_MODELS, ./models, or the source tree's)");
+}
+
+}  // namespace
+
+void register_trace(CLI::App& app, Action& action) {
+  auto a = std::make_shared<TraceArgs>();
+  CLI::App* t = app.add_subcommand("trace", "Head+gaze traces: import recordings, validate, summarize, synthesize");
+  t->require_subcommand(1);
+
+  CLI::App* imp = t->add_subcommand("import", "Convert a recording to the canonical CSV with a JSON column map");
+  imp->add_option("IN", a->in, "Recording to import (CSV/TSV/...)")->required();
+  imp->add_option("--map", a->map, "Column map JSON (see traces/README.md, e.g. traces/maps/pico_neo3_pro.json)")
+      ->required();
+  imp->add_option("-o,--output", a->out, "Canonical CSV to write")->required();
+  add_display_opts(imp, *a);
+  imp->callback([a, &action] {
+    action = [a] {
+      Display d = load_display(*a);
+      ImportReport rep;
+      Trace tr = import_trace(a->in, a->map, d, &rep);
+      write_trace_csv(a->out, tr);
+      std::printf("imported %s -> %s\n", a->in.c_str(), a->out.c_str());
+      std::printf("rows               %ld read, %ld skipped, %ld flagged invalid\n", rep.data_rows, rep.skipped_rows,
+                  rep.invalid_rows);
+      if (rep.time_offset_s != 0) std::printf("time rebased by    %.9g s\n", rep.time_offset_s);
+      print_summary(tr, d);
+      return 0;
+    };
+  });
+
+  CLI::App* val = t->add_subcommand("validate", "Check a canonical trace CSV (errors name file:line:column)");
+  val->add_option("FILE", a->in, "Canonical trace CSV")->required();
+  val->add_option("--on-bad", a->on_bad, "Bad-sample policy: fail (first problem is an error), skip or hold")
+      ->check(CLI::IsMember({"fail", "skip", "hold"}))
+      ->capture_default_str();
+  add_display_opts(val, *a);
+  val->callback([a, &action] {
+    action = [a] {
+      Display d = load_display(*a);
+      TraceReadOptions o;
+      o.on_bad = policy(a->on_bad);
+      Trace tr = read_trace_csv(a->in, d, o);
+      print_summary(tr, d);
+      if (!tr.warnings.empty()) {
+        std::printf("%s: usable, with %zu kind(s) of problems (see warnings)\n", a->in.c_str(), tr.warnings.size());
+        return 1;
+      }
+      std::printf("%s: valid\n", a->in.c_str());
+      return 0;
+    };
+  });
+
+  CLI::App* st = t->add_subcommand("stats", "Summary of a trace: duration, rate, gaps, invalid fraction, gaze statistics");
+  st->add_option("FILE", a->in, "Canonical trace CSV (or a raw recording with --map)")->required();
+  st->add_option("--map", a->map, "Column map: summarize a raw recording without writing it");
+  st->add_option("--on-bad", a->on_bad, "Bad-sample policy for canonical files: fail, skip or hold")
+      ->check(CLI::IsMember({"fail", "skip", "hold"}))
+      ->capture_default_str();
+  add_display_opts(st, *a);
+  st->callback([a, &action] {
+    action = [a] {
+      Display d = load_display(*a);
+      Trace tr;
+      if (!a->map.empty()) {
+        tr = import_trace(a->in, a->map, d);
+      } else {
+        TraceReadOptions o;
+        o.on_bad = policy(a->on_bad);
+        tr = read_trace_csv(a->in, d, o);
+      }
+      std::printf("trace              %s\n", a->in.c_str());
+      print_summary(tr, d);
+      return 0;
+    };
+  });
+
+  CLI::App* syn = t->add_subcommand("synth", "Generate a synthetic trace from the eye-movement model");
+  std::string names;
+  for (auto& s : synth_scenarios()) names += (names.empty() ? "" : ", ") + s;
+  syn->add_option("--scenario", a->scenario, "Scenario: " + names)->required()->check(CLI::IsMember(synth_scenarios()));
+  syn->add_option("--seed", a->seed, "Random seed (same seed, same trace)")->capture_default_str()->check(CLI::NonNegativeNumber);
+  syn->add_option("--duration", a->duration, "Duration in seconds")->capture_default_str()->check(CLI::PositiveNumber);
+  syn->add_option("--rate", a->rate, "Output rate in Hz (default: the display's refresh rate)")->check(CLI::PositiveNumber);
+  syn->add_option("--params", a->params, "Eye-model overrides JSON (any subset of models/eyemodel/default.json)");
+  syn->add_option("-o,--output", a->out, "Canonical CSV to write")->required();
+  add_display_opts(syn, *a);
+  syn->callback([a, &action] {
+    action = [a] {
+      Display d = load_display(*a);
+      EyeModel m;
+      if (!a->params.empty()) m = load_eye_model(Json(a->params), "--params", "", "");
+      SynthOptions o;
+      o.scenario = a->scenario;
+      o.seed = uint64_t(a->seed);
+      o.duration_s = a->duration;
+      o.rate_hz = a->rate > 0 ? a->rate : d.refresh_hz;
+      Trace tr = synthesize(m, o, d);
+      write_trace_csv(a->out, tr);
+      std::printf("wrote %s (%s)\n", a->out.c_str(), tr.source.c_str());
+      print_summary(tr, d);
+      return 0;
+    };
+  });
+}
+
+}  // namespace fovsim::app
