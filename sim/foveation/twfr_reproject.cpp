@@ -36,26 +36,44 @@ inline glm::vec3 moved_position(const ReprojectInput& in, const Sample& s) {
   return s.pos;
 }
 
+// The new view's projection with the rotation as a matrix (no quaternion or call per pixel).
+// Same formulas as Camera::project_world / project_head (display.cpp).
+struct Projector {
+  glm::dmat3 head_from_world;
+  glm::dvec3 pos;
+  double sx, sy;  // 0.5 W / tan_half_h, 0.5 H / tan_half_v
+  int W, H;
+  explicit Projector(const Camera& c)
+      : head_from_world(glm::mat3_cast(glm::conjugate(c.orientation))),
+        pos(c.position),
+        sx(0.5 * c.width / c.tan_half_h),
+        sy(0.5 * c.height / c.tan_half_v),
+        W(c.width),
+        H(c.height) {}
+};
+
 // Target pixel and depth key of a sample in the new view; false if it misses the view.
-inline bool splat_target(const Camera& cam, const Sample& s, const glm::vec3& p, int& tx, int& ty,
+inline bool splat_target(const Projector& pr, const Sample& s, const glm::vec3& p, int& tx, int& ty,
                          uint32_t& depth_bits) {
-  glm::dvec2 px;
+  glm::dvec3 h;
   if (s.kind == kSky) {
-    if (!cam.project_head(cam.to_head_dir(glm::dvec3(p)), px)) return false;
+    h = pr.head_from_world * glm::dvec3(p);
     depth_bits = kSkyDepthBits;
+    if (!(h.z < 0.0)) return false;
   } else {
-    double depth = 0;
-    if (!cam.project_world(glm::dvec3(p), px, &depth)) return false;
+    h = pr.head_from_world * (glm::dvec3(p) - pr.pos);
+    const double depth = -h.z;
     if (!(depth > 0.0) || !std::isfinite(depth)) return false;
     depth_bits = float_bits(float(depth));
     if (depth_bits >= kSkyDepthBits) depth_bits = kSkyDepthBits - 1;
   }
-  if (!(std::isfinite(px.x) && std::isfinite(px.y)) || !cam.inside(px)) return false;
+  const double inv = 1.0 / -h.z;
+  const double px = (h.x * inv) * pr.sx + 0.5 * pr.W, py = 0.5 * pr.H - (h.y * inv) * pr.sy;
+  // NaN fails these comparisons too.
+  if (!(px >= 0.0 && py >= 0.0 && px < double(pr.W) && py < double(pr.H))) return false;
   // A pixel-sized point sprite covers the pixel containing its projected point (§4).
-  tx = int(std::floor(px.x));
-  ty = int(std::floor(px.y));
-  if (tx >= cam.width) tx = cam.width - 1;
-  if (ty >= cam.height) ty = cam.height - 1;
+  tx = std::min(int(px), pr.W - 1);
+  ty = std::min(int(py), pr.H - 1);
   return true;
 }
 
@@ -76,6 +94,7 @@ ReprojectStats forward_reproject(const ReprojectInput& in, Image& color, std::ve
   const Image& src_color = *in.color;
   const std::vector<Sample>& src = *in.samples;
   const std::vector<float>& ecc = *in.eccentricity;
+  const Projector proj(cam);
   scratch.resize(n);
   if (color.width != W || color.height != H || color.channels != 3) color.resize(W, H, 3);
   samples.resize(n);
@@ -100,7 +119,7 @@ ReprojectStats forward_reproject(const ReprojectInput& in, Image& color, std::ve
             ++acc.splats;
             int tx, ty;
             uint32_t db;
-            if (!splat_target(cam, s, moved_position(in, s), tx, ty, db)) {
+            if (!splat_target(proj, s, moved_position(in, s), tx, ty, db)) {
               ++acc.offscreen;
               continue;
             }
