@@ -71,6 +71,7 @@ struct RenderState {
   };
   std::vector<Obj> objs;
   std::vector<LightNow> lights;
+  std::vector<glm::vec2> mat_cs;  // cos, sin of each material's texture angle
   float scene_scale = 1.f;  // for ray offsets
 
   void check(const char* what) {
@@ -124,6 +125,7 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
     rtcSetSceneBuildQuality(I.top, RTC_BUILD_QUALITY_LOW);
   }
 
+  for (const Material& m : scene.materials) I.mat_cs.emplace_back(std::cos(m.angle), std::sin(m.angle));
   I.objs.resize(scene.objects.size());
   I.dyn_geom.assign(scene.objects.size(), RTC_INVALID_GEOMETRY_ID);
   AABB world;
@@ -330,7 +332,7 @@ struct SampleWriter {
     }
     if (ch & kAlbedo) {
       const Material& mt = scene.materials[size_t(mat)];
-      g.albedo[i] = eval_albedo(scene, mt, uv);
+      g.albedo[i] = eval_albedo(scene, mt, uv, I.mat_cs[size_t(mat)].x, I.mat_cs[size_t(mat)].y);
     }
     if (ch & kNormal) {
       glm::vec3 n;
@@ -370,25 +372,76 @@ struct SampleWriter {
 
 namespace {
 
-// Traces `n` rays (origin o, directions dirs[k], screen points pts[k]) into samples
-// base..base+n-1 of g with the stream API.
-void trace_batch(const RenderState& I, const SampleWriter& w, RTCRayHit* rh, unsigned n,
-                 const glm::vec3& o, GBuffer& g, const size_t* idx, const glm::vec2* pts) {
-  RTCIntersectContext ctx;
-  rtcInitIntersectContext(&ctx);
-  ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-  rtcIntersect1M(I.top, &ctx, rh, n, sizeof(RTCRayHit));
-  for (unsigned k = 0; k < n; ++k) {
-    const RTCRayHit& r = rh[k];
-    if (r.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
-      w.miss(g, idx[k]);
-    } else {
-      glm::vec3 d(r.ray.dir_x, r.ray.dir_y, r.ray.dir_z);
-      w.hit(g, idx[k], o, d, r.ray.tfar, hit_object(I, r.hit), r.hit.primID, r.hit.u, r.hit.v,
-            pts[k]);
-    }
+// A packet of up to 16 primary rays from one origin (rtcIntersect16). 4x4 pixel blocks are
+// the most coherent unit; measured ~15% faster than the rtcIntersect1M stream API here.
+struct Packet {
+  alignas(64) RTCRayHit16 rh;
+  alignas(64) int valid[16];
+  size_t idx[16];
+  glm::vec2 px[16];
+  int n = 0;
+
+  void reset() { n = 0; }
+  void add(const glm::vec3& o, const glm::vec3& d, size_t i, glm::vec2 p) {
+    const int k = n++;
+    rh.ray.org_x[k] = o.x;
+    rh.ray.org_y[k] = o.y;
+    rh.ray.org_z[k] = o.z;
+    rh.ray.dir_x[k] = d.x;
+    rh.ray.dir_y[k] = d.y;
+    rh.ray.dir_z[k] = d.z;
+    rh.ray.tnear[k] = 0.f;
+    rh.ray.tfar[k] = kInf;
+    rh.ray.time[k] = 0.f;
+    rh.ray.mask[k] = 0xffffffffu;
+    rh.ray.id[k] = unsigned(k);
+    rh.ray.flags[k] = 0;
+    rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+    valid[k] = -1;
+    idx[k] = i;
+    px[k] = p;
   }
-}
+  void trace(const RenderState& I, const SampleWriter& w, const glm::vec3& o, GBuffer& g) {
+    if (n == 0) return;
+    // Inactive lanes are masked off, but Debian's Embree (assertions on) still checks their
+    // ray fields in the 8-wide halves: give them a copy of lane 0's valid ray.
+    for (int k = n; k < 16; ++k) {
+      valid[k] = 0;
+      rh.ray.org_x[k] = rh.ray.org_x[0];
+      rh.ray.org_y[k] = rh.ray.org_y[0];
+      rh.ray.org_z[k] = rh.ray.org_z[0];
+      rh.ray.dir_x[k] = rh.ray.dir_x[0];
+      rh.ray.dir_y[k] = rh.ray.dir_y[0];
+      rh.ray.dir_z[k] = rh.ray.dir_z[0];
+      rh.ray.tnear[k] = 0.f;
+      rh.ray.tfar[k] = kInf;
+      rh.ray.time[k] = 0.f;
+      rh.ray.mask[k] = 0xffffffffu;
+      rh.ray.id[k] = unsigned(k);
+      rh.ray.flags[k] = 0;
+      rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+      rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+    }
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    rtcIntersect16(valid, I.top, &ctx, &rh);
+    for (int k = 0; k < n; ++k) {
+      if (rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) {
+        w.miss(g, idx[k]);
+        continue;
+      }
+      RTCHit h;
+      h.geomID = rh.hit.geomID[k];
+      h.instID[0] = rh.hit.instID[0][k];
+      glm::vec3 d(rh.ray.dir_x[k], rh.ray.dir_y[k], rh.ray.dir_z[k]);
+      w.hit(g, idx[k], o, d, rh.ray.tfar[k], hit_object(I, h), rh.hit.primID[k], rh.hit.u[k],
+            rh.hit.v[k], px[k]);
+    }
+    n = 0;
+  }
+};
 
 inline void init_ray(RTCRayHit& r, const glm::vec3& o, const glm::vec3& d) {
   r.ray.org_x = o.x;
@@ -411,35 +464,37 @@ inline void init_ray(RTCRayHit& r, const glm::vec3& o, const glm::vec3& d) {
 
 void Renderer::trace_gbuffer(const Camera& cam, uint32_t channels, GBuffer& out, Counters* c,
                              const Camera* prev) const {
-  const Impl& I = *impl_;
+  const RenderState& I = *impl_;
   channels |= kDepth;
   if (out.width != cam.width || out.height != cam.height || out.channels != channels)
     out.resize(cam.width, cam.height, channels);
-  const int T = std::max(1, settings_.tile);
+  const int T = std::max(4, settings_.tile);
   const int tx = (cam.width + T - 1) / T, ty = (cam.height + T - 1) / T;
   const glm::vec3 org(cam.position);
   const glm::dmat3 R = glm::mat3_cast(cam.orientation);
+  // Camera::dir_head's terms per column and row (same operations, so the same bits).
+  std::vector<double> hx(size_t(cam.width)), hy(size_t(cam.height));
+  for (int x = 0; x < cam.width; ++x) hx[size_t(x)] = (2.0 * (x + 0.5) / cam.width - 1.0) * cam.tan_half_h;
+  for (int y = 0; y < cam.height; ++y) hy[size_t(y)] = (1.0 - 2.0 * (y + 0.5) / cam.height) * cam.tan_half_v;
   SampleWriter w{scene_, I, prev, channels};
   tbb::parallel_for(
       tbb::blocked_range<int>(0, tx * ty, 1),
       [&](const tbb::blocked_range<int>& r) {
-        std::vector<RTCRayHit> rh(size_t(T) * size_t(T));
-        std::vector<size_t> idx(rh.size());
-        std::vector<glm::vec2> pts(rh.size());
+        Packet pk;
         for (int tile = r.begin(); tile != r.end(); ++tile) {
           const int x0 = (tile % tx) * T, y0 = (tile / tx) * T;
           const int x1 = std::min(x0 + T, cam.width), y1 = std::min(y0 + T, cam.height);
-          unsigned n = 0;
-          for (int y = y0; y < y1; ++y)
-            for (int x = x0; x < x1; ++x) {
-              // Camera::dir_world(x + 0.5, y + 0.5), with the rotation as a matrix.
-              glm::dvec3 d = R * cam.dir_head(x + 0.5, y + 0.5);
-              init_ray(rh[n], org, glm::vec3(d));
-              idx[n] = size_t(y) * size_t(cam.width) + size_t(x);
-              pts[n] = glm::vec2(float(x) + 0.5f, float(y) + 0.5f);
-              ++n;
+          for (int by = y0; by < y1; by += 4)
+            for (int bx = x0; bx < x1; bx += 4) {
+              for (int y = by; y < std::min(by + 4, y1); ++y)
+                for (int x = bx; x < std::min(bx + 4, x1); ++x) {
+                  // == Camera::dir_world(x + 0.5, y + 0.5)
+                  glm::dvec3 d = R * glm::normalize(glm::dvec3(hx[size_t(x)], hy[size_t(y)], -1.0));
+                  pk.add(org, glm::vec3(d), size_t(y) * size_t(cam.width) + size_t(x),
+                         glm::vec2(float(x) + 0.5f, float(y) + 0.5f));
+                }
+              pk.trace(I, w, org, out);
             }
-          trace_batch(I, w, rh.data(), n, org, out, idx.data(), pts.data());
         }
       },
       tbb::simple_partitioner());
@@ -450,7 +505,7 @@ void Renderer::trace_gbuffer(const Camera& cam, uint32_t channels, GBuffer& out,
 
 void Renderer::trace_points(const Camera& cam, const std::vector<glm::vec2>& pts_in,
                             uint32_t channels, GBuffer& out, Counters* c) const {
-  const Impl& I = *impl_;
+  const RenderState& I = *impl_;
   channels |= kDepth;
   const int n_pts = int(pts_in.size());
   if (out.width != n_pts || out.height != 1 || out.channels != channels)
@@ -460,21 +515,21 @@ void Renderer::trace_points(const Camera& cam, const std::vector<glm::vec2>& pts
   SampleWriter w{scene_, I, nullptr, channels & ~uint32_t(kMotion)};
   if (channels & kMotion)
     for (auto& m : out.motion) m = glm::vec2(0.f);
+  // Consecutive points in packets of 16 (callers usually pass them in scanline order).
   const int B = 256;
   tbb::parallel_for(
       tbb::blocked_range<int>(0, (n_pts + B - 1) / B, 1),
       [&](const tbb::blocked_range<int>& r) {
-        std::vector<RTCRayHit> rh(B);
-        std::vector<size_t> idx(B);
+        Packet pk;
         for (int b = r.begin(); b != r.end(); ++b) {
           const int i0 = b * B, i1 = std::min(n_pts, i0 + B);
-          unsigned n = 0;
-          for (int i = i0; i < i1; ++i, ++n) {
-            glm::dvec3 d = R * cam.dir_head(pts_in[size_t(i)].x, pts_in[size_t(i)].y);
-            init_ray(rh[n], org, glm::vec3(d));
-            idx[n] = size_t(i);
+          for (int i = i0; i < i1; ++i) {
+            const glm::vec2 p = pts_in[size_t(i)];
+            glm::dvec3 d = R * cam.dir_head(p.x, p.y);
+            pk.add(org, glm::vec3(d), size_t(i), p);
+            if (pk.n == 16) pk.trace(I, w, org, out);
           }
-          trace_batch(I, w, rh.data(), n, org, out, idx.data(), pts_in.data() + i0);
+          pk.trace(I, w, org, out);
         }
       },
       tbb::simple_partitioner());

@@ -153,6 +153,10 @@ namespace {
 
 inline float fractf(float x) { return x - std::floor(x); }
 
+// {cos, sin} of the grating's per-orientation phase 0.7 * o.
+constexpr float kGratingPhase[4][2] = {
+    {1.f, 0.f}, {0.76484219f, 0.64421769f}, {0.16996714f, 0.98544973f}, {-0.50484610f, 0.86320937f}};
+
 inline uint32_t hash2(int32_t x, int32_t y) {
   uint32_t h = uint32_t(x) * 0x8da6b343u ^ uint32_t(y) * 0xd8163841u;
   h ^= h >> 13;
@@ -173,10 +177,6 @@ inline float value_noise(glm::vec2 p) {
   return (a + (b - a) * tx) * (1.f - ty) + (c + (d - c) * tx) * ty;
 }
 
-inline glm::vec2 rotate(glm::vec2 p, float a) {
-  float c = std::cos(a), s = std::sin(a);
-  return {c * p.x - s * p.y, s * p.x + c * p.y};
-}
 
 glm::vec3 sample_image(const TextureImage& img, glm::vec2 uv) {
   if (img.width <= 0 || img.height <= 0 || img.texels.empty()) return glm::vec3(1.f);
@@ -195,32 +195,44 @@ glm::vec3 sample_image(const TextureImage& img, glm::vec2 uv) {
 }  // namespace
 
 glm::vec3 eval_albedo(const Scene& scene, const Material& m, glm::vec2 uv) {
+  return eval_albedo(scene, m, uv, std::cos(m.angle), std::sin(m.angle));
+}
+
+glm::vec3 eval_albedo(const Scene& scene, const Material& m, glm::vec2 uv, float ca, float sa) {
+  auto rot = [ca, sa](glm::vec2 p) { return glm::vec2(ca * p.x - sa * p.y, sa * p.x + ca * p.y); };
   switch (m.tex) {
     case TexKind::Constant: return m.base_color;
     case TexKind::Checker: {
-      glm::vec2 p = rotate(uv, m.angle) * m.scale;
+      glm::vec2 p = rot(uv) * m.scale;
       int32_t c = int32_t(std::floor(p.x)) + int32_t(std::floor(p.y));
       return (c & 1) ? m.color2 : m.base_color;
     }
     case TexKind::Stripes: {
-      glm::vec2 p = rotate(uv, m.angle) * m.scale;
+      glm::vec2 p = rot(uv) * m.scale;
       return fractf(p.x) < 0.5f ? m.base_color : m.color2;
     }
     case TexKind::Grating: {
-      // 3 octaves x 4 orientations (45 deg apart) of sinusoids: detail at many orientations.
+      // Sinusoids at 3 octaves (f, 2f, 4f) x 4 orientations 45 deg apart, each orientation
+      // with its own phase: detail at many orientations and frequencies. One sincos per
+      // orientation; the octaves follow from double-angle identities.
+      const float k = 0.70710678f;  // cos 45 = sin 45
+      const float c45[4] = {1.f, k, 0.f, -k}, s45[4] = {0.f, k, 1.f, k};
+      const float two_pi_f = float(2.0 * kPi) * m.scale;
       float sum = 0.f;
       for (int o = 0; o < 4; ++o) {
-        float a = m.angle + float(o) * float(kPi) * 0.25f;
-        float d = std::cos(a) * uv.x + std::sin(a) * uv.y;
-        float f = m.scale;
-        for (int k = 0; k < 3; ++k, f *= 2.f)
-          sum += std::sin(float(2.0 * kPi) * f * d + float(o) * 0.7f);
+        float co = ca * c45[o] - sa * s45[o], so = sa * c45[o] + ca * s45[o];
+        float x = two_pi_f * (co * uv.x + so * uv.y);
+        float s1 = std::sin(x), c1 = std::cos(x);
+        float s2 = 2.f * s1 * c1, c2 = 1.f - 2.f * s1 * s1;
+        float s4 = 2.f * s2 * c2, c4 = 1.f - 2.f * s2 * s2;
+        // sin(2^j x + ph_o), j = 0..2, phases ph_o = 0.7 o.
+        sum += (s1 + s2 + s4) * kGratingPhase[o][0] + (c1 + c2 + c4) * kGratingPhase[o][1];
       }
       float w = clamp01(0.5f + 0.5f * sum / 4.f);
       return glm::mix(m.color2, m.base_color, w);
     }
     case TexKind::Bricks: {
-      glm::vec2 p = rotate(uv, m.angle) * m.scale;
+      glm::vec2 p = rot(uv) * m.scale;
       p.x *= 0.5f;  // bricks twice as long as high
       float row = std::floor(p.y);
       if (int32_t(row) & 1) p.x += 0.5f;
@@ -232,7 +244,7 @@ glm::vec3 eval_albedo(const Scene& scene, const Material& m, glm::vec2 uv) {
       return m.base_color * (0.8f + 0.4f * v);
     }
     case TexKind::Noise: {
-      glm::vec2 p = rotate(uv, m.angle) * m.scale;
+      glm::vec2 p = rot(uv) * m.scale;
       float n = 0.f, amp = 0.5f;
       for (int k = 0; k < 4; ++k, amp *= 0.5f, p *= 2.03f) n += amp * value_noise(p);
       return glm::mix(m.color2, m.base_color, clamp01((n - 0.2f) / 0.6f));

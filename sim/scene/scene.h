@@ -116,6 +116,9 @@ struct Scene {
 
 // Texture evaluation without virtual calls (a switch per sample).
 glm::vec3 eval_albedo(const Scene& scene, const Material& m, glm::vec2 uv);
+// The same with cos/sin of m.angle precomputed (the renderer's per-pixel path).
+glm::vec3 eval_albedo(const Scene& scene, const Material& m, glm::vec2 uv, float cos_a,
+                      float sin_a);
 
 // The explicit scene factory: "type" is one of atrium, patterns, cornell, file.
 // See models/scenes/README.md for every key. Throws fovsim::Error with the JSON path.
