@@ -1,0 +1,343 @@
+#!/usr/bin/python3
+"""Plots of a fovsim sweep folder (results/<name>/ written by `fovsim sweep` or `fovsim merge`).
+
+Writes into <dir>/plots/: pareto.png (declared objectives, front highlighted, every method),
+heat maps over sigma x alpha and fx x fy per method (seed 003 Fig. 6/9 style), per-frame
+timelines of the Pareto cells with the frame-budget line and gaze speed, error-vs-eccentricity
+profiles, image strips with zoomed insets (when cells wrote images), and index.html linking
+every plot, table and cell folder. Needs Debian's python3-matplotlib and python3-numpy.
+See docs/sweeps.md.
+"""
+import argparse
+import glob
+import html
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import common  # noqa: E402
+from common import plt, to_float, log  # noqa: E402
+
+import numpy as np  # noqa: E402
+
+PARAMS = ["sigma", "alpha", "fx", "fy", "epsilon", "vpl_budget"]
+PAIRS = [("sigma", "alpha"), ("fx", "fy"), ("sigma", "fx"), ("epsilon", "phi_f")]
+TIMING = {"ref_ms", "sim_ms"}
+
+
+class Skip(Exception):
+    pass
+
+
+class Sweep:
+    def __init__(self, d):
+        self.dir = d
+        self.cols, self.rows = common.read_csv(os.path.join(d, "summary.csv"))
+        self.meta = common.read_json(os.path.join(d, "sweep_summary.json")) or {}
+        self.sweep = common.read_json(os.path.join(d, "sweep.json")) or {}
+        self.rows = self.rows or []
+        self.cols = self.cols or []
+
+    def num(self, r, c):
+        return to_float(r.get(c))
+
+    def labels(self):
+        out = []
+        for r in self.rows:
+            if r.get("label") not in out:
+                out.append(r.get("label"))
+        return out
+
+    def objectives(self):
+        obj = []
+        for o in self.meta.get("objectives", []):
+            for k, v in o.items():
+                obj.append((v, k == "maximize"))
+        if len(obj) < 2:
+            obj = [("est_ms_total", False), ("fpsnr", True)]
+        return obj
+
+    def budget(self):
+        for r in self.rows:
+            b = to_float(r.get("budget_ms"))
+            if math.isfinite(b):
+                return b
+        return None
+
+
+def plot_pareto(sw, out):
+    (cx, _), (cy, maxy) = sw.objectives()[:2]
+    if cx not in sw.cols or cy not in sw.cols:
+        raise Skip(f"summary.csv lacks {cx} or {cy}")
+    fig, ax = plt.subplots(figsize=(8, 5.5))
+    for lab in sw.labels():
+        rs = [r for r in sw.rows if r.get("label") == lab]
+        ax.scatter([sw.num(r, cx) for r in rs], [sw.num(r, cy) for r in rs], s=18, alpha=0.6, label=lab)
+    front = [r for r in sw.rows if r.get("pareto") == "1"]
+    if front:
+        front.sort(key=lambda r: sw.num(r, cx))
+        ax.plot([sw.num(r, cx) for r in front], [sw.num(r, cy) for r in front], "k-", lw=1.2, label="Pareto front")
+        ax.scatter([sw.num(r, cx) for r in front], [sw.num(r, cy) for r in front], s=40, facecolors="none",
+                   edgecolors="k")
+    b = sw.budget()
+    if b is not None and cx == "est_ms_total":
+        ax.axvline(b, color="red", ls="--", lw=1, label=f"frame budget {b:.2f} ms")
+    ax.set_xlabel(cx + " (minimize)")
+    ax.set_ylabel(cy + (" (maximize)" if maxy else " (minimize)"))
+    ax.set_title(f"{sw.meta.get('name', '')}: {len(sw.rows)} configurations")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    common.save(fig, os.path.join(out, "pareto.png"))
+    return ["pareto.png"]
+
+
+def plot_heatmaps(sw, out):
+    made = []
+    metrics = [m for m in ("fpsnr", "ssim", "shaded_fraction", "est_ms_total") if m in sw.cols]
+    for lab in sw.labels():
+        rs = [r for r in sw.rows if r.get("label") == lab]
+        varying = [p for p in PARAMS + ["phi_f"] if p in sw.cols and
+                   len({r.get(p) for r in rs if math.isfinite(sw.num(r, p))}) >= 2]
+        pairs = [p for p in PAIRS if p[0] in varying and p[1] in varying]
+        if not pairs and len(varying) == 2:
+            pairs = [tuple(varying)]
+        for px, py in pairs:
+            xs = sorted({sw.num(r, px) for r in rs})
+            ys = sorted({sw.num(r, py) for r in rs})
+            fig, axes = plt.subplots(1, len(metrics), figsize=(4.2 * len(metrics), 3.8), squeeze=False)
+            for ax, m in zip(axes[0], metrics):
+                grid = np.full((len(ys), len(xs)), np.nan)
+                cnt = np.zeros_like(grid)
+                for r in rs:
+                    v = sw.num(r, m)
+                    if not math.isfinite(v):
+                        continue
+                    i, j = ys.index(sw.num(r, py)), xs.index(sw.num(r, px))
+                    grid[i, j] = v if cnt[i, j] == 0 else grid[i, j] + v
+                    cnt[i, j] += 1
+                grid = np.where(cnt > 0, grid / np.maximum(cnt, 1), np.nan)  # mean over other axes
+                im = ax.imshow(grid, origin="lower", aspect="auto", cmap="viridis" if m in ("fpsnr", "ssim") else "magma")
+                ax.set_xticks(range(len(xs)))
+                ax.set_xticklabels([f"{x:g}" for x in xs], fontsize=7, rotation=45)
+                ax.set_yticks(range(len(ys)))
+                ax.set_yticklabels([f"{y:g}" for y in ys], fontsize=7)
+                ax.set_xlabel(px)
+                ax.set_ylabel(py)
+                ax.set_title(m, fontsize=9)
+                fig.colorbar(im, ax=ax, shrink=0.8)
+                if len(xs) * len(ys) <= 120:
+                    for i in range(len(ys)):
+                        for j in range(len(xs)):
+                            if math.isfinite(grid[i, j]):
+                                ax.text(j, i, f"{grid[i, j]:.3g}", ha="center", va="center", fontsize=5, color="w")
+            fig.suptitle(f"{lab}: {px} x {py}")
+            f = f"heatmap_{lab}_{px}_{py}.png"
+            common.save(fig, os.path.join(out, f))
+            made.append(f)
+    if not made:
+        raise Skip("no method has two swept parameters among " + ", ".join(PARAMS))
+    return made
+
+
+def cell_frames(sw, cell_id):
+    _, rows = common.read_csv(os.path.join(sw.dir, "runs", cell_id, "frames.csv"))
+    return rows or []
+
+
+def selected(sw, limit=8):
+    rs = [r for r in sw.rows if r.get("pareto") == "1"] or sw.rows
+    return rs[:limit]
+
+
+def deg_per_px(sw):
+    m = common.read_json(glob.glob(os.path.join(sw.dir, "runs", "*", "manifest.json"))[0]) if glob.glob(
+        os.path.join(sw.dir, "runs", "*", "manifest.json")) else None
+    d = common.find_display(m) if m else None
+    try:
+        return float(d["fov_h_deg"]) / float(d["width"])
+    except (TypeError, KeyError, ValueError):
+        return None
+
+
+def plot_timelines(sw, out):
+    sel = selected(sw)
+    if not sel:
+        raise Skip("no rows")
+    fig, ax = plt.subplots(figsize=(10, 4.8))
+    gaze = None
+    for r in sel:
+        fr = [x for x in cell_frames(sw, r.get("cell_id", "")) if x.get("label") == r.get("label")
+              and x.get("gpu") == r.get("gpu")]
+        if not fr:
+            continue
+        ax.plot([to_float(x["frame"]) for x in fr], [to_float(x["est_ms_total"]) for x in fr], lw=1,
+                label=r.get("config_id"))
+        if gaze is None:
+            gaze = fr
+    b = sw.budget()
+    if b is not None:
+        ax.axhline(b, color="red", ls="--", lw=1.2, label=f"budget {b:.2f} ms")
+    ax.set_xlabel("frame")
+    ax.set_ylabel("estimated frame time [ms]")
+    ax.set_ylim(bottom=0)
+    ax.grid(alpha=0.3)
+    if gaze and len(gaze) > 1:
+        dpp = deg_per_px(sw) or 1.0
+        t = np.array([to_float(x["t"]) for x in gaze])
+        gx = np.array([to_float(x["gaze_x"]) for x in gaze])
+        gy = np.array([to_float(x["gaze_y"]) for x in gaze])
+        sp = np.hypot(np.diff(gx), np.diff(gy)) * dpp / np.maximum(np.diff(t), 1e-9)
+        ax2 = ax.twinx()
+        ax2.plot([to_float(x["frame"]) for x in gaze[1:]], sp, color="0.5", lw=0.8, ls=":", label="gaze speed")
+        ax2.set_ylabel("gaze speed [deg/s]" if deg_per_px(sw) else "gaze speed [px/s]", color="0.4")
+    ax.legend(fontsize=7, loc="upper left")
+    ax.set_title("Per-frame estimated time of the Pareto configurations, with gaze speed")
+    common.save(fig, os.path.join(out, "timelines.png"))
+    return ["timelines.png"]
+
+
+def plot_profiles(sw, out):
+    bands = [c for c in sw.cols if c.startswith("rmse_ecc_")]
+    if not bands:
+        raise Skip("no rmse_ecc_<a>_<b> columns")
+
+    def mid(c):
+        a, b = c[len("rmse_ecc_"):].replace("p", ".").split("_")
+        return 0.5 * (float(a) + float(b))
+
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    for r in selected(sw):
+        ax.plot([mid(c) for c in bands], [sw.num(r, c) for c in bands], marker="o", lw=1, label=r.get("config_id"))
+    ax.set_xlabel("eccentricity [deg] (band centre)")
+    ax.set_ylabel("RMSE (display-encoded)")
+    ax.set_title("Error vs. eccentricity of the Pareto configurations")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    common.save(fig, os.path.join(out, "eccentricity_profiles.png"))
+    return ["eccentricity_profiles.png"]
+
+
+def plot_strips(sw, out):
+    made = []
+    for r in selected(sw, 4):
+        cid, lab = r.get("cell_id", ""), r.get("label", "")
+        for fdir in sorted(glob.glob(os.path.join(sw.dir, "runs", cid, "images", "frame_*")))[:2]:
+            ref, img = os.path.join(fdir, "reference.png"), os.path.join(fdir, lab + ".png")
+            err = os.path.join(fdir, lab + "_error.png")
+            if not (os.path.exists(ref) and os.path.exists(img)):
+                continue
+            frame = fdir.rsplit("_", 1)[-1]
+            fr = [x for x in cell_frames(sw, cid) if x.get("frame") == frame and x.get("label") == lab]
+            ims = [("reference", plt.imread(ref)), (lab, plt.imread(img))]
+            if os.path.exists(err):
+                ims.append(("error", plt.imread(err)))
+            h, w = ims[0][1].shape[:2]
+            gx, gy = w / 2, h / 2
+            m = common.read_json(os.path.join(sw.dir, "runs", cid, "manifest.json")) or {}
+            disp = common.find_display(m) or {}
+            if fr and disp.get("width"):
+                s = w / float(disp["width"])
+                gx, gy = to_float(fr[0]["gaze_x"]) * s, to_float(fr[0]["gaze_y"]) * s
+            z = max(8, min(w, h) // 6)
+            fig, axes = plt.subplots(2, len(ims), figsize=(3.6 * len(ims), 6), squeeze=False)
+            for k, (name, im) in enumerate(ims):
+                axes[0][k].imshow(im)
+                axes[0][k].add_patch(plt.Rectangle((gx - z, gy - z), 2 * z, 2 * z, fill=False, ec="lime", lw=1))
+                axes[0][k].add_patch(plt.Rectangle((w * 0.85 - z, h * 0.5 - z), 2 * z, 2 * z, fill=False, ec="orange", lw=1))
+                axes[0][k].set_title(name, fontsize=9)
+                x0, y0 = int(max(0, gx - z)), int(max(0, gy - z))
+                fov = im[y0:y0 + 2 * z, x0:x0 + 2 * z]
+                per = im[int(h * 0.5 - z):int(h * 0.5 + z), int(w * 0.85 - z):int(w * 0.85 + z)]
+                axes[1][k].imshow(np.concatenate([fov[:min(len(fov), len(per))], per[:min(len(fov), len(per))]], axis=1)
+                                  if fov.size and per.size and fov.shape[1:] == per.shape[1:] else (fov if fov.size else im),
+                                  interpolation="nearest")
+                axes[1][k].set_title("zoom: fovea (green) | periphery (orange)", fontsize=7)
+                for a in (axes[0][k], axes[1][k]):
+                    a.axis("off")
+            fig.suptitle(f"{r.get('config_id')} frame {frame}")
+            f = f"strip_{cid}_{lab}_{frame}.png"
+            common.save(fig, os.path.join(out, f))
+            made.append(f)
+    if not made:
+        raise Skip("no cell wrote images (set outputs.image_frames)")
+    return made
+
+
+PLOTS = [("Pareto front", plot_pareto), ("Heat maps", plot_heatmaps), ("Timelines with budget and gaze speed",
+                                                                         plot_timelines),
+         ("Error vs. eccentricity", plot_profiles), ("Image strips with zoomed insets", plot_strips)]
+
+
+def csv_table(path, limit=60):
+    cols, rows = common.read_csv(path)
+    if not cols:
+        return ""
+    keep = [c for c in cols if c not in TIMING][:24]
+    h = ["<table border=1 cellspacing=0 cellpadding=2 style='font-size:11px'><tr>"]
+    h += [f"<th>{html.escape(c)}</th>" for c in keep] + ["</tr>"]
+    for r in rows[:limit]:
+        h.append("<tr>" + "".join(f"<td>{html.escape(r.get(c, ''))}</td>" for c in keep) + "</tr>")
+    h.append("</table>")
+    if len(rows) > limit:
+        h.append(f"<p>({len(rows) - limit} more rows in the CSV)</p>")
+    return "".join(h)
+
+
+def write_index(sw, out, made, skipped):
+    name = sw.meta.get("name") or os.path.basename(os.path.normpath(sw.dir))
+    p = ["<!DOCTYPE html><html><head><meta charset='utf-8'>",
+         f"<title>fovsim sweep: {html.escape(name)}</title>",
+         "<style>body{font-family:sans-serif;margin:2em}img{max-width:100%;border:1px solid #ccc}</style></head><body>",
+         f"<h1>fovsim sweep: {html.escape(name)}</h1>",
+         f"<p>{sw.meta.get('cells', '?')} cells, {len(sw.rows)} configurations; axes: "
+         f"{html.escape(', '.join(sw.meta.get('axes', [])))}</p><h2>Tables</h2><ul>"]
+    for t in ("summary.csv", "pareto.csv", "iso_budget.csv", "search_best.csv", "search_history.csv", "sweep.json"):
+        if os.path.exists(os.path.join(sw.dir, t)):
+            p.append(f"<li><a href='../{t}'>{t}</a></li>")
+    p.append("</ul><h2>Plots</h2><ul>")
+    p += [f"<li><a href='#{f}'>{html.escape(t)}: {f}</a></li>" for t, f in made]
+    p.append("</ul>")
+    for t in ("iso_budget.csv", "pareto.csv"):
+        if os.path.exists(os.path.join(sw.dir, t)):
+            p.append(f"<h2>{t}</h2>" + csv_table(os.path.join(sw.dir, t)))
+    for t, f in made:
+        p.append(f"<h3 id='{f}'>{html.escape(t)}: {f}</h3><a href='{f}'><img src='{f}'></a>")
+    if skipped:
+        p.append("<h2>Skipped</h2><ul>" + "".join(f"<li>{html.escape(t)}: {html.escape(r)}</li>" for t, r in skipped)
+                 + "</ul>")
+    p.append("<h2>Cells</h2><ul>")
+    for d in sorted(glob.glob(os.path.join(sw.dir, "runs", "*"))):
+        c = os.path.basename(d)
+        p.append(f"<li><a href='../runs/{c}/'>{c}</a></li>")
+    p.append("</ul></body></html>\n")
+    common.write_text_atomic(os.path.join(out, "index.html"), "\n".join(p))
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("sweep_dir", help="results/<name> with summary.csv and sweep_summary.json")
+    ap.add_argument("--out", help="output directory (default: SWEEP_DIR/plots)")
+    a = ap.parse_args(argv)
+    sw = Sweep(a.sweep_dir)
+    if not sw.rows:
+        print(f"plot_sweep: error: {a.sweep_dir}: no summary.csv rows (run fovsim merge first?)", file=sys.stderr)
+        return 2
+    out = a.out or os.path.join(a.sweep_dir, "plots")
+    os.makedirs(out, exist_ok=True)
+    made, skipped = [], []
+    for title, fn in PLOTS:
+        try:
+            for f in fn(sw, out):
+                made.append((title, f))
+        except Skip as e:
+            skipped.append((title, str(e)))
+        except Exception as e:  # a plot must never hide the others
+            skipped.append((title, f"failed: {e!r}"))
+    write_index(sw, out, made, skipped)
+    log(f"wrote {os.path.join(out, 'index.html')} ({len(made)} plots, {len(skipped)} skipped)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
