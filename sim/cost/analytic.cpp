@@ -48,7 +48,8 @@ Counters analytic_counters(const std::string& method, const Json& params, const 
     c.set("buffer_pixels_allocated", buf);
     c.set("buffer_pixels_used", s);
     c.set("fullres_pixels", P);
-    c.set("filter_taps", p.number("filter_taps", 4, Range::at_least(0)));
+    // Total taps of pass 2 (bilinear inverse map: 4 per full-resolution pixel).
+    c.set("filter_taps", P * p.number("filter_taps_per_pixel", 4, Range::at_least(0)));
   } else if (method == "fvrs") {
     double f = shaded_frac_param(-1);
     if (f < 0)

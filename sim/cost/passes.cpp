@@ -185,10 +185,12 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
     add("lighting", std::move(t));
   }
   if (has_mapping_pass2(m)) {  // inverse map to the screen (pass 2)
+    // filter_taps is the frame's total of texture taps (like every counter, a total, scaled
+    // to the display like other pixel counters); without it, bilinear = 4 taps per pixel.
     double full = need_px("fullres_pixels", P);
-    double taps = c.has("filter_taps") ? c.get("filter_taps") : 4.0;  // bilinear
+    double taps = c.has("filter_taps") ? need_px("filter_taps", 0) : 4.0 * full;
     if (!c.has("filter_taps")) note("filter_taps");
-    add("pass2", {{"taps", Resource::Memory, full * taps * eyes}});
+    add("pass2", {{"taps", Resource::Memory, taps * eyes}});
   }
   const double post_px = twfr ? need_px("pixels_redrawn", S) : P;
   if (w.pipeline.ssao) add("ssao", {{"pixels", Resource::Memory, post_px * eyes}});  // TWFR skips reprojected
