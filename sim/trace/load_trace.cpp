@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "sim/core/error.h"
+#include "sim/trace/importer.h"
 #include "sim/trace/synth.h"
 #include "sim/trace/trace.h"
 
@@ -13,6 +14,33 @@ static std::string resolve(const std::string& base_dir, const std::string& f) {
   std::filesystem::path p(f);
   if (p.is_absolute() || base_dir.empty()) return f;
   return (std::filesystem::path(base_dir) / p).lexically_normal().string();
+}
+
+// Gaze outside the display FOV in an imported trace, handled like the canonical reader does.
+static void check_fov(Trace& tr, const Display& d, BadSamplePolicy pol, Params& p) {
+  std::vector<TraceSample> kept;
+  long n = 0;
+  double first_t = 0;
+  for (auto& s : tr.samples) {
+    if (!s.valid || gaze_inside_fov(d, s.gaze_dir)) {
+      kept.push_back(s);
+      continue;
+    }
+    if (n++ == 0) first_t = s.t;
+    if (pol == BadSamplePolicy::Fail)
+      p.fail("file", "gaze outside the display FOV (" + d.name + ") at t=" + std::to_string(s.t) +
+                         " s of " + tr.source + " (set on_bad_sample to skip or hold)");
+    if (pol == BadSamplePolicy::Hold && !kept.empty()) {
+      TraceSample h = s;
+      h.gaze_dir = kept.back().gaze_dir;
+      kept.push_back(h);
+    }
+  }
+  if (n > 0)
+    tr.warnings.push_back(tr.source + ": " + std::to_string(n) + " samples with gaze outside the " + d.name + " FOV " +
+                          (pol == BadSamplePolicy::Hold ? "held" : "skipped") + "; first at t=" +
+                          std::to_string(first_t) + " s");
+  tr.samples.swap(kept);
 }
 
 Trace load_trace(Params& p, const Display& display, const std::string& base_dir) {
@@ -36,7 +64,15 @@ Trace load_trace(Params& p, const Display& display, const std::string& base_dir)
     std::string f = p.string("file");
     std::string path = resolve(base_dir, f);
     if (!std::filesystem::exists(path)) p.fail("file", "trace file not found: " + path);
-    tr = read_trace_csv(path, display, opt);
+    if (p.has("map")) {
+      // A raw recording imported on the fly; its gaze is checked against the FOV here.
+      std::string map = resolve(base_dir, p.string("map"));
+      if (!std::filesystem::exists(map)) p.fail("map", "column map not found: " + map);
+      tr = import_trace(path, map, display);
+      check_fov(tr, display, opt.on_bad, p);
+    } else {
+      tr = read_trace_csv(path, display, opt);
+    }
   } else {
     Params s = p.child("synthetic");
     SynthOptions so;
@@ -61,7 +97,7 @@ Trace load_trace(Params& p, const Display& display, const std::string& base_dir)
   if (from > t_last + eps)
     p.fail("start", "start " + std::to_string(start) + " s is past the end of the trace (" +
                         std::to_string(t_last - t_first) + " s long)");
-  double to = duration > 0 ? from + duration : t_last + period;
+  double to = duration > 0 ? from + duration : INFINITY;
   if (duration > 0 && to > t_last + period + eps) {
     std::string msg = "trace " + tr.source + " covers " + std::to_string(t_last - t_first + period) +
                       " s but start+duration asks for " + std::to_string(start + duration) + " s";

@@ -236,13 +236,14 @@ Trace read_trace_csv(const std::string& path, const Display& display, const Trac
   return tr;
 }
 
+// "+ 0.0" turns -0 into 0 so files do not show "-0".
 void write_trace_csv(const std::string& path, const Trace& trace) {
   std::string out = "t,px,py,pz,qw,qx,qy,qz,gx,gy,gz,valid\n";
   char buf[512];
   for (const TraceSample& s : trace.samples) {
-    std::snprintf(buf, sizeof buf, "%.9f,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d\n", s.t, s.head_pos.x,
-                  s.head_pos.y, s.head_pos.z, s.head_rot.w, s.head_rot.x, s.head_rot.y, s.head_rot.z, s.gaze_dir.x,
-                  s.gaze_dir.y, s.gaze_dir.z, s.valid ? 1 : 0);
+    std::snprintf(buf, sizeof buf, "%.9f,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d\n", s.t + 0.0, s.head_pos.x + 0.0,
+                  s.head_pos.y + 0.0, s.head_pos.z + 0.0, s.head_rot.w + 0.0, s.head_rot.x + 0.0, s.head_rot.y + 0.0,
+                  s.head_rot.z + 0.0, s.gaze_dir.x + 0.0, s.gaze_dir.y + 0.0, s.gaze_dir.z + 0.0, s.valid ? 1 : 0);
     out += buf;
   }
   write_file_atomic(path, out);
