@@ -122,6 +122,7 @@ void TwfrMethod::render(const FrameContext& ctx, FrameOutput& out) {
     prev_t_ = ctx.t;
     samples_.assign(n, twfr::Sample{});
     prev_color_.resize(W, H, 3);
+    prev_display_ = Image();  // no TAA history across a restart
   }
 
   // ---- 1. forward reprojection (§4, §7) ----
