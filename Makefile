@@ -53,3 +53,9 @@ clean:
 # Rewrites the regression goldens from the current build (review the diff before committing).
 update-golden: build
 	$(BUILD)/test_app --gtest_filter='Golden*' --update-golden
+
+# Single-node Slurm on localhost (slurm-wlm + munge, installed by the script): a small sweep
+# as a job array, merged, compared with the local run (docs/sweeps.md "Slurm").
+.PHONY: test-slurm
+test-slurm: build
+	FOVSIM=$(CURDIR)/$(BUILD)/fovsim scripts/slurm/test_slurm.sh
