@@ -568,55 +568,150 @@ inline bool occluded_ray(RTCScene sc, const glm::vec3& o, const glm::vec3& d, fl
 
 }  // namespace
 
-// Lambert (albedo * cos * E) + Blinn-Phong (ks * (n.h)^s * cos * E) per light, hard shadows,
-// ambient * albedo, emission. Deterministic: no sampling.
+// One light's unshadowed contribution to a sample: Lambert (albedo * cos * E) + Blinn-Phong
+// (ks * (n.h)^s * cos * E). Returns 0 if the light does not reach the sample, 1 if it does
+// without a shadow test, 2 if a shadow ray (O + s L, s in [0, tfar]) decides.
+struct SurfacePoint {
+  glm::vec3 P, N, A, V, O;
+  const Material* m;
+};
+
+inline int light_term(const LightNow& l, const SurfacePoint& sp, bool shadows, float eps,
+                      glm::vec3& contrib, glm::vec3& L, float& tfar) {
+  glm::vec3 E;
+  float dist = kInf;
+  if (l.type == Light::Type::Directional) {
+    L = -l.dir;
+    E = l.radiance;
+  } else {
+    glm::vec3 d = l.pos - sp.P;
+    float r2 = glm::dot(d, d);
+    if (!(r2 > 0.f)) return 0;
+    dist = std::sqrt(r2);
+    L = d / dist;
+    E = l.radiance / r2;
+    if (l.type == Light::Type::Spot) {
+      float f = smooth01(l.cos_outer, l.cos_inner, glm::dot(-L, l.dir));
+      if (f <= 0.f) return 0;
+      E *= f;
+    }
+  }
+  const float ndl = glm::dot(sp.N, L);
+  if (ndl <= 0.f) return 0;
+  glm::vec3 brdf = sp.A;
+  if (sp.m && sp.m->specular > 0.f) {
+    glm::vec3 H = glm::normalize(L + sp.V);
+    float ndh = std::max(0.f, glm::dot(sp.N, H));
+    brdf += glm::vec3(sp.m->specular * std::pow(ndh, sp.m->shininess));
+  }
+  contrib = brdf * E * ndl;
+  if (!(shadows && l.shadows)) return 1;
+  tfar = std::isinf(dist) ? kInf : std::max(0.f, dist - 2.f * eps);
+  return 2;
+}
+
+// Ambient + emission, and the surface frame for the lights. False on a miss.
+inline bool surface(const Scene& scene, const RenderState& I, const GBuffer& g, size_t i,
+                    const glm::vec3& eye, SurfacePoint& sp, glm::vec3& base) {
+  if (!g.hit(i)) {
+    base = scene.background;
+    return false;
+  }
+  sp.P = g.position[i];
+  sp.N = g.normal[i];
+  sp.A = g.albedo[i];
+  const int mi = g.material[i];
+  sp.m = (mi >= 0 && size_t(mi) < scene.materials.size()) ? &scene.materials[size_t(mi)] : nullptr;
+  base = scene.ambient * sp.A;
+  if (sp.m) base += sp.m->emission;
+  sp.V = glm::normalize(eye - sp.P);
+  sp.O = sp.P + sp.N * (2e-4f * I.scene_scale);
+  return true;
+}
+
+// Direct lighting of one sample with single shadow rays (deterministic: no sampling).
 static glm::vec3 shade_one(const Scene& scene, const RenderState& I, bool shadows,
                            const GBuffer& g, size_t i, const glm::vec3& eye, uint64_t* shadow_rays) {
-  if (!g.hit(i)) return scene.background;
-  const glm::vec3 P = g.position[i], N = g.normal[i], A = g.albedo[i];
-  const int mi = g.material[i];
-  const Material* m = (mi >= 0 && size_t(mi) < scene.materials.size()) ? &scene.materials[size_t(mi)]
-                                                                       : nullptr;
-  glm::vec3 col = scene.ambient * A;
-  if (m) col += m->emission;
-  const glm::vec3 V = glm::normalize(eye - P);
+  SurfacePoint sp;
+  glm::vec3 col;
+  if (!surface(scene, I, g, i, eye, sp, col)) return col;
   const float eps = 2e-4f * I.scene_scale;
-  const glm::vec3 O = P + N * eps;
   for (const LightNow& l : I.lights) {
-    glm::vec3 L, E;
-    float dist = kInf;
-    if (l.type == Light::Type::Directional) {
-      L = -l.dir;
-      E = l.radiance;
-    } else {
-      glm::vec3 d = l.pos - P;
-      float r2 = glm::dot(d, d);
-      if (!(r2 > 0.f)) continue;
-      dist = std::sqrt(r2);
-      L = d / dist;
-      E = l.radiance / r2;
-      if (l.type == Light::Type::Spot) {
-        float f = smooth01(l.cos_outer, l.cos_inner, glm::dot(-L, l.dir));
-        if (f <= 0.f) continue;
-        E *= f;
-      }
-    }
-    const float ndl = glm::dot(N, L);
-    if (ndl <= 0.f) continue;
-    if (shadows && l.shadows) {
+    glm::vec3 contrib, L;
+    float tfar = kInf;
+    int k = light_term(l, sp, shadows, eps, contrib, L, tfar);
+    if (k == 0) continue;
+    if (k == 2) {
       if (shadow_rays) ++*shadow_rays;
-      float tfar = std::isinf(dist) ? kInf : std::max(0.f, dist - 2.f * eps);
-      if (occluded_ray(I.top, O, L, 0.f, tfar)) continue;
+      if (occluded_ray(I.top, sp.O, L, 0.f, tfar)) continue;
     }
-    glm::vec3 brdf = A;
-    if (m && m->specular > 0.f) {
-      glm::vec3 H = glm::normalize(L + V);
-      float ndh = std::max(0.f, glm::dot(N, H));
-      brdf += glm::vec3(m->specular * std::pow(ndh, m->shininess));
-    }
-    col += brdf * E * ndl;
+    col += contrib;
   }
   return col;
+}
+
+// The same for up to 16 samples at once, with one rtcOccluded16 packet per light (shadow
+// rays from neighbouring samples towards one light are coherent). Accumulates in the same
+// order as shade_one, so both give the same bits.
+static void shade_block(const Scene& scene, const RenderState& I, bool shadows, const GBuffer& g,
+                        const size_t* idx, int n, const glm::vec3& eye, Image& out,
+                        uint64_t& shadow_rays, std::vector<glm::vec3>& contrib,
+                        std::vector<uint8_t>& state) {
+  const size_t nl = I.lights.size();
+  contrib.resize(16 * nl);
+  state.resize(16 * nl);
+  SurfacePoint sp[16];
+  glm::vec3 col[16];
+  bool hit[16];
+  const float eps = 2e-4f * I.scene_scale;
+  for (int k = 0; k < n; ++k) hit[k] = surface(scene, I, g, idx[k], eye, sp[k], col[k]);
+  alignas(64) RTCRay16 ray;
+  alignas(64) int valid[16];
+  for (size_t li = 0; li < nl; ++li) {
+    const LightNow& l = I.lights[li];
+    int tests = 0;
+    for (int k = 0; k < 16; ++k) {
+      uint8_t st = 0;
+      glm::vec3 L(0.f, 1.f, 0.f);
+      float tfar = kInf;
+      if (k < n && hit[k]) st = uint8_t(light_term(l, sp[k], shadows, eps, contrib[size_t(k) * nl + li], L, tfar));
+      state[size_t(k) * nl + li] = st;
+      // Inactive lanes get a harmless ray too (Debian's Embree asserts on all lanes' fields).
+      const glm::vec3 o = (k < n && hit[k]) ? sp[k].O : glm::vec3(0.f);
+      ray.org_x[k] = o.x;
+      ray.org_y[k] = o.y;
+      ray.org_z[k] = o.z;
+      ray.dir_x[k] = L.x;
+      ray.dir_y[k] = L.y;
+      ray.dir_z[k] = L.z;
+      ray.tnear[k] = 0.f;
+      ray.tfar[k] = st == 2 ? tfar : kInf;
+      ray.time[k] = 0.f;
+      ray.mask[k] = 0xffffffffu;
+      ray.id[k] = unsigned(k);
+      ray.flags[k] = 0;
+      valid[k] = st == 2 ? -1 : 0;
+      tests += st == 2;
+    }
+    if (tests == 0) continue;
+    shadow_rays += uint64_t(tests);
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    rtcOccluded16(valid, I.top, &ctx, &ray);
+    for (int k = 0; k < n; ++k)
+      if (state[size_t(k) * nl + li] == 2 && ray.tfar[k] < 0.f) state[size_t(k) * nl + li] = 0;
+  }
+  for (int k = 0; k < n; ++k) {
+    glm::vec3 c = col[k];
+    if (hit[k])
+      for (size_t li = 0; li < nl; ++li)
+        if (state[size_t(k) * nl + li]) c += contrib[size_t(k) * nl + li];
+    float* o = &out.data[idx[k] * 3];
+    o[0] = c.x;
+    o[1] = c.y;
+    o[2] = c.z;
+  }
 }
 
 glm::vec3 Renderer::shade_sample(const GBuffer& g, size_t i, const glm::vec3& eye) const {
@@ -640,17 +735,22 @@ void Renderer::shade(const GBuffer& g, const glm::dvec3& eye_d, Image& out, cons
   tbb::parallel_for(
       tbb::blocked_range<size_t>(0, nb, 1),
       [&](const tbb::blocked_range<size_t>& r) {
+        std::vector<glm::vec3> contrib;
+        std::vector<uint8_t> state;
+        size_t idx[16];
         for (size_t b = r.begin(); b != r.end(); ++b) {
           uint64_t sr = 0, ss = 0;
+          int k = 0;
           for (size_t i = b * B, e = std::min(n, i + B); i < e; ++i) {
             if (mask && !mask[i]) continue;
-            glm::vec3 col = shade_one(scene_, *impl_, settings_.shadows, g, i, eye, &sr);
-            float* o = &out.data[i * 3];
-            o[0] = col.x;
-            o[1] = col.y;
-            o[2] = col.z;
+            idx[k++] = i;
             ++ss;
+            if (k == 16) {
+              shade_block(scene_, *impl_, settings_.shadows, g, idx, k, eye, out, sr, contrib, state);
+              k = 0;
+            }
           }
+          if (k) shade_block(scene_, *impl_, settings_.shadows, g, idx, k, eye, out, sr, contrib, state);
           shadow[b] = sr;
           shaded[b] = ss;
         }

@@ -182,6 +182,24 @@ TEST(Render, NormalsFaceViewerAndTracePointsMatch) {
   }
 }
 
+TEST(Render, ShadeMatchesShadeSample) {
+  // shade() traces shadow rays in packets; shade_sample() one by one: same image.
+  Scene s = atrium_small();
+  Renderer r(s, RenderSettings{});
+  Camera cam = cam_at(small_display(64, 48, 100, 90), glm::dvec3(s.default_eye),
+                      glm::angleAxis(-0.3, glm::dvec3(0, 1, 0)));
+  GBuffer g;
+  Image img;
+  r.trace_gbuffer(cam, kShadingChannels, g);
+  r.shade(g, cam.position, img);
+  size_t differ = 0;
+  for (size_t i = 0; i < g.size(); ++i) {
+    glm::vec3 c = r.shade_sample(g, i, glm::vec3(cam.position));
+    differ += c.x != img.data[i * 3] || c.y != img.data[i * 3 + 1] || c.z != img.data[i * 3 + 2];
+  }
+  EXPECT_EQ(differ, 0u);
+}
+
 TEST(Render, LambertPlaneUnderDirectionalLight) {
   const glm::vec3 albedo(0.5f, 0.25f, 0.125f);
   Scene s = plane_scene(2.f, albedo);
