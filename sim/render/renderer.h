@@ -38,11 +38,15 @@ class Renderer {
 
   const Scene& scene() const { return scene_; }
   // Moves dynamic objects/lights to time t and recommits the BVH (no-op for static scenes).
+  // The transforms before this call become the "previous" ones used by kMotion.
   void set_time(double t);
   double time() const { return time_; }
 
   // One primary ray per pixel centre of cam (W x H). Fills `channels` (| kDepth).
-  // `prev` (optional) is the previous frame's camera, for kMotion.
+  // `prev` (optional) is the previous frame's camera, for kMotion: motion = this pixel minus
+  // where the same surface point (moved back with its object's previous transform) projected
+  // in `prev`; 0 on misses, without `prev`, or when the point was behind the previous eye.
+  // Counters: primary_rays.
   void trace_gbuffer(const Camera& cam, uint32_t channels, GBuffer& out, Counters* c = nullptr,
                      const Camera* prev = nullptr) const;
   // Primary rays through arbitrary screen points (pixels); out is resized to (n x 1).
@@ -51,7 +55,7 @@ class Renderer {
   // Direct lighting of every sample of g (which must have kShadingChannels); misses get the
   // background. mask (size g.size(), optional): shade only where mask[i] != 0, leave others.
   // `out` is resized to g.width x g.height x 3 if its size differs. Linear RGB.
-  // Counters: shaded_samples, shadow_rays.
+  // Counters: shaded_samples (samples written, misses included), shadow_rays.
   void shade(const GBuffer& g, const glm::dvec3& eye, Image& out, const uint8_t* mask = nullptr,
              Counters* c = nullptr) const;
   // Shade a single sample (for methods that need per-sample control; no allocation).
