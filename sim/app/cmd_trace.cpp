@@ -73,7 +73,7 @@ void register_trace(CLI::App& app, Action& action) {
       std::printf("imported %s -> %s\n", a->in.c_str(), a->out.c_str());
       std::printf("rows               %ld read, %ld skipped, %ld flagged invalid\n", rep.data_rows, rep.skipped_rows,
                   rep.invalid_rows);
-      if (rep.time_offset_s != 0) std::printf("time rebased by    %.9g s\n", rep.time_offset_s);
+      if (rep.time_offset_s != 0) std::printf("time rebased by    %.6f s\n", rep.time_offset_s);
       print_summary(tr, d);
       return 0;
     };

@@ -9,7 +9,8 @@
 //   head_position  {"columns": [x,y,z], "unit": m|cm|mm} | {"constant": [x,y,z]}   (required)
 //   head_orientation {"type": "quaternion", "columns": [4], "order": "wxyz"|"xyzw"} |
 //                  {"type": "euler", "columns": [about x, about y, about z], "order": "ZXY",
-//                   "sequence": "extrinsic"|"intrinsic", "unit": "deg"|"rad"} | {"constant": [w,x,y,z]};
+//                   "sequence": "extrinsic"|"intrinsic", "unit": "deg"|"rad", "signs": [1,1,1]} |
+//                  {"constant": [w,x,y,z]};
 //                  optional "inverse": true when the source stores head-from-world
 //   gaze           {"type": "direction", "space": "head"|"world", "columns": [3]} |
 //                  {"type": "direction", ..., "left": [3], "right": [3], "combine": "mean"|"left"|"right"} |
@@ -56,6 +57,7 @@ struct Map {
   std::vector<ColRef> rot;
   bool xyzw = false, intrinsic = false, inverse = false;
   std::string euler_order;
+  glm::dvec3 euler_signs{1.0};
   double angle_scale = 1;
   glm::dquat rot_value{1, 0, 0, 0};
   enum { DirHead, DirWorld, Screen, Point } gaze_kind = DirHead;
@@ -216,6 +218,12 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
       if (!okord) ho.fail("order", "expected three of X, Y, Z such as \"ZXY\" (Unity) or \"ZYX\"");
       m.intrinsic = ho.string("sequence", std::vector<std::string>{"extrinsic", "intrinsic"}) == "intrinsic";
       m.angle_scale = ho.string("unit", std::vector<std::string>{"deg", "rad"}) == "deg" ? kPi / 180 : 1.0;
+      std::vector<double> sg = ho.numbers("signs", {1, 1, 1});
+      if (sg.size() != 3) ho.fail("signs", "expected 3 numbers, each 1 or -1");
+      for (int i = 0; i < 3; ++i) {
+        if (sg[size_t(i)] != 1 && sg[size_t(i)] != -1) ho.fail("signs", "expected 3 numbers, each 1 or -1");
+        m.euler_signs[i] = sg[size_t(i)];
+      }
     }
   }
 
@@ -347,7 +355,7 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
       }
       if (!bad) s.head_rot = m.axes.rot(glm::mat3_cast(q / n));
     } else {
-      glm::dvec3 ang = vec(m.rot) * m.angle_scale;
+      glm::dvec3 ang = vec(m.rot) * m.angle_scale * m.euler_signs;
       if (!bad) s.head_rot = m.axes.rot(euler_matrix(ang, m.euler_order, m.intrinsic));
     }
     if (m.inverse) s.head_rot = glm::conjugate(s.head_rot);

@@ -35,7 +35,9 @@ struct TraceReadOptions {
 };
 
 // Reads the canonical CSV. Errors name file:line:column. Gaze given as a normalized screen
-// point (columns gaze_u, gaze_v) is converted with `display`.
+// point (columns gaze_u, gaze_v) is converted with `display`. Rows with valid=0 may carry no
+// (or any) gaze: the last valid gaze is used. Problems handled by skip/hold are listed in
+// Trace::warnings (traces/README.md).
 Trace read_trace_csv(const std::string& path, const Display& display, const TraceReadOptions& opt = {});
 void write_trace_csv(const std::string& path, const Trace& trace);
 

@@ -191,3 +191,14 @@ TEST(Import, PicoNeo3ProRecording) {
   glm::dvec3 w = tr.samples[0].head_rot * tr.samples[0].gaze_dir;
   EXPECT_LT(std::fabs(rad2deg(std::asin(w.y))), 10.0);
 }
+
+TEST(Import, EulerSignsFlipAnAxis) {
+  Json j = Json::parse(kMap);
+  j["head_orientation"]["signs"] = Json::array({1, -1, 1});
+  std::string map = write_tmp("signs.json", j.dump()), rec = write_tmp("rec.tsv", kRec);
+  Trace tr = import_trace(rec, map, vive());
+  expect_vec(tr.samples[0].head_rot * glm::dvec3(0, 0, -1), {-1, 0, 0});  // yaw 90 now turns left
+  j["head_orientation"]["signs"] = Json::array({1, 2, 1});
+  std::string bad = write_tmp("bad.json", j.dump());
+  expect_error([&] { import_trace(rec, bad, vive()); }, {"bad.json: head_orientation.signs", "1 or -1"});
+}
