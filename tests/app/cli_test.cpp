@@ -14,7 +14,7 @@ std::string base_config(const std::string& dir) {
   "name": "cli_test",
   "display": "htc_vive_pro_eye",
   "render": {"scale": 0.05},
-  "scene": {"type": "atrium", "complexity": 0},
+  "scene": {"type": "atrium", "complexity": 1},
   "trace": {"file": ")" + std::string(FOVSIM_SOURCE_DIR) + R"(/tests/golden/golden_trace.csv"},
   "frames": {"count": 2},
   "methods": [{"method": "full"}],
@@ -62,13 +62,13 @@ TEST(Cli, BadInputIsOneLineExit2) {
     return s.replace(p, from.size(), to);
   };
   std::vector<Case> cases = {
-      {"malformed", replace("\"frames\": {\"count\": 2},", "\"frames\": {\"count\": 2,,"), "c.json:8:"},
+      {"malformed", replace("\"frames\": {\"count\": 2},", "\"frames\": {\"count\": 2,,"), "c.json:7:25: malformed JSON"},
       {"unknown key", replace("\"render\": {\"scale\": 0.05}", "\"render\": {\"scale\": 0.05, \"scael\": 1}"),
        "render.scael: unknown key"},
       {"wrong type", replace("{\"count\": 2}", "{\"count\": \"two\"}"), "frames.count: expected an integer"},
       {"out of range", replace("\"scale\": 0.05", "\"scale\": -1"), "render.scale: value -1 is out of range"},
       {"unknown method", replace("\"method\": \"full\"", "\"method\": \"fool\""), "unknown method \"fool\""},
-      {"missing scene file", replace("{\"type\": \"atrium\", \"complexity\": 0}", "{\"type\": \"file\", \"path\": \"/nonexistent/x.gltf\"}"),
+      {"missing scene file", replace("{\"type\": \"atrium\", \"complexity\": 1}", "{\"type\": \"file\", \"path\": \"/nonexistent/x.gltf\"}"),
        "/nonexistent/x.gltf"},
       {"unreadable trace", replace("/tests/golden/golden_trace.csv", "/tests/golden/no_such_trace.csv"), "no_such_trace.csv"},
       {"override type", good, "methods[0].label"},
