@@ -38,9 +38,10 @@
 // | lp_sigma | number | 2 | [1, 32] | §6 | log-polar buffer = (W/sigma) x (H/sigma) |
 // | interleave | int | 1 | [1, 2] | §6 | n x n interleaved VPL groups (+ 3x3 Gaussian when 2) |
 // | seed | int | 1 | [0, 2e9] | | Halton shuffle, BLSO positions, culling |
-#include <tbb/parallel_for.h>
+#include "sim/foveation/flc.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <deque>
 #include <memory>
@@ -83,6 +84,10 @@ class GroundTruthCache {
       if (e.first == key) return e.second;
     return nullptr;
   }
+  void clear() {
+    std::lock_guard<std::mutex> lk(mu_);
+    entries_.clear();
+  }
   void put(const std::string& key, std::shared_ptr<const Image> img) {
     std::lock_guard<std::mutex> lk(mu_);
     for (auto& e : entries_)
@@ -98,6 +103,11 @@ class GroundTruthCache {
 GroundTruthCache& gt_cache() {
   static GroundTruthCache c;
   return c;
+}
+
+using Clock = std::chrono::steady_clock;
+double ms_between(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
 }
 
 double rmse_region(const Image& a, const Image& b, const glm::dvec2& gaze, double radius, bool inside) {
@@ -141,6 +151,8 @@ class FlcMethod final : public FoveationMethod {
     const int W = g.width, H = g.height;
     Counters& c = out.counters;
     const uint64_t fseed = splitmix64(s_.seed ^ splitmix64(uint64_t(ctx.frame) + 0x51ull));
+    times_ = FlcStageTimes();
+    auto t0 = Clock::now();
 
     // S-1, S-2: RSMs and VPLs.
     const AABB bounds = scene_bounds(r);
@@ -153,6 +165,8 @@ class FlcMethod final : public FoveationMethod {
       vpls_from_rsm(rsms.back(), vpls);
     }
     c.set("vpls_total", double(vpls.size()));
+    auto t1 = Clock::now();
+    times_.rsm = ms_between(t0, t1);
     VplShading sh;
     sh.min_dist = float(s_.min_dist) * diag;
     sh.visibility = s_.shading_visibility;
@@ -174,6 +188,8 @@ class FlcMethod final : public FoveationMethod {
       gt_ind = img;
       gt_cache().put(key.str(), gt_ind);
     }
+    t0 = Clock::now();
+    times_.ground_truth = ms_between(t1, t0);
 
     // §4.1: importance map from the display-encoded direct frame and the indirect history.
     ToneMap tm;
@@ -186,6 +202,8 @@ class FlcMethod final : public FoveationMethod {
     flc_importance_map(g, color, hist_ok ? &history_ : nullptr, ctx.gaze_px, tan_diag, ctx.eccentricity, s_.imp,
                        maps, ctx.want_debug);
 
+    t1 = Clock::now();
+    times_.importance = ms_between(t0, t1);
     // §4.2, Alg. 1: N_s chains of length M over shuffled Halton points.
     const std::vector<glm::vec2> halton = shuffled_halton(size_t(s_.samples) * size_t(s_.chain_length), fseed);
     const std::vector<ImportanceSample> samples = flc_select_samples(maps.importance, halton, s_.samples, s_.chain_length);
@@ -209,6 +227,8 @@ class FlcMethod final : public FoveationMethod {
       pts.push_back(p);
     }
 
+    t0 = Clock::now();
+    times_.sampling = ms_between(t1, t0);
     // §5: contributions (eq. 14) and stochastic culling.
     ContributionSettings cs;
     cs.visibility = s_.visibility;
@@ -218,9 +238,13 @@ class FlcMethod final : public FoveationMethod {
     cs.ray_offset = 1e-4f * diag;
     cs.seed = fseed;
     const std::vector<double> contrib = flc_contributions(vpls, rsms, pts, cs, &r, &c);
+    t1 = Clock::now();
+    times_.contribution = ms_between(t0, t1);
     const CullResult kept = flc_cull(contrib, s_.vpl_budget, s_.culling_floor, fseed ^ 0xc011ull);
     c.set("vpls_kept", double(kept.kept.size()));
 
+    t0 = Clock::now();
+    times_.culling = ms_between(t1, t0);
     // S-7: shading with the kept VPLs.
     const int n = s_.interleave;
     const std::vector<VplSoA> groups = flc_interleave_groups(vpls, kept.kept, kept.weight, n);
@@ -230,6 +254,8 @@ class FlcMethod final : public FoveationMethod {
     else
       flc_shade_cartesian(g, groups, n, sh, &r, indirect, &c);
 
+    t1 = Clock::now();
+    times_.shading = ms_between(t0, t1);
     const Image& direct = *ctx.reference;
     out.image.resize(W, H, 3);
     Image gt(W, H, 3);
@@ -265,6 +291,7 @@ class FlcMethod final : public FoveationMethod {
     c.set("direct_shaded_samples", px);
     c.set("lights", double(scene.lights.size()));
     out.reference = std::move(gt);
+    times_.compose = ms_between(t1, Clock::now());
     if (ctx.want_debug) {
       out.debug.emplace_back("importance", std::move(maps.importance));
       out.debug.emplace_back("acuity", std::move(maps.acuity));
@@ -279,12 +306,21 @@ class FlcMethod final : public FoveationMethod {
     }
   }
 
+  const FlcStageTimes& times() const { return times_; }
+
  private:
   FlcSettings s_;
   Image history_;  // eq. 8 b(p), 1 channel
+  FlcStageTimes times_;
 };
 
 }  // namespace
+
+const FlcStageTimes* flc_stage_times(const FoveationMethod& m) {
+  const auto* f = dynamic_cast<const FlcMethod*>(&m);
+  return f ? &f->times() : nullptr;
+}
+void flc_clear_ground_truth_cache() { gt_cache().clear(); }
 
 std::unique_ptr<FoveationMethod> create_flc(Params& p) {
   FlcSettings s;

@@ -1,0 +1,179 @@
+// FLC end to end on a small Cornell box (seed 001 §5-§7): budget >= #VPLs equals the ground
+// truth, foveal error falls with the budget (Fig. 7), tau > 1 (Table 1), extremes stay
+// finite, determinism across thread counts, parameter validation.
+#include <gtest/gtest.h>
+#include <tbb/task_arena.h>
+
+#include <cmath>
+#include <memory>
+
+#include "sim/core/error.h"
+#include "sim/foveation/factory.h"
+#include "sim/foveation/frame.h"
+
+using namespace fovsim;
+
+namespace {
+
+struct Fixture {
+  Scene scene;
+  std::unique_ptr<Renderer> renderer;
+  Display display;
+  FrameData fd;
+
+  explicit Fixture(double light_intensity = 1.6, int size = 48) {
+    Params sp(Json{{"type", "cornell"}, {"light_intensity", light_intensity}});
+    scene = make_scene(sp, "");
+    renderer = std::make_unique<Renderer>(scene, RenderSettings{});
+    display.width = size;
+    display.height = size;
+    display.fov_h_deg = 60;
+    display.fov_v_deg = 60;
+    TraceSample s;
+    s.head_pos = glm::dvec3(0, 1, 2.2);
+    // Gaze on the red (left) wall.
+    s.gaze_dir = glm::normalize(glm::dvec3(-0.35, 0.0, -1.0));
+    renderer->set_time(0);
+    prepare_frame(*renderer, display, s, 0, kShadingChannels, nullptr, fd);
+  }
+  FrameOutput run(const Json& params, int frame = 0) {
+    Params p(params);
+    auto m = make_method("flc", p);
+    FrameContext ctx = fd.context(scene, *renderer, display, false);
+    ctx.frame = frame;
+    FrameOutput out;
+    m->render(ctx, out);
+    return out;
+  }
+};
+
+double max_abs_diff(const Image& a, const Image& b) {
+  double m = 0;
+  for (size_t i = 0; i < a.data.size(); ++i) m = std::max(m, double(std::fabs(a.data[i] - b.data[i])));
+  return m;
+}
+
+bool all_finite(const Image& a) {
+  for (float v : a.data)
+    if (!std::isfinite(v)) return false;
+  return true;
+}
+
+Fixture& cornell() {
+  static Fixture f;
+  return f;
+}
+
+}  // namespace
+
+TEST(FlcMethod, GazeLandsOnTheRedWall) {
+  Fixture& f = cornell();
+  const glm::dvec2 g = f.fd.gaze_px;
+  ASSERT_TRUE(g.x >= 0 && g.y >= 0 && g.x < f.display.width && g.y < f.display.height);
+  const size_t i = size_t(g.y) * size_t(f.display.width) + size_t(g.x);
+  ASSERT_TRUE(f.fd.gbuffer.hit(i));
+  EXPECT_NEAR(f.fd.gbuffer.position[i].x, -1.f, 1e-3f);
+}
+
+TEST(FlcMethod, BudgetCoveringAllVplsEqualsGroundTruth) {
+  Fixture& f = cornell();
+  FrameOutput o = f.run(Json{{"rsm_size", 16}, {"vpl_budget", 100000}});
+  ASSERT_TRUE(o.reference.has_value());
+  EXPECT_GT(o.counters.get("vpls_total"), 100.0);
+  EXPECT_EQ(o.counters.get("vpls_kept"), o.counters.get("vpls_total"));
+  EXPECT_EQ(max_abs_diff(o.image, *o.reference), 0.0);
+  // Indirect light is really there: the ground truth is brighter than the direct reference.
+  double ind = 0;
+  for (size_t i = 0; i < o.image.data.size(); ++i) ind += o.reference->data[i] - f.fd.reference.data[i];
+  EXPECT_GT(ind / double(o.image.data.size()), 1e-3);
+  EXPECT_NEAR(o.counters.get("flc_tau"), 1.0, 1e-9);
+}
+
+TEST(FlcMethod, FovealErrorFallsWithBudget) {
+  Fixture& f = cornell();
+  std::vector<double> rmse;
+  for (int budget : {16, 64, 256}) {
+    double acc = 0;
+    for (int seed = 1; seed <= 3; ++seed)
+      acc += f.run(Json{{"rsm_size", 24}, {"vpl_budget", budget}, {"samples", 128}, {"seed", seed}})
+                 .counters.get("flc_rmse_fovea");
+    rmse.push_back(acc / 3);
+  }
+  EXPECT_GT(rmse[0], rmse[1]);
+  EXPECT_GT(rmse[1], rmse[2]);
+  EXPECT_GT(rmse[2], 0.0);
+}
+
+TEST(FlcMethod, TauAboveOneWithGazeOnAWall) {
+  Fixture& f = cornell();
+  double tau = 0;
+  for (int seed = 1; seed <= 3; ++seed) {
+    FrameOutput o = f.run(Json{{"rsm_size", 24}, {"vpl_budget", 64}, {"samples", 128}, {"seed", seed},
+                               {"w_periphery", 0.25}});
+    tau += o.counters.get("flc_tau") / 3;
+  }
+  EXPECT_GT(tau, 1.0);
+}
+
+TEST(FlcMethod, ExtremesStayFinite) {
+  Fixture& f = cornell();
+  // Budget 0: only direct light.
+  FrameOutput z = f.run(Json{{"rsm_size", 8}, {"vpl_budget", 0}});
+  EXPECT_EQ(z.counters.get("vpls_kept"), 0.0);
+  EXPECT_EQ(max_abs_diff(z.image, f.fd.reference), 0.0);
+  EXPECT_TRUE(all_finite(*z.reference));
+  // Zero importance map (delta = 0 after a first frame -> p_b = 0), tiny clamp, every mode.
+  for (const char* vis : {"none", "blso", "exact"}) {
+    Params p(Json{{"rsm_size", 8}, {"vpl_budget", 10}, {"delta", 0.0}, {"visibility", vis}, {"min_dist", 1e-9}});
+    auto m = make_method("flc", p);
+    FrameContext ctx = f.fd.context(f.scene, *f.renderer, f.display, true);
+    for (int k = 0; k < 2; ++k) {
+      FrameOutput o;
+      ctx.frame = k;
+      m->render(ctx, o);
+      EXPECT_TRUE(all_finite(o.image)) << vis;
+      EXPECT_LE(o.counters.get("vpls_kept"), 10.0);
+      EXPECT_TRUE(std::isfinite(o.counters.get("flc_tau")));
+      EXPECT_FALSE(o.debug.empty());
+    }
+  }
+  // Log-polar with interleaving: fewer shaded samples, finite.
+  FrameOutput lp = f.run(Json{{"rsm_size", 8}, {"log_polar", true}, {"lp_sigma", 2.0}, {"interleave", 2}});
+  EXPECT_TRUE(all_finite(lp.image));
+  EXPECT_LT(lp.counters.get("shaded_samples"), 0.5 * f.display.width * f.display.height);
+}
+
+TEST(FlcMethod, NoVplsWhenTheLightIsOff) {
+  Fixture dark(0.0, 16);
+  FrameOutput o = dark.run(Json{{"rsm_size", 8}});
+  EXPECT_EQ(o.counters.get("vpls_total"), 0.0);
+  EXPECT_EQ(o.counters.get("vpls_kept"), 0.0);
+  EXPECT_TRUE(all_finite(o.image));
+  EXPECT_EQ(max_abs_diff(o.image, *o.reference), 0.0);
+}
+
+TEST(FlcMethod, DeterministicAcrossThreadCounts) {
+  Fixture& f = cornell();
+  const Json p{{"rsm_size", 16}, {"vpl_budget", 50}, {"samples", 64}, {"seed", 9}};
+  FrameOutput a, b;
+  tbb::task_arena(1).execute([&] { a = f.run(p); });
+  tbb::task_arena(2).execute([&] { b = f.run(p); });
+  EXPECT_EQ(max_abs_diff(a.image, b.image), 0.0);
+  EXPECT_EQ(a.counters.get("vpls_kept"), b.counters.get("vpls_kept"));
+  FrameOutput c = f.run(Json{{"rsm_size", 16}, {"vpl_budget", 50}, {"samples", 64}, {"seed", 10}});
+  EXPECT_GT(max_abs_diff(a.image, c.image), 0.0);
+}
+
+TEST(FlcMethod, ParameterErrorsNameTheKey) {
+  Params p1(Json{{"vpl_budget", -1}}, "cfg.json", "methods[0]");
+  try {
+    make_method("flc", p1);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("vpl_budget"), std::string::npos) << e.what();
+  }
+  Params p2(Json{{"visibility", "raytraced"}}, "cfg.json", "methods[0]");
+  EXPECT_THROW(make_method("flc", p2), Error);
+  Params p3(Json{{"vpl_budgte", 10}}, "cfg.json", "methods[0]");
+  EXPECT_THROW(make_method("flc", p3), Error);
+}
