@@ -334,6 +334,8 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
       cell->parse(root, sh.models, opt.print_summary);
     }
     root.finish();  // any key nobody read is a typo: fail before computing anything
+    // FPSNR clips at the real display's Nyquist frequency (docs/metrics.md).
+    cell->mcfg.ppd_scale = double(sh.display.width) / double(sh.sim_display.width);
     Json resolved = ci == 0 ? root.resolved() : sh.resolved;
     if (ci == 0) {
       sh.resolved = resolved;

@@ -73,16 +73,20 @@ ResultTable summarize(const ResultTable& frames, double budget_ms) {
     s.set("frames", double(rows.size()));
     for (auto& c : cols) {
       if (c == "frame" || c == "t" || c == "gaze_x" || c == "gaze_y") continue;
+      // Mean of the finite values; a column that is +inf on every frame (PSNR of an exact
+      // match) stays inf rather than becoming nan.
       double sum = 0;
-      size_t n = 0;
+      size_t n = 0, pos_inf = 0;
       for (auto* r : rows) {
         double v = r->get(c, NAN);
         if (std::isfinite(v)) {
           sum += v;
           ++n;
+        } else if (v > 0 && std::isinf(v)) {
+          ++pos_inf;
         }
       }
-      s.set(c, n ? sum / double(n) : NAN);
+      s.set(c, n ? sum / double(n) : (pos_inf ? INFINITY : NAN));
     }
     std::vector<double> tot;
     for (auto* r : rows) tot.push_back(r->get("est_ms_total", NAN));

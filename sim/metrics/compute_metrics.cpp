@@ -33,6 +33,7 @@ Counters compute_metrics(const MetricsConfig& cfg, const Image& test, const Imag
     req.band_edges = &cfg.band_edges_deg;
     req.ecc = need_ecc ? &ecc_deg : nullptr;
     req.cam = &cam;
+    req.ppd_scale = cfg.ppd_scale;
     s = detail::error_sums(test, ref, req);
   }
   if (cfg.psnr) out.set("psnr", detail::psnr_from_mse(s.sq / s.n));

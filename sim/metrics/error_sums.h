@@ -17,6 +17,7 @@ struct ErrorSumsRequest {
   const std::vector<double>* band_edges = nullptr;  // strictly increasing
   const std::vector<float>* ecc = nullptr;
   const Camera* cam = nullptr;
+  double ppd_scale = 1.0;  // ppd of the real display / ppd of `cam` (1 / render.scale)
 };
 
 struct ErrorSums {

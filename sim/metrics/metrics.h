@@ -40,6 +40,9 @@ struct MetricsConfig {
   bool psnr = true, ssim = true, fpsnr = true, regions = true, temporal = true;
   double fovea_deg = 5.0;                                  // fovea radius for rmse_fovea
   std::vector<double> band_edges_deg{0, 5, 10, 20, 30, 60};  // rmse_ecc_<a>_<b> columns
+  // Not a config key: set by the runner to 1 / render.scale so FPSNR's Nyquist clip is that
+  // of the real display even when the simulation runs at a reduced resolution.
+  double ppd_scale = 1.0;
   static MetricsConfig from_params(Params& p);
 };
 
