@@ -45,6 +45,51 @@ std::vector<HyperLayer> hyperbolic_layers(const MappingSpec& s, const MappingVie
   return out;
 }
 
+void hyper_effective_weights(const MappingSpec& s, const std::vector<HyperLayer>& layers, double px,
+                             double py, double e, float eff[3]) {
+  float rem = 1.f;
+  for (int i = 0; i < 3; ++i) {
+    const HyperLayer& L = layers[size_t(i)];
+    float w = 0.f;
+    if (L.w > 0 && px >= L.x0 && px < L.x1 && py >= L.y0 && py < L.y1)
+      w = i == 2 ? 1.f : hyper_weight(e, L.ecc_limit, std::min(s.blend_deg, L.ecc_limit));
+    if (i == 2) w = 1.f;  // the outer layer covers the screen
+    eff[i] = rem * w;
+    rem *= 1.f - w;
+  }
+}
+
+double hyperbolic_needed(const MappingSpec& s, const MappingView& v, const std::vector<HyperLayer>& layers,
+                         std::vector<uint8_t>* masks) {
+  std::vector<uint8_t> local[3];
+  std::vector<uint8_t>* m = masks ? masks : local;
+  for (size_t i = 0; i < 3; ++i) m[i].assign(size_t(std::max(layers[i].w, 0)) * size_t(std::max(layers[i].h, 0)), 0);
+  // Serial: footprints of neighbouring pixels overlap (no write races); ~W*H cheap steps.
+  for (int y = 0; y < v.H; ++y)
+    for (int x = 0; x < v.W; ++x) {
+      const double px = x + 0.5, py = y + 0.5;
+      const double e = v.ecc ? double((*v.ecc)[size_t(y) * size_t(v.W) + size_t(x)]) : v.ecc_deg(px, py);
+      float eff[3];
+      hyper_effective_weights(s, layers, px, py, e, eff);
+      for (size_t i = 0; i < 3; ++i) {
+        const HyperLayer& L = layers[i];
+        if (eff[i] <= 0.f || L.w <= 0) continue;
+        // The bilinear taps of mapping.cpp's bilinear() at ((px - x0)/s, (py - y0)/s).
+        const double fx = (px - L.x0) / L.s - 0.5, fy = (py - L.y0) / L.s - 0.5;
+        const int x0 = int(std::floor(fx)), y0 = int(std::floor(fy));
+        for (int dy = 0; dy < 2; ++dy)
+          for (int dx = 0; dx < 2; ++dx) {
+            const int lx = std::clamp(x0 + dx, 0, L.w - 1), ly = std::clamp(y0 + dy, 0, L.h - 1);
+            m[i][size_t(ly) * size_t(L.w) + size_t(lx)] = 1;
+          }
+      }
+    }
+  double n = 0;
+  for (size_t i = 0; i < 3; ++i)
+    for (uint8_t b : m[i]) n += b;
+  return n;
+}
+
 double linear_probability(const MappingSpec& s, double e) {
   const double r1 = s.r1_eff(), r2 = s.r2_eff();
   if (!(e > r1)) return 1.0;
@@ -112,9 +157,7 @@ double expected_shaded_samples(const MappingSpec& s, const MappingView& v) {
   if (s.method == "kfr") return kfr_count(s, v);
   if (s.method == "rmfr") return double(reduced_size(v.W, s.sigma)) * reduced_size(v.H, s.sigma);
   if (s.method == "hyperbolic") {
-    double n = 0;
-    for (auto& L : hyperbolic_layers(s, v)) n += double(L.w) * L.h;
-    return n;
+    return hyperbolic_needed(s, v, hyperbolic_layers(s, v), nullptr);
   }
   if (s.method == "linear") {
     std::vector<double> rows(size_t(v.H), 0.0);

@@ -33,6 +33,24 @@ struct HyperLayer {
   double ecc_limit = 1e9;                 // eccentricity (deg) up to which the layer is used
 };
 std::vector<HyperLayer> hyperbolic_layers(const MappingSpec& s, const MappingView& v);
+// Blend weight of an inner layer at eccentricity e: 1 inside limit - band, smoothstep to 0 at
+// the limit (Guenter's blend between layers).
+inline float hyper_weight(double e, double limit, double band) {
+  if (e >= limit) return 0.f;
+  if (band <= 0 || e <= limit - band) return 1.f;
+  const double t = (limit - e) / band;
+  return float(t * t * (3 - 2 * t));
+}
+// Effective weights (inner, middle, outer) of the three layers at screen pixel centre (px, py)
+// with eccentricity e; they sum to 1.
+void hyper_effective_weights(const MappingSpec& s, const std::vector<HyperLayer>& layers, double px,
+                             double py, double e, float eff[3]);
+// Marks the layer pixels the composite reads (bilinear footprints of pixels with a non-zero
+// effective weight): only those are shaded, like a stencil-masked layer pass, so hidden parts
+// of coarser layers cost nothing. masks (optional) receives one w*h mask per layer.
+// Returns the number of marked layer pixels.
+double hyperbolic_needed(const MappingSpec& s, const MappingView& v, const std::vector<HyperLayer>& layers,
+                         std::vector<uint8_t>* masks);
 
 // Linear fall-off (Weier et al. 2016, seed 003 §5.1): sampling probability 1 inside r1,
 // falling linearly to p_min at r2, p_min beyond.

@@ -2,9 +2,11 @@
 // Inner and middle layers are screen-aligned squares around the gaze whose half-side is the
 // pixel radius of eccentricity r1 / r2 (largest of the four axis directions, through the real
 // projection), the outer layer is the whole screen. Each layer is a G-buffer gathered at its
-// pixel size s_i (nearest full-res sample at the layer pixel centre), shaded in full (the
-// fovea is shaded three times, as seed 003 §2 notes), bilinearly upsampled and blended with a
-// smoothstep over the last blend_deg degrees inside each layer's eccentricity limit.
+// pixel size s_i (nearest full-res sample at the layer pixel centre), bilinearly upsampled and
+// blended with a smoothstep over the last blend_deg degrees inside each layer's eccentricity
+// limit. Only the layer pixels the composite reads are shaded (a stencil-masked layer pass):
+// Guenter shades whole layers, i.e. the fovea three times (seed 003 §2); masking keeps
+// shaded_samples <= W H and charges only visible work.
 //
 // | name | type | default | range | source | meaning |
 // |------|------|---------|-------|--------|---------|
@@ -25,13 +27,6 @@
 namespace fovsim {
 namespace {
 
-inline float blend_weight(double e, double limit, double band) {
-  if (e >= limit) return 0.f;
-  if (band <= 0 || e <= limit - band) return 1.f;
-  double t = (limit - e) / band;  // 0 at the limit, 1 at the inner edge of the band
-  return float(t * t * (3 - 2 * t));
-}
-
 class HyperbolicMethod final : public MappingMethodBase {
  public:
   using MappingMethodBase::MappingMethodBase;
@@ -42,7 +37,8 @@ class HyperbolicMethod final : public MappingMethodBase {
     const int W = gb.width, H = gb.height;
     const MappingView view = view_of(ctx);
     const auto layers = hyperbolic_layers(s, view);
-    double shaded = 0, alloc = 0;
+    const double shaded = hyperbolic_needed(s, view, layers, needed_);
+    double alloc = 0;
     for (size_t i = 0; i < 3; ++i) {
       const HyperLayer& L = layers[i];
       if (L.w <= 0) continue;
@@ -50,27 +46,25 @@ class HyperbolicMethod final : public MappingMethodBase {
       auto inv = [&](double a, double b) {
         return glm::dvec2(std::min(L.x0 + a * L.s, L.x1 - 1e-3), std::min(L.y0 + b * L.s, L.y1 - 1e-3));
       };
-      shaded += double(gather_gbuffer(gb, L.w, L.h, inv, buf_[i], used_[i]));
-      shade_buffer(ctx, buf_[i], col_[i], &used_[i], out);
+      gather_gbuffer(gb, L.w, L.h, inv, buf_[i], used_[i]);
+      shade_buffer(ctx, buf_[i], col_[i], &needed_[i], out);  // only the pixels the composite reads
       alloc += double(L.w) * L.h;
     }
 
     out.image.resize(W, H, 3);
-    const std::vector<float>& ecc = *ctx.eccentricity;
     std::vector<double> row_taps(size_t(H), 0.0);
     parallel_rows(H, [&](int y) {
       double taps = 0;
       for (int x = 0; x < W; ++x) {
-        const double px = x + 0.5, py = y + 0.5, e = ecc[size_t(y) * size_t(W) + size_t(x)];
+        const double px = x + 0.5, py = y + 0.5;
+        const double e = (*view.ecc)[size_t(y) * size_t(W) + size_t(x)];
+        float eff[3];
+        hyper_effective_weights(s, layers, px, py, e, eff);
         glm::vec3 c(0.f);
-        // Outer to inner: each finer layer is blended over the coarser result.
-        for (int i = 2; i >= 0; --i) {
-          const HyperLayer& L = layers[size_t(i)];
-          if (L.w <= 0 || px < L.x0 || px >= L.x1 || py < L.y0 || py >= L.y1) continue;
-          const float wgt = i == 2 ? 1.f : blend_weight(e, L.ecc_limit, std::min(s.blend_deg, L.ecc_limit));
-          if (wgt <= 0.f) continue;
-          glm::vec3 li = bilinear(col_[i], (px - L.x0) / L.s, (py - L.y0) / L.s, false);
-          c = c * (1.f - wgt) + li * wgt;
+        for (size_t i = 0; i < 3; ++i) {
+          if (eff[i] <= 0.f) continue;
+          const HyperLayer& L = layers[i];
+          c += eff[i] * bilinear(col_[i], (px - L.x0) / L.s, (py - L.y0) / L.s, false);
           taps += 4;
         }
         float* o = out.image.at(x, y);
@@ -92,7 +86,7 @@ class HyperbolicMethod final : public MappingMethodBase {
  private:
   GBuffer buf_[3];
   Image col_[3];
-  std::vector<uint8_t> used_[3];
+  std::vector<uint8_t> used_[3], needed_[3];
 };
 
 }  // namespace

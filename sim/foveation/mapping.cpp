@@ -43,6 +43,15 @@ double KernelFn::Kinv_deriv(double y) const {
   }
   return 1.0;
 }
+double KernelFn::K_deriv(double x) const {
+  x = clampd(x, kTiny, 1.0);
+  switch (kind) {
+    case KernelKind::Power: return alpha * std::pow(x, alpha - 1.0);
+    case KernelKind::Sine: return 0.5 * kPi * std::cos(x * kPi * 0.5);
+    case KernelKind::Exp: return std::exp(x) / (kE - 1.0);
+  }
+  return 1.0;
+}
 KernelKind KernelFn::parse(const std::string& s) {
   if (s == "power") return KernelKind::Power;
   if (s == "sine") return KernelKind::Sine;
@@ -82,7 +91,8 @@ glm::dvec2 LogPolarMap::forward(double x, double y) const {
   const double r = std::hypot(dx, dy);
   // Eq. 2.10; log r < 0 (r < 1 px, incl. log 0 at the gaze) clamps to the first column.
   const double t = r > 1.0 ? std::min(std::log(r) / L, 1.0) : 0.0;
-  const double u = k.Kinv(t) * w;
+  // u = w K(t) (eq. 2.8's direction, see mapping.h): t = log r / L.
+  const double u = k.K(t) * w;
   double th = std::atan2(dy, dx);  // eq. 2.10's arctan(y'/x') + 1[y' < 0] 2 pi, quadrant-correct
   if (th < 0) th += 2.0 * kPi;
   double v = th * h / (2.0 * kPi);
@@ -91,8 +101,8 @@ glm::dvec2 LogPolarMap::forward(double x, double y) const {
 }
 
 glm::dvec2 LogPolarMap::inverse(double u, double v) const {
-  // Alg. 2: x'' = exp(L K(u/w)) cos(B v) + x^, y'' = exp(L K(u/w)) sin(B v) + y^, B = 2 pi / h.
-  const double r = std::exp(L * k.K(u / w));
+  // Alg. 2: x'' = exp(L K^-1(u/w)) cos(B v) + x^, y'' = ... sin(B v) + y^, B = 2 pi / h.
+  const double r = std::exp(L * k.Kinv(u / w));
   const double th = v * 2.0 * kPi / h;
   return {gx + r * std::cos(th), gy + r * std::sin(th)};
 }
@@ -100,8 +110,8 @@ glm::dvec2 LogPolarMap::inverse(double u, double v) const {
 double LogPolarMap::density(double x, double y) const {
   const double r = std::max(std::hypot(x - gx, y - gy), 1.0);
   const double t = std::min(std::log(r) / L, 1.0);
-  // du/dr = w K^-1'(t) / (L r); dv/(r dtheta) = h / (2 pi r).
-  return w * h * k.Kinv_deriv(t) / (2.0 * kPi * L * r * r);
+  // du/dr = w K'(t) / (L r); dv/(r dtheta) = h / (2 pi r).
+  return w * h * k.K_deriv(t) / (2.0 * kPi * L * r * r);
 }
 
 // ---- rectangular map (seed 003 eqs. 4-7) -----------------------------------------------

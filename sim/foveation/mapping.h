@@ -30,23 +30,30 @@ struct KernelFn {
   double K(double x) const;
   double Kinv(double y) const;        // inverse, y clamped to [0, 1]
   double Kinv_deriv(double y) const;  // d K^-1 / dy, finite (clamped away from 0 and 1)
+  double K_deriv(double x) const;     // d K / dx, finite (x clamped away from 0)
   static KernelKind parse(const std::string& s);  // "power" | "sine" | "exp"
   static const char* name(KernelKind k);
 };
 
 // ---- Kernel log-polar map (seed 004 eqs. 2.10-2.13, Alg. 2) for a W x H screen and a
 // w x h LP-buffer around the gaze (gx, gy), which may lie anywhere (also off-screen).
+// Direction of the kernel: u = w K(log r / L), r = exp(L K^-1(u / w)). This is eq. 2.8's
+// density D ~ exp(-c K^-1(u/w)) / K^-1'(u/w) and the behaviour §2.1 and Figs. 1.14-1.17
+// describe (larger alpha gives the periphery a larger share of the LP-buffer, alpha >= 5
+// starves the fovea). Eq. 2.10 / Alg. 2 print K^-1 and K the other way round, which would
+// invert that behaviour (alpha > 1 would move samples *to* the fovea); we follow eq. 2.8.
 struct LogPolarMap {
   double W = 0, H = 0, w = 0, h = 0, gx = 0, gy = 0;
   double L = 1;  // eq. 2.12: log of the largest distance from the fovea to a screen corner
   KernelFn k;
 
   static LogPolarMap make(int W, int H, int w, int h, glm::dvec2 gaze, KernelFn k);
-  // Eq. 2.10: screen point -> LP coords. Radii below 1 px (log < 0, log 0 at the gaze) clamp to u = 0.
+  // Eq. 2.10 (kernel direction above): screen point -> LP coords. Radii below 1 px (log < 0,
+  // log 0 at the gaze) clamp to u = 0.
   glm::dvec2 forward(double x, double y) const;
-  // Alg. 2 (with A K(u) read as L K(u/w), the inverse of eq. 2.10): LP coords -> screen point.
+  // Alg. 2 (A K(u) read as L K^-1(u/w), the exact inverse of forward()): LP -> screen point.
   glm::dvec2 inverse(double u, double v) const;
-  // LP samples per screen pixel at (x, y): |det d(u,v)/d(x,y)| = w h K^-1'(t) / (2 pi L r^2),
+  // LP samples per screen pixel at (x, y): |det d(u,v)/d(x,y)| = w h K'(t) / (2 pi L r^2),
   // t = log r / L; radii below 1 px use r = 1 (the clamp of forward()).
   double density(double x, double y) const;
 };
