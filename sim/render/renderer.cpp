@@ -205,7 +205,7 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
   }
   time_ = 0.0;
   // Lights at t = 0.
-  const_cast<Renderer*>(this)->set_time(0.0);
+  set_time(0.0);
   for (auto& ob : I.objs) ob.prev_xf = ob.xf;
 }
 
