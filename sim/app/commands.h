@@ -13,4 +13,5 @@ void register_run(CLI::App& app, Action& action);      // fovsim run
 void register_cost(CLI::App& app, Action& action);     // fovsim calibrate | predict | budget | validate-cost
 void register_sweeps(CLI::App& app, Action& action);   // fovsim sweep | sweep expand | merge | search
 void register_trace(CLI::App& app, Action& action);    // fovsim trace import | validate | stats | synth
+void register_density(CLI::App& app, Action& action);  // fovsim density
 }  // namespace fovsim::app

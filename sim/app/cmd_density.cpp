@@ -1,0 +1,128 @@
+// `fovsim density`: analytic sampling density of a mapping method / baseline as a function of
+// eccentricity along several directions from the gaze (from the map's Jacobian, see
+// sim/foveation/density.h), and the theoretical shading reduction (shaded samples / W H and
+// the speedup W H / shaded, seed 003 §5.1, Fig. 11). Writes PREFIX.csv and PREFIX.json;
+// --plot runs viz/plot_density.py on them.
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+
+#include "sim/app/commands.h"
+#include "sim/core/error.h"
+#include "sim/core/files.h"
+#include "sim/experiment/config.h"
+#include "sim/foveation/density.h"
+
+namespace fovsim::app {
+
+namespace {
+struct DensityArgs {
+  std::vector<std::string> methods{"kfr", "rmfr", "hyperbolic", "linear"};
+  std::vector<std::string> params;  // METHOD.key=value
+  std::string display = "htc_vive_pro_eye", models, out = "results/density/density";
+  double gaze_u = 0.5, gaze_v = 0.5, target = 0;
+  int directions = 8, samples = 200;
+  bool plot = false;
+};
+
+int run_density(const DensityArgs& a) {
+  const std::string models = a.models.empty() ? default_models_dir() : a.models;
+  Display d = Display::load(a.display, models);
+  Camera cam = Camera::from_pose(d, glm::dvec3(0), glm::dquat(1, 0, 0, 0));
+  MappingView v = MappingView::at(cam, {a.gaze_u * d.width, a.gaze_v * d.height});
+  std::vector<float> ecc = eccentricity_map(cam, v.gaze_dir);
+  v.ecc = &ecc;
+  const double total = double(d.width) * d.height;
+  std::ostringstream csv;
+  csv << "method,direction_deg,dist_px,x,y,ecc_deg,density,density_capped\n";
+  Json summary = Json::object();
+  summary["display"] = d.to_json();
+  summary["gaze_px"] = {v.gaze_px.x, v.gaze_px.y};
+  for (const std::string& m : a.methods) {
+    Json pj = Json::object();
+    for (const std::string& kv : a.params) {  // "kfr.alpha=2"
+      auto dot = kv.find('.'), eq = kv.find('=');
+      if (dot == std::string::npos || eq == std::string::npos || eq < dot)
+        throw Error("--param " + kv, "expected METHOD.key=value");
+      if (kv.substr(0, dot) != m) continue;
+      std::string val = kv.substr(eq + 1);
+      Json jv;
+      try { jv = Json::parse(val); } catch (...) { jv = val; }
+      pj[kv.substr(dot + 1, eq - dot - 1)] = jv;
+    }
+    if (!is_mapping_method(m)) throw Error("--method", "not a mapping method: \"" + m + "\" (kfr, rmfr, hyperbolic, linear, fvrs)");
+    Params p(pj, "--param", m);
+    MappingSpec s = MappingSpec::from_params(m, p);
+    p.finish();
+    bool reachable = true;
+    const double target = a.target > 0 ? a.target : s.target_shaded_fraction;
+    if (target > 0) {
+      MappingSpec r;
+      reachable = solve_iso_budget(s, v, target, r);
+      s = r;
+    }
+    const double shaded = expected_shaded_samples(s, v);
+    Json js;
+    js["shaded_samples"] = shaded;
+    js["shaded_fraction"] = shaded / total;
+    js["theoretical_speedup"] = shaded > 0 ? total / shaded : 0.0;
+    Json cols = Json::object();
+    for (auto& c : s.columns()) cols[c.first] = c.second;
+    js["params"] = cols;
+    if (target > 0) {
+      js["target_shaded_fraction"] = target;
+      js["target_reachable"] = reachable;
+    }
+    summary["methods"][m] = js;
+    for (int k = 0; k < a.directions; ++k) {
+      const double th = 2.0 * kPi * k / a.directions;
+      const double dx = std::cos(th), dy = std::sin(th);
+      // Distance to the screen border along this direction.
+      double tmax = 1e30;
+      if (dx > 0) tmax = std::min(tmax, (d.width - v.gaze_px.x) / dx);
+      if (dx < 0) tmax = std::min(tmax, -v.gaze_px.x / dx);
+      if (dy > 0) tmax = std::min(tmax, (d.height - v.gaze_px.y) / dy);
+      if (dy < 0) tmax = std::min(tmax, -v.gaze_px.y / dy);
+      if (!(tmax > 0)) continue;
+      for (int i = 0; i < a.samples; ++i) {
+        const double t = tmax * (i + 0.5) / a.samples;
+        const double x = v.gaze_px.x + dx * t, y = v.gaze_px.y + dy * t;
+        const double dens = sample_density(s, v, x, y);
+        csv << m << ',' << rad2deg(th) << ',' << t << ',' << x << ',' << y << ',' << v.ecc_deg(x, y) << ','
+            << dens << ',' << std::min(dens, 1.0) << '\n';
+      }
+    }
+  }
+  write_file_atomic(a.out + ".csv", csv.str());
+  write_file_atomic(a.out + ".json", summary.dump(2) + "\n");
+  for (auto& [m, js] : summary["methods"].items())
+    std::printf("%-11s shaded_fraction %.4f  theoretical speedup %.2fx\n", m.c_str(),
+                js["shaded_fraction"].get<double>(), js["theoretical_speedup"].get<double>());
+  std::printf("wrote %s.csv, %s.json\n", a.out.c_str(), a.out.c_str());
+  if (a.plot) {
+    std::string cmd = "/usr/bin/python3 viz/plot_density.py '" + a.out + ".csv' '" + a.out + ".png'";
+    if (std::system(cmd.c_str()) != 0) throw Error("--plot", "viz/plot_density.py failed (command: " + cmd + ")");
+  }
+  return 0;
+}
+}  // namespace
+
+void register_density(CLI::App& app, Action& action) {
+  auto a = std::make_shared<DensityArgs>();
+  CLI::App* c = app.add_subcommand("density", "Analytic sampling density and theoretical shading reduction of mapping methods");
+  c->add_option("--method", a->methods, "kfr, rmfr, hyperbolic, linear, fvrs (repeat)")->capture_default_str();
+  c->add_option("--param", a->params, "METHOD.key=value, e.g. kfr.alpha=2 rmfr.fx=0.3 (repeat)");
+  c->add_option("--display", a->display, "Display name or path (models/displays/NAME.json)")->capture_default_str();
+  c->add_option("--models", a->models, "Models directory");
+  c->add_option("--gaze-u", a->gaze_u, "Gaze x as a fraction of W")->capture_default_str();
+  c->add_option("--gaze-v", a->gaze_v, "Gaze y as a fraction of H")->capture_default_str();
+  c->add_option("--target", a->target, "Iso-budget: shaded fraction every method is tuned to (seed 003 §5.1)")
+      ->check(CLI::Range(0.0, 1.0));
+  c->add_option("--directions", a->directions, "Directions from the gaze")->check(CLI::Range(1, 360))->capture_default_str();
+  c->add_option("--samples", a->samples, "Samples per direction")->check(CLI::Range(1, 100000))->capture_default_str();
+  c->add_option("--out", a->out, "Output prefix (writes PREFIX.csv, PREFIX.json)")->capture_default_str();
+  c->add_flag("--plot", a->plot, "Plot with viz/plot_density.py (PREFIX.png)");
+  c->callback([a, &action] { action = [a] { return run_density(*a); }; });
+}
+
+}  // namespace fovsim::app
