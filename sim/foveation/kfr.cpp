@@ -81,8 +81,7 @@ class KfrMethod final : public MappingMethodBase {
     const LogPolarMap map = LogPolarMap::make(W, H, w, h, ctx.gaze_px, s.kernel);
 
     // Pass 1: forward kernel log-polar transformation of the G-buffer (§2.2.1-2.2.2).
-    const size_t n_used = gather_gbuffer(gb, w, h, [&](double u, double v) { return map.inverse(u, v); },
-                                         lp_, used_);
+    const size_t n_used = lp_gather(gb, map, lp_, used_);
     shade_buffer(ctx, lp_, lp_col_, &used_, out);
     extend_unused(lp_col_, used_);
     double taps = 0;
@@ -91,15 +90,7 @@ class KfrMethod final : public MappingMethodBase {
 
     // Pass 2: inverse transformation by sampling the LP-buffer at each pixel's forward map
     // (Alg. 2 as a gather), bilinear, angle wrapping.
-    out.image.resize(W, H, 3);
-    parallel_rows(H, [&](int y) {
-      for (int x = 0; x < W; ++x) {
-        glm::dvec2 uv = map.forward(x + 0.5, y + 0.5);
-        glm::vec3 c = bilinear(lp_col_, uv.x, uv.y, true);
-        float* o = out.image.at(x, y);
-        o[0] = c.x; o[1] = c.y; o[2] = c.z;
-      }
-    });
+    lp_reconstruct(lp_col_, map, W, H, out.image);
     taps += 4.0 * W * H;
 
     // §2.3.2 post anti-aliasing, eq. 2.14: eta = 3 + 2 ceil((r / e^L - 0.10) / 0.05);

@@ -128,6 +128,28 @@ size_t gather_gbuffer(const GBuffer& src, int w, int h, InvFn&& inv, GBuffer& ou
 // x clamps at the borders; y wraps around when wrap_y (LP-buffer angle axis), else clamps.
 glm::vec3 bilinear(const Image& img, double x, double y, bool wrap_y);
 
+// ---- KFR's two mapping passes (seed 004 §2.2-2.3), callable on their own (bench_methods).
+// Forward map / pass 1 (§2.2.1-2.2.2): gathers the (map.w x map.h) LP-buffer from the
+// full-res G-buffer, slot (u, v) taking the nearest sample at map.inverse(u, v). Returns the
+// number of used slots (see gather_gbuffer).
+inline size_t lp_gather(const GBuffer& src, const LogPolarMap& map, GBuffer& out, std::vector<uint8_t>& used) {
+  return gather_gbuffer(src, int(map.w), int(map.h), [&](double u, double v) { return map.inverse(u, v); },
+                        out, used);
+}
+// Inverse map / pass 2 (Alg. 2 as a gather): every pixel of the W x H output maps forward
+// (eq. 2.10) and reads the RGB LP-buffer bilinearly, angle (y) wrapping. Parallel over rows.
+inline void lp_reconstruct(const Image& lp, const LogPolarMap& map, int W, int H, Image& out) {
+  out.resize(W, H, 3);
+  parallel_rows(H, [&](int y) {
+    for (int x = 0; x < W; ++x) {
+      const glm::dvec2 uv = map.forward(x + 0.5, y + 0.5);
+      const glm::vec3 c = bilinear(lp, uv.x, uv.y, true);
+      float* o = out.at(x, y);
+      o[0] = c.x; o[1] = c.y; o[2] = c.z;
+    }
+  });
+}
+
 // Separable 3x3 Gaussian [1 2 1]/4 x [1 2 1]/4 applied to columns x >= x0 of an RGB
 // image (rows wrap when wrap_y). In place (uses one temporary). Returns taps used.
 double gaussian3x3_from(Image& img, int x0, bool wrap_y);
