@@ -1,0 +1,38 @@
+// The trace subcommands as a user runs them: synth -> validate -> stats, and clear errors.
+#include <gtest/gtest.h>
+
+#include "tests/app/app_util.h"
+
+using namespace fovsim_test;
+
+TEST(TraceCli, SynthValidateStatsRoundTrip) {
+  std::string dir = temp_dir("trace_cli");
+  auto s = run_cmd(fovsim_bin() + " trace synth --scenario free-viewing --seed 7 --duration 1.5 -o " + dir + "/a.csv");
+  ASSERT_EQ(s.code, 0) << s.output;
+  auto s2 = run_cmd(fovsim_bin() + " trace synth --scenario free-viewing --seed 7 --duration 1.5 -o " + dir + "/b.csv");
+  ASSERT_EQ(s2.code, 0) << s2.output;
+  EXPECT_EQ(read_text(dir + "/a.csv"), read_text(dir + "/b.csv"));  // seeded, reproducible
+  Csv c = read_csv(dir + "/a.csv");
+  EXPECT_NEAR(double(c.rows.size()), 1.5 * 90 + 1, 2.0);  // 90 Hz default (Vive Pro Eye)
+  auto v = run_cmd(fovsim_bin() + " trace validate " + dir + "/a.csv");
+  EXPECT_EQ(v.code, 0) << v.output;
+  auto st = run_cmd(fovsim_bin() + " trace stats " + dir + "/a.csv");
+  EXPECT_EQ(st.code, 0) << st.output;
+  EXPECT_NE(st.output.find("Hz"), std::string::npos) << st.output;
+}
+
+TEST(TraceCli, MalformedTraceNamesLineAndColumn) {
+  std::string dir = temp_dir("trace_bad");
+  write_text(dir + "/bad.csv",
+             "t,px,py,pz,qw,qx,qy,qz,gx,gy,gz\n"
+             "0,0,0,0,1,0,0,0,0,0,-1\n"
+             "0.011,0,0,0,1,0,0,0,0,nan,-1\n");
+  auto v = run_cmd(fovsim_bin() + " trace validate " + dir + "/bad.csv");
+  EXPECT_EQ(v.code, 2) << v.output;
+  EXPECT_NE(v.output.find("bad.csv:3:"), std::string::npos) << v.output;
+  auto m = run_cmd(fovsim_bin() + " trace import " + dir + "/bad.csv --map " + dir + "/missing_map.json -o " + dir +
+                   "/o.csv");
+  EXPECT_EQ(m.code, 2) << m.output;
+  EXPECT_NE(m.output.find("missing_map.json"), std::string::npos) << m.output;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/o.csv"));
+}
