@@ -179,7 +179,13 @@ class FlcMethod final : public FoveationMethod {
     key << &scene << '|' << &r << '|' << r.time() << '|' << W << 'x' << H << '|' << cam.position.x << ','
         << cam.position.y << ',' << cam.position.z << '|' << cam.orientation.w << ',' << cam.orientation.x << ','
         << cam.orientation.y << ',' << cam.orientation.z << '|' << cam.tan_half_h << ',' << cam.tan_half_v << '|'
-        << s_.rsm_size << '|' << s_.min_dist << '|' << s_.shading_visibility;
+        << s_.rsm_size << '|' << s_.min_dist << '|' << s_.shading_visibility << '|' << scene.name << '|'
+        << scene.triangle_count() << '|' << vpls.size();
+    // Light content too, so a different scene that reuses an address never hits a stale entry.
+    for (const RSM& m : rsms)
+      key << '|' << m.ls.position.x << ',' << m.ls.position.y << ',' << m.ls.position.z << ',' << m.ls.direction.x
+          << ',' << m.ls.direction.y << ',' << m.ls.direction.z << ',' << m.ls.radiance.x << ',' << m.ls.radiance.y
+          << ',' << m.ls.radiance.z;
     std::shared_ptr<const Image> gt_ind = gt_cache().get(key.str());
     if (!gt_ind) {
       auto img = std::make_shared<Image>();
