@@ -13,7 +13,7 @@ DEB_OPT  := python3-skimage assimp-testmodels
 
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
-.PHONY: all deps build demo test bench clean format update-golden
+.PHONY: all deps deps-bench build demo test bench clean format update-golden
 
 all: build
 
@@ -25,6 +25,22 @@ deps:
 	  echo "installing Debian packages:$$missing"; \
 	  $(SUDO) apt-get update -q && \
 	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -q --no-install-recommends $$missing; \
+	fi
+
+# Benchmark-only extras (not in `deps`): OpenCV for bench_methods' cv::warpPolar comparison
+# (optional in CMakeLists.txt). A fresh install re-runs cmake on an existing build dir so
+# find_package(OpenCV) sees it.
+DEB_BENCH := libopencv-dev
+
+deps-bench:
+	@missing=""; for p in $(DEB_BENCH); do \
+	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || missing="$$missing $$p"; \
+	done; \
+	if [ -n "$$missing" ]; then \
+	  echo "installing Debian packages:$$missing"; \
+	  $(SUDO) apt-get update -q && \
+	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -q --no-install-recommends $$missing && \
+	  if [ -f $(BUILD)/CMakeCache.txt ]; then cmake $(BUILD); fi; \
 	fi
 
 $(BUILD)/CMakeCache.txt:
@@ -41,7 +57,7 @@ demo: build
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j$(JOBS) --timeout 600
 
-bench: build
+bench: deps-bench build
 	@for b in $(BUILD)/bench_*; do echo "== $$b"; $$b; done
 
 format:
