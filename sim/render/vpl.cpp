@@ -72,17 +72,38 @@ glm::vec3 shade_vpls_point(const VplSoA& v, const glm::vec3& p, const glm::vec3&
   const float* fg = v.fg.data();
   const float* fb = v.fb.data();
   if (!s.visibility || !r) {
-    // Branch-free loop over the SoA so the compiler vectorises it.
-    for (size_t k = 0; k < m; ++k) {
+    // cos_v cos_x = (n_v . d)(-n_x . d) / |d|^2: no square root, and 8 independent partial
+    // sums (fixed order, so deterministic) let the compiler vectorise without -ffast-math.
+    constexpr size_t kL = 8;
+    float sr[kL] = {}, sg[kL] = {}, sb[kL] = {};
+    size_t k = 0;
+    for (; k + kL <= m; k += kL) {
+      for (size_t j = 0; j < kL; ++j) {
+        const size_t q = k + j;
+        const float dx = p.x - px[q], dy = p.y - py[q], dz = p.z - pz[q];
+        const float d2 = dx * dx + dy * dy + dz * dz;
+        const float a = std::max(0.f, nx[q] * dx + ny[q] * dy + nz[q] * dz);
+        const float b = std::max(0.f, -(n.x * dx + n.y * dy + n.z * dz));
+        const float g = a * b / (std::max(d2, 1e-20f) * std::max(d2, dmin2));
+        sr[j] += fr[q] * g;
+        sg[j] += fg[q] * g;
+        sb[j] += fb[q] * g;
+      }
+    }
+    for (; k < m; ++k) {
       const float dx = p.x - px[k], dy = p.y - py[k], dz = p.z - pz[k];
       const float d2 = dx * dx + dy * dy + dz * dz;
-      const float inv = 1.f / std::sqrt(std::max(d2, 1e-20f));
-      const float cv = std::max(0.f, (nx[k] * dx + ny[k] * dy + nz[k] * dz) * inv);
-      const float cx = std::max(0.f, -(n.x * dx + n.y * dy + n.z * dz) * inv);
-      const float g = cv * cx / std::max(d2, dmin2);
+      const float a = std::max(0.f, nx[k] * dx + ny[k] * dy + nz[k] * dz);
+      const float b = std::max(0.f, -(n.x * dx + n.y * dy + n.z * dz));
+      const float g = a * b / (std::max(d2, 1e-20f) * std::max(d2, dmin2));
       ar += fr[k] * g;
       ag += fg[k] * g;
       ab += fb[k] * g;
+    }
+    for (size_t j = 0; j < kL; ++j) {
+      ar += sr[j];
+      ag += sg[j];
+      ab += sb[j];
     }
   } else {
     uint64_t nr = 0;
