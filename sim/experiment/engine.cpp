@@ -21,6 +21,7 @@
 #include "sim/core/version.h"
 #include "sim/cost/cost_model.h"
 #include "sim/cost/gpu_profile.h"
+#include "sim/cost/workload.h"
 #include "sim/experiment/config.h"
 #include "sim/experiment/runner.h"
 #include "sim/foveation/factory.h"
@@ -170,6 +171,7 @@ struct Cell {
   std::vector<MethodRun> methods;
   MetricsConfig mcfg;
   std::vector<GpuProfile> gpus;
+  Workload workload;
   ImageOutputs io;
   bool print_table = false;
   uint32_t channels = 0;
@@ -213,6 +215,8 @@ struct Cell {
       names.push_back("gtx1080");
     }
     for (auto& n : names) gpus.push_back(GpuProfile::load(n, models));
+    // Workload descriptor for what the scene does not say (overdraw, bytes, flops per sample).
+    workload = Workload::load(root.string("workload", "generic"), models);
 
     Params op = root.child("outputs");
     for (double f : op.numbers("image_frames", {}, Range::at_least(0))) io.frames.insert(int(f));
@@ -265,6 +269,7 @@ struct Cell {
         ci.features = features;
         ci.display = sh.display;
         ci.pixel_scale = sh.pixel_scale;
+        ci.workload = &workload;
         FrameCost cost = estimate_frame(gpu, ci);
         ResultRow row;
         row.set_text("config_id", gpus.size() > 1 ? m.label + "@" + gpu.name : m.label);
