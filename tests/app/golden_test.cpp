@@ -52,3 +52,7 @@ void check_golden(const std::string& config, const std::string& golden) {
 }  // namespace
 
 TEST(Golden, FullMethodShortTrace) { check_golden("tests/golden/full_small.json", "tests/golden/full_small.frames.csv"); }
+
+TEST(Golden, EveryMethodShortTrace) {
+  check_golden("tests/golden/methods_small.json", "tests/golden/methods_small.frames.csv");
+}
