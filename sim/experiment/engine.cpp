@@ -164,6 +164,15 @@ struct Shared {
   }
 };
 
+// Scene features as recorded in manifest.json (what `fovsim predict --results` re-costs with).
+Json scene_features_json(const SceneFeatures& f) {
+  return Json{{"shadows", f.shadows},         {"dynamic_objects", f.dynamic_objects},
+              {"moving_lights", f.moving_lights}, {"transparency", f.transparency},
+              {"indirect", f.indirect},       {"textures", f.textures},
+              {"triangles", f.triangles},     {"submodels", f.submodels},
+              {"lights", f.lights},           {"shadowed_lights", f.shadowed_lights}};
+}
+
 // One cell: its methods, metrics, GPU profiles, outputs and accumulated rows.
 struct Cell {
   const CellJob* job = nullptr;
@@ -360,7 +369,8 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
                           {"seed", sh.seed},
                           {"display", sh.display.to_json()},
                           {"simulated_resolution", {sh.sim_display.width, sh.sim_display.height}},
-                          {"scene", {{"name", sh.scene->name}, {"triangles", sh.scene->triangle_count()}}},
+                          {"scene", {{"name", sh.scene->name}, {"triangles", sh.scene->triangle_count()},
+                                     {"features", scene_features_json(sh.scene->features())}}},
                           {"trace", {{"source", sh.trace.source}, {"samples", sh.trace.samples.size()}}},
                           {"frames", {{"start", sh.start}, {"count", sh.count}, {"stride", sh.stride}}},
                           {"machine", machine_info()},
