@@ -86,7 +86,7 @@ class KfrMethod final : public MappingMethodBase {
     extend_unused(lp_col_, used_);
     double taps = 0;
     // §2.2.3 internal anti-aliasing: 3x3 Gaussian on the right (peripheral) part.
-    if (s.internal_aa) taps += gaussian3x3_from(lp_col_, int(std::floor(s.internal_aa_start * w)), true);
+    if (s.internal_aa) taps += gaussian3x3_from(lp_col_, int(std::floor(s.internal_aa_start * w)), true, &tmp_lp_);
 
     // Pass 2: inverse transformation by sampling the LP-buffer at each pixel's forward map
     // (Alg. 2 as a gather), bilinear, angle wrapping.
@@ -96,16 +96,19 @@ class KfrMethod final : public MappingMethodBase {
     // §2.3.2 post anti-aliasing, eq. 2.14: eta = 3 + 2 ceil((r / e^L - 0.10) / 0.05);
     // eta < 3 (r / e^L <= 0.05) leaves the pixel unfiltered; r <= e^L caps eta at 39.
     if (s.post_aa) {
-      eta_.assign(size_t(W) * size_t(H), 1);
+      eta_.resize(size_t(W) * size_t(H));
       const double eL = std::exp(map.L);
       parallel_rows(H, [&](int y) {
+        const double dy = y + 0.5 - map.gy, dy2 = dy * dy;
+        uint8_t* er = &eta_[size_t(y) * size_t(W)];
         for (int x = 0; x < W; ++x) {
-          const double q = std::min(std::hypot(x + 0.5 - map.gx, y + 0.5 - map.gy) / eL, 1.0);
+          const double dx = x + 0.5 - map.gx;
+          const double q = std::min(std::sqrt(dx * dx + dy2) / eL, 1.0);
           const double e = 3.0 + 2.0 * std::ceil((q - 0.10) / 0.05 - 1e-9);
-          eta_[size_t(y) * size_t(W) + size_t(x)] = uint8_t(e < 3 ? 1 : std::min(e, 39.0));
+          er[x] = uint8_t(e < 3 ? 1 : std::min(e, 39.0));
         }
       });
-      taps += variable_gaussian(out.image, eta_, 39);
+      taps += variable_gaussian(out.image, eta_, 39, &tmp_full_);
     }
 
     set_counters(out, double(n_used), double(n_used), double(w) * h, double(n_used), double(W) * H, taps);
@@ -122,6 +125,7 @@ class KfrMethod final : public MappingMethodBase {
   GBuffer lp_;                 // reused across frames (no per-frame reallocation when sizes match)
   Image lp_col_;
   std::vector<uint8_t> used_, eta_;
+  Image tmp_lp_, tmp_full_;    // scratch of the two Gaussian passes (kept: no per-frame allocation)
 };
 
 }  // namespace

@@ -160,38 +160,63 @@ int reduced_size(int S, double sigma) {
 }
 
 // ---- buffer passes ------------------------------------------------------------------------
-glm::vec3 bilinear(const Image& img, double x, double y, bool wrap_y) {
-  const int w = img.width, h = img.height;
-  double fx = finite_or(x, 0.0) - 0.5, fy = finite_or(y, 0.0) - 0.5;
-  fx = clampd(fx, -1.0, double(w));
-  if (!wrap_y) fy = clampd(fy, -1.0, double(h));
-  const double x0f = std::floor(fx), y0f = std::floor(fy);
-  const float tx = float(fx - x0f), ty = float(fy - y0f);
-  int x0 = int(x0f), y0 = int(y0f), x1 = x0 + 1, y1 = y0 + 1;
-  x0 = std::clamp(x0, 0, w - 1);
-  x1 = std::clamp(x1, 0, w - 1);
-  if (wrap_y) {
-    long m0 = long(y0f) % h, m1 = (long(y0f) + 1) % h;
-    y0 = int(m0 < 0 ? m0 + h : m0);
-    y1 = int(m1 < 0 ? m1 + h : m1);
-  } else {
-    y0 = std::clamp(y0, 0, h - 1);
-    y1 = std::clamp(y1, 0, h - 1);
+size_t lp_gather(const GBuffer& src, const LogPolarMap& map, GBuffer& out, std::vector<uint8_t>& used) {
+  const int w = int(map.w), h = int(map.h);
+  // LogPolarMap::inverse(iu + 0.5, iv + 0.5) split into its column and row factors.
+  std::vector<double> rad(size_t(std::max(w, 0))), cs(size_t(std::max(h, 0))), sn(size_t(std::max(h, 0)));
+  for (int iu = 0; iu < w; ++iu) rad[size_t(iu)] = std::exp(map.L * map.k.Kinv((iu + 0.5) / map.w));
+  for (int iv = 0; iv < h; ++iv) {
+    const double th = (iv + 0.5) * 2.0 * kPi / map.h;
+    cs[size_t(iv)] = std::cos(th);
+    sn[size_t(iv)] = std::sin(th);
   }
-  const float* a = img.at(x0, y0);
-  const float* b = img.at(x1, y0);
-  const float* c = img.at(x0, y1);
-  const float* d = img.at(x1, y1);
-  glm::vec3 top = glm::vec3(a[0], a[1], a[2]) * (1 - tx) + glm::vec3(b[0], b[1], b[2]) * tx;
-  glm::vec3 bot = glm::vec3(c[0], c[1], c[2]) * (1 - tx) + glm::vec3(d[0], d[1], d[2]) * tx;
-  return top * (1 - ty) + bot * ty;
+  const double gx = map.gx, gy = map.gy;
+  return gather_gbuffer_rows(
+      src, w, h,
+      [&](int iv, int iu) {
+        const double r = rad[size_t(iu)];
+        return glm::dvec2(gx + r * cs[size_t(iv)], gy + r * sn[size_t(iv)]);
+      },
+      out, used);
 }
 
-double gaussian3x3_from(Image& img, int x0, bool wrap_y) {
+void lp_reconstruct(const Image& lp, const LogPolarMap& map, int W, int H, Image& out) {
+  ensure_shape(out, W, H, 3);
+  const KernelFn& k = map.k;
+  // K(t) = t^alpha with integer alpha (default 4): ipow instead of std::pow.
+  const int ia = (k.kind == KernelKind::Power && k.alpha >= 1 && k.alpha <= 64 && k.alpha == std::floor(k.alpha))
+                     ? int(k.alpha)
+                     : 0;
+  const double L = map.L, w = map.w, h = map.h, gx = map.gx, gy = map.gy;
+  const double two_pi = 2.0 * kPi;
+  parallel_rows(H, [&](int y) {
+    const double dy = (y + 0.5) - gy, dy2 = dy * dy;
+    float* o = out.row(y);
+    for (int x = 0; x < W; ++x) {
+      // LogPolarMap::forward (eq. 2.10) with r = sqrt(dx^2 + dy^2) for hypot.
+      const double dx = (x + 0.5) - gx;
+      const double r = std::sqrt(dx * dx + dy2);
+      const double t = r > 1.0 ? std::min(std::log(r) / L, 1.0) : 0.0;
+      const double u = (ia ? ipow(t, ia) : k.K(t)) * w;
+      double th = std::atan2(dy, dx);
+      if (th < 0) th += two_pi;
+      double v = th * h / two_pi;
+      if (!(v < h)) v = 0;
+      const glm::vec3 c = bilinear(lp, u, v, true);
+      o[3 * x] = c.x;
+      o[3 * x + 1] = c.y;
+      o[3 * x + 2] = c.z;
+    }
+  });
+}
+
+double gaussian3x3_from(Image& img, int x0, bool wrap_y, Image* scratch) {
   const int w = img.width, h = img.height;
   x0 = std::clamp(x0, 0, w);
   if (x0 >= w || h == 0) return 0;
-  Image tmp = img;  // horizontal result for the filtered columns (small reduced buffer)
+  Image local;
+  Image& tmp = scratch ? *scratch : local;  // horizontal result; only columns >= x0 are used
+  ensure_shape(tmp, w, h, img.channels);
   parallel_rows(h, [&](int y) {
     for (int x = x0; x < w; ++x) {
       const float* l = img.at(std::max(x - 1, 0), y);
@@ -221,7 +246,15 @@ double gaussian3x3_from(Image& img, int x0, bool wrap_y) {
   return 6.0 * double(w - x0) * double(h);
 }
 
-double variable_gaussian(Image& img, const std::vector<uint8_t>& eta, int max_eta) {
+namespace {
+// o[j] += k * s[j] for j < n (contiguous; vectorises). Separate function so the compiler
+// sees the restrict-qualified pointers.
+inline void axpy(float* __restrict o, const float* __restrict s, float k, size_t n) {
+  for (size_t j = 0; j < n; ++j) o[j] += k * s[j];
+}
+}  // namespace
+
+double variable_gaussian(Image& img, const std::vector<uint8_t>& eta, int max_eta, Image* scratch) {
   const int w = img.width, h = img.height;
   max_eta = std::max(1, max_eta | 1);
   // Kernel weights per odd size (OpenCV getGaussianKernel sigma rule), index by eta.
@@ -238,50 +271,76 @@ double variable_gaussian(Image& img, const std::vector<uint8_t>& eta, int max_et
     for (auto& e : v) e = float(e / sum);
     k[size_t(n)] = std::move(v);
   }
-  Image tmp(w, h, 3);
+  Image local;
+  Image& tmp = scratch ? *scratch : local;
+  ensure_shape(tmp, w, h, 3);
   std::vector<double> row_taps(size_t(h), 0.0);
   auto size_at = [&](int x, int y) {
     int n = std::min<int>(eta[size_t(y) * size_t(w) + size_t(x)], max_eta);
     return (n >= 3) ? (n | 1) : 1;
   };
+  // Calls run(x0, x1, n) for each maximal run [x0, x1) of equal kernel size along row y.
+  auto for_runs = [&](int y, auto&& run) {
+    int x = 0;
+    while (x < w) {
+      const int n = size_at(x, y);
+      int x1 = x + 1;
+      while (x1 < w && size_at(x1, y) == n) ++x1;
+      run(x, x1, n);
+      x = x1;
+    }
+  };
+  // Horizontal pass. Per pixel: acc = 0; acc += kv[i] * s[x + i - half] for i = 0..n-1 (x
+  // clamped at the borders) -- the run form performs exactly these float operations.
   parallel_rows(h, [&](int y) {
     double taps = 0;
-    for (int x = 0; x < w; ++x) {
-      const int n = size_at(x, y);
-      float* o = tmp.at(x, y);
+    const float* srow = img.row(y);
+    float* orow = tmp.row(y);
+    for_runs(y, [&](int x0, int x1, int n) {
       if (n < 3) {
-        const float* s = img.at(x, y);
-        o[0] = s[0]; o[1] = s[1]; o[2] = s[2];
-        continue;
+        std::copy(srow + 3 * size_t(x0), srow + 3 * size_t(x1), orow + 3 * size_t(x0));
+        return;
       }
       const auto& kv = k[size_t(n)];
       const int half = n / 2;
-      float acc[3] = {0, 0, 0};
-      for (int i = 0; i < n; ++i) {
-        const float* s = img.at(std::clamp(x + i - half, 0, w - 1), y);
-        for (int c = 0; c < 3; ++c) acc[c] += kv[size_t(i)] * s[c];
+      auto clamped = [&](int x) {
+        float acc[3] = {0, 0, 0};
+        for (int i = 0; i < n; ++i) {
+          const float* s = srow + 3 * size_t(std::clamp(x + i - half, 0, w - 1));
+          for (int c = 0; c < 3; ++c) acc[c] += kv[size_t(i)] * s[c];
+        }
+        float* o = orow + 3 * size_t(x);
+        o[0] = acc[0]; o[1] = acc[1]; o[2] = acc[2];
+      };
+      // Interior [a, b): every tap inside the row.
+      const int a = std::min(std::max(x0, half), x1), b = std::max(a, std::min(x1, w - half));
+      for (int x = x0; x < a; ++x) clamped(x);
+      if (b > a) {
+        float* o = orow + 3 * size_t(a);
+        const size_t len = 3 * size_t(b - a);
+        std::fill(o, o + len, 0.f);
+        for (int i = 0; i < n; ++i) axpy(o, srow + 3 * size_t(a + i - half), kv[size_t(i)], len);
       }
-      o[0] = acc[0]; o[1] = acc[1]; o[2] = acc[2];
-      taps += n;
-    }
+      for (int x = b; x < x1; ++x) clamped(x);
+      taps += double(n) * double(x1 - x0);
+    });
     row_taps[size_t(y)] = taps;
   });
+  // Vertical pass (rows clamped); pixels with n < 3 keep their value.
   parallel_rows(h, [&](int y) {
     double taps = 0;
-    for (int x = 0; x < w; ++x) {
-      const int n = size_at(x, y);
-      if (n < 3) continue;
+    float* orow = img.row(y);
+    for_runs(y, [&](int x0, int x1, int n) {
+      if (n < 3) return;
       const auto& kv = k[size_t(n)];
       const int half = n / 2;
-      float acc[3] = {0, 0, 0};
-      for (int i = 0; i < n; ++i) {
-        const float* s = tmp.at(x, std::clamp(y + i - half, 0, h - 1));
-        for (int c = 0; c < 3; ++c) acc[c] += kv[size_t(i)] * s[c];
-      }
-      float* o = img.at(x, y);
-      o[0] = acc[0]; o[1] = acc[1]; o[2] = acc[2];
-      taps += n;
-    }
+      float* o = orow + 3 * size_t(x0);
+      const size_t len = 3 * size_t(x1 - x0);
+      std::fill(o, o + len, 0.f);
+      for (int i = 0; i < n; ++i)
+        axpy(o, tmp.row(std::clamp(y + i - half, 0, h - 1)) + 3 * size_t(x0), kv[size_t(i)], len);
+      taps += double(n) * double(x1 - x0);
+    });
     row_taps[size_t(y)] += taps;
   });
   double total = 0;

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -95,6 +96,57 @@ void parallel_rows(int n, Body&& body) {
   });
 }
 
+// Core of gather_gbuffer: at(iv, iu) returns the screen point of slot (iu, iv) (lets callers
+// hoist per-row / per-column terms). Channel checks are hoisted out of the pixel loop
+// (same copies as GBuffer::copy_sample / clear_sample).
+template <class AtFn>
+size_t gather_gbuffer_rows(const GBuffer& src, int w, int h, AtFn&& at, GBuffer& out,
+                           std::vector<uint8_t>& used) {
+  out.resize(w, h, src.channels);
+  used.resize(size_t(w) * size_t(h));
+  const double W = src.width, H = src.height;
+  const uint32_t both = out.channels & src.channels, own = out.channels;
+  const size_t sw = size_t(src.width);
+  const size_t xmax = size_t(src.width - 1), ymax = size_t(src.height - 1);
+  std::vector<size_t> row_n(size_t(std::max(h, 0)), 0);
+  parallel_rows(h, [&](int iv) {
+    size_t n = 0;
+    for (int iu = 0; iu < w; ++iu) {
+      const size_t i = size_t(iv) * size_t(w) + size_t(iu);
+      const glm::dvec2 p = at(iv, iu);
+      if (std::isfinite(p.x) && std::isfinite(p.y) && p.x >= 0 && p.y >= 0 && p.x < W && p.y < H) {
+        const size_t s = std::min(size_t(p.y), ymax) * sw + std::min(size_t(p.x), xmax);
+        out.depth[i] = src.depth[s];
+        if (both & kPosition) out.position[i] = src.position[s];
+        if (both & kNormal) out.normal[i] = src.normal[s];
+        if (both & kAlbedo) out.albedo[i] = src.albedo[s];
+        if (both & kMaterial) out.material[i] = src.material[s];
+        if (both & kObjectId) out.object_id[i] = src.object_id[s];
+        if (both & kSubModel) out.submodel[i] = src.submodel[s];
+        if (both & kMotion) out.motion[i] = src.motion[s];
+        if (both & kUV) out.uv[i] = src.uv[s];
+        used[i] = 1;
+        ++n;
+      } else {
+        out.depth[i] = std::numeric_limits<float>::infinity();
+        if (own & kPosition) out.position[i] = glm::vec3(0.f);
+        if (own & kNormal) out.normal[i] = glm::vec3(0.f);
+        if (own & kAlbedo) out.albedo[i] = glm::vec3(0.f);
+        if (own & kMaterial) out.material[i] = -1;
+        if (own & kObjectId) out.object_id[i] = -1;
+        if (own & kSubModel) out.submodel[i] = -1;
+        if (own & kMotion) out.motion[i] = glm::vec2(0.f);
+        if (own & kUV) out.uv[i] = glm::vec2(0.f);
+        used[i] = 0;
+      }
+    }
+    row_n[size_t(iv)] = n;
+  });
+  size_t n = 0;
+  for (size_t r : row_n) n += r;
+  return n;
+}
+
 // Pass 1 gather (seed 004 §2.2.2, seed 003 §3.2 "TG-buffer"): slot i = (iu, iv) of a w x h
 // buffer takes the nearest full-res G-buffer sample at the screen point inv(iu + 0.5, iv + 0.5);
 // points outside the screen (or not finite) leave the slot cleared and used[i] = 0.
@@ -102,63 +154,87 @@ void parallel_rows(int n, Body&& body) {
 template <class InvFn>
 size_t gather_gbuffer(const GBuffer& src, int w, int h, InvFn&& inv, GBuffer& out,
                       std::vector<uint8_t>& used) {
-  out.resize(w, h, src.channels);
-  used.assign(size_t(w) * size_t(h), 0);
-  const double W = src.width, H = src.height;
-  parallel_rows(h, [&](int iv) {
-    for (int iu = 0; iu < w; ++iu) {
-      const size_t i = size_t(iv) * size_t(w) + size_t(iu);
-      glm::dvec2 p = inv(iu + 0.5, iv + 0.5);
-      if (std::isfinite(p.x) && std::isfinite(p.y) && p.x >= 0 && p.y >= 0 && p.x < W && p.y < H) {
-        size_t sx = std::min(size_t(p.x), size_t(src.width - 1));
-        size_t sy = std::min(size_t(p.y), size_t(src.height - 1));
-        out.copy_sample(src, sy * size_t(src.width) + sx, i);
-        used[i] = 1;
-      } else {
-        out.clear_sample(i);
-      }
-    }
-  });
-  size_t n = 0;
-  for (uint8_t b : used) n += b;
-  return n;
+  return gather_gbuffer_rows(src, w, h, [&](int iv, int iu) { return inv(iu + 0.5, iv + 0.5); }, out, used);
 }
 
 // Bilinear sample of an RGB image at continuous pixel coordinates (centres at i + 0.5).
 // x clamps at the borders; y wraps around when wrap_y (LP-buffer angle axis), else clamps.
-glm::vec3 bilinear(const Image& img, double x, double y, bool wrap_y);
+// Inline: it is the inner loop of every reconstruction pass.
+inline glm::vec3 bilinear(const Image& img, double x, double y, bool wrap_y) {
+  const int w = img.width, h = img.height;
+  double fx = (std::isfinite(x) ? x : 0.0) - 0.5, fy = (std::isfinite(y) ? y : 0.0) - 0.5;
+  fx = fx < -1.0 ? -1.0 : (fx > double(w) ? double(w) : fx);
+  if (!wrap_y) fy = fy < -1.0 ? -1.0 : (fy > double(h) ? double(h) : fy);
+  const double x0f = std::floor(fx), y0f = std::floor(fy);
+  const float tx = float(fx - x0f), ty = float(fy - y0f);
+  int x0 = int(x0f), y0 = int(y0f), x1 = x0 + 1, y1 = y0 + 1;
+  x0 = std::clamp(x0, 0, w - 1);
+  x1 = std::clamp(x1, 0, w - 1);
+  if (wrap_y) {
+    if (y0f >= 0 && y0f < double(h - 1)) {  // common case: no wrap (same rows as below)
+      y0 = int(y0f);
+      y1 = y0 + 1;
+    } else {
+      long m0 = long(y0f) % h, m1 = (long(y0f) + 1) % h;
+      y0 = int(m0 < 0 ? m0 + h : m0);
+      y1 = int(m1 < 0 ? m1 + h : m1);
+    }
+  } else {
+    y0 = std::clamp(y0, 0, h - 1);
+    y1 = std::clamp(y1, 0, h - 1);
+  }
+  const float* a = img.at(x0, y0);
+  const float* b = img.at(x1, y0);
+  const float* c = img.at(x0, y1);
+  const float* d = img.at(x1, y1);
+  glm::vec3 top = glm::vec3(a[0], a[1], a[2]) * (1 - tx) + glm::vec3(b[0], b[1], b[2]) * tx;
+  glm::vec3 bot = glm::vec3(c[0], c[1], c[2]) * (1 - tx) + glm::vec3(d[0], d[1], d[2]) * tx;
+  return top * (1 - ty) + bot * ty;
+}
+
+// Resizes img only when its shape changes (no per-frame zero fill of buffers that are
+// overwritten in full anyway).
+inline void ensure_shape(Image& img, int w, int h, int c) {
+  if (img.width != w || img.height != h || img.channels != c) img.resize(w, h, c);
+}
+
+// x^n for a small positive integer n by repeated squaring (K(x) = x^alpha with integer alpha,
+// the default alpha = 4 being (x^2)^2); equals std::pow to about 1 ulp.
+inline double ipow(double x, int n) {
+  double r = 1.0;
+  for (;;) {
+    if (n & 1) r *= x;
+    n >>= 1;
+    if (!n) return r;
+    x *= x;
+  }
+}
 
 // ---- KFR's two mapping passes (seed 004 §2.2-2.3), callable on their own (bench_methods).
 // Forward map / pass 1 (§2.2.1-2.2.2): gathers the (map.w x map.h) LP-buffer from the
 // full-res G-buffer, slot (u, v) taking the nearest sample at map.inverse(u, v). Returns the
-// number of used slots (see gather_gbuffer).
-inline size_t lp_gather(const GBuffer& src, const LogPolarMap& map, GBuffer& out, std::vector<uint8_t>& used) {
-  return gather_gbuffer(src, int(map.w), int(map.h), [&](double u, double v) { return map.inverse(u, v); },
-                        out, used);
-}
+// number of used slots (see gather_gbuffer). Alg. 2 is separable in polar form: the radius
+// exp(L K^-1(u/w)) depends on the column only and cos/sin(B v) on the row only, so both are
+// tabulated once per frame (the same double expressions as LogPolarMap::inverse).
+size_t lp_gather(const GBuffer& src, const LogPolarMap& map, GBuffer& out, std::vector<uint8_t>& used);
 // Inverse map / pass 2 (Alg. 2 as a gather): every pixel of the W x H output maps forward
 // (eq. 2.10) and reads the RGB LP-buffer bilinearly, angle (y) wrapping. Parallel over rows.
-inline void lp_reconstruct(const Image& lp, const LogPolarMap& map, int W, int H, Image& out) {
-  out.resize(W, H, 3);
-  parallel_rows(H, [&](int y) {
-    for (int x = 0; x < W; ++x) {
-      const glm::dvec2 uv = map.forward(x + 0.5, y + 0.5);
-      const glm::vec3 c = bilinear(lp, uv.x, uv.y, true);
-      float* o = out.at(x, y);
-      o[0] = c.x; o[1] = c.y; o[2] = c.z;
-    }
-  });
-}
+// Same arithmetic as LogPolarMap::forward + bilinear() with per-row terms hoisted and
+// integer alpha evaluated by ipow().
+void lp_reconstruct(const Image& lp, const LogPolarMap& map, int W, int H, Image& out);
 
 // Separable 3x3 Gaussian [1 2 1]/4 x [1 2 1]/4 applied to columns x >= x0 of an RGB
-// image (rows wrap when wrap_y). In place (uses one temporary). Returns taps used.
-double gaussian3x3_from(Image& img, int x0, bool wrap_y);
+// image (rows wrap when wrap_y). In place; the temporary is *scratch when given (kept by the
+// caller across frames), else a local. Returns taps used.
+double gaussian3x3_from(Image& img, int x0, bool wrap_y, Image* scratch = nullptr);
 
 // Spatially varying separable Gaussian: radius_of(x, y) gives the kernel size eta (odd,
 // eta <= 1 means untouched) per pixel; sigma of a size-eta kernel follows OpenCV's
 // getGaussianKernel rule 0.3 ((eta - 1)/2 - 1) + 0.8. Horizontal then vertical pass.
-// Returns the number of taps read.
-double variable_gaussian(Image& img, const std::vector<uint8_t>& eta, int max_eta);
+// Returns the number of taps read. Pixels are processed in runs of equal eta along a row
+// (each run one contiguous, vectorisable multiply-add per tap, same float operation order as
+// a per-pixel loop). The intermediate is *scratch when given, else a local.
+double variable_gaussian(Image& img, const std::vector<uint8_t>& eta, int max_eta, Image* scratch = nullptr);
 
 // Push-pull hole filling (Gortler et al. 1996, as used by seed 003 §2 for sparse samples):
 // pixels with valid[i] == 0 get an interpolation of valid neighbours at the coarsest needed
