@@ -98,14 +98,38 @@ class KfrMethod final : public MappingMethodBase {
     if (s.post_aa) {
       eta_.resize(size_t(W) * size_t(H));
       const double eL = std::exp(map.L);
+      // eta(x) on a row is a function of |dx| alone, monotone (every step -- subtraction,
+      // square, sqrt, division, ceil -- is monotone in floating point), so each side of the
+      // gaze splits into runs of equal eta: found by galloping/binary search with the exact
+      // per-pixel formula, then filled.
+      int split = int(std::clamp(std::ceil(map.gx - 0.5), 0.0, double(W)));  // first x: x + 0.5 >= gx
+      while (split > 0 && split - 1 + 0.5 >= map.gx) --split;
+      while (split < W && !(split + 0.5 >= map.gx)) ++split;
       parallel_rows(H, [&](int y) {
         const double dy = y + 0.5 - map.gy, dy2 = dy * dy;
-        uint8_t* er = &eta_[size_t(y) * size_t(W)];
-        for (int x = 0; x < W; ++x) {
+        auto eta_at = [&](int x) {
           const double dx = x + 0.5 - map.gx;
           const double q = std::min(std::sqrt(dx * dx + dy2) / eL, 1.0);
           const double e = 3.0 + 2.0 * std::ceil((q - 0.10) / 0.05 - 1e-9);
-          er[x] = uint8_t(e < 3 ? 1 : std::min(e, 39.0));
+          return uint8_t(e < 3 ? 1 : std::min(e, 39.0));
+        };
+        uint8_t* er = &eta_[size_t(y) * size_t(W)];
+        int x = 0;
+        while (x < W) {
+          const int end = x < split ? split : W;  // monotone segment [x, end)
+          const uint8_t e = eta_at(x);
+          int lo = x, step = 1;  // eta(lo) == e; find the last such index before end
+          while (lo + step < end && eta_at(lo + step) == e) {
+            lo += step;
+            step *= 2;
+          }
+          int hi = std::min(lo + step, end);  // eta(hi) != e or hi == end
+          while (hi - lo > 1) {
+            const int mid = lo + (hi - lo) / 2;
+            if (eta_at(mid) == e) lo = mid; else hi = mid;
+          }
+          std::fill(er + x, er + lo + 1, e);
+          x = lo + 1;
         }
       });
       taps += variable_gaussian(out.image, eta_, 39, &tmp_full_);

@@ -247,10 +247,26 @@ double gaussian3x3_from(Image& img, int x0, bool wrap_y, Image* scratch) {
 }
 
 namespace {
-// o[j] += k * s[j] for j < n (contiguous; vectorises). Separate function so the compiler
-// sees the restrict-qualified pointers.
-inline void axpy(float* __restrict o, const float* __restrict s, float k, size_t n) {
-  for (size_t j = 0; j < n; ++j) o[j] += k * s[j];
+// o[j] = sum_i k[i] * rows[i][j] for j < len, the sum taken in order i = 0..n-1 starting from
+// 0 (the float operations of a per-pixel loop). Blocks of 16 floats keep their accumulators
+// in registers across the n taps (vectorises); rows[i] are n source pointers.
+inline void weighted_rows(float* __restrict o, const float* const* rows, const float* k, int n, size_t len) {
+  constexpr size_t B = 16;
+  size_t j = 0;
+  for (; j + B <= len; j += B) {
+    float acc[B] = {};
+    for (int i = 0; i < n; ++i) {
+      const float* __restrict s = rows[i] + j;
+      const float ki = k[i];
+      for (size_t q = 0; q < B; ++q) acc[q] += ki * s[q];
+    }
+    for (size_t q = 0; q < B; ++q) o[j + q] = acc[q];
+  }
+  for (; j < len; ++j) {
+    float acc = 0.f;
+    for (int i = 0; i < n; ++i) acc += k[i] * rows[i][j];
+    o[j] = acc;
+  }
 }
 }  // namespace
 
@@ -316,10 +332,9 @@ double variable_gaussian(Image& img, const std::vector<uint8_t>& eta, int max_et
       const int a = std::min(std::max(x0, half), x1), b = std::max(a, std::min(x1, w - half));
       for (int x = x0; x < a; ++x) clamped(x);
       if (b > a) {
-        float* o = orow + 3 * size_t(a);
-        const size_t len = 3 * size_t(b - a);
-        std::fill(o, o + len, 0.f);
-        for (int i = 0; i < n; ++i) axpy(o, srow + 3 * size_t(a + i - half), kv[size_t(i)], len);
+        const float* rows[256];  // n <= 255 (eta is uint8)
+        for (int i = 0; i < n; ++i) rows[i] = srow + 3 * size_t(a + i - half);
+        weighted_rows(orow + 3 * size_t(a), rows, kv.data(), n, 3 * size_t(b - a));
       }
       for (int x = b; x < x1; ++x) clamped(x);
       taps += double(n) * double(x1 - x0);
@@ -334,11 +349,9 @@ double variable_gaussian(Image& img, const std::vector<uint8_t>& eta, int max_et
       if (n < 3) return;
       const auto& kv = k[size_t(n)];
       const int half = n / 2;
-      float* o = orow + 3 * size_t(x0);
-      const size_t len = 3 * size_t(x1 - x0);
-      std::fill(o, o + len, 0.f);
-      for (int i = 0; i < n; ++i)
-        axpy(o, tmp.row(std::clamp(y + i - half, 0, h - 1)) + 3 * size_t(x0), kv[size_t(i)], len);
+      const float* rows[256];  // n <= 255 (eta is uint8)
+      for (int i = 0; i < n; ++i) rows[i] = tmp.row(std::clamp(y + i - half, 0, h - 1)) + 3 * size_t(x0);
+      weighted_rows(orow + 3 * size_t(x0), rows, kv.data(), n, 3 * size_t(x1 - x0));
       taps += double(n) * double(x1 - x0);
     });
     row_taps[size_t(y)] += taps;

@@ -1,0 +1,164 @@
+// The optimised KFR passes (lp_gather tables, lp_reconstruct with hoisted terms and ipow,
+// run-wise variable_gaussian) against straightforward per-pixel references built from
+// LogPolarMap::inverse/forward and the plain filter loop. The filter must match bit for bit;
+// the maps to a few ulp (sqrt for hypot, x^4 by squaring).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+
+#include "sim/foveation/mapping.h"
+
+using namespace fovsim;
+
+namespace {
+
+// Per-pixel reference of variable_gaussian (the loop it replaced).
+double variable_gaussian_ref(Image& img, const std::vector<uint8_t>& eta, int max_eta) {
+  const int w = img.width, h = img.height;
+  max_eta = std::max(1, max_eta | 1);
+  std::vector<std::vector<float>> k(size_t(max_eta) + 1);
+  for (int n = 3; n <= max_eta; n += 2) {
+    const double sg = 0.3 * ((n - 1) * 0.5 - 1.0) + 0.8;
+    std::vector<float> v(static_cast<size_t>(n));
+    double sum = 0;
+    for (int i = 0; i < n; ++i) {
+      double d = i - (n - 1) * 0.5;
+      v[size_t(i)] = float(std::exp(-d * d / (2 * sg * sg)));
+      sum += v[size_t(i)];
+    }
+    for (auto& e : v) e = float(e / sum);
+    k[size_t(n)] = std::move(v);
+  }
+  Image tmp(w, h, 3);
+  double taps = 0;
+  auto size_at = [&](int x, int y) {
+    int n = std::min<int>(eta[size_t(y) * size_t(w) + size_t(x)], max_eta);
+    return (n >= 3) ? (n | 1) : 1;
+  };
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const int n = size_at(x, y);
+      float* o = tmp.at(x, y);
+      if (n < 3) {
+        std::memcpy(o, img.at(x, y), 3 * sizeof(float));
+        continue;
+      }
+      float acc[3] = {0, 0, 0};
+      for (int i = 0; i < n; ++i) {
+        const float* s = img.at(std::clamp(x + i - n / 2, 0, w - 1), y);
+        for (int c = 0; c < 3; ++c) acc[c] += k[size_t(n)][size_t(i)] * s[c];
+      }
+      std::memcpy(o, acc, sizeof acc);
+      taps += n;
+    }
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const int n = size_at(x, y);
+      if (n < 3) continue;
+      float acc[3] = {0, 0, 0};
+      for (int i = 0; i < n; ++i) {
+        const float* s = tmp.at(x, std::clamp(y + i - n / 2, 0, h - 1));
+        for (int c = 0; c < 3; ++c) acc[c] += k[size_t(n)][size_t(i)] * s[c];
+      }
+      std::memcpy(img.at(x, y), acc, sizeof acc);
+      taps += n;
+    }
+  return taps;
+}
+
+Image noise_image(int w, int h, uint32_t seed) {
+  Image img(w, h, 3);
+  uint32_t s = seed;
+  for (float& v : img.data) {
+    s = s * 1664525u + 1013904223u;
+    v = float(s >> 8) / float(1u << 24);
+  }
+  return img;
+}
+
+}  // namespace
+
+TEST(MappingFastPath, VariableGaussianBitIdenticalToPerPixelLoop) {
+  // Sizes smaller and larger than the kernels, eta in runs (incl. untouched 1 and even values)
+  // and scattered single pixels; a reused scratch of the wrong size must be reshaped.
+  Image scratch(3, 3, 3);
+  for (auto wh : {std::pair<int, int>{97, 61}, {5, 40}, {40, 3}, {1, 1}}) {
+    const int w = wh.first, h = wh.second;
+    Image a = noise_image(w, h, 7u + uint32_t(w)), b = a;
+    std::vector<uint8_t> eta(a.pixels());
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const int r = int(std::hypot(x - w * 0.3, y - h * 0.6));
+        int e = std::min(1 + 2 * (r / 3), 41);
+        if ((x * 7 + y * 13) % 29 == 0) e = (x + y) % 40;  // isolated odd/even sizes
+        eta[size_t(y) * size_t(w) + size_t(x)] = uint8_t(e);
+      }
+    const double ta = variable_gaussian(a, eta, 39, &scratch);
+    const double tb = variable_gaussian_ref(b, eta, 39);
+    EXPECT_EQ(ta, tb) << w << "x" << h;
+    ASSERT_EQ(a.data.size(), b.data.size());
+    size_t diff = 0;
+    for (size_t i = 0; i < a.data.size(); ++i) diff += (a.data[i] != b.data[i]);
+    EXPECT_EQ(diff, 0u) << w << "x" << h;
+  }
+}
+
+TEST(MappingFastPath, IpowMatchesPow) {
+  for (int n = 1; n <= 16; ++n)
+    for (double x : {0.0, 1e-3, 0.1, 0.37, 0.5, 0.999, 1.0})
+      EXPECT_NEAR(ipow(x, n), std::pow(x, double(n)), 4e-16 * std::max(1.0, std::pow(x, double(n)))) << n;
+}
+
+TEST(MappingFastPath, LpGatherAndReconstructMatchTheMaps) {
+  const int W = 83, H = 67;
+  for (double alpha : {4.0, 2.5, 1.0}) {
+    for (glm::dvec2 g : {glm::dvec2(41.5, 33.5), glm::dvec2(10.2, 60.7), glm::dvec2(-20, 90)}) {
+      KernelFn k;
+      k.alpha = alpha;
+      const int w = reduced_size(W, 1.8), h = reduced_size(H, 1.8);
+      const LogPolarMap m = LogPolarMap::make(W, H, w, h, g, k);
+      // Gather: depth encodes the source index, so the chosen pixel is visible.
+      GBuffer src;
+      src.resize(W, H, kDepth | kNormal);
+      for (size_t i = 0; i < src.size(); ++i) {
+        src.depth[i] = float(i);
+        src.normal[i] = glm::vec3(float(i), 0.f, 1.f);
+      }
+      GBuffer lp;
+      std::vector<uint8_t> used;
+      const size_t n = lp_gather(src, m, lp, used);
+      size_t n_ref = 0;
+      for (int iv = 0; iv < h; ++iv)
+        for (int iu = 0; iu < w; ++iu) {
+          const size_t i = size_t(iv) * size_t(w) + size_t(iu);
+          const glm::dvec2 p = m.inverse(iu + 0.5, iv + 0.5);
+          const bool in = p.x >= 0 && p.y >= 0 && p.x < W && p.y < H;
+          ASSERT_EQ(used[i], in ? 1 : 0);
+          n_ref += in;
+          if (in) {
+            EXPECT_EQ(lp.depth[i], float(size_t(p.y) * size_t(W) + size_t(p.x)));
+            EXPECT_EQ(lp.normal[i].x, lp.depth[i]);
+          } else {
+            EXPECT_TRUE(std::isinf(lp.depth[i]));
+            EXPECT_EQ(lp.normal[i], glm::vec3(0.f));
+          }
+        }
+      EXPECT_EQ(n, n_ref);
+      // Reconstruct: against forward() + bilinear() per pixel.
+      const Image lpimg = noise_image(w, h, 3u);
+      Image out(1, 1, 3);
+      lp_reconstruct(lpimg, m, W, H, out);
+      ASSERT_EQ(out.width, W);
+      ASSERT_EQ(out.height, H);
+      double worst = 0;
+      for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+          const glm::dvec2 uv = m.forward(x + 0.5, y + 0.5);
+          const glm::vec3 c = bilinear(lpimg, uv.x, uv.y, true);
+          for (int ch = 0; ch < 3; ++ch) worst = std::max(worst, double(std::abs(out.at(x, y)[ch] - c[ch])));
+        }
+      EXPECT_LT(worst, 2e-6) << "alpha " << alpha;
+    }
+  }
+}
