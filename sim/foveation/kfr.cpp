@@ -81,7 +81,7 @@ class KfrMethod final : public MappingMethodBase {
     const LogPolarMap map = LogPolarMap::make(W, H, w, h, ctx.gaze_px, s.kernel);
 
     // Pass 1: forward kernel log-polar transformation of the G-buffer (§2.2.1-2.2.2).
-    const size_t n_used = lp_gather(gb, map, lp_, used_);
+    const size_t n_used = lp_gather(gb, map, lp_, used_, required_channels());  // shading channels only
     shade_buffer(ctx, lp_, lp_col_, &used_, out);
     extend_unused(lp_col_, used_);
     double taps = 0;

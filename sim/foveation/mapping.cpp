@@ -160,7 +160,8 @@ int reduced_size(int S, double sigma) {
 }
 
 // ---- buffer passes ------------------------------------------------------------------------
-size_t lp_gather(const GBuffer& src, const LogPolarMap& map, GBuffer& out, std::vector<uint8_t>& used) {
+size_t lp_gather(const GBuffer& src, const LogPolarMap& map, GBuffer& out, std::vector<uint8_t>& used,
+                 uint32_t keep) {
   const int w = int(map.w), h = int(map.h);
   // LogPolarMap::inverse(iu + 0.5, iv + 0.5) split into its column and row factors.
   std::vector<double> rad(size_t(std::max(w, 0))), cs(size_t(std::max(h, 0))), sn(size_t(std::max(h, 0)));
@@ -177,7 +178,7 @@ size_t lp_gather(const GBuffer& src, const LogPolarMap& map, GBuffer& out, std::
         const double r = rad[size_t(iu)];
         return glm::dvec2(gx + r * cs[size_t(iv)], gy + r * sn[size_t(iv)]);
       },
-      out, used);
+      out, used, keep);
 }
 
 void lp_reconstruct(const Image& lp, const LogPolarMap& map, int W, int H, Image& out) {
@@ -189,6 +190,8 @@ void lp_reconstruct(const Image& lp, const LogPolarMap& map, int W, int H, Image
                      : 0;
   const double L = map.L, w = map.w, h = map.h, gx = map.gx, gy = map.gy;
   const double two_pi = 2.0 * kPi;
+  // Divisions by L and 2 pi / h as multiplications (a 1-ulp change of u, v in double).
+  const double inv_L = 1.0 / L, v_per_rad = h / two_pi;
   parallel_rows(H, [&](int y) {
     const double dy = (y + 0.5) - gy, dy2 = dy * dy;
     float* o = out.row(y);
@@ -196,11 +199,11 @@ void lp_reconstruct(const Image& lp, const LogPolarMap& map, int W, int H, Image
       // LogPolarMap::forward (eq. 2.10) with r = sqrt(dx^2 + dy^2) for hypot.
       const double dx = (x + 0.5) - gx;
       const double r = std::sqrt(dx * dx + dy2);
-      const double t = r > 1.0 ? std::min(std::log(r) / L, 1.0) : 0.0;
+      const double t = r > 1.0 ? std::min(std::log(r) * inv_L, 1.0) : 0.0;
       const double u = (ia ? ipow(t, ia) : k.K(t)) * w;
       double th = std::atan2(dy, dx);
       if (th < 0) th += two_pi;
-      double v = th * h / two_pi;
+      double v = th * v_per_rad;
       if (!(v < h)) v = 0;
       const glm::vec3 c = bilinear(lp, u, v, true);
       o[3 * x] = c.x;

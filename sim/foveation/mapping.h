@@ -97,25 +97,47 @@ void parallel_rows(int n, Body&& body) {
 }
 
 // Core of gather_gbuffer: at(iv, iu) returns the screen point of slot (iu, iv) (lets callers
-// hoist per-row / per-column terms). Channel checks are hoisted out of the pixel loop
-// (same copies as GBuffer::copy_sample / clear_sample).
+// hoist per-row / per-column terms). Copies the channels of src that are also in `keep`
+// (kDepth always; same copies as GBuffer::copy_sample / clear_sample). Per row, the source
+// indices are resolved first, then copied with the sources a few slots ahead prefetched
+// (the reads are scattered over the full-res G-buffer).
 template <class AtFn>
 size_t gather_gbuffer_rows(const GBuffer& src, int w, int h, AtFn&& at, GBuffer& out,
-                           std::vector<uint8_t>& used) {
-  out.resize(w, h, src.channels);
+                           std::vector<uint8_t>& used, uint32_t keep = ~0u) {
+  out.resize(w, h, src.channels & keep);
   used.resize(size_t(w) * size_t(h));
   const double W = src.width, H = src.height;
   const uint32_t both = out.channels & src.channels, own = out.channels;
   const size_t sw = size_t(src.width);
   const size_t xmax = size_t(src.width - 1), ymax = size_t(src.height - 1);
   std::vector<size_t> row_n(size_t(std::max(h, 0)), 0);
+  constexpr size_t kNone = ~size_t(0);
+  constexpr int kAhead = 8;
   parallel_rows(h, [&](int iv) {
+    thread_local std::vector<size_t> idx;  // per-thread row scratch, reused (no per-row allocation)
+    idx.resize(size_t(std::max(w, 0)) + kAhead);
+    for (int iu = 0; iu < w; ++iu) {
+      const glm::dvec2 p = at(iv, iu);
+      idx[size_t(iu)] = (std::isfinite(p.x) && std::isfinite(p.y) && p.x >= 0 && p.y >= 0 && p.x < W && p.y < H)
+                            ? std::min(size_t(p.y), ymax) * sw + std::min(size_t(p.x), xmax)
+                            : kNone;
+    }
+    std::fill(idx.begin() + w, idx.end(), kNone);
     size_t n = 0;
     for (int iu = 0; iu < w; ++iu) {
       const size_t i = size_t(iv) * size_t(w) + size_t(iu);
-      const glm::dvec2 p = at(iv, iu);
-      if (std::isfinite(p.x) && std::isfinite(p.y) && p.x >= 0 && p.y >= 0 && p.x < W && p.y < H) {
-        const size_t s = std::min(size_t(p.y), ymax) * sw + std::min(size_t(p.x), xmax);
+      const size_t s = idx[size_t(iu)];
+#if defined(__GNUC__)
+      const size_t pf = idx[size_t(iu) + kAhead];
+      if (pf != kNone) {
+        __builtin_prefetch(&src.depth[pf]);
+        if (both & kPosition) __builtin_prefetch(&src.position[pf]);
+        if (both & kNormal) __builtin_prefetch(&src.normal[pf]);
+        if (both & kAlbedo) __builtin_prefetch(&src.albedo[pf]);
+        if (both & kMaterial) __builtin_prefetch(&src.material[pf]);
+      }
+#endif
+      if (s != kNone) {
         out.depth[i] = src.depth[s];
         if (both & kPosition) out.position[i] = src.position[s];
         if (both & kNormal) out.normal[i] = src.normal[s];
@@ -216,7 +238,9 @@ inline double ipow(double x, int n) {
 // number of used slots (see gather_gbuffer). Alg. 2 is separable in polar form: the radius
 // exp(L K^-1(u/w)) depends on the column only and cos/sin(B v) on the row only, so both are
 // tabulated once per frame (the same double expressions as LogPolarMap::inverse).
-size_t lp_gather(const GBuffer& src, const LogPolarMap& map, GBuffer& out, std::vector<uint8_t>& used);
+// `keep` limits the copied channels (e.g. to the shading channels; kDepth always).
+size_t lp_gather(const GBuffer& src, const LogPolarMap& map, GBuffer& out, std::vector<uint8_t>& used,
+                 uint32_t keep = ~0u);
 // Inverse map / pass 2 (Alg. 2 as a gather): every pixel of the W x H output maps forward
 // (eq. 2.10) and reads the RGB LP-buffer bilinearly, angle (y) wrapping. Parallel over rows.
 // Same arithmetic as LogPolarMap::forward + bilinear() with per-row terms hoisted and
