@@ -181,18 +181,14 @@ size_t lp_gather(const GBuffer& src, const LogPolarMap& map, GBuffer& out, std::
       out, used, keep);
 }
 
-void lp_reconstruct(const Image& lp, const LogPolarMap& map, int W, int H, Image& out) {
-  ensure_shape(out, W, H, 3);
-  const KernelFn& k = map.k;
-  // K(t) = t^alpha with integer alpha (default 4): ipow instead of std::pow.
-  const int ia = (k.kind == KernelKind::Power && k.alpha >= 1 && k.alpha <= 64 && k.alpha == std::floor(k.alpha))
-                     ? int(k.alpha)
-                     : 0;
-  const double L = map.L, w = map.w, h = map.h, gx = map.gx, gy = map.gy;
-  const double two_pi = 2.0 * kPi;
+namespace {
+// lp_reconstruct's row loop; Kern(t) returns K(t) for t in [0, 1].
+template <class Kern>
+void lp_reconstruct_rows(const Image& lp, const LogPolarMap& map, int W, int H, Image& out, Kern kern) {
   // Divisions by L and 2 pi / h as multiplications (a 1-ulp change of u, v in double).
-  const double inv_L = 1.0 / L, v_per_rad = h / two_pi;
-  parallel_rows(H, [&](int y) {
+  const double inv_L = 1.0 / map.L, w = map.w, h = map.h, gx = map.gx, gy = map.gy;
+  const double v_per_rad = h / (2.0 * kPi);
+  parallel_rows(H, [&, inv_L, w, h, gx, gy, v_per_rad, W](int y) {
     const double dy = (y + 0.5) - gy, dy2 = dy * dy;
     float* o = out.row(y);
     for (int x = 0; x < W; ++x) {
@@ -200,10 +196,8 @@ void lp_reconstruct(const Image& lp, const LogPolarMap& map, int W, int H, Image
       const double dx = (x + 0.5) - gx;
       const double r = std::sqrt(dx * dx + dy2);
       const double t = r > 1.0 ? std::min(std::log(r) * inv_L, 1.0) : 0.0;
-      const double u = (ia ? ipow(t, ia) : k.K(t)) * w;
-      double th = std::atan2(dy, dx);
-      if (th < 0) th += two_pi;
-      double v = th * v_per_rad;
+      const double u = kern(t) * w;
+      double v = angle_0_2pi(dy, dx) * v_per_rad;
       if (!(v < h)) v = 0;
       const glm::vec3 c = bilinear(lp, u, v, true);
       o[3 * x] = c.x;
@@ -211,6 +205,26 @@ void lp_reconstruct(const Image& lp, const LogPolarMap& map, int W, int H, Image
       o[3 * x + 2] = c.z;
     }
   });
+}
+}  // namespace
+
+void lp_reconstruct(const Image& lp, const LogPolarMap& map, int W, int H, Image& out) {
+  ensure_shape(out, W, H, 3);
+  const KernelFn& k = map.k;
+  // K(t) = t^alpha with integer alpha by squaring (default alpha = 4: (t^2)^2).
+  const bool int_alpha =
+      k.kind == KernelKind::Power && k.alpha >= 1 && k.alpha <= 64 && k.alpha == std::floor(k.alpha);
+  if (int_alpha && k.alpha == 4.0) {
+    lp_reconstruct_rows(lp, map, W, H, out, [](double t) {
+      const double t2 = t * t;
+      return t2 * t2;
+    });
+  } else if (int_alpha) {
+    const int ia = int(k.alpha);
+    lp_reconstruct_rows(lp, map, W, H, out, [ia](double t) { return ipow(t, ia); });
+  } else {
+    lp_reconstruct_rows(lp, map, W, H, out, [k](double t) { return k.K(t); });
+  }
 }
 
 double gaussian3x3_from(Image& img, int x0, bool wrap_y, Image* scratch) {

@@ -232,6 +232,36 @@ inline double ipow(double x, int n) {
   }
 }
 
+// Polar angle of (dx, dy) in [0, 2 pi): std::atan2 with the negative half shifted by 2 pi,
+// inline (Cephes atan: range reduction at tan(3 pi/8) and 0.66, rational P4/Q5, ~1e-16
+// relative). (0, 0) gives 0 like std::atan2(+0, +0).
+inline double angle_0_2pi(double dy, double dx) {
+  constexpr double kPio2 = 1.57079632679489661923, kPio4 = 0.78539816339744830962;
+  constexpr double kMoreBits = 6.123233995736765886130e-17;
+  const double ay = std::abs(dy), ax = std::abs(dx);
+  if (!(ay > 0 || ax > 0)) return std::isnan(dy + dx) ? std::atan2(dy, dx) : 0.0;
+  double x = ay / ax;  // in [0, inf]
+  double y0 = 0, extra = 0;
+  if (x > 2.41421356237309504880) {
+    y0 = kPio2;
+    extra = kMoreBits;
+    x = -1.0 / x;
+  } else if (x > 0.66) {
+    y0 = kPio4;
+    extra = 0.5 * kMoreBits;
+    x = (x - 1.0) / (x + 1.0);
+  }
+  const double z = x * x;
+  const double p = (((-8.750608600031904122785e-1 * z - 1.615753718733365076637e1) * z - 7.500855792314704667340e1) * z -
+                    1.228866684490136173410e2) * z - 6.485021904942025371773e1;
+  const double q = ((((z + 2.485846490142306297962e1) * z + 1.650270098316988542046e2) * z + 4.328810604912902668951e2) * z +
+                    4.853903996359136964868e2) * z + 1.945506571482613964425e2;
+  const double base = y0 + ((x * (z * p / q) + x) + extra);  // atan(|dy| / |dx|) in [0, pi/2]
+  const double pi = 2.0 * kPio2;
+  if (dx < 0) return dy < 0 ? pi + base : pi - base;
+  return dy < 0 ? 2.0 * pi - base : base;
+}
+
 // ---- KFR's two mapping passes (seed 004 §2.2-2.3), callable on their own (bench_methods).
 // Forward map / pass 1 (§2.2.1-2.2.2): gathers the (map.w x map.h) LP-buffer from the
 // full-res G-buffer, slot (u, v) taking the nearest sample at map.inverse(u, v). Returns the

@@ -162,3 +162,28 @@ TEST(MappingFastPath, LpGatherAndReconstructMatchTheMaps) {
     }
   }
 }
+
+TEST(MappingFastPath, AngleMatchesAtan2) {
+  double worst = 0;
+  uint32_t s = 12345u;
+  auto rnd = [&] {
+    s = s * 1664525u + 1013904223u;
+    return double(s >> 8) / double(1u << 24) * 2.0 - 1.0;
+  };
+  std::vector<std::pair<double, double>> pts = {{0, 1}, {0, -1}, {1, 0}, {-1, 0}, {1, 1}, {-1, -1},
+                                                {1e-300, -1}, {-1e-300, -1}, {3, 1e-17}, {0, 0}};
+  for (int i = 0; i < 200000; ++i) {
+    const double sc = std::pow(10.0, 4 * rnd());
+    pts.push_back({rnd() * sc, rnd()});
+  }
+  for (auto [dy, dx] : pts) {
+    double ref = std::atan2(dy, dx);
+    if (ref < 0) ref += 2.0 * kPi;
+    const double a = angle_0_2pi(dy, dx);
+    EXPECT_GE(a, 0.0);
+    EXPECT_LT(a, 2.0 * kPi);
+    worst = std::max(worst, std::abs(a - ref));
+  }
+  EXPECT_LT(worst, 3e-15);  // a few ulp of 2 pi
+  EXPECT_EQ(angle_0_2pi(0.0, 0.0), 0.0);
+}
