@@ -267,7 +267,12 @@ namespace {
 // o[j] = sum_i k[i] * rows[i][j] for j < len, the sum taken in order i = 0..n-1 starting from
 // 0 (the float operations of a per-pixel loop). Blocks of 16 floats keep their accumulators
 // in registers across the n taps (vectorises); rows[i] are n source pointers.
-inline void weighted_rows(float* __restrict o, const float* const* rows, const float* k, int n, size_t len) {
+// On x86-64 an AVX2 clone is selected at load time where the CPU has it (wider vectors, same
+// IEEE operations: no FMA is enabled, so the results are bit-identical to the SSE2 build).
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void weighted_rows(float* __restrict o, const float* const* rows, const float* k, int n, size_t len) {
   constexpr size_t B = 16;
   size_t j = 0;
   for (; j + B <= len; j += B) {
