@@ -262,6 +262,10 @@ inline double angle_0_2pi(double dy, double dx) {
   return dy < 0 ? 2.0 * pi - base : base;
 }
 
+// One screen row of angles: v[i] = angle_0_2pi(dy, i + 0.5 - gx) * v_per_rad for i < n,
+// bit-identical to the scalar function (vectorised loop of lp_reconstruct).
+void polar_angle_row(double* v, int n, double gx, double dy, double v_per_rad);
+
 // ---- KFR's two mapping passes (seed 004 §2.2-2.3), callable on their own (bench_methods).
 // Forward map / pass 1 (§2.2.1-2.2.2): gathers the (map.w x map.h) LP-buffer from the
 // full-res G-buffer, slot (u, v) taking the nearest sample at map.inverse(u, v). Returns the

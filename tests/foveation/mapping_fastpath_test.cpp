@@ -187,3 +187,16 @@ TEST(MappingFastPath, AngleMatchesAtan2) {
   EXPECT_LT(worst, 3e-15);  // a few ulp of 2 pi
   EXPECT_EQ(angle_0_2pi(0.0, 0.0), 0.0);
 }
+
+TEST(MappingFastPath, AngleRowBitIdenticalToScalar) {
+  const double vpr = 889.0 / (2.0 * kPi);
+  for (double gx : {0.0, 17.5, 40.3, -3.0, 1e6})
+    for (double dy : {0.0, 1e-12, -0.5, 3.25, -1000.0}) {
+      std::vector<double> v(97);
+      polar_angle_row(v.data(), int(v.size()), gx, dy, vpr);
+      for (size_t i = 0; i < v.size(); ++i) {
+        const double ref = angle_0_2pi(dy, (double(i) + 0.5) - gx) * vpr;
+        EXPECT_EQ(v[i], ref) << "gx " << gx << " dy " << dy << " i " << i;
+      }
+    }
+}
