@@ -226,6 +226,9 @@ void lp_reconstruct_rows(const Image& lp, const LogPolarMap& map, int W, int H, 
   const double inv_L = 1.0 / map.L, w = map.w, h = map.h, gx = map.gx, gy = map.gy;
   const double v_per_rad = h / (2.0 * kPi), half_inv_L = 0.5 * inv_L;
   parallel_rows(H, [&, half_inv_L, w, h, gx, gy, v_per_rad, W](int y) {
+    const int lw1 = lp.width - 1, lh = lp.height;
+    const size_t lstride = size_t(lp.width) * 3;
+    const float* lpd = lp.data.data();
     thread_local std::vector<double> vrow;  // per-thread row scratch (no per-row allocation)
     vrow.resize(size_t(W));
     const double dy = (y + 0.5) - gy, dy2 = dy * dy;
@@ -239,10 +242,26 @@ void lp_reconstruct_rows(const Image& lp, const LogPolarMap& map, int W, int H, 
       const double u = kern(t) * w;
       double v = vrow[size_t(x)];
       if (!(v < h)) v = 0;
-      const glm::vec3 c = bilinear(lp, u, v, true);
-      o[3 * x] = c.x;
-      o[3 * x + 1] = c.y;
-      o[3 * x + 2] = c.z;
+      // bilinear(lp, u, v, true) for u in [0, w], v in [0, h) (finite; no clamp of fx, fy
+      // needed): x clamps at the borders, y wraps.
+      const double fx = u - 0.5, fy = v - 0.5;
+      const double x0f = std::floor(fx), y0f = std::floor(fy);
+      const float tx = float(fx - x0f), ty = float(fy - y0f);
+      const int xi = int(x0f), yi = int(y0f);
+      const int x0 = xi < 0 ? 0 : xi, x1 = xi + 1 > lw1 ? lw1 : xi + 1;
+      const int y0 = yi < 0 ? lh - 1 : yi, y1 = yi + 1 >= lh ? yi + 1 - lh : yi + 1;
+      const float* r0 = lpd + size_t(y0) * lstride;
+      const float* r1 = lpd + size_t(y1) * lstride;
+      const float* a = r0 + 3 * x0;
+      const float* b = r0 + 3 * x1;
+      const float* c = r1 + 3 * x0;
+      const float* d = r1 + 3 * x1;
+      const float sx = 1 - tx, sy = 1 - ty;
+      for (int ch = 0; ch < 3; ++ch) {
+        const float top = a[ch] * sx + b[ch] * tx;
+        const float bot = c[ch] * sx + d[ch] * tx;
+        o[3 * x + ch] = top * sy + bot * ty;
+      }
     }
   });
 }
