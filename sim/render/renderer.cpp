@@ -13,8 +13,10 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <type_traits>
 
 #include "sim/core/error.h"
+#include "sim/render/embree_device.h"
 
 namespace fovsim {
 
@@ -73,6 +75,8 @@ struct RenderState {
   std::vector<LightNow> lights;
   std::vector<glm::vec2> mat_cs;  // cos, sin of each material's texture angle
   float scene_scale = 1.f;  // for ray offsets
+  // Context flags for 16-wide packets (primary and shadow rays). See packet_flags() below.
+  RTCIntersectContextFlags packet_flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
 
   void check(const char* what) {
     RTCError e = rtcGetDeviceError(device);
@@ -90,12 +94,18 @@ struct RenderState {
 
 struct Renderer::Impl : RenderState {};
 
+// Embree filter for shadow rays (defined with OcclusionContext below).
+void occlusion_filter(const RTCFilterFunctionNArguments* args);
+
 namespace {
 
 // Shared vertex buffers need 16 readable bytes past the last vertex (Embree SIMD loads).
+// The geometry's user data is its object index (for occlusion_filter).
 void attach_mesh(RTCDevice dev, RTCScene sc, const std::vector<glm::vec3>& pos, const Mesh& m,
-                 unsigned* geom_id) {
+                 size_t object, unsigned* geom_id) {
   RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
+  rtcSetGeometryUserData(g, reinterpret_cast<void*>(object));
+  rtcSetGeometryOccludedFilterFunction(g, occlusion_filter);
   rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, pos.data(), 0,
                              sizeof(glm::vec3), pos.size() - 1);
   rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, m.triangles.data(), 0,
@@ -110,8 +120,9 @@ void attach_mesh(RTCDevice dev, RTCScene sc, const std::vector<glm::vec3>& pos, 
 Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
     : scene_(scene), settings_(settings), impl_(std::make_unique<Impl>()) {
   Impl& I = *impl_;
-  I.device = rtcNewDevice(nullptr);
-  if (!I.device) throw Error("embree", "rtcNewDevice failed");
+  const std::string cfg = embree_device_config();  // FOVSIM_EMBREE_ISA forces a code path
+  I.device = rtcNewDevice(cfg.empty() ? nullptr : cfg.c_str());
+  if (!I.device) throw Error("embree", "rtcNewDevice(\"" + cfg + "\") failed");
   rtcSetDeviceErrorFunction(I.device, embree_error, nullptr);
 
   bool any_dynamic = false;
@@ -120,6 +131,19 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
   I.top = rtcNewScene(I.device);
   I.static_scene = any_dynamic ? rtcNewScene(I.device) : I.top;
   rtcSetSceneBuildQuality(I.static_scene, RTC_BUILD_QUALITY_HIGH);
+  // Why dynamic scenes trace packets with the incoherent flag: Embree 3.13.5's coherent
+  // (frustum) traversal of 16-wide packets, rtcOccluded16 with RTC_INTERSECT_CONTEXT_FLAG_
+  // COHERENT, never returns on this two-level scene once the top level has been recommitted
+  // (set_time). Reproduced with a single active lane holding a finite, normalised ray (tnear
+  // 0, tfar inf or finite, mask ~0, time 0), with and without RTC_SCENE_FLAG_DYNAMIC/ROBUST and
+  // build quality LOW, with a freshly created top-level scene holding the same instances, and
+  // with no transform change at all (a plain recommit); the same packet traverses correctly
+  // with the incoherent flag, as 8-wide coherent packets, as single rays, and on a flat scene.
+  // Which ISA path hangs depends on the CPU (AVX-512 here, AVX2 elsewhere), so the inputs we
+  // pass are not the cause; the fix is to keep instanced scenes off Embree's coherent packet
+  // path. Flat (static) scenes keep it (~15% faster primary rays). Results are unaffected:
+  // both paths run the same ray-triangle test. Regression: Render.DynamicSceneShadowPackets*.
+  if (any_dynamic) I.packet_flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
   if (any_dynamic) {
     rtcSetSceneFlags(I.top, RTC_SCENE_FLAG_DYNAMIC);
     rtcSetSceneBuildQuality(I.top, RTC_BUILD_QUALITY_LOW);
@@ -164,14 +188,14 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
     if (m.triangles.empty()) continue;
     if (!ob.dynamic) {
       unsigned gid;
-      attach_mesh(I.device, I.static_scene, ob.pos, m, &gid);
+      attach_mesh(I.device, I.static_scene, ob.pos, m, oi, &gid);
       if (I.static_geom_object.size() <= gid) I.static_geom_object.resize(gid + 1, -1);
       I.static_geom_object[gid] = int(oi);
     } else {
       RTCScene child = rtcNewScene(I.device);
       rtcSetSceneBuildQuality(child, RTC_BUILD_QUALITY_HIGH);
       unsigned gid;
-      attach_mesh(I.device, child, ob.pos, m, &gid);
+      attach_mesh(I.device, child, ob.pos, m, oi, &gid);
       rtcCommitScene(child);
       I.child_scenes.push_back(child);
       RTCGeometry inst = rtcNewGeometry(I.device, RTC_GEOMETRY_TYPE_INSTANCE);
@@ -277,6 +301,73 @@ inline int hit_object(const RenderState& I, const RTCHit& h) {
 
 // Fills every requested channel of sample `i` from a hit (or a miss when obj < 0).
 // `px` is the sample's screen point (for motion).
+// Embree decides which triangle a ray hits; the t, u, v it reports come from ISA-specific
+// kernels (FMA on its AVX2/AVX-512 paths, none on SSE/AVX; other evaluation orders) and differ
+// in the last bits between CPUs, which moved reference pixels and every later number. Recompute
+// them from the same triangle in double precision (Moller-Trumbore; the base build has no FMA,
+// so the operations are the same IEEE ones on every x86-64 CPU): every G-buffer channel then
+// depends only on which triangle was hit. Dynamic objects: the ray goes to object space (the
+// affine map keeps the ray parameter t). A degenerate determinant keeps Embree's values.
+inline void refine_hit(const RenderState& I, const Scene& scene, int obj, uint32_t prim,
+                       const glm::vec3& org, const glm::vec3& dir, float& t, float& u, float& v) {
+  const RenderState::Obj& ob = I.objs[size_t(obj)];
+  const glm::uvec3 tri = scene.meshes[size_t(scene.objects[size_t(obj)].mesh)].triangles[prim];
+  glm::dvec3 o(org), d(dir);
+  if (ob.dynamic) {
+    const glm::dmat4 inv(ob.inv);
+    o = glm::dvec3(inv * glm::dvec4(o, 1.0));
+    d = glm::dmat3(inv) * d;
+  }
+  const glm::dvec3 p0(ob.pos[tri.x]), e1 = glm::dvec3(ob.pos[tri.y]) - p0,
+      e2 = glm::dvec3(ob.pos[tri.z]) - p0;
+  const glm::dvec3 pv = glm::cross(d, e2);
+  const double det = glm::dot(e1, pv);
+  if (!(std::fabs(det) > 1e-300)) return;
+  const double inv_det = 1.0 / det;
+  const glm::dvec3 tv = o - p0, qv = glm::cross(tv, e1);
+  // Clamped into the triangle: Embree found the hit inside it (watertight test), a last-bit
+  // difference must not push an interpolation outside.
+  const double uu = std::clamp(glm::dot(tv, pv) * inv_det, 0.0, 1.0);
+  const double vv = std::clamp(glm::dot(d, qv) * inv_det, 0.0, 1.0 - uu);
+  const double tt = glm::dot(e2, qv) * inv_det;
+  if (!(tt >= 0.0) || !std::isfinite(tt)) return;
+  t = float(tt);
+  u = float(uu);
+  v = float(vv);
+}
+
+// Shadow rays decide occlusion with the same portable t: Embree is given a slightly wider
+// interval [tnear - d, tfar + d] and every candidate hit it finds goes through this filter,
+// which recomputes t from the world-space ray (kept in the context, indexed by ray id) and
+// accepts it only inside the requested [tnear, tfar]. Embree's own boundary decisions (a hit
+// a few ulps before or after tfar, ISA-dependent) therefore no longer flip visibility; only
+// whether a ray touches a triangle exactly at a silhouette edge can still differ.
+struct OcclusionContext {
+  RTCIntersectContext ctx;  // first member: Embree passes &ctx back to the filter
+  const RenderState* I;
+  const Scene* scene;
+  glm::vec3 org[16], dir[16];
+  float tnear[16], tfar[16];
+};
+static_assert(std::is_standard_layout<OcclusionContext>::value, "context must be standard layout");
+
+void occlusion_filter(const RTCFilterFunctionNArguments* args) {
+  const auto* oc = reinterpret_cast<const OcclusionContext*>(args->context);
+  const int obj = int(reinterpret_cast<size_t>(args->geometryUserPtr));
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    const unsigned id = RTCRayN_id(args->ray, args->N, i);
+    const uint32_t prim = RTCHitN_primID(args->hit, args->N, i);
+    float t = RTCRayN_tfar(args->ray, args->N, i), u = RTCHitN_u(args->hit, args->N, i),
+          v = RTCHitN_v(args->hit, args->N, i);
+    refine_hit(*oc->I, *oc->scene, obj, prim, oc->org[id], oc->dir[id], t, u, v);
+    if (!(t >= oc->tnear[id] && t <= oc->tfar[id])) args->valid[i] = 0;
+  }
+}
+
+// The widening of the interval handed to Embree (see OcclusionContext).
+inline float occlusion_slack(const RenderState& I) { return 1e-4f * I.scene_scale; }
+
 struct SampleWriter {
   const Scene& scene;
   const RenderState& I;
@@ -297,6 +388,7 @@ struct SampleWriter {
 
   void hit(GBuffer& g, size_t i, const glm::vec3& org, const glm::vec3& dir, float t, int obj,
            uint32_t prim, float bu, float bv, const glm::vec2& px) const {
+    refine_hit(I, scene, obj, prim, org, dir, t, bu, bv);
     g.depth[i] = t;
     if (!(ch & ~kDepth)) return;
     const Object& o = scene.objects[size_t(obj)];
@@ -425,7 +517,7 @@ struct Packet {
     }
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
-    ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    ctx.flags = I.packet_flags;
     rtcIntersect16(valid, I.top, &ctx, &rh);
     for (int k = 0; k < n; ++k) {
       if (rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) {
@@ -545,24 +637,31 @@ inline float smooth01(float e0, float e1, float x) {
   return t * t * (3.f - 2.f * t);
 }
 
-inline bool occluded_ray(RTCScene sc, const glm::vec3& o, const glm::vec3& d, float tnear,
-                         float tfar) {
-  RTCIntersectContext ctx;
-  rtcInitIntersectContext(&ctx);
+inline bool occluded_ray(const Scene& scene, const RenderState& I, const glm::vec3& o,
+                         const glm::vec3& d, float tnear, float tfar) {
+  OcclusionContext oc;
+  rtcInitIntersectContext(&oc.ctx);
+  oc.I = &I;
+  oc.scene = &scene;
+  oc.org[0] = o;
+  oc.dir[0] = d;
+  oc.tnear[0] = tnear;
+  oc.tfar[0] = tfar;
+  const float slack = occlusion_slack(I);
   RTCRay r;
   r.org_x = o.x;
   r.org_y = o.y;
   r.org_z = o.z;
-  r.tnear = tnear;
+  r.tnear = std::max(0.f, tnear - slack);
   r.dir_x = d.x;
   r.dir_y = d.y;
   r.dir_z = d.z;
   r.time = 0.f;
-  r.tfar = tfar;
+  r.tfar = tfar + slack;
   r.mask = 0xffffffffu;
   r.id = 0;
   r.flags = 0;
-  rtcOccluded1(sc, &ctx, &r);
+  rtcOccluded1(I.top, &oc.ctx, &r);
   return r.tfar < 0.f;  // Embree sets tfar = -inf when blocked
 }
 
@@ -643,7 +742,7 @@ static glm::vec3 shade_one(const Scene& scene, const RenderState& I, bool shadow
     if (k == 0) continue;
     if (k == 2) {
       if (shadow_rays) ++*shadow_rays;
-      if (occluded_ray(I.top, sp.O, L, 0.f, tfar)) continue;
+      if (occluded_ray(scene, I, sp.O, L, 0.f, tfar)) continue;
     }
     col += contrib;
   }
@@ -667,6 +766,10 @@ static void shade_block(const Scene& scene, const RenderState& I, bool shadows, 
   for (int k = 0; k < n; ++k) hit[k] = surface(scene, I, g, idx[k], eye, sp[k], col[k]);
   alignas(64) RTCRay16 ray;
   alignas(64) int valid[16];
+  OcclusionContext oc;
+  oc.I = &I;
+  oc.scene = &scene;
+  const float slack = occlusion_slack(I);
   for (size_t li = 0; li < nl; ++li) {
     const LightNow& l = I.lights[li];
     int tests = 0;
@@ -685,7 +788,11 @@ static void shade_block(const Scene& scene, const RenderState& I, bool shadows, 
       ray.dir_y[k] = L.y;
       ray.dir_z[k] = L.z;
       ray.tnear[k] = 0.f;
-      ray.tfar[k] = st == 2 ? tfar : kInf;
+      ray.tfar[k] = st == 2 ? tfar + slack : kInf;
+      oc.org[k] = o;
+      oc.dir[k] = L;
+      oc.tnear[k] = 0.f;
+      oc.tfar[k] = st == 2 ? tfar : kInf;
       ray.time[k] = 0.f;
       ray.mask[k] = 0xffffffffu;
       ray.id[k] = unsigned(k);
@@ -695,10 +802,9 @@ static void shade_block(const Scene& scene, const RenderState& I, bool shadows, 
     }
     if (tests == 0) continue;
     shadow_rays += uint64_t(tests);
-    RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
-    ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-    rtcOccluded16(valid, I.top, &ctx, &ray);
+    rtcInitIntersectContext(&oc.ctx);
+    oc.ctx.flags = I.packet_flags;
+    rtcOccluded16(valid, I.top, &oc.ctx, &ray);
     for (int k = 0; k < n; ++k)
       if (state[size_t(k) * nl + li] == 2 && ray.tfar[k] < 0.f) state[size_t(k) * nl + li] = 0;
   }
@@ -775,7 +881,7 @@ bool Renderer::occluded(const glm::vec3& from, const glm::vec3& to) const {
   const float eps = 1e-4f * impl_->scene_scale;
   rays_ += 1;
   if (dist <= 2.f * eps) return false;
-  return occluded_ray(impl_->top, from, d / dist, eps, dist - eps);
+  return occluded_ray(scene_, *impl_, from, d / dist, eps, dist - eps);
 }
 
 float Renderer::intersect(const glm::vec3& org, const glm::vec3& dir_in, int* object, int* prim,
@@ -796,6 +902,7 @@ float Renderer::intersect(const glm::vec3& org, const glm::vec3& dir_in, int* ob
   int obj = hit_object(I, rh.hit);
   if (object) *object = obj;
   if (prim) *prim = int(rh.hit.primID);
+  refine_hit(I, scene_, obj, rh.hit.primID, org, dir, rh.ray.tfar, rh.hit.u, rh.hit.v);
   if (normal || uv) {
     GBuffer g;
     g.resize(1, 1, kNormal | kUV);

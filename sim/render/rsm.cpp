@@ -225,6 +225,8 @@ void setup_rsm(const Scene& scene, int light_index, double t, int size, const AA
     }
 }
 
+constexpr float kTexelJitterX = 0.5f + 0.0123457f, kTexelJitterY = 0.5f - 0.0098765f;
+
 void render_rsm(const Renderer& r, int light_index, int size, const AABB& bounds, RSM& out, Counters* c) {
   const Scene& scene = r.scene();
   setup_rsm(scene, light_index, r.time(), size, bounds, out);
@@ -232,7 +234,11 @@ void render_rsm(const Renderer& r, int light_index, int size, const AABB& bounds
     for (int x = 0; x < size; ++x) {
       const size_t i = size_t(y) * size_t(size) + size_t(x);
       glm::vec3 org, dir;
-      out.texel_ray(x + 0.5f, y + 0.5f, org, dir);
+      // Texel "centres" are offset by a small irrational-looking fraction: a regular grid of
+      // rays through exact texel centres over axis-aligned geometry at round coordinates hits
+      // edges and corners exactly, where which of two triangles Embree reports depends on its
+      // ISA path (BVH width, traversal order). Off the exact centre such ties have measure zero.
+      out.texel_ray(x + kTexelJitterX, y + kTexelJitterY, org, dir);
       int obj = -1, prim = -1;
       glm::vec3 n(0.f);
       glm::vec2 uv(0.f);

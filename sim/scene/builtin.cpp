@@ -140,6 +140,7 @@ Scene make_atrium(Params& p) {
 
   // Hall extents (metres). The viewer stands near z = 2 looking down -z.
   const float X = 9.f, Z0 = -24.f, Z1 = 3.f, H = 11.f;
+  const float kGap = 1e-3f;  // 1 mm between touching parts (no coplanar overlaps)
   const float xa = 5.f;  // arcade column line at x = +-xa
   const float bay = 3.f, z_first = 1.5f;
   const int bays = 8;
@@ -179,10 +180,13 @@ Scene make_atrium(Params& p) {
     Mesh m;
     MeshBuilder b(m);
     const float sx = 3.5f, sz0 = -17.f, sz1 = -4.f, c = std::max(ts.grid_cell, 0.5f);
-    b.box({-X, H, Z0}, {-sx, H + 0.3f, Z1}, m_ceil, c);
-    b.box({sx, H, Z0}, {X, H + 0.3f, Z1}, m_ceil, c);
-    b.box({-sx, H, sz1}, {sx, H + 0.3f, Z1}, m_ceil, c);
-    b.box({-sx, H, Z0}, {sx, H + 0.3f, sz0}, m_ceil, c);
+    // Boxes stop kGap short of the walls: a face coplanar with a wall makes which surface a
+    // ray reports depend on Embree's ISA path (z-fighting), i.e. on the CPU.
+    const float x = X - kGap, z0 = Z0 + kGap, z1 = Z1 - kGap;
+    b.box({-x, H, z0}, {-sx, H + 0.3f, z1}, m_ceil, c);
+    b.box({sx, H, z0}, {x, H + 0.3f, z1}, m_ceil, c);
+    b.box({-sx, H, sz1}, {sx, H + 0.3f, z1}, m_ceil, c);
+    b.box({-sx, H, z0}, {sx, H + 0.3f, sz0}, m_ceil, c);
     add_object(s, std::move(m), "ceiling");
   }
 
@@ -219,9 +223,10 @@ Scene make_atrium(Params& p) {
       }
       // Entablature / gallery floor slab behind the arches, wall to wall along z.
       float xin = sgn * xa - sgn * 0.5f * S.depth;
-      float lo = std::min(xin, sgn * X), hi = std::max(xin, sgn * X);
-      float slab_top = st ? H : S.y_top + 0.3f;
-      ab.box({lo, S.y_top, Z0}, {hi, slab_top, Z1}, m_slab, std::max(ts.grid_cell, 0.5f));
+      // kGap short of the walls and the ceiling (no coplanar faces; see the ceiling above).
+      float lo = std::min(xin, sgn * (X - kGap)), hi = std::max(xin, sgn * (X - kGap));
+      float slab_top = st ? H - kGap : S.y_top + 0.3f;
+      ab.box({lo, S.y_top, Z0 + kGap}, {hi, slab_top, Z1 - kGap}, m_slab, std::max(ts.grid_cell, 0.5f));
       add_object(s, std::move(arches), std::string(side ? "right" : "left") + "_arcade_" +
                                            std::to_string(st));
     }
