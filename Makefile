@@ -55,7 +55,7 @@ demo: build
 	  $(PY) viz/plot_run.py results/quickstart; fi
 
 test: build
-	cd $(BUILD) && ctest --output-on-failure -j$(JOBS) --timeout 600
+	cd $(BUILD) && ctest --output-on-failure -j$(JOBS) --timeout 60
 
 bench: deps-bench build
 	@for b in $(BUILD)/bench_*; do echo "== $$b"; $$b; done

@@ -12,6 +12,7 @@ struct RunArgs {
   std::vector<std::string> overrides;
   int threads = 0;
   bool quiet = false;
+  double watchdog_s = 60;
 };
 }  // namespace
 
@@ -26,6 +27,10 @@ void register_run(CLI::App& app, Action& action) {
       ->check(CLI::Range(0, 4096));
   c->add_option("--models", a->models, "Models directory (default: $FOVSIM_MODELS, ./models, or the source tree's)");
   c->add_flag("-q,--quiet", a->quiet, "Do not print the summary table");
+  c->add_option("--watchdog", a->watchdog_s,
+                "Seconds: stop with an error naming the frame and method when one method's frame runs longer than\n"
+                "max(SECONDS, 50x the median of its previous frames) (its first frame: 10x SECONDS); 0 disables")
+      ->check(CLI::Range(0.0, 1e9));
   c->callback([a, &action, c]() {
     action = [a]() {
       LoadedConfig cfg = load_config(a->config, a->overrides);
@@ -33,6 +38,7 @@ void register_run(CLI::App& app, Action& action) {
       opt.out_dir = a->out;
       opt.models_dir = a->models;
       opt.threads = a->threads;
+      opt.watchdog_s = a->watchdog_s;
       opt.print_summary = !a->quiet;
       opt.command_line = "fovsim run " + a->config;
       for (auto& o : a->overrides) opt.command_line += " " + o;

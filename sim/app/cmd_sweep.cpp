@@ -19,6 +19,7 @@ struct SweepArgs {
   std::string config, out, models, shard;
   std::vector<std::string> overrides;
   int threads = 0, batch = 0;
+  double watchdog_s = 60;
   bool bench = false, no_plots = false, quiet = false, json = false, allow_partial = false;
   std::vector<std::string> sources;
 };
@@ -65,6 +66,10 @@ void register_sweep(CLI::App& app, Action& action) {
   c->add_flag("--bench", a->bench, "Print the timing report (references vs. cells' own work) and write bench.json");
   c->add_flag("--no-plots", a->no_plots, "Do not run viz/plot_sweep.py at the end");
   c->add_flag("-q,--quiet", a->quiet, "Print only errors");
+  c->add_option("--watchdog", a->watchdog_s,
+                "Seconds: stop with an error naming the frame and method when one method's frame runs longer than\n"
+                "max(SECONDS, 50x the median of its previous frames) (its first frame: 10x SECONDS); 0 disables")
+      ->check(CLI::Range(0.0, 1e9));
 
   auto e = std::make_shared<SweepArgs>();
   CLI::App* ex = c->add_subcommand("expand", "Print the ordered cell list of a sweep (cell i is always the same run)");
@@ -103,6 +108,7 @@ void register_sweep(CLI::App& app, Action& action) {
       opt.models_dir = a->models;
       opt.threads = a->threads;
       opt.batch = a->batch;
+      opt.watchdog_s = a->watchdog_s;
       opt.command_line = command_line("sweep", *a);
       if (!a->shard.empty()) parse_shard(a->shard, opt.shard, opt.shards);
       else shard_from_env(opt.shard, opt.shards);

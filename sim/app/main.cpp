@@ -1,10 +1,12 @@
 // fovsim CLI entry point: the only place that catches fovsim::Error, prints one line and exits.
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <string>
 
 #include "sim/app/commands.h"
 #include "sim/core/error.h"
+#include "sim/core/watchdog.h"
 #include "sim/core/version.h"
 
 int main(int argc, char** argv) {
@@ -16,12 +18,20 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", fovsim::version_string() + " (" + fovsim::git_commit() + ")");
   app.require_subcommand(1);
   fovsim::app::Action action;
+  // A hang reported by the library's watchdog ends the process with one line (exit 3: a bug,
+  // not bad input). Files already written stay intact (they are written atomically).
+  fovsim::Watchdog::set_handler([](const std::string& msg) {
+    std::fprintf(stderr, "fovsim: error: %s\n", msg.c_str());
+    std::fflush(stderr);
+    std::_Exit(3);
+  });
   // Explicit registration, one line per command group.
   fovsim::app::register_run(app, action);
   fovsim::app::register_cost(app, action);
   fovsim::app::register_trace(app, action);
   fovsim::app::register_sweeps(app, action);
   fovsim::app::register_density(app, action);
+  fovsim::app::register_info(app, action);
 
   try {
     app.parse(argc, argv);

@@ -1,3 +1,6 @@
+#include "sim/core/watchdog.h"
+#include "sim/foveation/simd_kernels.h"
+#include "sim/render/embree_device.h"
 #include "sim/experiment/engine.h"
 
 #include <tbb/info.h>
@@ -60,7 +63,11 @@ std::string iso_now() {
 Json machine_info() {
   char host[256] = {0};
   ::gethostname(host, sizeof host - 1);
-  return Json{{"hostname", host}, {"hardware_threads", int(std::thread::hardware_concurrency())}};
+  // Code paths that ran (results do not depend on them; recorded for bug reports).
+  return Json{{"hostname", host},
+              {"hardware_threads", int(std::thread::hardware_concurrency())},
+              {"embree_isa", embree_active_isa()},
+              {"simd_path", simd_path_name(simd_path())}};
 }
 
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
@@ -176,6 +183,8 @@ Json scene_features_json(const SceneFeatures& f) {
 // One cell: its methods, metrics, GPU profiles, outputs and accumulated rows.
 struct Cell {
   const CellJob* job = nullptr;
+  Watchdog* watchdog = nullptr;  // a method's frame taking far longer than its previous frames
+  size_t watchdog_slot = 0;
   std::string name;
   std::vector<MethodRun> methods;
   MetricsConfig mcfg;
@@ -250,7 +259,11 @@ struct Cell {
       MethodRun& m = methods[mi];
       FrameOutput fo;
       auto m0 = Clock::now();
+      if (watchdog)
+        watchdog->begin(watchdog_slot, "frame " + std::to_string(fi) + ", method \"" + m.method + "\" (label \"" +
+                                           m.label + "\")");
       m.impl->render(ctx, fo);
+      if (watchdog) watchdog->end(watchdog_slot);
       double sim_ms = ms_since(m0);
       const Image& lin = fo.image_is_reference ? fd.reference : fo.image;
       if (lin.width != sh.sim_display.width || lin.height != sh.sim_display.height || lin.channels != 3)
@@ -323,6 +336,8 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
 
   // ---- configuration: the first cell parses the shared keys (scene, trace, ...); every
   // cell parses its own keys; all are validated before any frame is computed ----
+  embree_device_config();  // FOVSIM_EMBREE_ISA / FOVSIM_SIMD: a bad value fails here, not mid-run
+  simd_path();
   Shared sh;
   sh.models = opt.models_dir.empty() ? default_models_dir() : opt.models_dir;
   std::vector<std::unique_ptr<Cell>> cells;
@@ -397,6 +412,12 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
   uint32_t channels = kShadingChannels;
   for (auto& c : cells) channels |= c->channels;
   Renderer renderer(*sh.scene, sh.rs);
+  // Slot 0: the frame's reference; slot 1 + i: cell i's methods (watchdog.h).
+  Watchdog watchdog(cells.size() + 1, opt.watchdog);
+  for (size_t i = 0; i < cells.size(); ++i) {
+    cells[i]->watchdog = &watchdog;
+    cells[i]->watchdog_slot = i + 1;
+  }
   double setup_ms = ms_since(g0);
   FrameData fd;
   Image ref_display;
@@ -407,8 +428,10 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
     int fi = sh.start + k * sh.stride;
     const TraceSample& s = sh.trace.samples[size_t(fi)];
     auto t0 = Clock::now();
+    watchdog.begin(0, "frame " + std::to_string(fi) + ", reference rendering");
     renderer.set_time(s.t);
     prepare_frame(renderer, sh.sim_display, s, fi, channels, prev_cam ? &*prev_cam : nullptr, fd);
+    watchdog.end(0);
     sh.tonemap.apply(fd.reference, ref_display);
     double ref_ms = ms_since(t0);
     ref_total += ref_ms;

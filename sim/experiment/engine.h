@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "sim/core/watchdog.h"
 #include "sim/core/params.h"
 #include "sim/experiment/table.h"
 
@@ -30,6 +31,7 @@ struct EngineOptions {
   std::string models_dir;      // empty -> default_models_dir()
   bool print_summary = true;   // default of outputs.print_summary
   int threads = 0;             // recorded in manifests (the caller sets TBB's limit)
+  WatchdogLimits watchdog;     // a frame far slower than its neighbours is reported (watchdog.h)
 };
 
 struct CellResult {

@@ -32,6 +32,7 @@ RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt) {
   eo.models_dir = opt.models_dir;
   eo.print_summary = opt.print_summary;
   eo.threads = opt.threads;
+  eo.watchdog.min_s = opt.watchdog_s;
   auto cells = run_cells({job}, eo);
   CellResult& c = cells.front();
 

@@ -16,6 +16,7 @@ struct RunOptions {
   int threads = 0;              // 0 = TBB default
   bool print_summary = true;    // summary table on stdout at the end
   std::string command_line;     // recorded in the manifest
+  double watchdog_s = 60;       // WatchdogLimits::min_s (0 disables; sim/core/watchdog.h)
 };
 
 struct RunResult {

@@ -235,6 +235,7 @@ SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const Swee
   eo.models_dir = opt.models_dir;
   eo.print_summary = false;
   eo.threads = opt.threads;
+  eo.watchdog.min_s = opt.watchdog_s;
   for (auto& k : order) {
     auto& cells = groups[k];
     size_t step = opt.batch > 0 ? size_t(opt.batch) : cells.size();

@@ -21,6 +21,7 @@ struct SweepOptions {
   int shard = 0, shards = 1;   // run only cells [shard_range(n, shard, shards))
   int batch = 0;               // max cells per reference pass; 0 = every pending cell of a group
   std::string command_line;    // recorded in manifests
+  double watchdog_s = 60;      // WatchdogLimits::min_s (0 disables; sim/core/watchdog.h)
 };
 
 struct SweepReport {

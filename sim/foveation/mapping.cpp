@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "sim/core/error.h"
+#include "sim/foveation/simd_kernels.h"
 
 namespace fovsim {
 
@@ -181,40 +182,8 @@ size_t lp_gather(const GBuffer& src, const LogPolarMap& map, GBuffer& out, std::
       out, used, keep);
 }
 
-// v[x] = angle_0_2pi(dy, x + 0.5 - gx) * v_per_rad for x < n, the same operations written
-// as computed candidates + selects so the loop vectorises (no-trapping-math only lets the
-// compiler ignore FP exception flags; values are unchanged), with an AVX2 clone where the CPU
-// has it (no FMA: the same IEEE results).
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__)
-__attribute__((target_clones("avx2", "default"), optimize("no-trapping-math")))
-#endif
-void polar_angle_row(double* __restrict v, int n, double gx, double dy, double v_per_rad) {
-  constexpr double kPio2 = 1.57079632679489661923, kPio4 = 0.78539816339744830962;
-  constexpr double kMoreBits = 6.123233995736765886130e-17, pi = 2.0 * kPio2;
-  const double ay = __builtin_fabs(dy);
-  for (int i = 0; i < n; ++i) {
-    const double dx = (i + 0.5) - gx, ax = __builtin_fabs(dx);
-    const double x = ay / ax;
-    // Every candidate is computed, then selected (no speculation needed: vectorises).
-    const bool big = x > 2.41421356237309504880, mid = (!big) & (x > 0.66);
-    const double xm1 = x - 1.0, xp1 = x + 1.0;
-    const double num = big ? -1.0 : (mid ? xm1 : x);
-    const double den = big ? x : (mid ? xp1 : 1.0);
-    const double xr = num / den;
-    const double y0 = big ? kPio2 : (mid ? kPio4 : 0.0);
-    const double extra = big ? kMoreBits : (mid ? 0.5 * kMoreBits : 0.0);
-    const double z = xr * xr;
-    const double p = (((-8.750608600031904122785e-1 * z - 1.615753718733365076637e1) * z - 7.500855792314704667340e1) * z -
-                      1.228866684490136173410e2) * z - 6.485021904942025371773e1;
-    const double q = ((((z + 2.485846490142306297962e1) * z + 1.650270098316988542046e2) * z + 4.328810604912902668951e2) * z +
-                      4.853903996359136964868e2) * z + 1.945506571482613964425e2;
-    const double base = y0 + ((xr * (z * p / q) + xr) + extra);
-    const double a_pp = pi + base, a_pm = pi - base, a_2m = 2.0 * pi - base;
-    const bool left = dx < 0, below = dy < 0, nonzero = (ay > 0) | (ax > 0);
-    double th = left ? (below ? a_pp : a_pm) : (below ? a_2m : base);
-    th = nonzero ? th : 0.0;
-    v[i] = th * v_per_rad;
-  }
+void polar_angle_row(double* v, int n, double gx, double dy, double v_per_rad) {
+  simd_polar_angle_row(v, n, gx, dy, v_per_rad);
 }
 
 namespace {
@@ -322,34 +291,6 @@ double gaussian3x3_from(Image& img, int x0, bool wrap_y, Image* scratch) {
   return 6.0 * double(w - x0) * double(h);
 }
 
-namespace {
-// o[j] = sum_i k[i] * rows[i][j] for j < len, the sum taken in order i = 0..n-1 starting from
-// 0 (the float operations of a per-pixel loop). Blocks of 16 floats keep their accumulators
-// in registers across the n taps (vectorises); rows[i] are n source pointers.
-// On x86-64 an AVX2 clone is selected at load time where the CPU has it (wider vectors, same
-// IEEE operations: no FMA is enabled, so the results are bit-identical to the SSE2 build).
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__)
-__attribute__((target_clones("avx2", "default")))
-#endif
-void weighted_rows(float* __restrict o, const float* const* rows, const float* k, int n, size_t len) {
-  constexpr size_t B = 16;
-  size_t j = 0;
-  for (; j + B <= len; j += B) {
-    float acc[B] = {};
-    for (int i = 0; i < n; ++i) {
-      const float* __restrict s = rows[i] + j;
-      const float ki = k[i];
-      for (size_t q = 0; q < B; ++q) acc[q] += ki * s[q];
-    }
-    for (size_t q = 0; q < B; ++q) o[j + q] = acc[q];
-  }
-  for (; j < len; ++j) {
-    float acc = 0.f;
-    for (int i = 0; i < n; ++i) acc += k[i] * rows[i][j];
-    o[j] = acc;
-  }
-}
-}  // namespace
 
 double variable_gaussian(Image& img, const std::vector<uint8_t>& eta, int max_eta, Image* scratch) {
   const int w = img.width, h = img.height;
@@ -415,7 +356,7 @@ double variable_gaussian(Image& img, const std::vector<uint8_t>& eta, int max_et
       if (b > a) {
         const float* rows[256];  // n <= 255 (eta is uint8)
         for (int i = 0; i < n; ++i) rows[i] = srow + 3 * size_t(a + i - half);
-        weighted_rows(orow + 3 * size_t(a), rows, kv.data(), n, 3 * size_t(b - a));
+        simd_weighted_rows(orow + 3 * size_t(a), rows, kv.data(), n, 3 * size_t(b - a));
       }
       for (int x = b; x < x1; ++x) clamped(x);
       taps += double(n) * double(x1 - x0);
@@ -432,7 +373,7 @@ double variable_gaussian(Image& img, const std::vector<uint8_t>& eta, int max_et
       const int half = n / 2;
       const float* rows[256];  // n <= 255 (eta is uint8)
       for (int i = 0; i < n; ++i) rows[i] = tmp.row(std::clamp(y + i - half, 0, h - 1)) + 3 * size_t(x0);
-      weighted_rows(orow + 3 * size_t(x0), rows, kv.data(), n, 3 * size_t(x1 - x0));
+      simd_weighted_rows(orow + 3 * size_t(x0), rows, kv.data(), n, 3 * size_t(x1 - x0));
       taps += double(n) * double(x1 - x0);
     });
     row_taps[size_t(y)] += taps;

@@ -8,6 +8,7 @@
 #include <cstring>
 
 #include "sim/foveation/mapping.h"
+#include "sim/foveation/simd_kernels.h"
 
 using namespace fovsim;
 
@@ -80,28 +81,34 @@ Image noise_image(int w, int h, uint32_t seed) {
 }  // namespace
 
 TEST(MappingFastPath, VariableGaussianBitIdenticalToPerPixelLoop) {
-  // Sizes smaller and larger than the kernels, eta in runs (incl. untouched 1 and even values)
-  // and scattered single pixels; a reused scratch of the wrong size must be reshaped.
-  Image scratch(3, 3, 3);
-  for (auto wh : {std::pair<int, int>{97, 61}, {5, 40}, {40, 3}, {1, 1}}) {
-    const int w = wh.first, h = wh.second;
-    Image a = noise_image(w, h, 7u + uint32_t(w)), b = a;
-    std::vector<uint8_t> eta(a.pixels());
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) {
-        const int r = int(std::hypot(x - w * 0.3, y - h * 0.6));
-        int e = std::min(1 + 2 * (r / 3), 41);
-        if ((x * 7 + y * 13) % 29 == 0) e = (x + y) % 40;  // isolated odd/even sizes
-        eta[size_t(y) * size_t(w) + size_t(x)] = uint8_t(e);
-      }
-    const double ta = variable_gaussian(a, eta, 39, &scratch);
-    const double tb = variable_gaussian_ref(b, eta, 39);
-    EXPECT_EQ(ta, tb) << w << "x" << h;
-    ASSERT_EQ(a.data.size(), b.data.size());
-    size_t diff = 0;
-    for (size_t i = 0; i < a.data.size(); ++i) diff += (a.data[i] != b.data[i]);
-    EXPECT_EQ(diff, 0u) << w << "x" << h;
+  // Every SIMD path this CPU has (simd_kernels.h) must give the same bits.
+  for (SimdPath path : simd_paths_available()) {
+    set_simd_path(path);
+    SCOPED_TRACE(simd_path_name(path));
+    // Sizes smaller and larger than the kernels, eta in runs (incl. untouched 1 and even values)
+    // and scattered single pixels; a reused scratch of the wrong size must be reshaped.
+    Image scratch(3, 3, 3);
+    for (auto wh : {std::pair<int, int>{97, 61}, {5, 40}, {40, 3}, {1, 1}}) {
+      const int w = wh.first, h = wh.second;
+      Image a = noise_image(w, h, 7u + uint32_t(w)), b = a;
+      std::vector<uint8_t> eta(a.pixels());
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+          const int r = int(std::hypot(x - w * 0.3, y - h * 0.6));
+          int e = std::min(1 + 2 * (r / 3), 41);
+          if ((x * 7 + y * 13) % 29 == 0) e = (x + y) % 40;  // isolated odd/even sizes
+          eta[size_t(y) * size_t(w) + size_t(x)] = uint8_t(e);
+        }
+      const double ta = variable_gaussian(a, eta, 39, &scratch);
+      const double tb = variable_gaussian_ref(b, eta, 39);
+      EXPECT_EQ(ta, tb) << w << "x" << h;
+      ASSERT_EQ(a.data.size(), b.data.size());
+      size_t diff = 0;
+      for (size_t i = 0; i < a.data.size(); ++i) diff += (a.data[i] != b.data[i]);
+      EXPECT_EQ(diff, 0u) << w << "x" << h;
+    }
   }
+  set_simd_path(simd_paths_available().back());
 }
 
 TEST(MappingFastPath, IpowMatchesPow) {
@@ -111,56 +118,62 @@ TEST(MappingFastPath, IpowMatchesPow) {
 }
 
 TEST(MappingFastPath, LpGatherAndReconstructMatchTheMaps) {
-  const int W = 83, H = 67;
-  for (double alpha : {4.0, 2.5, 1.0}) {
-    for (glm::dvec2 g : {glm::dvec2(41.5, 33.5), glm::dvec2(10.2, 60.7), glm::dvec2(-20, 90)}) {
-      KernelFn k;
-      k.alpha = alpha;
-      const int w = reduced_size(W, 1.8), h = reduced_size(H, 1.8);
-      const LogPolarMap m = LogPolarMap::make(W, H, w, h, g, k);
-      // Gather: depth encodes the source index, so the chosen pixel is visible.
-      GBuffer src;
-      src.resize(W, H, kDepth | kNormal);
-      for (size_t i = 0; i < src.size(); ++i) {
-        src.depth[i] = float(i);
-        src.normal[i] = glm::vec3(float(i), 0.f, 1.f);
-      }
-      GBuffer lp;
-      std::vector<uint8_t> used;
-      const size_t n = lp_gather(src, m, lp, used);
-      size_t n_ref = 0;
-      for (int iv = 0; iv < h; ++iv)
-        for (int iu = 0; iu < w; ++iu) {
-          const size_t i = size_t(iv) * size_t(w) + size_t(iu);
-          const glm::dvec2 p = m.inverse(iu + 0.5, iv + 0.5);
-          const bool in = p.x >= 0 && p.y >= 0 && p.x < W && p.y < H;
-          ASSERT_EQ(used[i], in ? 1 : 0);
-          n_ref += in;
-          if (in) {
-            EXPECT_EQ(lp.depth[i], float(size_t(p.y) * size_t(W) + size_t(p.x)));
-            EXPECT_EQ(lp.normal[i].x, lp.depth[i]);
-          } else {
-            EXPECT_TRUE(std::isinf(lp.depth[i]));
-            EXPECT_EQ(lp.normal[i], glm::vec3(0.f));
+  // Every SIMD path this CPU has (simd_kernels.h) must give the same bits.
+  for (SimdPath path : simd_paths_available()) {
+    set_simd_path(path);
+    SCOPED_TRACE(simd_path_name(path));
+    const int W = 83, H = 67;
+    for (double alpha : {4.0, 2.5, 1.0}) {
+      for (glm::dvec2 g : {glm::dvec2(41.5, 33.5), glm::dvec2(10.2, 60.7), glm::dvec2(-20, 90)}) {
+        KernelFn k;
+        k.alpha = alpha;
+        const int w = reduced_size(W, 1.8), h = reduced_size(H, 1.8);
+        const LogPolarMap m = LogPolarMap::make(W, H, w, h, g, k);
+        // Gather: depth encodes the source index, so the chosen pixel is visible.
+        GBuffer src;
+        src.resize(W, H, kDepth | kNormal);
+        for (size_t i = 0; i < src.size(); ++i) {
+          src.depth[i] = float(i);
+          src.normal[i] = glm::vec3(float(i), 0.f, 1.f);
+        }
+        GBuffer lp;
+        std::vector<uint8_t> used;
+        const size_t n = lp_gather(src, m, lp, used);
+        size_t n_ref = 0;
+        for (int iv = 0; iv < h; ++iv)
+          for (int iu = 0; iu < w; ++iu) {
+            const size_t i = size_t(iv) * size_t(w) + size_t(iu);
+            const glm::dvec2 p = m.inverse(iu + 0.5, iv + 0.5);
+            const bool in = p.x >= 0 && p.y >= 0 && p.x < W && p.y < H;
+            ASSERT_EQ(used[i], in ? 1 : 0);
+            n_ref += in;
+            if (in) {
+              EXPECT_EQ(lp.depth[i], float(size_t(p.y) * size_t(W) + size_t(p.x)));
+              EXPECT_EQ(lp.normal[i].x, lp.depth[i]);
+            } else {
+              EXPECT_TRUE(std::isinf(lp.depth[i]));
+              EXPECT_EQ(lp.normal[i], glm::vec3(0.f));
+            }
           }
-        }
-      EXPECT_EQ(n, n_ref);
-      // Reconstruct: against forward() + bilinear() per pixel.
-      const Image lpimg = noise_image(w, h, 3u);
-      Image out(1, 1, 3);
-      lp_reconstruct(lpimg, m, W, H, out);
-      ASSERT_EQ(out.width, W);
-      ASSERT_EQ(out.height, H);
-      double worst = 0;
-      for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x) {
-          const glm::dvec2 uv = m.forward(x + 0.5, y + 0.5);
-          const glm::vec3 c = bilinear(lpimg, uv.x, uv.y, true);
-          for (int ch = 0; ch < 3; ++ch) worst = std::max(worst, double(std::abs(out.at(x, y)[ch] - c[ch])));
-        }
-      EXPECT_LT(worst, 2e-6) << "alpha " << alpha;
+        EXPECT_EQ(n, n_ref);
+        // Reconstruct: against forward() + bilinear() per pixel.
+        const Image lpimg = noise_image(w, h, 3u);
+        Image out(1, 1, 3);
+        lp_reconstruct(lpimg, m, W, H, out);
+        ASSERT_EQ(out.width, W);
+        ASSERT_EQ(out.height, H);
+        double worst = 0;
+        for (int y = 0; y < H; ++y)
+          for (int x = 0; x < W; ++x) {
+            const glm::dvec2 uv = m.forward(x + 0.5, y + 0.5);
+            const glm::vec3 c = bilinear(lpimg, uv.x, uv.y, true);
+            for (int ch = 0; ch < 3; ++ch) worst = std::max(worst, double(std::abs(out.at(x, y)[ch] - c[ch])));
+          }
+        EXPECT_LT(worst, 2e-6) << "alpha " << alpha;
+      }
     }
   }
+  set_simd_path(simd_paths_available().back());
 }
 
 TEST(MappingFastPath, AngleMatchesAtan2) {
@@ -189,14 +202,20 @@ TEST(MappingFastPath, AngleMatchesAtan2) {
 }
 
 TEST(MappingFastPath, AngleRowBitIdenticalToScalar) {
-  const double vpr = 889.0 / (2.0 * kPi);
-  for (double gx : {0.0, 17.5, 40.3, -3.0, 1e6})
-    for (double dy : {0.0, 1e-12, -0.5, 3.25, -1000.0}) {
-      std::vector<double> v(97);
-      polar_angle_row(v.data(), int(v.size()), gx, dy, vpr);
-      for (size_t i = 0; i < v.size(); ++i) {
-        const double ref = angle_0_2pi(dy, (double(i) + 0.5) - gx) * vpr;
-        EXPECT_EQ(v[i], ref) << "gx " << gx << " dy " << dy << " i " << i;
+  // Every SIMD path this CPU has (simd_kernels.h) must give the same bits.
+  for (SimdPath path : simd_paths_available()) {
+    set_simd_path(path);
+    SCOPED_TRACE(simd_path_name(path));
+    const double vpr = 889.0 / (2.0 * kPi);
+    for (double gx : {0.0, 17.5, 40.3, -3.0, 1e6})
+      for (double dy : {0.0, 1e-12, -0.5, 3.25, -1000.0}) {
+        std::vector<double> v(97);
+        polar_angle_row(v.data(), int(v.size()), gx, dy, vpr);
+        for (size_t i = 0; i < v.size(); ++i) {
+          const double ref = angle_0_2pi(dy, (double(i) + 0.5) - gx) * vpr;
+          EXPECT_EQ(v[i], ref) << "gx " << gx << " dy " << dy << " i " << i;
+        }
       }
-    }
+  }
+  set_simd_path(simd_paths_available().back());
 }

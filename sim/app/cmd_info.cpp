@@ -1,0 +1,42 @@
+// `fovsim info`: version, commit and the CPU code paths (Embree ISA, SIMD kernels) this
+// machine offers and would use; `--json` for scripts (tests/isa/run_isa_tests.sh).
+#include <cstdio>
+
+#include "sim/app/commands.h"
+#include "sim/core/version.h"
+#include "sim/experiment/code_paths.h"
+
+namespace fovsim::app {
+
+void register_info(CLI::App& app, Action& action) {
+  auto* cmd = app.add_subcommand("info", "Version and the CPU code paths (Embree ISA, SIMD kernels) available here");
+  auto json = std::make_shared<bool>(false);
+  cmd->add_flag("--json", *json, "Print one JSON object instead of text");
+  cmd->footer(
+      "Results do not depend on the code path. Force one with the environment variables\n"
+      "FOVSIM_EMBREE_ISA=sse2|sse4.2|avx|avx2|avx512|native and FOVSIM_SIMD=generic|avx2|native.");
+  cmd->callback([&action, json]() {
+    action = [json]() {
+      Json j = code_paths_info();
+      j["version"] = version_string();
+      j["git_commit"] = git_commit();
+      if (*json) {
+        std::printf("%s\n", j.dump().c_str());
+        return 0;
+      }
+      auto list = [](const Json& a) {
+        std::string s;
+        for (const auto& x : a) s += (s.empty() ? "" : " ") + x.get<std::string>();
+        return s;
+      };
+      std::printf("fovsim %s (%s)\n", version_string().c_str(), git_commit().c_str());
+      std::printf("embree ISA paths: %s (active: %s)\n", list(j["embree_isas"]).c_str(),
+                  j["embree_isa"].get<std::string>().c_str());
+      std::printf("SIMD kernel paths: %s (active: %s)\n", list(j["simd_paths"]).c_str(),
+                  j["simd_path"].get<std::string>().c_str());
+      return 0;
+    };
+  });
+}
+
+}  // namespace fovsim::app
