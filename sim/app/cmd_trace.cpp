@@ -63,12 +63,20 @@ void register_trace(CLI::App& app, Action& action) {
   imp->add_option("--map", a->map, "Column map JSON (see traces/README.md, e.g. traces/maps/pico_neo3_pro.json)")
       ->required();
   imp->add_option("-o,--output", a->out, "Canonical CSV to write")->required();
+  imp->add_option("--on-bad", a->on_bad,
+                  "Valid gaze outside the display FOV: fail (error at file:line:column), skip the "
+                  "row, or hold the "
+                  "last valid gaze")
+      ->check(CLI::IsMember({"fail", "skip", "hold"}))
+      ->capture_default_str();
   add_display_opts(imp, *a);
   imp->callback([a, &action] {
     action = [a] {
       Display d = load_display(*a);
       ImportReport rep;
-      Trace tr = import_trace(a->in, a->map, d, &rep);
+      ImportOptions io;
+      io.on_fov = policy(a->on_bad);
+      Trace tr = import_trace(a->in, a->map, d, &rep, io);
       write_trace_csv(a->out, tr);
       std::printf("imported %s -> %s\n", a->in.c_str(), a->out.c_str());
       std::printf("rows               %ld read, %ld skipped, %ld flagged invalid\n", rep.data_rows, rep.skipped_rows,
@@ -113,7 +121,9 @@ void register_trace(CLI::App& app, Action& action) {
       Display d = load_display(*a);
       Trace tr;
       if (!a->map.empty()) {
-        tr = import_trace(a->in, a->map, d);
+        ImportOptions io;
+        io.check_fov = false;  // counted in the summary instead
+        tr = import_trace(a->in, a->map, d, nullptr, io);
       } else {
         TraceReadOptions o;
         o.on_bad = policy(a->on_bad);
