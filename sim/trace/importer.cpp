@@ -85,6 +85,8 @@ struct Map {
   std::string combine;
   bool screen_bottom_left = false;
   double point_scale = 1;
+  bool gaze_orient = false, gaze_xyzw = false;  // gaze as an orientation quaternion
+  glm::dvec3 gaze_forward{0, 0, -1};            // its forward axis in source gaze axes
   struct Cond {
     ColRef col;
     enum { ValidList, InvalidList, AllBits, Min, Max } kind = ValidList;
@@ -394,13 +396,25 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
   if (!p.has("gaze"))
     p.fail("gaze", "required: how the gaze is given (direction, screen or point)");
   gp.ignore("comment");
-  std::string gt = gp.string("type", std::vector<std::string>{"direction", "screen", "point"});
+  std::string gt =
+      gp.string("type", std::vector<std::string>{"direction", "orientation", "screen", "point"});
   if (gp.has("coordinates")) {
     if (gt == "screen")
       gp.fail("coordinates", "a screen gaze has no axes (only direction and point gaze do)");
     m.gaze_axes = axis_map_from(gp.raw("coordinates"), gp.where("coordinates"));
   }
-  if (gt == "direction") {
+  if (gt == "orientation") {
+    // A gaze pose (OpenXR eye gaze): the gaze is the orientation's forward axis.
+    m.gaze_kind = gp.string("space", std::vector<std::string>{"head", "world"}) == "head"
+                      ? Map::DirHead
+                      : Map::DirWorld;
+    m.gaze_orient = true;
+    m.gaze = res.many(gp, "columns", 4);
+    m.gaze_xyzw = gp.string("order", std::vector<std::string>{"wxyz", "xyzw"}) == "xyzw";
+    std::string fa = gp.string("forward", "-z", {"+x", "-x", "+y", "-y", "+z", "-z"});
+    m.gaze_forward = glm::dvec3(0.0);
+    m.gaze_forward[fa[1] - 'x'] = fa[0] == '-' ? -1.0 : 1.0;
+  } else if (gt == "direction") {
     m.gaze_kind = gp.string("space", std::vector<std::string>{"head", "world"}) == "head"
                       ? Map::DirHead
                       : Map::DirWorld;
@@ -604,6 +618,11 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
       if (m.screen_bottom_left) v = 1 - v;
       if (!bad && (u < 0 || u > 1 || v < 0 || v > 1)) gerr = "gaze screen point outside [0,1]^2";
       g = gaze_dir_from_screen(display, u, v);  // already head space (fovsim)
+    } else if (m.gaze_orient) {
+      double a = num(m.gaze[0]), b = num(m.gaze[1]), c = num(m.gaze[2]), e = num(m.gaze[3]);
+      glm::dquat q = m.gaze_xyzw ? glm::dquat(e, a, b, c) : glm::dquat(a, b, c, e);
+      double n = glm::length(q);
+      g = n > 1e-9 ? (q / n) * m.gaze_forward : glm::dvec3(0.0);
     } else if (per_eye) {
       // An eye flagged invalid (valid conditions with "eye") is not read at all.
       glm::dvec3 l = left_ok ? vec(m.left) : glm::dvec3(0.0),
