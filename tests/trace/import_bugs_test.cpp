@@ -150,3 +150,17 @@ TEST(ImportBugs, MeanRateOfJitteredMillisecondTimes) {
   EXPECT_EQ(st.bursts, 0);
   EXPECT_TRUE(st.warnings.empty());
 }
+
+TEST(ImportBugs, CanonicalReaderSharesLineEndsAndQuoting) {
+  std::string f = write_tmp(
+      "cr.csv",
+      "t,px,py,pz,qw,qx,qy,qz,gx,gy,gz\r0,0,0,0,1,0,0,0,0,0,-1\r0.01,0,0,0,1,0,0,0,0,0,-1\r");
+  EXPECT_EQ(read_trace_csv(f, vive()).samples.size(), 2u);
+  std::string text = "t,px,py,pz,qw,qx,qy,qz,gx,gy,gz,va";
+  text += '\0';
+  text += "lid\n0,0,0,0,1,0,0,0,0,0,-1,1\n";
+  std::string g = write_tmp("nul.csv", text);
+  std::string w = expect_error([&] { read_trace_csv(g, vive()); },
+                               {"nul.csv:1:", "unknown column \"va\\x00lid\""});
+  EXPECT_NE(w.find("canonical columns"), std::string::npos) << w;
+}
