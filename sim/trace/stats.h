@@ -25,12 +25,12 @@ struct TraceStats {
   double speed_p50 = 0, speed_p95 = 0, speed_p99 = 0;
   // Head angular speed (deg/s) and path length (m).
   double head_speed_p50 = 0, head_speed_p99 = 0, head_path_m = 0;
-  // Plausibility: one line per value outside human ranges (eye-speed p99 > 1000 deg/s, saccade
-  // peak velocities rarely exceed ~700 deg/s; eccentricity p95 > 35 deg; bursts).
+  // Plausibility: one line per value outside human ranges (eye-speed p99 > 700 deg/s: saccade
+  // peak velocities saturate near 500-700 deg/s, DESIGN §3; eccentricity p95 > 35 deg; bursts).
   std::vector<std::string> warnings;
 };
 
-constexpr double kPlausibleSpeedP99 = 1000;  // deg/s
+constexpr double kPlausibleSpeedP99 = 700;   // deg/s
 constexpr double kPlausibleEccP95 = 35;      // deg
 
 TraceStats trace_stats(const Trace& tr);

@@ -3,6 +3,7 @@
 
 #include "sim/trace/importer.h"
 #include "sim/trace/stats.h"
+#include "sim/trace/synth.h"
 #include "test_util.h"
 
 using namespace fovsim;
@@ -267,4 +268,33 @@ TEST(ImportV2, RepeatedHeadPosesDetectedAndInterpolated) {
   // World-space gaze keeps its world direction: straight ahead in world, 30 deg left in the head.
   EXPECT_LT(deg_between(ti.samples[1].head_rot * ti.samples[1].gaze_dir, F), 1e-9);
   EXPECT_EQ(trace_stats(ti).repeated_poses, 0);
+}
+
+// Plausibility report: human ranges (eccentricity p95 <= 35 deg, eye-speed p99 <= 700 deg/s).
+TEST(ImportV2, PlausibilityWarnings) {
+  Trace tr;
+  for (int k = 0; k < 100; ++k) {
+    TraceSample s;
+    s.t = k / 90.0;
+    double e = deg2rad(k < 90 ? 40.0 : 5.0);  // 90 % of samples 40 deg off-axis
+    s.gaze_dir = {std::sin(e), 0, -std::cos(e)};
+    tr.samples.push_back(s);
+  }
+  TraceStats st = trace_stats(tr);
+  ASSERT_EQ(st.warnings.size(), 1u);
+  EXPECT_NE(st.warnings[0].find("eccentricity p95 40.0 deg is above 35 deg"), std::string::npos)
+      << st.warnings[0];
+  EXPECT_EQ(st.repeated_poses, 99);  // a constant head repeats (reported, not a warning)
+  // The eye model's scenarios stay inside human ranges.
+  for (const char* sc : {"free-viewing", "walk-through"}) {
+    SynthOptions o;
+    o.scenario = sc;
+    o.seed = 1;
+    o.duration_s = 10;
+    o.rate_hz = 90;
+    TraceStats ss = trace_stats(synthesize(EyeModel{}, o, vive()));
+    EXPECT_TRUE(ss.warnings.empty()) << sc << ": " << ss.warnings[0];
+    EXPECT_LT(ss.speed_p99, kPlausibleSpeedP99) << sc;
+    EXPECT_LT(ss.ecc_p95, kPlausibleEccP95) << sc;
+  }
 }
