@@ -64,31 +64,38 @@ std::vector<CsvField> split_csv_line(const std::string& line, char delim, const 
   return out;
 }
 
-std::vector<CsvRow> read_csv_rows(const std::string& path, char delim, char comment) {
-  std::string text = read_file(path);
-  std::vector<CsvRow> rows;
-  size_t pos = 0;
-  long line_no = 0;
-  if (text.size() >= 3 && (unsigned char)text[0] == 0xEF && (unsigned char)text[1] == 0xBB &&
-      (unsigned char)text[2] == 0xBF)
-    pos = 3;
-  while (pos < text.size()) {
+CsvReader::CsvReader(const std::string& path, char delim, char comment)
+    : path_(path), text_(read_file(path)), delim_(delim), comment_(comment) {
+  if (text_.size() >= 3 && (unsigned char)text_[0] == 0xEF && (unsigned char)text_[1] == 0xBB &&
+      (unsigned char)text_[2] == 0xBF)
+    pos_ = 3;
+}
+
+bool CsvReader::next(CsvRow& r) {
+  while (pos_ < text_.size()) {
     // Universal newlines: \n, \r\n and a lone \r (classic Mac / some exporters) end a line.
-    size_t e = text.find_first_of("\r\n", pos);
-    if (e == std::string::npos) e = text.size();
-    std::string line = text.substr(pos, e - pos);
-    pos = e + 1;
-    if (e < text.size() && text[e] == '\r' && pos < text.size() && text[pos] == '\n') ++pos;
-    ++line_no;
+    size_t e = text_.find_first_of("\r\n", pos_);
+    if (e == std::string::npos) e = text_.size();
+    std::string line = text_.substr(pos_, e - pos_);
+    pos_ = e + 1;
+    if (e < text_.size() && text_[e] == '\r' && pos_ < text_.size() && text_[pos_] == '\n') ++pos_;
+    ++line_no_;
     size_t k = 0;
     while (k < line.size() && (line[k] == ' ' || line[k] == '\t')) ++k;
     if (k == line.size()) continue;
-    if (comment && line[k] == comment) continue;
-    CsvRow r;
-    r.line = line_no;
-    r.fields = split_csv_line(line, delim, path, line_no);
-    rows.push_back(std::move(r));
+    if (comment_ && line[k] == comment_) continue;
+    r.line = line_no_;
+    r.fields = split_csv_line(line, delim_, path_, line_no_);
+    return true;
   }
+  return false;
+}
+
+std::vector<CsvRow> read_csv_rows(const std::string& path, char delim, char comment) {
+  CsvReader rd(path, delim, comment);
+  std::vector<CsvRow> rows;
+  CsvRow r;
+  while (rd.next(r)) rows.push_back(std::move(r));
   return rows;
 }
 

@@ -23,6 +23,20 @@ struct CsvRow {
 std::vector<CsvField> split_csv_line(const std::string& line, char delim, const std::string& file,
                                      long line_no);
 
+// Row by row over a text file (same rules as read_csv_rows), so that a reader can stop early
+// and never tokenize the rest.
+class CsvReader {
+ public:
+  CsvReader(const std::string& path, char delim, char comment = '#');
+  bool next(CsvRow& row);  // false at the end of the file
+
+ private:
+  std::string path_, text_;
+  char delim_, comment_;
+  size_t pos_ = 0;
+  long line_no_ = 0;
+};
+
 // Reads a whole text file into rows. Blank lines are dropped; lines whose first non-space
 // character is `comment` (if non-zero) are dropped. Handles \n, \r\n and lone \r line ends; a UTF-8
 // BOM is skipped.

@@ -290,24 +290,23 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
   m.gaze_axes = m.axes;
 
   // Data rows (the map's column references are resolved against the header).
-  std::vector<CsvRow> rows = read_csv_rows(in, m.delim, m.comment);
-  {
-    // skip_lines counts physical lines: drop rows whose line number is <= skip_lines.
-    std::vector<CsvRow> kept;
-    for (auto& r : rows)
-      if (r.line > m.skip_lines) kept.push_back(std::move(r));
-    rows.swap(kept);
+  // Rows are tokenized as they are imported, so a run that stops early (ImportOptions::
+  // stop_after_s) never reads the rest of the file.
+  CsvReader reader(in, m.delim, m.comment);
+  CsvRow row0;
+  bool got = false;
+  // skip_lines counts physical lines: drop rows whose line number is <= skip_lines.
+  while ((got = reader.next(row0)) && row0.line <= m.skip_lines) {
   }
-  if (rows.empty()) throw Error(in, "no data rows");
+  if (!got) throw Error(in, "no data rows");
   Resolver res;
   res.header = m.header;
   res.in_file = in;
-  size_t first = 0;
   if (m.header) {
-    res.header_line = rows[0].line;
+    res.header_line = row0.line;
     // A name that occurs twice is an error only if the map refers to it (Resolver::get).
-    for (size_t i = 0; i < rows[0].fields.size(); ++i) {
-      const std::string& n = rows[0].fields[i].text;
+    for (size_t i = 0; i < row0.fields.size(); ++i) {
+      const std::string& n = row0.fields[i].text;
       if (res.by_name.count(n)) {
         auto& dc = res.dup_cols[n];
         if (dc.empty()) dc.push_back(res.by_name[n] + 1);
@@ -316,11 +315,8 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
       }
       res.by_name[n] = int(i);
     }
-    res.nfields = int(rows[0].fields.size());
-    first = 1;
-  } else {
-    res.nfields = int(rows[0].fields.size());
   }
+  res.nfields = int(row0.fields.size());
 
   Params tp = p.child("time");
   m.time = res.one(tp, "column");
@@ -460,9 +456,17 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
   glm::dvec3 last_gaze(0, 0, -1);
   std::vector<long> lines;  // source line of each kept sample
   std::vector<glm::dvec3>
-      world_gaze;  // gaze in world (for re-deriving it after pose interpolation)
-  for (size_t r = first; r < rows.size(); ++r) {
-    const CsvRow& row = rows[r];
+      world_gaze;            // gaze in world (for re-deriving it after pose interpolation)
+  bool pending = !m.header;  // without a header the first row is data
+  CsvRow cur;
+  while (true) {
+    if (pending) {
+      cur = std::move(row0);
+      pending = false;
+    } else if (!reader.next(cur)) {
+      break;
+    }
+    const CsvRow& row = cur;
     ++rep.data_rows;
     std::string err;
     int err_col = 1;
@@ -709,7 +713,7 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
     lines.push_back(row.line);
     world_gaze.push_back(s.head_rot * s.gaze_dir);
     if (t - t0 > opt.stop_after_s) {
-      rep.stopped_early = r + 1 < rows.size();
+      rep.stopped_early = true;
       break;
     }
   }
