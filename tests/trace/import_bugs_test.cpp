@@ -116,8 +116,8 @@ TEST(ImportBugs, RunWithAMapReadsOnlyTheRequestedRange) {
   write_file_atomic(dir + "/map.json", kSimpleMap);
   std::string text = "t,x,y,z\n";
   for (int k = 0; k < 500; ++k) text += std::to_string(k * 10) + ",0,0,-1\n";  // 5 s at 100 Hz
-  text += "5000,0,abc,-1\n5010,\"0,0,-1\n";  // a bad number and an unterminated quote after 5 s  //
-                                             // a bad row after 5 s
+  // A bad number and an unterminated quote after 5 s.
+  text += "5000,0,abc,-1\n5010,\"0,0,-1\n";
   write_file_atomic(dir + "/rec.csv", text);
   Display d = vive();
   auto load = [&](const Json& block) {
