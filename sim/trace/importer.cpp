@@ -86,7 +86,9 @@ struct Map {
   bool screen_bottom_left = false;
   double point_scale = 1;
   bool gaze_orient = false, gaze_xyzw = false;  // gaze as an orientation quaternion
-  glm::dvec3 gaze_forward{0, 0, -1};            // its forward axis in source gaze axes
+  bool gaze_angles = false;                     // gaze as azimuth/elevation in the head
+  glm::dvec2 angle_signs{1.0};
+  glm::dvec3 gaze_forward{0, 0, -1};  // its forward axis in source gaze axes
   struct Cond {
     ColRef col;
     enum { ValidList, InvalidList, AllBits, Min, Max } kind = ValidList;
@@ -392,14 +394,29 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
   if (!p.has("gaze"))
     p.fail("gaze", "required: how the gaze is given (direction, screen or point)");
   gp.ignore("comment");
-  std::string gt =
-      gp.string("type", std::vector<std::string>{"direction", "orientation", "screen", "point"});
+  std::string gt = gp.string(
+      "type", std::vector<std::string>{"direction", "orientation", "angles", "screen", "point"});
   if (gp.has("coordinates")) {
     if (gt == "screen")
       gp.fail("coordinates", "a screen gaze has no axes (only direction and point gaze do)");
     m.gaze_axes = axis_map_from(gp.raw("coordinates"), gp.where("coordinates"));
   }
-  if (gt == "orientation") {
+  if (gt == "angles") {
+    // Azimuth (positive to the right) and elevation (positive up) of the gaze in the head,
+    // as world-camera eye trackers export them (Pupil Cloud gaze.csv).
+    if (gp.has("coordinates"))
+      gp.fail("coordinates", "angles have no axes: use \"signs\" to flip their sense");
+    m.gaze_kind = Map::DirHead;
+    m.gaze_angles = true;
+    m.gaze_axes = AxisMap{};
+    m.gaze = res.many(gp, "columns", 2);
+    double sc =
+        gp.string("unit", std::vector<std::string>{"deg", "rad"}) == "deg" ? kPi / 180 : 1.0;
+    std::vector<double> sg = gp.numbers("signs", {1, 1});
+    if (sg.size() != 2 || (sg[0] != 1 && sg[0] != -1) || (sg[1] != 1 && sg[1] != -1))
+      gp.fail("signs", "expected 2 numbers (azimuth, elevation), each 1 or -1");
+    m.angle_signs = glm::dvec2(sg[0], sg[1]) * sc;
+  } else if (gt == "orientation") {
     // A gaze pose (OpenXR eye gaze): the gaze is the orientation's forward axis.
     m.gaze_kind = gp.string("space", std::vector<std::string>{"head", "world"}) == "head"
                       ? Map::DirHead
@@ -622,6 +639,9 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
       if (m.screen_bottom_left) v = 1 - v;
       if (!bad && (u < 0 || u > 1 || v < 0 || v > 1)) gerr = "gaze screen point outside [0,1]^2";
       g = gaze_dir_from_screen(display, u, v);  // already head space (fovsim)
+    } else if (m.gaze_angles) {
+      double az = num(m.gaze[0]) * m.angle_signs.x, el = num(m.gaze[1]) * m.angle_signs.y;
+      g = glm::dvec3(std::cos(el) * std::sin(az), std::sin(el), -std::cos(el) * std::cos(az));
     } else if (m.gaze_orient) {
       double a = num(m.gaze[0]), b = num(m.gaze[1]), c = num(m.gaze[2]), e = num(m.gaze[3]);
       glm::dquat q = m.gaze_xyzw ? glm::dquat(e, a, b, c) : glm::dquat(a, b, c, e);

@@ -147,3 +147,24 @@ TEST(Maps, SmiUnity360) {
   expect_right_right(tr.samples[2]);
   EXPECT_FALSE(tr.samples[4].valid);
 }
+
+TEST(Maps, PupilNeonCloudGazeCsv) {
+  std::string h =
+      "section id,recording id,timestamp [ns],gaze x [px],gaze y [px],worn,fixation id,blink "
+      "id,azimuth [deg],"
+      "elevation [deg]\n";
+  std::string text = h + "a1,r1,1700000000000000000,900.1,500.2,1.0,1,,10,0\n" +
+                     "a1,r1,1700000000005000000,800.0,400.0,1.0,1,,0,5\n" +
+                     "a1,r1,1700000000010000000,800.0,400.0,1.0,,3,0,0\n" +
+                     "a1,r1,1700000000015000000,800.0,400.0,0.0,,,0,0\n";
+  ImportReport rep;
+  Trace tr = import_map("pupil_neon_cloud.json", "gaze.csv", text, &rep);
+  ASSERT_EQ(tr.samples.size(), 4u);
+  EXPECT_LT(rad2deg(angle_between(tr.samples[0].gaze_dir, {kS10, 0, -kC10})),
+            1e-9);                                                       // 10 deg right
+  EXPECT_NEAR(rad2deg(std::asin(tr.samples[1].gaze_dir.y)), 5.0, 1e-9);  // 5 deg up
+  EXPECT_FALSE(tr.samples[2].valid);                                     // in a blink
+  EXPECT_FALSE(tr.samples[3].valid);                                     // not worn
+  EXPECT_NEAR(tr.samples[3].t, 0.015, 1e-12);
+  EXPECT_EQ(rep.invalid_rows, 2);
+}
