@@ -717,7 +717,8 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
       have_t0 = true;
       t0 = t;
     }
-    if (!(t > last_t)) {
+    // An equal time is a burst member when bursts are dropped or retimed (below).
+    if (!(t > last_t) && !(t == last_t && m.on_burst != Map::BurstKeep)) {
       fail_row(tf.col, "non-monotonic time",
                "time not strictly increasing: " + printable(tf.text) + " after " +
                    printable(last_text) + " at line " + std::to_string(last_line));
@@ -823,9 +824,25 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
           }
           i = k + 1;
         }
-        tr.warnings.push_back(
-            in + ": " + b + "; " + std::to_string(retimed) +
-            " retimed evenly over the preceding stall (time.on_burst = retime); first at " + where);
+        // A burst at the very start has no stall to spread over: equal times left are dropped.
+        std::vector<TraceSample> kx;
+        std::vector<long> kl;
+        std::vector<glm::dvec3> kw;
+        for (size_t i = 0; i < x.size(); ++i) {
+          if (!kx.empty() && !(x[i].t > kx.back().t)) continue;
+          kx.push_back(x[i]);
+          kl.push_back(lines[i]);
+          kw.push_back(world_gaze[i]);
+        }
+        std::string dropped = kx.size() < x.size() ? ", " + std::to_string(x.size() - kx.size()) +
+                                                         " with equal times dropped"
+                                                   : "";
+        x.swap(kx);
+        lines.swap(kl);
+        world_gaze.swap(kw);
+        tr.warnings.push_back(in + ": " + b + "; " + std::to_string(retimed) +
+                              " retimed evenly over the preceding stall (time.on_burst = retime)" +
+                              dropped + "; first at " + where);
       }
     }
   }

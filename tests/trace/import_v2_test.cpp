@@ -298,3 +298,25 @@ TEST(ImportV2, PlausibilityWarnings) {
     EXPECT_LT(ss.ecc_p95, kPlausibleEccP95) << sc;
   }
 }
+
+// Bursts stamped with the same millisecond: an error unless bursts are dropped or retimed.
+TEST(ImportV2, BurstsWithEqualTimes) {
+  std::string rec = write_tmp(
+      "eq.csv",
+      "t,x,y,z\n0,0,0,-1\n4,0,0,-1\n8,0,0,-1\n20,0,0,-1\n20,0,0,-1\n20,0,0,-1\n24,0,0,-1\n");
+  Json j = base_map();
+  std::string keep = write_tmp("k.json", j.dump());
+  expect_error([&] { import_trace(rec, keep, vive()); },
+               {"eq.csv:6:1", "not strictly increasing: 20 after 20"});
+  j["time"]["on_burst"] = "retime";
+  std::string retime = write_tmp("r.json", j.dump());
+  Trace tr = import_trace(rec, retime, vive());
+  ASSERT_EQ(tr.samples.size(), 7u);
+  // The stall is 8 -> 20 ms; the three samples stamped 20 ms are spread over it: 12, 16, 20.
+  EXPECT_NEAR(tr.samples[3].t, 0.012, 1e-12);
+  EXPECT_NEAR(tr.samples[4].t, 0.016, 1e-12);
+  EXPECT_NEAR(tr.samples[5].t, 0.020, 1e-12);
+  j["time"]["on_burst"] = "drop";
+  std::string drop = write_tmp("d.json", j.dump());
+  EXPECT_EQ(import_trace(rec, drop, vive()).samples.size(), 5u);
+}
