@@ -6,6 +6,7 @@
 #include "sim/app/commands.h"
 #include "sim/core/error.h"
 #include "sim/experiment/config.h"
+#include "sim/trace/guess.h"
 #include "sim/trace/importer.h"
 #include "sim/trace/stats.h"
 #include "sim/trace/synth.h"
@@ -18,6 +19,7 @@ namespace {
 struct TraceArgs {
   std::string in, map, out, display = "htc_vive_pro_eye", models, on_bad = "fail";
   std::string scenario, params;
+  bool guess = false;
   long long seed = 1;
   double duration = 10, rate = 0;
 };
@@ -60,15 +62,35 @@ void register_trace(CLI::App& app, Action& action) {
 
   CLI::App* imp = t->add_subcommand("import", "Convert a recording to the canonical CSV with a JSON column map");
   imp->add_option("IN", a->in, "Recording to import (CSV/TSV/...)")->required();
-  imp->add_option("--map", a->map, "Column map JSON (see traces/README.md, e.g. traces/maps/pico_neo3_pro.json)")
-      ->required();
-  imp->add_option("-o,--output", a->out, "Canonical CSV to write")->required();
+  imp->add_option("--map", a->map,
+                  "Column map JSON (see traces/README.md, e.g. traces/maps/pico_neo3_pro.json)");
+  imp->add_option("-o,--output", a->out, "Canonical CSV to write");
+  imp->add_flag(
+      "--guess", a->guess,
+      "Print a starting column map inferred from IN (every inferred convention marked ASSUMPTION)");
+  imp->add_option("--on-bad", a->on_bad,
+                  "Valid gaze outside the display FOV: fail (error at file:line:column), skip the "
+                  "row, or hold the "
+                  "last valid gaze")
+      ->check(CLI::IsMember({"fail", "skip", "hold"}))
+      ->capture_default_str();
   add_display_opts(imp, *a);
   imp->callback([a, &action] {
+    if (a->guess) {
+      action = [a] {
+        std::printf("%s\n", guess_map(a->in).dump(2).c_str());
+        return 0;
+      };
+      return;
+    }
+    if (a->map.empty()) throw CLI::RequiredError("--map (or --guess)");
+    if (a->out.empty()) throw CLI::RequiredError("--output");
     action = [a] {
       Display d = load_display(*a);
       ImportReport rep;
-      Trace tr = import_trace(a->in, a->map, d, &rep);
+      ImportOptions io;
+      io.on_fov = policy(a->on_bad);
+      Trace tr = import_trace(a->in, a->map, d, &rep, io);
       write_trace_csv(a->out, tr);
       std::printf("imported %s -> %s\n", a->in.c_str(), a->out.c_str());
       std::printf("rows               %ld read, %ld skipped, %ld flagged invalid\n", rep.data_rows, rep.skipped_rows,
@@ -113,7 +135,9 @@ void register_trace(CLI::App& app, Action& action) {
       Display d = load_display(*a);
       Trace tr;
       if (!a->map.empty()) {
-        tr = import_trace(a->in, a->map, d);
+        ImportOptions io;
+        io.check_fov = false;  // counted in the summary instead
+        tr = import_trace(a->in, a->map, d, nullptr, io);
       } else {
         TraceReadOptions o;
         o.on_bad = policy(a->on_bad);

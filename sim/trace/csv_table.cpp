@@ -2,15 +2,19 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 
 #include "sim/core/error.h"
 #include "sim/core/files.h"
 
 namespace fovsim {
 
-static bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r'; }
+static bool is_space(char c) {
+  return c == ' ' || c == '\t' || c == '\r';
+}
 
-std::vector<CsvField> split_csv_line(const std::string& line, char delim, const std::string& file, long line_no) {
+std::vector<CsvField> split_csv_line(const std::string& line, char delim, const std::string& file,
+                                     long line_no) {
   std::vector<CsvField> out;
   size_t i = 0, n = line.size();
   while (true) {
@@ -34,10 +38,12 @@ std::vector<CsvField> split_csv_line(const std::string& line, char delim, const 
         }
         f.text += line[i++];
       }
-      if (!closed) throw Error(file_location(file, line_no, long(q) + 1), "unterminated quoted field");
+      if (!closed)
+        throw Error(file_location(file, line_no, long(q) + 1), "unterminated quoted field");
       while (i < n && is_space(line[i]) && line[i] != delim) ++i;
       if (i < n && line[i] != delim)
-        throw Error(file_location(file, line_no, long(i) + 1), "unexpected text after a quoted field");
+        throw Error(file_location(file, line_no, long(i) + 1),
+                    "unexpected text after a quoted field");
     } else {
       size_t s = i;
       while (i < n && line[i] != delim) ++i;
@@ -58,31 +64,58 @@ std::vector<CsvField> split_csv_line(const std::string& line, char delim, const 
   return out;
 }
 
-std::vector<CsvRow> read_csv_rows(const std::string& path, char delim, char comment) {
-  std::string text = read_file(path);
-  std::vector<CsvRow> rows;
-  size_t pos = 0;
-  long line_no = 0;
-  if (text.size() >= 3 && (unsigned char)text[0] == 0xEF && (unsigned char)text[1] == 0xBB &&
-      (unsigned char)text[2] == 0xBF)
-    pos = 3;
-  while (pos < text.size()) {
-    size_t e = text.find('\n', pos);
-    if (e == std::string::npos) e = text.size();
-    std::string line = text.substr(pos, e - pos);
-    pos = e + 1;
-    ++line_no;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
+CsvReader::CsvReader(const std::string& path, char delim, char comment)
+    : path_(path), text_(read_file(path)), delim_(delim), comment_(comment) {
+  if (text_.size() >= 3 && (unsigned char)text_[0] == 0xEF && (unsigned char)text_[1] == 0xBB &&
+      (unsigned char)text_[2] == 0xBF)
+    pos_ = 3;
+}
+
+bool CsvReader::next(CsvRow& r) {
+  while (pos_ < text_.size()) {
+    // Universal newlines: \n, \r\n and a lone \r (classic Mac / some exporters) end a line.
+    size_t e = text_.find_first_of("\r\n", pos_);
+    if (e == std::string::npos) e = text_.size();
+    std::string line = text_.substr(pos_, e - pos_);
+    pos_ = e + 1;
+    if (e < text_.size() && text_[e] == '\r' && pos_ < text_.size() && text_[pos_] == '\n') ++pos_;
+    ++line_no_;
     size_t k = 0;
     while (k < line.size() && (line[k] == ' ' || line[k] == '\t')) ++k;
     if (k == line.size()) continue;
-    if (comment && line[k] == comment) continue;
-    CsvRow r;
-    r.line = line_no;
-    r.fields = split_csv_line(line, delim, path, line_no);
-    rows.push_back(std::move(r));
+    if (comment_ && line[k] == comment_) continue;
+    r.line = line_no_;
+    r.fields = split_csv_line(line, delim_, path_, line_no_);
+    return true;
   }
+  return false;
+}
+
+std::vector<CsvRow> read_csv_rows(const std::string& path, char delim, char comment) {
+  CsvReader rd(path, delim, comment);
+  std::vector<CsvRow> rows;
+  CsvRow r;
+  while (rd.next(r)) rows.push_back(std::move(r));
   return rows;
+}
+
+std::string printable(const std::string& text, size_t max_len) {
+  std::string out;
+  for (size_t i = 0; i < text.size(); ++i) {
+    if (out.size() >= max_len) {
+      out += "...";
+      break;
+    }
+    unsigned char c = (unsigned char)text[i];
+    if (c < 0x20 || c == 0x7F) {
+      char b[8];
+      std::snprintf(b, sizeof b, "\\x%02X", c);
+      out += b;
+    } else {
+      out += char(c);
+    }
+  }
+  return out;
 }
 
 bool parse_number(const std::string& text, double& out, std::string& why) {
@@ -96,15 +129,15 @@ bool parse_number(const std::string& text, double& out, std::string& why) {
   double v = 0;
   auto r = std::from_chars(b, e, v);
   if (r.ec == std::errc::result_out_of_range) {
-    why = "number out of range: \"" + text + "\"";
+    why = "number out of range: \"" + printable(text) + "\"";
     return false;
   }
   if (r.ec != std::errc() || r.ptr != e) {
-    why = "not a number: \"" + text + "\"";
+    why = "not a number: \"" + printable(text) + "\"";
     return false;
   }
   if (!std::isfinite(v)) {
-    why = "non-finite value \"" + text + "\"";
+    why = "non-finite value \"" + printable(text) + "\"";
     return false;
   }
   out = v;

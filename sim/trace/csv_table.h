@@ -20,11 +20,31 @@ struct CsvRow {
 // Splits one line (without its newline) on `delim`. Double-quoted fields may contain the
 // delimiter; "" inside quotes is a literal quote. An unterminated quote throws Error at
 // file:line:col.
-std::vector<CsvField> split_csv_line(const std::string& line, char delim, const std::string& file, long line_no);
+std::vector<CsvField> split_csv_line(const std::string& line, char delim, const std::string& file,
+                                     long line_no);
+
+// Row by row over a text file (same rules as read_csv_rows), so that a reader can stop early
+// and never tokenize the rest.
+class CsvReader {
+ public:
+  CsvReader(const std::string& path, char delim, char comment = '#');
+  bool next(CsvRow& row);  // false at the end of the file
+
+ private:
+  std::string path_, text_;
+  char delim_, comment_;
+  size_t pos_ = 0;
+  long line_no_ = 0;
+};
 
 // Reads a whole text file into rows. Blank lines are dropped; lines whose first non-space
-// character is `comment` (if non-zero) are dropped. Handles \n and \r\n; a UTF-8 BOM is skipped.
+// character is `comment` (if non-zero) are dropped. Handles \n, \r\n and lone \r line ends; a UTF-8
+// BOM is skipped.
 std::vector<CsvRow> read_csv_rows(const std::string& path, char delim, char comment = '#');
+
+// `text` safe to quote in a one-line message: control characters (NUL, CR, ...) become
+// \xNN, and text longer than `max_len` is cut with "...".
+std::string printable(const std::string& text, size_t max_len = 60);
 
 // Strict number parsing: the whole (trimmed) text must be a finite decimal number.
 // Returns false and sets `why` ("empty field", "not a number: \"x\"", "non-finite value nan").

@@ -4,25 +4,38 @@
 //   skip_lines     lines before the header / first row               (0)
 //   comment_prefix prefix of comment lines, "" for none              ("")
 //   on_bad_row     "fail" | "skip": wrong field count, bad numbers, non-monotonic time ("fail")
-//   coordinates    "fovsim" | "unity" | "unreal" | {"x":"+x","y":"+y","z":"-z"}   (required)
-//   time           {"column", "unit": s|ms|us|ns|100ns, "rebase": true}
+//   max_skipped_fraction  skipping more than this fraction of rows is an error (0.5)
+//   row_fields     "exact" | "used": accept rows of another length whose used columns exist
+//   ("exact") coordinates    "fovsim" | "unity" | "unreal" | {"x":"+x","y":"+y","z":"-z"}
+//   (required) time           {"column", "unit": s|ms|us|ns|100ns, "rebase": true, "wrap_bits": 0,
+//                   "max_step_s": 3600, "burst_below_s": 0 (= median/4), "on_burst":
+//                   keep|drop|retime}
 //   head_position  {"columns": [x,y,z], "unit": m|cm|mm} | {"constant": [x,y,z]}   (required)
 //   head_orientation {"type": "quaternion", "columns": [4], "order": "wxyz"|"xyzw"} |
 //                  {"type": "euler", "columns": [about x, about y, about z], "order": "ZXY",
 //                   "sequence": "extrinsic"|"intrinsic", "unit": "deg"|"rad", "signs": [1,1,1]} |
+//                  {"type": "forward", "forward": [3], "up": [3] (optional)} |
 //                  {"constant": [w,x,y,z]};
 //                  optional "inverse": true when the source stores head-from-world
-//   gaze           {"type": "direction", "space": "head"|"world", "columns": [3]} |
-//                  {"type": "direction", ..., "left": [3], "right": [3], "combine": "mean"|"left"|"right"} |
+//   repeated_pose  "keep" | "interpolate": head pose repeated for several samples ("keep",
+//   reported) gaze           {"type": "direction", "space": "head"|"world", "columns": [3]} |
+//                  {"type": "direction", ..., "left": [3], "right": [3], "combine":
+//                  "mean"|"left"|"right"} |
 //                  {"type": "screen", "columns": [u,v], "origin": "top-left"|"bottom-left"} |
-//                  {"type": "point", "columns": [x,y,z], "unit": "m"|"cm"|"mm"} (world point looked at)
-//   valid          [{"column", "valid_values": [...]} | {"column", "invalid_values": [...]}]  ([])
+//                  {"type": "point", "columns": [x,y,z], "unit": "m"|"cm"|"mm"} (world point looked
+//                  at); optional "coordinates": the gaze vectors' own axes when they differ from
+//                  the head's
+//   valid          [{"column", "valid_values"|"invalid_values": [...] | "all_bits": int |
+//   "min"/"max": x,
+//                    "eye": "left"|"right"}]  ([])
 #include "sim/trace/importer.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <map>
+#include <set>
 
 #include "sim/core/error.h"
 #include "sim/core/files.h"
@@ -45,30 +58,44 @@ struct Map {
   int skip_lines = 0;
   char comment = 0;
   bool skip_bad = false;
-  AxisMap axes;
+  double max_skipped = 0.5;
+  bool used_fields_only = false;
+  AxisMap axes, gaze_axes;
   ColRef time;
   double time_scale = 1;
   bool rebase = true;
+  int wrap_bits = 0;
+  double max_step_s = 3600;
+  double burst_below_s = 0;
+  enum { BurstKeep, BurstDrop, BurstRetime } on_burst = BurstKeep;
   bool pos_const = false;
   glm::dvec3 pos_value{0.0};
   std::vector<ColRef> pos;
   double pos_scale = 1;
-  enum { Quat, Euler, ConstRot } rot_kind = Quat;
-  std::vector<ColRef> rot;
+  enum { Quat, Euler, Forward, ConstRot } rot_kind = Quat;
+  std::vector<ColRef> rot, up;
   bool xyzw = false, intrinsic = false, inverse = false;
   std::string euler_order;
   glm::dvec3 euler_signs{1.0};
   double angle_scale = 1;
   glm::dquat rot_value{1, 0, 0, 0};
+  bool interpolate_repeats = false;
   enum { DirHead, DirWorld, Screen, Point } gaze_kind = DirHead;
   std::vector<ColRef> gaze, left, right;
   std::string combine;
   bool screen_bottom_left = false;
   double point_scale = 1;
+  bool gaze_orient = false, gaze_xyzw = false;  // gaze as an orientation quaternion
+  bool gaze_angles = false;                     // gaze as azimuth/elevation in the head
+  glm::dvec2 angle_signs{1.0};
+  glm::dvec3 gaze_forward{0, 0, -1};  // its forward axis in source gaze axes
   struct Cond {
     ColRef col;
+    enum { ValidList, InvalidList, AllBits, Min, Max } kind = ValidList;
     std::vector<std::string> values;
-    bool valid_list;
+    long long bits = 0;
+    double bound = 0;
+    int eye = 0;  // 0 both, 1 left, 2 right
   };
   std::vector<Cond> valid;
 };
@@ -77,7 +104,10 @@ struct Map {
 struct Resolver {
   bool header;
   std::map<std::string, int> by_name;
+  std::map<std::string, std::vector<int>>
+      dup_cols;  // names that occur more than once: 1-based columns
   int nfields = 0;
+  int max_index = -1;  // largest 0-based index the map uses
   std::string in_file;
   long header_line = 0;
   ColRef get(Params& p, const std::string& key, const Json& v, const std::string& sub) {
@@ -86,28 +116,42 @@ struct Resolver {
     if (v.is_string()) {
       c.name = v.get<std::string>();
       if (!header)
-        throw Error(where, "column given by name \"" + c.name + "\" but the map says header: false (use 1-based indices)");
+        throw Error(where, "column given by name \"" + c.name +
+                               "\" but the map says header: false (use 1-based indices)");
+      auto d = dup_cols.find(c.name);
+      if (d != dup_cols.end()) {
+        std::string cols;
+        for (int k : d->second) cols += (cols.empty() ? "" : ", ") + std::to_string(k);
+        throw Error(where, "column \"" + printable(c.name) +
+                               "\" appears more than once in the header of " + in_file + " (line " +
+                               std::to_string(header_line) + ", fields " + cols +
+                               "): refer to the one meant by its 1-based index");
+      }
       auto it = by_name.find(c.name);
       if (it == by_name.end())
-        throw Error(where, "column \"" + c.name + "\" is not in the header of " + in_file + " (line " +
-                               std::to_string(header_line) + ")");
+        throw Error(where, "column \"" + printable(c.name) + "\" is not in the header of " +
+                               in_file + " (line " + std::to_string(header_line) + ")");
       c.index = it->second;
     } else if (v.is_number_integer()) {
       int i = v.get<int>();
       if (i < 1 || (nfields > 0 && i > nfields))
-        throw Error(where, "column index " + std::to_string(i) + " is outside 1.." + std::to_string(nfields));
+        throw Error(where, "column index " + std::to_string(i) + " is outside 1.." +
+                               std::to_string(nfields));
       c.index = i - 1;
       c.name = "#" + std::to_string(i);
     } else {
-      throw Error(where, "expected a column name (string) or a 1-based index, got " + describe_json(v));
+      throw Error(where,
+                  "expected a column name (string) or a 1-based index, got " + describe_json(v));
     }
+    max_index = std::max(max_index, c.index);
     return c;
   }
   ColRef one(Params& p, const std::string& key) { return get(p, key, p.raw(key), ""); }
   std::vector<ColRef> many(Params& p, const std::string& key, size_t n) {
     const Json& v = p.raw(key);
     if (!v.is_array() || v.size() != n)
-      p.fail(key, "expected an array of " + std::to_string(n) + " columns, got " + describe_json(v));
+      p.fail(key,
+             "expected an array of " + std::to_string(n) + " columns, got " + describe_json(v));
     std::vector<ColRef> out;
     for (size_t i = 0; i < n; ++i) out.push_back(get(p, key, v[i], "[" + std::to_string(i) + "]"));
     return out;
@@ -125,64 +169,174 @@ glm::dvec3 vec3_of(Params& p, const std::string& key) {
   return {v[0], v[1], v[2]};
 }
 
+// World-from-head rotation from a forward vector and an optional up vector, both in fovsim
+// axes (the head looks down -Z with +Y up). Without an up vector, world +Y is used (no roll).
+bool rotation_from_forward(glm::dvec3 f, glm::dvec3 u, glm::dquat& out) {
+  double fn = glm::length(f);
+  if (!(fn > 1e-9)) return false;
+  f /= fn;
+  glm::dvec3 r = glm::cross(f, u);
+  double rn = glm::length(r);
+  if (!(rn > 1e-6)) return false;
+  r /= rn;
+  glm::dvec3 up = glm::cross(r, f);
+  out = glm::normalize(glm::quat_cast(glm::dmat3(r, up, -f)));
+  return true;
+}
+
+bool same_pose(const TraceSample& a, const TraceSample& b) {
+  return a.head_pos == b.head_pos && a.head_rot == b.head_rot;
+}
+
+bool parse_int64(const std::string& text, long long& v, bool& overflow) {
+  const char* b = text.data();
+  const char* e = b + text.size();
+  if (b != e && *b == '+') ++b;
+  auto r = std::from_chars(b, e, v);
+  overflow = r.ec == std::errc::result_out_of_range && r.ptr == e;
+  return r.ec == std::errc() && r.ptr == e && b != e;
+}
+
+Map::Cond read_cond(Params& c, Resolver& res, bool per_eye) {
+  c.ignore("comment");
+  Map::Cond cond;
+  cond.col = res.one(c, "column");
+  const char* kinds[] = {"valid_values", "invalid_values", "all_bits", "min", "max"};
+  int n = 0;
+  for (const char* k : kinds) n += c.has(k) ? 1 : 0;
+  if (n != 1) c.fail("", "give exactly one of valid_values, invalid_values, all_bits, min or max");
+  if (c.has("valid_values") || c.has("invalid_values")) {
+    bool hv = c.has("valid_values");
+    const std::string key = hv ? "valid_values" : "invalid_values";
+    const Json& vals = c.raw(key);
+    if (!vals.is_array() || vals.empty()) c.fail(key, "expected a non-empty array of strings");
+    for (size_t i = 0; i < vals.size(); ++i) {
+      if (!vals[i].is_string() && !vals[i].is_number())
+        c.fail(key + "[" + std::to_string(i) + "]",
+               "expected a string, got " + describe_json(vals[i]));
+      cond.values.push_back(vals[i].is_string() ? vals[i].get<std::string>() : vals[i].dump());
+    }
+    cond.kind = hv ? Map::Cond::ValidList : Map::Cond::InvalidList;
+  } else if (c.has("all_bits")) {
+    cond.kind = Map::Cond::AllBits;
+    cond.bits = c.integer("all_bits", Range::closed(1, 2147483647.0));
+  } else {
+    bool mn = c.has("min");
+    cond.kind = mn ? Map::Cond::Min : Map::Cond::Max;
+    cond.bound = c.number(mn ? "min" : "max");
+  }
+  std::string eye = c.string("eye", "both", {"both", "left", "right"});
+  cond.eye = eye == "left" ? 1 : eye == "right" ? 2 : 0;
+  if (cond.eye != 0 && !per_eye)
+    c.fail("eye", "per-eye validity needs per-eye gaze (gaze.left and gaze.right)");
+  return cond;
+}
+
+// True when the field satisfies the condition (an unparsable number fails it).
+bool cond_holds(const Map::Cond& c, const std::string& f) {
+  switch (c.kind) {
+    case Map::Cond::ValidList:
+    case Map::Cond::InvalidList: {
+      bool listed = false;
+      for (auto& v : c.values) listed = listed || v == f;
+      return c.kind == Map::Cond::ValidList ? listed : !listed;
+    }
+    case Map::Cond::AllBits: {
+      long long v = 0;
+      bool of = false;
+      if (!parse_int64(f, v, of)) {
+        double d = 0;
+        std::string why;
+        if (!parse_number(f, d, why) || d != std::floor(d) || std::fabs(d) > 9e15) return false;
+        v = (long long)d;
+      }
+      return (v & c.bits) == c.bits;
+    }
+    default: {
+      double d = 0;
+      std::string why;
+      if (!parse_number(f, d, why)) return false;
+      return c.kind == Map::Cond::Min ? d >= c.bound : d <= c.bound;
+    }
+  }
+}
+
 }  // namespace
 
 Trace import_trace(const std::string& in, const std::string& map_path, const Display& display,
-                   ImportReport* report) {
+                   ImportReport* report, const ImportOptions& opt) {
   Params p = Params::from_file(map_path);
   p.ignore("comment");
   p.ignore("description");
   Map m;
-  std::string d = p.string("delimiter", std::vector<std::string>{"comma", "tab", "semicolon", "space"});
+  std::string d =
+      p.string("delimiter", std::vector<std::string>{"comma", "tab", "semicolon", "space"});
   m.delim = d == "comma" ? ',' : d == "tab" ? '\t' : d == "semicolon" ? ';' : ' ';
   m.header = p.boolean("header", true);
-  if (!p.has("header")) p.fail("header", "required: true if the first line names the columns, false otherwise");
+  if (!p.has("header"))
+    p.fail("header", "required: true if the first line names the columns, false otherwise");
   m.skip_lines = p.integer("skip_lines", 0, Range::closed(0, 1000000));
   std::string cm = p.string("comment_prefix", "");
   if (cm.size() > 1) p.fail("comment_prefix", "expected one character or \"\"");
   m.comment = cm.empty() ? 0 : cm[0];
   m.skip_bad = p.string("on_bad_row", "fail", {"fail", "skip"}) == "skip";
+  m.max_skipped = p.number("max_skipped_fraction", 0.5, Range::closed(0, 1));
+  m.used_fields_only = p.string("row_fields", "exact", {"exact", "used"}) == "used";
+  m.interpolate_repeats =
+      p.string("repeated_pose", "keep", {"keep", "interpolate"}) == "interpolate";
   if (!p.has("coordinates"))
-    p.fail("coordinates", "required: the source's axis convention (fovsim, opengl, unity, unreal or an axis object)");
+    p.fail(
+        "coordinates",
+        "required: the source's axis convention (fovsim, opengl, unity, unreal or an axis object)");
   m.axes = axis_map_from(p.raw("coordinates"), p.where("coordinates"));
+  m.gaze_axes = m.axes;
 
   // Data rows (the map's column references are resolved against the header).
-  std::vector<CsvRow> rows = read_csv_rows(in, m.delim, m.comment);
-  {
-    // skip_lines counts physical lines: drop rows whose line number is <= skip_lines.
-    std::vector<CsvRow> kept;
-    for (auto& r : rows)
-      if (r.line > m.skip_lines) kept.push_back(std::move(r));
-    rows.swap(kept);
+  // Rows are tokenized as they are imported, so a run that stops early (ImportOptions::
+  // stop_after_s) never reads the rest of the file.
+  CsvReader reader(in, m.delim, m.comment);
+  CsvRow row0;
+  bool got = false;
+  // skip_lines counts physical lines: drop rows whose line number is <= skip_lines.
+  while ((got = reader.next(row0)) && row0.line <= m.skip_lines) {
   }
-  if (rows.empty()) throw Error(in, "no data rows");
+  if (!got) throw Error(in, "no data rows");
   Resolver res;
   res.header = m.header;
   res.in_file = in;
-  size_t first = 0;
   if (m.header) {
-    res.header_line = rows[0].line;
-    for (size_t i = 0; i < rows[0].fields.size(); ++i) {
-      const std::string& n = rows[0].fields[i].text;
-      if (res.by_name.count(n))
-        throw Error(file_location(in, rows[0].line, rows[0].fields[i].col), "duplicate column name \"" + n + "\"");
+    res.header_line = row0.line;
+    // A name that occurs twice is an error only if the map refers to it (Resolver::get).
+    for (size_t i = 0; i < row0.fields.size(); ++i) {
+      const std::string& n = row0.fields[i].text;
+      if (res.by_name.count(n)) {
+        auto& dc = res.dup_cols[n];
+        if (dc.empty()) dc.push_back(res.by_name[n] + 1);
+        dc.push_back(int(i) + 1);
+        continue;
+      }
       res.by_name[n] = int(i);
     }
-    res.nfields = int(rows[0].fields.size());
-    first = 1;
-  } else {
-    res.nfields = int(rows[0].fields.size());
   }
+  res.nfields = int(row0.fields.size());
 
   Params tp = p.child("time");
   m.time = res.one(tp, "column");
   std::string tu = tp.string("unit", std::vector<std::string>{"s", "ms", "us", "ns", "100ns"});
   m.time_scale = tu == "s" ? 1.0 : tu == "ms" ? 1e-3 : tu == "us" ? 1e-6 : tu == "ns" ? 1e-9 : 1e-7;
   m.rebase = tp.boolean("rebase", true);
+  m.wrap_bits = tp.integer("wrap_bits", 0, Range::closed(0, 62));
+  if (m.wrap_bits != 0 && m.wrap_bits < 8)
+    tp.fail("wrap_bits", "expected 0 (no wrap) or 8..62 bits of the counter");
+  m.max_step_s = tp.number("max_step_s", 3600.0, Range::above(0));
+  m.burst_below_s = tp.number("burst_below_s", 0.0, Range::at_least(0));
+  std::string ob = tp.string("on_burst", "keep", {"keep", "drop", "retime"});
+  m.on_burst = ob == "keep" ? Map::BurstKeep : ob == "drop" ? Map::BurstDrop : Map::BurstRetime;
   tp.ignore("comment");
 
   if (!p.has("head_position"))
-    p.fail("head_position", "required: {\"columns\": [x, y, z], \"unit\": \"m\"} or {\"constant\": [0, 1.6, 0]}");
+    p.fail("head_position",
+           "required: {\"columns\": [x, y, z], \"unit\": \"m\"} or {\"constant\": [0, 1.6, 0]}");
   Params hp = p.child("head_position");
   hp.ignore("comment");
   if (hp.has("constant")) {
@@ -194,7 +348,8 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
   }
 
   if (!p.has("head_orientation"))
-    p.fail("head_orientation", "required: quaternion or euler columns, or {\"constant\": [1, 0, 0, 0]}");
+    p.fail("head_orientation",
+           "required: quaternion, euler or forward columns, or {\"constant\": [1, 0, 0, 0]}");
   Params ho = p.child("head_orientation");
   ho.ignore("comment");
   m.inverse = ho.boolean("inverse", false);
@@ -204,11 +359,16 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
     m.rot_kind = Map::ConstRot;
     m.rot_value = glm::normalize(glm::dquat(q[0], q[1], q[2], q[3]));
   } else {
-    std::string type = ho.string("type", std::vector<std::string>{"quaternion", "euler"});
+    std::string type =
+        ho.string("type", std::vector<std::string>{"quaternion", "euler", "forward"});
     if (type == "quaternion") {
       m.rot_kind = Map::Quat;
       m.rot = res.many(ho, "columns", 4);
       m.xyzw = ho.string("order", std::vector<std::string>{"wxyz", "xyzw"}) == "xyzw";
+    } else if (type == "forward") {
+      m.rot_kind = Map::Forward;
+      m.rot = res.many(ho, "forward", 3);
+      if (ho.has("up")) m.up = res.many(ho, "up", 3);
     } else {
       m.rot_kind = Map::Euler;
       m.rot = res.many(ho, "columns", 3);
@@ -216,27 +376,66 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
       bool okord = m.euler_order.size() == 3;
       for (char c : m.euler_order) okord = okord && (c == 'X' || c == 'Y' || c == 'Z');
       if (!okord) ho.fail("order", "expected three of X, Y, Z such as \"ZXY\" (Unity) or \"ZYX\"");
-      m.intrinsic = ho.string("sequence", std::vector<std::string>{"extrinsic", "intrinsic"}) == "intrinsic";
-      m.angle_scale = ho.string("unit", std::vector<std::string>{"deg", "rad"}) == "deg" ? kPi / 180 : 1.0;
+      m.intrinsic =
+          ho.string("sequence", std::vector<std::string>{"extrinsic", "intrinsic"}) == "intrinsic";
+      m.angle_scale =
+          ho.string("unit", std::vector<std::string>{"deg", "rad"}) == "deg" ? kPi / 180 : 1.0;
       std::vector<double> sg = ho.numbers("signs", {1, 1, 1});
       if (sg.size() != 3) ho.fail("signs", "expected 3 numbers, each 1 or -1");
       for (int i = 0; i < 3; ++i) {
-        if (sg[size_t(i)] != 1 && sg[size_t(i)] != -1) ho.fail("signs", "expected 3 numbers, each 1 or -1");
+        if (sg[size_t(i)] != 1 && sg[size_t(i)] != -1)
+          ho.fail("signs", "expected 3 numbers, each 1 or -1");
         m.euler_signs[i] = sg[size_t(i)];
       }
     }
   }
 
   Params gp = p.child("gaze");
-  if (!p.has("gaze")) p.fail("gaze", "required: how the gaze is given (direction, screen or point)");
+  if (!p.has("gaze"))
+    p.fail("gaze", "required: how the gaze is given (direction, screen or point)");
   gp.ignore("comment");
-  std::string gt = gp.string("type", std::vector<std::string>{"direction", "screen", "point"});
-  if (gt == "direction") {
-    m.gaze_kind = gp.string("space", std::vector<std::string>{"head", "world"}) == "head" ? Map::DirHead : Map::DirWorld;
+  std::string gt = gp.string(
+      "type", std::vector<std::string>{"direction", "orientation", "angles", "screen", "point"});
+  if (gp.has("coordinates")) {
+    if (gt == "screen")
+      gp.fail("coordinates", "a screen gaze has no axes (only direction and point gaze do)");
+    m.gaze_axes = axis_map_from(gp.raw("coordinates"), gp.where("coordinates"));
+  }
+  if (gt == "angles") {
+    // Azimuth (positive to the right) and elevation (positive up) of the gaze in the head,
+    // as world-camera eye trackers export them (Pupil Cloud gaze.csv).
+    if (gp.has("coordinates"))
+      gp.fail("coordinates", "angles have no axes: use \"signs\" to flip their sense");
+    m.gaze_kind = Map::DirHead;
+    m.gaze_angles = true;
+    m.gaze_axes = AxisMap{};
+    m.gaze = res.many(gp, "columns", 2);
+    double sc =
+        gp.string("unit", std::vector<std::string>{"deg", "rad"}) == "deg" ? kPi / 180 : 1.0;
+    std::vector<double> sg = gp.numbers("signs", {1, 1});
+    if (sg.size() != 2 || (sg[0] != 1 && sg[0] != -1) || (sg[1] != 1 && sg[1] != -1))
+      gp.fail("signs", "expected 2 numbers (azimuth, elevation), each 1 or -1");
+    m.angle_signs = glm::dvec2(sg[0], sg[1]) * sc;
+  } else if (gt == "orientation") {
+    // A gaze pose (OpenXR eye gaze): the gaze is the orientation's forward axis.
+    m.gaze_kind = gp.string("space", std::vector<std::string>{"head", "world"}) == "head"
+                      ? Map::DirHead
+                      : Map::DirWorld;
+    m.gaze_orient = true;
+    m.gaze = res.many(gp, "columns", 4);
+    m.gaze_xyzw = gp.string("order", std::vector<std::string>{"wxyz", "xyzw"}) == "xyzw";
+    std::string fa = gp.string("forward", "-z", {"+x", "-x", "+y", "-y", "+z", "-z"});
+    m.gaze_forward = glm::dvec3(0.0);
+    m.gaze_forward[fa[1] - 'x'] = fa[0] == '-' ? -1.0 : 1.0;
+  } else if (gt == "direction") {
+    m.gaze_kind = gp.string("space", std::vector<std::string>{"head", "world"}) == "head"
+                      ? Map::DirHead
+                      : Map::DirWorld;
     bool per_eye = gp.has("left") || gp.has("right");
     if (per_eye == gp.has("columns"))
-      gp.fail("", per_eye ? "give either \"columns\" (combined gaze) or \"left\"/\"right\", not both"
-                          : "needs \"columns\": [x, y, z] or per-eye \"left\" and \"right\"");
+      gp.fail("", per_eye
+                      ? "give either \"columns\" (combined gaze) or \"left\"/\"right\", not both"
+                      : "needs \"columns\": [x, y, z] or per-eye \"left\" and \"right\"");
     if (per_eye) {
       m.left = res.many(gp, "left", 3);
       m.right = res.many(gp, "right", 3);
@@ -247,29 +446,15 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
   } else if (gt == "screen") {
     m.gaze_kind = Map::Screen;
     m.gaze = res.many(gp, "columns", 2);
-    m.screen_bottom_left = gp.string("origin", std::vector<std::string>{"top-left", "bottom-left"}) == "bottom-left";
+    m.screen_bottom_left =
+        gp.string("origin", std::vector<std::string>{"top-left", "bottom-left"}) == "bottom-left";
   } else {
     m.gaze_kind = Map::Point;
     m.gaze = res.many(gp, "columns", 3);
     m.point_scale = length_unit(gp, "unit");
   }
-  for (Params& c : p.children("valid")) {
-    c.ignore("comment");
-    Map::Cond cond;
-    cond.col = res.one(c, "column");
-    bool hv = c.has("valid_values"), hi = c.has("invalid_values");
-    if (hv == hi) c.fail("", "give exactly one of valid_values or invalid_values");
-    const std::string key = hv ? "valid_values" : "invalid_values";
-    const Json& vals = c.raw(key);
-    if (!vals.is_array() || vals.empty()) c.fail(key, "expected a non-empty array of strings");
-    for (size_t i = 0; i < vals.size(); ++i) {
-      if (!vals[i].is_string() && !vals[i].is_number())
-        c.fail(key + "[" + std::to_string(i) + "]", "expected a string, got " + describe_json(vals[i]));
-      cond.values.push_back(vals[i].is_string() ? vals[i].get<std::string>() : vals[i].dump());
-    }
-    cond.valid_list = hv;
-    m.valid.push_back(cond);
-  }
+  const bool per_eye = !m.left.empty();
+  for (Params& c : p.children("valid")) m.valid.push_back(read_cond(c, res, per_eye));
   p.finish();
 
   // ---- rows ---------------------------------------------------------------------------------
@@ -278,25 +463,48 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
   IssueLog log;
   ImportReport rep;
   const size_t nf = size_t(res.nfields);
+  const size_t need = size_t(res.max_index + 1);  // fields a row must have with row_fields = used
   bool have_t0 = false, int_time = false;
-  long long t0_int = 0;
+  long long t0_int = 0, last_raw_int = 0, wrap_add = 0;
+  const long long wrap_span = m.wrap_bits ? (1LL << m.wrap_bits) : 0;
   double t0 = 0, last_t = -INFINITY;
+  long last_line = 0;
+  std::string last_text;
   glm::dvec3 last_gaze(0, 0, -1);
-  for (size_t r = first; r < rows.size(); ++r) {
-    const CsvRow& row = rows[r];
+  std::vector<long> lines;  // source line of each kept sample
+  std::vector<glm::dvec3>
+      world_gaze;            // gaze in world (for re-deriving it after pose interpolation)
+  bool pending = !m.header;  // without a header the first row is data
+  CsvRow cur;
+  while (true) {
+    if (pending) {
+      cur = std::move(row0);
+      pending = false;
+    } else if (!reader.next(cur)) {
+      break;
+    }
+    const CsvRow& row = cur;
     ++rep.data_rows;
     std::string err;
     int err_col = 1;
     auto fail_row = [&](int col, const std::string& kind, const std::string& msg) {
       std::string where = file_location(in, row.line, col);
-      if (!m.skip_bad) throw Error(where, msg + " (set the map's on_bad_row to \"skip\" to drop such rows)");
+      if (!m.skip_bad)
+        throw Error(where, msg + " (set the map's on_bad_row to \"skip\" to drop such rows)");
       log.add("skipped", kind, where, msg);
       ++rep.skipped_rows;
     };
-    if (row.fields.size() != nf) {
-      fail_row(row.fields.size() > nf ? row.fields[nf].col : row.fields.back().col, "wrong field count",
-               "expected " + std::to_string(nf) + " fields" + (m.header ? " as in the header" : " as in the first row") +
-                   ", got " + std::to_string(row.fields.size()));
+    if (row.fields.size() != nf && !(m.used_fields_only && row.fields.size() >= need)) {
+      fail_row(row.fields.size() > nf ? row.fields[nf].col : row.fields.back().col,
+               "wrong field count",
+               "expected " + std::to_string(nf) + " fields" +
+                   (m.header ? " as in the header" : " as in the first row") + ", got " +
+                   std::to_string(row.fields.size()) +
+                   (row.fields.size() < nf && !m.used_fields_only
+                        ? " (if two fields are fused in the export, \"row_fields\": \"used\" "
+                          "accepts rows whose used "
+                          "columns are present)"
+                        : ""));
       continue;
     }
     bool bad = false;
@@ -305,30 +513,69 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
       std::string why;
       if (!bad && !parse_number(row.fields[size_t(c.index)].text, v, why)) {
         bad = true;
-        err = "column \"" + c.name + "\": " + why;
+        err = "column \"" + printable(c.name) + "\": " + why;
         err_col = row.fields[size_t(c.index)].col;
       }
       return v;
     };
-    auto vec = [&](const std::vector<ColRef>& c) { return glm::dvec3(num(c[0]), num(c[1]), num(c[2])); };
+    auto vec = [&](const std::vector<ColRef>& c) {
+      return glm::dvec3(num(c[0]), num(c[1]), num(c[2]));
+    };
     // Validity flags first: rows flagged invalid keep their pose but may carry any gaze.
-    bool valid = true;
+    bool valid = true, left_ok = true, right_ok = true;
     for (auto& c : m.valid) {
-      const std::string& f = row.fields[size_t(c.col.index)].text;
-      bool listed = false;
-      for (auto& v : c.values) listed = listed || v == f;
-      if (c.valid_list ? !listed : listed) valid = false;
+      bool ok = cond_holds(c, row.fields[size_t(c.col.index)].text);
+      if (c.eye == 0)
+        valid = valid && ok;
+      else if (c.eye == 1)
+        left_ok = left_ok && ok;
+      else
+        right_ok = right_ok && ok;
+    }
+    if (per_eye) {
+      if (m.combine == "left")
+        valid = valid && left_ok;
+      else if (m.combine == "right")
+        valid = valid && right_ok;
+      else
+        valid = valid && (left_ok || right_ok);
     }
     // Time (integers kept exact before rebasing, e.g. epoch nanoseconds).
     const CsvField& tf = row.fields[size_t(m.time.index)];
     double t = 0;
     long long ti = 0;
-    auto tr_int = std::from_chars(tf.text.data(), tf.text.data() + tf.text.size(), ti);
-    bool is_int = tr_int.ec == std::errc() && tr_int.ptr == tf.text.data() + tf.text.size() && !tf.text.empty();
+    bool overflow = false;
+    bool is_int = parse_int64(tf.text, ti, overflow);
+    if (overflow) {
+      fail_row(tf.col, "bad time",
+               "time value \"" + printable(tf.text) + "\" (" + std::to_string(tf.text.size()) +
+                   " characters) does not fit a 64-bit integer: a corrupt or fused value?");
+      continue;
+    }
     if (!have_t0) int_time = is_int;
     if (int_time && is_int) {
       if (!have_t0) t0_int = ti;
-      t = double(ti - t0_int) * m.time_scale;
+      if (wrap_span) {
+        if (ti < 0 || ti >= wrap_span) {
+          fail_row(tf.col, "bad time",
+                   "time value " + tf.text + " is outside the " + std::to_string(m.wrap_bits) +
+                       "-bit counter range of time.wrap_bits");
+          continue;
+        }
+        // A backward step of more than half the range is a wrap of the counter.
+        if (have_t0 && ti < last_raw_int && last_raw_int - ti > wrap_span / 2) {
+          wrap_add += wrap_span;
+          ++rep.time_wraps;
+        }
+      }
+      long long rel = 0, v = 0;
+      if (__builtin_add_overflow(ti, wrap_add, &v) || __builtin_sub_overflow(v, t0_int, &rel)) {
+        fail_row(tf.col, "bad time",
+                 "time value " + tf.text + " minus the first time " + std::to_string(t0_int) +
+                     " overflows a 64-bit integer: a corrupt or sentinel value?");
+        continue;
+      }
+      t = double(rel) * m.time_scale;
     } else {
       t = num(m.time) * m.time_scale;
       if (bad) {
@@ -336,6 +583,16 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
         continue;
       }
       if (int_time) t -= double(t0_int) * m.time_scale;
+    }
+    if (have_t0 && t > last_t && t - last_t > m.max_step_s) {
+      char b[64];
+      std::snprintf(b, sizeof b, "%.6g", t - last_t);
+      fail_row(tf.col, "time jump",
+               "time \"" + printable(tf.text) + "\" jumps forward by " + b + " s from " +
+                   printable(last_text) + " at line " + std::to_string(last_line) +
+                   ", more than time.max_step_s = " + std::to_string(m.max_step_s) +
+                   " s: a corrupt or sentinel time value?");
+      continue;
     }
     TraceSample s;
     s.t = t;
@@ -354,6 +611,15 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
         err_col = row.fields[size_t(m.rot[0].index)].col;
       }
       if (!bad) s.head_rot = m.axes.rot(glm::mat3_cast(q / n));
+    } else if (m.rot_kind == Map::Forward) {
+      glm::dvec3 f = m.axes.vec(vec(m.rot));
+      glm::dvec3 u = m.up.empty() ? glm::dvec3(0, 1, 0) : m.axes.vec(vec(m.up));
+      if (!bad && !rotation_from_forward(f, u, s.head_rot)) {
+        bad = true;
+        err = m.up.empty() ? "head forward vector is zero or vertical (give \"up\" columns)"
+                           : "head forward vector is zero or parallel to the up vector";
+        err_col = row.fields[size_t(m.rot[0].index)].col;
+      }
     } else {
       glm::dvec3 ang = vec(m.rot) * m.angle_scale * m.euler_signs;
       if (!bad) s.head_rot = m.axes.rot(euler_matrix(ang, m.euler_order, m.intrinsic));
@@ -367,18 +633,35 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
     glm::dvec3 g(0.0);
     std::string gerr;
     int gcol = row.fields[size_t((m.gaze.empty() ? m.left : m.gaze)[0].index)].col;
+    bool one_eye = false;
     if (m.gaze_kind == Map::Screen) {
       double u = num(m.gaze[0]), v = num(m.gaze[1]);
       if (m.screen_bottom_left) v = 1 - v;
       if (!bad && (u < 0 || u > 1 || v < 0 || v > 1)) gerr = "gaze screen point outside [0,1]^2";
       g = gaze_dir_from_screen(display, u, v);  // already head space (fovsim)
-    } else if (!m.left.empty()) {
-      glm::dvec3 l = vec(m.left), rr = vec(m.right);
+    } else if (m.gaze_angles) {
+      double az = num(m.gaze[0]) * m.angle_signs.x, el = num(m.gaze[1]) * m.angle_signs.y;
+      g = glm::dvec3(std::cos(el) * std::sin(az), std::sin(el), -std::cos(el) * std::cos(az));
+    } else if (m.gaze_orient) {
+      double a = num(m.gaze[0]), b = num(m.gaze[1]), c = num(m.gaze[2]), e = num(m.gaze[3]);
+      glm::dquat q = m.gaze_xyzw ? glm::dquat(e, a, b, c) : glm::dquat(a, b, c, e);
+      double n = glm::length(q);
+      g = n > 1e-9 ? (q / n) * m.gaze_forward : glm::dvec3(0.0);
+    } else if (per_eye) {
+      // An eye flagged invalid (valid conditions with "eye") is not read at all.
+      glm::dvec3 l = left_ok ? vec(m.left) : glm::dvec3(0.0),
+                 rr = right_ok ? vec(m.right) : glm::dvec3(0.0);
       double ln = glm::length(l), rn = glm::length(rr);
-      if (m.combine == "left") g = l;
-      else if (m.combine == "right") g = rr;
-      else if (ln > 1e-9 && rn > 1e-9) g = l / ln + rr / rn;
-      else g = ln > 1e-9 ? l : rr;  // one eye lost: use the other
+      if (m.combine == "left")
+        g = l;
+      else if (m.combine == "right")
+        g = rr;
+      else if (ln > 1e-9 && rn > 1e-9)
+        g = l / ln + rr / rn;
+      else {
+        g = ln > 1e-9 ? l : rr;  // one eye lost: use the other
+        one_eye = ln > 1e-9 || rn > 1e-9;
+      }
     } else {
       g = vec(m.gaze);
     }
@@ -393,11 +676,11 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
     if (m.gaze_kind == Map::Screen) {
       gh = g;
     } else if (m.gaze_kind == Map::DirHead) {
-      gh = m.axes.vec(g);
+      gh = m.gaze_axes.vec(g);
     } else if (m.gaze_kind == Map::DirWorld) {
-      gh = glm::conjugate(s.head_rot) * m.axes.vec(g);
+      gh = glm::conjugate(s.head_rot) * m.gaze_axes.vec(g);
     } else if (m.gaze_kind == Map::Point) {
-      gh = glm::conjugate(s.head_rot) * (m.axes.vec(g * m.point_scale) - s.head_pos);
+      gh = glm::conjugate(s.head_rot) * (m.gaze_axes.vec(g * m.point_scale) - s.head_pos);
     }
     double gn = glm::length(gh);
     if (gerr.empty() && !(gn > 1e-9)) gerr = "zero-length gaze";
@@ -408,21 +691,71 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
       continue;
     }
     s.gaze_dir = gerr.empty() ? gh / gn : last_gaze;
+    if (valid && opt.check_fov && !gaze_inside_fov(display, s.gaze_dir)) {
+      double u = 0, w = 0;
+      gaze_screen_from_dir(display, s.gaze_dir, u, w);
+      char b[240];
+      std::snprintf(b, sizeof b,
+                    "gaze outside the display FOV (%s %.1fx%.1f deg): screen point (%.3f, %.3f) "
+                    "not in [0,1]^2",
+                    display.name.c_str(), display.fov_h_deg, display.fov_v_deg, u, w);
+      std::string where = file_location(in, row.line, gcol);
+      if (opt.on_fov == BadSamplePolicy::Fail)
+        throw Error(where, std::string(b) +
+                               " (check the gaze coordinates and --display; --on-bad / "
+                               "trace.on_bad_sample skip or hold accept it)");
+      if (opt.on_fov == BadSamplePolicy::Skip) {
+        log.add("skipped", "gaze outside the display FOV", where, b);
+        ++rep.skipped_rows;
+        continue;
+      }
+      log.add("held", "gaze outside the display FOV", where, b);
+      s.gaze_dir = last_gaze;
+    }
     if (valid) last_gaze = s.gaze_dir;
-    if (!valid) ++rep.invalid_rows;
     if (!have_t0) {
       have_t0 = true;
       t0 = t;
     }
-    if (!(t > last_t)) {
-      fail_row(tf.col, "non-monotonic time", "time not strictly increasing: " + tf.text);
-      if (!valid) --rep.invalid_rows;
+    // An equal time is a burst member when bursts are dropped or retimed (below).
+    if (!(t > last_t) && !(t == last_t && m.on_burst != Map::BurstKeep)) {
+      fail_row(tf.col, "non-monotonic time",
+               "time not strictly increasing: " + printable(tf.text) + " after " +
+                   printable(last_text) + " at line " + std::to_string(last_line));
       continue;
     }
+    if (!valid) ++rep.invalid_rows;
+    if (valid && one_eye) ++rep.one_eye_rows;
+    if (is_int) last_raw_int = ti;
     last_t = t;
+    last_line = row.line;
+    last_text = tf.text;
     tr.samples.push_back(s);
+    lines.push_back(row.line);
+    world_gaze.push_back(s.head_rot * s.gaze_dir);
+    if (t - t0 > opt.stop_after_s) {
+      rep.stopped_early = true;
+      break;
+    }
   }
-  if (tr.samples.empty()) throw Error(in, "no usable rows");
+  auto reasons = [&] {
+    std::string w;
+    for (auto& n : log.lines("on_bad_row=skip")) w += (w.empty() ? "" : "; ") + n;
+    return w;
+  };
+  if (tr.samples.empty())
+    throw Error(in, "no usable rows: all " + std::to_string(rep.data_rows) +
+                        " data rows were dropped" + (log.total() ? ": " + reasons() : ""));
+  if (m.skip_bad && rep.data_rows > 0 &&
+      double(rep.skipped_rows) > m.max_skipped * double(rep.data_rows)) {
+    char b[160];
+    std::snprintf(
+        b, sizeof b,
+        "%ld of %ld data rows (%.1f %%) were skipped, more than max_skipped_fraction = %g: ",
+        rep.skipped_rows, rep.data_rows, 100.0 * double(rep.skipped_rows) / double(rep.data_rows),
+        m.max_skipped);
+    throw Error(in, b + reasons());
+  }
   // Integer times were rebased exactly on the fly; decimal times are rebased here.
   rep.time_offset_s = int_time ? double(t0_int) * m.time_scale : t0;
   for (auto& s : tr.samples) {
@@ -430,7 +763,140 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
     if (!m.rebase && int_time) s.t += rep.time_offset_s;
   }
   if (!m.rebase) rep.time_offset_s = 0;
-  rep.notes = log.lines("on_bad_row=skip");
+
+  auto& x = tr.samples;
+  // Bursts: samples delivered closer than burst_below_s (default: a quarter of the median
+  // interval) after the previous one, typically buffered samples flushed after a stall.
+  if (x.size() > 2) {
+    std::vector<double> dts;
+    for (size_t i = 1; i < x.size(); ++i) dts.push_back(x[i].t - x[i - 1].t);
+    std::nth_element(dts.begin(), dts.begin() + long(dts.size() / 2), dts.end());
+    double thr = m.burst_below_s > 0 ? m.burst_below_s : 0.25 * dts[dts.size() / 2];
+    std::vector<char> burst(x.size(), 0);
+    for (size_t i = 1; i < x.size(); ++i)
+      if (x[i].t - x[i - 1].t < thr) burst[i] = 1;
+    size_t first_b = 0;
+    for (size_t i = 1; i < x.size(); ++i)
+      if (burst[i]) {
+        if (rep.burst_samples++ == 0) first_b = i;
+      }
+    if (rep.burst_samples > 0) {
+      char b[200];
+      std::snprintf(
+          b, sizeof b,
+          "%ld samples arrived less than %.3g ms after the previous one (bursts after a stall)",
+          rep.burst_samples, thr * 1e3);
+      std::string where = file_location(in, lines[first_b]);
+      if (m.on_burst == Map::BurstKeep) {
+        tr.warnings.push_back(in + ": " + b + "; kept (time.on_burst = keep); first at " + where);
+      } else if (m.on_burst == Map::BurstDrop) {
+        std::vector<TraceSample> kx;
+        std::vector<long> kl;
+        std::vector<glm::dvec3> kw;
+        for (size_t i = 0; i < x.size(); ++i) {
+          if (!kx.empty() && x[i].t - kx.back().t < thr) continue;
+          kx.push_back(x[i]);
+          kl.push_back(lines[i]);
+          kw.push_back(world_gaze[i]);
+        }
+        tr.warnings.push_back(in + ": " + b + "; " + std::to_string(x.size() - kx.size()) +
+                              " dropped (time.on_burst = drop); first at " + where);
+        x.swap(kx);
+        lines.swap(kl);
+        world_gaze.swap(kw);
+      } else {
+        // Retime: a burst i..k was buffered during the stall before it; spread the samples
+        // from the one that ended the stall (i-1) to k evenly after the sample before it (i-2).
+        long retimed = 0;
+        for (size_t i = 1; i < x.size();) {
+          if (!burst[i]) {
+            ++i;
+            continue;
+          }
+          size_t k = i;
+          while (k + 1 < x.size() && burst[k + 1]) ++k;
+          if (i >= 2) {
+            size_t a = i - 2;
+            double ta = x[a].t, tk = x[k].t;
+            for (size_t j = a + 1; j < k; ++j)
+              x[j].t = ta + (tk - ta) * double(j - a) / double(k - a);
+            retimed += long(k - a - 1);
+          }
+          i = k + 1;
+        }
+        // A burst at the very start has no stall to spread over: equal times left are dropped.
+        std::vector<TraceSample> kx;
+        std::vector<long> kl;
+        std::vector<glm::dvec3> kw;
+        for (size_t i = 0; i < x.size(); ++i) {
+          if (!kx.empty() && !(x[i].t > kx.back().t)) continue;
+          kx.push_back(x[i]);
+          kl.push_back(lines[i]);
+          kw.push_back(world_gaze[i]);
+        }
+        std::string dropped = kx.size() < x.size() ? ", " + std::to_string(x.size() - kx.size()) +
+                                                         " with equal times dropped"
+                                                   : "";
+        x.swap(kx);
+        lines.swap(kl);
+        world_gaze.swap(kw);
+        tr.warnings.push_back(in + ": " + b + "; " + std::to_string(retimed) +
+                              " retimed evenly over the preceding stall (time.on_burst = retime)" +
+                              dropped + "; first at " + where);
+      }
+    }
+  }
+  // Head pose repeated exactly for several samples (pose updated per render frame, gaze per
+  // tracker sample). With a constant head there is nothing to detect.
+  if (!(m.pos_const && m.rot_kind == Map::ConstRot)) {
+    long first_rep = 0;
+    for (size_t i = 1; i < x.size(); ++i)
+      if (same_pose(x[i], x[i - 1]) && rep.repeated_poses++ == 0) first_rep = lines[i];
+    if (rep.repeated_poses > 0) {
+      std::string msg =
+          std::to_string(rep.repeated_poses) + " samples repeat the previous head pose exactly";
+      if (!m.interpolate_repeats) {
+        tr.warnings.push_back(
+            in + ": " + msg +
+            " (pose updated less often than the gaze); kept (repeated_pose = keep); "
+            "first at " +
+            file_location(in, first_rep));
+      } else {
+        // Interpolate each run a..b of one pose towards the next distinct pose n (slerp, lerp),
+        // by time; gaze given in world keeps its world direction.
+        long changed = 0;
+        for (size_t a = 0; a < x.size();) {
+          size_t b = a;
+          while (b + 1 < x.size() && same_pose(x[b + 1], x[a])) ++b;
+          if (b > a && b + 1 < x.size()) {
+            size_t n = b + 1;
+            const TraceSample A = x[a], N = x[n];
+            for (size_t j = a + 1; j <= b; ++j) {
+              double f = (x[j].t - A.t) / (N.t - A.t);
+              x[j].head_pos = A.head_pos + (N.head_pos - A.head_pos) * f;
+              x[j].head_rot = glm::normalize(glm::slerp(
+                  A.head_rot, glm::dot(A.head_rot, N.head_rot) < 0 ? -N.head_rot : N.head_rot, f));
+              if (m.gaze_kind == Map::DirWorld || m.gaze_kind == Map::Point)
+                x[j].gaze_dir = glm::normalize(glm::conjugate(x[j].head_rot) * world_gaze[j]);
+              ++changed;
+            }
+          }
+          a = b + 1;
+        }
+        tr.warnings.push_back(
+            in + ": " + msg + "; " + std::to_string(changed) +
+            " interpolated between the poses around them (repeated_pose = interpolate); first at " +
+            file_location(in, first_rep));
+      }
+    }
+  }
+  if (rep.time_wraps > 0)
+    tr.warnings.push_back(in + ": time counter wrapped " + std::to_string(rep.time_wraps) +
+                          " times (" + std::to_string(m.wrap_bits) + " bits): unwrapped");
+  if (rep.one_eye_rows > 0)
+    tr.warnings.push_back(in + ": " + std::to_string(rep.one_eye_rows) +
+                          " rows had one valid eye: its gaze was used alone");
+  rep.notes = log.lines(m.skip_bad ? "on_bad_row=skip" : "on_bad_sample");
   for (auto& n : rep.notes) tr.warnings.push_back(in + ": " + n);
   if (report) *report = rep;
   return tr;

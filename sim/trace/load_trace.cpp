@@ -16,33 +16,6 @@ static std::string resolve(const std::string& base_dir, const std::string& f) {
   return (std::filesystem::path(base_dir) / p).lexically_normal().string();
 }
 
-// Gaze outside the display FOV in an imported trace, handled like the canonical reader does.
-static void check_fov(Trace& tr, const Display& d, BadSamplePolicy pol, Params& p) {
-  std::vector<TraceSample> kept;
-  long n = 0;
-  double first_t = 0;
-  for (auto& s : tr.samples) {
-    if (!s.valid || gaze_inside_fov(d, s.gaze_dir)) {
-      kept.push_back(s);
-      continue;
-    }
-    if (n++ == 0) first_t = s.t;
-    if (pol == BadSamplePolicy::Fail)
-      p.fail("file", "gaze outside the display FOV (" + d.name + ") at t=" + std::to_string(s.t) +
-                         " s of " + tr.source + " (set on_bad_sample to skip or hold)");
-    if (pol == BadSamplePolicy::Hold && !kept.empty()) {
-      TraceSample h = s;
-      h.gaze_dir = kept.back().gaze_dir;
-      kept.push_back(h);
-    }
-  }
-  if (n > 0)
-    tr.warnings.push_back(tr.source + ": " + std::to_string(n) + " samples with gaze outside the " + d.name + " FOV " +
-                          (pol == BadSamplePolicy::Hold ? "held" : "skipped") + "; first at t=" +
-                          std::to_string(first_t) + " s");
-  tr.samples.swap(kept);
-}
-
 Trace load_trace(Params& p, const Display& display, const std::string& base_dir) {
   p.ignore("comment");
   bool has_file = p.has("file"), has_syn = p.has("synthetic");
@@ -51,7 +24,9 @@ Trace load_trace(Params& p, const Display& display, const std::string& base_dir)
                         : "needs \"file\": \"traces/x.csv\" or \"synthetic\": {\"scenario\": ...}");
   TraceReadOptions opt;
   std::string pol = p.string("on_bad_sample", "fail", {"fail", "skip", "hold"});
-  opt.on_bad = pol == "fail" ? BadSamplePolicy::Fail : pol == "skip" ? BadSamplePolicy::Skip : BadSamplePolicy::Hold;
+  opt.on_bad = pol == "fail"   ? BadSamplePolicy::Fail
+               : pol == "skip" ? BadSamplePolicy::Skip
+                               : BadSamplePolicy::Hold;
   opt.quat_tolerance = p.number("quat_tolerance", 1e-3, Range::above(0, 0.5));
   double start = p.number("start", 0.0, Range::at_least(0));
   double duration = p.number("duration", 0.0, Range::at_least(0));
@@ -65,11 +40,15 @@ Trace load_trace(Params& p, const Display& display, const std::string& base_dir)
     std::string path = resolve(base_dir, f);
     if (!std::filesystem::exists(path)) p.fail("file", "trace file not found: " + path);
     if (p.has("map")) {
-      // A raw recording imported on the fly; its gaze is checked against the FOV here.
+      // A raw recording imported on the fly: its gaze is checked against the FOV row by row
+      // (errors name file:line:column), and only the requested range (plus a margin for
+      // resampling) is read.
       std::string map = resolve(base_dir, p.string("map"));
       if (!std::filesystem::exists(map)) p.fail("map", "column map not found: " + map);
-      tr = import_trace(path, map, display);
-      check_fov(tr, display, opt.on_bad, p);
+      ImportOptions io;
+      io.on_fov = opt.on_bad;
+      if (duration > 0) io.stop_after_s = start + duration + 2.0 / rate;
+      tr = import_trace(path, map, display, nullptr, io);
     } else {
       tr = read_trace_csv(path, display, opt);
     }
@@ -78,7 +57,8 @@ Trace load_trace(Params& p, const Display& display, const std::string& base_dir)
     SynthOptions so;
     so.scenario = s.string("scenario", synth_scenarios());
     so.seed = uint64_t(s.integer("seed", 1, Range::at_least(0)));
-    so.duration_s = s.number("duration", start + (duration > 0 ? duration : 10.0), Range::above(0, 36000));
+    so.duration_s =
+        s.number("duration", start + (duration > 0 ? duration : 10.0), Range::above(0, 36000));
     so.rate_hz = rate;
     EyeModel m;
     if (s.has("params")) {
@@ -99,11 +79,12 @@ Trace load_trace(Params& p, const Display& display, const std::string& base_dir)
                         std::to_string(t_last - t_first) + " s long)");
   double to = duration > 0 ? from + duration : INFINITY;
   if (duration > 0 && to > t_last + period + eps) {
-    std::string msg = "trace " + tr.source + " covers " + std::to_string(t_last - t_first + period) +
+    std::string msg = "trace " + tr.source + " covers " +
+                      std::to_string(t_last - t_first + period) +
                       " s but start+duration asks for " + std::to_string(start + duration) + " s";
     if (on_short == "fail") p.fail("duration", msg + " (set on_short to truncate or hold)");
     tr.warnings.push_back(msg + (on_short == "truncate" ? ": truncated (on_short=truncate)"
-                                                         : ": last sample held (on_short=hold)"));
+                                                        : ": last sample held (on_short=hold)"));
   }
   Trace out;
   out.source = tr.source;

@@ -28,7 +28,10 @@ TraceStats trace_stats(const Trace& tr) {
     double dt = x[i].t - x[i - 1].t;
     dts.push_back(dt);
     if (dt <= 0) continue;
-    if (x[i].valid && x[i - 1].valid) speed.push_back(rad2deg(angle_between(x[i].gaze_dir, x[i - 1].gaze_dir)) / dt);
+    if (x[i].valid && x[i - 1].valid)
+      speed.push_back(rad2deg(angle_between(x[i].gaze_dir, x[i - 1].gaze_dir)) / dt);
+    if (x[i].head_pos == x[i - 1].head_pos && x[i].head_rot == x[i - 1].head_rot)
+      ++s.repeated_poses;
     glm::dquat d = glm::conjugate(x[i - 1].head_rot) * x[i].head_rot;
     double ang = 2 * std::atan2(std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z), std::fabs(d.w));
     hspeed.push_back(rad2deg(ang) / dt);
@@ -38,8 +41,10 @@ TraceStats trace_stats(const Trace& tr) {
   if (!dts.empty()) {
     double med = pct(dts, 50);
     s.rate_hz = med > 0 ? 1.0 / med : 0;
+    s.rate_mean_hz = s.duration_s > 0 ? double(x.size() - 1) / s.duration_s : 0;
     for (double dt : dts) {
       if (dt > 1.5 * med) ++s.gaps;
+      if (dt < 0.25 * med) ++s.bursts;
       s.max_gap_s = std::max(s.max_gap_s, dt);
     }
   }
@@ -51,6 +56,31 @@ TraceStats trace_stats(const Trace& tr) {
   s.speed_p99 = pct(speed, 99);
   s.head_speed_p50 = pct(hspeed, 50);
   s.head_speed_p99 = pct(hspeed, 99);
+  char b[300];
+  if (s.speed_p99 > kPlausibleSpeedP99) {
+    std::snprintf(b, sizeof b,
+                  "eye-speed p99 %.0f deg/s is above %.0f deg/s (saccades rarely exceed ~700 "
+                  "deg/s): check the time "
+                  "unit, bursts of samples, and the gaze coordinates",
+                  s.speed_p99, kPlausibleSpeedP99);
+    s.warnings.push_back(b);
+  }
+  if (s.ecc_p95 > kPlausibleEccP95) {
+    std::snprintf(b, sizeof b,
+                  "gaze eccentricity p95 %.1f deg is above %.0f deg (gaze rarely goes beyond ~35 "
+                  "deg in a headset): "
+                  "check the gaze space (head/world), coordinates and head orientation",
+                  s.ecc_p95, kPlausibleEccP95);
+    s.warnings.push_back(b);
+  }
+  if (s.bursts > 0) {
+    std::snprintf(b, sizeof b,
+                  "%ld intervals shorter than a quarter of the median (bursts after a stall) "
+                  "inflate the eye speed: "
+                  "see the map's time.on_burst",
+                  s.bursts);
+    s.warnings.push_back(b);
+  }
   return s;
 }
 
@@ -59,16 +89,21 @@ std::string format_stats(const TraceStats& s) {
   std::snprintf(b, sizeof b,
                 "samples            %zu\n"
                 "duration           %.3f s\n"
-                "rate               %.2f Hz (median interval)\n"
+                "rate               %.2f Hz (median interval), %.2f Hz (mean)\n"
                 "gaps               %ld (> 1.5x median interval), longest %.1f ms\n"
+                "bursts             %ld (< 0.25x median interval)\n"
+                "repeated poses     %ld (head pose equal to the previous sample's)\n"
                 "invalid            %.1f %%\n"
                 "gaze eccentricity  p50 %.1f  p95 %.1f  max %.1f deg\n"
                 "gaze speed         p50 %.1f  p95 %.1f  p99 %.1f deg/s (eye in head)\n"
                 "head speed         p50 %.1f  p99 %.1f deg/s, path %.2f m\n",
-                s.samples, s.duration_s, s.rate_hz, s.gaps, s.max_gap_s * 1e3, 100.0 * s.invalid_fraction, s.ecc_p50,
-                s.ecc_p95, s.ecc_max, s.speed_p50, s.speed_p95, s.speed_p99, s.head_speed_p50, s.head_speed_p99,
-                s.head_path_m);
-  return b;
+                s.samples, s.duration_s, s.rate_hz, s.rate_mean_hz, s.gaps, s.max_gap_s * 1e3,
+                s.bursts, s.repeated_poses, 100.0 * s.invalid_fraction, s.ecc_p50, s.ecc_p95,
+                s.ecc_max, s.speed_p50, s.speed_p95, s.speed_p99, s.head_speed_p50,
+                s.head_speed_p99, s.head_path_m);
+  std::string out = b;
+  for (auto& w : s.warnings) out += "implausible        " + w + "\n";
+  return out;
 }
 
 }  // namespace fovsim

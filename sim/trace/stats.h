@@ -1,6 +1,7 @@
 // Trace summary printed by `fovsim trace stats|validate|import` (traces/README.md).
 #pragma once
 #include <string>
+#include <vector>
 
 #include "sim/trace/trace.h"
 
@@ -9,9 +10,14 @@ namespace fovsim {
 struct TraceStats {
   size_t samples = 0;
   double duration_s = 0;
-  double rate_hz = 0;          // 1 / median sample interval
-  long gaps = 0;               // intervals longer than 1.5 x the median
+  double rate_hz = 0;  // 1 / median sample interval
+  double rate_mean_hz =
+      0;          // (samples - 1) / duration: robust to jittered intervals (8/9 ms -> 120 Hz)
+  long gaps = 0;  // intervals longer than 1.5 x the median
   double max_gap_s = 0;
+  long bursts =
+      0;  // intervals shorter than a quarter of the median (samples flushed after a stall)
+  long repeated_poses = 0;  // samples whose head pose equals the previous sample's exactly
   double invalid_fraction = 0;
   // Gaze eccentricity (angle from head forward, deg) over valid samples.
   double ecc_p50 = 0, ecc_p95 = 0, ecc_max = 0;
@@ -19,7 +25,13 @@ struct TraceStats {
   double speed_p50 = 0, speed_p95 = 0, speed_p99 = 0;
   // Head angular speed (deg/s) and path length (m).
   double head_speed_p50 = 0, head_speed_p99 = 0, head_path_m = 0;
+  // Plausibility: one line per value outside human ranges (eye-speed p99 > 700 deg/s: saccade
+  // peak velocities saturate near 500-700 deg/s, DESIGN §3; eccentricity p95 > 35 deg; bursts).
+  std::vector<std::string> warnings;
 };
+
+constexpr double kPlausibleSpeedP99 = 700;   // deg/s
+constexpr double kPlausibleEccP95 = 35;      // deg
 
 TraceStats trace_stats(const Trace& tr);
 // Multi-line human-readable summary.

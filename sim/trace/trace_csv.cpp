@@ -52,10 +52,10 @@ Trace read_trace_csv(const std::string& path, const Display& display, const Trac
       if (name == kCols[k]) c = k;
     auto loc = file_location(path, head.line, head.fields[f].col);
     if (c < 0)
-      throw Error(loc, "unknown column \"" + name +
+      throw Error(loc, "unknown column \"" + printable(name) +
                            "\" (canonical columns: t,px,py,pz,qw,qx,qy,qz, gx,gy,gz or gaze_u,gaze_v, optional "
                            "valid; see traces/README.md)");
-    if (idx[c] >= 0) throw Error(loc, "duplicate column \"" + name + "\"");
+    if (idx[c] >= 0) throw Error(loc, "duplicate column \"" + printable(name) + "\"");
     idx[c] = int(f);
   }
   auto header_loc = file_location(path, head.line);
@@ -105,7 +105,7 @@ Trace read_trace_csv(const std::string& path, const Display& display, const Trac
       bad_number(T, Part::Row);
     } else if (!(v[T] > last_t)) {
       probs.push_back({Part::Row, col_of(T), "non-monotonic time",
-                       "time not strictly increasing: t=" + row.fields[idx[T]].text + " after t=" +
+                       "time not strictly increasing: t=" + printable(row.fields[idx[T]].text) + " after t=" +
                            std::to_string(last_t) + " (line " + std::to_string(last_t_line) + ")"});
     }
     s.t = v[T];

@@ -36,3 +36,34 @@ TEST(TraceCli, MalformedTraceNamesLineAndColumn) {
   EXPECT_NE(m.output.find("missing_map.json"), std::string::npos) << m.output;
   EXPECT_FALSE(std::filesystem::exists(dir + "/o.csv"));
 }
+
+// Issue 16: `trace import` never writes a file that `trace validate` rejects; --guess prints a map.
+TEST(TraceCli, ImportChecksTheFovAndGuessesAMap) {
+  std::string dir = temp_dir("trace_import_fov");
+  write_text(dir + "/map.json", R"({"delimiter": "comma", "header": true, "coordinates": "opengl",
+    "time": {"column": "time", "unit": "ms"}, "head_position": {"constant": [0, 1.6, 0]},
+    "head_orientation": {"constant": [1, 0, 0, 0]},
+    "gaze": {"type": "direction", "space": "head", "columns": ["gaze_dir_x", "gaze_dir_y", "gaze_dir_z"]}})");
+  write_text(
+      dir + "/rec.csv",
+      "time,gaze_dir_x,gaze_dir_y,gaze_dir_z\n0,0,0,-1\n10,0.9,0,-0.43589\n20,0,0,-1\n30,0,0,-1\n");
+  auto f = run_cmd(fovsim_bin() + " trace import " + dir + "/rec.csv --map " + dir +
+                   "/map.json -o " + dir + "/o.csv");
+  EXPECT_EQ(f.code, 2) << f.output;
+  EXPECT_NE(f.output.find("rec.csv:3:4: gaze outside the display FOV"), std::string::npos)
+      << f.output;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/o.csv"));
+  auto s = run_cmd(fovsim_bin() + " trace import " + dir + "/rec.csv --map " + dir +
+                   "/map.json --on-bad skip -o " + dir + "/o.csv");
+  EXPECT_EQ(s.code, 0) << s.output;
+  EXPECT_NE(s.output.find("(mean)"), std::string::npos) << s.output;
+  auto v = run_cmd(fovsim_bin() + " trace validate " + dir + "/o.csv");
+  EXPECT_EQ(v.code, 0) << v.output;
+  auto g = run_cmd(fovsim_bin() + " trace import " + dir + "/rec.csv --guess");
+  EXPECT_EQ(g.code, 0) << g.output;
+  EXPECT_NE(g.output.find("ASSUMPTION: time is column \\\"time\\\" in ms"), std::string::npos)
+      << g.output;
+  auto n = run_cmd(fovsim_bin() + " trace import " + dir + "/rec.csv -o " + dir + "/x.csv");
+  EXPECT_EQ(n.code, 2) << n.output;
+  EXPECT_NE(n.output.find("--map"), std::string::npos) << n.output;
+}

@@ -128,7 +128,8 @@ TEST(Import, MalformedMapsGiveClearErrors) {
   nocoord.erase("coordinates");
   bad_map("nocoord.json", nocoord.dump(), {"nocoord.json: coordinates", "required"});
   bad_map("valid.json", patched("/valid/0/valid_values", Json::array({"0"})),
-          {"valid.json: valid[0]", "exactly one of valid_values or invalid_values"});
+          {"valid.json: valid[0]",
+           "exactly one of valid_values, invalid_values, all_bits, min or max"});
 }
 
 TEST(Import, MalformedRecordingsNameLines) {

@@ -80,8 +80,11 @@ TEST(LoadTrace, RawRecordingThroughAMap) {
     "gaze": {"type": "direction", "space": "head", "columns": ["x", "y", "z"]}})");
   write_file_atomic(dir + "/rec.csv", "ms,x,y,z\n1000,0,0,-1\n1010,0.9,0,-0.43589\n1020,0,0,-1\n1030,0,0,-1\n");
   Display d = vive();
-  expect_error([&] { load(Json{{"file", "rec.csv"}, {"map", "map.json"}, {"resample", false}}, dir, d); },
-               {"run.json: trace.file", "outside the display FOV", "t=0.01"});
+  expect_error(
+      [&] {
+        load(Json{{"file", "rec.csv"}, {"map", "map.json"}, {"resample", false}}, dir, d);
+      },
+      {"rec.csv:3:6", "outside the display FOV", "on_bad_sample skip or hold"});
   Trace t = load(Json{{"file", "rec.csv"}, {"map", "map.json"}, {"resample", false}, {"on_bad_sample", "skip"}}, dir, d);
   EXPECT_EQ(t.samples.size(), 3u);
   ASSERT_EQ(t.warnings.size(), 1u);
