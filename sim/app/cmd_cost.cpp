@@ -8,6 +8,7 @@
 #include <memory>
 #include <sstream>
 
+#include "sim/foveation/factory.h"
 #include "sim/app/commands.h"
 #include "sim/core/error.h"
 #include "sim/core/files.h"
@@ -54,25 +55,15 @@ struct MethodSpec {
   Json params = Json::object();
 };
 
-// "kfr:sigma=1.8,alpha=4" -> {kfr, {sigma: 1.8, alpha: 4}}
+// "kfr:sigma=1.8,alpha=4": the one method syntax (parse_method_arg); keys are validated by
+// the method's own parser inside analytic_counters.
 MethodSpec parse_method(const std::string& s) {
+  MethodArg a = parse_method_arg(s, "--method");
+  if (!is_cost_method(a.name)) throw Error("--method " + s, "no cost model for method \"" + a.name + "\"");
   MethodSpec m;
-  m.text = s;
-  auto colon = s.find(':');
-  m.name = s.substr(0, colon);
-  if (!is_cost_method(m.name)) {
-    std::string all;
-    for (auto& k : cost_methods()) all += (all.empty() ? "" : ", ") + k;
-    throw Error("--method " + s, "unknown method '" + m.name + "' (known: " + all + ")");
-  }
-  if (colon != std::string::npos)
-    for (auto& kv : split(s.substr(colon + 1), ',')) {
-      auto eq = kv.find('=');
-      if (eq == std::string::npos) throw Error("--method " + s, "expected key=value, got '" + kv + "'");
-      std::string v = kv.substr(eq + 1);
-      Json jv = Json::parse(v, nullptr, false);
-      m.params[kv.substr(0, eq)] = jv.is_discarded() ? Json(v) : jv;
-    }
+  m.text = a.text;
+  m.name = a.name;
+  m.params = a.params;
   return m;
 }
 

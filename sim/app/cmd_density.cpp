@@ -12,6 +12,7 @@
 #include "sim/core/files.h"
 #include "sim/experiment/config.h"
 #include "sim/foveation/density.h"
+#include "sim/foveation/factory.h"
 
 namespace fovsim::app {
 
@@ -38,8 +39,12 @@ int run_density(const DensityArgs& a) {
   Json summary = Json::object();
   summary["display"] = d.to_json();
   summary["gaze_px"] = {v.gaze_px.x, v.gaze_px.y};
-  for (const std::string& m : a.methods) {
-    Json pj = Json::object();
+  for (const std::string& arg : a.methods) {
+    // One syntax on every command: "kfr:sigma=1.8,alpha=2" (parse_method_arg); --param
+    // METHOD.key=value is kept as an alias.
+    const MethodArg ma = parse_method_arg(arg, "--method");
+    const std::string& m = ma.name;
+    Json pj = ma.params;
     for (const std::string& kv : a.params) {  // "kfr.alpha=2"
       auto dot = kv.find('.'), eq = kv.find('=');
       if (dot == std::string::npos || eq == std::string::npos || eq < dot)
@@ -48,10 +53,12 @@ int run_density(const DensityArgs& a) {
       std::string val = kv.substr(eq + 1);
       Json jv;
       try { jv = Json::parse(val); } catch (...) { jv = val; }
-      pj[kv.substr(dot + 1, eq - dot - 1)] = jv;
+      const std::string key = kv.substr(dot + 1, eq - dot - 1);
+      if (pj.contains(key)) throw Error("--param " + kv, "\"" + key + "\" is also given in --method " + arg);
+      pj[key] = jv;
     }
     if (!is_mapping_method(m)) throw Error("--method", "not a mapping method: \"" + m + "\" (kfr, rmfr, hyperbolic, linear, fvrs)");
-    Params p(pj, "--param", m);
+    Params p(pj, "--method " + arg, "");
     MappingSpec s = MappingSpec::from_params(m, p);
     p.finish();
     bool reachable = true;
@@ -73,7 +80,7 @@ int run_density(const DensityArgs& a) {
       js["target_shaded_fraction"] = target;
       js["target_reachable"] = reachable;
     }
-    summary["methods"][m] = js;
+    summary["methods"][ma.text] = js;
     for (int k = 0; k < a.directions; ++k) {
       const double th = 2.0 * kPi * k / a.directions;
       const double dx = std::cos(th), dy = std::sin(th);
@@ -88,7 +95,7 @@ int run_density(const DensityArgs& a) {
         const double t = tmax * (i + 0.5) / a.samples;
         const double x = v.gaze_px.x + dx * t, y = v.gaze_px.y + dy * t;
         const double dens = sample_density(s, v, x, y);
-        csv << m << ',' << rad2deg(th) << ',' << t << ',' << x << ',' << y << ',' << v.ecc_deg(x, y) << ','
+        csv << ma.text << ',' << rad2deg(th) << ',' << t << ',' << x << ',' << y << ',' << v.ecc_deg(x, y) << ','
             << dens << ',' << std::min(dens, 1.0) << '\n';
       }
     }
@@ -110,8 +117,11 @@ int run_density(const DensityArgs& a) {
 void register_density(CLI::App& app, Action& action) {
   auto a = std::make_shared<DensityArgs>();
   CLI::App* c = app.add_subcommand("density", "Analytic sampling density and theoretical shading reduction of mapping methods");
-  c->add_option("--method", a->methods, "kfr, rmfr, hyperbolic, linear, fvrs (repeat)")->capture_default_str();
-  c->add_option("--param", a->params, "METHOD.key=value, e.g. kfr.alpha=2 rmfr.fx=0.3 (repeat)");
+  c->add_option("--method,-m", a->methods,
+                "Method and parameters in the syntax of every command, e.g. kfr, kfr:sigma=1.8,alpha=2, rmfr:fx=0.3 "
+                "(keys as in the run config; repeat); one of kfr, rmfr, hyperbolic, linear, fvrs")
+      ->capture_default_str();
+  c->add_option("--param", a->params, "Alias: METHOD.key=value, e.g. kfr.alpha=2 (repeat)");
   c->add_option("--display", a->display, "Display name or path (models/displays/NAME.json)")->capture_default_str();
   c->add_option("--models", a->models, "Models directory");
   c->add_option("--gaze-u", a->gaze_u, "Gaze x as a fraction of W")->capture_default_str();

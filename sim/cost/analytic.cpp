@@ -6,6 +6,9 @@
 
 #include "sim/core/error.h"
 #include "sim/cost/passes.h"
+#include "sim/foveation/density.h"
+#include "sim/foveation/factory.h"
+#include "sim/foveation/mapping_spec.h"
 
 namespace fovsim {
 
@@ -24,39 +27,75 @@ double fvrs_shaded_fraction(const Display& d, double gu, double gv, double r1, d
   return sum / (double(nx) * ny);
 }
 
+namespace {
+// Keys that only `predict`/`budget`/calibration understand (assumptions replacing a rendered
+// measurement), per method; every other key is the method's own run parameter.
+std::vector<std::string> analytic_keys(const std::string& method) {
+  if (method == "kfr" || method == "rmfr") return {"filter_taps_per_pixel"};
+  if (method == "hyperbolic" || method == "linear") return {"shaded_fraction", "gaze_u", "gaze_v", "filter_taps_per_pixel"};
+  if (method == "fvrs") return {"shaded_fraction", "gaze_u", "gaze_v"};
+  if (method == "twfr") return {"redraw_fraction", "prims_fraction"};
+  return {};
+}
+
+double column(const std::vector<std::pair<std::string, double>>& cols, const std::string& k, double def) {
+  for (auto& [n, v] : cols)
+    if (n == k) return v;
+  return def;
+}
+}  // namespace
+
 Counters analytic_counters(const std::string& method, const Json& params, const Workload& w,
                            const Display& d, const std::string& where) {
   if (!is_cost_method(method)) throw Error(where, "unknown method '" + method + "'");
-  Params p(params.is_null() ? Json::object() : params, "", where);
+  const Json all = params.is_null() ? Json::object() : params;
+  if (!all.is_object()) throw Error(where, "method parameters must be an object");
+  // Split: analytic-only keys here; the rest goes through the method's own parser (the one
+  // `run` uses: same keys, defaults and ranges; unknown or mistyped keys are errors).
+  Json own = Json::object(), extra = Json::object();
+  const std::vector<std::string> ak = analytic_keys(method);
+  for (auto it = all.begin(); it != all.end(); ++it)
+    (std::find(ak.begin(), ak.end(), it.key()) != ak.end() ? extra : own)[it.key()] = it.value();
+  Params mp(own, where, "");
+  const std::vector<std::pair<std::string, double>> cols = make_method(method, mp)->param_columns();
+  Params p(extra, where, "");
   const double P = double(std::max(0, d.width)) * double(std::max(0, d.height));
   Counters c;
   auto shaded_frac_param = [&](double def) {
     double f = p.number("shaded_fraction", w.shaded_fraction >= 0 ? w.shaded_fraction : -1, Range::closed(-1, 1));
     return f >= 0 ? f : def;
   };
+  // The baselines' shaded fraction from their real parameters at a gaze point (the same
+  // geometry their render passes use, density.h), unless given.
+  auto baseline_fraction = [&](double def_if_empty) {
+    const double gu = p.number("gaze_u", 0.5, Range::closed(-1, 2)), gv = p.number("gaze_v", 0.5, Range::closed(-1, 2));
+    double f = shaded_frac_param(-1);
+    if (f >= 0 || P <= 0) return f >= 0 ? f : def_if_empty;
+    Params sp(own, where, "");
+    MappingSpec spec = MappingSpec::from_params(method, sp);
+    Camera cam = Camera::from_pose(d, glm::dvec3(0), glm::dquat(1, 0, 0, 0));
+    MappingView v = MappingView::at(cam, {gu * d.width, gv * d.height});
+    if (method == "fvrs") return fvrs_shaded_fraction(d, gu, gv, spec.r1_eff(), spec.r2_eff());
+    return expected_shaded_samples(spec, v) / P;
+  };
   if (method == "full") {
     c.set("shaded_samples", P);
     c.set("gbuffer_samples", P);
   } else if (has_mapping_pass2(method)) {
-    double sigma = p.number("sigma", 1.8, Range::closed(1, 64));
-    // KFR/RMFR: the w x h = (W/sigma) x (H/sigma) buffer is fully shaded (seed 004 eq. 2.x,
-    // seed 003 §3.2); baselines at the same mean density (seed 003 §5.1) unless overridden.
-    double buf = P / (sigma * sigma);
-    double s = (method == "kfr" || method == "rmfr") ? buf : shaded_frac_param(1.0 / (sigma * sigma)) * P;
+    // KFR/RMFR: the w x h = (W/sigma) x (H/sigma) buffer is fully shaded (seed 004 §2.2,
+    // seed 003 §3.2); the baselines shade what their layers / sample pattern need.
+    const double sigma = column(cols, "sigma", 1.0);
+    const double buf = P / (sigma * sigma);
+    const double s = (method == "kfr" || method == "rmfr") ? buf : baseline_fraction(1.0) * P;
     c.set("shaded_samples", s);
     c.set("gbuffer_samples", s);
-    c.set("buffer_pixels_allocated", buf);
+    c.set("buffer_pixels_allocated", (method == "kfr" || method == "rmfr") ? buf : s);
     c.set("buffer_pixels_used", s);
     c.set("fullres_pixels", P);
     // Total taps of pass 2 (bilinear inverse map: 4 per full-resolution pixel).
     c.set("filter_taps", P * p.number("filter_taps_per_pixel", 4, Range::at_least(0)));
   } else if (method == "fvrs") {
-    double f = shaded_frac_param(-1);
-    if (f < 0)
-      f = fvrs_shaded_fraction(d, p.number("gaze_u", 0.5, Range::closed(-1, 2)),
-                               p.number("gaze_v", 0.5, Range::closed(-1, 2)),
-                               p.number("r1", 10, Range::at_least(0)), p.number("r2", 20, Range::at_least(0)));
-    c.set("shaded_samples", f * P);
+    c.set("shaded_samples", baseline_fraction(1.0) * P);
     c.set("gbuffer_samples", P);
   } else if (method == "twfr") {
     double rf = p.number("redraw_fraction", w.twfr_redraw_fraction, Range::closed(0, 1));
@@ -71,7 +110,9 @@ Counters analytic_counters(const std::string& method, const Json& params, const 
   } else if (method == "flc") {
     double lights = std::max(1.0, w.lights);
     double total = w.rsm_res * w.rsm_res * lights;  // one VPL per RSM texel (seed 001 §3)
-    double kept = std::min(total, p.number("vpl_budget", w.vpl_budget, Range::at_least(0)));
+    // The budget given on the command line (validated by FLC's parser), else the workload's.
+    const double budget = own.contains("vpl_budget") ? column(cols, "vpl_budget", w.vpl_budget) : w.vpl_budget;
+    double kept = std::min(total, budget);
     double ns = w.importance_samples;
     double s = P * w.lpt_fraction;
     c.set("shaded_samples", s);
@@ -83,6 +124,7 @@ Counters analytic_counters(const std::string& method, const Json& params, const 
     c.set("contribution_evals", total * ns);       // eq. 14 for every VPL and sample
     c.set("shaded_sample_vpls", s * kept / w.interleave);  // interleaved sampling (§6)
   }
+  p.finish();
   return c;
 }
 

@@ -33,4 +33,35 @@ std::unique_ptr<FoveationMethod> make_method(const std::string& name, Params& p)
   p.fail("method", "unknown method \"" + name + "\" (available: " + names + ")");
 }
 
+MethodArg parse_method_arg(const std::string& text, const std::string& flag) {
+  MethodArg m;
+  m.text = text;
+  const std::string where = flag + " " + text;
+  const auto colon = text.find(':');
+  m.name = text.substr(0, colon);
+  bool known = false;
+  std::string names;
+  for (auto& e : method_table()) {
+    known |= m.name == e.name;
+    names += (names.empty() ? "" : ", ") + std::string(e.name);
+  }
+  if (!known) throw Error(where, "unknown method \"" + m.name + "\" (available: " + names + ")");
+  if (colon == std::string::npos) return m;
+  const std::string rest = text.substr(colon + 1);
+  size_t i = 0;
+  while (i <= rest.size()) {
+    size_t j = rest.find(',', i);
+    if (j == std::string::npos) j = rest.size();
+    const std::string kv = rest.substr(i, j - i);
+    const auto eq = kv.find('=');
+    if (eq == std::string::npos || eq == 0) throw Error(where, "expected key=value, got \"" + kv + "\"");
+    const std::string key = kv.substr(0, eq), v = kv.substr(eq + 1);
+    if (m.params.contains(key)) throw Error(where, "key \"" + key + "\" given twice");
+    Json jv = Json::parse(v, nullptr, false);
+    m.params[key] = (jv.is_discarded() || jv.is_object() || jv.is_array()) ? Json(v) : jv;
+    i = j + 1;
+  }
+  return m;
+}
+
 }  // namespace fovsim

@@ -69,7 +69,7 @@ TEST(Calibration, KfrShadingScalesWithInverseSigmaSquared) {
   d.height = 1080;
   d.eyes = 1;
   auto lighting = [&](const std::string& m, double sigma) {
-    Counters c = analytic_counters(m, Json{{"sigma", sigma}}, w, d);
+    Counters c = analytic_counters(m, m == "full" ? Json::object() : Json{{"sigma", sigma}}, w, d);
     CostInputs in;
     in.method = m;
     in.counters = &c;
