@@ -23,6 +23,7 @@
 #include "sim/cost/gpu_profile.h"
 #include "sim/cost/workload.h"
 #include "sim/experiment/config.h"
+#include "sim/experiment/intervals.h"
 #include "sim/experiment/runner.h"
 #include "sim/foveation/factory.h"
 #include "sim/foveation/frame.h"
@@ -386,7 +387,7 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
   for (auto& c : cells) {
     const std::string& out = c->job->out_dir;
     make_dirs(out);
-    for (const char* f : {"frames.csv", "summary.csv", "summary.json"}) {
+    for (const char* f : {"frames.csv", "summary.csv", "summary.json", "paired.csv"}) {
       std::error_code ec;
       fs::remove(fs::path(out) / f, ec);
     }
@@ -441,6 +442,7 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
     r.summary = summarize(c->frames, r.budget_ms);
     write_file_atomic(out + "/frames.csv", c->frames.to_csv());
     write_file_atomic(out + "/summary.csv", r.summary.to_csv());
+    write_file_atomic(out + "/paired.csv", paired_differences(c->frames).to_csv());  // issue 13
     Json sj = Json::array();
     for (auto& row : r.summary.rows()) {
       Json o;

@@ -26,7 +26,8 @@ struct RunResult {
 
 RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt);
 
-// Per-config summary of a frames table: means of numeric columns, frames, est_ms_total
+// Per-config summary of a frames table: means of numeric columns, each followed by its 95%
+// batch-means half-width `<col>_ci95` (sim/experiment/intervals.h), frames, est_ms_total
 // p50/p95/p99, fits_budget (p95 <= budget_ms).
 ResultTable summarize(const ResultTable& frames, double budget_ms);
 
