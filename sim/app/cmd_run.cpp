@@ -9,7 +9,7 @@ namespace fovsim::app {
 namespace {
 struct RunArgs {
   std::string config, out, models;
-  std::vector<std::string> overrides;
+  std::vector<std::string> overrides, targets;
   int threads = 0;
   bool quiet = false;
 };
@@ -26,6 +26,13 @@ void register_run(CLI::App& app, Action& action) {
       ->check(CLI::Range(0, 4096));
   c->add_option("--models", a->models, "Models directory (default: $FOVSIM_MODELS, ./models, or the source tree's)");
   c->add_flag("-q,--quiet", a->quiet, "Do not print the summary table");
+  c->add_option("--target", a->targets,
+                "Stop early: COLUMN:VALUE[%|dB|ms] (repeatable, e.g. est_ms_total:1% fpsnr:0.2dB); frames are "
+                "evaluated in a seeded random order of 5-frame units until every config's 95% half-width is "
+                "within target (docs/intervals.md)")
+      ->expected(1)  // one spec per --target, so overrides after it stay overrides
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   c->callback([a, &action, c]() {
     action = [a]() {
       LoadedConfig cfg = load_config(a->config, a->overrides);
@@ -36,6 +43,8 @@ void register_run(CLI::App& app, Action& action) {
       opt.print_summary = !a->quiet;
       opt.command_line = "fovsim run " + a->config;
       for (auto& o : a->overrides) opt.command_line += " " + o;
+      for (auto& t : a->targets) opt.command_line += " --target " + t;
+      opt.targets = a->targets;
       run_experiment(cfg, opt);
       return 0;
     };

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "sim/core/params.h"
+#include "sim/experiment/intervals.h"
 #include "sim/experiment/table.h"
 
 namespace fovsim {
@@ -30,6 +31,7 @@ struct EngineOptions {
   std::string models_dir;      // empty -> default_models_dir()
   bool print_summary = true;   // default of outputs.print_summary
   int threads = 0;             // recorded in manifests (the caller sets TBB's limit)
+  std::vector<IntervalTarget> targets;  // --target: sampled order, stop when all hold
 };
 
 struct CellResult {
@@ -41,6 +43,7 @@ struct CellResult {
   bool print_summary = false;
   std::vector<std::string> flags;
   double cell_ms = 0;          // wall time spent in this cell's own work (methods, metrics, cost, images)
+  Json target;                 // with targets: the manifest's "target" record (else null)
 };
 
 struct GroupStats {

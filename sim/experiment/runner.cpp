@@ -34,6 +34,7 @@ RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt) {
   eo.models_dir = opt.models_dir;
   eo.print_summary = opt.print_summary;
   eo.threads = opt.threads;
+  for (auto& t : opt.targets) eo.targets.push_back(parse_target(t));
   auto cells = run_cells({job}, eo);
   CellResult& c = cells.front();
 
@@ -41,6 +42,7 @@ RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt) {
   result.out_dir = c.out_dir;
   result.frames = std::move(c.frames);
   result.summary = std::move(c.summary);
+  result.target = c.target;
   if (c.print_summary) {
     // `+-95%`: half-widths of the 95% intervals (summary.csv `<col>_ci95`; nan below 20 frames).
     std::printf("\n%-16s %-10s %7s %9s %10s %7s %8s %7s %8s %7s\n", "config", "gpu", "frames", "shaded%", "est_ms",
@@ -55,6 +57,10 @@ RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt) {
     }
     std::printf("budget %.2f ms (%.0f Hz); results in %s\n", c.budget_ms, c.refresh_hz, c.out_dir.c_str());
     for (auto& f : c.flags) std::printf("flag: %s\n", f.c_str());
+    if (c.target.is_object())
+      std::printf("target %s after %d of %d frames (+%d warm-up); achieved half-widths in manifest.json\n",
+                  c.target["met"].get<bool>() ? "met" : "NOT met", c.target["frames_used"].get<int>(),
+                  c.target["frames_available"].get<int>(), c.target["warmup_frames"].get<int>());
   }
   return result;
 }

@@ -16,12 +16,16 @@ struct RunOptions {
   int threads = 0;              // 0 = TBB default
   bool print_summary = true;    // summary table on stdout at the end
   std::string command_line;     // recorded in the manifest
+  // --target specs ("est_ms_total:1%", "fpsnr:0.2dB"): evaluate frames in a seeded random
+  // order of sampling units and stop once every 95% half-width is within its target.
+  std::vector<std::string> targets;
 };
 
 struct RunResult {
   std::string out_dir;
   ResultTable frames;
   ResultTable summary;
+  Json target;  // manifest "target" record when targets were given
 };
 
 RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sim/core/error.h"
 #include "sim/core/stats.h"
 #include "sim/experiment/runner.h"
 
@@ -112,6 +113,68 @@ TEST(Intervals, PairedSkipsNonFiniteFramesAndIsUndefinedWhenShort) {
       EXPECT_DOUBLE_EQ(r.get("diff_ci95", NAN), 0.0);
     }
   }
+}
+
+}  // namespace
+}  // namespace fovsim
+
+namespace fovsim {
+namespace {
+
+TEST(Targets, ParseSpecs) {
+  IntervalTarget a = parse_target("est_ms_total:1%");
+  EXPECT_EQ(a.column, "est_ms_total");
+  EXPECT_DOUBLE_EQ(a.value, 1.0);
+  EXPECT_TRUE(a.relative);
+  IntervalTarget b = parse_target("fpsnr:0.2dB");
+  EXPECT_EQ(b.column, "fpsnr");
+  EXPECT_DOUBLE_EQ(b.value, 0.2);
+  EXPECT_FALSE(b.relative);
+  EXPECT_FALSE(parse_target("ssim:0.01").relative);
+  for (const char* bad :
+       {"fpsnr", ":1", "fpsnr:", "fpsnr:x", "fpsnr:0", "fpsnr:-1", "fpsnr:nan", "fpsnr:1 dB",
+        "fpsnr:2px", "frame:1", "sim_ms:1", "sigma:1", "psnr:100%"}) {
+    try {
+      parse_target(bad);
+      ADD_FAILURE() << bad << " accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.where(), std::string("--target ") + bad);
+    }
+  }
+}
+
+TEST(Targets, SamplingOrderIsASeededPermutation) {
+  std::vector<int> a = sampling_order(100, 1), b = sampling_order(100, 1),
+                   c = sampling_order(100, 2);
+  EXPECT_EQ(a, b);
+  EXPECT_NE(a, c);
+  std::vector<int> s = a;
+  std::sort(s.begin(), s.end());
+  for (int i = 0; i < 100; ++i) EXPECT_EQ(s[size_t(i)], i);
+  EXPECT_TRUE(sampling_order(0, 1).empty());
+}
+
+TEST(Targets, MetPerConfigWithAchievedRecord) {
+  ResultTable f;
+  for (int i = 0; i < 40; ++i) f.add(frame_row("a", "g", i, 30.0 + (i % 4 == 0 ? 4.0 : 0.0), 5.0));
+  for (int i = 0; i < 40; ++i) f.add(frame_row("full", "g", i, INFINITY, 10.0));
+  // psnr of a: batches of 4 frames each hold exactly one +4 dB frame -> every batch mean is 31.
+  Json ach;
+  EXPECT_TRUE(targets_met({parse_target("psnr:0.1dB"), parse_target("est_ms_total:1%")}, f, &ach));
+  EXPECT_DOUBLE_EQ(ach["a"]["psnr"]["mean"].get<double>(), 31.0);
+  EXPECT_DOUBLE_EQ(ach["a"]["psnr"]["ci95"].get<double>(), 0.0);
+  EXPECT_TRUE(ach["full"]["psnr"]["ci95"].is_null());  // inf on every frame: exact, passes
+  EXPECT_TRUE(ach["full"]["psnr"]["met"].get<bool>());
+  EXPECT_DOUBLE_EQ(ach["a"]["est_ms_total"]["target"].get<double>(), 0.05);
+  // Shifting the spike breaks the batch alignment: the interval widens past 0.1 dB.
+  ResultTable g;
+  for (int i = 0; i < 40; ++i) g.add(frame_row("a", "g", i, 30.0 + (i % 7 == 0 ? 4.0 : 0.0), 5.0));
+  EXPECT_FALSE(targets_met({parse_target("psnr:0.1dB")}, g, nullptr));
+  // Fewer than kCiMinSamples frames: undefined interval, never met.
+  ResultTable h;
+  for (int i = 0; i < 10; ++i) h.add(frame_row("a", "g", i, 30.0, 5.0));
+  EXPECT_FALSE(targets_met({parse_target("psnr:5dB")}, h, nullptr));
+  EXPECT_THROW(targets_met({parse_target("fpsnr:1dB")}, h, nullptr), Error);  // no such column
 }
 
 }  // namespace
