@@ -27,9 +27,9 @@ void register_run(CLI::App& app, Action& action) {
   c->add_option("--models", a->models, "Models directory (default: $FOVSIM_MODELS, ./models, or the source tree's)");
   c->add_flag("-q,--quiet", a->quiet, "Do not print the summary table");
   c->add_option("--target", a->targets,
-                "Stop early: COLUMN:VALUE[%|dB|ms] (repeatable, e.g. est_ms_total:1% fpsnr:0.2dB); frames are "
-                "evaluated in a seeded random order of 5-frame units until every config's 95% half-width is "
-                "within target (docs/intervals.md)")
+                "Stop early: COLUMN:VALUE[%|dB|ms] (repeatable, e.g. est_ms_total:1%); "
+                "frames are evaluated in a seeded random order of 10-frame units until "
+                "every config's 95% half-width is within target (docs/intervals.md)")
       ->expected(1)  // one spec per --target, so overrides after it stay overrides
       ->allow_extra_args(false)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);

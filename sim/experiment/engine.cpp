@@ -238,8 +238,8 @@ struct Cell {
 
   // This cell's work on one frame: methods, tone mapping, metrics, cost, images, rows.
   // `record` false: a warm-up frame under --target (state advances, no rows, no images).
-  void process(const Shared& sh, const Renderer& renderer, const FrameData& fd, const Image& ref_display, int fi,
-               double ref_ms, bool record = true) {
+  void process(const Shared& sh, const Renderer& renderer, const FrameData& fd,
+               const Image& ref_display, int fi, double ref_ms, bool record = true) {
     auto c0 = Clock::now();
     const TraceSample& s = sh.trace.samples[size_t(fi)];
     const SceneFeatures features = sh.scene->features();
