@@ -8,10 +8,14 @@ results/README.md) and writes PNGs plus an index.html to results/<name>/plots/ (
   timeline.png          est_ms_total per frame and config, with the frame-budget line
                         (1000 / display.refresh_hz from manifest.json)
   quality_vs_cost.png   mean fpsnr / psnr / ssim vs mean est_ms_total per config, one marker
-                        per method, Pareto front (lower cost, higher quality) drawn
-  shaded_fraction.png   mean shaded_fraction per config
+                        per method, Pareto front (lower cost, higher quality) drawn; error
+                        bars: the 95% intervals `<col>_ci95` of summary.csv (both axes)
+  shaded_fraction.png   mean shaded_fraction per config, with its 95% interval
+  paired.png            paired.csv: per headline metric, the mean difference of every pair
+                        of configs with its 95% interval (filled: the interval excludes 0)
   gaze.png              gaze path on the screen (pixels, row 0 on top)
   quality_timeline.png  fpsnr / psnr / ssim per frame and config
+Intervals that are undefined (nan: fewer frames than the estimator's minimum) are not drawn.
 A plot whose columns are missing is skipped with a message (and listed in index.html).
 Means use finite values only (psnr is inf for identical images, temporal_error nan on the
 first frame). Exit status: 0, or 2 when the directory has neither frames.csv nor summary.csv.
@@ -40,6 +44,7 @@ class Run:
         self.fcols, self.frames = common.read_csv(os.path.join(d, "frames.csv"))
         self.scols, self.summary = common.read_csv(os.path.join(d, "summary.csv"))
         self.manifest = common.read_json(os.path.join(d, "manifest.json"))
+        self.pcols, self.paired = common.read_csv(os.path.join(d, "paired.csv"))
         self.fcols = self.fcols or []
         self.scols = self.scols or []
         # Configurations in order of first appearance.
@@ -69,6 +74,14 @@ class Run:
             for r in self.summary:
                 if (r.get("config_id") or r.get("label") or r.get("method")) == cid:
                     return to_float(r.get(col))
+        return math.nan
+
+    def ci(self, cid, col):
+        """95% half-width `<col>_ci95` from summary.csv; nan when absent or undefined."""
+        if self.summary and col + "_ci95" in self.scols:
+            for r in self.summary:
+                if (r.get("config_id") or r.get("label") or r.get("method")) == cid:
+                    return to_float(r.get(col + "_ci95"))
         return math.nan
 
     def mean_available(self, col):
@@ -145,6 +158,11 @@ def plot_quality_vs_cost(run, out):
             mk, col = run.style(cid)
             meth = run.method(cid)
             ax.scatter([x], [y], marker=mk, color=col, s=40, label=None if meth in seen else meth, zorder=3)
+            ex, ey = run.ci(cid, "est_ms_total"), run.ci(cid, m)
+            if math.isfinite(ex) or math.isfinite(ey):
+                ax.errorbar([x], [y], xerr=[ex] if math.isfinite(ex) else None,
+                            yerr=[ey] if math.isfinite(ey) else None, fmt="none", ecolor=col, elinewidth=1,
+                            capsize=2, zorder=2)
             seen.add(meth)
             if len(run.configs) <= 20:
                 ax.annotate(cid, (x, y), fontsize=6, xytext=(3, 3), textcoords="offset points")
@@ -181,7 +199,9 @@ def plot_shaded_fraction(run, out):
     vals = [run.mean(c, "shaded_fraction") for c in run.configs]
     fig, ax = plt.subplots(figsize=(max(5, 0.45 * len(run.configs) + 2), 4.5))
     colors = [run.style(c)[1] for c in run.configs]
-    ax.bar(range(len(vals)), [v if math.isfinite(v) else 0 for v in vals], color=colors)
+    errs = [run.ci(c, "shaded_fraction") for c in run.configs]
+    ax.bar(range(len(vals)), [v if math.isfinite(v) else 0 for v in vals], color=colors,
+           yerr=[e if math.isfinite(e) else 0 for e in errs], capsize=3, ecolor="k")
     for i, v in enumerate(vals):
         ax.text(i, (v if math.isfinite(v) else 0) + 0.01, f"{v:.3f}" if math.isfinite(v) else "n/a",
                 ha="center", fontsize=7)
@@ -190,7 +210,7 @@ def plot_shaded_fraction(run, out):
                        fontsize=8)
     ax.set_ylabel("mean shaded_fraction (of W·H)")
     ax.set_ylim(0, max([1.05] + [v + 0.08 for v in vals if math.isfinite(v)]))
-    ax.set_title("Shaded samples per configuration")
+    ax.set_title("Shaded samples per configuration (error bars: 95% interval)")
     ax.grid(axis="y", alpha=0.3)
     common.save(fig, os.path.join(out, "shaded_fraction.png"))
     return "shaded_fraction.png"
@@ -255,12 +275,42 @@ def plot_quality_timeline(run, out):
     return "quality_timeline.png"
 
 
+def plot_paired(run, out):
+    if not run.paired:
+        raise Skip("no paired.csv (or a single configuration)")
+    metrics = []
+    for r in run.paired:
+        if r.get("metric") not in metrics:
+            metrics.append(r.get("metric"))
+    fig, axes = plt.subplots(1, len(metrics), figsize=(4.2 * len(metrics), 0.28 * len(run.paired) / len(metrics) + 2),
+                             squeeze=False)
+    for ax, m in zip(axes[0], metrics):
+        rows = [r for r in run.paired if r.get("metric") == m]
+        for i, r in enumerate(rows):
+            d, h = to_float(r.get("diff")), to_float(r.get("diff_ci95"))
+            if not math.isfinite(d):
+                continue
+            filled = to_float(r.get("differs")) == 1
+            ax.errorbar([d], [i], xerr=[h] if math.isfinite(h) else None, fmt="o", ms=4, capsize=2,
+                        color="C0" if filled else "0.5", mfc="C0" if filled else "white")
+        ax.axvline(0, color="k", lw=0.8)
+        ax.set_yticks(range(len(rows)))
+        ax.set_yticklabels([f"{r.get('config_a')} − {r.get('config_b')}" for r in rows], fontsize=6)
+        ax.invert_yaxis()
+        ax.set_title(m, fontsize=9)
+        ax.grid(axis="x", alpha=0.3)
+    fig.suptitle("Paired differences (same frames, same gaze), 95% intervals", fontsize=10)
+    common.save(fig, os.path.join(out, "paired.png"))
+    return "paired.png"
+
+
 PLOTS = [
     ("Estimated frame time per frame", plot_timeline),
     ("Quality vs. cost", plot_quality_vs_cost),
     ("Shaded fraction per configuration", plot_shaded_fraction),
     ("Gaze path", plot_gaze),
     ("Quality per frame", plot_quality_timeline),
+    ("Paired differences between configurations", plot_paired),
 ]
 
 

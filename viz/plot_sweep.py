@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Plots of a fovsim sweep folder (results/<name>/ written by `fovsim sweep` or `fovsim merge`).
 
-Writes into <dir>/plots/: pareto.png (declared objectives, front highlighted, every method),
+Writes into <dir>/plots/: pareto.png (declared objectives, front highlighted, every method,
+95% intervals `<col>_ci95` as error bars; eccentricity profiles carry them too),
 heat maps over sigma x alpha and fx x fy per method (seed 003 Fig. 6/9 style), per-frame
 timelines of the Pareto cells with the frame-budget line and gaze speed, error-vs-eccentricity
 profiles, image strips with zoomed insets (when cells wrote images), and index.html linking
@@ -73,7 +74,14 @@ def plot_pareto(sw, out):
     fig, ax = plt.subplots(figsize=(8, 5.5))
     for lab in sw.labels():
         rs = [r for r in sw.rows if r.get("label") == lab]
-        ax.scatter([sw.num(r, cx) for r in rs], [sw.num(r, cy) for r in rs], s=18, alpha=0.6, label=lab)
+        pts = ax.scatter([sw.num(r, cx) for r in rs], [sw.num(r, cy) for r in rs], s=18, alpha=0.6, label=lab)
+        # 95% intervals (<col>_ci95, docs/intervals.md); undefined ones (nan) are not drawn.
+        for r in rs:
+            ex, ey = sw.num(r, cx + "_ci95"), sw.num(r, cy + "_ci95")
+            if math.isfinite(ex) or math.isfinite(ey):
+                ax.errorbar([sw.num(r, cx)], [sw.num(r, cy)], xerr=[ex] if math.isfinite(ex) else None,
+                            yerr=[ey] if math.isfinite(ey) else None, fmt="none", lw=0.8, alpha=0.6,
+                            ecolor=pts.get_facecolor()[0])
     front = [r for r in sw.rows if r.get("pareto") == "1"]
     if front:
         front.sort(key=lambda r: sw.num(r, cx))
@@ -208,7 +216,9 @@ def plot_profiles(sw, out):
 
     fig, ax = plt.subplots(figsize=(8, 4.5))
     for r in selected(sw):
-        ax.plot([mid(c) for c in bands], [sw.num(r, c) for c in bands], marker="o", lw=1, label=r.get("config_id"))
+        err = [sw.num(r, c + "_ci95") for c in bands]
+        ax.errorbar([mid(c) for c in bands], [sw.num(r, c) for c in bands], marker="o", lw=1, capsize=2,
+                    yerr=[e if math.isfinite(e) else 0 for e in err], label=r.get("config_id"))
     ax.set_xlabel("eccentricity [deg] (band centre)")
     ax.set_ylabel("RMSE (display-encoded)")
     ax.set_title("Error vs. eccentricity of the Pareto configurations")

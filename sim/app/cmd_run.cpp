@@ -9,7 +9,7 @@ namespace fovsim::app {
 namespace {
 struct RunArgs {
   std::string config, out, models;
-  std::vector<std::string> overrides;
+  std::vector<std::string> overrides, targets;
   int threads = 0;
   bool quiet = false;
   double watchdog_s = 60;
@@ -31,6 +31,13 @@ void register_run(CLI::App& app, Action& action) {
                 "Seconds: stop with an error naming the frame and method when one method's frame runs longer than\n"
                 "max(SECONDS, 50x the median of its previous frames) (its first frame: 10x SECONDS); 0 disables")
       ->check(CLI::Range(0.0, 1e9));
+  c->add_option("--target", a->targets,
+                "Stop early: COLUMN:VALUE[%|dB|ms] (repeatable, e.g. est_ms_total:1%); "
+                "frames are evaluated in a seeded random order of 10-frame units until "
+                "every config's 95% half-width is within target (docs/intervals.md)")
+      ->expected(1)  // one spec per --target, so overrides after it stay overrides
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   c->callback([a, &action, c]() {
     action = [a]() {
       LoadedConfig cfg = load_config(a->config, a->overrides);
@@ -42,6 +49,8 @@ void register_run(CLI::App& app, Action& action) {
       opt.print_summary = !a->quiet;
       opt.command_line = "fovsim run " + a->config;
       for (auto& o : a->overrides) opt.command_line += " " + o;
+      for (auto& t : a->targets) opt.command_line += " --target " + t;
+      opt.targets = a->targets;
       run_experiment(cfg, opt);
       return 0;
     };

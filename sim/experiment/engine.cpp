@@ -26,6 +26,7 @@
 #include "sim/cost/gpu_profile.h"
 #include "sim/cost/workload.h"
 #include "sim/experiment/config.h"
+#include "sim/experiment/intervals.h"
 #include "sim/experiment/runner.h"
 #include "sim/foveation/factory.h"
 #include "sim/foveation/frame.h"
@@ -245,12 +246,13 @@ struct Cell {
   }
 
   // This cell's work on one frame: methods, tone mapping, metrics, cost, images, rows.
-  void process(const Shared& sh, const Renderer& renderer, const FrameData& fd, const Image& ref_display, int fi,
-               double ref_ms) {
+  // `record` false: a warm-up frame under --target (state advances, no rows, no images).
+  void process(const Shared& sh, const Renderer& renderer, const FrameData& fd,
+               const Image& ref_display, int fi, double ref_ms, bool record = true) {
     auto c0 = Clock::now();
     const TraceSample& s = sh.trace.samples[size_t(fi)];
     const SceneFeatures features = sh.scene->features();
-    bool want_images = io.frames.count(fi) > 0;
+    bool want_images = record && io.frames.count(fi) > 0;
     std::string img_dir = job->out_dir + "/images/frame_" + std::to_string(fi);
     if (want_images) write_images(img_dir, "reference", ref_display, &fd.reference, io);
     FrameContext ctx = fd.context(*sh.scene, renderer, sh.sim_display, want_images && io.debug);
@@ -316,10 +318,18 @@ struct Cell {
         for (auto& [mn, mv] : metrics.items()) row.set(mn, mv);
         row.set("ref_ms", ref_ms);
         row.set("sim_ms", sim_ms);
-        frames.add(std::move(row));
+        if (record) frames.add(std::move(row));
       }
     }
     cell_ms += ms_since(c0);
+  }
+
+  // Forget the frame history (temporal methods, temporal_error) before a non-contiguous frame.
+  void reset_temporal() {
+    for (auto& m : methods) {
+      m.impl->reset();
+      m.temporal.reset();
+    }
   }
 };
 
@@ -401,7 +411,7 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
   for (auto& c : cells) {
     const std::string& out = c->job->out_dir;
     make_dirs(out);
-    for (const char* f : {"frames.csv", "summary.csv", "summary.json"}) {
+    for (const char* f : {"frames.csv", "summary.csv", "summary.json", "paired.csv"}) {
       std::error_code ec;
       fs::remove(fs::path(out) / f, ec);
     }
@@ -424,7 +434,7 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
   std::optional<Camera> prev_cam;
   Progress progress(jobs.size() > 1 ? "frames x " + std::to_string(jobs.size()) + " cells" : "frames", size_t(sh.count));
   double ref_total = 0;
-  for (int k = 0; k < sh.count; ++k) {
+  auto do_frame = [&](int k, bool record) {
     int fi = sh.start + k * sh.stride;
     const TraceSample& s = sh.trace.samples[size_t(fi)];
     auto t0 = Clock::now();
@@ -436,17 +446,51 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
     double ref_ms = ms_since(t0);
     ref_total += ref_ms;
     if (cells.size() == 1) {
-      cells[0]->process(sh, renderer, fd, ref_display, fi, ref_ms);
+      cells[0]->process(sh, renderer, fd, ref_display, fi, ref_ms, record);
     } else {
       // Cells are independent (own methods, state, scratch); each row list stays in order.
       tbb::parallel_for(tbb::blocked_range<size_t>(0, cells.size(), 1),
                         [&](const tbb::blocked_range<size_t>& r) {
                           for (size_t i = r.begin(); i != r.end(); ++i)
-                            cells[i]->process(sh, renderer, fd, ref_display, fi, ref_ms);
+                            cells[i]->process(sh, renderer, fd, ref_display, fi, ref_ms, record);
                         });
     }
     prev_cam = fd.camera;
     progress.step();
+  };
+  // Evaluation order: the trace order; under --target, units of kTargetUnitFrames frames in a
+  // seeded random order (trace order with a temporal method), each after unrecorded warm-up
+  // frames, until every target holds (sim/experiment/intervals.h).
+  const bool sampled = !opt.targets.empty();
+  bool temporal = false;
+  for (auto& c : cells)
+    for (auto& m : c->methods) temporal = temporal || m.impl->temporal();
+  const bool shuffled = sampled && !temporal;
+  const int unit = sampled ? kTargetUnitFrames : std::max(sh.count, 1);
+  const int units = (sh.count + unit - 1) / unit;
+  std::vector<int> unit_order(size_t(units), 0);
+  for (int u = 0; u < units; ++u) unit_order[size_t(u)] = u;
+  if (shuffled) unit_order = sampling_order(units, sh.seed);
+  int next_k = 0, used = 0, warmup = 0, units_done = 0;
+  bool met = false;
+  for (int u : unit_order) {
+    const int k0 = u * unit, k1 = std::min(sh.count, k0 + unit);
+    if (k0 != next_k) {
+      for (auto& c : cells) c->reset_temporal();
+      prev_cam.reset();
+      for (int k = std::max(0, k0 - kTargetWarmupFrames); k < k0; ++k) {
+        do_frame(k, false);
+        ++warmup;
+      }
+    }
+    for (int k = k0; k < k1; ++k) do_frame(k, true);
+    next_k = k1;
+    used += k1 - k0;
+    if (sampled) {  // checked every unit: a target naming an absent column fails on the first
+      met = true;
+      for (auto& c : cells) met = targets_met(opt.targets, c->frames, nullptr) && met;
+      if (++units_done >= kTargetMinUnits && met) break;
+    }
   }
   progress.done();
 
@@ -462,8 +506,25 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
     r.flags.assign(c->flags_seen.begin(), c->flags_seen.end());
     r.cell_ms = c->cell_ms;
     r.summary = summarize(c->frames, r.budget_ms);
+    if (sampled) {  // what --target asked for and what it achieved (results/README.md)
+      Json specs = Json::array(), achieved;
+      for (auto& t : opt.targets) specs.push_back(t.spec);
+      targets_met(opt.targets, c->frames, &achieved);
+      r.target = {{"targets", specs},
+                  {"met", met},
+                  {"seed", sh.seed},
+                  {"order", shuffled ? "random_units" : "trace"},
+                  {"unit_frames", unit},
+                  {"warmup_per_unit", kTargetWarmupFrames},
+                  {"frames_available", sh.count},
+                  {"frames_used", used},
+                  {"warmup_frames", warmup},
+                  {"achieved", achieved}};
+      c->manifest["target"] = r.target;
+    }
     write_file_atomic(out + "/frames.csv", c->frames.to_csv());
     write_file_atomic(out + "/summary.csv", r.summary.to_csv());
+    write_file_atomic(out + "/paired.csv", paired_differences(c->frames).to_csv());  // issue 13
     Json sj = Json::array();
     for (auto& row : r.summary.rows()) {
       Json o;
@@ -481,7 +542,7 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
     results.push_back(std::move(r));
   }
   if (stats) {
-    stats->frames += sh.count;
+    stats->frames += used + warmup;
     stats->ref_ms += ref_total;
     stats->setup_ms += setup_ms;
     stats->wall_ms += ms_since(g0);

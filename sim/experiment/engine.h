@@ -9,6 +9,7 @@
 
 #include "sim/core/watchdog.h"
 #include "sim/core/params.h"
+#include "sim/experiment/intervals.h"
 #include "sim/experiment/table.h"
 
 namespace fovsim {
@@ -32,6 +33,7 @@ struct EngineOptions {
   bool print_summary = true;   // default of outputs.print_summary
   int threads = 0;             // recorded in manifests (the caller sets TBB's limit)
   WatchdogLimits watchdog;     // a frame far slower than its neighbours is reported (watchdog.h)
+  std::vector<IntervalTarget> targets;  // --target: sampled order, stop when all hold
 };
 
 struct CellResult {
@@ -43,6 +45,7 @@ struct CellResult {
   bool print_summary = false;
   std::vector<std::string> flags;
   double cell_ms = 0;          // wall time spent in this cell's own work (methods, metrics, cost, images)
+  Json target;                 // with targets: the manifest's "target" record (else null)
 };
 
 struct GroupStats {

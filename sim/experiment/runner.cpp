@@ -9,7 +9,9 @@
 #include <map>
 #include <memory>
 
+#include "sim/core/stats.h"
 #include "sim/experiment/engine.h"
+#include "sim/experiment/intervals.h"
 
 namespace fovsim {
 
@@ -33,6 +35,7 @@ RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt) {
   eo.print_summary = opt.print_summary;
   eo.threads = opt.threads;
   eo.watchdog.min_s = opt.watchdog_s;
+  for (auto& t : opt.targets) eo.targets.push_back(parse_target(t));
   auto cells = run_cells({job}, eo);
   CellResult& c = cells.front();
 
@@ -40,18 +43,27 @@ RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt) {
   result.out_dir = c.out_dir;
   result.frames = std::move(c.frames);
   result.summary = std::move(c.summary);
+  result.target = c.target;
   if (c.print_summary) {
-    std::printf("\n%-16s %-10s %7s %9s %10s %8s %7s %8s\n", "config", "gpu", "frames", "shaded%", "est_ms", "psnr",
-                "ssim", "fpsnr");
+    // `+-95%`: half-widths of the 95% intervals (summary.csv `<col>_ci95`; nan below 20 frames).
+    std::printf("\n%-16s %-10s %7s %9s %10s %7s %8s %7s %8s %7s\n", "config", "gpu", "frames",
+                "shaded%", "est_ms", "+-95%", "psnr", "ssim", "fpsnr", "+-95%");
     for (auto& r : result.summary.rows()) {
       const std::string* id = r.text_of("label");
       const std::string* g = r.text_of("gpu");
-      std::printf("%-16s %-10s %7.0f %8.1f%% %10.3f %8.2f %7.4f %8.2f\n", id ? id->c_str() : "?", g ? g->c_str() : "?",
-                  r.get("frames", 0), 100.0 * r.get("shaded_fraction", NAN), r.get("est_ms_total", NAN),
-                  r.get("psnr", NAN), r.get("ssim", NAN), r.get("fpsnr", NAN));
+      std::printf("%-16s %-10s %7.0f %8.1f%% %10.3f %7.3f %8.2f %7.4f %8.2f %7.2f\n",
+                  id ? id->c_str() : "?", g ? g->c_str() : "?", r.get("frames", 0),
+                  100.0 * r.get("shaded_fraction", NAN), r.get("est_ms_total", NAN),
+                  r.get("est_ms_total_ci95", NAN), r.get("psnr", NAN), r.get("ssim", NAN),
+                  r.get("fpsnr", NAN), r.get("fpsnr_ci95", NAN));
     }
     std::printf("budget %.2f ms (%.0f Hz); results in %s\n", c.budget_ms, c.refresh_hz, c.out_dir.c_str());
     for (auto& f : c.flags) std::printf("flag: %s\n", f.c_str());
+    if (c.target.is_object())
+      std::printf(
+          "target %s after %d of %d frames (+%d warm-up); achieved half-widths in manifest.json\n",
+          c.target["met"].get<bool>() ? "met" : "NOT met", c.target["frames_used"].get<int>(),
+          c.target["frames_available"].get<int>(), c.target["warmup_frames"].get<int>());
   }
   return result;
 }
@@ -78,16 +90,20 @@ ResultTable summarize(const ResultTable& frames, double budget_ms) {
       // match) stays inf rather than becoming nan.
       double sum = 0;
       size_t n = 0, pos_inf = 0;
+      std::vector<double> finite;  // frame order, for the batch-means interval
       for (auto* r : rows) {
         double v = r->get(c, NAN);
         if (std::isfinite(v)) {
           sum += v;
           ++n;
+          finite.push_back(v);
         } else if (v > 0 && std::isinf(v)) {
           ++pos_inf;
         }
       }
       s.set(c, n ? sum / double(n) : (pos_inf ? INFINITY : NAN));
+      // 95% half-width over the same finite values (sim/core/stats.h; nan when undefined).
+      if (has_interval(c)) s.set(c + "_ci95", batch_means_interval(finite).half_width);
     }
     std::vector<double> tot;
     for (auto* r : rows) tot.push_back(r->get("est_ms_total", NAN));

@@ -17,17 +17,22 @@ struct RunOptions {
   bool print_summary = true;    // summary table on stdout at the end
   std::string command_line;     // recorded in the manifest
   double watchdog_s = 60;       // WatchdogLimits::min_s (0 disables; sim/core/watchdog.h)
+  // --target specs ("est_ms_total:1%", "fpsnr:0.2dB"): evaluate frames in a seeded random
+  // order of sampling units and stop once every 95% half-width is within its target.
+  std::vector<std::string> targets;
 };
 
 struct RunResult {
   std::string out_dir;
   ResultTable frames;
   ResultTable summary;
+  Json target;  // manifest "target" record when targets were given
 };
 
 RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt);
 
-// Per-config summary of a frames table: means of numeric columns, frames, est_ms_total
+// Per-config summary of a frames table: means of numeric columns, each followed by its 95%
+// batch-means half-width `<col>_ci95` (sim/experiment/intervals.h), frames, est_ms_total
 // p50/p95/p99, fits_budget (p95 <= budget_ms).
 ResultTable summarize(const ResultTable& frames, double budget_ms);
 

@@ -2,6 +2,8 @@
 // look complete (issue 2 item 9).
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "tests/app/app_util.h"
 
 using namespace fovsim_test;
@@ -133,4 +135,53 @@ TEST(Cli, SameNumbersAtAnyThreadCount) {
       if (ca.header[k] == "sim_ms" || ca.header[k] == "ref_ms") continue;  // wall time
       EXPECT_EQ(ca.rows[r][k], cb.rows[r][k]) << ca.header[k];
     }
+}
+
+// Issue 13: summary.csv carries `<col>_ci95` (nan below 20 frames or for an inf mean) and
+// paired.csv compares the configs on the same frames.
+TEST(Cli, RunWritesIntervalsAndPairedDifferences) {
+  std::string dir = temp_dir("intervals");
+  std::string cfg = R"({
+  "name": "ci_test",
+  "display": "htc_vive_pro_eye",
+  "render": {"scale": 0.04},
+  "scene": {"type": "atrium", "complexity": 1},
+  "trace": {"synthetic": {"scenario": "walk-through", "seed": 2, "duration": 0.4}},
+  "frames": {"count": 24},
+  "methods": [{"method": "full"}, {"method": "rmfr"}],
+  "outputs": {"print_summary": false}
+})";
+  auto r = run_config(dir, cfg);
+  ASSERT_EQ(r.code, 0) << r.output;
+  Csv s = read_csv(dir + "/out/summary.csv");
+  ASSERT_EQ(s.rows.size(), 2u);
+  for (const char* col : {"est_ms_total_ci95", "shaded_fraction_ci95", "psnr_ci95", "fpsnr_ci95"})
+    ASSERT_GE(s.col(col), 0) << col;
+  for (const char* col : {"ref_ms_ci95", "sim_ms_ci95", "frame_ci95"})
+    EXPECT_LT(s.col(col), 0) << col;
+  auto num = [&](size_t row, const char* col) {
+    return std::stod(s.rows[row][size_t(s.col(col))]);
+  };
+  EXPECT_TRUE(std::isnan(num(0, "psnr_ci95")));  // full: psnr is inf on every frame
+  EXPECT_DOUBLE_EQ(num(0, "shaded_fraction_ci95"), 0.0);
+  EXPECT_TRUE(std::isfinite(num(1, "psnr_ci95")));
+  EXPECT_GE(num(1, "est_ms_total_ci95"), 0.0);
+  Csv p = read_csv(dir + "/out/paired.csv");
+  ASSERT_GE(p.col("diff_ci95"), 0);
+  ASSERT_EQ(p.rows.size(), 5u);  // full - rmfr: est_ms_total, shaded_fraction, psnr, ssim, fpsnr
+  for (auto& row : p.rows) {
+    EXPECT_EQ(row[size_t(p.col("config_a"))], "full");
+    if (row[size_t(p.col("metric"))] == "psnr") {  // inf for full on every frame: nothing paired
+      EXPECT_EQ(row[size_t(p.col("frames"))], "0");
+      EXPECT_EQ(row[size_t(p.col("differs"))], "nan");
+      continue;
+    }
+    if (row[size_t(p.col("frames"))] == "0") continue;  // fpsnr may be inf for full as well
+    EXPECT_EQ(row[size_t(p.col("frames"))], "24");
+    double d = std::stod(row[size_t(p.col("diff"))]);
+    double a = std::stod(row[size_t(p.col("mean_a"))]), b = std::stod(row[size_t(p.col("mean_b"))]);
+    EXPECT_NEAR(d, a - b, 1e-6 * (1 + std::fabs(a)));
+  }
+  std::string js = read_text(dir + "/out/summary.json");
+  EXPECT_NE(js.find("\"fpsnr_ci95\""), std::string::npos);
 }

@@ -1,0 +1,171 @@
+#include "sim/experiment/intervals.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <map>
+#include <set>
+
+#include "sim/core/error.h"
+#include "sim/core/rng.h"
+#include "sim/core/stats.h"
+#include "sim/foveation/factory.h"
+
+namespace fovsim {
+
+bool has_interval(const std::string& column) {
+  static const std::set<std::string> skip = [] {
+    std::set<std::string> s = {"frame", "t", "gaze_x", "gaze_y", "ref_ms", "sim_ms"};
+    for (auto& e : method_table())
+      for (auto& p : e.params()) s.insert(p.name);
+    return s;
+  }();
+  return !skip.count(column);
+}
+
+const std::vector<std::string>& headline_metrics() {
+  static const std::vector<std::string> m = {"est_ms_total", "shaded_fraction", "psnr", "ssim",
+                                             "fpsnr"};
+  return m;
+}
+
+ResultTable paired_differences(const ResultTable& frames) {
+  // Per config, in first-seen order: its rows by frame index.
+  std::vector<std::string> order;
+  std::map<std::string, std::string> gpu_of;
+  std::map<std::string, std::vector<const ResultRow*>> rows;
+  for (auto& r : frames.rows()) {
+    const std::string* id = r.text_of("config_id");
+    std::string key = id ? *id : "";
+    if (!rows.count(key)) {
+      order.push_back(key);
+      const std::string* g = r.text_of("gpu");
+      gpu_of[key] = g ? *g : "";
+    }
+    rows[key].push_back(&r);
+  }
+  auto cols = frames.numeric_columns();
+  std::set<std::string> present(cols.begin(), cols.end());
+  ResultTable out;
+  for (size_t i = 0; i < order.size(); ++i) {
+    for (size_t j = i + 1; j < order.size(); ++j) {
+      const std::string &a = order[i], &b = order[j];
+      if (gpu_of[a] != gpu_of[b]) continue;
+      std::map<double, const ResultRow*> b_by_frame;
+      for (auto* r : rows[b]) b_by_frame[r->get("frame", NAN)] = r;
+      for (auto& m : headline_metrics()) {
+        if (!present.count(m)) continue;
+        std::vector<double> va, vb, d;  // frame order of config a
+        for (auto* ra : rows[a]) {
+          auto it = b_by_frame.find(ra->get("frame", NAN));
+          if (it == b_by_frame.end()) continue;
+          double x = ra->get(m, NAN), y = it->second->get(m, NAN);
+          if (!std::isfinite(x) || !std::isfinite(y)) continue;
+          va.push_back(x);
+          vb.push_back(y);
+          d.push_back(x - y);
+        }
+        MeanInterval ci = batch_means_interval(d);
+        ResultRow row;
+        row.set_text("config_a", a);
+        row.set_text("config_b", b);
+        row.set_text("gpu", gpu_of[a]);
+        row.set_text("metric", m);
+        row.set("frames", double(d.size()));
+        row.set("mean_a", batch_means_interval(va).mean);
+        row.set("mean_b", batch_means_interval(vb).mean);
+        row.set("diff", ci.mean);
+        row.set("diff_ci95", ci.half_width);
+        row.set("diff_lo", ci.lo());
+        row.set("diff_hi", ci.hi());
+        row.set("differs", std::isnan(ci.half_width) ? NAN : (ci.lo() > 0 || ci.hi() < 0) ? 1 : 0);
+        out.add(std::move(row));
+      }
+    }
+  }
+  return out;
+}
+
+IntervalTarget parse_target(const std::string& spec) {
+  const std::string where = "--target " + spec;
+  const std::string form = "expected COLUMN:VALUE[%|dB|ms], e.g. est_ms_total:1% or fpsnr:0.2dB";
+  IntervalTarget t;
+  t.spec = spec;
+  size_t colon = spec.rfind(':');
+  if (colon == std::string::npos || colon == 0 || colon + 1 >= spec.size())
+    throw Error(where, form);
+  t.column = spec.substr(0, colon);
+  if (!has_interval(t.column))
+    throw Error(where,
+                "column \"" + t.column +
+                    "\" has no interval (frame, t, gaze_x, gaze_y, ref_ms, sim_ms and method "
+                    "parameters have none)");
+  std::string v = spec.substr(colon + 1);
+  const char* b = v.c_str();
+  char* end = nullptr;
+  t.value = std::strtod(b, &end);
+  std::string unit = end ? std::string(end) : "";
+  if (end == b) throw Error(where, form);
+  if (unit == "%") {
+    t.relative = true;
+  } else if (!unit.empty() && unit != "dB" && unit != "ms") {
+    throw Error(where, "unknown unit \"" + unit + "\"; " + form);
+  }
+  if (!std::isfinite(t.value) || t.value <= 0)
+    throw Error(where, "the target half-width must be finite and > 0, got " + v);
+  if (t.relative && t.value >= 100)
+    throw Error(where, "a relative target must be in (0, 100)%, got " + v);
+  return t;
+}
+
+std::vector<int> sampling_order(int units, uint64_t seed) {
+  std::vector<int> order;
+  for (int i = 0; i < units; ++i) order.push_back(i);
+  Rng rng(seed, 0x7a72676574ull);  // own stream: independent of every other use of the seed
+  for (int i = units - 1; i > 0; --i)
+    std::swap(order[size_t(i)], order[rng.below(uint32_t(i + 1))]);
+  return order;
+}
+
+bool targets_met(const std::vector<IntervalTarget>& targets, const ResultTable& frames,
+                 Json* achieved) {
+  std::vector<std::string> order;
+  std::map<std::string, std::vector<const ResultRow*>> rows;
+  for (auto& r : frames.rows()) {
+    const std::string* id = r.text_of("config_id");
+    std::string key = id ? *id : "";
+    if (!rows.count(key)) order.push_back(key);
+    rows[key].push_back(&r);
+  }
+  auto cols = frames.numeric_columns();
+  std::set<std::string> present(cols.begin(), cols.end());
+  bool all = true;
+  if (achieved) *achieved = Json::object();
+  for (auto& t : targets) {
+    if (!frames.rows().empty() && !present.count(t.column))
+      throw Error("--target " + t.spec, "no column \"" + t.column +
+                                            "\" in this run's frames (see results/README.md; is "
+                                            "the metric enabled?)");
+    for (auto& id : order) {
+      std::vector<double> v;
+      for (auto* r : rows[id]) {
+        double x = r->get(t.column, NAN);
+        if (std::isfinite(x)) v.push_back(x);
+      }
+      MeanInterval ci = batch_means_interval(v);
+      double limit = t.relative ? t.value / 100.0 * std::fabs(ci.mean) : t.value;
+      bool met = v.empty() || ci.half_width <= limit;  // nan half-width: not met
+      all = all && met;
+      if (achieved) {
+        auto num = [](double x) { return std::isfinite(x) ? Json(x) : Json(nullptr); };
+        (*achieved)[id][t.column] = {{"mean", num(ci.mean)},
+                                     {"ci95", num(ci.half_width)},
+                                     {"target", num(limit)},
+                                     {"frames", v.size()},
+                                     {"met", met}};
+      }
+    }
+  }
+  return all;
+}
+
+}  // namespace fovsim

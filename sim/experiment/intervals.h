@@ -1,0 +1,68 @@
+// 95% confidence intervals on a run's aggregates (issue 13): which summary columns carry a
+// `<col>_ci95` half-width, and paired intervals for differences between the configs of one
+// run (same frames, same gaze). Estimator: batch means (sim/core/stats.h).
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "sim/core/params.h"
+#include "sim/core/stats.h"
+#include "sim/experiment/table.h"
+
+namespace fovsim {
+
+// True for the frames.csv columns whose summary mean gets a `<col>_ci95`: every numeric column
+// except frame/time/gaze position, the wall-clock columns (ref_ms, sim_ms: not reproducible)
+// and method parameters (constant per config).
+bool has_interval(const std::string& column);
+
+// The metrics compared pairwise in paired.csv (those present in the frames table).
+const std::vector<std::string>& headline_metrics();
+
+// One row per (config_a, config_b, metric) for every pair of configs costed on the same GPU,
+// a before b in first-seen order: frames (paired frames with both values finite), mean_a,
+// mean_b, diff = mean of (a - b) per frame, diff_ci95 (batch means over the per-frame
+// differences, nan below kCiMinSamples frames), diff_lo, diff_hi, and differs (1 when the
+// interval excludes 0, 0 when it contains it, nan when undefined).
+ResultTable paired_differences(const ResultTable& frames);
+
+// ---- `fovsim run --target`: stop when the intervals are narrow enough (issue 13 item 3) ----
+
+// One requested precision: the 95% half-width of `column`'s mean must be at most `value`
+// (absolute, in the column's unit) or `value` percent of |mean| (relative), for every config.
+struct IntervalTarget {
+  std::string spec;    // as given, e.g. "est_ms_total:1%"
+  std::string column;  // a frames.csv column with an interval (has_interval)
+  double value = 0;
+  bool relative = false;
+};
+
+// Parses "<column>:<value>[%|dB|ms]" (value > 0, finite; dB and ms are read as absolute
+// values in the column's unit). Errors name the flag: "--target SPEC: ...".
+IntervalTarget parse_target(const std::string& spec);
+
+// Sampling under --target (docs/intervals.md): the frame range is cut into units of
+// kTargetUnitFrames consecutive frames. Without temporal methods the units are evaluated in a
+// seeded random order, each preceded by kTargetWarmupFrames unrecorded frames (the previous
+// trace frame: temporal_error needs it), so every recorded row equals the full run's row for
+// that frame. With a temporal method (TWFR: its cost and error drift over hundreds of frames,
+// which no short warm-up reproduces) the units are taken in trace order, i.e. the run is the
+// full run cut short. Targets are checked after every unit, and may stop the run once
+// kTargetMinUnits units are in (each of the kCiBatches batches then spans >= 2 units).
+constexpr int kTargetUnitFrames = 10;
+constexpr int kTargetWarmupFrames = 1;
+constexpr int kTargetMinUnits = 2 * int(kCiBatches);
+
+// Seeded random permutation of 0..units-1 (Fisher-Yates on PCG32): the order in which the
+// sampling units are evaluated. Same seed, same order.
+std::vector<int> sampling_order(int units, uint64_t seed);
+
+// True when every target holds for every config of `frames` (rows in evaluation order; a
+// config whose column has no finite value is exact, e.g. the PSNR of `full`, and passes).
+// `achieved` (if given) receives {config_id: {column: {"mean", "ci95", "target", "met"}}}.
+// A column absent from every row is an error naming the flag.
+bool targets_met(const std::vector<IntervalTarget>& targets, const ResultTable& frames,
+                 Json* achieved);
+
+}  // namespace fovsim

@@ -1,0 +1,181 @@
+#include "sim/experiment/intervals.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "sim/core/error.h"
+#include "sim/core/stats.h"
+#include "sim/experiment/runner.h"
+
+namespace fovsim {
+namespace {
+
+ResultRow frame_row(const std::string& id, const std::string& gpu, int frame, double psnr,
+                    double ms) {
+  ResultRow r;
+  r.set_text("config_id", id);
+  r.set_text("gpu", gpu);
+  r.set("sigma", 1.8);
+  r.set("frame", frame);
+  r.set("t", frame / 90.0);
+  r.set("est_ms_total", ms);
+  r.set("psnr", psnr);
+  r.set("ref_ms", 3.0 + frame);
+  return r;
+}
+
+TEST(Intervals, SummaryHasHalfWidthsOnlyForAggregates) {
+  ResultTable f;
+  for (int i = 0; i < 40; ++i) f.add(frame_row("a", "g", i, 30.0 + (i % 2), 5.0));
+  for (int i = 0; i < 10; ++i) f.add(frame_row("short", "g", i, 30.0, 5.0));
+  ResultTable s = summarize(f, 11.1);
+  ASSERT_EQ(s.rows().size(), 2u);
+  const ResultRow& a = s.rows()[0];
+  EXPECT_DOUBLE_EQ(a.get("psnr", NAN), 30.5);
+  // Batches of 4 frames alternate 30, 31: every batch mean is 30.5, so the interval is exact.
+  EXPECT_DOUBLE_EQ(a.get("psnr_ci95", NAN), 0.0);
+  EXPECT_DOUBLE_EQ(a.get("est_ms_total_ci95", NAN), 0.0);
+  for (const char* col : {"frame_ci95", "t_ci95", "ref_ms_ci95", "sigma_ci95"})
+    EXPECT_TRUE(std::isnan(a.get(col, NAN))) << col;  // never written
+  auto cols = s.numeric_columns();
+  EXPECT_EQ(std::count(cols.begin(), cols.end(), "ref_ms_ci95"), 0);
+  EXPECT_EQ(std::count(cols.begin(), cols.end(), "sigma_ci95"), 0);
+  // Below kCiMinSamples frames the interval is undefined, the mean still reported.
+  const ResultRow& sh = s.rows()[1];
+  EXPECT_DOUBLE_EQ(sh.get("psnr", NAN), 30.0);
+  EXPECT_TRUE(std::isnan(sh.get("psnr_ci95", 0.0)));
+}
+
+TEST(Intervals, SummaryHalfWidthMatchesBatchMeans) {
+  ResultTable f;
+  std::vector<double> v;
+  for (int i = 0; i < 50; ++i) {
+    v.push_back(std::sin(0.3 * i) + 0.01 * i);
+    f.add(frame_row("a", "g", i, v.back(), 1.0));
+  }
+  ResultTable s = summarize(f, 11.1);
+  EXPECT_DOUBLE_EQ(s.rows()[0].get("psnr_ci95", NAN), batch_means_interval(v).half_width);
+}
+
+TEST(Intervals, PairedDifferencesMatchFramesAndGpus) {
+  ResultTable f;
+  // b is a shifted by -0.5 dB on every frame, rows of b in reverse frame order; c differs by
+  // noise only in sign-alternating pairs; d is on another GPU and is never paired.
+  for (int i = 0; i < 40; ++i) f.add(frame_row("a", "g", i, 30.0 + 0.1 * i, 5.0));
+  for (int i = 39; i >= 0; --i) f.add(frame_row("b", "g", i, 29.5 + 0.1 * i, 4.0));
+  for (int i = 0; i < 40; ++i)
+    f.add(frame_row("c", "g", i, 30.0 + 0.1 * i + (i % 2 ? 0.2 : -0.2), 5.0));
+  for (int i = 0; i < 40; ++i) f.add(frame_row("d", "h", i, 10.0, 1.0));
+  ResultTable p = paired_differences(f);
+  int rows_ab = 0;
+  for (auto& r : p.rows()) {
+    const std::string& a = *r.text_of("config_a");
+    const std::string& b = *r.text_of("config_b");
+    EXPECT_NE(a, "d");
+    EXPECT_NE(b, "d");
+    const std::string& m = *r.text_of("metric");
+    EXPECT_TRUE(m == "psnr" || m == "est_ms_total") << m;  // only headline metrics present
+    EXPECT_DOUBLE_EQ(r.get("frames", 0), 40);
+    if (a == "a" && b == "b") {
+      ++rows_ab;
+      double want = m == "psnr" ? 0.5 : 1.0;
+      EXPECT_NEAR(r.get("diff", NAN), want, 1e-12);
+      EXPECT_NEAR(r.get("diff_ci95", NAN), 0.0, 1e-12);
+      EXPECT_DOUBLE_EQ(r.get("differs", NAN), 1);
+    }
+    if (a == "a" && b == "c" && m == "psnr") {
+      EXPECT_NEAR(r.get("diff", NAN), 0.0, 1e-12);  // +-0.2 cancels within each batch of 4
+      EXPECT_NEAR(r.get("diff_ci95", NAN), 0.0, 1e-12);
+      EXPECT_NEAR(r.get("mean_a", NAN) - r.get("mean_b", NAN), r.get("diff", NAN), 1e-12);
+    }
+    if (a == "a" && b == "c" && m == "est_ms_total") {
+      EXPECT_DOUBLE_EQ(r.get("differs", NAN), 0);
+    }
+  }
+  EXPECT_EQ(rows_ab, 2);
+  EXPECT_EQ(p.rows().size(), 3u * 2u);  // (a,b), (a,c), (b,c) x 2 metrics
+}
+
+TEST(Intervals, PairedSkipsNonFiniteFramesAndIsUndefinedWhenShort) {
+  ResultTable f;
+  for (int i = 0; i < 25; ++i) f.add(frame_row("full", "g", i, INFINITY, 6.0));
+  for (int i = 0; i < 25; ++i) f.add(frame_row("kfr", "g", i, 30.0, 3.0));
+  ResultTable p = paired_differences(f);
+  for (auto& r : p.rows()) {
+    if (*r.text_of("metric") == "psnr") {
+      EXPECT_DOUBLE_EQ(r.get("frames", -1), 0);
+      EXPECT_TRUE(std::isnan(r.get("diff", 0)));
+      EXPECT_TRUE(std::isnan(r.get("differs", 0)));
+    } else {
+      EXPECT_DOUBLE_EQ(r.get("diff", NAN), 3.0);
+      EXPECT_DOUBLE_EQ(r.get("diff_ci95", NAN), 0.0);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace fovsim
+
+namespace fovsim {
+namespace {
+
+TEST(Targets, ParseSpecs) {
+  IntervalTarget a = parse_target("est_ms_total:1%");
+  EXPECT_EQ(a.column, "est_ms_total");
+  EXPECT_DOUBLE_EQ(a.value, 1.0);
+  EXPECT_TRUE(a.relative);
+  IntervalTarget b = parse_target("fpsnr:0.2dB");
+  EXPECT_EQ(b.column, "fpsnr");
+  EXPECT_DOUBLE_EQ(b.value, 0.2);
+  EXPECT_FALSE(b.relative);
+  EXPECT_FALSE(parse_target("ssim:0.01").relative);
+  for (const char* bad :
+       {"fpsnr", ":1", "fpsnr:", "fpsnr:x", "fpsnr:0", "fpsnr:-1", "fpsnr:nan", "fpsnr:1 dB",
+        "fpsnr:2px", "frame:1", "sim_ms:1", "sigma:1", "psnr:100%"}) {
+    try {
+      parse_target(bad);
+      ADD_FAILURE() << bad << " accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.where(), std::string("--target ") + bad);
+    }
+  }
+}
+
+TEST(Targets, SamplingOrderIsASeededPermutation) {
+  std::vector<int> a = sampling_order(100, 1), b = sampling_order(100, 1),
+                   c = sampling_order(100, 2);
+  EXPECT_EQ(a, b);
+  EXPECT_NE(a, c);
+  std::vector<int> s = a;
+  std::sort(s.begin(), s.end());
+  for (int i = 0; i < 100; ++i) EXPECT_EQ(s[size_t(i)], i);
+  EXPECT_TRUE(sampling_order(0, 1).empty());
+}
+
+TEST(Targets, MetPerConfigWithAchievedRecord) {
+  ResultTable f;
+  for (int i = 0; i < 40; ++i) f.add(frame_row("a", "g", i, 30.0 + (i % 4 == 0 ? 4.0 : 0.0), 5.0));
+  for (int i = 0; i < 40; ++i) f.add(frame_row("full", "g", i, INFINITY, 10.0));
+  // psnr of a: batches of 4 frames each hold exactly one +4 dB frame -> every batch mean is 31.
+  Json ach;
+  EXPECT_TRUE(targets_met({parse_target("psnr:0.1dB"), parse_target("est_ms_total:1%")}, f, &ach));
+  EXPECT_DOUBLE_EQ(ach["a"]["psnr"]["mean"].get<double>(), 31.0);
+  EXPECT_DOUBLE_EQ(ach["a"]["psnr"]["ci95"].get<double>(), 0.0);
+  EXPECT_TRUE(ach["full"]["psnr"]["ci95"].is_null());  // inf on every frame: exact, passes
+  EXPECT_TRUE(ach["full"]["psnr"]["met"].get<bool>());
+  EXPECT_DOUBLE_EQ(ach["a"]["est_ms_total"]["target"].get<double>(), 0.05);
+  // Shifting the spike breaks the batch alignment: the interval widens past 0.1 dB.
+  ResultTable g;
+  for (int i = 0; i < 40; ++i) g.add(frame_row("a", "g", i, 30.0 + (i % 7 == 0 ? 4.0 : 0.0), 5.0));
+  EXPECT_FALSE(targets_met({parse_target("psnr:0.1dB")}, g, nullptr));
+  // Fewer than kCiMinSamples frames: undefined interval, never met.
+  ResultTable h;
+  for (int i = 0; i < 10; ++i) h.add(frame_row("a", "g", i, 30.0, 5.0));
+  EXPECT_FALSE(targets_met({parse_target("psnr:5dB")}, h, nullptr));
+  EXPECT_THROW(targets_met({parse_target("fpsnr:1dB")}, h, nullptr), Error);  // no such column
+}
+
+}  // namespace
+}  // namespace fovsim
