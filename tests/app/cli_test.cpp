@@ -26,7 +26,7 @@ std::string base_config(const std::string& dir) {
 
 struct Case {
   std::string name, config, expect;
-  std::vector<std::string> overrides;
+  std::vector<std::string> overrides = {};
 };
 
 CmdResult run_config(const std::string& dir, const std::string& cfg, const std::vector<std::string>& ov = {}) {
