@@ -13,7 +13,7 @@ DEB_OPT  := python3-skimage assimp-testmodels
 
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
-.PHONY: all deps deps-bench build demo test bench clean format update-golden
+.PHONY: all deps deps-bench build demo test bench clean format update-golden docs
 
 all: build
 
@@ -65,6 +65,10 @@ format:
 
 clean:
 	rm -rf $(BUILD)
+
+# Regenerates the method parameter tables in docs/methods.md and configs/README.md.
+docs: build
+	scripts/gen_method_docs.sh $(BUILD)
 
 # Rewrites the regression goldens from the current build (review the diff before committing).
 update-golden: build

@@ -5,6 +5,7 @@
 #include "sim/app/commands.h"
 #include "sim/core/version.h"
 #include "sim/experiment/code_paths.h"
+#include "sim/foveation/factory.h"
 
 namespace fovsim::app {
 
@@ -34,6 +35,26 @@ void register_info(CLI::App& app, Action& action) {
                   j["embree_isa"].get<std::string>().c_str());
       std::printf("SIMD kernel paths: %s (active: %s)\n", list(j["simd_paths"]).c_str(),
                   j["simd_path"].get<std::string>().c_str());
+      return 0;
+    };
+  });
+}
+
+void register_methods(CLI::App& app, Action& action) {
+  auto* cmd = app.add_subcommand("methods", "List the foveation methods and their parameters (from their declarations)");
+  auto md = std::make_shared<bool>(false);
+  cmd->add_flag("--markdown", *md, "Print the parameter tables as Markdown (embedded in docs/methods.md)");
+  cmd->callback([&action, md]() {
+    action = [md]() {
+      if (*md) {
+        std::printf("%s", methods_markdown().c_str());
+        return 0;
+      }
+      for (const auto& e : method_table()) {
+        std::printf("%-11s %s\n", e.name, e.summary);
+        for (const ParamInfo& p : e.params())
+          std::printf("    %-24s %-7s default %-8s %s\n", p.name, p.type, p.def, p.range);
+      }
       return 0;
     };
   });

@@ -15,4 +15,5 @@ void register_sweeps(CLI::App& app, Action& action);   // fovsim sweep | sweep e
 void register_trace(CLI::App& app, Action& action);    // fovsim trace import | validate | stats | synth
 void register_density(CLI::App& app, Action& action);  // fovsim density
 void register_info(CLI::App& app, Action& action);     // fovsim info
+void register_methods(CLI::App& app, Action& action);  // fovsim methods
 }  // namespace fovsim::app

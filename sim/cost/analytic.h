@@ -1,17 +1,19 @@
 // Analytic counters (issue 7 item 2): the counters a method would report for a workload on a
 // display, without rendering, so `fovsim predict` and calibration run from descriptors.
 //
-// Parameters (method block, JSON; unknown keys are ignored here, the method validates them):
-//   name             type    default  range        source
-//   sigma            number  1.8      [1, 64]      kfr/rmfr buffer ratio: shaded = W*H/sigma^2 (seed 004 §2, seed 003 §3.2)
-//   shaded_fraction  number  -       [0, 1]       hyperbolic/linear/fvrs override; hyperbolic/linear
-//                                                  default to 1/sigma^2 (iso-density, seed 003 §5.1)
-//   r1, r2           number  10, 20   degrees      fvrs: 1x1 inside r1, 2x2 to r2, 4x4 beyond (seed 002 §8.4)
-//   gaze_u, gaze_v   number  0.5      [-1, 2]      normalized gaze point for fvrs
-//   redraw_fraction  number  workload [0, 1]       twfr pixels redrawn / W*H (seed 002 §8.4: 6%)
-//   prims_fraction   number  workload [0, 1]       twfr primitives kept by foveation culling (seed 002 Fig. 12)
-//   vpl_budget       number  workload >= 0         flc VPLs kept (seed 001 §5)
-//   filter_taps      number  4        >= 0         pass-2 taps per full-res pixel (bilinear)
+// Parameters: the method's own keys (the same as in a run config, parsed and validated by the
+// method's own parser through the factory: same defaults and ranges, unknown keys are errors),
+// plus these analytic assumptions, which replace what a rendered run would measure:
+//   name                   methods                     default   range    meaning
+//   shaded_fraction        hyperbolic, linear, fvrs    computed  [0, 1]   override of the shaded fraction
+//                                                                         (default: the method's layers /
+//                                                                         probability / rates at the gaze)
+//   gaze_u, gaze_v         hyperbolic, linear, fvrs    0.5       [-1, 2]  gaze point as a fraction of W, H
+//   filter_taps_per_pixel  kfr, rmfr, hyperbolic, lin. 4         >= 0     pass-2 taps per full-res pixel
+//   redraw_fraction        twfr                        workload  [0, 1]   pixels redrawn / W*H (seed 002 §8.4)
+//   prims_fraction         twfr                        workload  [0, 1]   primitives kept by foveated culling
+// kfr/rmfr shade their whole (W/sigma) x (H/sigma) buffer; flc's vpl_budget is FLC's own key
+// (default: the workload's budget when not given).
 #pragma once
 #include <string>
 

@@ -33,6 +33,29 @@ std::unique_ptr<FoveationMethod> make_method(const std::string& name, Params& p)
   p.fail("method", "unknown method \"" + name + "\" (available: " + names + ")");
 }
 
+std::string methods_markdown() {
+  auto cell = [](const char* s) {
+    std::string r;
+    for (const char* c = s; *c; ++c) r += (*c == '|') ? std::string("\\|") : std::string(1, *c);
+    return r.empty() ? std::string(" ") : r;
+  };
+  std::string md;
+  for (const auto& e : method_table()) {
+    md += "#### `" + std::string(e.name) + "`\n\n" + e.summary + ".\n\n";
+    const auto& ps = e.params();
+    if (ps.empty()) {
+      md += "No parameters.\n\n";
+      continue;
+    }
+    md += "| key | type | default | range | source | meaning |\n|---|---|---|---|---|---|\n";
+    for (const ParamInfo& p : ps)
+      md += "| `" + std::string(p.name) + "` | " + cell(p.type) + " | " + cell(p.def) + " | " + cell(p.range) + " | " +
+            cell(p.source) + " | " + cell(p.doc) + " |\n";
+    md += "\n";
+  }
+  return md;
+}
+
 MethodArg parse_method_arg(const std::string& text, const std::string& flag) {
   MethodArg m;
   m.text = text;

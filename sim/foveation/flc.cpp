@@ -5,39 +5,8 @@
 // shared direct-light reference. Ground truth (the seed's TBDS role) = direct + indirect from
 // ALL VPLs; it is returned in FrameOutput::reference.
 //
-// | name | type | default | range | source | meaning |
-// |------|------|---------|-------|--------|---------|
-// | vpl_budget | int | 1024 | [0, 1e6] | §7, Fig. 7 | VPLs kept for shading (seed range 256-4096) |
-// | rsm_size | int | 64 | [1, 1024] | §7 | RSM texels per edge per light (VPLs <= lights x size^2) |
-// | samples | int | 256 | [1, 1e6] | Alg. 1 N_s | importance samples (not stated in the seed) |
-// | chain_length | int | 16 | [1, 4096] | Alg. 1 M | proposals per chain (not stated in the seed) |
-// | omega_p | number | 0.2 | [0, 1] | eq. 3, §7 | acuity floor in the periphery |
-// | acuity_slope | number | 2.25 | [0, 1e3] | eq. 4, §7 | s, per radian |
-// | fovea_frac | number | 0.2072 | (0, 10] | eq. 5, §7 | foveal radius / half screen diagonal (150 px at 1024^2); r = fovea_frac^2 |
-// | eccentricity | string | "seed" | seed, exact | eq. 6 | eq. 6 approximation or the projection's exact eccentricity |
-// | silhouette_value | number | 1.0 | [0, 1] | §4.1.2 | p_g of silhouette pixels |
-// | depth_threshold | number | 0.05 | (0, 1e6] | §4.1.2 | relative depth jump of a silhouette |
-// | normal_threshold_deg | number | 30 | [0, 180] | §4.1.2 | normal angle of a silhouette |
-// | color_threshold | number | 48 | [0, 1e6] | eq. 7 | colour difference of a silhouette |
-// | delta | number | 20 | [0, 1e6] | eq. 8, §7 | indirect brightness influence factor |
-// | history_blend | number | 0.5 | (0, 1] | eq. 8 | weight of the newest frame in the accumulated b(p) |
-// | w_fovea | number | 1 | [0, 1e6] | eq. 1 | weight of samples inside the fovea |
-// | w_periphery | number | 1 | [0, 1e6] | eq. 1 | weight of samples outside the fovea |
-// | epsilon | number | 0.02 | (0, 1] | eq. 10 | sqrt(eps) as a fraction of the scene diagonal |
-// | visibility | string | "blso" | none, blso, exact | eq. 11 | V_i in eq. 14: 1, BLSO, or Embree shadow rays |
-// | blso_lambda | number | 0.5 | [0, 1] | eq. 11, §7 | lambda |
-// | blso_k | number | 34 | (0, 1e6] | eq. 12, §7 | k |
-// | blso_xi | number | 0.01 | (0, 1] | eq. 12 | xi, fraction of the scene diagonal (scene dependent) |
-// | blso_radius | number | 0.1 | (0, 10] | §5 Fig. 3 | local-space radius, fraction of the scene diagonal |
-// | blso_cone_deg | number | 30 | (0, 90] | §5 Fig. 3 | half-angle of the local solid angle |
-// | blso_samples | int | 4 | [1, 256] | eq. 13 N' | positions per side |
-// | culling_floor | number | 0.02 | [0, 1] | §5 | uniform share mixed into the culling probabilities |
-// | min_dist | number | 0.01 | (0, 1] | S-7 | shading distance clamp, fraction of the scene diagonal |
-// | shading_visibility | bool | false | | beyond seed | exact shadow rays VPL -> pixel in shading and ground truth |
-// | log_polar | bool | false | | §6 | shade indirect in a log-polar buffer |
-// | lp_sigma | number | 2 | [1, 32] | §6 | log-polar buffer = (W/sigma) x (H/sigma) |
-// | interleave | int | 1 | [1, 2] | §6 | n x n interleaved VPL groups (+ 3x3 Gaussian when 2) |
-// | seed | int | 1 | [0, 2e9] | | Halton shuffle, BLSO positions, culling |
+// Parameters: the declaration flc_params() at the end of this file (name, type, default,
+// range, seed section, meaning); docs/methods.md and configs/README.md are generated from it.
 #include "sim/foveation/flc.h"
 
 #include <algorithm>

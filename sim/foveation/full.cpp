@@ -1,8 +1,7 @@
 // `full`: full-resolution deferred shading, the reference pipeline (for cost).
 //
-// | name | type | default | range | source | meaning |
-// |------|------|---------|-------|--------|---------|
-// | (none) | | | | | |
+// Parameters: the declaration full_params() at the end of this file (name, type, default,
+// range, seed section, meaning); docs/methods.md and configs/README.md are generated from it.
 #include "sim/foveation/methods.h"
 
 namespace fovsim {

@@ -6,13 +6,8 @@
 // material, hit vs. miss, depth off by > 5 %, normals > ~25 deg apart) is shaded itself, as
 // coarse pixel shading shades once per coarse pixel *per primitive*.
 //
-// | name | type | default | range | source | meaning |
-// |------|------|---------|-------|--------|---------|
-// | r1 | number | 10 | [0, 180] | seed 002 §8.4 | 1x1 rate inside, deg |
-// | r2 | number | 20 | [r1, 180] | seed 002 §8.4 | 2x2 rate inside, 4x4 beyond, deg |
-// | edge_aware | bool | true | | Vaidyanathan 2014 CPS | shade pixels of another surface separately |
-// | radius_scale | number | 1 | (0, inf) | iso-budget free parameter | multiplies r1, r2 |
-// | target_shaded_fraction | number | none | (0, 1] | seed 003 §5.1 | iso-budget: solve radius_scale |
+// Parameters: the declaration fvrs_params() at the end of this file (name, type, default,
+// range, seed section, meaning); docs/methods.md and configs/README.md are generated from it.
 #include <algorithm>
 #include <cmath>
 

@@ -8,16 +8,8 @@
 // Guenter shades whole layers, i.e. the fovea three times (seed 003 §2); masking keeps
 // shaded_samples <= W H and charges only visible work.
 //
-// | name | type | default | range | source | meaning |
-// |------|------|---------|-------|--------|---------|
-// | r1 | number | 10 | [0, 180] | seed 003 §5.1 | inner layer eccentricity, deg |
-// | r2 | number | 20 | [r1, 180] | seed 003 §5.1 | middle layer eccentricity, deg |
-// | s1 | number | 1 | [1, 1e4] | seed 003 §5.1 | inner layer pixel size |
-// | s2 | number | 2 | [1, 1e4] | seed 003 §5.1 | middle layer pixel size |
-// | s3 | number | 12.35 | [1, 1e4] | seed 003 §5.1 | outer layer pixel size |
-// | blend_deg | number | 1 | [0, 90] | Guenter 2012 (width not given by seed 003) | blend band, deg |
-// | radius_scale | number | 1 | (0, inf) | iso-budget free parameter | multiplies r1, r2 |
-// | target_shaded_fraction | number | none | (0, 1] | seed 003 §5.1 | iso-budget: solve radius_scale |
+// Parameters: the declaration hyperbolic_params() at the end of this file (name, type, default,
+// range, seed section, meaning); docs/methods.md and configs/README.md are generated from it.
 #include <algorithm>
 #include <cmath>
 

@@ -6,15 +6,8 @@
 // maps forward (eq. 2.10) and reads the LP-buffer bilinearly, then the eq. 2.14 Gaussian
 // post filter with size eta(r / e^L) runs (§2.3.2; TAA with Halton jitter is not simulated).
 //
-// | name | type | default | range | source | meaning |
-// |------|------|---------|-------|--------|---------|
-// | sigma | number | 1.8 | [1, inf) | §2.1 eq. 2.8 | W / w = H / h of the LP-buffer |
-// | alpha | number | 4 | [1e-3, 1e3] | §2.1 eq. 2.9 | exponent of K(x) = x^alpha |
-// | kernel | string | power | power, sine, exp | §2.1 after eq. 2.9 | x^alpha, sin(x pi/2), (e^x-1)/(e-1) |
-// | internal_aa | bool | true | | §2.2.3 | 3x3 Gaussian on the peripheral LP part |
-// | internal_aa_start | number | 0.5 | [0, 1] | §2.2.3 (boundary not given) | u/w where "the right part" starts |
-// | post_aa | bool | true | | §2.3.2 eq. 2.14 | eccentricity-sized Gaussian post filter |
-// | target_shaded_fraction | number | none | (0, 1] | seed 003 §5.1 | iso-budget: solve sigma |
+// Parameters: the declaration kfr_params() at the end of this file (name, type, default,
+// range, seed section, meaning); docs/methods.md and configs/README.md are generated from it.
 #include "sim/foveation/mapping_method.h"
 #include "sim/foveation/methods.h"
 

@@ -5,14 +5,8 @@
 // reconstructed from the shaded ones by push-pull interpolation (Gortler et al. 1996, the
 // sparse-sample fill seed 003 §2 names for this family).
 //
-// | name | type | default | range | source | meaning |
-// |------|------|---------|-------|--------|---------|
-// | r1 | number | 10 | [0, 180] | seed 003 §5.1 | full-rate region, deg |
-// | r2 | number | 20 | [r1, 180] | seed 003 §5.1 | end of the linear fall-off, deg |
-// | p_min | number | 0.047 | (0, 1] | seed 003 §5.1 | minimum sampling probability |
-// | seed | integer | 0 | [0, 2^31) | | sample pattern seed |
-// | radius_scale | number | 1 | (0, inf) | iso-budget free parameter | multiplies r1, r2 |
-// | target_shaded_fraction | number | none | (0, 1] | seed 003 §5.1 | iso-budget: solve radius_scale |
+// Parameters: the declaration linear_params() at the end of this file (name, type, default,
+// range, seed section, meaning); docs/methods.md and configs/README.md are generated from it.
 #include "sim/foveation/mapping_method.h"
 #include "sim/foveation/methods.h"
 

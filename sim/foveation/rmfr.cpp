@@ -6,14 +6,8 @@
 // (eqs. 4-5) and reads the RS-buffer bilinearly. A gaze off the screen is clamped to the
 // nearest edge (eq. 5 needs 0 <= x^ <= W). TAA (Table 3) is not simulated.
 //
-// | name | type | default | range | source | meaning |
-// |------|------|---------|-------|--------|---------|
-// | sigma | number | 2.6 | [1, inf) | §3.2, §6.1 | W / w = H / h of the RS-buffer |
-// | fx | number | 0.38 | (0, inf) | eq. 4, Fig. 7 | f_x as a fraction of W (exclusive with fx_px) |
-// | fy | number | 0.38 | (0, inf) | eq. 4, Fig. 7 | f_y as a fraction of H (exclusive with fy_px) |
-// | fx_px | number | none | (0, inf) | eq. 4 | f_x in pixels |
-// | fy_px | number | none | (0, inf) | eq. 4 | f_y in pixels |
-// | target_shaded_fraction | number | none | (0, 1] | §5.1 | iso-budget: sigma = 1/sqrt(target) |
+// Parameters: the declaration rmfr_params() at the end of this file (name, type, default,
+// range, seed section, meaning); docs/methods.md and configs/README.md are generated from it.
 #include "sim/foveation/mapping_method.h"
 #include "sim/foveation/methods.h"
 

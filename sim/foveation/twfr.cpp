@@ -1,15 +1,7 @@
 // `twfr`: time-warped foveated rendering (seed 002, Franke et al. 2021, §4-§8).
 //
-// | name | type | default | range | source | meaning |
-// |------|------|---------|-------|--------|---------|
-// | epsilon | number | 0.2 | [0, 1] | §5.2, §8.1 | confidence threshold: redraw iff c <= epsilon |
-// | phi_f | number (deg) | 10 | [0, 180] | §5.2 | fovea angle phi_F: c_e = 0 inside, splats discarded inside |
-// | phi_0 | number (deg) | 30 | [phi_f, 180] | §5.2 | angle fully in the periphery: c_e = 1 beyond |
-// | A | number | 0.6 | (0, 1] | §5.2 | hole-size confidence c_s(m) = A^m |
-// | D | number | 0.75 | (0, 1] | §7 | dynamic confidence c_d(t) = D^t |
-// | taa | bool | false | | §6.2 | TAA on redrawn pixels + motion smoothing on reprojected ones |
-// | taa_alpha | number | 0.1 | (0, 1] | §6.2 | accumulation factor of TAA / motion smoothing |
-// | redraw_transparent | bool | true | | §8.5 | transparent surfaces are rendered every frame |
+// Parameters: the declaration twfr_params() at the end of this file (name, type, default,
+// range, seed section, meaning); docs/methods.md and configs/README.md are generated from it.
 //
 // Pipeline per frame (Fig. 2): forward reprojection of last frame's colour + world positions
 // (twfr_reproject), push-pull hole filling (twfr_pushpull), confidence and redraw map
@@ -50,14 +42,21 @@ bool finite_mat(const glm::mat4& m) {
 
 TwfrParams TwfrParams::from_params(Params& p) {
   TwfrParams t;
-  t.conf.epsilon = float(p.number("epsilon", 0.2, Range::closed(0, 1)));
-  t.conf.phi_f = float(p.number("phi_f", 10.0, Range::closed(0, 180)));
-  t.conf.phi_0 = float(p.number("phi_0", 30.0, Range::closed(0, 180)));
+  // The confidence maths runs in float; the values as given (double) go to the CSV columns so
+  // a swept epsilon = 0.2 prints as 0.2, not 0.200000003.
+  auto num = [&](const char* key, double def, Range r) {
+    const double v = p.number(key, def, r);
+    t.given.emplace_back(key, v);
+    return float(v);
+  };
+  t.conf.epsilon = num("epsilon", 0.2, Range::closed(0, 1));
+  t.conf.phi_f = num("phi_f", 10.0, Range::closed(0, 180));
+  t.conf.phi_0 = num("phi_0", 30.0, Range::closed(0, 180));
   if (t.conf.phi_0 < t.conf.phi_f)
     p.fail("phi_0", "must be >= phi_f (" + std::to_string(t.conf.phi_f) + " deg), got " +
                         std::to_string(t.conf.phi_0));
-  t.conf.A = float(p.number("A", 0.6, Range::above(0, 1)));
-  t.conf.D = float(p.number("D", 0.75, Range::above(0, 1)));
+  t.conf.A = num("A", 0.6, Range::above(0, 1));
+  t.conf.D = num("D", 0.75, Range::above(0, 1));
   t.taa = p.boolean("taa", false);
   t.taa_alpha = float(p.number("taa_alpha", 0.1, Range::above(0, 1)));
   t.redraw_transparent = p.boolean("redraw_transparent", true);
@@ -72,8 +71,14 @@ uint32_t TwfrMethod::required_channels() const {
 }
 
 std::vector<std::pair<std::string, double>> TwfrMethod::param_columns() const {
-  return {{"epsilon", p_.conf.epsilon}, {"phi_f", p_.conf.phi_f}, {"phi_0", p_.conf.phi_0},
-          {"A", p_.conf.A},             {"D", p_.conf.D}};
+  std::vector<std::pair<std::string, double>> c = {{"epsilon", p_.conf.epsilon}, {"phi_f", p_.conf.phi_f},
+                                                     {"phi_0", p_.conf.phi_0},     {"A", p_.conf.A},
+                                                     {"D", p_.conf.D}};
+  // The value as given when the float in use still equals it (mutable_params may change it).
+  for (auto& [k, v] : c)
+    for (auto& [gk, gv] : p_.given)
+      if (gk == k && float(gv) == float(v)) v = gv;
+  return c;
 }
 
 void TwfrMethod::reset() {

@@ -19,6 +19,7 @@ struct TwfrParams {
   bool taa = false;               // §6.2 TAA on redrawn + motion smoothing on reprojected pixels
   float taa_alpha = 0.1f;         // §6.2 accumulation factor
   bool redraw_transparent = true; // §8.5: transparent surfaces rendered every frame
+  std::vector<std::pair<std::string, double>> given;  // epsilon, phi_f, phi_0, A, D as parsed (CSV columns)
   static TwfrParams from_params(Params& p);
 };
 
