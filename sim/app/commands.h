@@ -14,4 +14,5 @@ void register_cost(CLI::App& app, Action& action);     // fovsim calibrate | pre
 void register_sweeps(CLI::App& app, Action& action);   // fovsim sweep | sweep expand | merge | search
 void register_trace(CLI::App& app, Action& action);    // fovsim trace import | validate | stats | synth
 void register_density(CLI::App& app, Action& action);  // fovsim density
+void register_compare(CLI::App& app, Action& action);  // fovsim compare REF TEST
 }  // namespace fovsim::app

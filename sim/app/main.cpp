@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   fovsim::app::register_trace(app, action);
   fovsim::app::register_sweeps(app, action);
   fovsim::app::register_density(app, action);
+  fovsim::app::register_compare(app, action);
 
   try {
     app.parse(argc, argv);

@@ -23,6 +23,18 @@ double flip_default_ppd();
 // an empty image, or ppd not finite and > 0.
 double flip(const Image& reference, const Image& test, double ppd, Image* map = nullptr);
 
+// One image prepared for FLIP at one ppd (FLIP.md §7 steps 2-5 and 8): the Hunt-adjusted Lab of
+// its CSF-filtered version and its edge/point magnitudes. Preparing a reference once and
+// comparing several test images with it gives the same numbers as flip(ref, test, ppd).
+struct FlipPrepared {
+  int width = 0, height = 0;
+  double ppd = 0;
+  std::vector<double> L, A, B, edge, point;  // row-major, width * height
+};
+void flip_prepare(const Image& img, double ppd, FlipPrepared& out);
+// As flip() above on prepared images (same size, same ppd, else fovsim::Error).
+double flip(const FlipPrepared& reference, const FlipPrepared& test, Image* map = nullptr);
+
 // Internals exposed for the unit tests (FLIP.md §10 sanity values).
 namespace flip_detail {
 struct Kernels {
