@@ -59,9 +59,16 @@ Counters compute_metrics(const MetricsConfig& cfg, const Image& test, const Imag
       flip_prepare(ref, ppd, sc.flip_ref);
       sc.flip_ref_pixels = ref;
     }
-    flip_prepare(test, ppd, sc.flip_test);
     const Image& map = sc.flip_map;
-    out.set("flip", flip(sc.flip_ref, sc.flip_test, &sc.flip_map));
+    if (test.data == ref.data) {
+      // Identical images: every FLIP term is a difference of equal values, so E = 0 exactly
+      // (FLIP.md §10.1); skip the work (the `full` method of every run).
+      sc.flip_map.resize(test.width, test.height, 1, 0.f);
+      out.set("flip", 0.0);
+    } else {
+      flip_prepare(test, ppd, sc.flip_test);
+      out.set("flip", flip(sc.flip_ref, sc.flip_test, &sc.flip_map));
+    }
     const size_t nb = cfg.band_edges_deg.size() >= 2 ? cfg.band_edges_deg.size() - 1 : 0;
     if (cfg.regions && nb > 0) {
       // Serial pass in pixel order (deterministic); the map is one float per pixel.

@@ -341,6 +341,8 @@ double flip(const FlipPrepared& pr, const FlipPrepared& pt, Image* map) {
 
   // §4.7-4.8, §5.4, §6 per pixel; §8 mean summed per row, then over rows in order.
   const double cmax = flip_detail::c_max(), knee = kPc * cmax, inv_sqrt2 = 1.0 / std::sqrt(2.0);
+  const double ln_knee_d = std::log(knee) / kQc;  // e < knee  <=>  ln d < ln(knee) / q_c
+  const double ln_pt_knee = std::log(kPt / knee);
   Image local;
   Image& E = map ? *map : local;
   if (E.width != W || E.height != H || E.channels != 1) E.resize(W, H, 1);
@@ -361,10 +363,16 @@ double flip(const FlipPrepared& pr, const FlipPrepared& pt, Image* map) {
         if (d == 0.0) {
           v = df == 1.0 ? 1.0 : 0.0;  // pow(0, 1 - df), without the pow calls (§6)
         } else {
-          const double e = std::pow(d, kQc);
-          const double dc =
-              e < knee ? e * kPt / knee : kPt + (e - knee) / (cmax - knee) * (1.0 - kPt);
-          v = df == 0.0 ? dc : std::pow(dc, 1.0 - df);
+          // e = d^q_c; below the knee dc = e p_t / knee, so ln dc = q_c ln d + ln(p_t / knee) and
+          // dc^(1 - df) is one exp (one log and one exp per pixel instead of two pow calls).
+          const double ln_d = std::log(d);
+          if (ln_d < ln_knee_d) {
+            v = std::exp((1.0 - df) * (kQc * ln_d + ln_pt_knee));
+          } else {
+            const double e = std::exp(kQc * ln_d);
+            const double dc = kPt + (e - knee) / (cmax - knee) * (1.0 - kPt);
+            v = df == 0.0 ? dc : std::pow(dc, 1.0 - df);
+          }
         }
         e_row[x] = float(v);
         s += v;
