@@ -217,3 +217,172 @@ TEST(MetricsFlip, ColormapIsMagmaLike) {
     EXPECT_LE(v, 1.f);
   }
 }
+
+// An independent, direct evaluation of FLIP.md in its 2-D form (§4.4 2-D kernel over the
+// square, §5.2 2-D edge/point kernels, clamp-to-edge, exact pow everywhere), written from the
+// spec without the implementation's separable passes, table or log/exp rewrite.
+namespace {
+
+struct Lab3 {
+  double v[3];
+};
+
+std::vector<double> direct_flip(const Image& r, const Image& t, double ppd) {
+  const int W = r.width, H = r.height;
+  const double M[3][3] = {
+      {10135552.0 / 24577794.0, 8788810.0 / 24577794.0, 4435075.0 / 24577794.0},
+      {2613072.0 / 12288897.0, 8788810.0 / 12288897.0, 887015.0 / 12288897.0},
+      {1425312.0 / 73733382.0, 8788810.0 / 73733382.0, 70074185.0 / 73733382.0}};
+  const double Mi[3][3] = {{3.241003275, -1.537398934, -0.498615861},
+                           {-0.969224334, 1.875930071, 0.041554224},
+                           {0.055639423, -0.204011202, 1.057148933}};
+  const double wp[3] = {0.950428545, 1.0, 1.088900371};
+  const double pi = 3.14159265358979323846;
+  auto ycc = [&](const Image& im) {
+    std::vector<Lab3> out(im.pixels());
+    for (size_t i = 0; i < im.pixels(); ++i) {
+      double lin[3], xyz[3] = {0, 0, 0};
+      for (int c = 0; c < 3; ++c) {
+        const double v = im.data[3 * i + c];
+        lin[c] = std::min(
+            1.0, std::max(0.0, v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4)));
+      }
+      for (int a = 0; a < 3; ++a)
+        for (int c = 0; c < 3; ++c) xyz[a] += M[a][c] * lin[c];
+      out[i] = {{116 * xyz[1] / wp[1] - 16, 500 * (xyz[0] / wp[0] - xyz[1] / wp[1]),
+                 200 * (xyz[1] / wp[1] - xyz[2] / wp[2])}};
+    }
+    return out;
+  };
+  const int rs = int(std::ceil(3 * std::sqrt(0.04 / (2 * pi * pi)) * ppd));
+  const double A1[3] = {1, 1, 34.1}, B1[3] = {0.0047, 0.0053, 0.04}, A2[3] = {0, 0, 13.5},
+               B2[3] = {1e-5, 1e-5, 0.025};
+  std::vector<double> K[3];
+  for (int k = 0; k < 3; ++k) {
+    double sum = 0;
+    for (int j = -rs; j <= rs; ++j)
+      for (int i = -rs; i <= rs; ++i) {
+        const double rho2 = (i * i + j * j) / (ppd * ppd);
+        const double v = A1[k] * std::sqrt(pi / B1[k]) * std::exp(-pi * pi * rho2 / B1[k]) +
+                         A2[k] * std::sqrt(pi / B2[k]) * std::exp(-pi * pi * rho2 / B2[k]);
+        K[k].push_back(v);
+        sum += v;
+      }
+    for (double& v : K[k]) v /= sum;
+  }
+  const double sigma = 0.5 * 0.082 * ppd;
+  const int rf = int(std::ceil(3 * sigma));
+  std::vector<double> Ed, Pt;  // 2-D kernels along x (the y direction uses the transpose)
+  double ep = 0, en = 0, pp = 0, pn = 0;
+  for (int j = -rf; j <= rf; ++j)
+    for (int i = -rf; i <= rf; ++i) {
+      const double g = std::exp(-(i * i + j * j) / (2 * sigma * sigma));
+      const double e = -i * g, p = (i * i / (sigma * sigma) - 1) * g;
+      Ed.push_back(e);
+      Pt.push_back(p);
+      (e > 0 ? ep : en) += std::fabs(e);
+      (p > 0 ? pp : pn) += std::fabs(p);
+    }
+  for (double& v : Ed) v /= v > 0 ? ep : en;
+  for (double& v : Pt) v /= v > 0 ? pp : pn;
+  auto at = [&](int x, int y) {
+    return size_t(std::min(std::max(y, 0), H - 1)) * W + size_t(std::min(std::max(x, 0), W - 1));
+  };
+  auto lab = [&](const std::vector<Lab3>& y, int x0, int y0) {
+    double f[3] = {0, 0, 0};
+    for (int k = 0; k < 3; ++k)
+      for (int j = -rs; j <= rs; ++j)
+        for (int i = -rs; i <= rs; ++i)
+          f[k] += K[k][size_t((j + rs) * (2 * rs + 1) + i + rs)] * y[at(x0 + i, y0 + j)].v[k];
+    const double tt = (f[0] + 16) / 116,
+                 xyz[3] = {wp[0] * (tt + f[1] / 500), wp[1] * tt, wp[2] * (tt - f[2] / 200)};
+    double rgb[3], x2[3] = {0, 0, 0};
+    for (int a = 0; a < 3; ++a) {
+      rgb[a] = 0;
+      for (int c = 0; c < 3; ++c) rgb[a] += Mi[a][c] * xyz[c];
+      rgb[a] = std::min(1.0, std::max(0.0, rgb[a]));
+    }
+    for (int a = 0; a < 3; ++a)
+      for (int c = 0; c < 3; ++c) x2[a] += M[a][c] * rgb[c];
+    auto fl = [](double q) {
+      const double d = 6.0 / 29;
+      return q > d * d * d ? std::pow(q, 1.0 / 3) : q / (3 * d * d) + 4.0 / 29;
+    };
+    const double L = 116 * fl(x2[1] / wp[1]) - 16,
+                 a = 500 * (fl(x2[0] / wp[0]) - fl(x2[1] / wp[1])),
+                 b = 200 * (fl(x2[1] / wp[1]) - fl(x2[2] / wp[2]));
+    return Lab3{{L, 0.01 * L * a, 0.01 * L * b}};
+  };
+  auto feat = [&](const std::vector<Lab3>& y, int x0, int y0, double& edge, double& point) {
+    double ex = 0, ey = 0, px = 0, py = 0;
+    for (int j = -rf; j <= rf; ++j)
+      for (int i = -rf; i <= rf; ++i) {
+        const double a = (y[at(x0 + i, y0 + j)].v[0] + 16) / 116;
+        ex += Ed[size_t((j + rf) * (2 * rf + 1) + i + rf)] * a;
+        px += Pt[size_t((j + rf) * (2 * rf + 1) + i + rf)] * a;
+        ey += Ed[size_t((i + rf) * (2 * rf + 1) + j + rf)] * a;  // transposed kernel
+        py += Pt[size_t((i + rf) * (2 * rf + 1) + j + rf)] * a;
+      }
+    edge = std::sqrt(ex * ex + ey * ey);
+    point = std::sqrt(px * px + py * py);
+  };
+  const std::vector<Lab3> yr = ycc(r), yt = ycc(t);
+  Lab3 g = {{0, 0, 0}}, bl = {{0, 0, 0}};
+  {  // c_max from linear green and blue through the same Lab function (a 1x1 "image" is not needed)
+    auto to_lab = [&](double R, double G, double B) {
+      double x2[3] = {0, 0, 0}, rgb[3] = {R, G, B};
+      for (int a = 0; a < 3; ++a)
+        for (int c = 0; c < 3; ++c) x2[a] += M[a][c] * rgb[c];
+      auto fl = [](double q) { return std::pow(q, 1.0 / 3); };
+      const double L = 116 * fl(x2[1] / wp[1]) - 16;
+      return Lab3{{L, 0.01 * L * 500 * (fl(x2[0] / wp[0]) - fl(x2[1] / wp[1])),
+                   0.01 * L * 200 * (fl(x2[1] / wp[1]) - fl(x2[2] / wp[2]))}};
+    };
+    g = to_lab(0, 1, 0);
+    bl = to_lab(0, 0, 1);
+  }
+  auto hy = [](const Lab3& a, const Lab3& b) {
+    return std::fabs(a.v[0] - b.v[0]) + std::hypot(a.v[1] - b.v[1], a.v[2] - b.v[2]);
+  };
+  const double cmax = std::pow(hy(g, bl), 0.7);
+  std::vector<double> E(size_t(W) * H);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const double e = std::pow(hy(lab(yr, x, y), lab(yt, x, y)), 0.7);
+      const double dc = e < 0.4 * cmax ? e * 0.95 / (0.4 * cmax)
+                                       : 0.95 + (e - 0.4 * cmax) / (cmax - 0.4 * cmax) * 0.05;
+      double er, pr, et, pt;
+      feat(yr, x, y, er, pr);
+      feat(yt, x, y, et, pt);
+      const double df =
+          std::pow(std::max(std::fabs(er - et), std::fabs(pr - pt)) / std::sqrt(2.0), 0.5);
+      E[size_t(y) * W + x] = std::pow(dc, 1 - df);
+    }
+  return E;
+}
+
+}  // namespace
+
+TEST(MetricsFlip, MatchesDirect2DEvaluationOfTheSpec) {
+  // Odd, non-square images with texture, a hard edge and a bright dot near a corner.
+  const int W = 29, H = 21;
+  Image a = testutil::pattern(W, H, 3, 61, 0.3), b = testutil::pattern(W, H, 3, 62, 0.3);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x)
+      if (x > 17)
+        for (int c = 0; c < 3; ++c) b.at(x, y)[c] = c == 2 ? 0.9f : 0.1f;
+  for (int c = 0; c < 3; ++c) b.at(1, 2)[c] = 1.f;
+  for (double ppd : {6.0, 20.0, 45.0}) {
+    Image map;
+    const double m = flip(a, b, ppd, &map);
+    const std::vector<double> want = direct_flip(a, b, ppd);
+    double mean = 0, worst = 0;
+    for (size_t i = 0; i < want.size(); ++i) {
+      mean += want[i];
+      worst = std::max(worst, std::fabs(double(map.data[i]) - want[i]));
+    }
+    mean /= double(want.size());
+    EXPECT_NEAR(m, mean, 1e-6) << "ppd " << ppd;
+    EXPECT_LT(worst, 1e-5) << "ppd " << ppd;  // float map, exact-arithmetic reference
+  }
+}
