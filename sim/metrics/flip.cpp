@@ -12,6 +12,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <string>
 
 #include "sim/core/error.h"
@@ -85,10 +87,26 @@ void srgb_to_ycxcz(double r, double g, double b, double out[3]) {
   out[2] = 200.0 * (y - Z * kInvZn);
 }
 
+// Cube root of t > 0: exponent-bit estimate, then three Halley steps (cubic convergence:
+// ~3% -> 1e-5 -> 1e-15 -> rounding); within 3 ulp of std::cbrt on [0.008, 1.2] (checked on 2M
+// points), without std::cbrt's frexp/scalbn library calls.
+double cube_root(double t) {
+  uint64_t bits;
+  std::memcpy(&bits, &t, sizeof bits);
+  bits = bits / 3 + 0x2A9F7893782DA1CEull;  // (bits - one) / 3 + one, one = bits of 1.0, rebalanced
+  double y;
+  std::memcpy(&y, &bits, sizeof y);
+  for (int i = 0; i < 3; ++i) {
+    const double y3 = y * y * y;
+    y *= (y3 + 2.0 * t) / (2.0 * y3 + t);
+  }
+  return y;
+}
+
 // §4.6 CIELAB f(t).
 double lab_f(double t) {
   constexpr double d = 6.0 / 29.0;
-  return t > d * d * d ? std::cbrt(t) : t / (3.0 * d * d) + 4.0 / 29.0;
+  return t > d * d * d ? cube_root(t) : t / (3.0 * d * d) + 4.0 / 29.0;
 }
 
 // §4.6: linear RGB -> XYZ -> CIELAB -> Hunt-adjusted (L*, 0.01 L* a*, 0.01 L* b*).
@@ -319,7 +337,8 @@ void flip_prepare(const Image& img, double ppd, FlipPrepared& out) {
   check_ppd(ppd);
   const size_t N = img.pixels();
   const flip_detail::Kernels k = flip_detail::kernels(ppd);
-  Plane ycc[3], tmp[4];
+  Plane(&ycc)[3] = out.scratch_ycc;
+  Plane(&tmp)[4] = out.scratch_tmp;
   for (Plane& p : ycc) p.resize(N);
   for (Plane& p : tmp) p.resize(N);
   prepare(img, k, out, ycc, tmp);

@@ -30,6 +30,9 @@ struct FlipPrepared {
   int width = 0, height = 0;
   double ppd = 0;
   std::vector<double> L, A, B, edge, point;  // row-major, width * height
+  // Working planes of flip_prepare, kept so that preparing into the same object again (every
+  // frame of a run) does not allocate.
+  std::vector<double> scratch_ycc[3], scratch_tmp[4];
 };
 void flip_prepare(const Image& img, double ppd, FlipPrepared& out);
 // As flip() above on prepared images (same size, same ppd, else fovsim::Error).
