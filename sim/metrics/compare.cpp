@@ -17,7 +17,11 @@ namespace fovsim {
 
 Image read_ldr_rgb(const std::string& path) {
   if (!std::filesystem::exists(path)) throw Error(path, "no such file");
-  auto in = OIIO::ImageInput::open(path);
+  // Raw colour values: OpenImageIO premultiplies PNG colour by alpha unless asked not to; the
+  // FLIP tool drops alpha without compositing.
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  auto in = OIIO::ImageInput::open(path, &config);
   if (!in) throw Error(path, "cannot read image: " + OIIO::geterror());
   const OIIO::ImageSpec& spec = in->spec();
   const int W = spec.width, H = spec.height, C = spec.nchannels;
