@@ -56,7 +56,7 @@ Counters compute_metrics(const MetricsConfig& cfg, const Image& test, const Imag
     const Image& rp = sc.flip_ref_pixels;
     if (sc.flip_ref.ppd != ppd || rp.width != ref.width || rp.height != ref.height || rp.channels != ref.channels ||
         rp.data != ref.data) {
-      flip_prepare(ref, ppd, sc.flip_ref);
+      flip_prepare(ref, ppd, sc.flip_ref, &sc.flip_workspace);
       sc.flip_ref_pixels = ref;
     }
     const Image& map = sc.flip_map;
@@ -66,7 +66,7 @@ Counters compute_metrics(const MetricsConfig& cfg, const Image& test, const Imag
       sc.flip_map.resize(test.width, test.height, 1, 0.f);
       out.set("flip", 0.0);
     } else {
-      flip_prepare(test, ppd, sc.flip_test);
+      flip_prepare(test, ppd, sc.flip_test, &sc.flip_workspace);
       out.set("flip", flip(sc.flip_ref, sc.flip_test, &sc.flip_map));
     }
     const size_t nb = cfg.band_edges_deg.size() >= 2 ? cfg.band_edges_deg.size() - 1 : 0;

@@ -330,15 +330,17 @@ static void check_ppd(double ppd) {
                 "pixels per degree must be finite and > 0, got " + std::to_string(ppd));
 }
 
-void flip_prepare(const Image& img, double ppd, FlipPrepared& out) {
+void flip_prepare(const Image& img, double ppd, FlipPrepared& out, FlipWorkspace* ws) {
   if (img.empty()) throw Error("metrics.flip", "empty image");
   if (img.channels > 4)
     throw Error("metrics.flip", "expected 1 to 4 channels, got " + std::to_string(img.channels));
   check_ppd(ppd);
   const size_t N = img.pixels();
   const flip_detail::Kernels k = flip_detail::kernels(ppd);
-  Plane(&ycc)[3] = out.scratch_ycc;
-  Plane(&tmp)[4] = out.scratch_tmp;
+  FlipWorkspace local;
+  FlipWorkspace& w = ws ? *ws : local;
+  Plane(&ycc)[3] = w.ycc;
+  Plane(&tmp)[4] = w.tmp;
   for (Plane& p : ycc) p.resize(N);
   for (Plane& p : tmp) p.resize(N);
   prepare(img, k, out, ycc, tmp);
@@ -408,8 +410,9 @@ double flip(const Image& ref, const Image& test, double ppd, Image* map) {
   if (ref.width != test.width || ref.height != test.height || ref.channels != test.channels)
     throw Error("metrics.flip", "images differ in size: " + dims(ref) + " vs " + dims(test));
   FlipPrepared pr, pt;
-  flip_prepare(ref, ppd, pr);
-  flip_prepare(test, ppd, pt);
+  FlipWorkspace ws;
+  flip_prepare(ref, ppd, pr, &ws);
+  flip_prepare(test, ppd, pt, &ws);
   return flip(pr, pt, map);
 }
 

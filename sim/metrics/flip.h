@@ -30,11 +30,13 @@ struct FlipPrepared {
   int width = 0, height = 0;
   double ppd = 0;
   std::vector<double> L, A, B, edge, point;  // row-major, width * height
-  // Working planes of flip_prepare, kept so that preparing into the same object again (every
-  // frame of a run) does not allocate.
-  std::vector<double> scratch_ycc[3], scratch_tmp[4];
 };
-void flip_prepare(const Image& img, double ppd, FlipPrepared& out);
+// Working planes of flip_prepare (7 doubles per pixel). Passing the same workspace every time
+// (e.g. every frame of a run, for reference and test alike) avoids allocating them per call.
+struct FlipWorkspace {
+  std::vector<double> ycc[3], tmp[4];
+};
+void flip_prepare(const Image& img, double ppd, FlipPrepared& out, FlipWorkspace* ws = nullptr);
 // As flip() above on prepared images (same size, same ppd, else fovsim::Error).
 double flip(const FlipPrepared& reference, const FlipPrepared& test, Image* map = nullptr);
 

@@ -76,6 +76,7 @@ double temporal_error(const Image& test, const Image& ref, const std::vector<flo
 // and the FLIP map of the last call (for the error images).
 struct MetricsScratch {
   FlipPrepared flip_ref, flip_test;
+  FlipWorkspace flip_workspace;
   Image flip_ref_pixels;  // the pixels flip_ref was prepared from
   Image flip_map;
 };
