@@ -14,7 +14,7 @@ results/README.md) and writes PNGs plus an index.html to results/<name>/plots/ (
   paired.png            paired.csv: per headline metric, the mean difference of every pair
                         of configs with its 95% interval (filled: the interval excludes 0)
   gaze.png              gaze path on the screen (pixels, row 0 on top)
-  quality_timeline.png  fpsnr / psnr / ssim per frame and config
+  quality_timeline.png  fpsnr / psnr / ssim / flip per frame and config
 Intervals that are undefined (nan: fewer frames than the estimator's minimum) are not drawn.
 A plot whose columns are missing is skipped with a message (and listed in index.html).
 Means use finite values only (psnr is inf for identical images, temporal_error nan on the
@@ -253,9 +253,9 @@ def plot_gaze(run, out):
 def plot_quality_timeline(run, out):
     if not run.frames:
         raise Skip("no frames.csv")
-    metrics = [m for m in ("fpsnr", "psnr", "ssim") if run.has(m)]
+    metrics = [m for m in ("fpsnr", "psnr", "ssim", "flip") if run.has(m)]
     if not metrics:
-        raise Skip("frames.csv has no fpsnr, psnr or ssim column")
+        raise Skip("frames.csv has no fpsnr, psnr, ssim or flip column")
     xcol = "frame" if run.has("frame") else "t"
     if not run.has(xcol):
         raise Skip("frames.csv has neither frame nor t")
@@ -266,7 +266,7 @@ def plot_quality_timeline(run, out):
             pts = [(a, b) for a, b in zip(x, y) if math.isfinite(b)]
             if pts:
                 ax.plot([p[0] for p in pts], [p[1] for p in pts], lw=1, label=cid)
-        ax.set_ylabel(m)
+        ax.set_ylabel("flip (lower is better)" if m == "flip" else m)
         ax.grid(alpha=0.3)
     legend(axes[0, 0], len(run.configs))
     axes[-1, 0].set_xlabel(xcol)

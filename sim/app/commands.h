@@ -16,4 +16,5 @@ void register_trace(CLI::App& app, Action& action);    // fovsim trace import | 
 void register_density(CLI::App& app, Action& action);  // fovsim density
 void register_info(CLI::App& app, Action& action);     // fovsim info
 void register_methods(CLI::App& app, Action& action);  // fovsim methods
+void register_compare(CLI::App& app, Action& action);  // fovsim compare REF TEST
 }  // namespace fovsim::app

@@ -199,6 +199,7 @@ struct Cell {
   ResultTable frames;
   double cell_ms = 0;
   Image out_display, override_display;  // per-cell scratch, reused every frame
+  MetricsScratch metrics_scratch;
 
   void parse(Params& root, const std::string& models, bool default_print) {
     name = root.string("name", fs::path(job->file).stem().string());
@@ -276,12 +277,14 @@ struct Cell {
         sh.tonemap.apply(*fo.reference, override_display);
         refd = &override_display;
       }
-      Counters metrics = compute_metrics(mcfg, out_display, *refd, fd.camera, fd.eccentricity, &m.temporal);
+      Counters metrics = compute_metrics(mcfg, out_display, *refd, fd.camera, fd.eccentricity, &m.temporal,
+                                         &metrics_scratch);
       for (auto& f : fo.flags) flags_seen.insert(m.label + ":" + f);
 
       if (want_images) {
         write_images(img_dir, m.label, out_display, &lin, io);
         write_image(img_dir + "/" + m.label + "_error.png", error_heatmap(out_display, *refd));
+        if (mcfg.flip) write_image(img_dir + "/" + m.label + "_flip.png", flip_colormap(metrics_scratch.flip_map));
         if (fo.reference) write_images(img_dir, m.label + "_reference", override_display, &*fo.reference, io);
         for (auto& [dname, dimg] : fo.debug) write_image(img_dir + "/" + m.label + "_" + dname + ".png", dimg);
       }

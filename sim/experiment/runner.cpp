@@ -46,16 +46,16 @@ RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt) {
   result.target = c.target;
   if (c.print_summary) {
     // `+-95%`: half-widths of the 95% intervals (summary.csv `<col>_ci95`; nan below 20 frames).
-    std::printf("\n%-16s %-10s %7s %9s %10s %7s %8s %7s %8s %7s\n", "config", "gpu", "frames",
-                "shaded%", "est_ms", "+-95%", "psnr", "ssim", "fpsnr", "+-95%");
+    std::printf("\n%-16s %-10s %7s %9s %10s %7s %8s %7s %8s %7s %7s\n", "config", "gpu", "frames",
+                "shaded%", "est_ms", "+-95%", "psnr", "ssim", "fpsnr", "+-95%", "flip");
     for (auto& r : result.summary.rows()) {
       const std::string* id = r.text_of("label");
       const std::string* g = r.text_of("gpu");
-      std::printf("%-16s %-10s %7.0f %8.1f%% %10.3f %7.3f %8.2f %7.4f %8.2f %7.2f\n",
+      std::printf("%-16s %-10s %7.0f %8.1f%% %10.3f %7.3f %8.2f %7.4f %8.2f %7.2f %7.4f\n",
                   id ? id->c_str() : "?", g ? g->c_str() : "?", r.get("frames", 0),
                   100.0 * r.get("shaded_fraction", NAN), r.get("est_ms_total", NAN),
                   r.get("est_ms_total_ci95", NAN), r.get("psnr", NAN), r.get("ssim", NAN),
-                  r.get("fpsnr", NAN), r.get("fpsnr_ci95", NAN));
+                  r.get("fpsnr", NAN), r.get("fpsnr_ci95", NAN), r.get("flip", NAN));
     }
     std::printf("budget %.2f ms (%.0f Hz); results in %s\n", c.budget_ms, c.refresh_hz, c.out_dir.c_str());
     for (auto& f : c.flags) std::printf("flag: %s\n", f.c_str());

@@ -3,6 +3,9 @@
 //   rmse_fovea     = sqrt(mean err^2 over ecc <  fovea_deg)
 //   rmse_periphery = sqrt(mean err^2 over ecc >= fovea_deg)
 //   rmse_ecc_<a>_<b> = sqrt(mean err^2 over a <= ecc < b); NaN for an empty region.
+//   flip = mean of the LDR-FLIP map (flip.cpp) at flip_ppd(cam);
+//   flip_ecc_<a>_<b> = mean FLIP error over a <= ecc < b; NaN for an empty region.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -16,10 +19,11 @@ static double rms(double sq, double n) {
 }
 
 Counters compute_metrics(const MetricsConfig& cfg, const Image& test, const Image& ref, const Camera& cam,
-                         const std::vector<float>& ecc_deg, TemporalState* temporal) {
+                         const std::vector<float>& ecc_deg, TemporalState* temporal, MetricsScratch* scratch) {
   const char* where = "metrics.compute_metrics";
   detail::check_same_size(test, ref, where);
   const bool need_ecc = cfg.fpsnr || cfg.regions || cfg.temporal;
+  if (cfg.flip) detail::check_cam(test, cam, where);
   if (need_ecc) detail::check_ecc(test, ecc_deg, where);
   if (cfg.fpsnr) detail::check_cam(test, cam, where);
 
@@ -44,6 +48,43 @@ Counters compute_metrics(const MetricsConfig& cfg, const Image& test, const Imag
     out.set("rmse_periphery", rms(s.periph_sq, s.periph_n));
     for (size_t k = 0; k + 1 < cfg.band_edges_deg.size(); ++k)
       out.set(band_column(cfg.band_edges_deg[k], cfg.band_edges_deg[k + 1]), rms(s.band_sq[k], s.band_n[k]));
+  }
+  if (cfg.flip) {
+    MetricsScratch local;
+    MetricsScratch& sc = scratch ? *scratch : local;
+    const double ppd = flip_ppd(cam);
+    const Image& rp = sc.flip_ref_pixels;
+    if (sc.flip_ref.ppd != ppd || rp.width != ref.width || rp.height != ref.height || rp.channels != ref.channels ||
+        rp.data != ref.data) {
+      flip_prepare(ref, ppd, sc.flip_ref, &sc.flip_workspace);
+      sc.flip_ref_pixels = ref;
+    }
+    const Image& map = sc.flip_map;
+    if (test.data == ref.data) {
+      // Identical images: every FLIP term is a difference of equal values, so E = 0 exactly
+      // (FLIP.md §10.1); skip the work (the `full` method of every run).
+      sc.flip_map.resize(test.width, test.height, 1, 0.f);
+      out.set("flip", 0.0);
+    } else {
+      flip_prepare(test, ppd, sc.flip_test, &sc.flip_workspace);
+      out.set("flip", flip(sc.flip_ref, sc.flip_test, &sc.flip_map));
+    }
+    const size_t nb = cfg.band_edges_deg.size() >= 2 ? cfg.band_edges_deg.size() - 1 : 0;
+    if (cfg.regions && nb > 0) {
+      // Serial pass in pixel order (deterministic); the map is one float per pixel.
+      std::vector<double> sum(nb, 0.0), n(nb, 0.0);
+      const double* edges = cfg.band_edges_deg.data();
+      for (size_t i = 0; i < map.pixels(); ++i) {
+        const double e = ecc_deg[i];
+        if (e < edges[0] || !(e < edges[nb])) continue;
+        const size_t k = size_t(std::upper_bound(edges, edges + nb + 1, e) - edges) - 1;
+        sum[k] += map.data[i];
+        n[k] += 1;
+      }
+      for (size_t k = 0; k < nb; ++k)
+        out.set(flip_band_column(edges[k], edges[k + 1]),
+                n[k] > 0 ? sum[k] / n[k] : std::numeric_limits<double>::quiet_NaN());
+    }
   }
   if (cfg.temporal) {
     out.set("temporal_error", temporal ? temporal_error(test, ref, ecc_deg, cfg.fovea_deg, *temporal)

@@ -9,6 +9,7 @@
 #include "sim/core/image.h"
 #include "sim/core/params.h"
 #include "sim/display/display.h"
+#include "sim/metrics/flip.h"
 
 namespace fovsim {
 
@@ -38,6 +39,7 @@ double local_ppd(const Camera& cam, double px, double py);
 
 struct MetricsConfig {
   bool psnr = true, ssim = true, fpsnr = true, regions = true, temporal = true;
+  bool flip = true;  // LDR-FLIP mean `flip` (+ flip_ecc_<a>_<b> bands when `regions`)
   double fovea_deg = 5.0;                                  // fovea radius for rmse_fovea
   std::vector<double> band_edges_deg{0, 5, 10, 20, 30, 60};  // rmse_ecc_<a>_<b> columns
   // Not a config key: set by the runner to 1 / render.scale so FPSNR's Nyquist clip is that
@@ -47,8 +49,13 @@ struct MetricsConfig {
 };
 
 // Column name of the eccentricity band [a, b): "rmse_ecc_<a>_<b>", numbers printed
-// shortest ("0", "5", "2.5" -> "2p5").
+// shortest ("0", "5", "2.5" -> "2p5"); flip_band_column gives "flip_ecc_<a>_<b>".
 std::string band_column(double a, double b);
+std::string flip_band_column(double a, double b);
+
+// The pixels per degree that drive FLIP in a run: local_ppd at the centre of the (simulated)
+// image, i.e. of the pixels FLIP is given (docs/metrics.md, "FLIP").
+double flip_ppd(const Camera& cam);
 
 // State for the temporal error: frame-to-frame change of the error image in the periphery.
 struct TemporalState {
@@ -63,10 +70,25 @@ struct TemporalState {
 double temporal_error(const Image& test, const Image& ref, const std::vector<float>& ecc_deg,
                       double fovea_deg, TemporalState& st);
 
-// Computes every enabled metric and returns them by column name: psnr, ssim, fpsnr,
-// rmse_fovea, rmse_periphery, rmse_ecc_<a>_<b>, temporal_error (NaN on the first frame).
-// Region RMSEs are over all channels of the pixels in the region; an empty region is NaN.
+// Scratch that compute_metrics reuses across calls (one per caller thread, e.g. per run cell):
+// the FLIP reference prepared once and reused while the reference pixels and ppd are unchanged
+// (every method of a frame shares it; checked by comparing the pixels, so it is never stale),
+// and the FLIP map of the last call (for the error images).
+struct MetricsScratch {
+  FlipPrepared flip_ref, flip_test;
+  FlipWorkspace flip_workspace;
+  Image flip_ref_pixels;  // the pixels flip_ref was prepared from
+  Image flip_map;
+};
+
+// Computes every enabled metric and returns them by column name: psnr, ssim, fpsnr, flip,
+// rmse_fovea, rmse_periphery, rmse_ecc_<a>_<b>, flip_ecc_<a>_<b>, temporal_error (NaN on the
+// first frame). Region RMSEs are over all channels of the pixels in the region; FLIP bands are
+// the mean FLIP error of the band's pixels; an empty region is NaN. With `scratch`, FLIP reuses
+// its prepared reference and leaves its error map in scratch->flip_map; the numbers are the
+// same with or without it.
 Counters compute_metrics(const MetricsConfig& cfg, const Image& test, const Image& ref,
-                         const Camera& cam, const std::vector<float>& ecc_deg, TemporalState* temporal);
+                         const Camera& cam, const std::vector<float>& ecc_deg, TemporalState* temporal,
+                         MetricsScratch* scratch = nullptr);
 
 }  // namespace fovsim

@@ -6,6 +6,7 @@
 // | fpsnr          | bool     | true                 |                                |
 // | regions        | bool     | true                 | rmse_fovea/periphery + bands   |
 // | temporal       | bool     | true                 | temporal_error                 |
+// | flip           | bool     | true                 | flip (+ flip_ecc_* bands)      |
 // | fovea_deg      | number   | 5                    | (0, 180]                       |
 // | band_edges_deg | number[] | [0,5,10,20,30,60]    | [0, 180], strictly increasing, |
 // |                |          |                      | empty (no bands) or >= 2 edges |
@@ -23,6 +24,7 @@ MetricsConfig MetricsConfig::from_params(Params& p) {
   c.fpsnr = p.boolean("fpsnr", c.fpsnr);
   c.regions = p.boolean("regions", c.regions);
   c.temporal = p.boolean("temporal", c.temporal);
+  c.flip = p.boolean("flip", c.flip);
   c.fovea_deg = p.number("fovea_deg", c.fovea_deg, Range::above(0.0, 180.0));
   c.band_edges_deg = p.numbers("band_edges_deg", c.band_edges_deg, Range::closed(0.0, 180.0));
   if (c.band_edges_deg.size() == 1)
@@ -45,5 +47,9 @@ static std::string short_number(double v) {
 }
 
 std::string band_column(double a, double b) { return "rmse_ecc_" + short_number(a) + "_" + short_number(b); }
+
+std::string flip_band_column(double a, double b) {
+  return "flip_ecc_" + short_number(a) + "_" + short_number(b);
+}
 
 }  // namespace fovsim

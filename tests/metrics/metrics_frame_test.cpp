@@ -70,25 +70,66 @@ TEST(MetricsCompute, ColumnsInOrderAndConsistentWithStandaloneFunctions) {
   for (auto& kv : m.items()) names.push_back(kv.first);
   std::vector<std::string> want{"psnr", "ssim", "fpsnr", "rmse_fovea", "rmse_periphery", "rmse_ecc_0_5",
                                 "rmse_ecc_5_10", "rmse_ecc_10_20", "rmse_ecc_20_30", "rmse_ecc_30_60",
-                                "temporal_error"};
+                                "flip", "flip_ecc_0_5", "flip_ecc_5_10", "flip_ecc_10_20", "flip_ecc_20_30",
+                                "flip_ecc_30_60", "temporal_error"};
   EXPECT_EQ(names, want);
   EXPECT_DOUBLE_EQ(m.get("psnr"), psnr(test, ref));
   EXPECT_DOUBLE_EQ(m.get("ssim"), ssim(test, ref));
   EXPECT_DOUBLE_EQ(m.get("fpsnr"), fpsnr(test, ref, ecc, cam));
+  EXPECT_DOUBLE_EQ(m.get("flip"), flip(ref, test, flip_ppd(cam)));
   EXPECT_TRUE(std::isnan(m.get("temporal_error")));
   EXPECT_FALSE(std::isnan(compute_metrics(cfg, test, ref, cam, ecc, &st).get("temporal_error")));
   EXPECT_TRUE(std::isnan(compute_metrics(cfg, test, ref, cam, ecc, nullptr).get("temporal_error")));
   // Disabled metrics produce no column.
-  cfg.ssim = cfg.fpsnr = cfg.regions = cfg.temporal = false;
+  cfg.ssim = cfg.fpsnr = cfg.regions = cfg.temporal = cfg.flip = false;
   Counters p = compute_metrics(cfg, test, ref, cam, {}, nullptr);
   ASSERT_EQ(p.items().size(), 1u);
   EXPECT_EQ(p.items()[0].first, "psnr");
 }
 
+TEST(MetricsCompute, FlipBandsAreMeansOfTheMapOverTheirPixels) {
+  const int W = 40, H = 24;
+  std::vector<float> ecc = half_ecc(W, H);  // left half 1 deg, right half 30 deg
+  Camera cam = testutil::camera(W, H, 60, 40);
+  Image ref = testutil::pattern(W, H, 3, 51), test = testutil::pattern(W, H, 3, 52, 0.4);
+  MetricsConfig cfg;
+  cfg.ssim = cfg.fpsnr = cfg.temporal = false;
+  MetricsScratch sc;
+  Counters m = compute_metrics(cfg, test, ref, cam, ecc, nullptr, &sc);
+  const Image& map = sc.flip_map;
+  ASSERT_EQ(map.width, W);
+  ASSERT_EQ(map.height, H);
+  double left = 0, right = 0, all = 0;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      (x < W / 2 ? left : right) += map.at(x, y)[0];
+      all += map.at(x, y)[0];
+    }
+  const double half = double(W / 2) * H;
+  EXPECT_NEAR(m.get("flip"), all / (W * H), 1e-6);  // the map is float
+  EXPECT_NEAR(m.get("flip_ecc_0_5"), left / half, 1e-12);
+  EXPECT_NEAR(m.get("flip_ecc_30_60"), right / half, 1e-12);
+  EXPECT_TRUE(std::isnan(m.get("flip_ecc_5_10")));  // empty band
+  EXPECT_GT(m.get("flip_ecc_0_5"), 0.0);
+  // The ppd comes from the camera: a wider FOV on the same pixels is fewer pixels per degree.
+  EXPECT_LT(flip_ppd(testutil::camera(W, H, 90, 60)), flip_ppd(cam));
+  EXPECT_NEAR(flip_ppd(cam), local_ppd(cam, W / 2.0, H / 2.0), 1e-12);
+  // Without regions: the mean only.
+  cfg.regions = false;
+  Counters n = compute_metrics(cfg, test, ref, cam, ecc, nullptr);
+  ASSERT_EQ(n.items().size(), 2u);  // psnr, flip
+  EXPECT_EQ(n.get("flip"), m.get("flip"));
+  // The scratch's prepared reference is reused, and replaced when the reference changes.
+  Image test2 = testutil::pattern(W, H, 3, 53, 0.4), ref2 = testutil::pattern(W, H, 3, 54);
+  EXPECT_EQ(compute_metrics(cfg, test2, ref, cam, ecc, nullptr, &sc).get("flip"), flip(ref, test2, flip_ppd(cam)));
+  EXPECT_EQ(compute_metrics(cfg, test2, ref2, cam, ecc, nullptr, &sc).get("flip"), flip(ref2, test2, flip_ppd(cam)));
+  EXPECT_EQ(compute_metrics(cfg, test, ref, cam, ecc, nullptr, &sc).get("flip"), m.get("flip"));
+}
+
 TEST(MetricsConfigTest, DefaultsAndOverrides) {
   Params empty(Json::object(), "run.json", "metrics");
   MetricsConfig d = MetricsConfig::from_params(empty);
-  EXPECT_TRUE(d.psnr && d.ssim && d.fpsnr && d.regions && d.temporal);
+  EXPECT_TRUE(d.psnr && d.ssim && d.fpsnr && d.regions && d.temporal && d.flip);
   EXPECT_EQ(d.fovea_deg, 5.0);
   EXPECT_EQ(d.band_edges_deg, (std::vector<double>{0, 5, 10, 20, 30, 60}));
   Params p(Json::parse(R"({"ssim": false, "fovea_deg": 2.5, "band_edges_deg": [0, 2.5, 90]})"), "run.json", "metrics");
@@ -120,6 +161,7 @@ TEST(MetricsConfigTest, InvalidValuesNameTheKey) {
   EXPECT_NE(error_of(R"({"band_edges_deg": [0, 200]})").find("band_edges_deg[1]"), std::string::npos);
   EXPECT_NE(error_of(R"({"fovea_deg": 0})").find("metrics.fovea_deg"), std::string::npos);
   EXPECT_NE(error_of(R"({"ssim": "yes"})").find("metrics.ssim"), std::string::npos);
+  EXPECT_NE(error_of(R"({"flip": 1})").find("metrics.flip"), std::string::npos);
   EXPECT_NE(error_of(R"({"psnrr": true})").find("psnrr"), std::string::npos);  // typo caught by finish()
   EXPECT_EQ(error_of(R"({"fovea_deg": 3})"), "");
 }

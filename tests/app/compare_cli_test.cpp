@@ -1,0 +1,99 @@
+// `fovsim compare` as a user runs it: text and JSON output, FLIP sanity values through files,
+// and one-line errors with exit 2.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "sim/core/image.h"
+#include "sim/core/params.h"
+#include "sim/metrics/compare.h"
+#include "sim/metrics/flip.h"
+#include "tests/app/app_util.h"
+
+using namespace fovsim_test;
+
+namespace {
+
+fovsim::Image uniform(int w, int h, float v) {
+  return fovsim::Image(w, h, 3, v);
+}
+
+fovsim::Image pattern(int w, int h, int seed) {
+  fovsim::Image im(w, h, 3);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c)
+        im.at(x, y)[c] = float(0.5 + 0.45 * std::sin(0.7 * x * (c + 1) + 0.3 * y * seed + seed));
+  return im;
+}
+
+int line_count(const std::string& s) {
+  int n = 0;
+  for (char c : s) n += c == '\n';
+  return n;
+}
+
+}  // namespace
+
+TEST(CompareCli, JsonMatchesLibraryAndSpecValues) {
+  std::string dir = temp_dir("compare");
+  fovsim::write_image(dir + "/black.png", uniform(24, 20, 0.f));
+  fovsim::write_image(dir + "/white.png", uniform(24, 20, 1.f));
+  auto r = run_cmd(fovsim_bin() + " compare " + dir + "/black.png " + dir +
+                   "/white.png --ppd 20 --json");
+  ASSERT_EQ(r.code, 0) << r.output;
+  fovsim::Json j = fovsim::Json::parse(r.output);
+  EXPECT_NEAR(j.at("flip").get<double>(), 0.96738, 1e-4);  // FLIP.md §10.3
+  EXPECT_NEAR(j.at("psnr").get<double>(), 0.0, 1e-9);      // MSE 1
+  EXPECT_NEAR(j.at("ppd").get<double>(), 20.0, 0);
+  EXPECT_TRUE(j.contains("ssim"));
+
+  fovsim::write_image(dir + "/a.png", pattern(40, 30, 1));
+  fovsim::write_image(dir + "/b.png", pattern(40, 30, 2));
+  auto r2 = run_cmd(fovsim_bin() + " compare " + dir + "/a.png " + dir + "/b.png --json");
+  ASSERT_EQ(r2.code, 0) << r2.output;
+  fovsim::Json j2 = fovsim::Json::parse(r2.output);
+  fovsim::Image a = fovsim::read_ldr_rgb(dir + "/a.png"), b = fovsim::read_ldr_rgb(dir + "/b.png");
+  EXPECT_EQ(j2.at("flip").get<double>(), fovsim::flip(a, b, fovsim::flip_default_ppd()));
+  EXPECT_NEAR(j2.at("ppd").get<double>(), 67.0206, 1e-4);  // the FLIP tool's default observer
+  EXPECT_GT(j2.at("flip").get<double>(), 0.0);
+  EXPECT_LT(j2.at("ssim").get<double>(), 1.0);
+
+  auto same = run_cmd(fovsim_bin() + " compare " + dir + "/a.png " + dir + "/a.png --json");
+  ASSERT_EQ(same.code, 0) << same.output;
+  fovsim::Json js = fovsim::Json::parse(same.output);
+  EXPECT_EQ(js.at("psnr").get<std::string>(), "inf");
+  EXPECT_EQ(js.at("flip").get<double>(), 0.0);
+  EXPECT_EQ(js.at("ssim").get<double>(), 1.0);
+
+  auto text = run_cmd(fovsim_bin() + " compare " + dir + "/a.png " + dir + "/b.png");
+  ASSERT_EQ(text.code, 0) << text.output;
+  for (const char* k : {"psnr", "ssim", "flip"})
+    EXPECT_NE(text.output.find(k), std::string::npos) << text.output;
+}
+
+TEST(CompareCli, ErrorsAreOneLineAndExit2) {
+  std::string dir = temp_dir("compare_err");
+  fovsim::write_image(dir + "/a.png", uniform(24, 20, 0.2f));
+  fovsim::write_image(dir + "/small.png", uniform(23, 20, 0.2f));
+  auto missing = run_cmd(fovsim_bin() + " compare " + dir + "/a.png " + dir + "/nope.png");
+  EXPECT_EQ(missing.code, 2) << missing.output;
+  EXPECT_EQ(line_count(missing.output), 1) << missing.output;
+  EXPECT_NE(missing.output.find("nope.png: no such file"), std::string::npos) << missing.output;
+
+  auto size = run_cmd(fovsim_bin() + " compare " + dir + "/a.png " + dir + "/small.png");
+  EXPECT_EQ(size.code, 2) << size.output;
+  EXPECT_EQ(line_count(size.output), 1) << size.output;
+  EXPECT_NE(size.output.find("images differ in size"), std::string::npos) << size.output;
+  EXPECT_NE(size.output.find("24x20"), std::string::npos) << size.output;
+  EXPECT_NE(size.output.find("23x20"), std::string::npos) << size.output;
+
+  auto ppd = run_cmd(fovsim_bin() + " compare " + dir + "/a.png " + dir + "/a.png --ppd 0");
+  EXPECT_EQ(ppd.code, 2) << ppd.output;
+  EXPECT_NE(ppd.output.find("--ppd"), std::string::npos) << ppd.output;
+
+  fovsim::write_image(dir + "/tiny.png", uniform(5, 4, 0.3f));
+  auto tiny = run_cmd(fovsim_bin() + " compare " + dir + "/tiny.png " + dir + "/tiny.png --json");
+  ASSERT_EQ(tiny.code, 0) << tiny.output;
+  EXPECT_TRUE(fovsim::Json::parse(tiny.output).at("ssim").is_null());
+}
