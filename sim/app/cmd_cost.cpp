@@ -1,8 +1,10 @@
 // Cost-model commands (issue 7): `fovsim calibrate`, `fovsim predict`, `fovsim budget`,
 // `fovsim validate-cost`. Documented in docs/cost_model.md.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -77,7 +79,7 @@ MethodSpec parse_method(const std::string& s) {
 }
 
 struct Target {  // display + workload + GPUs shared by predict and budget
-  std::string models, display = "htc_vive_pro_eye", workload = "generic";
+  std::string models, display = "htc_vive_pro_eye", workload;  // workload: required without --results
   std::vector<std::string> gpus;
   int width = 0, height = 0, eyes = 0;
   std::vector<std::string> methods;
@@ -87,8 +89,9 @@ void add_target_options(CLI::App* c, Target& t, const std::string& default_metho
   c->add_option("--gpu", t.gpus, "GPU profile name(s) or path(s) (models/gpus/NAME.json); repeat or comma-separate")
       ->required()
       ->delimiter(',');
-  c->add_option("--workload", t.workload, "Workload descriptor name or path (models/workloads/NAME.json)")
-      ->capture_default_str();
+  c->add_option("--workload", t.workload,
+                "Workload descriptor name or path (models/workloads/NAME.json); required: the scene's triangles, "
+                "lights and shading cost decide every method's cost");
   c->add_option("--display", t.display, "Display name or path (models/displays/NAME.json)")->capture_default_str();
   c->add_option("--width", t.width, "Override the per-eye width in pixels")->check(CLI::Range(1, 1 << 20));
   c->add_option("--height", t.height, "Override the per-eye height in pixels")->check(CLI::Range(1, 1 << 20));
@@ -97,6 +100,24 @@ void add_target_options(CLI::App* c, Target& t, const std::string& default_metho
                 "Method and parameters, e.g. full, kfr:sigma=1.8, rmfr:sigma=2.6, twfr:redraw_fraction=0.06, "
                 "fvrs, flc:vpl_budget=1024; repeatable (default: " + default_methods + ")");
   c->add_option("--models", t.models, "Models directory (default: $FOVSIM_MODELS, ./models, or the source tree's)");
+}
+
+// Without a scene the generic workload knows no lights, so every method's shading cost (and
+// KFR's speedup) would be meaningless (issue 14 item 5): a workload must be named.
+Workload target_workload(const Target& t, const std::string& models) {
+  if (t.workload.empty()) {
+    std::string av;
+    std::error_code ec;
+    std::vector<std::string> names;
+    for (auto& e : std::filesystem::directory_iterator(models + "/workloads", ec))
+      if (e.path().extension() == ".json") names.push_back(e.path().stem().string());
+    std::sort(names.begin(), names.end());
+    for (auto& n : names)
+      if (n != "generic") av += (av.empty() ? "" : ", ") + n;
+    throw Error("--workload", "required (the scene's triangles, lights and shading cost decide every estimate; "
+                              "available: " + av + ")");
+  }
+  return Workload::load(t.workload, models);
 }
 
 Display target_display(const Target& t, const std::string& models) {
@@ -174,14 +195,22 @@ int do_calibrate(const CalibrateArgs& a) {
     for (auto& [k, v] : fit.theta) std::cout << "  " << k << " = " << fmt("%.6g", v) << "\n";
   }
   if (a.dry_run) return 0;
+  // Prediction interval from the leave-out experiments of this model (docs/cost_model.md).
+  const PredictionInterval iv = interval_from_rows(validate_cost(data, fit, opt).rows, 0.8);
   for (auto& [gpu, se] : data.specs) {
     GpuProfile g = profile_from_fit(fit, gpu, data);
     nlohmann::ordered_json j;
     j["name"] = gpu;
     j["description"] = se.description;
     j["calibrated"] = by_gpu.count(gpu) > 0;
+    j["model"] = model_name(fit.model);
+    if (iv.level > 0)
+      j["interval"] = {{"level", iv.level}, {"lo_factor", iv.lo_factor}, {"hi_factor", iv.hi_factor}, {"n", iv.n},
+                       {"method", "empirical 10%/90% quantiles of published/model over the held-out per-pass rows of "
+                                  "fovsim validate-cost's leave-one-seed/GPU/scene-out refits, applied to the total"}};
     j["spec"] = {{"fp32_gflops", se.spec.fp32_gflops}, {"mem_gbps", se.spec.mem_gbps}, {"fill_gpix", se.spec.fill_gpix},
-                 {"tri_gtris", se.spec.tri_gtris},     {"boost_mhz", se.spec.boost_mhz}, {"source", se.spec.source}};
+                 {"tri_gtris", se.spec.tri_gtris},     {"boost_mhz", se.spec.boost_mhz}, {"l2_mb", se.spec.l2_mb},
+                 {"source", se.spec.source}};
     nlohmann::ordered_json ps = nlohmann::ordered_json::object();
     for (auto& pass : known_passes()) {
       auto& pc = g.passes.at(pass);
@@ -214,7 +243,8 @@ int do_calibrate(const CalibrateArgs& a) {
     const Workload& w = fit.workloads.at(wl);
     std::string p = fitted_param(w);
     j[p] = p == "vpl_flops" ? w.vpl_flops : w.shading_flops;
-    j["fitted_by"] = "fovsim calibrate: " + p;
+    j["tri_cost"] = w.tri_cost;
+    j["fitted_by"] = "fovsim calibrate: " + p + ", tri_cost";
     write_file_atomic(file, j.dump(2) + "\n");
     if (!a.quiet) std::cout << "wrote " << file << " (" << p << ")\n";
   }
@@ -409,7 +439,7 @@ int do_predict_results(const PredictArgs& a) {
 int do_predict(const PredictArgs& a) {
   if (!a.results.empty()) return do_predict_results(a);
   const std::string models = models_or_default(a.t.models);
-  Workload w = Workload::load(a.t.workload, models);
+  Workload w = target_workload(a.t, models);
   Display d = target_display(a.t, models);
   std::vector<MethodSpec> methods;
   for (auto& m : a.t.methods.empty() ? std::vector<std::string>{"full"} : a.t.methods) methods.push_back(parse_method(m));
@@ -418,6 +448,7 @@ int do_predict(const PredictArgs& a) {
   std::vector<std::string> header = {"gpu", "method"};
   for (auto& p : known_passes()) header.push_back(p);
   header.push_back("total_ms");
+  header.push_back("interval_ms");
   header.push_back("speedup");
   rows.push_back(header);
   for (auto& gname : a.t.gpus) {
@@ -433,6 +464,12 @@ int do_predict(const PredictArgs& a) {
       j["workload"] = w.name;
       j["display"] = {{"name", d.name}, {"width", d.width}, {"height", d.height}, {"eyes", d.eyes}};
       j["est_ms_total"] = fc.total_ms;
+      if (fc.interval_level > 0) {
+        j["est_ms_total_lo"] = fc.total_lo_ms;
+        j["est_ms_total_hi"] = fc.total_hi_ms;
+        j["interval_level"] = fc.interval_level;
+      }
+      j["model"] = model_name(g.model);
       for (auto& p : fc.passes) j["est_ms_" + p.pass] = p.ms;
       j["speedup_vs_full"] = fc.total_ms > 0 ? full_total / fc.total_ms : 0.0;
       if (!fc.missing_counters.empty()) j["missing_counters"] = fc.missing_counters;
@@ -444,6 +481,7 @@ int do_predict(const PredictArgs& a) {
         r.push_back(exists ? fmt("%.3f", fc.pass_ms(p)) : "-");
       }
       r.push_back(fmt("%.3f", fc.total_ms));
+      r.push_back(fc.interval_level > 0 ? fmt("%.2f-", fc.total_lo_ms) + fmt("%.2f", fc.total_hi_ms) : "-");
       r.push_back(fmt("%.2fx", fc.total_ms > 0 ? full_total / fc.total_ms : 0.0));
       rows.push_back(r);
     }
@@ -452,7 +490,8 @@ int do_predict(const PredictArgs& a) {
     std::cout << out.dump(2) << "\n";
   } else {
     std::cout << "workload " << w.name << ", display " << d.name << " " << d.width << "x" << d.height << " x"
-              << d.eyes << " eye(s); ms per frame ('-': pass does not exist)\n";
+              << d.eyes << " eye(s); ms per frame ('-': pass does not exist); interval_ms: the profile's "
+              << "prediction interval on the total (docs/cost_model.md)\n";
     print_table(rows);
   }
   return 0;
@@ -468,13 +507,13 @@ struct BudgetArgs {
 
 int do_budget(const BudgetArgs& a) {
   const std::string models = models_or_default(a.t.models);
-  Workload w = Workload::load(a.t.workload, models);
+  Workload w = target_workload(a.t, models);
   Display d = target_display(a.t, models);
   const double budget = a.budget_ms > 0 ? a.budget_ms : 1000.0 / a.hz;
   std::vector<std::string> mlist = a.t.methods;
   if (mlist.empty()) mlist = {"full", "kfr:sigma=1.8", "rmfr:sigma=2.6", "hyperbolic:sigma=2.6", "linear:sigma=2.6", "fvrs", "twfr"};
   const char* res_names[] = {"shading", "geometry", "raster", "memory", "fixed"};
-  std::vector<std::vector<std::string>> rows = {{"gpu", "method", "total_ms", "budget_ms", "fits", "headroom_ms", "headroom",
+  std::vector<std::vector<std::string>> rows = {{"gpu", "method", "total_ms", "interval_ms", "budget_ms", "fits", "headroom_ms", "headroom",
                                                  "x_shading", "x_geometry", "x_raster", "x_memory", "x_fixed", "x_all"}};
   nlohmann::ordered_json out = nlohmann::ordered_json::array();
   for (auto& gname : a.t.gpus) {
@@ -488,10 +527,18 @@ int do_budget(const BudgetArgs& a) {
       MethodSpec m = parse_method(ms);
       FrameCost fc = cost_for(g, m, w, d);
       const double T = fc.total_ms;
-      std::vector<std::string> r = {g.name, m.text, fmt("%.3f", T), fmt("%.2f", budget), T <= budget ? "yes" : "no",
-                                    fmt("%+.3f", budget - T), fmt("%+.0f%%", budget > 0 ? 100 * (budget - T) / budget : 0)};
+      const bool iv = fc.interval_level > 0;
+      // At the interval's confidence: fits when even its upper end fits, does not fit when even
+      // its lower end does not, uncertain in between. Without an interval: the point estimate.
+      const char* verdict = iv ? (fc.total_hi_ms <= budget ? "fits" : fc.total_lo_ms > budget ? "does not fit" : "uncertain")
+                               : (T <= budget ? "fits" : "does not fit");
+      std::vector<std::string> r = {g.name, m.text, fmt("%.3f", T),
+                                    iv ? fmt("%.2f-", fc.total_lo_ms) + fmt("%.2f", fc.total_hi_ms) : "-",
+                                    fmt("%.2f", budget), verdict, fmt("%+.3f", budget - T),
+                                    fmt("%+.0f%%", budget > 0 ? 100 * (budget - T) / budget : 0)};
       nlohmann::ordered_json j = {{"gpu", g.name}, {"method", m.text}, {"est_ms_total", T}, {"budget_ms", budget},
-                                  {"fits", T <= budget}, {"headroom_ms", budget - T}};
+                                  {"fits", T <= budget}, {"verdict", verdict}, {"headroom_ms", budget - T}};
+      if (iv) j["est_ms_total_lo"] = fc.total_lo_ms, j["est_ms_total_hi"] = fc.total_hi_ms, j["interval_level"] = fc.interval_level;
       // Factor a resource's throughput needs (alone) so the frame fits: part / (budget - rest).
       for (const char* rn : res_names) {
         double part = fc.resource_ms.count(rn) ? fc.resource_ms.at(rn) : 0;
@@ -515,7 +562,8 @@ int do_budget(const BudgetArgs& a) {
               << d.height << " x" << d.eyes << " eye(s); what-if throughput x shading " << a.s_shading << ", geometry "
               << a.s_geometry << ", raster " << a.s_raster << ", memory " << a.s_memory << ", fixed " << a.s_fixed << "\n"
               << "x_<resource>: throughput factor that resource alone needs to fit (<1: slack; inf: cannot fit alone); "
-                 "x_all: uniform factor on everything but fixed overheads\n";
+                 "x_all: uniform factor on everything but fixed overheads; fits: at the interval's confidence "
+                 "(uncertain: the interval straddles the budget)\n";
     print_table(rows);
   }
   return 0;
@@ -530,9 +578,22 @@ struct ValidateArgs {
 int do_validate(const ValidateArgs& a) {
   const std::string models = models_or_default(a.models);
   CalData data = load_calibration(models);
-  FitOptions opt;
+  FitOptions opt;  // the default model (roofline) is the detailed report below
   CostFit fit = fit_cost_model(data, opt);
   ValidationReport rep = validate_cost(data, fit, opt);
+  std::vector<ModelSummary> sums;
+  for (CostModelKind k : {CostModelKind::Roofline, CostModelKind::Linear}) {
+    FitOptions o = opt;
+    o.model = k;
+    if (k == opt.model) {
+      sums.push_back(summarize_model(rep, k, 0.8));
+    } else {
+      CostFit f = fit_cost_model(data, o);
+      sums.push_back(summarize_model(validate_cost(data, f, o), k, 0.8));
+    }
+  }
+  std::sort(sums.begin(), sums.end(),
+            [](const ModelSummary& x, const ModelSummary& y) { return x.leaveout_mean < y.leaveout_mean; });
   std::ostringstream txt, csv;
   csv << "experiment,id,table,gpu,workload,config,row,kind,published_ms,model_ms,rel_err\n";
   for (auto& r : rep.rows)
@@ -540,6 +601,19 @@ int do_validate(const ValidateArgs& a) {
         << r.config << ",\"" << r.row << "\"," << r.kind << ',' << r.published_ms << ',' << r.model_ms << ','
         << (r.published_ms > 0 ? std::to_string(r.rel_err()) : "") << "\n";
   txt << "fovsim validate-cost: predicted vs. published per-pass times (ms)\n\n";
+  txt << "== models ranked by held-out (leave-one-seed = leave-one-GPU, leave-one-scene) mean |rel err|\n"
+      << "   (no calibration table gives several resolutions: no leave-one-resolution-out experiment)\n";
+  txt << pad("model", 10) << pad("fitted mean/worst", 20) << pad("held-out mean/worst", 22)
+      << pad("80% interval (x model)", 24) << "nested coverage\n";
+  for (auto& m : sums)
+    txt << pad(model_name(m.model), 10)
+        << pad(fmt("%.1f%%", 100 * m.fitted_mean) + fmt(" / %.1f%%", 100 * m.fitted_worst), 20)
+        << pad(fmt("%.1f%%", 100 * m.leaveout_mean) + fmt(" / %.1f%%", 100 * m.leaveout_worst) +
+                   " (" + std::to_string(m.leaveout_n) + ")", 22)
+        << pad(fmt("[%.2f, ", m.interval.lo_factor) + fmt("%.2f]", m.interval.hi_factor), 24)
+        << fmt("%.0f%%", 100 * m.coverage) << " of " << m.coverage_n << "\n";
+  txt << "nested coverage: each target table's held-out rows against the interval built from the other tables'\n\n";
+  txt << "detailed report below: model " << model_name(opt.model) << "\n\n";
   txt << "== calibration entries (all tables fitted together; 'check' rows are totals, not fitted)\n";
   double se[2] = {0, 0};
   int ne[2] = {0, 0};

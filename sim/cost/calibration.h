@@ -50,6 +50,7 @@ struct FitOptions {
   std::set<std::string> tables;   // tables used for the fit (empty: all)
   double ridge = 1e-4;            // on standardised term columns
   double ridge_overhead = 3e-3;   // on standardised overheads: per-unit terms explain first
+  CostModelKind model = CostModelKind::Roofline;  // how a pass combines its resources
 };
 
 struct CostFit {
@@ -58,7 +59,13 @@ struct CostFit {
   std::set<std::string> fitted_workloads;
   std::set<std::string> seen_passes;          // passes that had data
   int rows = 0;
+  CostModelKind model = CostModelKind::Linear;
+  int iterations = 0;  // roofline: active-set refits until the bottlenecks stop changing
 };
+
+// Roofline floor of theta (work per counter unit at 100% efficiency): 1 for terms counted in
+// their resource's own unit (triangles, fragments, texels, bytes), 0 for the others.
+double theta_floor(const std::string& pass, const std::string& term);
 
 CostFit fit_cost_model(const CalData& data, const FitOptions& opt);
 // The workload's fitted parameter: "vpl_flops" for FLC workloads, else "shading_flops".

@@ -21,6 +21,8 @@ struct PassCost {
 struct FrameCost {
   std::vector<PassCost> passes;
   double total_ms = 0;
+  // Prediction interval on total_ms (issue 14; interval_level 0: the profile has none).
+  double interval_level = 0, total_lo_ms = 0, total_hi_ms = 0;
   // Counters the passes read that the method did not fill (charged as 0, DESIGN §6 note).
   std::vector<std::string> missing_counters;
   // Time per resource class (geometry, raster, shading, memory, fixed = overheads); sums to total.

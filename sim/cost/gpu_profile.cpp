@@ -11,6 +11,8 @@
 
 namespace fovsim {
 
+const char* model_name(CostModelKind k) { return k == CostModelKind::Roofline ? "roofline" : "linear"; }
+
 const char* resource_name(Resource r) {
   switch (r) {
     case Resource::Geometry: return "geometry";
@@ -26,6 +28,11 @@ Resource resource_from_name(const std::string& s, const std::string& where) {
   for (Resource r : {Resource::Geometry, Resource::Raster, Resource::Shading, Resource::Memory, Resource::Fixed})
     if (s == resource_name(r)) return r;
   throw Error(where, "unknown resource '" + s + "' (known: geometry, raster, shading, memory, fixed)");
+}
+
+double l2_miss_fraction(const GpuSpec& s, double working_set_bytes) {
+  if (!(s.l2_mb > 0) || !(working_set_bytes > 0)) return 1.0;
+  return std::max(0.0, 1.0 - s.l2_mb * 1024.0 * 1024.0 / working_set_bytes);
 }
 
 double GpuSpec::rate_per_ms(Resource r) const {
@@ -71,6 +78,19 @@ GpuProfile GpuProfile::from_json(const Json& j, const std::string& file) {
   g.name = p.string("name");
   g.description = p.string("description", "");
   g.calibrated = p.boolean("calibrated", false);
+  g.model = p.string("model", "linear", {"linear", "roofline"}) == "roofline" ? CostModelKind::Roofline
+                                                                             : CostModelKind::Linear;
+  if (p.has("interval")) {
+    Params iv = p.child("interval");
+    g.interval.level = iv.number("level", Range::above(0, 1));
+    g.interval.lo_factor = iv.number("lo_factor", Range::above(0));
+    g.interval.hi_factor = iv.number("hi_factor", Range::above(0));
+    g.interval.n = iv.integer("n", 0, Range::at_least(0));
+    iv.ignore("method");
+    if (g.interval.lo_factor > g.interval.hi_factor)
+      iv.fail("hi_factor", "must be >= lo_factor (" + std::to_string(g.interval.lo_factor) + ")");
+    iv.finish();
+  }
   {
     Params s = p.child("spec");
     auto pos = Range::above(0);
@@ -79,6 +99,7 @@ GpuProfile GpuProfile::from_json(const Json& j, const std::string& file) {
     g.spec.fill_gpix = s.number("fill_gpix", pos);
     g.spec.tri_gtris = s.number("tri_gtris", pos);
     g.spec.boost_mhz = s.number("boost_mhz", 0, Range::at_least(0));
+    g.spec.l2_mb = s.number("l2_mb", 0, Range::at_least(0));
     g.spec.source = s.string("source", "");
   }
   if (!p.has("passes")) p.fail("passes", "missing required key (per-pass coefficients)");
@@ -127,9 +148,14 @@ Json GpuProfile::to_json() const {
   j["name"] = name;
   j["description"] = description;
   j["calibrated"] = calibrated;
+  j["model"] = model_name(model);
+  if (interval.level > 0)
+    j["interval"] = {{"level", interval.level}, {"lo_factor", interval.lo_factor},
+                     {"hi_factor", interval.hi_factor}, {"n", interval.n}};
   j["spec"] = {{"fp32_gflops", spec.fp32_gflops}, {"mem_gbps", spec.mem_gbps},
                {"fill_gpix", spec.fill_gpix},     {"tri_gtris", spec.tri_gtris},
-               {"boost_mhz", spec.boost_mhz},     {"source", spec.source}};
+               {"boost_mhz", spec.boost_mhz},     {"l2_mb", spec.l2_mb},
+               {"source", spec.source}};
   Json ps = Json::object();
   for (auto& [pass, pc] : passes) {
     Json t = Json::object();

@@ -1,5 +1,6 @@
 // Pass lists and term values (DESIGN §6). Terms and their units:
-//   tris           triangles submitted to a raster pass (not scaled by pixel_scale)
+//   tris           triangles submitted to a raster pass (not scaled by pixel_scale); in the
+//                  G-buffer pass times workload.tri_cost (the scene's relative triangle cost)
 //   frags          rasterised fragments = pixels * overdraw
 //   gbuffer_bytes  bytes written to the G-buffer = pixels * workload.gbuffer_bytes
 //   shadow_tris    triangles * shadowed lights (one shadow map per light, shared by both eyes)
@@ -90,6 +91,13 @@ Resource term_resource(const std::string& pass, const std::string& term, const s
   throw Error(where, "unknown term '" + term + "' of pass '" + pass + "' (known: " + known + ")");
 }
 
+double working_set_factor(const std::string& pass, const std::string& term, const GpuSpec& spec,
+                          const Display& display) {
+  if (pass != "reproject" || term != "pixels") return 1.0;
+  const double px = double(std::max(0, display.width)) * double(std::max(0, display.height));
+  return l2_miss_fraction(spec, px * kReprojectBytesPerPixel);
+}
+
 std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
                                       std::vector<std::string>* missing) {
   const std::string& m = in.method;
@@ -159,7 +167,7 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
   // G-buffer (deferred) or forward geometry pass (fVRS); TWFR discards confident pixels.
   {
     double written = twfr ? need_px("pixels_redrawn", S) : P;
-    add("gbuffer", {{"tris", Resource::Geometry, Tsub * eyes},
+    add("gbuffer", {{"tris", Resource::Geometry, Tsub * w.tri_cost * eyes},
                     {"frags", Resource::Raster, P * w.overdraw * eyes},
                     {"gbuffer_bytes", Resource::Memory, written * w.gbuffer_bytes * eyes}});
   }

@@ -1,5 +1,6 @@
 #include "sim/cost/validate.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
@@ -136,7 +137,8 @@ ValidationReport validate_cost(const CalData& data, const CostFit& fit, const Fi
       bool any_baseline = false;
       for (auto& e : target->entries) any_baseline |= e.workload == wl && e.baseline;
       for (auto& e : target->entries)
-        if (e.workload == wl && e.fit && e.passes.size() == 1 && e.passes[0] == "lighting" &&
+        if (e.workload == wl && e.fit && e.passes.size() == 1 &&
+            (e.passes[0] == "lighting" || (e.passes[0] == "gbuffer" && e.baseline)) &&
             (e.baseline || !any_baseline))
           rows.push_back(&e), refit_ids.insert(e.id);
       refit_workload(f, data, wl, rows);
@@ -176,6 +178,69 @@ ValidationReport validate_cost(const CalData& data, const CostFit& fit, const Fi
     rep.cross.push_back(cp);
   }
   return rep;
+}
+
+namespace {
+
+bool held_out(const ValidationRow& r) {
+  return r.experiment.rfind("cross:", 0) == 0 && r.kind == "predicted" && r.published_ms > 0 && r.model_ms > 0;
+}
+
+double quantile(std::vector<double> v, double q) {
+  std::sort(v.begin(), v.end());
+  if (v.empty()) return 1.0;
+  double pos = q * double(v.size() - 1);
+  size_t i = size_t(std::floor(pos));
+  if (i + 1 >= v.size()) return v.back();
+  return v[i] + (pos - double(i)) * (v[i + 1] - v[i]);
+}
+
+}  // namespace
+
+PredictionInterval interval_from_rows(const std::vector<ValidationRow>& rows, double level,
+                                      const std::string& exclude_table) {
+  std::vector<double> q;
+  for (auto& r : rows)
+    if (held_out(r) && r.table != exclude_table) q.push_back(r.published_ms / r.model_ms);
+  PredictionInterval iv;
+  if (q.empty()) return iv;
+  iv.level = level;
+  iv.n = int(q.size());
+  iv.lo_factor = std::min(1.0, quantile(q, (1 - level) / 2));
+  iv.hi_factor = std::max(1.0, quantile(q, (1 + level) / 2));
+  return iv;
+}
+
+ModelSummary summarize_model(const ValidationReport& rep, CostModelKind model, double level) {
+  ModelSummary s;
+  s.model = model;
+  double sf = 0, sl = 0;
+  std::set<std::string> tables;
+  for (auto& r : rep.rows) {
+    double e = std::fabs(r.rel_err());
+    if (r.experiment == "calibration" && r.kind == "fitted" && r.published_ms > 0) {
+      sf += e, ++s.fitted_n, s.fitted_worst = std::max(s.fitted_worst, e);
+    } else if (held_out(r)) {
+      sl += e, ++s.leaveout_n, s.leaveout_worst = std::max(s.leaveout_worst, e);
+      tables.insert(r.table);
+    }
+  }
+  s.fitted_mean = s.fitted_n ? sf / s.fitted_n : 0;
+  s.leaveout_mean = s.leaveout_n ? sl / s.leaveout_n : 0;
+  s.interval = interval_from_rows(rep.rows, level);
+  int in = 0;
+  for (auto& t : tables) {
+    PredictionInterval iv = interval_from_rows(rep.rows, level, t);
+    if (iv.level <= 0) continue;
+    for (auto& r : rep.rows)
+      if (held_out(r) && r.table == t) {
+        double q = r.published_ms / r.model_ms;
+        in += q >= iv.lo_factor && q <= iv.hi_factor;
+        ++s.coverage_n;
+      }
+  }
+  s.coverage = s.coverage_n ? double(in) / s.coverage_n : 0;
+  return s;
 }
 
 }  // namespace fovsim

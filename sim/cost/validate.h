@@ -32,6 +32,28 @@ struct ValidationReport {
   std::vector<CrossPrediction> cross;
 };
 
+// Transfer summary of one model (issue 14): fitted and held-out relative errors, the
+// prediction interval from the held-out rows, and its nested empirical coverage.
+struct ModelSummary {
+  CostModelKind model = CostModelKind::Linear;
+  double fitted_mean = 0, fitted_worst = 0;  // |rel err| over the fitted rows (full fit)
+  int fitted_n = 0;
+  double leaveout_mean = 0, leaveout_worst = 0;  // |rel err| over held-out ("predicted") rows
+  int leaveout_n = 0;
+  PredictionInterval interval;  // from every held-out row
+  // Coverage of the interval on each target table's held-out rows when the interval is built
+  // from the other tables' held-out rows only (so no row judges an interval it helped build).
+  double coverage = 0;
+  int coverage_n = 0;
+};
+
+// Interval factors [q_lo, q_hi] of published/model over held-out rows: the empirical
+// (1-level)/2 and (1+level)/2 quantiles (linear interpolation). `exclude_table`: rows of that
+// table are not used.
+PredictionInterval interval_from_rows(const std::vector<ValidationRow>& rows, double level,
+                                      const std::string& exclude_table = "");
+ModelSummary summarize_model(const ValidationReport& rep, CostModelKind model, double level);
+
 // Uses `fit` (normally fit_cost_model over all tables) for the calibration rows and withheld
 // predictions; refits for every cross-prediction experiment.
 ValidationReport validate_cost(const CalData& data, const CostFit& fit, const FitOptions& opt);

@@ -23,6 +23,7 @@ Workload Workload::from_params(Params& p) {
   w.gbuffer_bytes = p.number("gbuffer_bytes", w.gbuffer_bytes, nonneg);
   w.shadow_map_res = p.number("shadow_map_res", w.shadow_map_res, nonneg);
   w.shading_flops = p.number("shading_flops", w.shading_flops, nonneg);
+  w.tri_cost = p.number("tri_cost", w.tri_cost, Range::closed(0, 1e6));
   w.vpl_flops = p.number("vpl_flops", w.vpl_flops, any);
   w.rsm_res = p.number("rsm_res", w.rsm_res, nonneg);
   w.importance_samples = p.number("importance_samples", w.importance_samples, nonneg);
@@ -65,6 +66,7 @@ Json Workload::to_json() const {
           {"gbuffer_bytes", gbuffer_bytes},
           {"shadow_map_res", shadow_map_res},
           {"shading_flops", shading_flops},
+          {"tri_cost", tri_cost},
           {"vpl_flops", vpl_flops},
           {"rsm_res", rsm_res},
           {"importance_samples", importance_samples},

@@ -34,6 +34,10 @@ struct Workload {
   // Effective FP32 operations per shaded sample and light at the GPU's peak rate (fitted by
   // `fovsim calibrate` for the seeds' scenes). The default is the mean of the fitted scenes.
   double shading_flops = 3000;
+  // Cost of a submitted triangle in the G-buffer pass relative to the mean of the calibrated
+  // scenes (vertex shading, attributes, materials differ per scene; issue 14). Fitted by
+  // `fovsim calibrate` for the seeds' scenes from their Render rows; 1 = the mean.
+  double tri_cost = 1.0;
   // FLC (seed 001 §6): per-VPL shading cost, RSM size, importance samples, VPL budget.
   double vpl_flops = -1;  // <0: shading_flops
   double rsm_res = 64;

@@ -233,3 +233,39 @@ TEST(CostModel, WhatIfScalingDividesOneResource) {
   EXPECT_NEAR(b.resource_ms["geometry"], a.resource_ms["geometry"], 1e-12);
   EXPECT_THROW(g.scaled(Resource::Memory, 0.0), Error);
 }
+
+// Roofline (issue 14): a pass costs its overhead plus the slowest resource's time; terms of
+// the same resource add. Linear: everything adds.
+TEST(CostModel, RooflineTakesTheBottleneckResource) {
+  Json j = Json::parse(R"({"name": "toy", "model": "roofline",
+    "spec": {"fp32_gflops": 1, "mem_gbps": 1, "fill_gpix": 1, "tri_gtris": 1},
+    "passes": {"gbuffer": {"overhead_ms": 0.5, "terms": {"tris": 1e-6, "frags": 1e-7, "gbuffer_bytes": 1e-8}}},
+    "interval": {"level": 0.8, "lo_factor": 0.9, "hi_factor": 1.3, "n": 10}})");
+  GpuProfile roof = GpuProfile::from_json(j, "toy.json");
+  j["model"] = "linear";
+  GpuProfile lin = GpuProfile::from_json(j, "toy.json");
+  Counters c;
+  CostInputs in = base_inputs("full", &c);
+  Workload w;
+  w.triangles = 1e6, w.lights = 0, w.shadowed_lights = 0, w.overdraw = 1, w.gbuffer_bytes = 16;
+  w.pipeline.depth_prepass = false, w.pipeline.tonemap = false;
+  in.workload = &w;
+  in.display.eyes = 1;
+  const double P = 1440.0 * 1600.0;
+  const double geo = 1e6 * 1e-6, ras = P * 1e-7, mem = P * 16 * 1e-8;
+  FrameCost r = estimate_frame(roof, in), l = estimate_frame(lin, in);
+  EXPECT_NEAR(r.pass_ms("gbuffer"), 0.5 + std::max({geo, ras, mem}), 1e-9);
+  EXPECT_NEAR(l.pass_ms("gbuffer"), 0.5 + geo + ras + mem, 1e-9);
+  EXPECT_NEAR(r.total_lo_ms, 0.9 * r.total_ms, 1e-12);
+  EXPECT_NEAR(r.total_hi_ms, 1.3 * r.total_ms, 1e-12);
+  j["model"] = "max";
+  try {
+    GpuProfile::from_json(j, "toy.json");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("model"), std::string::npos) << e.what();
+  }
+  j["model"] = "roofline";
+  j["interval"]["hi_factor"] = 0.5;
+  EXPECT_THROW(GpuProfile::from_json(j, "toy.json"), Error);
+}
