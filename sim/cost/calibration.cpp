@@ -31,11 +31,15 @@ Workload apply_overrides(const Workload& w, const Json& ov, const std::string& w
   return r;
 }
 
-bool is_baseline_method(const std::string& m) { return m == "full"; }
+bool is_baseline_method(const std::string& m) {
+  return m == "full";
+}
 
 }  // namespace
 
-std::string fitted_param(const Workload& w) { return w.vpl_flops >= 0 ? "vpl_flops" : "shading_flops"; }
+std::string fitted_param(const Workload& w) {
+  return w.vpl_flops >= 0 ? "vpl_flops" : "shading_flops";
+}
 
 CalData load_calibration(const std::string& models_dir) {
   CalData d;
@@ -63,7 +67,8 @@ CalData load_calibration(const std::string& models_dir) {
   }
   std::vector<std::string> files;
   for (auto& e : std::filesystem::directory_iterator(models_dir + "/calibration"))
-    if (e.path().extension() == ".json" && e.path().filename() != "gpu_specs.json") files.push_back(e.path().string());
+    if (e.path().extension() == ".json" && e.path().filename() != "gpu_specs.json")
+      files.push_back(e.path().string());
   std::sort(files.begin(), files.end());
   for (auto& f : files) {
     Params p = Params::from_file(f);
@@ -107,7 +112,8 @@ CalData load_calibration(const std::string& models_dir) {
       if (cj.contains("workload_overrides")) ce.workload_overrides = cj.at("workload_overrides");
       ce.baseline = is_baseline_method(ce.method);
       ce.workload = e.string("workload", wls.empty() ? "" : wls.front());
-      if (!d.workloads.count(ce.workload)) e.fail("workload", "unknown workload '" + ce.workload + "'");
+      if (!d.workloads.count(ce.workload))
+        e.fail("workload", "unknown workload '" + ce.workload + "'");
       const Json& ps = e.raw("passes");
       if (ps.is_array()) {
         for (auto& v : ps) {
@@ -173,8 +179,9 @@ GpuProfile profile_from_fit(const CostFit& fit, const std::string& gpu, const Ca
     auto oh = fit.theta.find(pass + ".overhead_ms");
     pc.overhead_ms = oh == fit.theta.end() ? 0 : oh->second;
     // Every term the model knows for this pass (term_resource validates the pair).
-    for (const char* term : {"tris", "frags", "gbuffer_bytes", "shadow_tris", "shadow_texels", "texels", "pixels",
-                             "holes", "samples", "evals", "vpls", "shade_flops", "vpl_flops", "taps"}) {
+    for (const char* term :
+         {"tris", "frags", "gbuffer_bytes", "shadow_tris", "shadow_texels", "texels", "pixels",
+          "holes", "samples", "evals", "vpls", "shade_flops", "vpl_flops", "taps"}) {
       Resource r;
       try {
         r = term_resource(pass, term, "");
@@ -217,8 +224,10 @@ Row design_row(const CostFit& fit, const CalData& data, const CalEntry& e) {
   if (fitted_wl) (fp == "vpl_flops" ? wu.vpl_flops : wu.shading_flops) = 1.0;
   if (fitted_wl) wu.tri_cost = 1.0;  // its G-buffer triangle work is the column "geo:<workload>"
   auto col = [&](const std::string& pass, const std::string& term) {
-    return fitted_wl && pass == "gbuffer" && term == "tris" ? "geo:" + e.workload : pass + "." + term;
-  };  const GpuSpec& spec = data.specs.at(e.gpu).spec;
+    return fitted_wl && pass == "gbuffer" && term == "tris" ? "geo:" + e.workload
+                                                            : pass + "." + term;
+  };
+  const GpuSpec& spec = data.specs.at(e.gpu).spec;
   Counters c = analytic_counters(e.method, e.params, w, e.display, e.id);
   CostInputs in;
   in.method = e.method;
@@ -228,7 +237,8 @@ Row design_row(const CostFit& fit, const CalData& data, const CalEntry& e) {
   Row r;
   r.y = e.published_ms;
   for (const PassWork& pw : assemble_passes(in, wu)) {
-    if (!e.passes.empty() && std::find(e.passes.begin(), e.passes.end(), pw.pass) == e.passes.end()) continue;
+    if (!e.passes.empty() && std::find(e.passes.begin(), e.passes.end(), pw.pass) == e.passes.end())
+      continue;
     r.x[pw.pass + ".overhead_ms"] += 1.0;
     // Roofline: only the bottleneck resource's terms (with the current theta) enter the row.
     bool use_all = fit.model != CostModelKind::Roofline || pw.pass == "lighting";
@@ -243,7 +253,8 @@ Row design_row(const CostFit& fit, const CalData& data, const CalEntry& e) {
           th0 = m == fit.theta.end() ? 0.0 : m->second * w.tri_cost;
         }
         double th = std::max(theta_floor(pw.pass, t.name), th0);
-        t_res[t.res] += th * t.value * working_set_factor(pw.pass, t.name, spec, e.display) / spec.rate_per_ms(t.res);
+        t_res[t.res] += th * t.value * working_set_factor(pw.pass, t.name, spec, e.display) /
+                        spec.rate_per_ms(t.res);
       }
       double worst = -1;
       for (auto& [res, v] : t_res)
@@ -252,7 +263,8 @@ Row design_row(const CostFit& fit, const CalData& data, const CalEntry& e) {
     for (const Term& t : pw.terms) {
       if (!use_all && t.res != active) continue;
       double v = t.value / spec.rate_per_ms(t.res);
-      if (fit.model == CostModelKind::Roofline) v *= working_set_factor(pw.pass, t.name, spec, e.display);
+      if (fit.model == CostModelKind::Roofline)
+        v *= working_set_factor(pw.pass, t.name, spec, e.display);
       if (pw.pass == "lighting") {
         std::string fterm = fp == "vpl_flops" ? "vpl_flops" : "shade_flops";
         if (t.name == fterm && fitted_wl)
@@ -261,7 +273,8 @@ Row design_row(const CostFit& fit, const CalData& data, const CalEntry& e) {
           r.fixed += v;  // coefficient 1: cost already in work units
       } else {
         r.x[col(pw.pass, t.name)] += v;
-        r.floor[col(pw.pass, t.name)] = fit.model == CostModelKind::Roofline ? theta_floor(pw.pass, t.name) : 0;
+        r.floor[col(pw.pass, t.name)] =
+            fit.model == CostModelKind::Roofline ? theta_floor(pw.pass, t.name) : 0;
       }
     }
   }
@@ -326,8 +339,8 @@ void finish_tri_costs(CostFit& fit) {
 }
 
 // `design` chooses the bottlenecks (its theta); the solution is written to `fit`.
-void solve_once(CostFit& fit, const CostFit& design, const CalData& data, const std::vector<const CalEntry*>& used,
-                const FitOptions& opt) {
+void solve_once(CostFit& fit, const CostFit& design, const CalData& data,
+                const std::vector<const CalEntry*>& used, const FitOptions& opt) {
   std::vector<Row> rows;
   std::set<std::string> colset;
   for (auto* e : used) {
@@ -338,7 +351,9 @@ void solve_once(CostFit& fit, const CostFit& design, const CalData& data, const 
   std::vector<std::string> cols(colset.begin(), colset.end());
   std::map<std::string, double> ridge;
   for (auto& c : cols)
-    ridge[c] = c.find(".overhead_ms") != std::string::npos ? opt.ridge_overhead : (c.rfind("wl:", 0) == 0 ? 0.0 : opt.ridge);
+    ridge[c] = c.find(".overhead_ms") != std::string::npos
+                   ? opt.ridge_overhead
+                   : (c.rfind("wl:", 0) == 0 ? 0.0 : opt.ridge);
   std::vector<double> th = solve(rows, cols, ridge);
   for (size_t j = 0; j < cols.size(); ++j) {
     if (cols[j].rfind("wl:", 0) == 0) {
@@ -424,7 +439,8 @@ void refit_workload(CostFit& fit, const CalData& data, const std::string& worklo
   fit.fitted_workloads.insert(workload);
   {
     auto it = fit.theta.find("gbuffer.tris");
-    fit.theta["geo:" + workload] = it == fit.theta.end() ? 1.0 : it->second * fit.workloads[workload].tri_cost;
+    fit.theta["geo:" + workload] =
+        it == fit.theta.end() ? 1.0 : it->second * fit.workloads[workload].tri_cost;
   }
   // One-dimensional least squares (relative error) for the workload's shading cost and its
   // G-buffer triangle work, each from the rows that contain it, the other theta fixed.
@@ -460,7 +476,8 @@ void refit_workload(CostFit& fit, const CalData& data, const std::string& worklo
         double fl = fit.model == CostModelKind::Roofline ? theta_floor("gbuffer", "tris") : 0.0;
         fit.theta[c] = std::max(fl, num / den);
         auto it = fit.theta.find("gbuffer.tris");
-        if (it != fit.theta.end() && it->second > 0) fit.workloads[workload].tri_cost = fit.theta[c] / it->second;
+        if (it != fit.theta.end() && it->second > 0)
+          fit.workloads[workload].tri_cost = fit.theta[c] / it->second;
       }
     }
 }

@@ -30,7 +30,9 @@ FrameCost estimate_frame(const GpuProfile& gpu, const CostInputs& in) {
       for (const Term& t : pw.terms) {
         auto c = it->second.terms.find(t.name);
         if (c == it->second.terms.end()) continue;
-        const double ws = gpu.model == CostModelKind::Roofline ? working_set_factor(pw.pass, t.name, gpu.spec, in.display) : 1.0;
+        const double ws = gpu.model == CostModelKind::Roofline
+                              ? working_set_factor(pw.pass, t.name, gpu.spec, in.display)
+                              : 1.0;
         per_res[t.res] += c->second * t.value * ws;
       }
       if (gpu.model == CostModelKind::Roofline) {

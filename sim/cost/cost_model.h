@@ -34,11 +34,11 @@ struct GpuProfile;  // defined in gpu_profile.h
 struct Workload;    // defined in workload.h
 
 struct CostInputs {
-  std::string method;               // factory name
+  std::string method;                  // factory name
   const Counters* counters = nullptr;  // measured at the simulated resolution
   SceneFeatures features;
-  Display display;                  // the real (unscaled) display being costed
-  double pixel_scale = 1.0;         // (display W*H) / (simulated W*H): scales pixel counters
+  Display display;           // the real (unscaled) display being costed
+  double pixel_scale = 1.0;  // (display W*H) / (simulated W*H): scales pixel counters
   // Scene cost descriptor (overdraw, shading cost, optional passes). nullptr: defaults
   // resolved against `features` (Workload{}), see docs/cost_model.md.
   const Workload* workload = nullptr;

@@ -24,7 +24,7 @@ struct GpuSpec {
   double fill_gpix = 0;    // ROP fill rate, Gpixel/s (raster)
   double tri_gtris = 0;    // primitive rate, Gtriangles/s (geometry)
   double boost_mhz = 0;
-  double l2_mb = 0;        // last-level (L2) cache, MB; 0: unknown (no working-set effect)
+  double l2_mb = 0;  // last-level (L2) cache, MB; 0: unknown (no working-set effect)
   std::string source;
   // Peak rate of a class in units per millisecond (flop, byte, pixel, triangle).
   double rate_per_ms(Resource r) const;
@@ -43,7 +43,7 @@ const char* model_name(CostModelKind k);
 struct PredictionInterval {
   double level = 0;  // 0: none known
   double lo_factor = 1, hi_factor = 1;
-  int n = 0;         // held-out rows the quantiles came from
+  int n = 0;  // held-out rows the quantiles came from
 };
 
 // Working-set effect (issue 14): the fraction of a pass's reads that miss an L2 of `l2_mb`
@@ -60,7 +60,7 @@ struct PassCoef {
 };
 
 struct CalibrationResidual {
-  std::string id;       // calibration entry id
+  std::string id;  // calibration entry id
   double published_ms = 0, model_ms = 0, rel_err = 0;
 };
 

@@ -13,8 +13,9 @@ namespace fovsim {
 namespace {
 
 // Sum of a config's modelled frame (all passes) for a table/workload.
-double config_total(const CostFit& fit, const CalData& data, const CalTable& t, const std::string& workload,
-                    const std::string& config, const Json& disp_over, const Json& params_over) {
+double config_total(const CostFit& fit, const CalData& data, const CalTable& t,
+                    const std::string& workload, const std::string& config, const Json& disp_over,
+                    const Json& params_over) {
   for (auto& e : t.entries) {
     if (e.workload != workload || e.config != config) continue;
     CalEntry c = e;
@@ -31,8 +32,8 @@ double config_total(const CostFit& fit, const CalData& data, const CalTable& t, 
 
 struct Unit {
   std::string name;
-  std::set<std::string> fit_tables;     // tables in the fit (empty set + excluded workload: all)
-  std::string exclude_workload;         // rows of this workload are left out of the fit
+  std::set<std::string> fit_tables;  // tables in the fit (empty set + excluded workload: all)
+  std::string exclude_workload;      // rows of this workload are left out of the fit
   std::string target_table, target_workload;  // what is predicted ("" workload: all of the table)
 };
 
@@ -43,8 +44,11 @@ ValidationReport validate_cost(const CalData& data, const CostFit& fit, const Fi
   // 1. Calibration entries with the full fit.
   for (auto& t : data.tables)
     for (auto& e : t.entries) {
-      ValidationRow r{"calibration", e.id, t.id, e.gpu, e.workload, e.config, e.row,
-                      e.fit ? "fitted" : "check", e.published_ms, predict_entry(fit, data, e)};
+      ValidationRow r{"calibration",  e.id,
+                      t.id,           e.gpu,
+                      e.workload,     e.config,
+                      e.row,          e.fit ? "fitted" : "check",
+                      e.published_ms, predict_entry(fit, data, e)};
       rep.rows.push_back(r);
     }
   // 2. Withheld figures: predictions only (the seeds' copies withhold the published values).
@@ -82,7 +86,8 @@ ValidationReport validate_cost(const CalData& data, const CostFit& fit, const Fi
     std::set<std::string> wls;
     for (auto& e : t.entries) wls.insert(e.workload);
     if (wls.size() < 2) continue;
-    for (auto& wl : wls) units.push_back({"fit all but " + wl + " -> predict " + wl, all, wl, t.id, wl});
+    for (auto& wl : wls)
+      units.push_back({"fit all but " + wl + " -> predict " + wl, all, wl, t.id, wl});
   }
   for (const Unit& u : units) {
     CrossPrediction cp;
@@ -149,14 +154,14 @@ ValidationReport validate_cost(const CalData& data, const CostFit& fit, const Fi
     for (auto& e : target->entries) {
       if (!(u.target_workload.empty() || e.workload == u.target_workload)) continue;
       if (!row_seen(e)) {
-        rep.rows.push_back({"cross:" + u.name, e.id, target->id, e.gpu, e.workload, e.config, e.row, "unseen",
-                            e.published_ms, 0.0});
+        rep.rows.push_back({"cross:" + u.name, e.id, target->id, e.gpu, e.workload, e.config, e.row,
+                            "unseen", e.published_ms, 0.0});
         continue;
       }
       double ms = predict_entry(f, data, e);
       std::string kind = refit_ids.count(e.id) ? "refit" : "predicted";
-      rep.rows.push_back({"cross:" + u.name, e.id, target->id, e.gpu, e.workload, e.config, e.row, kind,
-                          e.published_ms, ms});
+      rep.rows.push_back({"cross:" + u.name, e.id, target->id, e.gpu, e.workload, e.config, e.row,
+                          kind, e.published_ms, ms});
       if (e.workload == wl0) pub_cfg[e.config] += e.published_ms, mod_cfg[e.config] += ms;
       if (kind == "predicted" && e.published_ms > 0) {
         sum += std::fabs(ms - e.published_ms) / e.published_ms;
@@ -183,7 +188,8 @@ ValidationReport validate_cost(const CalData& data, const CostFit& fit, const Fi
 namespace {
 
 bool held_out(const ValidationRow& r) {
-  return r.experiment.rfind("cross:", 0) == 0 && r.kind == "predicted" && r.published_ms > 0 && r.model_ms > 0;
+  return r.experiment.rfind("cross:", 0) == 0 && r.kind == "predicted" && r.published_ms > 0 &&
+         r.model_ms > 0;
 }
 
 double quantile(std::vector<double> v, double q) {

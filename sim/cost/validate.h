@@ -12,7 +12,7 @@ namespace fovsim {
 struct ValidationRow {
   std::string experiment;  // "calibration" or "cross:<name>" or "withheld"
   std::string id, table, gpu, workload, config, row;
-  std::string kind;        // fitted | check | predicted | refit | withheld
+  std::string kind;          // fitted | check | predicted | refit | withheld
   double published_ms = -1;  // < 0: withheld / none
   double model_ms = 0;
   double rel_err() const { return published_ms > 0 ? (model_ms - published_ms) / published_ms : 0; }
@@ -21,7 +21,7 @@ struct ValidationRow {
 struct CrossPrediction {
   std::string name, fit_on, target;
   bool possible = true;
-  std::string why;          // when not possible
+  std::string why;  // when not possible
   double mean_abs_rel_err = 0;
   int n = 0;
   double speedup_published = 0, speedup_model = 0;  // baseline total / foveated total

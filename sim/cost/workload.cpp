@@ -31,8 +31,10 @@ Workload Workload::from_params(Params& p) {
   w.vpl_budget = p.number("vpl_budget", w.vpl_budget, nonneg);
   w.interleave = p.number("interleave", w.interleave, Range::at_least(1));
   w.lpt_fraction = p.number("lpt_fraction", w.lpt_fraction, Range::closed(0, 1));
-  w.twfr_redraw_fraction = p.number("twfr_redraw_fraction", w.twfr_redraw_fraction, Range::closed(0, 1));
-  w.twfr_prims_fraction = p.number("twfr_prims_fraction", w.twfr_prims_fraction, Range::closed(0, 1));
+  w.twfr_redraw_fraction =
+      p.number("twfr_redraw_fraction", w.twfr_redraw_fraction, Range::closed(0, 1));
+  w.twfr_prims_fraction =
+      p.number("twfr_prims_fraction", w.twfr_prims_fraction, Range::closed(0, 1));
   w.shaded_fraction = p.number("shaded_fraction", w.shaded_fraction, Range::closed(-1, 1));
   Params pl = p.child("pipeline");
   w.pipeline.depth_prepass = pl.boolean("depth_prepass", w.pipeline.depth_prepass);
@@ -45,8 +47,9 @@ Workload Workload::from_params(Params& p) {
 }
 
 Workload Workload::load(const std::string& name_or_path, const std::string& models_dir) {
-  bool path = name_or_path.find('/') != std::string::npos ||
-              (name_or_path.size() > 5 && name_or_path.compare(name_or_path.size() - 5, 5, ".json") == 0);
+  bool path =
+      name_or_path.find('/') != std::string::npos ||
+      (name_or_path.size() > 5 && name_or_path.compare(name_or_path.size() - 5, 5, ".json") == 0);
   std::string file = path ? name_or_path : models_dir + "/workloads/" + name_or_path + ".json";
   if (!file_exists(file)) throw Error(file, "unknown workload '" + name_or_path + "'");
   Params p = Params::from_file(file);

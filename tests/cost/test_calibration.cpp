@@ -40,8 +40,10 @@ TEST(Calibration, CommittedProfilesReproduceTablesWithinStoredResiduals) {
       }
       double ms = entry_ms(g, w, ce);
       EXPECT_NEAR(r->published_ms, e.published_ms, 1e-9) << e.id;
-      EXPECT_NEAR(ms, r->model_ms, 1e-6 * std::max(1.0, ms)) << e.id;  // profile reproduces its own fit
-      EXPECT_LE(std::fabs(ms - e.published_ms) / e.published_ms, std::fabs(r->rel_err) + 1e-6) << e.id;
+      EXPECT_NEAR(ms, r->model_ms, 1e-6 * std::max(1.0, ms))
+          << e.id;  // profile reproduces its own fit
+      EXPECT_LE(std::fabs(ms - e.published_ms) / e.published_ms, std::fabs(r->rel_err) + 1e-6)
+          << e.id;
       ++checked;
     }
   }
@@ -55,9 +57,12 @@ TEST(Calibration, FitIsDeterministicAndMatchesCommittedCoefficients) {
     GpuProfile fresh = profile_from_fit(fit, gpu, data);
     GpuProfile committed = GpuProfile::load(gpu, kModels);
     for (auto& [pass, pc] : fresh.passes) {
-      EXPECT_NEAR(pc.overhead_ms, committed.passes.at(pass).overhead_ms, 1e-9 + 1e-6 * pc.overhead_ms) << gpu << pass;
+      EXPECT_NEAR(pc.overhead_ms, committed.passes.at(pass).overhead_ms,
+                  1e-9 + 1e-6 * pc.overhead_ms)
+          << gpu << pass;
       for (auto& [term, v] : pc.terms)
-        EXPECT_NEAR(v, committed.coef(pass, term), 1e-6 * std::fabs(v) + 1e-300) << gpu << " " << pass << "." << term;
+        EXPECT_NEAR(v, committed.coef(pass, term), 1e-6 * std::fabs(v) + 1e-300)
+            << gpu << " " << pass << "." << term;
     }
   }
 }
@@ -110,7 +115,8 @@ TEST(Calibration, NnlsKeepsCoefficientsNonNegative) {
   std::vector<double> b = {2, -1, 1};
   auto x = nnls(A, 3, 2, b);
   EXPECT_GE(x[1], 0);
-  EXPECT_NEAR(x[0], 1.5, 1e-9);  // least squares of (x0-2)^2 + x0^2... with x1 = 0: rows (2),(1) -> mean 1.5
+  EXPECT_NEAR(x[0], 1.5,
+              1e-9);  // least squares of (x0-2)^2 + x0^2... with x1 = 0: rows (2),(1) -> mean 1.5
   EXPECT_EQ(x[1], 0);
 }
 
@@ -128,8 +134,8 @@ TEST(Calibration, BadTablesNameTheirLocation) {
 
 // ---------------------------------------------------------------- cost model v2 (issue 14)
 namespace {
-double speedup(const GpuProfile& g, const std::string& wl, const std::string& method, const Json& params, int w,
-               int h, int eyes, const std::string& display) {
+double speedup(const GpuProfile& g, const std::string& wl, const std::string& method,
+               const Json& params, int w, int h, int eyes, const std::string& display) {
   Workload wk = Workload::load(wl, kModels);
   Display d = Display::load(display, kModels);
   d.width = w, d.height = h, d.eyes = eyes;
@@ -163,7 +169,8 @@ TEST(CostModelV2, KfrSpeedupRisesWithSigma) {
   GpuProfile g = GpuProfile::load("gtx1080", kModels);
   double prev = 0;
   for (double s : {1.2, 1.8, 2.4}) {
-    double sp = speedup(g, "kfr_bistro", "kfr", Json{{"sigma", s}}, 2560, 1440, 1, "desktop_1920x1080");
+    double sp =
+        speedup(g, "kfr_bistro", "kfr", Json{{"sigma", s}}, 2560, 1440, 1, "desktop_1920x1080");
     EXPECT_GT(sp, prev) << "sigma " << s;
     prev = sp;
   }
@@ -174,7 +181,8 @@ TEST(CostModelV2, KfrSpeedupRisesWithSigma) {
 TEST(CostModelV2, RaymarchWorkloadIsShadingBound) {
   GpuProfile g = GpuProfile::load("gtx1080", kModels);
   for (auto [w, h] : {std::pair{1920, 1080}, {2560, 1440}, {3840, 2160}}) {
-    double sp = speedup(g, "kfr_raymarch", "kfr", Json{{"sigma", 1.8}, {"alpha", 4.0}}, w, h, 1, "desktop_1920x1080");
+    double sp = speedup(g, "kfr_raymarch", "kfr", Json{{"sigma", 1.8}, {"alpha", 4.0}}, w, h, 1,
+                        "desktop_1920x1080");
     EXPECT_GT(sp, 2.5) << w << "x" << h;
     EXPECT_LT(sp, 1.8 * 1.8 + 1e-6) << w << "x" << h;
   }

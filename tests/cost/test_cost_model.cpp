@@ -68,7 +68,8 @@ TEST(CostModel, PassesThatDoNotExistCostNothing) {
   in.features.shadowed_lights = 0;
   in.workload = &w;
   FrameCost fc = estimate_frame(g, in);
-  for (const char* p : {"shadow", "ssao", "taa", "rsm", "contribution", "importance", "reproject", "pass2", "post_aa"})
+  for (const char* p : {"shadow", "ssao", "taa", "rsm", "contribution", "importance", "reproject",
+                        "pass2", "post_aa"})
     for (auto& pc : fc.passes) EXPECT_NE(pc.pass, p) << "pass " << p << " should not exist";
   // RSM/contribution only for FLC, reprojection only for TWFR, pass 2 only for mappings.
   in.method = "flc";
@@ -88,10 +89,12 @@ TEST(CostModel, PassesThatDoNotExistCostNothing) {
 }
 
 TEST(CostModel, EveryPassNonDecreasingInEachCounter) {
-  const char* names[] = {"shaded_samples", "gbuffer_samples", "buffer_pixels_allocated", "buffer_pixels_used",
-                         "fullres_pixels", "filter_taps", "prims_submitted", "prims_culled", "pixels_redrawn",
-                         "reprojected_pixels", "holes_mip0", "holes_mip3", "vpls_total", "vpls_kept",
-                         "importance_samples", "contribution_evals", "shaded_sample_vpls", "rsm_texels"};
+  const char* names[] = {"shaded_samples",     "gbuffer_samples",    "buffer_pixels_allocated",
+                         "buffer_pixels_used", "fullres_pixels",     "filter_taps",
+                         "prims_submitted",    "prims_culled",       "pixels_redrawn",
+                         "reprojected_pixels", "holes_mip0",         "holes_mip3",
+                         "vpls_total",         "vpls_kept",          "importance_samples",
+                         "contribution_evals", "shaded_sample_vpls", "rsm_texels"};
   Workload w = twfr_like();
   w.pipeline.post_aa = true;
   for (const std::string& gpu : GpuProfile::available(kModels)) {
@@ -109,7 +112,8 @@ TEST(CostModel, EveryPassNonDecreasingInEachCounter) {
         FrameCost f1 = estimate_frame(g, in);
         ASSERT_EQ(f0.passes.size(), f1.passes.size());
         for (size_t i = 0; i < f0.passes.size(); ++i)
-          EXPECT_GE(f1.passes[i].ms, f0.passes[i].ms - 1e-12) << gpu << " " << m << " " << n << " " << f0.passes[i].pass;
+          EXPECT_GE(f1.passes[i].ms, f0.passes[i].ms - 1e-12)
+              << gpu << " " << m << " " << n << " " << f0.passes[i].pass;
       }
       // Scene features too: more triangles / lights never cost less.
       in.counters = &base;
@@ -129,8 +133,8 @@ TEST(CostModel, FiniteForZeroAndHugeInputs) {
   for (const std::string& m : cost_methods()) {
     for (double v : {0.0, 1e15}) {
       Counters c;
-      for (auto* n : {"shaded_samples", "fullres_pixels", "pixels_redrawn", "vpls_total", "importance_samples",
-                      "shaded_sample_vpls", "prims_submitted"})
+      for (auto* n : {"shaded_samples", "fullres_pixels", "pixels_redrawn", "vpls_total",
+                      "importance_samples", "shaded_sample_vpls", "prims_submitted"})
         c.set(n, v);
       CostInputs in = base_inputs(m, &c);
       in.workload = &w;
@@ -163,7 +167,8 @@ TEST(CostModel, PixelCountersScaleTrianglesDoNot) {
   FrameCost b = estimate_frame(g, in);
   const double oh = g.passes.at("lighting").overhead_ms;
   EXPECT_NEAR(b.pass_ms("lighting") - oh, 4 * (a.pass_ms("lighting") - oh), 1e-9);
-  EXPECT_NEAR(b.pass_ms("depth"), a.pass_ms("depth"), 1e-12);  // display pixels + triangles: unchanged
+  EXPECT_NEAR(b.pass_ms("depth"), a.pass_ms("depth"),
+              1e-12);  // display pixels + triangles: unchanged
 }
 
 TEST(CostModel, EyesChargePerEyePassesTwiceShadowOnce) {
@@ -186,7 +191,8 @@ TEST(CostModel, BadProfilesAndUnknownNamesNameTheLocation) {
     FAIL();
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("no_such_gpu.json"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("gtx1080"), std::string::npos) << e.what();  // lists available
+    EXPECT_NE(std::string(e.what()).find("gtx1080"), std::string::npos)
+        << e.what();  // lists available
   }
   Json j = Params::parse_json_file(kModels + "/gpus/gtx1080.json");
   Json bad = j;
@@ -195,7 +201,9 @@ TEST(CostModel, BadProfilesAndUnknownNamesNameTheLocation) {
     GpuProfile::from_json(bad, "x.json");
     FAIL();
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("x.json: passes.lighting.terms.shade_flops"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("x.json: passes.lighting.terms.shade_flops"),
+              std::string::npos)
+        << e.what();
   }
   bad = j;
   bad["passes"]["lightning"] = {{"overhead_ms", 0}};
