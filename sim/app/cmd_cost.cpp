@@ -636,7 +636,7 @@ int do_validate(const ValidateArgs& a) {
     if (v.size() == 2 && v[1]->model_ms > 0) txt << fmt("  speedup %.2fx", v[0]->model_ms / v[1]->model_ms);
     txt << "\n";
   }
-  txt << "\n== cross-predictions (target's shading cost refit from its baseline lighting row only)\n";
+  txt << "\n== cross-predictions (target's shading and triangle costs refit from its baseline lighting and G-buffer rows only)\n";
   std::ostringstream ccsv;
   ccsv << "name,fit_on,target,possible,n,mean_abs_rel_err,speedup_published,speedup_model\n";
   for (auto& c : rep.cross) {

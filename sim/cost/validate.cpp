@@ -131,8 +131,9 @@ ValidationReport validate_cost(const CalData& data, const CostFit& fit, const Fi
       rep.cross.push_back(cp);
       continue;
     }
-    // Shading cost of each target workload from its baseline lighting rows (or, with no
-    // baseline config, from its lighting rows): the one scene-specific input a user supplies.
+    // Shading cost and triangle cost of each target workload from its baseline lighting and
+    // G-buffer rows (or, with no baseline config, from all its lighting and G-buffer rows):
+    // the scene-specific inputs a user supplies (a render of the scene without foveation).
     std::set<std::string> wls;
     for (auto& e : target->entries)
       if (u.target_workload.empty() || e.workload == u.target_workload) wls.insert(e.workload);
@@ -143,7 +144,7 @@ ValidationReport validate_cost(const CalData& data, const CostFit& fit, const Fi
       for (auto& e : target->entries) any_baseline |= e.workload == wl && e.baseline;
       for (auto& e : target->entries)
         if (e.workload == wl && e.fit && e.passes.size() == 1 &&
-            (e.passes[0] == "lighting" || (e.passes[0] == "gbuffer" && e.baseline)) &&
+            (e.passes[0] == "lighting" || e.passes[0] == "gbuffer") &&
             (e.baseline || !any_baseline))
           rows.push_back(&e), refit_ids.insert(e.id);
       refit_workload(f, data, wl, rows);

@@ -215,6 +215,8 @@ TEST(CostModelV2, ValidationComparesModelsAndIntervalsCover) {
     EXPECT_GE(s[k].interval.hi_factor, 1.0);
   }
   const ModelSummary& r = s[CostModelKind::Roofline];
-  EXPECT_GT(r.coverage, 0.5);
-  EXPECT_LT(r.coverage, 1.0);
+  EXPECT_LT(r.leaveout_mean, s[CostModelKind::Linear].leaveout_mean);
+  EXPECT_LT(r.leaveout_worst, s[CostModelKind::Linear].leaveout_worst);
+  EXPECT_GE(r.coverage, 0.70);  // issue 14: coverage of the 80% intervals in [70%, 90%]
+  EXPECT_LE(r.coverage, 0.90);
 }
