@@ -528,10 +528,7 @@ int do_budget(const BudgetArgs& a) {
       FrameCost fc = cost_for(g, m, w, d);
       const double T = fc.total_ms;
       const bool iv = fc.interval_level > 0;
-      // At the interval's confidence: fits when even its upper end fits, does not fit when even
-      // its lower end does not, uncertain in between. Without an interval: the point estimate.
-      const char* verdict = iv ? (fc.total_hi_ms <= budget ? "fits" : fc.total_lo_ms > budget ? "does not fit" : "uncertain")
-                               : (T <= budget ? "fits" : "does not fit");
+      const char* verdict = budget_verdict(fc, budget);
       std::vector<std::string> r = {g.name, m.text, fmt("%.3f", T),
                                     iv ? fmt("%.2f-", fc.total_lo_ms) + fmt("%.2f", fc.total_hi_ms) : "-",
                                     fmt("%.2f", budget), verdict, fmt("%+.3f", budget - T),

@@ -48,4 +48,9 @@ struct CostInputs {
 // and RSMs once per frame. Pixel counters are multiplied by pixel_scale, triangles are not.
 FrameCost estimate_frame(const GpuProfile& gpu, const CostInputs& in);
 
+// Budget verdict at the interval's confidence (issue 14): "fits" when the interval's upper
+// end is within the budget, "does not fit" when its lower end exceeds it, else "uncertain".
+// Without an interval, the point estimate decides ("fits" / "does not fit").
+const char* budget_verdict(const FrameCost& fc, double budget_ms);
+
 }  // namespace fovsim
