@@ -592,11 +592,19 @@ int do_validate(const ValidateArgs& a) {
   std::sort(sums.begin(), sums.end(),
             [](const ModelSummary& x, const ModelSummary& y) { return x.leaveout_mean < y.leaveout_mean; });
   std::ostringstream txt, csv;
-  csv << "experiment,id,table,gpu,workload,config,row,kind,published_ms,model_ms,rel_err\n";
-  for (auto& r : rep.rows)
+  // model_lo_ms/model_hi_ms: the 80% interval; on cross-prediction rows the nested one (built
+  // without the row's table), on the others the interval the profiles carry.
+  const PredictionInterval iv_all = interval_from_rows(rep.rows, 0.8);
+  std::map<std::string, PredictionInterval> iv_nested;
+  for (auto& t : data.tables) iv_nested[t.id] = interval_from_rows(rep.rows, 0.8, t.id);
+  csv << "experiment,id,table,gpu,workload,config,row,kind,published_ms,model_ms,rel_err,model_lo_ms,model_hi_ms\n";
+  for (auto& r : rep.rows) {
+    const PredictionInterval& iv = r.experiment.rfind("cross:", 0) == 0 ? iv_nested[r.table] : iv_all;
     csv << '"' << r.experiment << "\"," << '"' << r.id << "\"," << r.table << ',' << r.gpu << ',' << r.workload << ','
         << r.config << ",\"" << r.row << "\"," << r.kind << ',' << r.published_ms << ',' << r.model_ms << ','
-        << (r.published_ms > 0 ? std::to_string(r.rel_err()) : "") << "\n";
+        << (r.published_ms > 0 ? std::to_string(r.rel_err()) : "") << ',' << r.model_ms * iv.lo_factor << ','
+        << r.model_ms * iv.hi_factor << "\n";
+  }
   txt << "fovsim validate-cost: predicted vs. published per-pass times (ms)\n\n";
   txt << "== models ranked by held-out (leave-one-seed = leave-one-GPU, leave-one-scene) mean |rel err|\n"
       << "   (no calibration table gives several resolutions: no leave-one-resolution-out experiment)\n";
