@@ -400,6 +400,7 @@ int do_predict_results(const PredictArgs& a) {
   std::vector<std::string> hdr = {"gpu", "config_id", "frames"};
   for (auto& p : known_passes()) hdr.push_back(p);
   hdr.push_back("total_ms");
+  hdr.push_back("interval_ms");
   hdr.push_back("budget_ms");
   rows.push_back(hdr);
   for (size_t gi = 0; gi < gpus.size(); ++gi)
@@ -411,6 +412,12 @@ int do_predict_results(const PredictArgs& a) {
       j["frames"] = x.n;
       j["display"] = {{"name", d.name}, {"width", d.width}, {"height", d.height}, {"eyes", d.eyes}};
       j["est_ms_total"] = x.total / x.n;
+      const PredictionInterval& iv = gpus[gi].interval;  // multiplicative: applies to the mean
+      if (iv.level > 0) {
+        j["est_ms_total_lo"] = x.total / x.n * iv.lo_factor;
+        j["est_ms_total_hi"] = x.total / x.n * iv.hi_factor;
+        j["interval_level"] = iv.level;
+      }
       std::vector<std::string> r = {gpus[gi].name, x.id, fmt("%.0f", x.n)};
       for (auto& p : known_passes()) {
         std::string cell = "-";
@@ -422,6 +429,8 @@ int do_predict_results(const PredictArgs& a) {
         r.push_back(cell);
       }
       r.push_back(fmt("%.3f", x.total / x.n));
+      r.push_back(iv.level > 0 ? fmt("%.2f-", x.total / x.n * iv.lo_factor) + fmt("%.2f", x.total / x.n * iv.hi_factor)
+                               : "-");
       r.push_back(fmt("%.2f", d.frame_budget_ms()));
       rows.push_back(r);
       out.push_back(j);
