@@ -159,7 +159,7 @@ void print_table(const std::vector<std::vector<std::string>>& rows) {
 
 // ---------------------------------------------------------------- calibrate
 struct CalibrateArgs {
-  std::string models, tables;
+  std::string models, tables, model = "roofline";
   bool dry_run = false, quiet = false;
 };
 
@@ -168,6 +168,7 @@ int do_calibrate(const CalibrateArgs& a) {
   CalData data = load_calibration(models);
   FitOptions opt;
   for (auto& t : split(a.tables, ',')) opt.tables.insert(t);
+  opt.model = a.model == "linear" ? CostModelKind::Linear : CostModelKind::Roofline;
   CostFit fit = fit_cost_model(data, opt);
   std::vector<std::vector<std::string>> rows = {{"table", "gpu", "workload", "config", "row", "use", "published_ms", "model_ms", "rel_err"}};
   std::map<std::string, std::vector<std::pair<const CalEntry*, double>>> by_gpu;
@@ -692,6 +693,9 @@ void register_cost(CLI::App& app, Action& action) {
     c->add_option("--tables", a->tables, "Comma-separated calibration table ids to fit (default: all)");
     c->add_flag("--dry-run", a->dry_run, "Print the fit and residuals without writing profiles or workloads");
     c->add_flag("-q,--quiet", a->quiet, "Do not print the residual table");
+    c->add_option("--model", a->model, "How a pass combines its resources: roofline (bottleneck) or linear (sum)")
+        ->check(CLI::IsMember({"roofline", "linear"}))
+        ->capture_default_str();
     c->callback([a, &action]() { action = [a]() { return do_calibrate(*a); }; });
   }
   {
