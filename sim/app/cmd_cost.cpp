@@ -79,7 +79,8 @@ MethodSpec parse_method(const std::string& s) {
 }
 
 struct Target {  // display + workload + GPUs shared by predict and budget
-  std::string models, display = "htc_vive_pro_eye", workload;  // workload: required without --results
+  std::string models, display = "htc_vive_pro_eye",
+                      workload;  // workload: required without --results
   std::vector<std::string> gpus;
   int width = 0, height = 0, eyes = 0;
   std::vector<std::string> methods;
@@ -90,7 +91,8 @@ void add_target_options(CLI::App* c, Target& t, const std::string& default_metho
       ->required()
       ->delimiter(',');
   c->add_option("--workload", t.workload,
-                "Workload descriptor name or path (models/workloads/NAME.json); required: the scene's triangles, "
+                "Workload descriptor name or path (models/workloads/NAME.json); required: the "
+                "scene's triangles, "
                 "lights and shading cost decide every method's cost");
   c->add_option("--display", t.display, "Display name or path (models/displays/NAME.json)")->capture_default_str();
   c->add_option("--width", t.width, "Override the per-eye width in pixels")->check(CLI::Range(1, 1 << 20));
@@ -114,8 +116,10 @@ Workload target_workload(const Target& t, const std::string& models) {
     std::sort(names.begin(), names.end());
     for (auto& n : names)
       if (n != "generic") av += (av.empty() ? "" : ", ") + n;
-    throw Error("--workload", "required (the scene's triangles, lights and shading cost decide every estimate; "
-                              "available: " + av + ")");
+    throw Error("--workload",
+                "required (the scene's triangles, lights and shading cost decide every estimate; "
+                "available: " +
+                    av + ")");
   }
   return Workload::load(t.workload, models);
 }
@@ -206,11 +210,20 @@ int do_calibrate(const CalibrateArgs& a) {
     j["calibrated"] = by_gpu.count(gpu) > 0;
     j["model"] = model_name(fit.model);
     if (iv.level > 0)
-      j["interval"] = {{"level", iv.level}, {"lo_factor", iv.lo_factor}, {"hi_factor", iv.hi_factor}, {"n", iv.n},
-                       {"method", "empirical 10%/90% quantiles of published/model over the held-out per-pass rows of "
-                                  "fovsim validate-cost's leave-one-seed/GPU/scene-out refits, applied to the total"}};
-    j["spec"] = {{"fp32_gflops", se.spec.fp32_gflops}, {"mem_gbps", se.spec.mem_gbps}, {"fill_gpix", se.spec.fill_gpix},
-                 {"tri_gtris", se.spec.tri_gtris},     {"boost_mhz", se.spec.boost_mhz}, {"l2_mb", se.spec.l2_mb},
+      j["interval"] = {
+          {"level", iv.level},
+          {"lo_factor", iv.lo_factor},
+          {"hi_factor", iv.hi_factor},
+          {"n", iv.n},
+          {"method",
+           "empirical 10%/90% quantiles of published/model over the held-out per-pass rows of "
+           "fovsim validate-cost's leave-one-seed/GPU/scene-out refits, applied to the total"}};
+    j["spec"] = {{"fp32_gflops", se.spec.fp32_gflops},
+                 {"mem_gbps", se.spec.mem_gbps},
+                 {"fill_gpix", se.spec.fill_gpix},
+                 {"tri_gtris", se.spec.tri_gtris},
+                 {"boost_mhz", se.spec.boost_mhz},
+                 {"l2_mb", se.spec.l2_mb},
                  {"source", se.spec.source}};
     nlohmann::ordered_json ps = nlohmann::ordered_json::object();
     for (auto& pass : known_passes()) {
@@ -430,7 +443,8 @@ int do_predict_results(const PredictArgs& a) {
         r.push_back(cell);
       }
       r.push_back(fmt("%.3f", x.total / x.n));
-      r.push_back(iv.level > 0 ? fmt("%.2f-", x.total / x.n * iv.lo_factor) + fmt("%.2f", x.total / x.n * iv.hi_factor)
+      r.push_back(iv.level > 0 ? fmt("%.2f-", x.total / x.n * iv.lo_factor) +
+                                     fmt("%.2f", x.total / x.n * iv.hi_factor)
                                : "-");
       r.push_back(fmt("%.2f", d.frame_budget_ms()));
       rows.push_back(r);
@@ -491,7 +505,8 @@ int do_predict(const PredictArgs& a) {
         r.push_back(exists ? fmt("%.3f", fc.pass_ms(p)) : "-");
       }
       r.push_back(fmt("%.3f", fc.total_ms));
-      r.push_back(fc.interval_level > 0 ? fmt("%.2f-", fc.total_lo_ms) + fmt("%.2f", fc.total_hi_ms) : "-");
+      r.push_back(fc.interval_level > 0 ? fmt("%.2f-", fc.total_lo_ms) + fmt("%.2f", fc.total_hi_ms)
+                                        : "-");
       r.push_back(fmt("%.2fx", fc.total_ms > 0 ? full_total / fc.total_ms : 0.0));
       rows.push_back(r);
     }
@@ -499,8 +514,9 @@ int do_predict(const PredictArgs& a) {
   if (a.json) {
     std::cout << out.dump(2) << "\n";
   } else {
-    std::cout << "workload " << w.name << ", display " << d.name << " " << d.width << "x" << d.height << " x"
-              << d.eyes << " eye(s); ms per frame ('-': pass does not exist); interval_ms: the profile's "
+    std::cout << "workload " << w.name << ", display " << d.name << " " << d.width << "x"
+              << d.height << " x" << d.eyes
+              << " eye(s); ms per frame ('-': pass does not exist); interval_ms: the profile's "
               << "prediction interval on the total (docs/cost_model.md)\n";
     print_table(rows);
   }
@@ -523,8 +539,9 @@ int do_budget(const BudgetArgs& a) {
   std::vector<std::string> mlist = a.t.methods;
   if (mlist.empty()) mlist = {"full", "kfr:sigma=1.8", "rmfr:sigma=2.6", "hyperbolic:sigma=2.6", "linear:sigma=2.6", "fvrs", "twfr"};
   const char* res_names[] = {"shading", "geometry", "raster", "memory", "fixed"};
-  std::vector<std::vector<std::string>> rows = {{"gpu", "method", "total_ms", "interval_ms", "budget_ms", "fits", "headroom_ms", "headroom",
-                                                 "x_shading", "x_geometry", "x_raster", "x_memory", "x_fixed", "x_all"}};
+  std::vector<std::vector<std::string>> rows = {
+      {"gpu", "method", "total_ms", "interval_ms", "budget_ms", "fits", "headroom_ms", "headroom",
+       "x_shading", "x_geometry", "x_raster", "x_memory", "x_fixed", "x_all"}};
   nlohmann::ordered_json out = nlohmann::ordered_json::array();
   for (auto& gname : a.t.gpus) {
     GpuProfile g = GpuProfile::load(gname, models)
@@ -539,13 +556,25 @@ int do_budget(const BudgetArgs& a) {
       const double T = fc.total_ms;
       const bool iv = fc.interval_level > 0;
       const char* verdict = budget_verdict(fc, budget);
-      std::vector<std::string> r = {g.name, m.text, fmt("%.3f", T),
-                                    iv ? fmt("%.2f-", fc.total_lo_ms) + fmt("%.2f", fc.total_hi_ms) : "-",
-                                    fmt("%.2f", budget), verdict, fmt("%+.3f", budget - T),
-                                    fmt("%+.0f%%", budget > 0 ? 100 * (budget - T) / budget : 0)};
-      nlohmann::ordered_json j = {{"gpu", g.name}, {"method", m.text}, {"est_ms_total", T}, {"budget_ms", budget},
-                                  {"fits", T <= budget}, {"verdict", verdict}, {"headroom_ms", budget - T}};
-      if (iv) j["est_ms_total_lo"] = fc.total_lo_ms, j["est_ms_total_hi"] = fc.total_hi_ms, j["interval_level"] = fc.interval_level;
+      std::vector<std::string> r = {
+          g.name,
+          m.text,
+          fmt("%.3f", T),
+          iv ? fmt("%.2f-", fc.total_lo_ms) + fmt("%.2f", fc.total_hi_ms) : "-",
+          fmt("%.2f", budget),
+          verdict,
+          fmt("%+.3f", budget - T),
+          fmt("%+.0f%%", budget > 0 ? 100 * (budget - T) / budget : 0)};
+      nlohmann::ordered_json j = {{"gpu", g.name},
+                                  {"method", m.text},
+                                  {"est_ms_total", T},
+                                  {"budget_ms", budget},
+                                  {"fits", T <= budget},
+                                  {"verdict", verdict},
+                                  {"headroom_ms", budget - T}};
+      if (iv)
+        j["est_ms_total_lo"] = fc.total_lo_ms, j["est_ms_total_hi"] = fc.total_hi_ms,
+        j["interval_level"] = fc.interval_level;
       // Factor a resource's throughput needs (alone) so the frame fits: part / (budget - rest).
       for (const char* rn : res_names) {
         double part = fc.resource_ms.count(rn) ? fc.resource_ms.at(rn) : 0;
@@ -565,11 +594,15 @@ int do_budget(const BudgetArgs& a) {
   if (a.json) {
     std::cout << out.dump(2) << "\n";
   } else {
-    std::cout << "budget " << fmt("%.2f", budget) << " ms; workload " << w.name << ", display " << d.width << "x"
-              << d.height << " x" << d.eyes << " eye(s); what-if throughput x shading " << a.s_shading << ", geometry "
-              << a.s_geometry << ", raster " << a.s_raster << ", memory " << a.s_memory << ", fixed " << a.s_fixed << "\n"
-              << "x_<resource>: throughput factor that resource alone needs to fit (<1: slack; inf: cannot fit alone); "
-                 "x_all: uniform factor on everything but fixed overheads; fits: at the interval's confidence "
+    std::cout << "budget " << fmt("%.2f", budget) << " ms; workload " << w.name << ", display "
+              << d.width << "x" << d.height << " x" << d.eyes
+              << " eye(s); what-if throughput x shading " << a.s_shading << ", geometry "
+              << a.s_geometry << ", raster " << a.s_raster << ", memory " << a.s_memory
+              << ", fixed " << a.s_fixed << "\n"
+              << "x_<resource>: throughput factor that resource alone needs to fit (<1: slack; "
+                 "inf: cannot fit alone); "
+                 "x_all: uniform factor on everything but fixed overheads; fits: at the interval's "
+                 "confidence "
                  "(uncertain: the interval straddles the budget)\n";
     print_table(rows);
   }
@@ -599,35 +632,43 @@ int do_validate(const ValidateArgs& a) {
       sums.push_back(summarize_model(validate_cost(data, f, o), k, 0.8));
     }
   }
-  std::sort(sums.begin(), sums.end(),
-            [](const ModelSummary& x, const ModelSummary& y) { return x.leaveout_mean < y.leaveout_mean; });
+  std::sort(sums.begin(), sums.end(), [](const ModelSummary& x, const ModelSummary& y) {
+    return x.leaveout_mean < y.leaveout_mean;
+  });
   std::ostringstream txt, csv;
   // model_lo_ms/model_hi_ms: the 80% interval; on cross-prediction rows the nested one (built
   // without the row's table), on the others the interval the profiles carry.
   const PredictionInterval iv_all = interval_from_rows(rep.rows, 0.8);
   std::map<std::string, PredictionInterval> iv_nested;
   for (auto& t : data.tables) iv_nested[t.id] = interval_from_rows(rep.rows, 0.8, t.id);
-  csv << "experiment,id,table,gpu,workload,config,row,kind,published_ms,model_ms,rel_err,model_lo_ms,model_hi_ms\n";
+  csv << "experiment,id,table,gpu,workload,config,row,kind,published_ms,model_ms,rel_err,model_lo_"
+         "ms,model_hi_ms\n";
   for (auto& r : rep.rows) {
-    const PredictionInterval& iv = r.experiment.rfind("cross:", 0) == 0 ? iv_nested[r.table] : iv_all;
-    csv << '"' << r.experiment << "\"," << '"' << r.id << "\"," << r.table << ',' << r.gpu << ',' << r.workload << ','
-        << r.config << ",\"" << r.row << "\"," << r.kind << ',' << r.published_ms << ',' << r.model_ms << ','
-        << (r.published_ms > 0 ? std::to_string(r.rel_err()) : "") << ',' << r.model_ms * iv.lo_factor << ','
-        << r.model_ms * iv.hi_factor << "\n";
+    const PredictionInterval& iv =
+        r.experiment.rfind("cross:", 0) == 0 ? iv_nested[r.table] : iv_all;
+    csv << '"' << r.experiment << "\"," << '"' << r.id << "\"," << r.table << ',' << r.gpu << ','
+        << r.workload << ',' << r.config << ",\"" << r.row << "\"," << r.kind << ','
+        << r.published_ms << ',' << r.model_ms << ','
+        << (r.published_ms > 0 ? std::to_string(r.rel_err()) : "") << ','
+        << r.model_ms * iv.lo_factor << ',' << r.model_ms * iv.hi_factor << "\n";
   }
   txt << "fovsim validate-cost: predicted vs. published per-pass times (ms)\n\n";
-  txt << "== models ranked by held-out (leave-one-seed = leave-one-GPU, leave-one-scene) mean |rel err|\n"
-      << "   (no calibration table gives several resolutions: no leave-one-resolution-out experiment)\n";
+  txt << "== models ranked by held-out (leave-one-seed = leave-one-GPU, leave-one-scene) mean |rel "
+         "err|\n"
+      << "   (no calibration table gives several resolutions: no leave-one-resolution-out "
+         "experiment)\n";
   txt << pad("model", 10) << pad("fitted mean/worst", 20) << pad("held-out mean/worst", 22)
       << pad("80% interval (x model)", 24) << "nested coverage\n";
   for (auto& m : sums)
     txt << pad(model_name(m.model), 10)
         << pad(fmt("%.1f%%", 100 * m.fitted_mean) + fmt(" / %.1f%%", 100 * m.fitted_worst), 20)
         << pad(fmt("%.1f%%", 100 * m.leaveout_mean) + fmt(" / %.1f%%", 100 * m.leaveout_worst) +
-                   " (" + std::to_string(m.leaveout_n) + ")", 22)
+                   " (" + std::to_string(m.leaveout_n) + ")",
+               22)
         << pad(fmt("[%.2f, ", m.interval.lo_factor) + fmt("%.2f]", m.interval.hi_factor), 24)
         << fmt("%.0f%%", 100 * m.coverage) << " of " << m.coverage_n << "\n";
-  txt << "nested coverage: each target table's held-out rows against the interval built from the other tables'\n\n";
+  txt << "nested coverage: each target table's held-out rows against the interval built from the "
+         "other tables'\n\n";
   txt << "detailed report below: model " << model_name(opt.model) << "\n\n";
   txt << "== calibration entries (all tables fitted together; 'check' rows are totals, not fitted)\n";
   double se[2] = {0, 0};
@@ -651,7 +692,8 @@ int do_validate(const ValidateArgs& a) {
     if (v.size() == 2 && v[1]->model_ms > 0) txt << fmt("  speedup %.2fx", v[0]->model_ms / v[1]->model_ms);
     txt << "\n";
   }
-  txt << "\n== cross-predictions (target's shading and triangle costs refit from its baseline lighting and G-buffer rows only)\n";
+  txt << "\n== cross-predictions (target's shading and triangle costs refit from its baseline "
+         "lighting and G-buffer rows only)\n";
   std::ostringstream ccsv;
   ccsv << "name,fit_on,target,possible,n,mean_abs_rel_err,speedup_published,speedup_model\n";
   for (auto& c : rep.cross) {
@@ -693,7 +735,8 @@ void register_cost(CLI::App& app, Action& action) {
     c->add_option("--tables", a->tables, "Comma-separated calibration table ids to fit (default: all)");
     c->add_flag("--dry-run", a->dry_run, "Print the fit and residuals without writing profiles or workloads");
     c->add_flag("-q,--quiet", a->quiet, "Do not print the residual table");
-    c->add_option("--model", a->model, "How a pass combines its resources: roofline (bottleneck) or linear (sum)")
+    c->add_option("--model", a->model,
+                  "How a pass combines its resources: roofline (bottleneck) or linear (sum)")
         ->check(CLI::IsMember({"roofline", "linear"}))
         ->capture_default_str();
     c->callback([a, &action]() { action = [a]() { return do_calibrate(*a); }; });
