@@ -1,8 +1,10 @@
 // Cost-model commands (issue 7): `fovsim calibrate`, `fovsim predict`, `fovsim budget`,
 // `fovsim validate-cost`. Documented in docs/cost_model.md.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -68,7 +70,8 @@ MethodSpec parse_method(const std::string& s) {
 }
 
 struct Target {  // display + workload + GPUs shared by predict and budget
-  std::string models, display = "htc_vive_pro_eye", workload = "generic";
+  std::string models, display = "htc_vive_pro_eye",
+                      workload;  // workload: required without --results
   std::vector<std::string> gpus;
   int width = 0, height = 0, eyes = 0;
   std::vector<std::string> methods;
@@ -78,8 +81,10 @@ void add_target_options(CLI::App* c, Target& t, const std::string& default_metho
   c->add_option("--gpu", t.gpus, "GPU profile name(s) or path(s) (models/gpus/NAME.json); repeat or comma-separate")
       ->required()
       ->delimiter(',');
-  c->add_option("--workload", t.workload, "Workload descriptor name or path (models/workloads/NAME.json)")
-      ->capture_default_str();
+  c->add_option("--workload", t.workload,
+                "Workload descriptor name or path (models/workloads/NAME.json); required: the "
+                "scene's triangles, "
+                "lights and shading cost decide every method's cost");
   c->add_option("--display", t.display, "Display name or path (models/displays/NAME.json)")->capture_default_str();
   c->add_option("--width", t.width, "Override the per-eye width in pixels")->check(CLI::Range(1, 1 << 20));
   c->add_option("--height", t.height, "Override the per-eye height in pixels")->check(CLI::Range(1, 1 << 20));
@@ -88,6 +93,26 @@ void add_target_options(CLI::App* c, Target& t, const std::string& default_metho
                 "Method and parameters, e.g. full, kfr:sigma=1.8, rmfr:sigma=2.6, twfr:redraw_fraction=0.06, "
                 "fvrs, flc:vpl_budget=1024; repeatable (default: " + default_methods + ")");
   c->add_option("--models", t.models, "Models directory (default: $FOVSIM_MODELS, ./models, or the source tree's)");
+}
+
+// Without a scene the generic workload knows no lights, so every method's shading cost (and
+// KFR's speedup) would be meaningless (issue 14 item 5): a workload must be named.
+Workload target_workload(const Target& t, const std::string& models) {
+  if (t.workload.empty()) {
+    std::string av;
+    std::error_code ec;
+    std::vector<std::string> names;
+    for (auto& e : std::filesystem::directory_iterator(models + "/workloads", ec))
+      if (e.path().extension() == ".json") names.push_back(e.path().stem().string());
+    std::sort(names.begin(), names.end());
+    for (auto& n : names)
+      if (n != "generic") av += (av.empty() ? "" : ", ") + n;
+    throw Error("--workload",
+                "required (the scene's triangles, lights and shading cost decide every estimate; "
+                "available: " +
+                    av + ")");
+  }
+  return Workload::load(t.workload, models);
 }
 
 Display target_display(const Target& t, const std::string& models) {
@@ -129,7 +154,7 @@ void print_table(const std::vector<std::vector<std::string>>& rows) {
 
 // ---------------------------------------------------------------- calibrate
 struct CalibrateArgs {
-  std::string models, tables;
+  std::string models, tables, model = "roofline";
   bool dry_run = false, quiet = false;
 };
 
@@ -138,6 +163,7 @@ int do_calibrate(const CalibrateArgs& a) {
   CalData data = load_calibration(models);
   FitOptions opt;
   for (auto& t : split(a.tables, ',')) opt.tables.insert(t);
+  opt.model = a.model == "linear" ? CostModelKind::Linear : CostModelKind::Roofline;
   CostFit fit = fit_cost_model(data, opt);
   std::vector<std::vector<std::string>> rows = {{"table", "gpu", "workload", "config", "row", "use", "published_ms", "model_ms", "rel_err"}};
   std::map<std::string, std::vector<std::pair<const CalEntry*, double>>> by_gpu;
@@ -165,14 +191,31 @@ int do_calibrate(const CalibrateArgs& a) {
     for (auto& [k, v] : fit.theta) std::cout << "  " << k << " = " << fmt("%.6g", v) << "\n";
   }
   if (a.dry_run) return 0;
+  // Prediction interval from the leave-out experiments of this model (docs/cost_model.md).
+  const PredictionInterval iv = interval_from_rows(validate_cost(data, fit, opt).rows, 0.8);
   for (auto& [gpu, se] : data.specs) {
     GpuProfile g = profile_from_fit(fit, gpu, data);
     nlohmann::ordered_json j;
     j["name"] = gpu;
     j["description"] = se.description;
     j["calibrated"] = by_gpu.count(gpu) > 0;
-    j["spec"] = {{"fp32_gflops", se.spec.fp32_gflops}, {"mem_gbps", se.spec.mem_gbps}, {"fill_gpix", se.spec.fill_gpix},
-                 {"tri_gtris", se.spec.tri_gtris},     {"boost_mhz", se.spec.boost_mhz}, {"source", se.spec.source}};
+    j["model"] = model_name(fit.model);
+    if (iv.level > 0)
+      j["interval"] = {
+          {"level", iv.level},
+          {"lo_factor", iv.lo_factor},
+          {"hi_factor", iv.hi_factor},
+          {"n", iv.n},
+          {"method",
+           "empirical 10%/90% quantiles of published/model over the held-out per-pass rows of "
+           "fovsim validate-cost's leave-one-seed/GPU/scene-out refits, applied to the total"}};
+    j["spec"] = {{"fp32_gflops", se.spec.fp32_gflops},
+                 {"mem_gbps", se.spec.mem_gbps},
+                 {"fill_gpix", se.spec.fill_gpix},
+                 {"tri_gtris", se.spec.tri_gtris},
+                 {"boost_mhz", se.spec.boost_mhz},
+                 {"l2_mb", se.spec.l2_mb},
+                 {"source", se.spec.source}};
     nlohmann::ordered_json ps = nlohmann::ordered_json::object();
     for (auto& pass : known_passes()) {
       auto& pc = g.passes.at(pass);
@@ -205,7 +248,8 @@ int do_calibrate(const CalibrateArgs& a) {
     const Workload& w = fit.workloads.at(wl);
     std::string p = fitted_param(w);
     j[p] = p == "vpl_flops" ? w.vpl_flops : w.shading_flops;
-    j["fitted_by"] = "fovsim calibrate: " + p;
+    j["tri_cost"] = w.tri_cost;
+    j["fitted_by"] = "fovsim calibrate: " + p + ", tri_cost";
     write_file_atomic(file, j.dump(2) + "\n");
     if (!a.quiet) std::cout << "wrote " << file << " (" << p << ")\n";
   }
@@ -361,6 +405,7 @@ int do_predict_results(const PredictArgs& a) {
   std::vector<std::string> hdr = {"gpu", "config_id", "frames"};
   for (auto& p : known_passes()) hdr.push_back(p);
   hdr.push_back("total_ms");
+  hdr.push_back("interval_ms");
   hdr.push_back("budget_ms");
   rows.push_back(hdr);
   for (size_t gi = 0; gi < gpus.size(); ++gi)
@@ -372,6 +417,12 @@ int do_predict_results(const PredictArgs& a) {
       j["frames"] = x.n;
       j["display"] = {{"name", d.name}, {"width", d.width}, {"height", d.height}, {"eyes", d.eyes}};
       j["est_ms_total"] = x.total / x.n;
+      const PredictionInterval& iv = gpus[gi].interval;  // multiplicative: applies to the mean
+      if (iv.level > 0) {
+        j["est_ms_total_lo"] = x.total / x.n * iv.lo_factor;
+        j["est_ms_total_hi"] = x.total / x.n * iv.hi_factor;
+        j["interval_level"] = iv.level;
+      }
       std::vector<std::string> r = {gpus[gi].name, x.id, fmt("%.0f", x.n)};
       for (auto& p : known_passes()) {
         std::string cell = "-";
@@ -383,6 +434,9 @@ int do_predict_results(const PredictArgs& a) {
         r.push_back(cell);
       }
       r.push_back(fmt("%.3f", x.total / x.n));
+      r.push_back(iv.level > 0 ? fmt("%.2f-", x.total / x.n * iv.lo_factor) +
+                                     fmt("%.2f", x.total / x.n * iv.hi_factor)
+                               : "-");
       r.push_back(fmt("%.2f", d.frame_budget_ms()));
       rows.push_back(r);
       out.push_back(j);
@@ -400,7 +454,7 @@ int do_predict_results(const PredictArgs& a) {
 int do_predict(const PredictArgs& a) {
   if (!a.results.empty()) return do_predict_results(a);
   const std::string models = models_or_default(a.t.models);
-  Workload w = Workload::load(a.t.workload, models);
+  Workload w = target_workload(a.t, models);
   Display d = target_display(a.t, models);
   std::vector<MethodSpec> methods;
   for (auto& m : a.t.methods.empty() ? std::vector<std::string>{"full"} : a.t.methods) methods.push_back(parse_method(m));
@@ -409,6 +463,7 @@ int do_predict(const PredictArgs& a) {
   std::vector<std::string> header = {"gpu", "method"};
   for (auto& p : known_passes()) header.push_back(p);
   header.push_back("total_ms");
+  header.push_back("interval_ms");
   header.push_back("speedup");
   rows.push_back(header);
   for (auto& gname : a.t.gpus) {
@@ -424,6 +479,12 @@ int do_predict(const PredictArgs& a) {
       j["workload"] = w.name;
       j["display"] = {{"name", d.name}, {"width", d.width}, {"height", d.height}, {"eyes", d.eyes}};
       j["est_ms_total"] = fc.total_ms;
+      if (fc.interval_level > 0) {
+        j["est_ms_total_lo"] = fc.total_lo_ms;
+        j["est_ms_total_hi"] = fc.total_hi_ms;
+        j["interval_level"] = fc.interval_level;
+      }
+      j["model"] = model_name(g.model);
       for (auto& p : fc.passes) j["est_ms_" + p.pass] = p.ms;
       j["speedup_vs_full"] = fc.total_ms > 0 ? full_total / fc.total_ms : 0.0;
       if (!fc.missing_counters.empty()) j["missing_counters"] = fc.missing_counters;
@@ -435,6 +496,8 @@ int do_predict(const PredictArgs& a) {
         r.push_back(exists ? fmt("%.3f", fc.pass_ms(p)) : "-");
       }
       r.push_back(fmt("%.3f", fc.total_ms));
+      r.push_back(fc.interval_level > 0 ? fmt("%.2f-", fc.total_lo_ms) + fmt("%.2f", fc.total_hi_ms)
+                                        : "-");
       r.push_back(fmt("%.2fx", fc.total_ms > 0 ? full_total / fc.total_ms : 0.0));
       rows.push_back(r);
     }
@@ -442,8 +505,10 @@ int do_predict(const PredictArgs& a) {
   if (a.json) {
     std::cout << out.dump(2) << "\n";
   } else {
-    std::cout << "workload " << w.name << ", display " << d.name << " " << d.width << "x" << d.height << " x"
-              << d.eyes << " eye(s); ms per frame ('-': pass does not exist)\n";
+    std::cout << "workload " << w.name << ", display " << d.name << " " << d.width << "x"
+              << d.height << " x" << d.eyes
+              << " eye(s); ms per frame ('-': pass does not exist); interval_ms: the profile's "
+              << "prediction interval on the total (docs/cost_model.md)\n";
     print_table(rows);
   }
   return 0;
@@ -459,14 +524,15 @@ struct BudgetArgs {
 
 int do_budget(const BudgetArgs& a) {
   const std::string models = models_or_default(a.t.models);
-  Workload w = Workload::load(a.t.workload, models);
+  Workload w = target_workload(a.t, models);
   Display d = target_display(a.t, models);
   const double budget = a.budget_ms > 0 ? a.budget_ms : 1000.0 / a.hz;
   std::vector<std::string> mlist = a.t.methods;
   if (mlist.empty()) mlist = {"full", "kfr:sigma=1.8", "rmfr:sigma=2.6", "hyperbolic:sigma=2.6", "linear:sigma=2.6", "fvrs", "twfr"};
   const char* res_names[] = {"shading", "geometry", "raster", "memory", "fixed"};
-  std::vector<std::vector<std::string>> rows = {{"gpu", "method", "total_ms", "budget_ms", "fits", "headroom_ms", "headroom",
-                                                 "x_shading", "x_geometry", "x_raster", "x_memory", "x_fixed", "x_all"}};
+  std::vector<std::vector<std::string>> rows = {
+      {"gpu", "method", "total_ms", "interval_ms", "budget_ms", "fits", "headroom_ms", "headroom",
+       "x_shading", "x_geometry", "x_raster", "x_memory", "x_fixed", "x_all"}};
   nlohmann::ordered_json out = nlohmann::ordered_json::array();
   for (auto& gname : a.t.gpus) {
     GpuProfile g = GpuProfile::load(gname, models)
@@ -479,10 +545,27 @@ int do_budget(const BudgetArgs& a) {
       MethodSpec m = parse_method(ms);
       FrameCost fc = cost_for(g, m, w, d);
       const double T = fc.total_ms;
-      std::vector<std::string> r = {g.name, m.text, fmt("%.3f", T), fmt("%.2f", budget), T <= budget ? "yes" : "no",
-                                    fmt("%+.3f", budget - T), fmt("%+.0f%%", budget > 0 ? 100 * (budget - T) / budget : 0)};
-      nlohmann::ordered_json j = {{"gpu", g.name}, {"method", m.text}, {"est_ms_total", T}, {"budget_ms", budget},
-                                  {"fits", T <= budget}, {"headroom_ms", budget - T}};
+      const bool iv = fc.interval_level > 0;
+      const char* verdict = budget_verdict(fc, budget);
+      std::vector<std::string> r = {
+          g.name,
+          m.text,
+          fmt("%.3f", T),
+          iv ? fmt("%.2f-", fc.total_lo_ms) + fmt("%.2f", fc.total_hi_ms) : "-",
+          fmt("%.2f", budget),
+          verdict,
+          fmt("%+.3f", budget - T),
+          fmt("%+.0f%%", budget > 0 ? 100 * (budget - T) / budget : 0)};
+      nlohmann::ordered_json j = {{"gpu", g.name},
+                                  {"method", m.text},
+                                  {"est_ms_total", T},
+                                  {"budget_ms", budget},
+                                  {"fits", T <= budget},
+                                  {"verdict", verdict},
+                                  {"headroom_ms", budget - T}};
+      if (iv)
+        j["est_ms_total_lo"] = fc.total_lo_ms, j["est_ms_total_hi"] = fc.total_hi_ms,
+        j["interval_level"] = fc.interval_level;
       // Factor a resource's throughput needs (alone) so the frame fits: part / (budget - rest).
       for (const char* rn : res_names) {
         double part = fc.resource_ms.count(rn) ? fc.resource_ms.at(rn) : 0;
@@ -502,11 +585,16 @@ int do_budget(const BudgetArgs& a) {
   if (a.json) {
     std::cout << out.dump(2) << "\n";
   } else {
-    std::cout << "budget " << fmt("%.2f", budget) << " ms; workload " << w.name << ", display " << d.width << "x"
-              << d.height << " x" << d.eyes << " eye(s); what-if throughput x shading " << a.s_shading << ", geometry "
-              << a.s_geometry << ", raster " << a.s_raster << ", memory " << a.s_memory << ", fixed " << a.s_fixed << "\n"
-              << "x_<resource>: throughput factor that resource alone needs to fit (<1: slack; inf: cannot fit alone); "
-                 "x_all: uniform factor on everything but fixed overheads\n";
+    std::cout << "budget " << fmt("%.2f", budget) << " ms; workload " << w.name << ", display "
+              << d.width << "x" << d.height << " x" << d.eyes
+              << " eye(s); what-if throughput x shading " << a.s_shading << ", geometry "
+              << a.s_geometry << ", raster " << a.s_raster << ", memory " << a.s_memory
+              << ", fixed " << a.s_fixed << "\n"
+              << "x_<resource>: throughput factor that resource alone needs to fit (<1: slack; "
+                 "inf: cannot fit alone); "
+                 "x_all: uniform factor on everything but fixed overheads; fits: at the interval's "
+                 "confidence "
+                 "(uncertain: the interval straddles the budget)\n";
     print_table(rows);
   }
   return 0;
@@ -521,16 +609,58 @@ struct ValidateArgs {
 int do_validate(const ValidateArgs& a) {
   const std::string models = models_or_default(a.models);
   CalData data = load_calibration(models);
-  FitOptions opt;
+  FitOptions opt;  // the default model (roofline) is the detailed report below
   CostFit fit = fit_cost_model(data, opt);
   ValidationReport rep = validate_cost(data, fit, opt);
+  std::vector<ModelSummary> sums;
+  for (CostModelKind k : {CostModelKind::Roofline, CostModelKind::Linear}) {
+    FitOptions o = opt;
+    o.model = k;
+    if (k == opt.model) {
+      sums.push_back(summarize_model(rep, k, 0.8));
+    } else {
+      CostFit f = fit_cost_model(data, o);
+      sums.push_back(summarize_model(validate_cost(data, f, o), k, 0.8));
+    }
+  }
+  std::sort(sums.begin(), sums.end(), [](const ModelSummary& x, const ModelSummary& y) {
+    return x.leaveout_mean < y.leaveout_mean;
+  });
   std::ostringstream txt, csv;
-  csv << "experiment,id,table,gpu,workload,config,row,kind,published_ms,model_ms,rel_err\n";
-  for (auto& r : rep.rows)
-    csv << '"' << r.experiment << "\"," << '"' << r.id << "\"," << r.table << ',' << r.gpu << ',' << r.workload << ','
-        << r.config << ",\"" << r.row << "\"," << r.kind << ',' << r.published_ms << ',' << r.model_ms << ','
-        << (r.published_ms > 0 ? std::to_string(r.rel_err()) : "") << "\n";
+  // model_lo_ms/model_hi_ms: the 80% interval; on cross-prediction rows the nested one (built
+  // without the row's table), on the others the interval the profiles carry.
+  const PredictionInterval iv_all = interval_from_rows(rep.rows, 0.8);
+  std::map<std::string, PredictionInterval> iv_nested;
+  for (auto& t : data.tables) iv_nested[t.id] = interval_from_rows(rep.rows, 0.8, t.id);
+  csv << "experiment,id,table,gpu,workload,config,row,kind,published_ms,model_ms,rel_err,model_lo_"
+         "ms,model_hi_ms\n";
+  for (auto& r : rep.rows) {
+    const PredictionInterval& iv =
+        r.experiment.rfind("cross:", 0) == 0 ? iv_nested[r.table] : iv_all;
+    csv << '"' << r.experiment << "\"," << '"' << r.id << "\"," << r.table << ',' << r.gpu << ','
+        << r.workload << ',' << r.config << ",\"" << r.row << "\"," << r.kind << ','
+        << r.published_ms << ',' << r.model_ms << ','
+        << (r.published_ms > 0 ? std::to_string(r.rel_err()) : "") << ','
+        << r.model_ms * iv.lo_factor << ',' << r.model_ms * iv.hi_factor << "\n";
+  }
   txt << "fovsim validate-cost: predicted vs. published per-pass times (ms)\n\n";
+  txt << "== models ranked by held-out (leave-one-seed = leave-one-GPU, leave-one-scene) mean |rel "
+         "err|\n"
+      << "   (no calibration table gives several resolutions: no leave-one-resolution-out "
+         "experiment)\n";
+  txt << pad("model", 10) << pad("fitted mean/worst", 20) << pad("held-out mean/worst", 22)
+      << pad("80% interval (x model)", 24) << "nested coverage\n";
+  for (auto& m : sums)
+    txt << pad(model_name(m.model), 10)
+        << pad(fmt("%.1f%%", 100 * m.fitted_mean) + fmt(" / %.1f%%", 100 * m.fitted_worst), 20)
+        << pad(fmt("%.1f%%", 100 * m.leaveout_mean) + fmt(" / %.1f%%", 100 * m.leaveout_worst) +
+                   " (" + std::to_string(m.leaveout_n) + ")",
+               22)
+        << pad(fmt("[%.2f, ", m.interval.lo_factor) + fmt("%.2f]", m.interval.hi_factor), 24)
+        << fmt("%.0f%%", 100 * m.coverage) << " of " << m.coverage_n << "\n";
+  txt << "nested coverage: each target table's held-out rows against the interval built from the "
+         "other tables'\n\n";
+  txt << "detailed report below: model " << model_name(opt.model) << "\n\n";
   txt << "== calibration entries (all tables fitted together; 'check' rows are totals, not fitted)\n";
   double se[2] = {0, 0};
   int ne[2] = {0, 0};
@@ -553,7 +683,8 @@ int do_validate(const ValidateArgs& a) {
     if (v.size() == 2 && v[1]->model_ms > 0) txt << fmt("  speedup %.2fx", v[0]->model_ms / v[1]->model_ms);
     txt << "\n";
   }
-  txt << "\n== cross-predictions (target's shading cost refit from its baseline lighting row only)\n";
+  txt << "\n== cross-predictions (target's shading and triangle costs refit from its baseline "
+         "lighting and G-buffer rows only)\n";
   std::ostringstream ccsv;
   ccsv << "name,fit_on,target,possible,n,mean_abs_rel_err,speedup_published,speedup_model\n";
   for (auto& c : rep.cross) {
@@ -595,6 +726,10 @@ void register_cost(CLI::App& app, Action& action) {
     c->add_option("--tables", a->tables, "Comma-separated calibration table ids to fit (default: all)");
     c->add_flag("--dry-run", a->dry_run, "Print the fit and residuals without writing profiles or workloads");
     c->add_flag("-q,--quiet", a->quiet, "Do not print the residual table");
+    c->add_option("--model", a->model,
+                  "How a pass combines its resources: roofline (bottleneck) or linear (sum)")
+        ->check(CLI::IsMember({"roofline", "linear"}))
+        ->capture_default_str();
     c->callback([a, &action]() { action = [a]() { return do_calibrate(*a); }; });
   }
   {

@@ -31,11 +31,15 @@ Workload apply_overrides(const Workload& w, const Json& ov, const std::string& w
   return r;
 }
 
-bool is_baseline_method(const std::string& m) { return m == "full"; }
+bool is_baseline_method(const std::string& m) {
+  return m == "full";
+}
 
 }  // namespace
 
-std::string fitted_param(const Workload& w) { return w.vpl_flops >= 0 ? "vpl_flops" : "shading_flops"; }
+std::string fitted_param(const Workload& w) {
+  return w.vpl_flops >= 0 ? "vpl_flops" : "shading_flops";
+}
 
 CalData load_calibration(const std::string& models_dir) {
   CalData d;
@@ -55,6 +59,7 @@ CalData load_calibration(const std::string& models_dir) {
       e.spec.fill_gpix = s.number("fill_gpix", pos);
       e.spec.tri_gtris = s.number("tri_gtris", pos);
       e.spec.boost_mhz = s.number("boost_mhz", 0, Range::at_least(0));
+      e.spec.l2_mb = s.number("l2_mb", 0, Range::at_least(0));
       e.spec.source = s.string("source", "");
       d.specs[it.key()] = e;
     }
@@ -62,7 +67,8 @@ CalData load_calibration(const std::string& models_dir) {
   }
   std::vector<std::string> files;
   for (auto& e : std::filesystem::directory_iterator(models_dir + "/calibration"))
-    if (e.path().extension() == ".json" && e.path().filename() != "gpu_specs.json") files.push_back(e.path().string());
+    if (e.path().extension() == ".json" && e.path().filename() != "gpu_specs.json")
+      files.push_back(e.path().string());
   std::sort(files.begin(), files.end());
   for (auto& f : files) {
     Params p = Params::from_file(f);
@@ -106,7 +112,8 @@ CalData load_calibration(const std::string& models_dir) {
       if (cj.contains("workload_overrides")) ce.workload_overrides = cj.at("workload_overrides");
       ce.baseline = is_baseline_method(ce.method);
       ce.workload = e.string("workload", wls.empty() ? "" : wls.front());
-      if (!d.workloads.count(ce.workload)) e.fail("workload", "unknown workload '" + ce.workload + "'");
+      if (!d.workloads.count(ce.workload))
+        e.fail("workload", "unknown workload '" + ce.workload + "'");
       const Json& ps = e.raw("passes");
       if (ps.is_array()) {
         for (auto& v : ps) {
@@ -163,6 +170,7 @@ double entry_ms(const GpuProfile& g, const Workload& w, const CalEntry& e, Frame
 GpuProfile profile_from_fit(const CostFit& fit, const std::string& gpu, const CalData& data) {
   const GpuSpecEntry& se = data.specs.at(gpu);
   GpuProfile g;
+  g.model = fit.model;
   g.name = gpu;
   g.description = se.description;
   g.spec = se.spec;
@@ -171,8 +179,9 @@ GpuProfile profile_from_fit(const CostFit& fit, const std::string& gpu, const Ca
     auto oh = fit.theta.find(pass + ".overhead_ms");
     pc.overhead_ms = oh == fit.theta.end() ? 0 : oh->second;
     // Every term the model knows for this pass (term_resource validates the pair).
-    for (const char* term : {"tris", "frags", "gbuffer_bytes", "shadow_tris", "shadow_texels", "texels", "pixels",
-                             "holes", "samples", "evals", "vpls", "shade_flops", "vpl_flops", "taps"}) {
+    for (const char* term :
+         {"tris", "frags", "gbuffer_bytes", "shadow_tris", "shadow_texels", "texels", "pixels",
+          "holes", "samples", "evals", "vpls", "shade_flops", "vpl_flops", "taps"}) {
       Resource r;
       try {
         r = term_resource(pass, term, "");
@@ -185,7 +194,9 @@ GpuProfile profile_from_fit(const CostFit& fit, const std::string& gpu, const Ca
         continue;
       }
       auto t = fit.theta.find(pass + "." + term);
-      pc.terms[term] = t == fit.theta.end() ? 0 : t->second / rate;
+      // Roofline: a resource that never bottlenecked a calibration row runs at peak (floor).
+      double floor = fit.model == CostModelKind::Roofline ? theta_floor(pass, term) : 0.0;
+      pc.terms[term] = (t == fit.theta.end() ? floor : std::max(floor, t->second)) / rate;
     }
     g.passes[pass] = pc;
   }
@@ -201,6 +212,7 @@ namespace {
 // One design-matrix row: columns by name, constant part (fixed coefficients), target.
 struct Row {
   std::map<std::string, double> x;
+  std::map<std::string, double> floor;  // lower bound of theta per column (roofline)
   double fixed = 0, y = 0;
 };
 
@@ -210,6 +222,11 @@ Row design_row(const CostFit& fit, const CalData& data, const CalEntry& e) {
   const bool fitted_wl = fit.fitted_workloads.count(e.workload) > 0;
   Workload wu = w;  // unit shading cost for the fitted parameter: its column is the cost
   if (fitted_wl) (fp == "vpl_flops" ? wu.vpl_flops : wu.shading_flops) = 1.0;
+  if (fitted_wl) wu.tri_cost = 1.0;  // its G-buffer triangle work is the column "geo:<workload>"
+  auto col = [&](const std::string& pass, const std::string& term) {
+    return fitted_wl && pass == "gbuffer" && term == "tris" ? "geo:" + e.workload
+                                                            : pass + "." + term;
+  };
   const GpuSpec& spec = data.specs.at(e.gpu).spec;
   Counters c = analytic_counters(e.method, e.params, w, e.display, e.id);
   CostInputs in;
@@ -220,10 +237,34 @@ Row design_row(const CostFit& fit, const CalData& data, const CalEntry& e) {
   Row r;
   r.y = e.published_ms;
   for (const PassWork& pw : assemble_passes(in, wu)) {
-    if (!e.passes.empty() && std::find(e.passes.begin(), e.passes.end(), pw.pass) == e.passes.end()) continue;
+    if (!e.passes.empty() && std::find(e.passes.begin(), e.passes.end(), pw.pass) == e.passes.end())
+      continue;
     r.x[pw.pass + ".overhead_ms"] += 1.0;
+    // Roofline: only the bottleneck resource's terms (with the current theta) enter the row.
+    bool use_all = fit.model != CostModelKind::Roofline || pw.pass == "lighting";
+    Resource active = Resource::Fixed;
+    if (!use_all) {
+      std::map<Resource, double> t_res;
+      for (const Term& t : pw.terms) {
+        auto it = fit.theta.find(col(pw.pass, t.name));
+        double th0 = it == fit.theta.end() ? 0.0 : it->second;
+        if (it == fit.theta.end() && col(pw.pass, t.name).rfind("geo:", 0) == 0) {
+          auto m = fit.theta.find("gbuffer.tris");  // a scene without Render rows: the mean
+          th0 = m == fit.theta.end() ? 0.0 : m->second * w.tri_cost;
+        }
+        double th = std::max(theta_floor(pw.pass, t.name), th0);
+        t_res[t.res] += th * t.value * working_set_factor(pw.pass, t.name, spec, e.display) /
+                        spec.rate_per_ms(t.res);
+      }
+      double worst = -1;
+      for (auto& [res, v] : t_res)
+        if (v > worst) worst = v, active = res;
+    }
     for (const Term& t : pw.terms) {
+      if (!use_all && t.res != active) continue;
       double v = t.value / spec.rate_per_ms(t.res);
+      if (fit.model == CostModelKind::Roofline)
+        v *= working_set_factor(pw.pass, t.name, spec, e.display);
       if (pw.pass == "lighting") {
         std::string fterm = fp == "vpl_flops" ? "vpl_flops" : "shade_flops";
         if (t.name == fterm && fitted_wl)
@@ -231,7 +272,9 @@ Row design_row(const CostFit& fit, const CalData& data, const CalEntry& e) {
         else
           r.fixed += v;  // coefficient 1: cost already in work units
       } else {
-        r.x[pw.pass + "." + t.name] += v;
+        r.x[col(pw.pass, t.name)] += v;
+        r.floor[col(pw.pass, t.name)] =
+            fit.model == CostModelKind::Roofline ? theta_floor(pw.pass, t.name) : 0;
       }
     }
   }
@@ -257,39 +300,60 @@ std::vector<double> solve(const std::vector<Row>& rows, const std::vector<std::s
       auto it = r.x.find(cols[j]);
       if (it != r.x.end() && scale[j] > 0) A[size_t(i) * n + j] = it->second / r.y / scale[j];
     }
-    b[i] = (r.y - r.fixed) / r.y;  // relative error
+    double fl = 0;  // theta = floor + z, z >= 0
+    for (auto& [k, f] : r.floor) fl += f * r.x.at(k);
+    b[i] = (r.y - r.fixed - fl) / r.y;  // relative error
   }
   for (int j = 0; j < n; ++j) A[size_t(m + j) * n + j] = std::sqrt(ridge.at(cols[j]));
   std::vector<double> z = nnls(A, m + n, n, b);
   std::vector<double> th(n, 0.0);
-  for (int j = 0; j < n; ++j) th[j] = scale[j] > 0 ? z[j] / scale[j] : 0.0;
+  for (int j = 0; j < n; ++j) {
+    double fl = 0;
+    for (auto& r : rows) {
+      auto it = r.floor.find(cols[j]);
+      if (it != r.floor.end()) fl = it->second;
+    }
+    th[j] = fl + (scale[j] > 0 ? z[j] / scale[j] : 0.0);
+  }
   return th;
 }
 
 }  // namespace
 
-CostFit fit_cost_model(const CalData& data, const FitOptions& opt) {
-  CostFit fit;
-  fit.workloads = data.workloads;
-  std::vector<const CalEntry*> used;
-  for (auto& t : data.tables) {
-    if (!opt.tables.empty() && !opt.tables.count(t.id)) continue;
-    for (auto& e : t.entries)
-      if (e.fit && e.published_ms > 0) used.push_back(&e);
-  }
-  for (auto* e : used) fit.fitted_workloads.insert(e->workload);
+namespace {
+
+// One least-squares solve with the rows' current design (roofline: current bottlenecks).
+// Per-scene G-buffer triangle work theta("geo:<workload>"): the profile keeps their geometric
+// mean as gbuffer.tris (the cost of an average scene's triangle), each workload its ratio to
+// it as tri_cost.
+void finish_tri_costs(CostFit& fit) {
+  double sl = 0;
+  int n = 0;
+  for (auto& [k, v] : fit.theta)
+    if (k.rfind("geo:", 0) == 0 && v > 0) sl += std::log(v), ++n;
+  if (n == 0) return;
+  const double mean = std::exp(sl / n);
+  fit.theta["gbuffer.tris"] = mean;
+  for (auto& [k, v] : fit.theta)
+    if (k.rfind("geo:", 0) == 0) fit.workloads[k.substr(4)].tri_cost = std::max(v, 1e-6) / mean;
+}
+
+// `design` chooses the bottlenecks (its theta); the solution is written to `fit`.
+void solve_once(CostFit& fit, const CostFit& design, const CalData& data,
+                const std::vector<const CalEntry*>& used, const FitOptions& opt) {
   std::vector<Row> rows;
   std::set<std::string> colset;
   for (auto* e : used) {
-    rows.push_back(design_row(fit, data, *e));
+    rows.push_back(design_row(design, data, *e));
     for (auto& kv : rows.back().x) colset.insert(kv.first);
-    for (auto& p : e->passes) fit.seen_passes.insert(p);
   }
   fit.rows = int(rows.size());
   std::vector<std::string> cols(colset.begin(), colset.end());
   std::map<std::string, double> ridge;
   for (auto& c : cols)
-    ridge[c] = c.find(".overhead_ms") != std::string::npos ? opt.ridge_overhead : (c.rfind("wl:", 0) == 0 ? 0.0 : opt.ridge);
+    ridge[c] = c.find(".overhead_ms") != std::string::npos
+                   ? opt.ridge_overhead
+                   : (c.rfind("wl:", 0) == 0 ? 0.0 : opt.ridge);
   std::vector<double> th = solve(rows, cols, ridge);
   for (size_t j = 0; j < cols.size(); ++j) {
     if (cols[j].rfind("wl:", 0) == 0) {
@@ -299,34 +363,123 @@ CostFit fit_cost_model(const CalData& data, const FitOptions& opt) {
       fit.theta[cols[j]] = th[j];
     }
   }
-  return fit;
+  finish_tri_costs(fit);
+}
+
+// Sum of squared relative errors of the fitted rows (the fit's objective, without ridge).
+double fit_loss(const CostFit& fit, const CalData& data, const std::vector<const CalEntry*>& used) {
+  double l = 0;
+  for (auto* e : used) {
+    double m = predict_entry(fit, data, *e);
+    l += std::pow((m - e->published_ms) / e->published_ms, 2);
+  }
+  return l;
+}
+
+}  // namespace
+
+double theta_floor(const std::string& pass, const std::string& term) {
+  (void)pass;
+  for (const char* t : {"tris", "frags", "gbuffer_bytes", "shadow_tris", "shadow_texels", "texels"})
+    if (term == t) return 1.0;
+  return 0.0;
+}
+
+CostFit fit_cost_model(const CalData& data, const FitOptions& opt) {
+  CostFit fit;
+  fit.workloads = data.workloads;
+  std::vector<const CalEntry*> used;
+  // Scenes outside the fit start from the mean triangle cost (no leak from their files' fits).
+  for (auto& [name, w] : fit.workloads) w.tri_cost = 1.0;
+  for (auto& t : data.tables) {
+    if (!opt.tables.empty() && !opt.tables.count(t.id)) continue;
+    for (auto& e : t.entries)
+      if (e.fit && e.published_ms > 0) used.push_back(&e);
+  }
+  for (auto* e : used) fit.fitted_workloads.insert(e->workload);
+  for (auto* e : used)
+    for (auto& p : e->passes) fit.seen_passes.insert(p);
+  fit.model = CostModelKind::Linear;
+  solve_once(fit, CostFit(fit), data, used, opt);
+  fit.iterations = 1;
+  if (opt.model == CostModelKind::Linear) return fit;
+  // Roofline: the max makes the fit piecewise linear. Active-set iteration: pick each pass's
+  // bottleneck with the current theta, solve the linear problem on those terms only, repeat
+  // until the fitted loss stops improving. Two deterministic starts: every multi-resource
+  // term at its floor (peak rates decide the bottleneck) and the linear fit; the lower loss wins.
+  CostFit best;
+  double best_loss = HUGE_VAL;
+  for (int start = 0; start < 2; ++start) {
+    CostFit f = fit;
+    f.model = CostModelKind::Roofline;
+    if (start == 0)
+      for (auto& [k, v] : f.theta) {
+        auto dot = k.find('.');
+        double fl = theta_floor(k.substr(0, dot), k.substr(dot + 1));
+        if (fl > 0) v = fl;
+      }
+    double prev = HUGE_VAL;
+    for (int it = 1; it <= 12; ++it) {
+      CostFit next = f;
+      next.theta.clear();  // terms that are never a bottleneck fall back to their floor
+      solve_once(next, f, data, used, opt);
+      next.iterations = it;
+      double l = fit_loss(next, data, used);
+      if (l < best_loss) best_loss = l, best = next;
+      if (!(l < prev - 1e-9)) break;
+      prev = l;
+      f = next;
+    }
+  }
+  return best;
 }
 
 void refit_workload(CostFit& fit, const CalData& data, const std::string& workload,
                     const std::vector<const CalEntry*>& rows) {
   fit.fitted_workloads.insert(workload);
-  double num = 0, den = 0;
-  for (auto* e : rows) {
-    if (e->workload != workload || !(e->published_ms > 0)) continue;
-    Row r = design_row(fit, data, *e);
-    double rest = r.fixed;
-    double xw = 0;
-    for (auto& kv : r.x) {
-      if (kv.first == "wl:" + workload) {
-        xw += kv.second;
-        continue;
+  {
+    auto it = fit.theta.find("gbuffer.tris");
+    fit.theta["geo:" + workload] =
+        it == fit.theta.end() ? 1.0 : it->second * fit.workloads[workload].tri_cost;
+  }
+  // One-dimensional least squares (relative error) for the workload's shading cost and its
+  // G-buffer triangle work, each from the rows that contain it, the other theta fixed.
+  for (int pass = 0; pass < 2; ++pass)
+    for (std::string c : {"wl:" + workload, "geo:" + workload}) {
+      double num = 0, den = 0;
+      for (auto* e : rows) {
+        if (e->workload != workload || !(e->published_ms > 0)) continue;
+        Row r = design_row(fit, data, *e);
+        double rest = r.fixed, xw = 0;
+        for (auto& kv : r.x) {
+          if (kv.first == c) {
+            xw += kv.second;
+            continue;
+          }
+          auto it = fit.theta.find(kv.first);
+          double th = it != fit.theta.end() ? it->second : 0.0;
+          if (kv.first == "wl:" + workload) {
+            const Workload& w = fit.workloads[workload];
+            th = fitted_param(w) == "vpl_flops" ? w.vpl_flops : w.shading_flops;
+          }
+          rest += th * kv.second;
+        }
+        double a = xw / r.y, b = (r.y - rest) / r.y;
+        num += a * b;
+        den += a * a;
       }
-      auto it = fit.theta.find(kv.first);
-      if (it != fit.theta.end()) rest += it->second * kv.second;
+      if (!(den > 0)) continue;
+      if (c[0] == 'w') {
+        Workload& w = fit.workloads[workload];
+        (fitted_param(w) == "vpl_flops" ? w.vpl_flops : w.shading_flops) = std::max(0.0, num / den);
+      } else {
+        double fl = fit.model == CostModelKind::Roofline ? theta_floor("gbuffer", "tris") : 0.0;
+        fit.theta[c] = std::max(fl, num / den);
+        auto it = fit.theta.find("gbuffer.tris");
+        if (it != fit.theta.end() && it->second > 0)
+          fit.workloads[workload].tri_cost = fit.theta[c] / it->second;
+      }
     }
-    double a = xw / r.y, b = (r.y - rest) / r.y;
-    num += a * b;
-    den += a * a;
-  }
-  if (den > 0) {
-    Workload& w = fit.workloads[workload];
-    (fitted_param(w) == "vpl_flops" ? w.vpl_flops : w.shading_flops) = std::max(0.0, num / den);
-  }
 }
 
 }  // namespace fovsim

@@ -19,8 +19,8 @@ struct CalEntry {
   std::string table, id, row, config, workload, gpu, method;
   std::vector<std::string> passes;  // empty: every pass of the frame
   double published_ms = 0;
-  bool fit = true;                  // false: a check row (totals), compared but not fitted
-  bool baseline = false;            // a non-foveated config (full-resolution method)
+  bool fit = true;        // false: a check row (totals), compared but not fitted
+  bool baseline = false;  // a non-foveated config (full-resolution method)
   Json params = Json::object();
   Json workload_overrides = Json::object();
   Display display;
@@ -47,18 +47,26 @@ struct CalData {
 CalData load_calibration(const std::string& models_dir);
 
 struct FitOptions {
-  std::set<std::string> tables;   // tables used for the fit (empty: all)
-  double ridge = 1e-4;            // on standardised term columns
-  double ridge_overhead = 3e-3;   // on standardised overheads: per-unit terms explain first
+  std::set<std::string> tables;  // tables used for the fit (empty: all)
+  double ridge = 1e-4;           // on standardised term columns
+  double ridge_overhead = 3e-3;  // on standardised overheads: per-unit terms explain first
+  CostModelKind model = CostModelKind::Roofline;  // how a pass combines its resources
 };
 
 struct CostFit {
-  std::map<std::string, double> theta;  // "pass.term" (work units per counter unit), "pass.overhead_ms"
+  std::map<std::string, double>
+      theta;  // "pass.term" (work units per counter unit), "pass.overhead_ms"
   std::map<std::string, Workload> workloads;  // with fitted shading costs
   std::set<std::string> fitted_workloads;
-  std::set<std::string> seen_passes;          // passes that had data
+  std::set<std::string> seen_passes;  // passes that had data
   int rows = 0;
+  CostModelKind model = CostModelKind::Linear;
+  int iterations = 0;  // roofline: active-set refits until the bottlenecks stop changing
 };
+
+// Roofline floor of theta (work per counter unit at 100% efficiency): 1 for terms counted in
+// their resource's own unit (triangles, fragments, texels, bytes), 0 for the others.
+double theta_floor(const std::string& pass, const std::string& term);
 
 CostFit fit_cost_model(const CalData& data, const FitOptions& opt);
 // The workload's fitted parameter: "vpl_flops" for FLC workloads, else "shading_flops".

@@ -2,6 +2,7 @@
 #include "sim/cost/cost_model.h"
 
 #include <cmath>
+#include <map>
 
 #include "sim/cost/gpu_profile.h"
 #include "sim/cost/passes.h"
@@ -15,6 +16,12 @@ double FrameCost::pass_ms(const std::string& pass) const {
   return 0;
 }
 
+const char* budget_verdict(const FrameCost& fc, double budget_ms) {
+  if (fc.interval_level <= 0) return fc.total_ms <= budget_ms ? "fits" : "does not fit";
+  if (fc.total_hi_ms <= budget_ms) return "fits";
+  return fc.total_lo_ms > budget_ms ? "does not fit" : "uncertain";
+}
+
 FrameCost estimate_frame(const GpuProfile& gpu, const CostInputs& in) {
   const Workload defaults;
   const Workload& w = in.workload ? *in.workload : defaults;
@@ -25,16 +32,39 @@ FrameCost estimate_frame(const GpuProfile& gpu, const CostInputs& in) {
     if (it != gpu.passes.end()) {
       ms = it->second.overhead_ms;
       fc.resource_ms["fixed"] += it->second.overhead_ms;
+      std::map<Resource, double> per_res;  // work / throughput per resource (ms)
       for (const Term& t : pw.terms) {
         auto c = it->second.terms.find(t.name);
         if (c == it->second.terms.end()) continue;
-        ms += c->second * t.value;
-        fc.resource_ms[resource_name(t.res)] += c->second * t.value;
+        const double ws = gpu.model == CostModelKind::Roofline
+                              ? working_set_factor(pw.pass, t.name, gpu.spec, in.display)
+                              : 1.0;
+        per_res[t.res] += c->second * t.value * ws;
+      }
+      if (gpu.model == CostModelKind::Roofline) {
+        // Bottleneck: the pass takes as long as its slowest resource (DESIGN §6); the time is
+        // charged to that resource in resource_ms.
+        Resource bound = Resource::Fixed;
+        double worst = 0;
+        for (auto& [r, v] : per_res)
+          if (v > worst) worst = v, bound = r;
+        ms += worst;
+        if (worst > 0) fc.resource_ms[resource_name(bound)] += worst;
+      } else {
+        for (auto& [r, v] : per_res) {
+          ms += v;
+          fc.resource_ms[resource_name(r)] += v;
+        }
       }
     }
     if (!std::isfinite(ms)) ms = HUGE_VAL;  // overflow on absurd inputs stays ordered
     fc.passes.push_back({pw.pass, ms});
     fc.total_ms += ms;
+  }
+  if (gpu.interval.level > 0) {
+    fc.interval_level = gpu.interval.level;
+    fc.total_lo_ms = fc.total_ms * gpu.interval.lo_factor;
+    fc.total_hi_ms = fc.total_ms * gpu.interval.hi_factor;
   }
   return fc;
 }

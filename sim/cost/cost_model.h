@@ -21,6 +21,8 @@ struct PassCost {
 struct FrameCost {
   std::vector<PassCost> passes;
   double total_ms = 0;
+  // Prediction interval on total_ms (issue 14; interval_level 0: the profile has none).
+  double interval_level = 0, total_lo_ms = 0, total_hi_ms = 0;
   // Counters the passes read that the method did not fill (charged as 0, DESIGN §6 note).
   std::vector<std::string> missing_counters;
   // Time per resource class (geometry, raster, shading, memory, fixed = overheads); sums to total.
@@ -32,11 +34,11 @@ struct GpuProfile;  // defined in gpu_profile.h
 struct Workload;    // defined in workload.h
 
 struct CostInputs {
-  std::string method;               // factory name
+  std::string method;                  // factory name
   const Counters* counters = nullptr;  // measured at the simulated resolution
   SceneFeatures features;
-  Display display;                  // the real (unscaled) display being costed
-  double pixel_scale = 1.0;         // (display W*H) / (simulated W*H): scales pixel counters
+  Display display;           // the real (unscaled) display being costed
+  double pixel_scale = 1.0;  // (display W*H) / (simulated W*H): scales pixel counters
   // Scene cost descriptor (overdraw, shading cost, optional passes). nullptr: defaults
   // resolved against `features` (Workload{}), see docs/cost_model.md.
   const Workload* workload = nullptr;
@@ -45,5 +47,10 @@ struct CostInputs {
 // Per-pass and total estimate. Per-eye passes are charged display.eyes times; shadow maps
 // and RSMs once per frame. Pixel counters are multiplied by pixel_scale, triangles are not.
 FrameCost estimate_frame(const GpuProfile& gpu, const CostInputs& in);
+
+// Budget verdict at the interval's confidence (issue 14): "fits" when the interval's upper
+// end is within the budget, "does not fit" when its lower end exceeds it, else "uncertain".
+// Without an interval, the point estimate decides ("fits" / "does not fit").
+const char* budget_verdict(const FrameCost& fc, double budget_ms);
 
 }  // namespace fovsim

@@ -11,30 +11,51 @@
 
 namespace fovsim {
 
+const char* model_name(CostModelKind k) {
+  return k == CostModelKind::Roofline ? "roofline" : "linear";
+}
+
 const char* resource_name(Resource r) {
   switch (r) {
-    case Resource::Geometry: return "geometry";
-    case Resource::Raster: return "raster";
-    case Resource::Shading: return "shading";
-    case Resource::Memory: return "memory";
-    case Resource::Fixed: return "fixed";
+    case Resource::Geometry:
+      return "geometry";
+    case Resource::Raster:
+      return "raster";
+    case Resource::Shading:
+      return "shading";
+    case Resource::Memory:
+      return "memory";
+    case Resource::Fixed:
+      return "fixed";
   }
   return "?";
 }
 
 Resource resource_from_name(const std::string& s, const std::string& where) {
-  for (Resource r : {Resource::Geometry, Resource::Raster, Resource::Shading, Resource::Memory, Resource::Fixed})
+  for (Resource r :
+       {Resource::Geometry, Resource::Raster, Resource::Shading, Resource::Memory, Resource::Fixed})
     if (s == resource_name(r)) return r;
-  throw Error(where, "unknown resource '" + s + "' (known: geometry, raster, shading, memory, fixed)");
+  throw Error(where,
+              "unknown resource '" + s + "' (known: geometry, raster, shading, memory, fixed)");
+}
+
+double l2_miss_fraction(const GpuSpec& s, double working_set_bytes) {
+  if (!(s.l2_mb > 0) || !(working_set_bytes > 0)) return 1.0;
+  return std::max(0.0, 1.0 - s.l2_mb * 1024.0 * 1024.0 / working_set_bytes);
 }
 
 double GpuSpec::rate_per_ms(Resource r) const {
   switch (r) {
-    case Resource::Geometry: return tri_gtris * 1e6;
-    case Resource::Raster: return fill_gpix * 1e6;
-    case Resource::Shading: return fp32_gflops * 1e6;
-    case Resource::Memory: return mem_gbps * 1e6;
-    case Resource::Fixed: return 1.0;
+    case Resource::Geometry:
+      return tri_gtris * 1e6;
+    case Resource::Raster:
+      return fill_gpix * 1e6;
+    case Resource::Shading:
+      return fp32_gflops * 1e6;
+    case Resource::Memory:
+      return mem_gbps * 1e6;
+    case Resource::Fixed:
+      return 1.0;
   }
   return 1.0;
 }
@@ -54,7 +75,8 @@ std::vector<std::string> GpuProfile::available(const std::string& models_dir) {
 }
 
 GpuProfile GpuProfile::load(const std::string& name_or_path, const std::string& models_dir) {
-  std::string file = looks_like_path(name_or_path) ? name_or_path : models_dir + "/gpus/" + name_or_path + ".json";
+  std::string file =
+      looks_like_path(name_or_path) ? name_or_path : models_dir + "/gpus/" + name_or_path + ".json";
   if (!file_exists(file)) {
     std::string av;
     for (auto& n : available(models_dir)) av += (av.empty() ? "" : ", ") + n;
@@ -71,6 +93,20 @@ GpuProfile GpuProfile::from_json(const Json& j, const std::string& file) {
   g.name = p.string("name");
   g.description = p.string("description", "");
   g.calibrated = p.boolean("calibrated", false);
+  g.model = p.string("model", "linear", {"linear", "roofline"}) == "roofline"
+                ? CostModelKind::Roofline
+                : CostModelKind::Linear;
+  if (p.has("interval")) {
+    Params iv = p.child("interval");
+    g.interval.level = iv.number("level", Range::above(0, 1));
+    g.interval.lo_factor = iv.number("lo_factor", Range::above(0));
+    g.interval.hi_factor = iv.number("hi_factor", Range::above(0));
+    g.interval.n = iv.integer("n", 0, Range::at_least(0));
+    iv.ignore("method");
+    if (g.interval.lo_factor > g.interval.hi_factor)
+      iv.fail("hi_factor", "must be >= lo_factor (" + std::to_string(g.interval.lo_factor) + ")");
+    iv.finish();
+  }
   {
     Params s = p.child("spec");
     auto pos = Range::above(0);
@@ -79,6 +115,7 @@ GpuProfile GpuProfile::from_json(const Json& j, const std::string& file) {
     g.spec.fill_gpix = s.number("fill_gpix", pos);
     g.spec.tri_gtris = s.number("tri_gtris", pos);
     g.spec.boost_mhz = s.number("boost_mhz", 0, Range::at_least(0));
+    g.spec.l2_mb = s.number("l2_mb", 0, Range::at_least(0));
     g.spec.source = s.string("source", "");
   }
   if (!p.has("passes")) p.fail("passes", "missing required key (per-pass coefficients)");
@@ -127,9 +164,19 @@ Json GpuProfile::to_json() const {
   j["name"] = name;
   j["description"] = description;
   j["calibrated"] = calibrated;
-  j["spec"] = {{"fp32_gflops", spec.fp32_gflops}, {"mem_gbps", spec.mem_gbps},
-               {"fill_gpix", spec.fill_gpix},     {"tri_gtris", spec.tri_gtris},
-               {"boost_mhz", spec.boost_mhz},     {"source", spec.source}};
+  j["model"] = model_name(model);
+  if (interval.level > 0)
+    j["interval"] = {{"level", interval.level},
+                     {"lo_factor", interval.lo_factor},
+                     {"hi_factor", interval.hi_factor},
+                     {"n", interval.n}};
+  j["spec"] = {{"fp32_gflops", spec.fp32_gflops},
+               {"mem_gbps", spec.mem_gbps},
+               {"fill_gpix", spec.fill_gpix},
+               {"tri_gtris", spec.tri_gtris},
+               {"boost_mhz", spec.boost_mhz},
+               {"l2_mb", spec.l2_mb},
+               {"source", spec.source}};
   Json ps = Json::object();
   for (auto& [pass, pc] : passes) {
     Json t = Json::object();
@@ -142,7 +189,8 @@ Json GpuProfile::to_json() const {
 
 GpuProfile GpuProfile::scaled(Resource r, double factor) const {
   if (!(factor > 0) || !std::isfinite(factor))
-    throw Error("what-if", std::string("throughput factor for ") + resource_name(r) + " must be > 0");
+    throw Error("what-if",
+                std::string("throughput factor for ") + resource_name(r) + " must be > 0");
   GpuProfile g = *this;
   for (auto& [pass, pc] : g.passes) {
     if (r == Resource::Fixed) pc.overhead_ms /= factor;
@@ -150,11 +198,20 @@ GpuProfile GpuProfile::scaled(Resource r, double factor) const {
       if (term_resource(pass, term, "") == r) v /= factor;
   }
   switch (r) {
-    case Resource::Geometry: g.spec.tri_gtris *= factor; break;
-    case Resource::Raster: g.spec.fill_gpix *= factor; break;
-    case Resource::Shading: g.spec.fp32_gflops *= factor; break;
-    case Resource::Memory: g.spec.mem_gbps *= factor; break;
-    case Resource::Fixed: break;
+    case Resource::Geometry:
+      g.spec.tri_gtris *= factor;
+      break;
+    case Resource::Raster:
+      g.spec.fill_gpix *= factor;
+      break;
+    case Resource::Shading:
+      g.spec.fp32_gflops *= factor;
+      break;
+    case Resource::Memory:
+      g.spec.mem_gbps *= factor;
+      break;
+    case Resource::Fixed:
+      break;
   }
   return g;
 }

@@ -24,10 +24,35 @@ struct GpuSpec {
   double fill_gpix = 0;    // ROP fill rate, Gpixel/s (raster)
   double tri_gtris = 0;    // primitive rate, Gtriangles/s (geometry)
   double boost_mhz = 0;
+  double l2_mb = 0;  // last-level (L2) cache, MB; 0: unknown (no working-set effect)
   std::string source;
   // Peak rate of a class in units per millisecond (flop, byte, pixel, triangle).
   double rate_per_ms(Resource r) const;
 };
+
+// How a pass combines its terms (DESIGN §6). Linear: overhead + Σ coef·value (issue 7).
+// Roofline: overhead + max over resources of Σ_{terms of that resource} coef·value, i.e. the
+// pass runs at the speed of its bottleneck resource (Williams, Waterman, Patterson,
+// "Roofline: an insightful visual performance model for multicore architectures", CACM 2009).
+enum class CostModelKind { Linear, Roofline };
+const char* model_name(CostModelKind k);
+
+// Prediction interval (issue 14): multiplicative factors on a frame total from the empirical
+// quantiles of held-out relative errors (leave-one-seed/scene/GPU/resolution-out experiments
+// of `fovsim validate-cost`). lo_factor <= 1 <= hi_factor when the model is unbiased.
+struct PredictionInterval {
+  double level = 0;  // 0: none known
+  double lo_factor = 1, hi_factor = 1;
+  int n = 0;  // held-out rows the quantiles came from
+};
+
+// Working-set effect (issue 14): the fraction of a pass's reads that miss an L2 of `l2_mb`
+// when the pass gathers from a `working_set_bytes` buffer at data-dependent positions (hits
+// assumed free, misses at DRAM bandwidth): max(0, 1 - L2 / working set). 1 when l2_mb is 0.
+double l2_miss_fraction(const GpuSpec& s, double working_set_bytes);
+// Bytes per pixel of the buffers TWFR's reprojection gathers from (previous colour RGBA16F
+// 8 B, depth 4 B, motion/confidence 4 B), one eye at a time.
+constexpr double kReprojectBytesPerPixel = 16;
 
 struct PassCoef {
   double overhead_ms = 0;
@@ -35,7 +60,7 @@ struct PassCoef {
 };
 
 struct CalibrationResidual {
-  std::string id;       // calibration entry id
+  std::string id;  // calibration entry id
   double published_ms = 0, model_ms = 0, rel_err = 0;
 };
 
@@ -47,6 +72,8 @@ struct GpuProfile {
   std::map<std::string, PassCoef> passes;
   std::vector<CalibrationResidual> residuals;
   bool calibrated = false;  // false: coefficients transferred from the fit through spec ratios only
+  CostModelKind model = CostModelKind::Linear;  // key `model`: "linear" (default) | "roofline"
+  PredictionInterval interval;                  // key `interval` (optional)
 
   // `name_or_path`: a file path (contains '/' or ends in .json) or a name in
   // models_dir/gpus/NAME.json. Throws fovsim::Error naming the file and JSON path.

@@ -1,5 +1,6 @@
 // Pass lists and term values (DESIGN §6). Terms and their units:
-//   tris           triangles submitted to a raster pass (not scaled by pixel_scale)
+//   tris           triangles submitted to a raster pass (not scaled by pixel_scale); in the
+//                  G-buffer pass times workload.tri_cost (the scene's relative triangle cost)
 //   frags          rasterised fragments = pixels * overdraw
 //   gbuffer_bytes  bytes written to the G-buffer = pixels * workload.gbuffer_bytes
 //   shadow_tris    triangles * shadowed lights (one shadow map per light, shared by both eyes)
@@ -30,17 +31,28 @@ struct TermDef {
 
 const std::vector<TermDef>& term_table() {
   static const std::vector<TermDef> t = {
-      {"depth", "tris", Resource::Geometry},          {"depth", "frags", Resource::Raster},
-      {"shadow", "shadow_tris", Resource::Geometry},  {"shadow", "shadow_texels", Resource::Raster},
-      {"rsm", "tris", Resource::Geometry},            {"rsm", "texels", Resource::Raster},
-      {"gbuffer", "tris", Resource::Geometry},        {"gbuffer", "frags", Resource::Raster},
-      {"gbuffer", "gbuffer_bytes", Resource::Memory}, {"skybox", "pixels", Resource::Raster},
-      {"reproject", "pixels", Resource::Memory},      {"reproject", "holes", Resource::Memory},
-      {"importance", "pixels", Resource::Memory},     {"importance", "samples", Resource::Shading},
-      {"contribution", "evals", Resource::Shading},   {"light_culling", "vpls", Resource::Shading},
-      {"lighting", "shade_flops", Resource::Shading}, {"lighting", "vpl_flops", Resource::Shading},
-      {"pass2", "taps", Resource::Memory},            {"ssao", "pixels", Resource::Memory},
-      {"tonemap", "pixels", Resource::Memory},        {"taa", "pixels", Resource::Memory},
+      {"depth", "tris", Resource::Geometry},
+      {"depth", "frags", Resource::Raster},
+      {"shadow", "shadow_tris", Resource::Geometry},
+      {"shadow", "shadow_texels", Resource::Raster},
+      {"rsm", "tris", Resource::Geometry},
+      {"rsm", "texels", Resource::Raster},
+      {"gbuffer", "tris", Resource::Geometry},
+      {"gbuffer", "frags", Resource::Raster},
+      {"gbuffer", "gbuffer_bytes", Resource::Memory},
+      {"skybox", "pixels", Resource::Raster},
+      {"reproject", "pixels", Resource::Memory},
+      {"reproject", "holes", Resource::Memory},
+      {"importance", "pixels", Resource::Memory},
+      {"importance", "samples", Resource::Shading},
+      {"contribution", "evals", Resource::Shading},
+      {"light_culling", "vpls", Resource::Shading},
+      {"lighting", "shade_flops", Resource::Shading},
+      {"lighting", "vpl_flops", Resource::Shading},
+      {"pass2", "taps", Resource::Memory},
+      {"ssao", "pixels", Resource::Memory},
+      {"tonemap", "pixels", Resource::Memory},
+      {"taa", "pixels", Resource::Memory},
       {"post_aa", "pixels", Resource::Memory},
   };
   return t;
@@ -49,10 +61,10 @@ const std::vector<TermDef>& term_table() {
 }  // namespace
 
 const std::vector<std::string>& known_passes() {
-  static const std::vector<std::string> p = {"depth",   "shadow",   "rsm",       "gbuffer",
-                                             "skybox",  "reproject", "importance", "contribution",
-                                             "light_culling", "lighting", "pass2", "ssao",
-                                             "tonemap", "taa",       "post_aa"};
+  static const std::vector<std::string> p = {
+      "depth",     "shadow",     "rsm",          "gbuffer",       "skybox",
+      "reproject", "importance", "contribution", "light_culling", "lighting",
+      "pass2",     "ssao",       "tonemap",      "taa",           "post_aa"};
   return p;
 }
 
@@ -62,7 +74,7 @@ bool is_known_pass(const std::string& p) {
 }
 
 const std::vector<std::string>& cost_methods() {
-  static const std::vector<std::string> m = {"full", "kfr",  "rmfr", "hyperbolic",
+  static const std::vector<std::string> m = {"full",   "kfr",  "rmfr", "hyperbolic",
                                              "linear", "fvrs", "twfr", "flc"};
   return m;
 }
@@ -88,6 +100,13 @@ Resource term_resource(const std::string& pass, const std::string& term, const s
     throw Error(where, "unknown pass '" + pass + "' (known: " + all + ")");
   }
   throw Error(where, "unknown term '" + term + "' of pass '" + pass + "' (known: " + known + ")");
+}
+
+double working_set_factor(const std::string& pass, const std::string& term, const GpuSpec& spec,
+                          const Display& display) {
+  if (pass != "reproject" || term != "pixels") return 1.0;
+  const double px = double(std::max(0, display.width)) * double(std::max(0, display.height));
+  return l2_miss_fraction(spec, px * kReprojectBytesPerPixel);
 }
 
 std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
@@ -141,25 +160,29 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
   const double Tsub = twfr ? need("prims_submitted", T) : T;  // foveation culling (seed 002 §6.1)
 
   if (w.pipeline.depth_prepass)
-    add("depth", {{"tris", Resource::Geometry, T * eyes}, {"frags", Resource::Raster, P * w.overdraw * eyes}});
+    add("depth", {{"tris", Resource::Geometry, T * eyes},
+                  {"frags", Resource::Raster, P * w.overdraw * eyes}});
   if (shadowed > 0)  // no shadow pass without shadowed lights
-    add("shadow", {{"shadow_tris", Resource::Geometry, T * shadowed},
-                   {"shadow_texels", Resource::Raster, w.shadow_map_res * w.shadow_map_res * shadowed}});
+    add("shadow",
+        {{"shadow_tris", Resource::Geometry, T * shadowed},
+         {"shadow_texels", Resource::Raster, w.shadow_map_res * w.shadow_map_res * shadowed}});
   if (flc) {  // reflective shadow maps, one per light (seed 001 §3, S-2)
     double texels = need("rsm_texels", w.rsm_res * w.rsm_res * std::max(1.0, lights));
-    add("rsm", {{"tris", Resource::Geometry, T * std::max(1.0, lights)}, {"texels", Resource::Raster, texels}});
+    add("rsm", {{"tris", Resource::Geometry, T * std::max(1.0, lights)},
+                {"texels", Resource::Raster, texels}});
   }
   if (twfr) {  // reprojection + push-pull + confidence (seed 002 §4-§5)
     double rp = need_px("reprojected_pixels", P);
     double holes = 0;
     for (auto& kv : c.items())
       if (kv.first.rfind("holes_mip", 0) == 0) holes += std::max(0.0, kv.second);
-    add("reproject", {{"pixels", Resource::Memory, rp * eyes}, {"holes", Resource::Memory, holes * scale * eyes}});
+    add("reproject", {{"pixels", Resource::Memory, rp * eyes},
+                      {"holes", Resource::Memory, holes * scale * eyes}});
   }
   // G-buffer (deferred) or forward geometry pass (fVRS); TWFR discards confident pixels.
   {
     double written = twfr ? need_px("pixels_redrawn", S) : P;
-    add("gbuffer", {{"tris", Resource::Geometry, Tsub * eyes},
+    add("gbuffer", {{"tris", Resource::Geometry, Tsub * w.tri_cost * eyes},
                     {"frags", Resource::Raster, P * w.overdraw * eyes},
                     {"gbuffer_bytes", Resource::Memory, written * w.gbuffer_bytes * eyes}});
   }
@@ -177,7 +200,8 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
   {
     // fVRS is a forward renderer (seed 002 §8.4): every rasterised fragment is shaded.
     const double fwd = m == "fvrs" ? std::max(1.0, w.overdraw) : 1.0;
-    std::vector<Term> t = {{"shade_flops", Resource::Shading, S * fwd * lights * w.shading_flops * eyes}};
+    std::vector<Term> t = {
+        {"shade_flops", Resource::Shading, S * fwd * lights * w.shading_flops * eyes}};
     if (flc) {
       double vf = w.vpl_flops >= 0 ? w.vpl_flops : w.shading_flops;
       t.push_back({"vpl_flops", Resource::Shading, need_px("shaded_sample_vpls", 0) * vf * eyes});
@@ -193,7 +217,8 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
     add("pass2", {{"taps", Resource::Memory, taps * eyes}});
   }
   const double post_px = twfr ? need_px("pixels_redrawn", S) : P;
-  if (w.pipeline.ssao) add("ssao", {{"pixels", Resource::Memory, post_px * eyes}});  // TWFR skips reprojected
+  if (w.pipeline.ssao)
+    add("ssao", {{"pixels", Resource::Memory, post_px * eyes}});  // TWFR skips reprojected
   if (w.pipeline.tonemap) add("tonemap", {{"pixels", Resource::Memory, post_px * eyes}});
   if (w.pipeline.taa) add("taa", {{"pixels", Resource::Memory, P * eyes}});
   if (w.pipeline.post_aa) add("post_aa", {{"pixels", Resource::Memory, P * eyes}});

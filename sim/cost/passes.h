@@ -33,6 +33,13 @@ Resource term_resource(const std::string& pass, const std::string& term, const s
 const std::vector<std::string>& known_passes();
 bool is_known_pass(const std::string& p);
 
+// Roofline model only: factor on a term's work for the working-set effect (issue 14). TWFR's
+// reprojection gathers the previous frame at reprojected positions (seed 002 §4), so its
+// DRAM traffic is the L2 miss fraction of a W*H*kReprojectBytesPerPixel buffer (one eye at
+// a time); every other term streams and is 1.
+double working_set_factor(const std::string& pass, const std::string& term, const GpuSpec& spec,
+                          const Display& display);
+
 // Passes that exist for these inputs, with term values. `missing` receives the names of
 // counters the passes read but the method did not fill.
 std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,

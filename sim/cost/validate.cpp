@@ -1,5 +1,6 @@
 #include "sim/cost/validate.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
@@ -12,8 +13,9 @@ namespace fovsim {
 namespace {
 
 // Sum of a config's modelled frame (all passes) for a table/workload.
-double config_total(const CostFit& fit, const CalData& data, const CalTable& t, const std::string& workload,
-                    const std::string& config, const Json& disp_over, const Json& params_over) {
+double config_total(const CostFit& fit, const CalData& data, const CalTable& t,
+                    const std::string& workload, const std::string& config, const Json& disp_over,
+                    const Json& params_over) {
   for (auto& e : t.entries) {
     if (e.workload != workload || e.config != config) continue;
     CalEntry c = e;
@@ -30,8 +32,8 @@ double config_total(const CostFit& fit, const CalData& data, const CalTable& t, 
 
 struct Unit {
   std::string name;
-  std::set<std::string> fit_tables;     // tables in the fit (empty set + excluded workload: all)
-  std::string exclude_workload;         // rows of this workload are left out of the fit
+  std::set<std::string> fit_tables;  // tables in the fit (empty set + excluded workload: all)
+  std::string exclude_workload;      // rows of this workload are left out of the fit
   std::string target_table, target_workload;  // what is predicted ("" workload: all of the table)
 };
 
@@ -42,8 +44,11 @@ ValidationReport validate_cost(const CalData& data, const CostFit& fit, const Fi
   // 1. Calibration entries with the full fit.
   for (auto& t : data.tables)
     for (auto& e : t.entries) {
-      ValidationRow r{"calibration", e.id, t.id, e.gpu, e.workload, e.config, e.row,
-                      e.fit ? "fitted" : "check", e.published_ms, predict_entry(fit, data, e)};
+      ValidationRow r{"calibration",  e.id,
+                      t.id,           e.gpu,
+                      e.workload,     e.config,
+                      e.row,          e.fit ? "fitted" : "check",
+                      e.published_ms, predict_entry(fit, data, e)};
       rep.rows.push_back(r);
     }
   // 2. Withheld figures: predictions only (the seeds' copies withhold the published values).
@@ -81,7 +86,8 @@ ValidationReport validate_cost(const CalData& data, const CostFit& fit, const Fi
     std::set<std::string> wls;
     for (auto& e : t.entries) wls.insert(e.workload);
     if (wls.size() < 2) continue;
-    for (auto& wl : wls) units.push_back({"fit all but " + wl + " -> predict " + wl, all, wl, t.id, wl});
+    for (auto& wl : wls)
+      units.push_back({"fit all but " + wl + " -> predict " + wl, all, wl, t.id, wl});
   }
   for (const Unit& u : units) {
     CrossPrediction cp;
@@ -125,8 +131,9 @@ ValidationReport validate_cost(const CalData& data, const CostFit& fit, const Fi
       rep.cross.push_back(cp);
       continue;
     }
-    // Shading cost of each target workload from its baseline lighting rows (or, with no
-    // baseline config, from its lighting rows): the one scene-specific input a user supplies.
+    // Shading cost and triangle cost of each target workload from its baseline lighting and
+    // G-buffer rows (or, with no baseline config, from all its lighting and G-buffer rows):
+    // the scene-specific inputs a user supplies (a render of the scene without foveation).
     std::set<std::string> wls;
     for (auto& e : target->entries)
       if (u.target_workload.empty() || e.workload == u.target_workload) wls.insert(e.workload);
@@ -136,7 +143,8 @@ ValidationReport validate_cost(const CalData& data, const CostFit& fit, const Fi
       bool any_baseline = false;
       for (auto& e : target->entries) any_baseline |= e.workload == wl && e.baseline;
       for (auto& e : target->entries)
-        if (e.workload == wl && e.fit && e.passes.size() == 1 && e.passes[0] == "lighting" &&
+        if (e.workload == wl && e.fit && e.passes.size() == 1 &&
+            (e.passes[0] == "lighting" || e.passes[0] == "gbuffer") &&
             (e.baseline || !any_baseline))
           rows.push_back(&e), refit_ids.insert(e.id);
       refit_workload(f, data, wl, rows);
@@ -147,14 +155,14 @@ ValidationReport validate_cost(const CalData& data, const CostFit& fit, const Fi
     for (auto& e : target->entries) {
       if (!(u.target_workload.empty() || e.workload == u.target_workload)) continue;
       if (!row_seen(e)) {
-        rep.rows.push_back({"cross:" + u.name, e.id, target->id, e.gpu, e.workload, e.config, e.row, "unseen",
-                            e.published_ms, 0.0});
+        rep.rows.push_back({"cross:" + u.name, e.id, target->id, e.gpu, e.workload, e.config, e.row,
+                            "unseen", e.published_ms, 0.0});
         continue;
       }
       double ms = predict_entry(f, data, e);
       std::string kind = refit_ids.count(e.id) ? "refit" : "predicted";
-      rep.rows.push_back({"cross:" + u.name, e.id, target->id, e.gpu, e.workload, e.config, e.row, kind,
-                          e.published_ms, ms});
+      rep.rows.push_back({"cross:" + u.name, e.id, target->id, e.gpu, e.workload, e.config, e.row,
+                          kind, e.published_ms, ms});
       if (e.workload == wl0) pub_cfg[e.config] += e.published_ms, mod_cfg[e.config] += ms;
       if (kind == "predicted" && e.published_ms > 0) {
         sum += std::fabs(ms - e.published_ms) / e.published_ms;
@@ -176,6 +184,70 @@ ValidationReport validate_cost(const CalData& data, const CostFit& fit, const Fi
     rep.cross.push_back(cp);
   }
   return rep;
+}
+
+namespace {
+
+bool held_out(const ValidationRow& r) {
+  return r.experiment.rfind("cross:", 0) == 0 && r.kind == "predicted" && r.published_ms > 0 &&
+         r.model_ms > 0;
+}
+
+double quantile(std::vector<double> v, double q) {
+  std::sort(v.begin(), v.end());
+  if (v.empty()) return 1.0;
+  double pos = q * double(v.size() - 1);
+  size_t i = size_t(std::floor(pos));
+  if (i + 1 >= v.size()) return v.back();
+  return v[i] + (pos - double(i)) * (v[i + 1] - v[i]);
+}
+
+}  // namespace
+
+PredictionInterval interval_from_rows(const std::vector<ValidationRow>& rows, double level,
+                                      const std::string& exclude_table) {
+  std::vector<double> q;
+  for (auto& r : rows)
+    if (held_out(r) && r.table != exclude_table) q.push_back(r.published_ms / r.model_ms);
+  PredictionInterval iv;
+  if (q.empty()) return iv;
+  iv.level = level;
+  iv.n = int(q.size());
+  iv.lo_factor = std::min(1.0, quantile(q, (1 - level) / 2));
+  iv.hi_factor = std::max(1.0, quantile(q, (1 + level) / 2));
+  return iv;
+}
+
+ModelSummary summarize_model(const ValidationReport& rep, CostModelKind model, double level) {
+  ModelSummary s;
+  s.model = model;
+  double sf = 0, sl = 0;
+  std::set<std::string> tables;
+  for (auto& r : rep.rows) {
+    double e = std::fabs(r.rel_err());
+    if (r.experiment == "calibration" && r.kind == "fitted" && r.published_ms > 0) {
+      sf += e, ++s.fitted_n, s.fitted_worst = std::max(s.fitted_worst, e);
+    } else if (held_out(r)) {
+      sl += e, ++s.leaveout_n, s.leaveout_worst = std::max(s.leaveout_worst, e);
+      tables.insert(r.table);
+    }
+  }
+  s.fitted_mean = s.fitted_n ? sf / s.fitted_n : 0;
+  s.leaveout_mean = s.leaveout_n ? sl / s.leaveout_n : 0;
+  s.interval = interval_from_rows(rep.rows, level);
+  int in = 0;
+  for (auto& t : tables) {
+    PredictionInterval iv = interval_from_rows(rep.rows, level, t);
+    if (iv.level <= 0) continue;
+    for (auto& r : rep.rows)
+      if (held_out(r) && r.table == t) {
+        double q = r.published_ms / r.model_ms;
+        in += q >= iv.lo_factor && q <= iv.hi_factor;
+        ++s.coverage_n;
+      }
+  }
+  s.coverage = s.coverage_n ? double(in) / s.coverage_n : 0;
+  return s;
 }
 
 }  // namespace fovsim

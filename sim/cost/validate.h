@@ -12,7 +12,7 @@ namespace fovsim {
 struct ValidationRow {
   std::string experiment;  // "calibration" or "cross:<name>" or "withheld"
   std::string id, table, gpu, workload, config, row;
-  std::string kind;        // fitted | check | predicted | refit | withheld
+  std::string kind;          // fitted | check | predicted | refit | withheld
   double published_ms = -1;  // < 0: withheld / none
   double model_ms = 0;
   double rel_err() const { return published_ms > 0 ? (model_ms - published_ms) / published_ms : 0; }
@@ -21,7 +21,7 @@ struct ValidationRow {
 struct CrossPrediction {
   std::string name, fit_on, target;
   bool possible = true;
-  std::string why;          // when not possible
+  std::string why;  // when not possible
   double mean_abs_rel_err = 0;
   int n = 0;
   double speedup_published = 0, speedup_model = 0;  // baseline total / foveated total
@@ -31,6 +31,28 @@ struct ValidationReport {
   std::vector<ValidationRow> rows;
   std::vector<CrossPrediction> cross;
 };
+
+// Transfer summary of one model (issue 14): fitted and held-out relative errors, the
+// prediction interval from the held-out rows, and its nested empirical coverage.
+struct ModelSummary {
+  CostModelKind model = CostModelKind::Linear;
+  double fitted_mean = 0, fitted_worst = 0;  // |rel err| over the fitted rows (full fit)
+  int fitted_n = 0;
+  double leaveout_mean = 0, leaveout_worst = 0;  // |rel err| over held-out ("predicted") rows
+  int leaveout_n = 0;
+  PredictionInterval interval;  // from every held-out row
+  // Coverage of the interval on each target table's held-out rows when the interval is built
+  // from the other tables' held-out rows only (so no row judges an interval it helped build).
+  double coverage = 0;
+  int coverage_n = 0;
+};
+
+// Interval factors [q_lo, q_hi] of published/model over held-out rows: the empirical
+// (1-level)/2 and (1+level)/2 quantiles (linear interpolation). `exclude_table`: rows of that
+// table are not used.
+PredictionInterval interval_from_rows(const std::vector<ValidationRow>& rows, double level,
+                                      const std::string& exclude_table = "");
+ModelSummary summarize_model(const ValidationReport& rep, CostModelKind model, double level);
 
 // Uses `fit` (normally fit_cost_model over all tables) for the calibration rows and withheld
 // predictions; refits for every cross-prediction experiment.

@@ -23,6 +23,7 @@ Workload Workload::from_params(Params& p) {
   w.gbuffer_bytes = p.number("gbuffer_bytes", w.gbuffer_bytes, nonneg);
   w.shadow_map_res = p.number("shadow_map_res", w.shadow_map_res, nonneg);
   w.shading_flops = p.number("shading_flops", w.shading_flops, nonneg);
+  w.tri_cost = p.number("tri_cost", w.tri_cost, Range::closed(0, 1e6));
   w.vpl_flops = p.number("vpl_flops", w.vpl_flops, any);
   w.rsm_res = p.number("rsm_res", w.rsm_res, nonneg);
   w.importance_samples = p.number("importance_samples", w.importance_samples, nonneg);
@@ -30,8 +31,10 @@ Workload Workload::from_params(Params& p) {
   w.vpl_budget = p.number("vpl_budget", w.vpl_budget, nonneg);
   w.interleave = p.number("interleave", w.interleave, Range::at_least(1));
   w.lpt_fraction = p.number("lpt_fraction", w.lpt_fraction, Range::closed(0, 1));
-  w.twfr_redraw_fraction = p.number("twfr_redraw_fraction", w.twfr_redraw_fraction, Range::closed(0, 1));
-  w.twfr_prims_fraction = p.number("twfr_prims_fraction", w.twfr_prims_fraction, Range::closed(0, 1));
+  w.twfr_redraw_fraction =
+      p.number("twfr_redraw_fraction", w.twfr_redraw_fraction, Range::closed(0, 1));
+  w.twfr_prims_fraction =
+      p.number("twfr_prims_fraction", w.twfr_prims_fraction, Range::closed(0, 1));
   w.shaded_fraction = p.number("shaded_fraction", w.shaded_fraction, Range::closed(-1, 1));
   Params pl = p.child("pipeline");
   w.pipeline.depth_prepass = pl.boolean("depth_prepass", w.pipeline.depth_prepass);
@@ -44,8 +47,9 @@ Workload Workload::from_params(Params& p) {
 }
 
 Workload Workload::load(const std::string& name_or_path, const std::string& models_dir) {
-  bool path = name_or_path.find('/') != std::string::npos ||
-              (name_or_path.size() > 5 && name_or_path.compare(name_or_path.size() - 5, 5, ".json") == 0);
+  bool path =
+      name_or_path.find('/') != std::string::npos ||
+      (name_or_path.size() > 5 && name_or_path.compare(name_or_path.size() - 5, 5, ".json") == 0);
   std::string file = path ? name_or_path : models_dir + "/workloads/" + name_or_path + ".json";
   if (!file_exists(file)) throw Error(file, "unknown workload '" + name_or_path + "'");
   Params p = Params::from_file(file);
@@ -65,6 +69,7 @@ Json Workload::to_json() const {
           {"gbuffer_bytes", gbuffer_bytes},
           {"shadow_map_res", shadow_map_res},
           {"shading_flops", shading_flops},
+          {"tri_cost", tri_cost},
           {"vpl_flops", vpl_flops},
           {"rsm_res", rsm_res},
           {"importance_samples", importance_samples},

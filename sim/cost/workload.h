@@ -25,8 +25,8 @@ struct Workload {
   std::string source;
   // Geometry and lights. Negative = take from SceneFeatures.
   double triangles = -1;
-  double lights = -1;           // lights evaluated per shaded sample
-  double shadowed_lights = -1;  // shadow maps rendered per frame
+  double lights = -1;               // lights evaluated per shaded sample
+  double shadowed_lights = -1;      // shadow maps rendered per frame
   double submitted_fraction = 1.0;  // triangles left after frustum culling
   double overdraw = 1.5;            // rasterised fragments per pixel
   double gbuffer_bytes = 16;        // bytes written per G-buffer fragment
@@ -34,23 +34,30 @@ struct Workload {
   // Effective FP32 operations per shaded sample and light at the GPU's peak rate (fitted by
   // `fovsim calibrate` for the seeds' scenes). The default is the mean of the fitted scenes.
   double shading_flops = 3000;
+  // Cost of a submitted triangle in the G-buffer pass relative to the mean of the calibrated
+  // scenes (vertex shading, attributes, materials differ per scene; issue 14). Fitted by
+  // `fovsim calibrate` for the seeds' scenes from their Render rows; 1 = the mean.
+  double tri_cost = 1.0;
   // FLC (seed 001 §6): per-VPL shading cost, RSM size, importance samples, VPL budget.
   double vpl_flops = -1;  // <0: shading_flops
   double rsm_res = 64;
   double importance_samples = 4096;
-  double chain_length = 8;   // M in Alg. 1
+  double chain_length = 8;  // M in Alg. 1
   double vpl_budget = 1024;
-  double interleave = 4;     // interleaved-sampling factor (each pixel shades 1/interleave of the VPLs)
-  double lpt_fraction = 1.0; // shaded samples / pixels with the log-polar transform (seed 001 §6)
+  double interleave =
+      4;  // interleaved-sampling factor (each pixel shades 1/interleave of the VPLs)
+  double lpt_fraction = 1.0;  // shaded samples / pixels with the log-polar transform (seed 001 §6)
   // TWFR (seed 002 §8.4) analytic defaults.
-  double twfr_redraw_fraction = 0.059;   // 108K / 1.84M fragments
-  double twfr_prims_fraction = 0.667;    // 1.8M / 2.7M primitives
+  double twfr_redraw_fraction = 0.059;  // 108K / 1.84M fragments
+  double twfr_prims_fraction = 0.667;   // 1.8M / 2.7M primitives
   // fVRS / baselines: shaded fraction when no density model is given (<0: computed).
   double shaded_fraction = -1;
   PipelineOptions pipeline;
 
   // Resolves negatives against the scene's features.
-  double tris(const SceneFeatures& f) const { return triangles >= 0 ? triangles : double(f.triangles); }
+  double tris(const SceneFeatures& f) const {
+    return triangles >= 0 ? triangles : double(f.triangles);
+  }
   double nlights(const SceneFeatures& f) const { return lights >= 0 ? lights : double(f.lights); }
   double nshadowed(const SceneFeatures& f) const {
     return shadowed_lights >= 0 ? shadowed_lights : double(f.shadowed_lights);

@@ -317,6 +317,10 @@ struct Cell {
         for (auto& [cn, cv] : fo.counters.items())
           if (cn != "shaded_samples" && cn != "prims_submitted" && cn != "prims_culled") row.set(cn, cv);
         row.set("est_ms_total", cost.total_ms);
+        if (cost.interval_level > 0) {  // the profile's prediction interval (docs/cost_model.md)
+          row.set("est_ms_total_lo", cost.total_lo_ms);
+          row.set("est_ms_total_hi", cost.total_hi_ms);
+        }
         for (auto& pc : cost.passes) row.set("est_ms_" + pc.pass, pc.ms);
         for (auto& [mn, mv] : metrics.items()) row.set(mn, mv);
         row.set("ref_ms", ref_ms);

@@ -68,7 +68,8 @@ TEST(CostModel, PassesThatDoNotExistCostNothing) {
   in.features.shadowed_lights = 0;
   in.workload = &w;
   FrameCost fc = estimate_frame(g, in);
-  for (const char* p : {"shadow", "ssao", "taa", "rsm", "contribution", "importance", "reproject", "pass2", "post_aa"})
+  for (const char* p : {"shadow", "ssao", "taa", "rsm", "contribution", "importance", "reproject",
+                        "pass2", "post_aa"})
     for (auto& pc : fc.passes) EXPECT_NE(pc.pass, p) << "pass " << p << " should not exist";
   // RSM/contribution only for FLC, reprojection only for TWFR, pass 2 only for mappings.
   in.method = "flc";
@@ -88,10 +89,12 @@ TEST(CostModel, PassesThatDoNotExistCostNothing) {
 }
 
 TEST(CostModel, EveryPassNonDecreasingInEachCounter) {
-  const char* names[] = {"shaded_samples", "gbuffer_samples", "buffer_pixels_allocated", "buffer_pixels_used",
-                         "fullres_pixels", "filter_taps", "prims_submitted", "prims_culled", "pixels_redrawn",
-                         "reprojected_pixels", "holes_mip0", "holes_mip3", "vpls_total", "vpls_kept",
-                         "importance_samples", "contribution_evals", "shaded_sample_vpls", "rsm_texels"};
+  const char* names[] = {"shaded_samples",     "gbuffer_samples",    "buffer_pixels_allocated",
+                         "buffer_pixels_used", "fullres_pixels",     "filter_taps",
+                         "prims_submitted",    "prims_culled",       "pixels_redrawn",
+                         "reprojected_pixels", "holes_mip0",         "holes_mip3",
+                         "vpls_total",         "vpls_kept",          "importance_samples",
+                         "contribution_evals", "shaded_sample_vpls", "rsm_texels"};
   Workload w = twfr_like();
   w.pipeline.post_aa = true;
   for (const std::string& gpu : GpuProfile::available(kModels)) {
@@ -109,7 +112,8 @@ TEST(CostModel, EveryPassNonDecreasingInEachCounter) {
         FrameCost f1 = estimate_frame(g, in);
         ASSERT_EQ(f0.passes.size(), f1.passes.size());
         for (size_t i = 0; i < f0.passes.size(); ++i)
-          EXPECT_GE(f1.passes[i].ms, f0.passes[i].ms - 1e-12) << gpu << " " << m << " " << n << " " << f0.passes[i].pass;
+          EXPECT_GE(f1.passes[i].ms, f0.passes[i].ms - 1e-12)
+              << gpu << " " << m << " " << n << " " << f0.passes[i].pass;
       }
       // Scene features too: more triangles / lights never cost less.
       in.counters = &base;
@@ -129,8 +133,8 @@ TEST(CostModel, FiniteForZeroAndHugeInputs) {
   for (const std::string& m : cost_methods()) {
     for (double v : {0.0, 1e15}) {
       Counters c;
-      for (auto* n : {"shaded_samples", "fullres_pixels", "pixels_redrawn", "vpls_total", "importance_samples",
-                      "shaded_sample_vpls", "prims_submitted"})
+      for (auto* n : {"shaded_samples", "fullres_pixels", "pixels_redrawn", "vpls_total",
+                      "importance_samples", "shaded_sample_vpls", "prims_submitted"})
         c.set(n, v);
       CostInputs in = base_inputs(m, &c);
       in.workload = &w;
@@ -163,7 +167,8 @@ TEST(CostModel, PixelCountersScaleTrianglesDoNot) {
   FrameCost b = estimate_frame(g, in);
   const double oh = g.passes.at("lighting").overhead_ms;
   EXPECT_NEAR(b.pass_ms("lighting") - oh, 4 * (a.pass_ms("lighting") - oh), 1e-9);
-  EXPECT_NEAR(b.pass_ms("depth"), a.pass_ms("depth"), 1e-12);  // display pixels + triangles: unchanged
+  EXPECT_NEAR(b.pass_ms("depth"), a.pass_ms("depth"),
+              1e-12);  // display pixels + triangles: unchanged
 }
 
 TEST(CostModel, EyesChargePerEyePassesTwiceShadowOnce) {
@@ -186,7 +191,8 @@ TEST(CostModel, BadProfilesAndUnknownNamesNameTheLocation) {
     FAIL();
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("no_such_gpu.json"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("gtx1080"), std::string::npos) << e.what();  // lists available
+    EXPECT_NE(std::string(e.what()).find("gtx1080"), std::string::npos)
+        << e.what();  // lists available
   }
   Json j = Params::parse_json_file(kModels + "/gpus/gtx1080.json");
   Json bad = j;
@@ -195,7 +201,9 @@ TEST(CostModel, BadProfilesAndUnknownNamesNameTheLocation) {
     GpuProfile::from_json(bad, "x.json");
     FAIL();
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("x.json: passes.lighting.terms.shade_flops"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("x.json: passes.lighting.terms.shade_flops"),
+              std::string::npos)
+        << e.what();
   }
   bad = j;
   bad["passes"]["lightning"] = {{"overhead_ms", 0}};
@@ -232,4 +240,51 @@ TEST(CostModel, WhatIfScalingDividesOneResource) {
   EXPECT_NEAR(b.resource_ms["shading"], a.resource_ms["shading"] / 2, 1e-9);
   EXPECT_NEAR(b.resource_ms["geometry"], a.resource_ms["geometry"], 1e-12);
   EXPECT_THROW(g.scaled(Resource::Memory, 0.0), Error);
+}
+
+// Roofline (issue 14): a pass costs its overhead plus the slowest resource's time; terms of
+// the same resource add. Linear: everything adds.
+TEST(CostModel, RooflineTakesTheBottleneckResource) {
+  Json j = Json::parse(R"({"name": "toy", "model": "roofline",
+    "spec": {"fp32_gflops": 1, "mem_gbps": 1, "fill_gpix": 1, "tri_gtris": 1},
+    "passes": {"gbuffer": {"overhead_ms": 0.5, "terms": {"tris": 1e-6, "frags": 1e-7, "gbuffer_bytes": 1e-8}}},
+    "interval": {"level": 0.8, "lo_factor": 0.9, "hi_factor": 1.3, "n": 10}})");
+  GpuProfile roof = GpuProfile::from_json(j, "toy.json");
+  j["model"] = "linear";
+  GpuProfile lin = GpuProfile::from_json(j, "toy.json");
+  Counters c;
+  CostInputs in = base_inputs("full", &c);
+  Workload w;
+  w.triangles = 1e6, w.lights = 0, w.shadowed_lights = 0, w.overdraw = 1, w.gbuffer_bytes = 16;
+  w.pipeline.depth_prepass = false, w.pipeline.tonemap = false;
+  in.workload = &w;
+  in.display.eyes = 1;
+  const double P = 1440.0 * 1600.0;
+  const double geo = 1e6 * 1e-6, ras = P * 1e-7, mem = P * 16 * 1e-8;
+  FrameCost r = estimate_frame(roof, in), l = estimate_frame(lin, in);
+  EXPECT_NEAR(r.pass_ms("gbuffer"), 0.5 + std::max({geo, ras, mem}), 1e-9);
+  EXPECT_NEAR(l.pass_ms("gbuffer"), 0.5 + geo + ras + mem, 1e-9);
+  EXPECT_NEAR(r.total_lo_ms, 0.9 * r.total_ms, 1e-12);
+  EXPECT_NEAR(r.total_hi_ms, 1.3 * r.total_ms, 1e-12);
+  j["model"] = "max";
+  try {
+    GpuProfile::from_json(j, "toy.json");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("model"), std::string::npos) << e.what();
+  }
+  j["model"] = "roofline";
+  j["interval"]["hi_factor"] = 0.5;
+  EXPECT_THROW(GpuProfile::from_json(j, "toy.json"), Error);
+}
+
+TEST(CostModel, BudgetVerdictUsesTheInterval) {
+  FrameCost fc;
+  fc.total_ms = 10;
+  EXPECT_STREQ(budget_verdict(fc, 11), "fits");  // no interval: the point estimate
+  EXPECT_STREQ(budget_verdict(fc, 9), "does not fit");
+  fc.interval_level = 0.8, fc.total_lo_ms = 8, fc.total_hi_ms = 14;
+  EXPECT_STREQ(budget_verdict(fc, 15), "fits");
+  EXPECT_STREQ(budget_verdict(fc, 11), "uncertain");
+  EXPECT_STREQ(budget_verdict(fc, 7.5), "does not fit");
 }
