@@ -528,7 +528,7 @@ int do_budget(const BudgetArgs& a) {
   Display d = target_display(a.t, models);
   const double budget = a.budget_ms > 0 ? a.budget_ms : 1000.0 / a.hz;
   std::vector<std::string> mlist = a.t.methods;
-  if (mlist.empty()) mlist = {"full", "kfr:sigma=1.8", "rmfr:sigma=2.6", "hyperbolic:sigma=2.6", "linear:sigma=2.6", "fvrs", "twfr"};
+  if (mlist.empty()) mlist = {"full", "kfr", "rmfr", "hyperbolic", "linear", "fvrs", "twfr"};  // run defaults
   const char* res_names[] = {"shading", "geometry", "raster", "memory", "fixed"};
   std::vector<std::vector<std::string>> rows = {
       {"gpu", "method", "total_ms", "interval_ms", "budget_ms", "fits", "headroom_ms", "headroom",
@@ -749,7 +749,7 @@ void register_cost(CLI::App& app, Action& action) {
   {
     auto a = std::make_shared<BudgetArgs>();
     CLI::App* c = app.add_subcommand("budget", "Which configurations fit a refresh-rate budget, their headroom, and the throughput factor each resource would need");
-    add_target_options(c, a->t, "full, kfr:sigma=1.8, rmfr:sigma=2.6, hyperbolic:sigma=2.6, linear:sigma=2.6, fvrs, twfr");
+    add_target_options(c, a->t, "full, kfr, rmfr, hyperbolic, linear, fvrs, twfr (run defaults)");
     c->add_option("--hz", a->hz, "Refresh rate whose frame time is the budget (e.g. 72, 90, 120, 144)")->capture_default_str()->check(CLI::Range(1.0, 10000.0));
     c->add_option("--budget-ms", a->budget_ms, "Frame budget in ms (overrides --hz)")->check(CLI::Range(0.0, 1e6));
     c->add_option("--scale-shading", a->s_shading, "What-if: multiply shading (FP32) throughput")->check(CLI::Range(1e-6, 1e6));
