@@ -57,10 +57,12 @@ int run_density(const DensityArgs& a) {
       if (pj.contains(key)) throw Error("--param " + kv, "\"" + key + "\" is also given in --method " + arg);
       pj[key] = jv;
     }
-    if (!is_mapping_method(m)) throw Error("--method", "not a mapping method: \"" + m + "\" (kfr, rmfr, hyperbolic, linear, fvrs)");
+    // The method's own parser (make_method: unknown keys are errors) and its sampling geometry.
     Params p(pj, "--method " + arg, "");
-    MappingSpec s = MappingSpec::from_params(m, p);
-    p.finish();
+    const auto inst = make_method(m, p);
+    if (!inst->mapping_spec())
+      throw Error("--method " + arg, "\"" + m + "\" has no analytic sampling density (only image-mapping methods and baselines)");
+    MappingSpec s = *inst->mapping_spec();
     bool reachable = true;
     const double target = a.target > 0 ? a.target : s.target_shaded_fraction;
     if (target > 0) {

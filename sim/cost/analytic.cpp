@@ -29,19 +29,33 @@ double fvrs_shaded_fraction(const Display& d, double gu, double gv, double r1, d
 
 namespace {
 // Keys that only `predict`/`budget`/calibration understand (assumptions replacing a rendered
-// measurement), per method; every other key is the method's own run parameter.
-std::vector<std::string> analytic_keys(const std::string& method) {
-  if (method == "kfr" || method == "rmfr") return {"filter_taps_per_pixel"};
-  if (method == "hyperbolic" || method == "linear") return {"shaded_fraction", "gaze_u", "gaze_v", "filter_taps_per_pixel"};
-  if (method == "fvrs") return {"shaded_fraction", "gaze_u", "gaze_v"};
-  if (method == "twfr") return {"redraw_fraction", "prims_fraction"};
-  return {};
+// measurement), per cost family (method_list.h); every other key is the method's own.
+std::vector<std::string> analytic_keys(CostFamily f, bool whole_buffer) {
+  switch (f) {
+    case CostFamily::Mapping:
+      return whole_buffer ? std::vector<std::string>{"filter_taps_per_pixel"}
+                          : std::vector<std::string>{"shaded_fraction", "gaze_u", "gaze_v", "filter_taps_per_pixel"};
+    case CostFamily::Fvrs: return {"shaded_fraction", "gaze_u", "gaze_v"};
+    case CostFamily::Twfr: return {"redraw_fraction", "prims_fraction"};
+    default: return {};
+  }
 }
 
 double column(const std::vector<std::pair<std::string, double>>& cols, const std::string& k, double def) {
   for (auto& [n, v] : cols)
     if (n == k) return v;
   return def;
+}
+
+// kfr/rmfr-style buffers (a whole (W/sigma) x (H/sigma) buffer is shaded) vs baselines whose
+// shaded samples follow their layers / probability.
+bool shades_whole_buffer(const std::string& kind) { return kind == "kfr" || kind == "rmfr"; }
+
+std::string mapping_kind(const std::string& method, const std::string& where) {
+  // The declared sampling geometry of the method at its defaults.
+  Params p(Json::object(), where, "");
+  auto m = make_method(method, p);
+  return m->mapping_spec() ? m->mapping_spec()->method : std::string();
 }
 }  // namespace
 
@@ -50,14 +64,17 @@ Counters analytic_counters(const std::string& method, const Json& params, const 
   if (!is_cost_method(method)) throw Error(where, "unknown method '" + method + "'");
   const Json all = params.is_null() ? Json::object() : params;
   if (!all.is_object()) throw Error(where, "method parameters must be an object");
+  const CostFamily fam = cost_family(method);
+  const std::string kind = fam == CostFamily::Mapping ? mapping_kind(method, where) : std::string();
   // Split: analytic-only keys here; the rest goes through the method's own parser (the one
   // `run` uses: same keys, defaults and ranges; unknown or mistyped keys are errors).
   Json own = Json::object(), extra = Json::object();
-  const std::vector<std::string> ak = analytic_keys(method);
+  const std::vector<std::string> ak = analytic_keys(fam, shades_whole_buffer(kind));
   for (auto it = all.begin(); it != all.end(); ++it)
     (std::find(ak.begin(), ak.end(), it.key()) != ak.end() ? extra : own)[it.key()] = it.value();
   Params mp(own, where, "");
-  const std::vector<std::pair<std::string, double>> cols = make_method(method, mp)->param_columns();
+  const std::unique_ptr<FoveationMethod> inst = make_method(method, mp);
+  const std::vector<std::pair<std::string, double>> cols = inst->param_columns();
   Params p(extra, where, "");
   const double P = double(std::max(0, d.width)) * double(std::max(0, d.height));
   Counters c;
@@ -71,33 +88,33 @@ Counters analytic_counters(const std::string& method, const Json& params, const 
     const double gu = p.number("gaze_u", 0.5, Range::closed(-1, 2)), gv = p.number("gaze_v", 0.5, Range::closed(-1, 2));
     double f = shaded_frac_param(-1);
     if (f >= 0 || P <= 0) return f >= 0 ? f : def_if_empty;
-    Params sp(own, where, "");
-    MappingSpec spec = MappingSpec::from_params(method, sp);
+    const MappingSpec* spec = inst->mapping_spec();
+    if (!spec) return def_if_empty;
     Camera cam = Camera::from_pose(d, glm::dvec3(0), glm::dquat(1, 0, 0, 0));
     MappingView v = MappingView::at(cam, {gu * d.width, gv * d.height});
-    if (method == "fvrs") return fvrs_shaded_fraction(d, gu, gv, spec.r1_eff(), spec.r2_eff());
-    return expected_shaded_samples(spec, v) / P;
+    if (fam == CostFamily::Fvrs) return fvrs_shaded_fraction(d, gu, gv, spec->r1_eff(), spec->r2_eff());
+    return expected_shaded_samples(*spec, v) / P;
   };
-  if (method == "full") {
+  if (fam == CostFamily::Full) {
     c.set("shaded_samples", P);
     c.set("gbuffer_samples", P);
-  } else if (has_mapping_pass2(method)) {
+  } else if (fam == CostFamily::Mapping) {
     // KFR/RMFR: the w x h = (W/sigma) x (H/sigma) buffer is fully shaded (seed 004 §2.2,
     // seed 003 §3.2); the baselines shade what their layers / sample pattern need.
     const double sigma = column(cols, "sigma", 1.0);
     const double buf = P / (sigma * sigma);
-    const double s = (method == "kfr" || method == "rmfr") ? buf : baseline_fraction(1.0) * P;
+    const double s = shades_whole_buffer(kind) ? buf : baseline_fraction(1.0) * P;
     c.set("shaded_samples", s);
     c.set("gbuffer_samples", s);
-    c.set("buffer_pixels_allocated", (method == "kfr" || method == "rmfr") ? buf : s);
+    c.set("buffer_pixels_allocated", shades_whole_buffer(kind) ? buf : s);
     c.set("buffer_pixels_used", s);
     c.set("fullres_pixels", P);
     // Total taps of pass 2 (bilinear inverse map: 4 per full-resolution pixel).
     c.set("filter_taps", P * p.number("filter_taps_per_pixel", 4, Range::at_least(0)));
-  } else if (method == "fvrs") {
+  } else if (fam == CostFamily::Fvrs) {
     c.set("shaded_samples", baseline_fraction(1.0) * P);
     c.set("gbuffer_samples", P);
-  } else if (method == "twfr") {
+  } else if (fam == CostFamily::Twfr) {
     double rf = p.number("redraw_fraction", w.twfr_redraw_fraction, Range::closed(0, 1));
     double pf = p.number("prims_fraction", w.twfr_prims_fraction, Range::closed(0, 1));
     double T = std::max(0.0, w.triangles) * w.submitted_fraction;
@@ -107,7 +124,7 @@ Counters analytic_counters(const std::string& method, const Json& params, const 
     c.set("reprojected_pixels", P);
     c.set("prims_submitted", pf * T);
     c.set("prims_culled", (1 - pf) * T);
-  } else if (method == "flc") {
+  } else if (fam == CostFamily::Flc) {
     double lights = std::max(1.0, w.lights);
     double total = w.rsm_res * w.rsm_res * lights;  // one VPL per RSM texel (seed 001 §3)
     // The budget given on the command line (validated by FLC's parser), else the workload's.

@@ -18,6 +18,7 @@
 #include <cmath>
 
 #include "sim/core/error.h"
+#include "sim/foveation/factory.h"
 
 namespace fovsim {
 
@@ -73,20 +74,26 @@ bool is_known_pass(const std::string& p) {
   return std::find(k.begin(), k.end(), p) != k.end();
 }
 
+// Every method of the factory has a cost model: its declared cost family (method_list.h)
+// selects the pass structure below.
 const std::vector<std::string>& cost_methods() {
-  static const std::vector<std::string> m = {"full",   "kfr",  "rmfr", "hyperbolic",
-                                             "linear", "fvrs", "twfr", "flc"};
+  static const std::vector<std::string> m = [] {
+    std::vector<std::string> v;
+    for (const auto& e : method_table()) v.push_back(e.name);
+    return v;
+  }();
   return m;
 }
 
-bool is_cost_method(const std::string& m) {
-  auto& k = cost_methods();
-  return std::find(k.begin(), k.end(), m) != k.end();
+bool is_cost_method(const std::string& m) { return find_method(m) != nullptr; }
+
+CostFamily cost_family(const std::string& m) {
+  const MethodEntry* e = find_method(m);
+  if (!e) throw Error("cost", "unknown method '" + m + "'");
+  return e->family;
 }
 
-bool has_mapping_pass2(const std::string& m) {
-  return m == "kfr" || m == "rmfr" || m == "hyperbolic" || m == "linear";
-}
+bool has_mapping_pass2(const std::string& m) { return is_cost_method(m) && cost_family(m) == CostFamily::Mapping; }
 
 Resource term_resource(const std::string& pass, const std::string& term, const std::string& where) {
   for (auto& d : term_table())
@@ -146,10 +153,11 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
   const double T = fin(w.tris(f) * w.submitted_fraction);
   const double lights = fin(w.nlights(f));
   const double shadowed = fin(w.nshadowed(f));
-  const bool twfr = m == "twfr", flc = m == "flc";
+  const CostFamily fam = cost_family(m);
+  const bool twfr = fam == CostFamily::Twfr, flc = fam == CostFamily::Flc;
 
   // Shaded samples per eye at the real resolution. `full` shades every pixel by definition.
-  const double S = m == "full" ? (c.has("shaded_samples") ? c.get("shaded_samples") * scale : P)
+  const double S = fam == CostFamily::Full ? (c.has("shaded_samples") ? c.get("shaded_samples") * scale : P)
                                : need_px("shaded_samples", 0);
 
   std::vector<PassWork> out;
@@ -199,7 +207,7 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
   }
   {
     // fVRS is a forward renderer (seed 002 §8.4): every rasterised fragment is shaded.
-    const double fwd = m == "fvrs" ? std::max(1.0, w.overdraw) : 1.0;
+    const double fwd = fam == CostFamily::Fvrs ? std::max(1.0, w.overdraw) : 1.0;
     std::vector<Term> t = {
         {"shade_flops", Resource::Shading, S * fwd * lights * w.shading_flops * eyes}};
     if (flc) {

@@ -8,6 +8,7 @@
 #include "sim/cost/cost_model.h"
 #include "sim/cost/gpu_profile.h"
 #include "sim/cost/workload.h"
+#include "sim/foveation/method.h"
 
 namespace fovsim {
 
@@ -24,7 +25,8 @@ struct PassWork {
 
 // Method families.
 bool is_cost_method(const std::string& m);
-bool has_mapping_pass2(const std::string& m);  // kfr, rmfr, hyperbolic, linear: LP/RS pass 2
+bool has_mapping_pass2(const std::string& m);  // cost family Mapping (method_list.h): pass 2
+CostFamily cost_family(const std::string& m);  // throws Error for an unknown method
 const std::vector<std::string>& cost_methods();
 
 // The resource class of a (pass, term); throws fovsim::Error(where, ...) for unknown pairs.

@@ -6,18 +6,19 @@
 namespace fovsim {
 
 const std::vector<MethodEntry>& method_table() {
-  // One line per method; each method's file defines create_<name> and <name>_params.
+  // One line per method in method_list.h; each method's file defines create_<name> and <name>_params.
   static const std::vector<MethodEntry> table = {
-      {"full", "full-resolution deferred shading (reference pipeline)", create_full, full_params},
-      {"flc", "foveated light culling of VPLs for indirect light (seed 001)", create_flc, flc_params},
-      {"kfr", "kernel log-polar foveated rendering (seed 004 ch. 2)", create_kfr, kfr_params},
-      {"rmfr", "rectangular mapping-based foveated rendering (seed 003 §3.2)", create_rmfr, rmfr_params},
-      {"hyperbolic", "Guenter three-layer baseline (seed 003 §5.1)", create_hyperbolic, hyperbolic_params},
-      {"linear", "Weier linear fall-off baseline (seed 003 §5.1)", create_linear, linear_params},
-      {"fvrs", "foveated coarse-pixel shading baseline (seed 002 §8.4)", create_fvrs, fvrs_params},
-      {"twfr", "time-warped foveated rendering: reprojection + confidence redraw (seed 002)", create_twfr, twfr_params},
+#define FOVSIM_METHOD(name, summary, family) {#name, summary, create_##name, name##_params, CostFamily::family},
+#include "sim/foveation/method_list.h"
+#undef FOVSIM_METHOD
   };
   return table;
+}
+
+const MethodEntry* find_method(const std::string& name) {
+  for (const auto& e : method_table())
+    if (name == e.name) return &e;
+  return nullptr;
 }
 
 std::unique_ptr<FoveationMethod> make_method(const std::string& name, Params& p) {

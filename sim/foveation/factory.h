@@ -13,9 +13,11 @@ struct MethodEntry {
   const char* summary;
   std::unique_ptr<FoveationMethod> (*create)(Params& p);
   const std::vector<ParamInfo>& (*params)();
+  CostFamily family;  // the pass structure the cost model charges (method_list.h)
 };
 
 const std::vector<MethodEntry>& method_table();
+const MethodEntry* find_method(const std::string& name);  // nullptr when unknown
 // Creates a method by name from its parameter block; unknown names and keys are errors.
 std::unique_ptr<FoveationMethod> make_method(const std::string& name, Params& p);
 

@@ -21,6 +21,7 @@ class MappingMethodBase : public FoveationMethod {
   // iso_achieved_fraction when a target was given.
   std::vector<std::pair<std::string, double>> param_columns() const override;
   const MappingSpec& active_spec() const { return active_; }
+  const MappingSpec* mapping_spec() const override { return &active_; }
 
  protected:
   // Resolves target_shaded_fraction (if any) for this screen: solves the free parameter with

@@ -19,6 +19,11 @@
 
 namespace fovsim {
 
+struct MappingSpec;  // sim/foveation/mapping_spec.h
+
+// The pass structure a method's frames are charged for by the GPU cost model (method_list.h).
+enum class CostFamily { Full, Mapping, Fvrs, Twfr, Flc };
+
 struct FrameContext {
   int frame = 0;             // index in the resampled trace
   double t = 0;              // seconds
@@ -55,6 +60,9 @@ class FoveationMethod {
   virtual bool temporal() const { return false; }
   // Parameter values as named columns for frames.csv (e.g. {"sigma", 1.8}).
   virtual std::vector<std::pair<std::string, double>> param_columns() const { return {}; }
+  // The sampling geometry of image-mapping methods and baselines (density, analytic
+  // counters); nullptr for the others.
+  virtual const MappingSpec* mapping_spec() const { return nullptr; }
 };
 
 // Descriptor of one parameter (the table at the top of each method file).

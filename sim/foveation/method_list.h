@@ -1,0 +1,21 @@
+// The registration list of every foveation method: one line per method, read by the factory
+// table (factory.cpp) and the constructor declarations (methods.h). Adding a method = its own
+// file (which defines create_<name> and <name>_params, the declaration of its parameters) +
+// one line here + its test.
+//   FOVSIM_METHOD(name, summary, cost family)
+// The cost family names the pass structure the GPU cost model charges (sim/cost/passes.cpp):
+//   Full     full-resolution deferred shading
+//   Mapping  shading in a reduced buffer + the pass-2 inverse map to the screen
+//   Fvrs     forward rendering with coarse shading rates
+//   Twfr     reprojection + push-pull + confidence + redraw of marked pixels
+//   Flc      RSM + importance + contribution + light culling + VPL shading
+// Mapping-family methods also expose their MappingSpec (FoveationMethod::mapping_spec), which
+// `fovsim density` and the analytic counters of `predict` evaluate.
+FOVSIM_METHOD(full, "full-resolution deferred shading (reference pipeline)", Full)
+FOVSIM_METHOD(flc, "foveated light culling of VPLs for indirect light (seed 001)", Flc)
+FOVSIM_METHOD(kfr, "kernel log-polar foveated rendering (seed 004 ch. 2)", Mapping)
+FOVSIM_METHOD(rmfr, "rectangular mapping-based foveated rendering (seed 003 §3.2)", Mapping)
+FOVSIM_METHOD(hyperbolic, "Guenter three-layer baseline (seed 003 §5.1)", Mapping)
+FOVSIM_METHOD(linear, "Weier linear fall-off baseline (seed 003 §5.1)", Mapping)
+FOVSIM_METHOD(fvrs, "foveated coarse-pixel shading baseline (seed 002 §8.4)", Fvrs)
+FOVSIM_METHOD(twfr, "time-warped foveated rendering: reprojection + confidence redraw (seed 002)", Twfr)
