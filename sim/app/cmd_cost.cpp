@@ -10,6 +10,7 @@
 #include <memory>
 #include <sstream>
 
+#include "sim/experiment/recost.h"
 #include "sim/foveation/factory.h"
 #include "sim/app/commands.h"
 #include "sim/core/error.h"
@@ -264,188 +265,60 @@ struct PredictArgs {
   bool display_given = false, workload_given = false;
 };
 
-std::vector<std::string> split_csv_line(const std::string& line) {
-  std::vector<std::string> out;
-  std::string cur;
-  bool q = false;
-  for (size_t i = 0; i < line.size(); ++i) {
-    char ch = line[i];
-    if (q) {
-      if (ch == '"' && i + 1 < line.size() && line[i + 1] == '"') cur += '"', ++i;
-      else if (ch == '"') q = false;
-      else cur += ch;
-    } else if (ch == '"') {
-      q = true;
-    } else if (ch == ',') {
-      out.push_back(cur);
-      cur.clear();
-    } else if (ch != '\r') {
-      cur += ch;
-    }
-  }
-  out.push_back(cur);
-  return out;
-}
-
-// `fovsim predict --results DIR`: the counters a run measured (frames.csv), re-costed for other
-// GPUs, displays or eye counts without rendering again. Per-pixel counters are rescaled from
-// the run's simulated resolution to the target display; per-config means are reported.
+// `fovsim predict --results DIR` (logic: sim/experiment/recost.h): prints the re-costed means.
 int do_predict_results(const PredictArgs& a) {
-  const std::string models = models_or_default(a.t.models);
-  const std::string man_path = a.results + "/manifest.json", csv_path = a.results + "/frames.csv";
-  Json man = Params::parse_json_file(man_path);
-  if (man.value("status", "") != "complete")
-    throw Error(man_path, "run is not complete (status \"" + man.value("status", "?") + "\")");
-  if (!man.contains("scene") || !man["scene"].contains("features"))
-    throw Error(man_path + ": scene.features", "missing (results written by an older fovsim: rerun the config)");
-  const Json& fj = man["scene"]["features"];
-  SceneFeatures f;
-  f.shadows = fj.value("shadows", false);
-  f.dynamic_objects = fj.value("dynamic_objects", false);
-  f.moving_lights = fj.value("moving_lights", false);
-  f.transparency = fj.value("transparency", false);
-  f.indirect = fj.value("indirect", false);
-  f.textures = fj.value("textures", false);
-  f.triangles = fj.value("triangles", size_t(0));
-  f.submodels = fj.value("submodels", size_t(0));
-  f.lights = fj.value("lights", 0);
-  f.shadowed_lights = fj.value("shadowed_lights", 0);
-  Display d;
-  if (a.display_given) {
-    d = Display::load(a.t.display, models);
-  } else {
-    Params dp(man.at("display"), man_path, "display");
-    d = Display::from_params(dp);
-  }
-  if (a.t.width) d.width = a.t.width;
-  if (a.t.height) d.height = a.t.height;
-  if (a.t.eyes) d.eyes = a.t.eyes;
-  const Json& sim = man.at("simulated_resolution");
-  const double sim_px = sim.at(0).get<double>() * sim.at(1).get<double>();
-  std::string wname = a.workload_given ? a.t.workload : "generic";
-  if (!a.workload_given && man.contains("resolved_config") && man["resolved_config"].contains("workload"))
-    wname = man["resolved_config"]["workload"].get<std::string>();
-  Workload w = Workload::load(wname, models);
-
-  std::ifstream in(csv_path);
-  if (!in) throw Error(csv_path, "cannot read frames.csv");
-  std::string line;
-  std::getline(in, line);
-  const std::vector<std::string> header = split_csv_line(line);
-  int c_id = -1, c_method = -1, c_gpu = -1;
-  for (size_t i = 0; i < header.size(); ++i) {
-    if (header[i] == "config_id") c_id = int(i);
-    if (header[i] == "method") c_method = int(i);
-    if (header[i] == "gpu") c_gpu = int(i);
-  }
-  if (c_id < 0 || c_method < 0) throw Error(csv_path + ":1", "missing config_id or method column");
-  struct Acc {
-    std::string id, method;
-    double n = 0, total = 0;
-    std::vector<std::pair<std::string, double>> passes;
-  };
-  std::vector<GpuProfile> gpus;
-  for (auto& g : a.t.gpus) gpus.push_back(GpuProfile::load(g, models));
-  std::vector<std::vector<Acc>> acc(gpus.size());
-  std::string first_gpu;
-  long lineno = 1;
-  while (std::getline(in, line)) {
-    ++lineno;
-    if (line.empty()) continue;
-    auto cells = split_csv_line(line);
-    if (cells.size() != header.size())
-      throw Error(csv_path + ":" + std::to_string(lineno), "expected " + std::to_string(header.size()) + " fields, got " +
-                                                                std::to_string(cells.size()));
-    // A run costed for several GPUs repeats each frame per GPU: the counters are the same, use one.
-    if (c_gpu >= 0) {
-      if (first_gpu.empty()) first_gpu = cells[size_t(c_gpu)];
-      if (cells[size_t(c_gpu)] != first_gpu) continue;
-    }
-    Counters c;
-    for (size_t i = 0; i < header.size(); ++i) {
-      const std::string& h = header[i];
-      if (h.rfind("est_ms_", 0) == 0 || cells[i].empty()) continue;
-      char* end = nullptr;
-      double v = std::strtod(cells[i].c_str(), &end);
-      if (end && *end == '\0') c.set(h, v);
-    }
-    // frames.csv reports shaded_samples at the real display's resolution; counters are
-    // costed at the simulated one (like every other pixel counter in the file).
-    if (c.has("shaded_fraction")) c.set("shaded_samples", c.get("shaded_fraction") * sim_px);
-    std::string id = cells[size_t(c_id)];
-    if (auto at = id.find('@'); at != std::string::npos) id = id.substr(0, at);
-    for (size_t gi = 0; gi < gpus.size(); ++gi) {
-      CostInputs ci;
-      ci.method = cells[size_t(c_method)];
-      ci.counters = &c;
-      ci.features = f;
-      ci.display = d;
-      ci.pixel_scale = double(d.width) * double(d.height) / sim_px;
-      ci.workload = &w;
-      FrameCost fc = estimate_frame(gpus[gi], ci);
-      Acc* ac = nullptr;
-      for (auto& x : acc[gi])
-        if (x.id == id) ac = &x;
-      if (!ac) {
-        acc[gi].push_back(Acc{id, ci.method, 0, 0, {}});
-        ac = &acc[gi].back();
-      }
-      ac->n += 1;
-      ac->total += fc.total_ms;
-      for (auto& pc : fc.passes) {
-        bool found = false;
-        for (auto& kv : ac->passes)
-          if (kv.first == pc.pass) kv.second += pc.ms, found = true;
-        if (!found) ac->passes.emplace_back(pc.pass, pc.ms);
-      }
-    }
-  }
+  RecostOptions o;
+  o.results = a.results;
+  o.models = models_or_default(a.t.models);
+  o.gpus = a.t.gpus;
+  if (a.display_given) o.display = a.t.display;
+  o.width = a.t.width;
+  o.height = a.t.height;
+  o.eyes = a.t.eyes;
+  if (a.workload_given) o.workload = a.t.workload;
+  const RecostResult res = recost_results(o);
+  const Display& d = res.display;
   nlohmann::ordered_json out = nlohmann::ordered_json::array();
   std::vector<std::vector<std::string>> rows;
   std::vector<std::string> hdr = {"gpu", "config_id", "frames"};
   for (auto& p : known_passes()) hdr.push_back(p);
-  hdr.push_back("total_ms");
-  hdr.push_back("interval_ms");
-  hdr.push_back("budget_ms");
+  for (const char* h : {"total_ms", "interval_ms", "budget_ms"}) hdr.push_back(h);
   rows.push_back(hdr);
-  for (size_t gi = 0; gi < gpus.size(); ++gi)
-    for (auto& x : acc[gi]) {
-      nlohmann::ordered_json j;
-      j["gpu"] = gpus[gi].name;
-      j["config_id"] = x.id;
-      j["method"] = x.method;
-      j["frames"] = x.n;
-      j["display"] = {{"name", d.name}, {"width", d.width}, {"height", d.height}, {"eyes", d.eyes}};
-      j["est_ms_total"] = x.total / x.n;
-      const PredictionInterval& iv = gpus[gi].interval;  // multiplicative: applies to the mean
-      if (iv.level > 0) {
-        j["est_ms_total_lo"] = x.total / x.n * iv.lo_factor;
-        j["est_ms_total_hi"] = x.total / x.n * iv.hi_factor;
-        j["interval_level"] = iv.level;
-      }
-      std::vector<std::string> r = {gpus[gi].name, x.id, fmt("%.0f", x.n)};
-      for (auto& p : known_passes()) {
-        std::string cell = "-";
-        for (auto& kv : x.passes)
-          if (kv.first == p) {
-            j["est_ms_" + p] = kv.second / x.n;
-            cell = fmt("%.3f", kv.second / x.n);
-          }
-        r.push_back(cell);
-      }
-      r.push_back(fmt("%.3f", x.total / x.n));
-      r.push_back(iv.level > 0 ? fmt("%.2f-", x.total / x.n * iv.lo_factor) +
-                                     fmt("%.2f", x.total / x.n * iv.hi_factor)
-                               : "-");
-      r.push_back(fmt("%.2f", d.frame_budget_ms()));
-      rows.push_back(r);
-      out.push_back(j);
+  for (const RecostRow& x : res.rows) {
+    nlohmann::ordered_json j;
+    j["gpu"] = x.gpu;
+    j["config_id"] = x.config_id;
+    j["method"] = x.method;
+    j["frames"] = x.frames;
+    j["display"] = {{"name", d.name}, {"width", d.width}, {"height", d.height}, {"eyes", d.eyes}};
+    j["est_ms_total"] = x.total_ms;
+    if (x.level > 0) {
+      j["est_ms_total_lo"] = x.lo_ms;
+      j["est_ms_total_hi"] = x.hi_ms;
+      j["interval_level"] = x.level;
     }
+    std::vector<std::string> r = {x.gpu, x.config_id, fmt("%.0f", x.frames)};
+    for (auto& p : known_passes()) {
+      std::string cell = "-";
+      for (auto& kv : x.pass_ms)
+        if (kv.first == p) {
+          j["est_ms_" + p] = kv.second;
+          cell = fmt("%.3f", kv.second);
+        }
+      r.push_back(cell);
+    }
+    r.push_back(fmt("%.3f", x.total_ms));
+    r.push_back(x.level > 0 ? fmt("%.2f-", x.lo_ms) + fmt("%.2f", x.hi_ms) : "-");
+    r.push_back(fmt("%.2f", d.frame_budget_ms()));
+    rows.push_back(r);
+    out.push_back(j);
+  }
   if (a.json) {
     std::cout << out.dump(2) << "\n";
   } else {
     std::cout << "results " << a.results << " re-costed for display " << d.name << " " << d.width << "x" << d.height
-              << " x" << d.eyes << " eye(s), workload " << w.name << "; mean ms per frame ('-': pass does not exist)\n";
+              << " x" << d.eyes << " eye(s), workload " << res.workload
+              << "; mean ms per frame ('-': pass does not exist)\n";
     print_table(rows);
   }
   return 0;

@@ -173,13 +173,7 @@ struct Shared {
 };
 
 // Scene features as recorded in manifest.json (what `fovsim predict --results` re-costs with).
-Json scene_features_json(const SceneFeatures& f) {
-  return Json{{"shadows", f.shadows},         {"dynamic_objects", f.dynamic_objects},
-              {"moving_lights", f.moving_lights}, {"transparency", f.transparency},
-              {"indirect", f.indirect},       {"textures", f.textures},
-              {"triangles", f.triangles},     {"submodels", f.submodels},
-              {"lights", f.lights},           {"shadowed_lights", f.shadowed_lights}};
-}
+Json scene_features_json(const SceneFeatures& f) { return f.to_json(); }
 
 // One cell: its methods, metrics, GPU profiles, outputs and accumulated rows.
 struct Cell {

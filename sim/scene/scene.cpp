@@ -267,3 +267,30 @@ glm::vec3 eval_albedo(const Scene& scene, const Material& m, glm::vec2 uv, float
 }
 
 }  // namespace fovsim
+
+namespace fovsim {
+
+Json SceneFeatures::to_json() const {
+  return Json{{"shadows", shadows},         {"dynamic_objects", dynamic_objects},
+              {"moving_lights", moving_lights}, {"transparency", transparency},
+              {"indirect", indirect},       {"textures", textures},
+              {"triangles", triangles},     {"submodels", submodels},
+              {"lights", lights},           {"shadowed_lights", shadowed_lights}};
+}
+
+SceneFeatures SceneFeatures::from_json(const Json& j) {
+  SceneFeatures f;
+  f.shadows = j.value("shadows", false);
+  f.dynamic_objects = j.value("dynamic_objects", false);
+  f.moving_lights = j.value("moving_lights", false);
+  f.transparency = j.value("transparency", false);
+  f.indirect = j.value("indirect", false);
+  f.textures = j.value("textures", false);
+  f.triangles = j.value("triangles", size_t(0));
+  f.submodels = j.value("submodels", size_t(0));
+  f.lights = j.value("lights", 0);
+  f.shadowed_lights = j.value("shadowed_lights", 0);
+  return f;
+}
+
+}  // namespace fovsim

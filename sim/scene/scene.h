@@ -90,6 +90,10 @@ struct SceneFeatures {  // decides which passes exist (DESIGN §6: model only wh
        indirect = false, textures = false;
   size_t triangles = 0, submodels = 0;
   int lights = 0, shadowed_lights = 0;
+  // As recorded in manifest.json (scene.features); from_json reads what to_json writes
+  // (missing keys keep their defaults).
+  Json to_json() const;
+  static SceneFeatures from_json(const Json& j);
 };
 
 struct Scene {

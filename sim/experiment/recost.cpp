@@ -1,0 +1,121 @@
+#include "sim/experiment/recost.h"
+
+#include "sim/core/error.h"
+#include "sim/cost/cost_model.h"
+#include "sim/cost/gpu_profile.h"
+#include "sim/cost/passes.h"
+#include "sim/cost/workload.h"
+#include "sim/scene/scene.h"
+#include "sim/trace/csv_table.h"
+
+namespace fovsim {
+
+RecostResult recost_results(const RecostOptions& o) {
+  const std::string man_path = o.results + "/manifest.json", csv_path = o.results + "/frames.csv";
+  Json man = Params::parse_json_file(man_path);
+  if (man.value("status", "") != "complete")
+    throw Error(man_path, "run is not complete (status \"" + man.value("status", "?") + "\")");
+  if (!man.contains("scene") || !man["scene"].contains("features"))
+    throw Error(man_path + ": scene.features", "missing (results written by an older fovsim: rerun the config)");
+  const SceneFeatures f = SceneFeatures::from_json(man["scene"]["features"]);
+  RecostResult res;
+  Display& d = res.display;
+  if (!o.display.empty()) {
+    d = Display::load(o.display, o.models);
+  } else {
+    Params dp(man.at("display"), man_path, "display");
+    d = Display::from_params(dp);
+  }
+  if (o.width) d.width = o.width;
+  if (o.height) d.height = o.height;
+  if (o.eyes) d.eyes = o.eyes;
+  const Json& sim = man.at("simulated_resolution");
+  const double sim_px = sim.at(0).get<double>() * sim.at(1).get<double>();
+  std::string wname = o.workload.empty() ? "generic" : o.workload;
+  if (o.workload.empty() && man.contains("resolved_config") && man["resolved_config"].contains("workload"))
+    wname = man["resolved_config"]["workload"].get<std::string>();
+  Workload w = Workload::load(wname, o.models);
+  res.workload = w.name;
+
+  const std::vector<CsvRow> rows = read_csv_rows(csv_path, ',', 0);
+  if (rows.empty()) throw Error(csv_path, "empty frames.csv");
+  std::vector<std::string> header;
+  for (const CsvField& h : rows.front().fields) header.push_back(h.text);
+  int c_id = -1, c_method = -1, c_gpu = -1;
+  for (size_t i = 0; i < header.size(); ++i) {
+    if (header[i] == "config_id") c_id = int(i);
+    if (header[i] == "method") c_method = int(i);
+    if (header[i] == "gpu") c_gpu = int(i);
+  }
+  if (c_id < 0 || c_method < 0) throw Error(csv_path + ":1", "missing config_id or method column");
+
+  std::vector<GpuProfile> gpus;
+  for (auto& g : o.gpus) gpus.push_back(GpuProfile::load(g, o.models));
+  std::vector<std::vector<RecostRow>> acc(gpus.size());
+  std::string first_gpu;
+  for (size_t ri = 1; ri < rows.size(); ++ri) {
+    const CsvRow& row = rows[ri];
+    if (row.fields.size() != header.size())
+      throw Error(file_location(csv_path, row.line), "expected " + std::to_string(header.size()) + " fields, got " +
+                                                        std::to_string(row.fields.size()));
+    auto cell = [&](int i) -> const std::string& { return row.fields[size_t(i)].text; };
+    // A run costed for several GPUs repeats each frame per GPU: the counters are the same, use one.
+    if (c_gpu >= 0) {
+      if (first_gpu.empty()) first_gpu = cell(c_gpu);
+      if (cell(c_gpu) != first_gpu) continue;
+    }
+    Counters c;
+    for (size_t i = 0; i < header.size(); ++i) {
+      const std::string& h = header[i];
+      if (h.rfind("est_ms_", 0) == 0 || row.fields[i].text.empty()) continue;
+      double v = 0;
+      std::string why;
+      if (parse_number(row.fields[i].text, v, why)) c.set(h, v);
+    }
+    // frames.csv reports shaded_samples at the real display's resolution; counters are
+    // costed at the simulated one (like every other pixel counter in the file).
+    if (c.has("shaded_fraction")) c.set("shaded_samples", c.get("shaded_fraction") * sim_px);
+    std::string id = cell(c_id);
+    if (auto at = id.find('@'); at != std::string::npos) id = id.substr(0, at);
+    for (size_t gi = 0; gi < gpus.size(); ++gi) {
+      CostInputs ci;
+      ci.method = cell(c_method);
+      ci.counters = &c;
+      ci.features = f;
+      ci.display = d;
+      ci.pixel_scale = double(d.width) * double(d.height) / sim_px;
+      ci.workload = &w;
+      const FrameCost fc = estimate_frame(gpus[gi], ci);
+      RecostRow* r = nullptr;
+      for (auto& x : acc[gi])
+        if (x.config_id == id) r = &x;
+      if (!r) {
+        acc[gi].push_back(RecostRow{gpus[gi].name, id, ci.method});
+        r = &acc[gi].back();
+      }
+      r->frames += 1;
+      r->total_ms += fc.total_ms;
+      for (auto& pc : fc.passes) {
+        bool found = false;
+        for (auto& kv : r->pass_ms)
+          if (kv.first == pc.pass) kv.second += pc.ms, found = true;
+        if (!found) r->pass_ms.emplace_back(pc.pass, pc.ms);
+      }
+    }
+  }
+  for (size_t gi = 0; gi < gpus.size(); ++gi)
+    for (RecostRow& r : acc[gi]) {
+      r.total_ms /= r.frames;
+      for (auto& kv : r.pass_ms) kv.second /= r.frames;
+      const PredictionInterval& iv = gpus[gi].interval;  // multiplicative: applies to the mean
+      if (iv.level > 0) {
+        r.lo_ms = r.total_ms * iv.lo_factor;
+        r.hi_ms = r.total_ms * iv.hi_factor;
+        r.level = iv.level;
+      }
+      res.rows.push_back(std::move(r));
+    }
+  return res;
+}
+
+}  // namespace fovsim
