@@ -70,8 +70,7 @@ MethodSpec parse_method(const std::string& s) {
       auto eq = kv.find('=');
       if (eq == std::string::npos) throw Error("--method " + s, "expected key=value, got '" + kv + "'");
       std::string v = kv.substr(eq + 1);
-      Json jv = Json::parse(v, nullptr, false);
-      m.params[kv.substr(0, eq)] = jv.is_discarded() ? Json(v) : jv;
+      m.params[kv.substr(0, eq)] = parse_value_or_string(v, "--method " + s);
     }
   return m;
 }

@@ -46,9 +46,7 @@ int run_density(const DensityArgs& a) {
         throw Error("--param " + kv, "expected METHOD.key=value");
       if (kv.substr(0, dot) != m) continue;
       std::string val = kv.substr(eq + 1);
-      Json jv;
-      try { jv = Json::parse(val); } catch (...) { jv = val; }
-      pj[kv.substr(dot + 1, eq - dot - 1)] = jv;
+      pj[kv.substr(dot + 1, eq - dot - 1)] = parse_value_or_string(val, "--param " + kv);
     }
     if (!is_mapping_method(m)) throw Error("--method", "not a mapping method: \"" + m + "\" (kfr, rmfr, hyperbolic, linear, fvrs)");
     Params p(pj, "--param", m);

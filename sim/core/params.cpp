@@ -343,21 +343,24 @@ void Params::finish_rec(const Json& j, const Json::json_pointer& ptr, const std:
 
 void Params::finish() const { finish_rec(j_, ptr_, path_); }
 
+Json parse_value_or_string(const std::string& text, const std::string& where) {
+  check_json_depth(text, where);
+  try {
+    return Json::parse(text);
+  } catch (const Json::parse_error&) {
+    return text;                        // not JSON: a plain string
+  } catch (const Json::exception& e) {  // valid syntax but unrepresentable (1e400)
+    throw Error(where, std::string("bad value: ") + e.what());
+  }
+}
+
 void apply_override(Json& doc, const std::string& assignment) {
   auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
     throw Error("override \"" + assignment + "\"", "expected key.path=value");
   std::string key = assignment.substr(0, eq), val = assignment.substr(eq + 1);
   const std::string W = "override " + key;
-  Json value;
-  check_json_depth(val, W);
-  try {
-    value = Json::parse(val);
-  } catch (const Json::parse_error&) {
-    value = val;                        // not JSON: a plain string
-  } catch (const Json::exception& e) {  // valid syntax but unrepresentable (1e400)
-    throw Error(W, std::string("bad value: ") + e.what());
-  }
+  Json value = parse_value_or_string(val, W);
   if (!doc.is_object()) throw Error(W, "the config is not a JSON object");
   Json* node = &doc;
   size_t i = 0;

@@ -98,6 +98,11 @@ class Params {
   Json::json_pointer ptr_;
 };
 
+// A command-line value: JSON when it is valid JSON (numbers, true/false, arrays, quoted
+// strings), else the text as a string. Nesting beyond kMaxJsonDepth and numbers out of double
+// range are errors naming `where` (e.g. "override render.scale", "--param kfr.alpha=...").
+Json parse_value_or_string(const std::string& text, const std::string& where);
+
 // Applies a command-line override "a.b[2].c=value" to a JSON document. The value is parsed
 // as JSON when it is valid JSON (numbers, true/false, arrays, quoted strings), else taken as
 // a string. Intermediate objects are created; array indices must exist.

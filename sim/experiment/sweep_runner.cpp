@@ -153,7 +153,7 @@ bool cell_complete(const std::string& dir, const std::string& hash) {
   std::string p = dir + "/cell.json";
   if (!file_exists(p)) return false;
   try {
-    Json j = Json::parse(read_file(p));
+    Json j = parse_json_text(read_file(p), p);
     return j.value("status", "") == "complete" && j.value("hash", "") == hash && j.contains("summary");
   } catch (...) {
     return false;  // unreadable: recompute
@@ -162,22 +162,22 @@ bool cell_complete(const std::string& dir, const std::string& hash) {
 
 ResultTable read_cell_summary(const std::string& dir) {
   std::string p = dir + "/cell.json";
-  Json j;
-  try {
-    j = Json::parse(read_file(p));
+  ResultTable t;
+  try {  // a hand-edited or damaged record is a located error, never an internal one
+    Json j = parse_json_text(read_file(p), p);
+    for (auto& r : j.at("summary")) {
+      ResultRow row;
+      // Text columns in the order the runner writes them, then any others.
+      const Json& tx = r.at("text");
+      for (const char* k : {"config_id", "method", "label", "gpu"})
+        if (tx.contains(k)) row.set_text(k, tx[k].get<std::string>());
+      for (auto it = tx.begin(); it != tx.end(); ++it)
+        row.set_text(it.key(), it.value().get<std::string>());
+      for (auto& kv : r.at("num")) row.set(kv.at(0).get<std::string>(), json_num(kv.at(1)));
+      t.add(std::move(row));
+    }
   } catch (const Json::exception& e) {
     throw Error(p, std::string("corrupt cell record: ") + e.what());
-  }
-  ResultTable t;
-  for (auto& r : j.at("summary")) {
-    ResultRow row;
-    // Text columns in the order the runner writes them, then any others.
-    const Json& tx = r.at("text");
-    for (const char* k : {"config_id", "method", "label", "gpu"})
-      if (tx.contains(k)) row.set_text(k, tx[k].get<std::string>());
-    for (auto it = tx.begin(); it != tx.end(); ++it) row.set_text(it.key(), it.value().get<std::string>());
-    for (auto& kv : r.at("num")) row.set(kv.at(0).get<std::string>(), json_num(kv.at(1)));
-    t.add(std::move(row));
   }
   return t;
 }
@@ -187,9 +187,13 @@ SweepPlan load_sweep_plan(const std::string& dir) {
   if (!file_exists(p)) throw Error(p, "not found: is " + dir + " the output folder of a sweep?");
   Json j = Params::parse_json_file(p);
   LoadedConfig cfg;
-  cfg.doc = j.at("config");
-  cfg.file = j.value("config_file", "");
-  cfg.base_dir = j.value("base_dir", "");
+  try {
+    cfg.doc = j.at("config");
+    cfg.file = j.value("config_file", "");
+    cfg.base_dir = j.value("base_dir", "");
+  } catch (const Json::exception& e) {
+    throw Error(p, std::string("corrupt sweep record: ") + e.what());
+  }
   SweepPlan plan = expand_sweep(cfg);
   if (plan.hash != j.value("plan_hash", ""))
     throw Error(p, "the recorded sweep expands differently with this fovsim version (plan hash " + plan.hash +

@@ -370,6 +370,9 @@ SweepPlan expand_sweep(const LoadedConfig& cfg) {
   SweepPlan plan;
   plan.file = cfg.file;
   plan.base_dir = cfg.base_dir;
+  if (!cfg.doc.is_object())
+    throw Error(cfg.file.empty() ? "sweep" : cfg.file,
+                "a config must be a JSON object, got " + describe_json(cfg.doc));
   plan.base = cfg.doc;
   plan.base.erase("sweep");
   plan.name = plan.base.contains("name") && plan.base["name"].is_string() ? plan.base["name"].get<std::string>()

@@ -207,3 +207,17 @@ TEST(Hardening, FullDiskLeavesNoTruncatedImage) {
   EXPECT_EQ(back.width, 256);
   EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator{}), 1);
 }
+
+TEST(Hardening, CommandLineValues) {
+  EXPECT_EQ(parse_value_or_string("2.5", "--param kfr.alpha=2.5"), Json(2.5));
+  EXPECT_EQ(parse_value_or_string("fove_1280x1440", "x"), Json("fove_1280x1440"));
+  EXPECT_EQ(parse_value_or_string("[1, 2]", "x"), Json::parse("[1, 2]"));
+  EXPECT_EQ(error_of([] {
+              parse_value_or_string("1e400", "--method kfr:sigma=1e400");
+            }).rfind("--method kfr:sigma=1e400: bad value: ", 0),
+            0u);
+  EXPECT_NE(error_of([] {
+              parse_value_or_string(std::string(100000, '['), "--param kfr.alpha");
+            }).find("--param kfr.alpha:1:65: JSON nested deeper than 64 levels"),
+            std::string::npos);
+}
