@@ -123,6 +123,15 @@ struct Shared {
     rs = RenderSettings::from_params(rp);
     Params tp = rp.child("tonemap");
     sim_display = display.scaled(scale);
+    // Images and G-buffers scale with the simulated pixel count: refuse before allocating.
+    const double max_px = rp.number("max_pixels", 5e7, Range::closed(1, 1e10));
+    const double px = double(sim_display.width) * double(sim_display.height);
+    if (px > max_px)
+      rp.fail("scale",
+              "simulated resolution " + std::to_string(sim_display.width) + "x" +
+                  std::to_string(sim_display.height) + " (" + format_number(px) +
+                  " pixels) is over the limit render.max_pixels = " + format_number(max_px) +
+                  " (lower render.scale or raise render.max_pixels)");
 
     Params sp = root.child("scene");
     scene = std::make_unique<Scene>(make_scene(sp, models));
@@ -246,7 +255,7 @@ struct Cell {
     workload = Workload::load(root.string("workload", "generic"), models);
 
     Params op = root.child("outputs");
-    for (double f : op.numbers("image_frames", {}, Range::at_least(0))) io.frames.insert(int(f));
+    for (double f : op.numbers("image_frames", {}, Range::closed(0, 2e9))) io.frames.insert(int(f));
     io.png = op.boolean("png", true);
     io.exr = op.boolean("exr", false);
     io.debug = op.boolean("debug_images", false);

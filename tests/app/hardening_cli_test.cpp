@@ -84,6 +84,14 @@ TEST(Hardening, IssueTableInputsAreLocatedUserErrors) {
       run_cmd(bin + " run " + dir + "/cfg.json --out " + dir + "/z trace.file='\"/dev/zero\"'"),
       "/dev/zero: not a regular file");
   expect_user_error(run_cmd(bin + " trace validate /dev/zero"), "/dev/zero: not a regular file");
+  // Buffers are sized from the config before anything is allocated.
+  expect_user_error(
+      run_cmd(bin + " run " + dir + "/cfg.json --out " + dir + "/z render.max_pixels=1000"),
+      "render.scale: simulated resolution 72x80 (5760 pixels) is over the limit render.max_pixels "
+      "= 1000");
+  expect_user_error(
+      run_cmd(bin + " run " + dir + "/cfg.json --out " + dir + "/z 'outputs.image_frames=[1e300]'"),
+      "outputs.image_frames[0]: value 1e+300 is out of range [0, 2e+09]");
 
   write_text(dir + "/s.json", small_config(R"(, "sweep": {"grid": {"seed": [1, 2]}})"));
   expect_user_error(run_cmd("SLURM_ARRAY_TASK_ID=abc SLURM_ARRAY_TASK_COUNT=2 " + bin + " sweep " +
