@@ -28,7 +28,7 @@ std::string Range::str() const {
 }
 
 std::string describe_json(const Json& v) {
-  std::string dump = v.dump();
+  std::string dump = v.dump(-1, ' ', false, Json::error_handler_t::replace);
   if (dump.size() > 40) dump = dump.substr(0, 37) + "...";
   switch (v.type()) {
     case Json::value_t::null: return "null";
@@ -348,7 +348,14 @@ Json parse_value_or_string(const std::string& text, const std::string& where) {
   try {
     return Json::parse(text);
   } catch (const Json::parse_error&) {
-    return text;                        // not JSON: a plain string
+    // Not JSON: a plain string, which must be valid UTF-8 (it is written to manifest.json).
+    Json s = text;
+    try {
+      (void)s.dump();
+    } catch (const Json::type_error&) {
+      throw Error(where, "value is not valid UTF-8 text");
+    }
+    return s;
   } catch (const Json::exception& e) {  // valid syntax but unrepresentable (1e400)
     throw Error(where, std::string("bad value: ") + e.what());
   }

@@ -216,6 +216,16 @@ TEST(Hardening, CommandLineValues) {
               parse_value_or_string("1e400", "--method kfr:sigma=1e400");
             }).rfind("--method kfr:sigma=1e400: bad value: ", 0),
             0u);
+  // Found by fuzz_params: a non-JSON value that is not UTF-8 ended in "internal error" when
+  // an error message or manifest.json serialised it.
+  EXPECT_EQ(error_of([] {
+              parse_value_or_string(
+                  "1\xe5"
+                  "400",
+                  "override x");
+            }),
+            "override x: value is not valid UTF-8 text");
+  EXPECT_EQ(describe_json(Json(std::string("a\xe5"))), "a string \"a\xef\xbf\xbd\"");
   EXPECT_NE(error_of([] {
               parse_value_or_string(std::string(100000, '['), "--param kfr.alpha");
             }).find("--param kfr.alpha:1:65: JSON nested deeper than 64 levels"),
