@@ -110,10 +110,11 @@ std::vector<Row> grid_rows(const Json& j, const std::string& where, double cap) 
   return rows;
 }
 
-std::vector<Row> zip_rows(const Json& j, const std::string& where) {
+std::vector<Row> zip_rows(const Json& j, const std::string& where, double cap) {
   auto axes = ordered_axes(j, where);
   std::vector<std::vector<Json>> vals;
   for (auto& a : axes) vals.push_back(axis_values(a.second.first, a.second.second));
+  if (double(vals[0].size()) > cap) too_many_cells(where, double(vals[0].size()), cap);
   for (size_t i = 1; i < axes.size(); ++i)
     if (vals[i].size() != vals[0].size())
       throw Error(where, "zip axes must have equal lengths: \"" + axes[0].first + "\" has " +
@@ -229,7 +230,7 @@ std::vector<Row> block_rows(const Json& block, const std::string& where, double 
   const Json& j = block.begin().value();
   std::string w = key_where(where, kind);
   if (kind == "grid") return grid_rows(j, w, cap);
-  if (kind == "zip") return zip_rows(j, w);
+  if (kind == "zip") return zip_rows(j, w, cap);
   if (kind == "list") {
     if (j.is_array() && double(j.size()) > cap) too_many_cells(w, double(j.size()), cap);
     return list_rows(j, w);

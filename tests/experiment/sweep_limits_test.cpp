@@ -78,6 +78,11 @@ TEST(SweepLimits, CellProductCappedBeforeExpansion) {
       << e;
   e = sweep_err(R"({"random": {"count": 200000, "axes": {"a": {"from": 0, "to": 1}}}})");
   EXPECT_NE(e.find("sweep.random.count: expands to 200000 cells"), std::string::npos) << e;
+  e = sweep_err(
+      R"({"zip": {"a": {"from": 0, "to": 199999, "step": 1}, "b": {"from": 0, "to": 199999, "step": 1}}})");
+  EXPECT_NE(e.find("sweep.zip: expands to 200000 cells, over the limit of 100000"),
+            std::string::npos)
+      << e;
   // The limit is overridable (within [1, 1e7]) and applies as set.
   auto plan = expand_sweep(cfg_of(R"({"max_cells": 3, "grid": {"a": [1, 2, 3]}})"));
   EXPECT_EQ(plan.cells.size(), 3u);
