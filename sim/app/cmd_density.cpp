@@ -51,11 +51,9 @@ int run_density(const DensityArgs& a) {
         throw Error("--param " + kv, "expected METHOD.key=value");
       if (kv.substr(0, dot) != m) continue;
       std::string val = kv.substr(eq + 1);
-      Json jv;
-      try { jv = Json::parse(val); } catch (...) { jv = val; }
       const std::string key = kv.substr(dot + 1, eq - dot - 1);
       if (pj.contains(key)) throw Error("--param " + kv, "\"" + key + "\" is also given in --method " + arg);
-      pj[key] = jv;
+      pj[key] = parse_value_or_string(val, "--param " + kv);
     }
     // The method's own parser (make_method: unknown keys are errors) and its sampling geometry.
     Params p(pj, "--method " + arg, "");

@@ -1,7 +1,13 @@
 // Small core utilities: locations, hashes, version, atomic file I/O, progress.
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -62,14 +68,105 @@ void write_file_atomic(const std::string& path, const std::string& content) {
   }
 }
 
+bool parse_integer(const std::string& s, long lo, long hi, long& out) {
+  if (s.empty() || s.size() > 19) return false;
+  size_t i = s[0] == '-' ? 1 : 0;
+  if (i == s.size()) return false;
+  for (size_t k = i; k < s.size(); ++k)
+    if (s[k] < '0' || s[k] > '9') return false;
+  errno = 0;
+  char* end = nullptr;
+  long v = std::strtol(s.c_str(), &end, 10);
+  if (errno != 0 || *end != '\0' || v < lo || v > hi) return false;
+  out = v;
+  return true;
+}
+
+std::optional<long> env_integer(const char* name, long lo, long hi) {
+  const char* e = std::getenv(name);
+  if (!e) return std::nullopt;
+  long v = 0;
+  if (!parse_integer(e, lo, hi, v))
+    throw Error(std::string("environment ") + name + "=\"" + e + "\"",
+                "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  return v;
+}
+
+uint64_t max_input_bytes() {
+  auto mb = env_integer("FOVSIM_MAX_INPUT_MB", 1, 1048576);
+  return uint64_t(mb ? *mb : 256) << 20;
+}
+
 std::string read_file(const std::string& path) {
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) throw Error(path, "is a directory, expected a file");
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw Error(path, "cannot read file (missing or unreadable)");
-  std::ostringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
+  // Checked on the open descriptor (no race between the check and the read).
+  int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+  if (fd < 0) {
+    std::error_code ec;
+    if (fs::is_directory(path, ec)) throw Error(path, "is a directory, expected a file");
+    throw Error(path, std::string("cannot read file (") + std::strerror(errno) + ")");
+  }
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    bool dir = S_ISDIR(st.st_mode);
+    ::close(fd);
+    throw Error(path, dir ? "is a directory, expected a file"
+                          : "not a regular file (devices, FIFOs and sockets are refused)");
+  }
+  const uint64_t limit = max_input_bytes();
+  if (uint64_t(st.st_size) > limit)
+    throw Error(path, "file is " + std::to_string(uint64_t(st.st_size) >> 20) +
+                          " MiB, over the input limit of " + std::to_string(limit >> 20) +
+                          " MiB (set FOVSIM_MAX_INPUT_MB to raise it)");
+  std::string out;
+  out.resize(size_t(st.st_size));
+  size_t got = 0;
+  while (got < out.size()) {
+    ssize_t n = ::read(fd, out.data() + got, out.size() - got);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) {
+      int err = errno;
+      ::close(fd);
+      throw Error(path, std::string("read failed: ") + std::strerror(err));
+    }
+    if (n == 0) break;  // shrank while reading
+    got += size_t(n);
+  }
+  ::close(fd);
+  out.resize(got);
+  return out;
+}
+
+std::string safe_file_name(const std::string& name) {
+  std::string s;
+  for (char c : name) {
+    bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+              c == '.' || c == '_' || c == '-' || c == '+';
+    s += ok ? c : '_';
+  }
+  if (s.size() > 120) s.resize(120);
+  if (s.empty()) s = "_";
+  if (s[0] == '.') s[0] = '_';  // no "..", ".", hidden files
+  return s;
+}
+
+DirLock::DirLock(const std::string& dir, const std::string& name, const std::string& what) {
+  make_dirs(dir);
+  std::string p = dir + "/" + name;
+  fd_ = ::open(p.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd_ < 0) throw Error(p, std::string("cannot create lock file: ") + std::strerror(errno));
+  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    int err = errno;
+    ::close(fd_);
+    fd_ = -1;
+    if (err == EWOULDBLOCK)
+      throw Error(dir, what + " is writing to this folder (lock " + p +
+                           "); wait for it, or use another --out");
+    throw Error(p, std::string("cannot lock: ") + std::strerror(err));
+  }
+}
+
+DirLock::~DirLock() {
+  if (fd_ >= 0) ::close(fd_);
 }
 
 bool file_exists(const std::string& path) {

@@ -1,14 +1,45 @@
 // File helpers: atomic writes (temp + rename) so an interrupted run never leaves a
 // half-written file that looks complete.
 #pragma once
+#include <cstdint>
+#include <optional>
 #include <string>
 
 namespace fovsim {
 
 // Write `content` to `path` atomically; creates parent directories. Throws fovsim::Error.
 void write_file_atomic(const std::string& path, const std::string& content);
-// Read a whole file. Throws fovsim::Error("path", "cannot read ...") if it cannot.
+// Read a whole file. Throws fovsim::Error("path", ...) if it cannot, if it is not a regular
+// file (a directory, /dev/zero, a FIFO) or if it is larger than max_input_bytes(): both are
+// checked before anything is read, so an absurd input never exhausts memory.
 std::string read_file(const std::string& path);
+// Size limit for input files (configs, traces, column maps, sweep specs): 256 MiB, or
+// $FOVSIM_MAX_INPUT_MB (an integer in [1, 1048576]; anything else is an error naming it).
+uint64_t max_input_bytes();
+// Strict integer from the environment: nullopt when unset; an error naming the variable
+// when set to anything but a decimal integer in [lo, hi] (no "12abc", no "", no overflow).
+std::optional<long> env_integer(const char* name, long lo, long hi);
+// Strict decimal integer in [lo, hi]; false on anything else.
+bool parse_integer(const std::string& s, long lo, long hi, long& out);
+
+// The one way a user-given label or name becomes a file or folder name: every character
+// other than [A-Za-z0-9._+-] (separators, control characters, spaces) becomes '_', and a
+// leading '.' becomes '_' (so no "..", no hidden files); empty becomes "_"; at most 120
+// characters. Whatever the input, the result is a single path component.
+std::string safe_file_name(const std::string& name);
+
+// Exclusive advisory lock on DIR/NAME (flock; released when the process ends, even by
+// SIGKILL). Throws fovsim::Error naming DIR and `holder` when another process holds it.
+class DirLock {
+ public:
+  DirLock(const std::string& dir, const std::string& name, const std::string& holder);
+  ~DirLock();
+  DirLock(const DirLock&) = delete;
+  DirLock& operator=(const DirLock&) = delete;
+
+ private:
+  int fd_ = -1;
+};
 bool file_exists(const std::string& path);
 void make_dirs(const std::string& path);
 

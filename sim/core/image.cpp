@@ -26,6 +26,29 @@ Image to_luma(const Image& rgb) {
   return out;
 }
 
+namespace {
+
+// True when the file at `p` is a complete image of its kind: a PNG ends with its IEND chunk
+// (00 00 00 00 'IEND' AE 42 60 82), an EXR starts with its magic number and is not empty.
+// Encoders through stdio may not report a short write on a full disk; this check does.
+bool looks_complete(const std::string& p, bool is_exr) {
+  std::FILE* f = std::fopen(p.c_str(), "rb");
+  if (!f) return false;
+  unsigned char buf[12] = {0};
+  bool ok = false;
+  if (is_exr) {
+    ok = std::fread(buf, 1, 4, f) == 4 && buf[0] == 0x76 && buf[1] == 0x2f && buf[2] == 0x31 &&
+         buf[3] == 0x01;
+  } else if (std::fseek(f, -12, SEEK_END) == 0 && std::fread(buf, 1, 12, f) == 12) {
+    static const unsigned char iend[12] = {0, 0, 0, 0, 'I', 'E', 'N', 'D', 0xAE, 0x42, 0x60, 0x82};
+    ok = std::equal(buf, buf + 12, iend);
+  }
+  std::fclose(f);
+  return ok;
+}
+
+}  // namespace
+
 void write_image(const std::string& path, const Image& img) {
   if (img.empty()) throw Error(path, "refusing to write an empty image");
   namespace fs = std::filesystem;
@@ -38,7 +61,11 @@ void write_image(const std::string& path, const Image& img) {
   auto out = OIIO::ImageOutput::create(tmp);
   if (!out) throw Error(path, "unsupported image format \"" + ext + "\" (use .png or .exr)");
   OIIO::ImageSpec spec(img.width, img.height, img.channels, is_exr ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
-  if (!out->open(tmp, spec)) throw Error(path, "cannot open image for writing: " + out->geterror());
+  if (!out->open(tmp, spec)) {
+    std::string err = out->geterror();
+    std::remove(tmp.c_str());
+    throw Error(path, "cannot open image for writing: " + err);
+  }
   bool ok;
   if (is_exr) {
     ok = out->write_image(OIIO::TypeDesc::FLOAT, img.data.data());
@@ -56,9 +83,18 @@ void write_image(const std::string& path, const Image& img) {
     std::remove(tmp.c_str());
     throw Error(path, "image write failed: " + out->geterror());
   }
+  // Written to a temporary name, checked, then renamed: a full disk never leaves a
+  // truncated or empty image under its final name.
+  if (!looks_complete(tmp, is_exr)) {
+    std::remove(tmp.c_str());
+    throw Error(path, "image write incomplete (disk full?); nothing written under this name");
+  }
   std::error_code ec;
   fs::rename(tmp, path, ec);
-  if (ec) throw Error(path, "cannot rename temporary image: " + ec.message());
+  if (ec) {
+    std::remove(tmp.c_str());
+    throw Error(path, "cannot rename temporary image: " + ec.message());
+  }
 }
 
 Image read_image(const std::string& path) {

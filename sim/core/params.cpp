@@ -28,7 +28,7 @@ std::string Range::str() const {
 }
 
 std::string describe_json(const Json& v) {
-  std::string dump = v.dump();
+  std::string dump = v.dump(-1, ' ', false, Json::error_handler_t::replace);
   if (dump.size() > 40) dump = dump.substr(0, 37) + "...";
   switch (v.type()) {
     case Json::value_t::null: return "null";
@@ -49,26 +49,91 @@ Params::Params(Json j, std::string file, std::string path)
 Params::Params(Json j, std::shared_ptr<State> st, std::string path, Json::json_pointer ptr)
     : j_(std::move(j)), st_(std::move(st)), path_(std::move(path)), ptr_(std::move(ptr)) {}
 
-Json Params::parse_json_file(const std::string& file) {
-  std::string text = read_file(file);
-  try {
-    return Json::parse(text, nullptr, true, /*ignore_comments=*/true);
-  } catch (const Json::parse_error& e) {
-    size_t byte = e.byte > 0 ? e.byte - 1 : 0;
-    long line = 1, col = 1;
-    for (size_t i = 0; i < byte && i < text.size(); ++i) {
-      if (text[i] == '\n') {
-        ++line;
-        col = 1;
-      } else {
-        ++col;
-      }
+namespace {
+
+// 1-based line and column of byte offset `byte` in `text`.
+std::pair<long, long> line_col(const std::string& text, size_t byte) {
+  long line = 1, col = 1;
+  for (size_t i = 0; i < byte && i < text.size(); ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      col = 1;
+    } else {
+      ++col;
     }
-    std::string msg = e.what();
-    auto p = msg.find("parse error");
-    if (p != std::string::npos) msg = msg.substr(p);
-    throw Error(file_location(file, line, col), "malformed JSON: " + msg);
   }
+  return {line, col};
+}
+
+std::string at(const std::string& file, const std::string& text, size_t byte) {
+  auto [line, col] = line_col(text, byte);
+  return file_location(file.empty() ? "(json)" : file, line, col);
+}
+
+// nlohmann's DOM builder, but errors (syntax, number overflow 406) keep their byte offset
+// instead of becoming exceptions without a location.
+class LocatingSax : public nlohmann::detail::json_sax_dom_parser<Json> {
+ public:
+  explicit LocatingSax(Json& j) : json_sax_dom_parser(j, false) {}
+  template <class Exception>
+  bool parse_error(std::size_t byte, const std::string& token, const Exception& ex) {
+    failed = true;
+    // nlohmann reports the byte after the offending token: point at the token's last byte,
+    // or at its first for a number out of range (the whole token is the problem).
+    position = byte > 0 ? byte - 1 : 0;
+    if (ex.id == 406 && byte >= token.size()) position = byte - token.size();
+    message = ex.what();
+    return false;
+  }
+  bool failed = false;
+  size_t position = 0;
+  std::string message;
+};
+
+}  // namespace
+
+void check_json_depth(const std::string& text, const std::string& file) {
+  int depth = 0;
+  const size_t n = text.size();
+  for (size_t i = 0; i < n; ++i) {
+    char c = text[i];
+    if (c == '"') {  // skip a string (escapes included)
+      for (++i; i < n && text[i] != '"'; ++i)
+        if (text[i] == '\\') ++i;
+    } else if (c == '/' && i + 1 < n && text[i + 1] == '/') {
+      while (i + 1 < n && text[i + 1] != '\n') ++i;
+    } else if (c == '/' && i + 1 < n && text[i + 1] == '*') {
+      size_t e = text.find("*/", i + 2);
+      i = e == std::string::npos ? n : e + 1;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxJsonDepth)
+        throw Error(at(file, text, i), "JSON nested deeper than " + std::to_string(kMaxJsonDepth) +
+                                           " levels (the limit for any fovsim input)");
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+}
+
+Json parse_json_text(const std::string& text, const std::string& file) {
+  check_json_depth(text, file);
+  Json j;
+  LocatingSax sax(j);
+  Json::sax_parse(text, &sax, nlohmann::detail::input_format_t::json, /*strict=*/true,
+                  /*ignore_comments=*/true);
+  if (sax.failed) {
+    std::string msg = sax.message;
+    auto p = msg.find("] ");  // drop nlohmann's "[json.exception.parse_error.101] "
+    if (p != std::string::npos && msg.rfind("[json.exception", 0) == 0) msg = msg.substr(p + 2);
+    if (msg.rfind("number overflow", 0) == 0)
+      msg += " (outside the range of a double, about +-1.8e308)";
+    throw Error(at(file, text, sax.position), "malformed JSON: " + msg);
+  }
+  return j;
+}
+
+Json Params::parse_json_file(const std::string& file) {
+  return parse_json_text(read_file(file), file);
 }
 
 Params Params::from_file(const std::string& file) { return Params(parse_json_file(file), file); }
@@ -278,50 +343,74 @@ void Params::finish_rec(const Json& j, const Json::json_pointer& ptr, const std:
 
 void Params::finish() const { finish_rec(j_, ptr_, path_); }
 
+Json parse_value_or_string(const std::string& text, const std::string& where) {
+  check_json_depth(text, where);
+  try {
+    return Json::parse(text);
+  } catch (const Json::parse_error&) {
+    // Not JSON: a plain string, which must be valid UTF-8 (it is written to manifest.json).
+    Json s = text;
+    try {
+      (void)s.dump();
+    } catch (const Json::type_error&) {
+      throw Error(where, "value is not valid UTF-8 text");
+    }
+    return s;
+  } catch (const Json::exception& e) {  // valid syntax but unrepresentable (1e400)
+    throw Error(where, std::string("bad value: ") + e.what());
+  }
+}
+
 void apply_override(Json& doc, const std::string& assignment) {
   auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
     throw Error("override \"" + assignment + "\"", "expected key.path=value");
   std::string key = assignment.substr(0, eq), val = assignment.substr(eq + 1);
-  Json value;
-  try {
-    value = Json::parse(val);
-  } catch (...) {
-    value = val;
-  }
+  const std::string W = "override " + key;
+  Json value = parse_value_or_string(val, W);
+  if (!doc.is_object()) throw Error(W, "the config is not a JSON object");
   Json* node = &doc;
   size_t i = 0;
   std::string walked;
+  bool any = false;
   while (i < key.size()) {
     size_t j = key.find_first_of(".[", i);
     std::string part = key.substr(i, j == std::string::npos ? std::string::npos : j - i);
+    if (part.empty() && (j == std::string::npos || key[j] == '.'))
+      throw Error(
+          W, "empty key in path \"" + key + "\" (expected key.path=value, e.g. render.scale=0.5)");
     if (!part.empty()) {
       if (!node->is_object() && !node->is_null())
-        throw Error("override " + key, "\"" + walked + "\" is not an object");
+        throw Error(W, "\"" + walked + "\" is not an object");
       walked += (walked.empty() ? "" : ".") + part;
       node = &(*node)[part];
+      any = true;
     }
     if (j == std::string::npos) break;
     if (key[j] == '[') {
+      if (!any) throw Error(W, "a path must start with a key (e.g. methods[0].sigma)");
       size_t close = key.find(']', j);
-      if (close == std::string::npos) throw Error("override " + key, "missing ']'");
+      if (close == std::string::npos) throw Error(W, "missing ']'");
       std::string idx = key.substr(j + 1, close - j - 1);
-      size_t n = 0;
-      try {
-        n = std::stoul(idx);
-      } catch (...) {
-        throw Error("override " + key, "bad array index \"" + idx + "\"");
-      }
-      if (!node->is_array() || n >= node->size())
-        throw Error("override " + key, "\"" + walked + "\" has no element [" + idx + "]");
-      node = &(*node)[n];
+      long n = 0;
+      if (!parse_integer(idx, 0, 1000000000L, n)) throw Error(W, "bad array index \"" + idx + "\"");
+      if (!node->is_array() || size_t(n) >= node->size())
+        throw Error(W, "\"" + walked + "\" has no element [" + idx + "]");
+      node = &(*node)[size_t(n)];
       walked += "[" + idx + "]";
       i = close + 1;
-      if (i < key.size() && key[i] == '.') ++i;
+      if (i < key.size() && key[i] == '.') {
+        ++i;
+        if (i == key.size()) throw Error(W, "trailing '.' in path \"" + key + "\"");
+      } else if (i < key.size() && key[i] != '[') {
+        throw Error(W, "expected '.' or '[' after ']' in \"" + key + "\"");
+      }
     } else {
       i = j + 1;
+      if (i == key.size()) throw Error(W, "trailing '.' in path \"" + key + "\"");
     }
   }
+  if (!any) throw Error(W, "empty path (expected key.path=value, e.g. render.scale=0.5)");
   *node = value;
 }
 

@@ -14,6 +14,19 @@ namespace fovsim {
 
 using Json = nlohmann::json;
 
+// Deepest nesting of arrays/objects accepted in any JSON input (configs, sweep specs, column
+// maps, override values). fovsim's own configs nest fewer than 10 levels; the limit is
+// checked on the text before parsing, so no recursive JSON code ever sees deeper input.
+constexpr int kMaxJsonDepth = 64;
+
+// Parses JSON text (comments allowed). Syntax errors, numbers out of double range
+// (1e400) and nesting deeper than kMaxJsonDepth throw fovsim::Error located at
+// `file`:line:column; an empty `file` reports "<where>: ...".
+Json parse_json_text(const std::string& text, const std::string& file);
+// Throws when `text` nests arrays/objects deeper than kMaxJsonDepth (strings and comments
+// are skipped), with the line and column of the first bracket over the limit.
+void check_json_depth(const std::string& text, const std::string& file);
+
 struct Range {
   double lo = -1e300, hi = 1e300;
   bool lo_open = false, hi_open = false;
@@ -84,6 +97,11 @@ class Params {
   std::string path_;
   Json::json_pointer ptr_;
 };
+
+// A command-line value: JSON when it is valid JSON (numbers, true/false, arrays, quoted
+// strings), else the text as a string. Nesting beyond kMaxJsonDepth and numbers out of double
+// range are errors naming `where` (e.g. "override render.scale", "--param kfr.alpha=...").
+Json parse_value_or_string(const std::string& text, const std::string& where);
 
 // Applies a command-line override "a.b[2].c=value" to a JSON document. The value is parsed
 // as JSON when it is valid JSON (numbers, true/false, arrays, quoted strings), else taken as

@@ -28,7 +28,9 @@ static void merge_into(Json& dst, const Json& src) {
 }
 
 static Json load_with_bases(const std::string& path, std::set<std::string>& seen) {
-  std::string canon = fs::weakly_canonical(path).string();
+  std::error_code ec;
+  std::string canon = fs::weakly_canonical(path, ec).string();
+  if (ec) throw Error(path, "cannot resolve path: " + ec.message());
   if (seen.count(canon)) throw Error(path, "config inheritance cycle through \"base\"");
   seen.insert(canon);
   Json doc = Params::parse_json_file(path);
@@ -36,7 +38,8 @@ static Json load_with_bases(const std::string& path, std::set<std::string>& seen
   if (doc.contains("base")) {
     if (!doc["base"].is_string()) throw Error(path + ": base", "expected a path string, got " + describe_json(doc["base"]));
     std::string base = resolve_path(fs::path(path).parent_path().string(), doc["base"].get<std::string>());
-    if (!fs::exists(base)) throw Error(path + ": base", "base config \"" + base + "\" not found");
+    if (!fs::exists(base, ec))
+      throw Error(path + ": base", "base config \"" + base + "\" not found");
     Json merged = load_with_bases(base, seen);
     doc.erase("base");
     merge_into(merged, doc);
@@ -50,7 +53,8 @@ LoadedConfig load_config(const std::string& path, const std::vector<std::string>
   c.file = path;
   c.base_dir = fs::path(path).parent_path().string();
   std::set<std::string> seen;
-  if (!fs::exists(path)) throw Error(path, "config file not found");
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw Error(path, "config file not found");
   c.doc = load_with_bases(path, seen);
   for (auto& o : overrides) apply_override(c.doc, o);
   return c;

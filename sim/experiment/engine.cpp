@@ -12,6 +12,7 @@
 #include <cmath>
 #include <ctime>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <optional>
 #include <set>
@@ -75,6 +76,7 @@ double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std
 
 struct MethodRun {
   std::string label;
+  std::string stem;  // safe_file_name(label): the only form of the label used in file names
   std::string method;
   std::unique_ptr<FoveationMethod> impl;
   TemporalState temporal;
@@ -87,8 +89,8 @@ struct ImageOutputs {
 
 void write_images(const std::string& dir, const std::string& stem, const Image& display_img, const Image* linear,
                   const ImageOutputs& io) {
-  if (io.png) write_image(dir + "/" + stem + ".png", display_img);
-  if (io.exr && linear) write_image(dir + "/" + stem + ".exr", *linear);
+  if (io.png) write_image(dir + "/" + safe_file_name(stem) + ".png", display_img);
+  if (io.exr && linear) write_image(dir + "/" + safe_file_name(stem) + ".exr", *linear);
 }
 
 Image error_heatmap(const Image& a, const Image& b) {
@@ -129,6 +131,15 @@ struct Shared {
     rs = RenderSettings::from_params(rp);
     Params tp = rp.child("tonemap");
     sim_display = display.scaled(scale);
+    // Images and G-buffers scale with the simulated pixel count: refuse before allocating.
+    const double max_px = rp.number("max_pixels", 5e7, Range::closed(1, 1e10));
+    const double px = double(sim_display.width) * double(sim_display.height);
+    if (px > max_px)
+      rp.fail("scale",
+              "simulated resolution " + std::to_string(sim_display.width) + "x" +
+                  std::to_string(sim_display.height) + " (" + format_number(px) +
+                  " pixels) is over the limit render.max_pixels = " + format_number(max_px) +
+                  " (lower render.scale or raise render.max_pixels)");
 
     Params sp = root.child("scene");
     scene = std::make_unique<Scene>(make_scene(sp, models));
@@ -137,10 +148,20 @@ struct Shared {
     tonemap.curve = curve == "aces" ? ToneMap::Curve::Aces
                                     : (curve == "reinhard" ? ToneMap::Curve::Reinhard : ToneMap::Curve::Clamp);
 
+    // The frame range is read first so that only the part of the trace it uses is resampled
+    // (a trace spanning 1e7 s with frames.count = 2 resamples 2 frames, not 1e7 s).
+    Params fp = root.child("frames");
+    start = fp.integer("start", 0, Range::at_least(0));
+    stride = fp.integer("stride", 1, Range::closed(1, 1e6));
+    count = fp.integer("count", 0, Range::at_least(0));  // 0 = all available
+    const double needed_s =
+        count > 0 ? (double(start) + double(count - 1) * stride + 2.0) / display.refresh_hz
+                  : INFINITY;
     Params trp = root.child("trace");
-    Trace raw_trace = load_trace(trp, display, base_dir);
+    Trace raw_trace = load_trace(trp, display, base_dir, needed_s);
     std::string placement = root.string("trace_placement", "scene", {"scene", "absolute"});
-    trace = resample(raw_trace, display.refresh_hz);
+    trace = resample(raw_trace, display.refresh_hz,
+                     raw_trace.samples.empty() ? INFINITY : raw_trace.samples.front().t + needed_s);
     if (trace.samples.empty()) throw Error(root.where("trace"), "trace has no samples after resampling");
     if (placement == "scene") {
       // The trace's first head position is placed at the scene's default eye (recordings use
@@ -149,11 +170,7 @@ struct Shared {
       for (auto& s : trace.samples) s.head_pos = glm::dvec3(scene->default_eye) + (s.head_pos - p0);
     }
 
-    Params fp = root.child("frames");
-    start = fp.integer("start", 0, Range::at_least(0));
-    stride = fp.integer("stride", 1, Range::closed(1, 1e6));
     int avail = int(trace.samples.size());
-    count = fp.integer("count", 0, Range::at_least(0));  // 0 = all available
     std::string on_short = fp.string("on_short_trace", "fail", {"fail", "truncate"});
     if (start >= avail)
       fp.fail("start", "frame " + std::to_string(start) + " is past the end of the trace (" + std::to_string(avail) +
@@ -198,6 +215,9 @@ struct Cell {
   void parse(Params& root, const std::string& models, bool default_print) {
     name = root.string("name", fs::path(job->file).stem().string());
     std::set<std::string> labels;
+    // Labels become image file names through safe_file_name (sim/core/files.h); two labels
+    // that map to one name, or to the reference image's, are reported, never overwritten.
+    std::map<std::string, std::string> stems{{"reference", "the reference image"}};
     channels = kShadingChannels;
     auto mps = root.children("methods");
     if (mps.empty()) root.fail("methods", "at least one method is required, e.g. [{\"method\": \"full\"}]");
@@ -208,6 +228,13 @@ struct Cell {
       m.label = mp.string("label", m.method);
       if (!labels.insert(m.label).second)
         mp.fail("label", "duplicate label \"" + m.label + "\" (give each method entry a unique \"label\")");
+      m.stem = safe_file_name(m.label);
+      auto [st, fresh] = stems.insert({m.stem, "label \"" + m.label + "\""});
+      if (!fresh)
+        mp.fail(mp.has("label") ? "label" : "method",
+                "label \"" + m.label + "\" would be written as the file name \"" + m.stem +
+                    "\", as " + st->second +
+                    " is (labels keep only [A-Za-z0-9._+-]; give it another label)");
       m.impl = make_method(m.method, mp);
       channels |= m.impl->required_channels();
       methods.push_back(std::move(m));
@@ -233,7 +260,7 @@ struct Cell {
     workload = Workload::load(root.string("workload", "generic"), models);
 
     Params op = root.child("outputs");
-    for (double f : op.numbers("image_frames", {}, Range::at_least(0))) io.frames.insert(int(f));
+    for (double f : op.numbers("image_frames", {}, Range::closed(0, 2e9))) io.frames.insert(int(f));
     io.png = op.boolean("png", true);
     io.exr = op.boolean("exr", false);
     io.debug = op.boolean("debug_images", false);
@@ -276,11 +303,16 @@ struct Cell {
       for (auto& f : fo.flags) flags_seen.insert(m.label + ":" + f);
 
       if (want_images) {
-        write_images(img_dir, m.label, out_display, &lin, io);
-        write_image(img_dir + "/" + m.label + "_error.png", error_heatmap(out_display, *refd));
-        if (mcfg.flip) write_image(img_dir + "/" + m.label + "_flip.png", flip_colormap(metrics_scratch.flip_map));
-        if (fo.reference) write_images(img_dir, m.label + "_reference", override_display, &*fo.reference, io);
-        for (auto& [dname, dimg] : fo.debug) write_image(img_dir + "/" + m.label + "_" + dname + ".png", dimg);
+        write_images(img_dir, m.stem, out_display, &lin, io);
+        write_image(img_dir + "/" + safe_file_name(m.stem + "_error") + ".png",
+                    error_heatmap(out_display, *refd));
+        if (mcfg.flip)
+          write_image(img_dir + "/" + safe_file_name(m.stem + "_flip") + ".png",
+                      flip_colormap(metrics_scratch.flip_map));
+        if (fo.reference)
+          write_images(img_dir, m.stem + "_reference", override_display, &*fo.reference, io);
+        for (auto& [dname, dimg] : fo.debug)
+          write_image(img_dir + "/" + safe_file_name(m.stem + "_" + dname) + ".png", dimg);
       }
 
       for (auto& gpu : gpus) {

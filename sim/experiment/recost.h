@@ -23,7 +23,7 @@ struct RecostRow {
   std::string gpu, config_id, method;
   double frames = 0, total_ms = 0;
   double lo_ms = -1, hi_ms = -1, level = 0;  // prediction interval of the mean (level 0: none)
-  std::vector<std::pair<std::string, double>> pass_ms;  // mean per existing pass
+  std::vector<std::pair<std::string, double>> pass_ms = {};  // mean per existing pass
 };
 
 struct RecostResult {

@@ -10,6 +10,7 @@
 #include <memory>
 
 #include "sim/core/stats.h"
+#include "sim/core/files.h"
 #include "sim/experiment/engine.h"
 #include "sim/experiment/intervals.h"
 
@@ -29,7 +30,8 @@ RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt) {
   std::string name = cfg.doc.contains("name") && cfg.doc["name"].is_string()
                          ? cfg.doc["name"].get<std::string>()
                          : std::filesystem::path(cfg.file).stem().string();
-  job.out_dir = opt.out_dir.empty() ? "results/" + name : opt.out_dir;
+  // The name becomes a folder only through safe_file_name: "../../x" stays under results/.
+  job.out_dir = opt.out_dir.empty() ? "results/" + safe_file_name(name) : opt.out_dir;
   EngineOptions eo;
   eo.models_dir = opt.models_dir;
   eo.print_summary = opt.print_summary;

@@ -123,17 +123,19 @@ void parse_shard(const std::string& s, int& index, int& count) {
 }
 
 bool shard_from_env(int& index, int& count) {
-  const char* id = std::getenv("SLURM_ARRAY_TASK_ID");
-  const char* cnt = std::getenv("SLURM_ARRAY_TASK_COUNT");
-  if (!id || !cnt) return false;
-  const char* mn = std::getenv("SLURM_ARRAY_TASK_MIN");
-  int i = std::atoi(id) - (mn ? std::atoi(mn) : 0);
-  int n = std::atoi(cnt);
-  if (n < 1 || i < 0 || i >= n)
-    throw Error("SLURM_ARRAY_TASK_ID=" + std::string(id),
+  // Parsed strictly (env_integer): "abc", "", "3x" or an overflow is an error naming the
+  // variable, never silently shard 0.
+  auto id = env_integer("SLURM_ARRAY_TASK_ID", 0, 1000000000L);
+  auto cnt = env_integer("SLURM_ARRAY_TASK_COUNT", 1, 1000000L);
+  auto mn = env_integer("SLURM_ARRAY_TASK_MIN", 0, 1000000000L);
+  if (!id || !cnt) return false;  // not an array job (or a SLURM without TASK_COUNT)
+  long i = *id - (mn ? *mn : 0);
+  long n = *cnt;
+  if (i < 0 || i >= n)
+    throw Error("SLURM_ARRAY_TASK_ID=" + std::to_string(*id),
                 "array task ids must be contiguous (e.g. --array=0-" + std::to_string(n - 1) + ")");
-  index = i;
-  count = n;
+  index = int(i);
+  count = int(n);
   return true;
 }
 
@@ -144,14 +146,14 @@ std::string find_viz_script(const std::string& name) {
 }
 
 std::string sweep_out_dir(const SweepPlan& plan, const std::string& out_dir) {
-  return out_dir.empty() ? "results/" + plan.name : out_dir;
+  return out_dir.empty() ? "results/" + safe_file_name(plan.name) : out_dir;
 }
 
 bool cell_complete(const std::string& dir, const std::string& hash) {
   std::string p = dir + "/cell.json";
   if (!file_exists(p)) return false;
   try {
-    Json j = Json::parse(read_file(p));
+    Json j = parse_json_text(read_file(p), p);
     return j.value("status", "") == "complete" && j.value("hash", "") == hash && j.contains("summary");
   } catch (...) {
     return false;  // unreadable: recompute
@@ -160,22 +162,22 @@ bool cell_complete(const std::string& dir, const std::string& hash) {
 
 ResultTable read_cell_summary(const std::string& dir) {
   std::string p = dir + "/cell.json";
-  Json j;
-  try {
-    j = Json::parse(read_file(p));
+  ResultTable t;
+  try {  // a hand-edited or damaged record is a located error, never an internal one
+    Json j = parse_json_text(read_file(p), p);
+    for (auto& r : j.at("summary")) {
+      ResultRow row;
+      // Text columns in the order the runner writes them, then any others.
+      const Json& tx = r.at("text");
+      for (const char* k : {"config_id", "method", "label", "gpu"})
+        if (tx.contains(k)) row.set_text(k, tx[k].get<std::string>());
+      for (auto it = tx.begin(); it != tx.end(); ++it)
+        row.set_text(it.key(), it.value().get<std::string>());
+      for (auto& kv : r.at("num")) row.set(kv.at(0).get<std::string>(), json_num(kv.at(1)));
+      t.add(std::move(row));
+    }
   } catch (const Json::exception& e) {
     throw Error(p, std::string("corrupt cell record: ") + e.what());
-  }
-  ResultTable t;
-  for (auto& r : j.at("summary")) {
-    ResultRow row;
-    // Text columns in the order the runner writes them, then any others.
-    const Json& tx = r.at("text");
-    for (const char* k : {"config_id", "method", "label", "gpu"})
-      if (tx.contains(k)) row.set_text(k, tx[k].get<std::string>());
-    for (auto it = tx.begin(); it != tx.end(); ++it) row.set_text(it.key(), it.value().get<std::string>());
-    for (auto& kv : r.at("num")) row.set(kv.at(0).get<std::string>(), json_num(kv.at(1)));
-    t.add(std::move(row));
   }
   return t;
 }
@@ -185,9 +187,13 @@ SweepPlan load_sweep_plan(const std::string& dir) {
   if (!file_exists(p)) throw Error(p, "not found: is " + dir + " the output folder of a sweep?");
   Json j = Params::parse_json_file(p);
   LoadedConfig cfg;
-  cfg.doc = j.at("config");
-  cfg.file = j.value("config_file", "");
-  cfg.base_dir = j.value("base_dir", "");
+  try {
+    cfg.doc = j.at("config");
+    cfg.file = j.value("config_file", "");
+    cfg.base_dir = j.value("base_dir", "");
+  } catch (const Json::exception& e) {
+    throw Error(p, std::string("corrupt sweep record: ") + e.what());
+  }
   SweepPlan plan = expand_sweep(cfg);
   if (plan.hash != j.value("plan_hash", ""))
     throw Error(p, "the recorded sweep expands differently with this fovsim version (plan hash " + plan.hash +
@@ -205,6 +211,15 @@ SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const Swee
   rep.cells_total = int(plan.cells.size());
   const std::string& out = rep.out_dir;
   make_dirs(out + "/runs");
+  // Two sweeps on one --out would both compute every cell: the second one stops here with a
+  // clear message. Shards of one sweep (different i/N) lock separately and run side by side.
+  std::string lock_name = ".lock";
+  if (opt.shards > 1)
+    lock_name += ".shard-" + std::to_string(opt.shard) + "-of-" + std::to_string(opt.shards);
+  DirLock lock(out, lock_name,
+               "another fovsim sweep" + (opt.shards > 1 ? " (shard " + std::to_string(opt.shard) +
+                                                              "/" + std::to_string(opt.shards) + ")"
+                                                        : std::string()));
   write_sweep_json(out, plan, cfg);
 
   // Folders of cells that are not in this expansion (an earlier config): reported, never read.

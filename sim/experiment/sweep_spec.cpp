@@ -10,6 +10,7 @@
 #include "sim/core/error.h"
 #include "sim/core/hash.h"
 #include "sim/core/rng.h"
+#include "sim/experiment/table.h"
 #include "sim/foveation/factory.h"
 
 namespace fovsim {
@@ -70,15 +71,38 @@ std::vector<std::pair<std::string, std::pair<Json, std::string>>> ordered_axes(c
   return out;
 }
 
-std::vector<Row> grid_rows(const Json& j, const std::string& where) {
+// Default and largest cap on the number of cells a sweep may expand to (sweep.max_cells).
+constexpr double kDefaultMaxCells = 100000, kMaxMaxCells = 10000000;
+
+[[noreturn]] void too_many_cells(const std::string& where, double cells, double cap,
+                                 bool at_least = false) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.0f", cells);
+  throw Error(where, std::string("expands to ") + (at_least ? "at least " : "") +
+                         (cells >= 1e18 ? "more than 1e18" : buf) + " cells, over the limit of " +
+                         std::to_string(size_t(cap)) + " (set sweep.max_cells, up to " +
+                         std::to_string(size_t(kMaxMaxCells)) + ")");
+}
+
+std::vector<Row> grid_rows(const Json& j, const std::string& where, double cap) {
+  std::vector<std::pair<std::string, std::pair<std::vector<Json>, std::string>>> axes;
+  double product = 1;
+  auto specs = ordered_axes(j, where);
+  for (auto& [path, sv] : specs) {
+    axes.push_back({path, {axis_values(sv.first, sv.second), sv.second}});
+    product *= double(axes.back().second.first.size());
+    if (product > cap)
+      too_many_cells(where, product, cap, axes.size() < specs.size());  // before any row
+  }
   std::vector<Row> rows{Row{}};
-  for (auto& [path, sv] : ordered_axes(j, where)) {
-    auto vals = axis_values(sv.first, sv.second);
+  for (auto& [path, av] : axes) {
+    auto& [vals, w] = av;
     std::vector<Row> next;
+    next.reserve(rows.size() * vals.size());
     for (auto& r : rows)
       for (auto& v : vals) {
         Row n = r;
-        n.push_back({path, v, sv.second});
+        n.push_back({path, v, w});
         next.push_back(std::move(n));
       }
     rows = std::move(next);
@@ -86,10 +110,11 @@ std::vector<Row> grid_rows(const Json& j, const std::string& where) {
   return rows;
 }
 
-std::vector<Row> zip_rows(const Json& j, const std::string& where) {
+std::vector<Row> zip_rows(const Json& j, const std::string& where, double cap) {
   auto axes = ordered_axes(j, where);
   std::vector<std::vector<Json>> vals;
   for (auto& a : axes) vals.push_back(axis_values(a.second.first, a.second.second));
+  if (double(vals[0].size()) > cap) too_many_cells(where, double(vals[0].size()), cap);
   for (size_t i = 1; i < axes.size(); ++i)
     if (vals[i].size() != vals[0].size())
       throw Error(where, "zip axes must have equal lengths: \"" + axes[0].first + "\" has " +
@@ -158,16 +183,18 @@ Dim parse_dim(const std::string& path, const Json& j, const std::string& where) 
   return d;
 }
 
-std::vector<Row> sampled_rows(const Json& j, const std::string& where, bool lhs) {
+std::vector<Row> sampled_rows(const Json& j, const std::string& where, bool lhs, double cap) {
   if (!j.is_object()) throw Error(where, "expected {\"count\": n, \"seed\": s, \"axes\": {...}}");
   only_keys(j, where, {"count", "seed", "axes"});
   double cnt = num_of(j, where, "count");
   if (cnt < 1 || cnt > 1e6 || cnt != std::floor(cnt))
     throw Error(key_where(where, "count"), "expected an integer in [1, 1000000]");
+  if (cnt > cap) too_many_cells(key_where(where, "count"), cnt, cap);
   uint64_t seed = 1;
   if (j.contains("seed")) {
     double s = num_of(j, where, "seed");
-    if (s < 0 || s != std::floor(s)) throw Error(key_where(where, "seed"), "expected a non-negative integer");
+    if (s < 0 || s != std::floor(s) || s > 9007199254740992.0)
+      throw Error(key_where(where, "seed"), "expected an integer in [0, 2^53]");
     seed = uint64_t(s);
   }
   if (!j.contains("axes")) throw Error(where, "missing \"axes\"");
@@ -196,16 +223,20 @@ std::vector<Row> sampled_rows(const Json& j, const std::string& where, bool lhs)
   return rows;
 }
 
-std::vector<Row> block_rows(const Json& block, const std::string& where) {
+std::vector<Row> block_rows(const Json& block, const std::string& where, double cap) {
   if (!block.is_object() || block.size() != 1 || !kBlockKinds.count(block.begin().key()))
     throw Error(where, "expected one of {\"grid\": ...}, {\"list\": ...}, {\"zip\": ...}, {\"random\": ...}, {\"lhs\": ...}");
   const std::string kind = block.begin().key();
   const Json& j = block.begin().value();
   std::string w = key_where(where, kind);
-  if (kind == "grid") return grid_rows(j, w);
-  if (kind == "zip") return zip_rows(j, w);
-  if (kind == "list") return list_rows(j, w);
-  return sampled_rows(j, w, kind == "lhs");
+  if (kind == "grid") return grid_rows(j, w, cap);
+  if (kind == "zip") return zip_rows(j, w, cap);
+  if (kind == "list") {
+    if (j.is_array() && double(j.size()) > cap) too_many_cells(w, double(j.size()), cap);
+    return list_rows(j, w);
+  }
+  std::vector<Row> rows = sampled_rows(j, w, kind == "lhs", cap);
+  return rows;
 }
 
 // One path component: a key, or an index/label in brackets.
@@ -306,7 +337,8 @@ std::string apply_assignment(Json& doc, const std::string& path, const Json& val
     if (!node->is_array()) throw Error(where, "\"" + concrete + "\" is not an array, cannot set \"" + path + "\"");
     size_t idx = 0;
     if (all_digits(p.key)) {
-      idx = std::stoul(p.key);
+      // Compared as text first: an index with more digits than any size_t is simply absent.
+      idx = p.key.size() > 9 ? size_t(-1) : size_t(std::stoul(p.key));
       if (idx >= node->size())
         throw Error(where, "\"" + concrete + "\" has no element [" + p.key + "] (it has " + std::to_string(node->size()) + ")");
     } else {
@@ -339,28 +371,41 @@ SweepPlan expand_sweep(const LoadedConfig& cfg) {
   SweepPlan plan;
   plan.file = cfg.file;
   plan.base_dir = cfg.base_dir;
+  if (!cfg.doc.is_object())
+    throw Error(cfg.file.empty() ? "sweep" : cfg.file,
+                "a config must be a JSON object, got " + describe_json(cfg.doc));
   plan.base = cfg.doc;
   plan.base.erase("sweep");
   plan.name = plan.base.contains("name") && plan.base["name"].is_string() ? plan.base["name"].get<std::string>()
                                                                        : fs::path(cfg.file).stem().string();
   const std::string W = cfg.file.empty() ? "sweep" : cfg.file + ": sweep";
   std::vector<std::vector<Row>> blocks;
+  double cap = kDefaultMaxCells;
   if (cfg.doc.contains("sweep")) {
     const Json& sw = cfg.doc["sweep"];
     if (!sw.is_object()) throw Error(W, "expected an object, got " + describe_json(sw));
-    only_keys(sw, W, {"axes", "grid", "list", "zip", "random", "lhs", "objectives", "pareto", "iso_budget", "search", "comment"});
+    only_keys(sw, W,
+              {"axes", "grid", "list", "zip", "random", "lhs", "objectives", "pareto", "iso_budget",
+               "search", "comment", "max_cells"});
+    if (sw.contains("max_cells")) {
+      cap = num_of(sw, W, "max_cells");
+      if (cap < 1 || cap > kMaxMaxCells || cap != std::floor(cap))
+        throw Error(W + ".max_cells",
+                    "expected an integer in [1, " + std::to_string(size_t(kMaxMaxCells)) + "]");
+    }
     int direct = 0;
     for (auto& k : kBlockKinds)
       if (sw.contains(k)) {
         ++direct;
-        blocks.push_back(block_rows(Json{{k, sw[k]}}, W));
+        blocks.push_back(block_rows(Json{{k, sw[k]}}, W, cap));
       }
     if (direct > 1 || (direct && sw.contains("axes")))
       throw Error(W, "give one block directly, or several under \"axes\": [...] (their order is the loop order)");
     if (sw.contains("axes")) {
       const Json& ax = sw["axes"];
       if (!ax.is_array() || ax.empty()) throw Error(W + ".axes", "expected a non-empty array of blocks");
-      for (size_t i = 0; i < ax.size(); ++i) blocks.push_back(block_rows(ax[i], W + ".axes[" + std::to_string(i) + "]"));
+      for (size_t i = 0; i < ax.size(); ++i)
+        blocks.push_back(block_rows(ax[i], W + ".axes[" + std::to_string(i) + "]", cap));
     }
     // Objectives: [{"minimize": "est_ms_total"}, {"maximize": "fpsnr"}].
     if (sw.contains("objectives")) {
@@ -377,6 +422,7 @@ SweepPlan expand_sweep(const LoadedConfig& cfg) {
     plan.pareto_group_by = {"gpu"};
     if (sw.contains("pareto")) {
       const Json& p = sw["pareto"];
+      if (!p.is_object()) throw Error(W + ".pareto", "expected an object {\"group_by\": [...]}");
       only_keys(p, W + ".pareto", {"group_by"});
       if (p.contains("group_by")) {
         plan.pareto_group_by.clear();
@@ -413,7 +459,12 @@ SweepPlan expand_sweep(const LoadedConfig& cfg) {
       plan.iso.group_by = {"gpu"};
       if (ib.contains("group_by")) {
         plan.iso.group_by.clear();
-        for (auto& c : ib["group_by"]) plan.iso.group_by.push_back(c.get<std::string>());
+        if (!ib["group_by"].is_array())
+          throw Error(w + ".group_by", "expected an array of column names");
+        for (auto& c : ib["group_by"]) {
+          if (!c.is_string()) throw Error(w + ".group_by", "expected column names (strings)");
+          plan.iso.group_by.push_back(c.get<std::string>());
+        }
       }
     }
     if (sw.contains("search")) {
@@ -444,9 +495,18 @@ SweepPlan expand_sweep(const LoadedConfig& cfg) {
         if (!s["label"].is_string()) throw Error(w + ".label", "expected a method label");
         plan.search.select_label = s["label"].get<std::string>();
       }
-      if (s.contains("evaluations")) plan.search.evaluations = int(num_of(s, w, "evaluations"));
-      if (s.contains("batch")) plan.search.batch = int(num_of(s, w, "batch"));
-      if (s.contains("seed")) plan.search.seed = uint64_t(num_of(s, w, "seed"));
+      // Range-checked as doubles before any integer conversion (no overflow on 1e300).
+      auto int_in = [&](const char* k, double lo, double hi) {
+        double v = num_of(s, w, k);
+        if (v < lo || v > hi || v != std::floor(v))
+          throw Error(w + "." + k, "expected an integer in [" + format_number(lo) + ", " +
+                                       format_number(hi) + "]");
+        return v;
+      };
+      if (s.contains("evaluations"))
+        plan.search.evaluations = int(int_in("evaluations", 1, 100000));
+      if (s.contains("batch")) plan.search.batch = int(int_in("batch", 1, 1024));
+      if (s.contains("seed")) plan.search.seed = uint64_t(int_in("seed", 0, 9007199254740992.0));
       if (plan.search.evaluations < 1 || plan.search.evaluations > 100000) throw Error(w + ".evaluations", "expected 1..100000");
       if (plan.search.batch < 1 || plan.search.batch > 1024) throw Error(w + ".batch", "expected 1..1024");
     }
@@ -456,6 +516,8 @@ SweepPlan expand_sweep(const LoadedConfig& cfg) {
   // Cartesian product of blocks, first block slowest.
   std::vector<Row> rows{Row{}};
   for (auto& b : blocks) {
+    if (double(rows.size()) * double(b.size()) > cap)
+      too_many_cells(W, double(rows.size()) * double(b.size()), cap);
     std::vector<Row> next;
     next.reserve(rows.size() * b.size());
     for (auto& r : rows)
@@ -465,7 +527,6 @@ SweepPlan expand_sweep(const LoadedConfig& cfg) {
         next.push_back(std::move(n));
       }
     rows = std::move(next);
-    if (rows.size() > 1000000) throw Error(W, "sweep expands to more than a million cells");
   }
   std::set<std::string> seen_paths;
   std::string all;

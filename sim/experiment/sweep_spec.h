@@ -55,7 +55,7 @@ struct SearchDim {
   double step = 0;      // > 0: quantized
   bool log = false;
   bool integer = false;
-  std::string where;
+  std::string where = {};
 };
 struct SearchSpec {
   std::vector<SearchDim> space;

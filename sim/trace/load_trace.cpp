@@ -16,7 +16,7 @@ static std::string resolve(const std::string& base_dir, const std::string& f) {
   return (std::filesystem::path(base_dir) / p).lexically_normal().string();
 }
 
-Trace load_trace(Params& p, const Display& display, const std::string& base_dir) {
+Trace load_trace(Params& p, const Display& display, const std::string& base_dir, double needed_s) {
   p.ignore("comment");
   bool has_file = p.has("file"), has_syn = p.has("synthetic");
   if (has_file == has_syn)
@@ -33,6 +33,8 @@ Trace load_trace(Params& p, const Display& display, const std::string& base_dir)
   std::string on_short = p.string("on_short", "fail", {"fail", "truncate", "hold"});
   bool do_resample = p.boolean("resample", true);
   double rate = p.number("rate_hz", display.refresh_hz, Range::above(0, 10000));
+  const double max_samples =
+      p.integer("max_samples", int(kDefaultMaxTraceSamples), Range::closed(1, 2e9));
 
   Trace tr;
   if (has_file) {
@@ -68,7 +70,21 @@ Trace load_trace(Params& p, const Display& display, const std::string& base_dir)
     tr = synthesize(m, so, display);
   }
   if (tr.samples.empty()) p.fail(has_file ? "file" : "synthetic", "trace has no samples");
-  if (do_resample) tr = resample(tr, rate);
+  if (do_resample) {
+    // Only the range used: [first, first + start + (duration or what the caller needs)],
+    // plus two periods for the end-of-range tests below. Checked before allocating.
+    double used = std::min(duration > 0 ? duration : INFINITY, needed_s);
+    double t_end = tr.samples.front().t + start + used + 2.0 / rate;
+    double n = resampled_count(tr, rate, t_end);
+    if (n > max_samples)
+      p.fail("max_samples",
+             "the frame range needs " + std::to_string(int64_t(std::min(n, 9e18))) +
+                 " samples at " + std::to_string(rate) + " Hz (the trace spans " +
+                 std::to_string(tr.samples.back().t - tr.samples.front().t) +
+                 " s), over the limit of " + std::to_string(int64_t(max_samples)) +
+                 " (set trace.duration or frames.count, or raise trace.max_samples)");
+    tr = resample(tr, rate, t_end);
+  }
 
   // Frame range: [first + start, first + start + duration).
   const double t_first = tr.samples.front().t, t_last = tr.samples.back().t;

@@ -2,6 +2,7 @@
 // positions lerp, orientations slerp (shortest arc), gaze normalized lerp, `valid` from the
 // nearest sample. A frame that coincides with an input sample (within 1e-6 of a period)
 // copies it exactly, so resampling at the trace's own rate is the identity.
+#include <algorithm>
 #include <cmath>
 
 #include "sim/core/error.h"
@@ -25,7 +26,14 @@ static glm::dquat slerp_short(glm::dquat a, glm::dquat b, double u) {
   return glm::normalize(r);
 }
 
-Trace resample(const Trace& trace, double hz) {
+double resampled_count(const Trace& trace, double hz, double t_end) {
+  if (trace.samples.empty() || !(hz > 0)) return 0;
+  const double t0 = trace.samples.front().t, t1 = std::min(trace.samples.back().t, t_end);
+  if (t1 < t0) return 1;
+  return std::floor((t1 - t0) * hz * (1.0 + 1e-12) + 1e-6) + 1;
+}
+
+Trace resample(const Trace& trace, double hz, double t_end) {
   if (!(hz > 0) || !std::isfinite(hz)) throw Error("resample", "rate must be > 0 Hz, got " + std::to_string(hz));
   Trace out;
   out.source = trace.source;
@@ -36,7 +44,7 @@ Trace resample(const Trace& trace, double hz) {
   size_t i = 0;
   for (long k = 0;; ++k) {
     double t = t0 + double(k) * period;
-    if (t > t1 + snap) break;
+    if (t > t1 + snap || t > t_end + snap) break;
     while (i + 1 < in.size() && in[i + 1].t <= t + snap) ++i;
     if (std::fabs(in[i].t - t) <= snap || i + 1 >= in.size()) {
       out.samples.push_back(in[i]);

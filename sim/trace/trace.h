@@ -1,5 +1,6 @@
 // Head+gaze traces (DESIGN §3). Canonical CSV documented in traces/README.md.
 #pragma once
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -42,14 +43,24 @@ Trace read_trace_csv(const std::string& path, const Display& display, const Trac
 void write_trace_csv(const std::string& path, const Trace& trace);
 
 // Resamples to `hz` from the first sample: lerp positions, slerp orientations, normalized lerp of
-// gaze (nearest for `valid`). Frames past the end are not produced.
-Trace resample(const Trace& trace, double hz);
+// gaze (nearest for `valid`). Frames past the end, or past `t_end` (absolute time), are not
+// produced: a caller resamples only the range it uses.
+Trace resample(const Trace& trace, double hz, double t_end = INFINITY);
+// Number of samples resample(trace, hz, t_end) produces, computed without producing them.
+double resampled_count(const Trace& trace, double hz, double t_end = INFINITY);
+
+// Default of the trace block's "max_samples": most samples a run holds after resampling.
+constexpr double kDefaultMaxTraceSamples = 2e6;
 
 // True if a head-space direction is in front of the eye and projects inside the display's
 // screen rectangle (normalized screen point in [0,1]^2).
 bool gaze_inside_fov(const Display& display, const glm::dvec3& dir);
 
 // Trace from a run config's "trace" block: {"file": ...} or {"synthetic": {...}}.
-Trace load_trace(Params& p, const Display& display, const std::string& base_dir);
+// `needed_s`: seconds after `start` the caller will use (from frames.count); the trace is
+// resampled only up to there, and the resampled range is checked against "max_samples"
+// before it is allocated.
+Trace load_trace(Params& p, const Display& display, const std::string& base_dir,
+                 double needed_s = INFINITY);
 
 }  // namespace fovsim
