@@ -46,7 +46,7 @@ def main():
         first = None
         for xi, yi, ei in pts:
             diff = (base - yi) if higher_is_better else (yi - base)
-            worse = diff / abs(base) if base else math.nan
+            worse = diff / abs(base) if base else (math.inf if diff > 0 else 0.0)  # from exact: any rise counts
             deg = int(worse > a.margin)
             if deg and first is None:
                 first = xi

@@ -156,3 +156,26 @@ TEST(LatencyCli, BadLatencyIsOneLineExit2) {
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_NE(r.output.find("latency.predictor"), std::string::npos) << r.output;
 }
+
+TEST(LatencyCli, RenderPartFromTheEstimateIsWholeRefreshPeriods) {
+  std::string dir = temp_dir("lat_est");
+  auto r = run_cmd(fovsim_bin() + " run tests/golden/methods_small.json -q --out " + dir +
+                   " latency.tracker_ms=5 latency.render_ms=3 latency.render_from_estimate=true");
+  ASSERT_EQ(r.code, 0) << r.output;
+  Csv c = read_csv(dir + "/frames.csv");
+  auto lat = column(c, "latency_ms"), frame = column(c, "frame"), est = column(c, "est_ms_total");
+  const double period = 1000.0 / 90.0;
+  std::map<std::string, double> prev;  // label -> previous frame's est_ms_total
+  int kl = c.col("label");
+  for (size_t i = 0; i < lat.size(); ++i) {
+    const std::string& label = c.rows[i][size_t(kl)];
+    if (frame[i] == 0) {
+      EXPECT_DOUBLE_EQ(lat[i], 8.0);  // no estimate yet: render_ms
+    } else {
+      ASSERT_TRUE(prev.count(label));
+      double periods = std::max(1.0, std::ceil(prev[label] / period - 1e-9));
+      EXPECT_NEAR(lat[i], 5.0 + periods * period, 1e-6) << label << " frame " << frame[i];
+    }
+    prev[label] = est[i];
+  }
+}
