@@ -179,3 +179,38 @@ TEST(LatencyCli, RenderPartFromTheEstimateIsWholeRefreshPeriods) {
     prev[label] = est[i];
   }
 }
+
+TEST(LatencyCli, JitterAndPredictorGiveTheSameNumbersAtAnyThreadCount) {
+  std::string dir = temp_dir("lat_threads");
+  const std::string ov =
+      " latency.tracker_ms=30 'latency.jitter=\"normal\"' latency.jitter_ms=8 "
+      "'latency.predictor=\"main_sequence\"'";
+  auto a = run_cmd(fovsim_bin() + " run tests/golden/methods_small.json -q -j 1 --out " + dir +
+                   "/a" + ov);
+  auto b = run_cmd(fovsim_bin() + " run tests/golden/methods_small.json -q -j 2 --out " + dir +
+                   "/b" + ov);
+  ASSERT_EQ(a.code, 0) << a.output;
+  ASSERT_EQ(b.code, 0) << b.output;
+  Csv x = read_csv(dir + "/a/frames.csv"), y = read_csv(dir + "/b/frames.csv");
+  ASSERT_EQ(x.header, y.header);
+  ASSERT_EQ(x.rows.size(), y.rows.size());
+  for (size_t i = 0; i < x.rows.size(); ++i)
+    for (size_t k = 0; k < x.header.size(); ++k)
+      if (x.header[k] != "sim_ms" && x.header[k] != "ref_ms")
+        EXPECT_EQ(x.rows[i][k], y.rows[i][k]) << x.header[k];
+}
+
+TEST(LatencyCli, CommittedLatencyConfigsAreValid) {
+  auto e = run_cmd(fovsim_bin() + " sweep expand configs/sweeps/latency.json");
+  ASSERT_EQ(e.code, 0) << e.output;
+  EXPECT_NE(e.output.find("4 cells"), std::string::npos) << e.output;
+  EXPECT_NE(e.output.find("latency.tracker_ms=80"), std::string::npos) << e.output;
+  std::string dir = temp_dir("lat_cfg");
+  auto r = run_cmd(fovsim_bin() + " run configs/latency.json -q --out " + dir +
+                   " frames.count=2 render.scale=0.05 'methods=[{\"method\": \"fvrs\"}]'");
+  ASSERT_EQ(r.code, 0) << r.output;
+  Csv c = read_csv(dir + "/frames.csv");
+  auto lat = column(c, "latency_ms");
+  ASSERT_EQ(lat.size(), 2u);
+  EXPECT_NEAR(lat[0], 50.0, 1e-9);
+}
