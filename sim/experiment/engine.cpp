@@ -301,6 +301,11 @@ struct Cell {
         ctx.gaze_px = gaze_pixel(fd.camera, dir);
         ctx.gaze_valid = est.valid;
         ctx.eccentricity = &est_ecc;
+      } else {  // this method's latency is 0: the true gaze, even after another method's estimate
+        ctx.gaze_dir = fd.gaze_dir;
+        ctx.gaze_px = fd.gaze_px;
+        ctx.gaze_valid = fd.gaze_valid;
+        ctx.eccentricity = &fd.eccentricity;
       }
       auto m0 = Clock::now();
       if (watchdog)
