@@ -14,6 +14,7 @@ import glob
 import html
 import math
 import os
+import re
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -206,7 +207,8 @@ def plot_timelines(sw, out):
 
 
 def plot_profiles(sw, out):
-    bands = [c for c in sw.cols if c.startswith("rmse_ecc_")]
+    # Band means only: not their `_ci95` half-widths nor per-phase means (`_saccade`, docs/latency.md).
+    bands = [c for c in sw.cols if re.fullmatch(r"rmse_ecc_[0-9p.]+_[0-9p.]+", c)]
     if not bands:
         raise Skip("no rmse_ecc_<a>_<b> columns")
 
@@ -274,9 +276,19 @@ def plot_strips(sw, out):
     return made
 
 
+def plot_latency(sw, out):
+    # Quality vs latency per method (issue 17, docs/latency.md), only for sweeps with a latency block.
+    import latency  # noqa: E402  (viz/latency.py)
+    try:
+        return [latency.plot_latency(sw.dir, out, "rmse_fovea", 0.10, report=log)]
+    except latency.NoLatency as e:
+        raise Skip(str(e))
+
+
 PLOTS = [("Pareto front", plot_pareto), ("Heat maps", plot_heatmaps), ("Timelines with budget and gaze speed",
                                                                          plot_timelines),
-         ("Error vs. eccentricity", plot_profiles), ("Image strips with zoomed insets", plot_strips)]
+         ("Error vs. eccentricity", plot_profiles), ("Image strips with zoomed insets", plot_strips),
+         ("Foveal quality vs latency", plot_latency)]
 
 
 def csv_table(path, limit=60):

@@ -28,6 +28,7 @@
 #include "sim/cost/workload.h"
 #include "sim/experiment/config.h"
 #include "sim/experiment/intervals.h"
+#include "sim/experiment/latency.h"
 #include "sim/experiment/runner.h"
 #include "sim/foveation/factory.h"
 #include "sim/foveation/frame.h"
@@ -41,7 +42,8 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 const std::vector<std::string>& per_cell_keys() {
-  static const std::vector<std::string> k = {"name", "methods", "metrics", "gpus", "outputs", "comment", "description"};
+  static const std::vector<std::string> k = {"name",    "methods", "metrics",     "gpus",
+                                             "outputs", "comment", "description", "latency"};
   return k;
 }
 
@@ -80,6 +82,7 @@ struct MethodRun {
   std::string method;
   std::unique_ptr<FoveationMethod> impl;
   TemporalState temporal;
+  double prev_est_ms = NAN;  // latency.render_from_estimate: last frame's estimate (first GPU)
 };
 
 struct ImageOutputs {
@@ -113,6 +116,7 @@ struct Shared {
   std::unique_ptr<Scene> scene;  // the Renderer keeps a reference: stable address
   ToneMap tonemap;
   Trace trace;
+  Trace raw_trace;  // before resampling: gaze at any time for the latency what-if
   int start = 0, stride = 1, count = 0;
   double pixel_scale = 1;
   Json resolved;                 // resolved shared keys (for every cell's manifest)
@@ -162,6 +166,7 @@ struct Shared {
     std::string placement = root.string("trace_placement", "scene", {"scene", "absolute"});
     trace = resample(raw_trace, display.refresh_hz,
                      raw_trace.samples.empty() ? INFINITY : raw_trace.samples.front().t + needed_s);
+    this->raw_trace = raw_trace;
     if (trace.samples.empty()) throw Error(root.where("trace"), "trace has no samples after resampling");
     if (placement == "scene") {
       // The trace's first head position is placed at the scene's default eye (recordings use
@@ -211,6 +216,9 @@ struct Cell {
   double cell_ms = 0;
   Image out_display, override_display;  // per-cell scratch, reused every frame
   MetricsScratch metrics_scratch;
+  LatencyConfig latency;  // issue 17 (docs/latency.md)
+  std::set<std::string> metric_names;
+  std::vector<float> est_ecc;  // eccentricity around the estimated gaze, reused
 
   void parse(Params& root, const std::string& models, bool default_print) {
     name = root.string("name", fs::path(job->file).stem().string());
@@ -265,6 +273,7 @@ struct Cell {
     io.exr = op.boolean("exr", false);
     io.debug = op.boolean("debug_images", false);
     print_table = op.boolean("print_summary", default_print);
+    latency = LatencyConfig::from_params(root);
   }
 
   // This cell's work on one frame: methods, tone mapping, metrics, cost, images, rows.
@@ -278,10 +287,47 @@ struct Cell {
     std::string img_dir = job->out_dir + "/images/frame_" + std::to_string(fi);
     if (want_images) write_images(img_dir, "reference", ref_display, &fd.reference, io);
     FrameContext ctx = fd.context(*sh.scene, renderer, sh.sim_display, want_images && io.debug);
+    // Latency what-if: methods see the gaze at t - latency, metrics keep fd's true gaze.
+    const double period = 1.0 / sh.display.refresh_hz;
+    const char* phase = nullptr;
+    double speed = 0;
+    if (latency.enabled) {
+      phase = phase_name(gaze_phase(sh.raw_trace, s.t, period, latency));
+      speed = gaze_speed_deg_s(sh.raw_trace, s.t, 0.5 * period);
+    }
+    glm::dvec3 est_dir_cached(NAN);
 
     for (size_t mi = 0; mi < methods.size(); ++mi) {
       MethodRun& m = methods[mi];
       FrameOutput fo;
+      double lat_ms = 0;
+      if (latency.enabled) {
+        double render_part = latency.render_ms;
+        if (latency.render_from_estimate && std::isfinite(m.prev_est_ms)) {
+          // A frame is scanned out at the first vsync after its GPU work: whole periods.
+          const double budget = sh.display.frame_budget_ms();
+          render_part = std::max(1.0, std::ceil(m.prev_est_ms / budget - 1e-9)) * budget;
+        }
+        lat_ms = latency.total_ms(fi, render_part);
+      }
+      // Zero latency without a predictor: exactly today's gaze and numbers.
+      if (latency.enabled && (lat_ms > 0 || latency.predictor != "none")) {
+        TraceSample est = estimated_gaze(sh.raw_trace, s.t, lat_ms * 1e-3, period, latency);
+        glm::dvec3 dir = glm::normalize(est.gaze_dir);
+        if (!(dir == est_dir_cached)) {
+          est_ecc = eccentricity_map(fd.camera, dir);
+          est_dir_cached = dir;
+        }
+        ctx.gaze_dir = dir;
+        ctx.gaze_px = gaze_pixel(fd.camera, dir);
+        ctx.gaze_valid = est.valid;
+        ctx.eccentricity = &est_ecc;
+      } else {  // this method's latency is 0: the true gaze, even after another method's estimate
+        ctx.gaze_dir = fd.gaze_dir;
+        ctx.gaze_px = fd.gaze_px;
+        ctx.gaze_valid = fd.gaze_valid;
+        ctx.eccentricity = &fd.eccentricity;
+      }
       auto m0 = Clock::now();
       if (watchdog)
         watchdog->begin(watchdog_slot, "frame " + std::to_string(fi) + ", method \"" + m.method + "\" (label \"" +
@@ -301,6 +347,8 @@ struct Cell {
       Counters metrics = compute_metrics(mcfg, out_display, *refd, fd.camera, fd.eccentricity, &m.temporal,
                                          &metrics_scratch);
       for (auto& f : fo.flags) flags_seen.insert(m.label + ":" + f);
+      if (latency.enabled)
+        for (auto& kv : metrics.items()) metric_names.insert(kv.first);
 
       if (want_images) {
         write_images(img_dir, m.stem, out_display, &lin, io);
@@ -324,6 +372,7 @@ struct Cell {
         ci.pixel_scale = sh.pixel_scale;
         ci.workload = &workload;
         FrameCost cost = estimate_frame(gpu, ci);
+        if (&gpu == &gpus.front()) m.prev_est_ms = cost.total_ms;
         ResultRow row;
         row.set_text("config_id", gpus.size() > 1 ? m.label + "@" + gpu.name : m.label);
         row.set_text("method", m.method);
@@ -335,6 +384,14 @@ struct Cell {
         row.set("gaze_x", fd.gaze_px.x / sh.scale);  // pixels of the real display
         row.set("gaze_y", fd.gaze_px.y / sh.scale);
         row.set("gaze_valid", fd.gaze_valid ? 1 : 0);
+        if (latency.enabled) {  // results/README.md "Latency what-if"
+          row.set_text("phase", phase);
+          row.set("latency_ms", lat_ms);
+          row.set("gaze_est_x", ctx.gaze_px.x / sh.scale);
+          row.set("gaze_est_y", ctx.gaze_px.y / sh.scale);
+          row.set("gaze_error_deg", angle_deg(fd.gaze_dir, ctx.gaze_dir));
+          row.set("gaze_speed_deg_s", speed);
+        }
         double shaded = fo.counters.get("shaded_samples");
         row.set("shaded_samples", shaded * sh.pixel_scale);
         row.set("shaded_fraction", shaded / double(sh.sim_display.width * sh.sim_display.height));
@@ -362,6 +419,7 @@ struct Cell {
     for (auto& m : methods) {
       m.impl->reset();
       m.temporal.reset();
+      m.prev_est_ms = NAN;
     }
   }
 };
@@ -539,6 +597,7 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
     r.flags.assign(c->flags_seen.begin(), c->flags_seen.end());
     r.cell_ms = c->cell_ms;
     r.summary = summarize(c->frames, r.budget_ms);
+    if (c->latency.enabled) r.summary = summarize_phases(c->frames, r.summary, c->metric_names);
     if (sampled) {  // what --target asked for and what it achieved (results/README.md)
       Json specs = Json::array(), achieved;
       for (auto& t : opt.targets) specs.push_back(t.spec);

@@ -52,6 +52,15 @@ double resampled_count(const Trace& trace, double hz, double t_end = INFINITY);
 // Default of the trace block's "max_samples": most samples a run holds after resampling.
 constexpr double kDefaultMaxTraceSamples = 2e6;
 
+// Sample at any time t (s): resample()'s interpolation (normalized lerp of gaze, lerp of
+// position, `valid` from the nearest sample), held at the first/last sample outside the trace.
+// Orientation is taken from the nearest sample (callers use the gaze only).
+TraceSample sample_at(const Trace& trace, double t);
+// Angle between two directions in degrees (stable for tiny angles).
+double angle_deg(const glm::dvec3& a, const glm::dvec3& b);
+// Eye-in-head angular speed (deg/s) at t: angle between the gaze at t - h and t + h over 2h.
+double gaze_speed_deg_s(const Trace& trace, double t, double half_window_s);
+
 // True if a head-space direction is in front of the eye and projects inside the display's
 // screen rectangle (normalized screen point in [0,1]^2).
 bool gaze_inside_fov(const Display& display, const glm::dvec3& dir);
