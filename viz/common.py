@@ -94,6 +94,36 @@ def pareto_front(points):
     return front
 
 
+def config_color(i):
+    """Colour of the i-th configuration (order of first appearance), shared by every plot."""
+    return f"C{i % 10}"
+
+
+def dedup_legend(ax, **kw):
+    """Legend with one entry per label (first handle wins)."""
+    handles, labels = ax.get_legend_handles_labels()
+    seen, hs, ls = set(), [], []
+    for h, lab in zip(handles, labels):
+        if lab in seen or lab.startswith("_"):
+            continue
+        seen.add(lab)
+        hs.append(h)
+        ls.append(lab)
+    if hs:
+        ax.legend(hs, ls, **kw)
+
+
+def clamp_box(cx, cy, half, w, h):
+    """Square crop of half-size `half` centred near (cx, cy), moved (not cut) to lie inside a
+    w×h image; returns integer (x0, y0, x1, y1) with x1 - x0 == y1 - y0 == min(2*half, w, h)."""
+    size = int(min(2 * half, w, h))
+    x0 = int(round(cx - size / 2))
+    y0 = int(round(cy - size / 2))
+    x0 = max(0, min(x0, w - size))
+    y0 = max(0, min(y0, h - size))
+    return x0, y0, x0 + size, y0 + size
+
+
 def save(fig, path):
     os.makedirs(os.path.dirname(path), exist_ok=True)
     tmp = path + ".tmp.png"

@@ -14,7 +14,9 @@ results/README.md) and writes PNGs plus an index.html to results/<name>/plots/ (
   paired.png            paired.csv: per headline metric, the mean difference of every pair
                         of configs with its 95% interval (filled: the interval excludes 0)
   gaze.png              gaze path on the screen (pixels, row 0 on top)
-  quality_timeline.png  fpsnr / psnr / ssim / flip per frame and config
+  quality_timeline.png  fpsnr / psnr / ssim / flip per frame and config (one colour per config
+                        in every plot and panel; configs with no finite value are named, not drawn)
+  index.html            summary table (means ± 95% half-width), the plots, and images/frame_<n>/
 Intervals that are undefined (nan: fewer frames than the estimator's minimum) are not drawn.
 A plot whose columns are missing is skipped with a message (and listed in index.html).
 Means use finite values only (psnr is inf for identical images, temporal_error nan on the
@@ -100,9 +102,18 @@ class Run:
         return out
 
     def style(self, cid):
+        """(marker, colour) of a configuration: marker per method, colour per configuration,
+        the same in every plot of the run."""
         ms = self.methods()
         i = ms.index(self.method(cid))
-        return MARKERS[i % len(MARKERS)], f"C{i % 10}"
+        return MARKERS[i % len(MARKERS)], self.color(cid)
+
+    def color(self, cid):
+        return common.config_color(self.configs.index(cid))
+
+    def linestyle(self, cid):
+        # Beyond the 10 tab10 colours the line style tells configurations apart.
+        return ["-", "--", ":", "-."][(self.configs.index(cid) // 10) % 4]
 
 
 def need(run, *cols):
@@ -125,13 +136,14 @@ def plot_timeline(run, out):
         raise Skip("frames.csv has neither frame nor t")
     fig, ax = plt.subplots(figsize=(9, 4.5))
     for cid in run.configs:
-        ax.plot(run.series(cid, xcol), run.series(cid, "est_ms_total"), lw=1, label=cid, color=None)
+        ax.plot(run.series(cid, xcol), run.series(cid, "est_ms_total"), lw=1, label=cid, color=run.color(cid),
+                ls=run.linestyle(cid))
     b = common.budget_ms(run.manifest, run.summary)
     if b is not None:
         ax.axhline(b, color="red", ls="--", lw=1.2, label=f"budget {b:.2f} ms ({1000 / b:.0f} Hz)")
     else:
         log("timeline: no display.refresh_hz in manifest.json and no budget_ms in summary.csv; no budget line")
-    ax.set_xlabel(xcol)
+    ax.set_xlabel("frame [index]" if xcol == "frame" else "t [s]")
     ax.set_ylabel("estimated GPU frame time [ms]")
     ax.set_title("Estimated frame time per frame")
     ax.set_ylim(bottom=0)
@@ -157,7 +169,7 @@ def plot_quality_vs_cost(run, out):
                 continue
             mk, col = run.style(cid)
             meth = run.method(cid)
-            ax.scatter([x], [y], marker=mk, color=col, s=40, label=None if meth in seen else meth, zorder=3)
+            ax.scatter([x], [y], marker=mk, color=col, s=40, label=cid, zorder=3)
             ex, ey = run.ci(cid, "est_ms_total"), run.ci(cid, m)
             if math.isfinite(ex) or math.isfinite(ey):
                 ax.errorbar([x], [y], xerr=[ex] if math.isfinite(ex) else None,
@@ -185,7 +197,8 @@ def plot_quality_vs_cost(run, out):
         ax.set_ylabel(f"mean {m}" + (" [dB]" if m != "ssim" else ""))
         ax.set_title(f"{m} vs. frame time")
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=7, loc="best")
+        if len(run.configs) <= MAX_LEGEND:
+            ax.legend(fontsize=7, loc="best")
     skipped = [m for m in ("fpsnr", "psnr") if m not in metrics]
     if skipped:
         log("quality_vs_cost: no column " + ", ".join(skipped) + " (panel left out)")
@@ -250,6 +263,9 @@ def plot_gaze(run, out):
     return "gaze.png"
 
 
+UNITS = {"fpsnr": "fpsnr [dB]", "psnr": "psnr [dB]", "ssim": "ssim [0–1]", "flip": "flip [0–1] (lower is better)"}
+
+
 def plot_quality_timeline(run, out):
     if not run.frames:
         raise Skip("no frames.csv")
@@ -260,16 +276,31 @@ def plot_quality_timeline(run, out):
     if not run.has(xcol):
         raise Skip("frames.csv has neither frame nor t")
     fig, axes = plt.subplots(len(metrics), 1, figsize=(9, 2.6 * len(metrics)), sharex=True, squeeze=False)
+    # Colour per configuration fixed across panels (run.style); one figure-level legend built from
+    # every configuration, so a configuration missing from a panel (psnr inf) cannot shift labels.
+    handles = {}
+    not_drawn = {}
     for ax, m in zip(axes[:, 0], metrics):
         for cid in run.configs:
             x, y = run.series(cid, xcol), run.series(cid, m)
             pts = [(a, b) for a, b in zip(x, y) if math.isfinite(b)]
+            col = run.color(cid)
             if pts:
-                ax.plot([p[0] for p in pts], [p[1] for p in pts], lw=1, label=cid)
-        ax.set_ylabel("flip (lower is better)" if m == "flip" else m)
+                (h,) = ax.plot([p[0] for p in pts], [p[1] for p in pts], lw=1, color=col, ls=run.linestyle(cid),
+                               label=cid)
+                handles.setdefault(cid, h)
+            else:
+                not_drawn.setdefault(m, []).append(cid)
+        ax.set_ylabel(UNITS.get(m, m), fontsize=9)
+        if m in not_drawn:
+            ax.text(0.01, 0.02, "not drawn (no finite value, e.g. psnr = inf when exact): " +
+                    ", ".join(not_drawn[m][:4]) + (" …" if len(not_drawn[m]) > 4 else ""),
+                    transform=ax.transAxes, fontsize=7, color="0.3")
         ax.grid(alpha=0.3)
-    legend(axes[0, 0], len(run.configs))
-    axes[-1, 0].set_xlabel(xcol)
+    if len(handles) <= MAX_LEGEND:
+        hs = [handles[c] for c in run.configs if c in handles]
+        fig.legend(hs, [h.get_label() for h in hs], fontsize=7, loc="upper left", bbox_to_anchor=(1.0, 0.95))
+    axes[-1, 0].set_xlabel("frame [index]" if xcol == "frame" else "t [s]")
     axes[0, 0].set_title("Quality per frame (non-finite values not drawn)")
     common.save(fig, os.path.join(out, "quality_timeline.png"))
     return "quality_timeline.png"
@@ -314,19 +345,76 @@ PLOTS = [
 ]
 
 
+SUMMARY_COLS = ["method", "frames", "est_ms_total", "shaded_fraction", "fpsnr", "psnr", "ssim", "flip"]
+
+
+def summary_table(run):
+    """HTML table of summary.csv's headline columns (mean ± 95% half-width where present)."""
+    if not run.summary:
+        return "<p>No summary.csv.</p>"
+    cols = [c for c in SUMMARY_COLS if c in run.scols]
+    head = "<tr><th>config</th>" + "".join(f"<th>{html.escape(c)}</th>" for c in cols) + "</tr>"
+    rows = []
+    for r in run.summary:
+        cid = r.get("config_id") or r.get("label") or r.get("method") or "?"
+        cells = []
+        for c in cols:
+            v = r.get(c, "")
+            ci = to_float(r.get(c + "_ci95"))
+            f = to_float(v)
+            if c == "method" or not math.isfinite(f):
+                txt = v
+            else:
+                txt = f"{f:.4g}" + (f" ± {ci:.2g}" if math.isfinite(ci) else "")
+            cells.append(f"<td>{html.escape(txt)}</td>")
+        rows.append(f"<tr><td>{html.escape(cid)}</td>" + "".join(cells) + "</tr>")
+    return ("<table><caption>summary.csv: per-configuration means ± 95% half-width (units: "
+            "results/README.md; ms, dB)</caption>" + head + "".join(rows) + "</table>")
+
+
+def image_sections(run, out):
+    """Sections for images/frame_<n>/*.png, linked relative to the plots folder."""
+    img_root = os.path.join(run.dir, "images")
+    if not os.path.isdir(img_root):
+        return []
+    rel = os.path.relpath(img_root, out)
+    parts = []
+    frames = sorted((d for d in os.listdir(img_root) if os.path.isdir(os.path.join(img_root, d))),
+                    key=lambda d: (len(d), d))
+    for d in frames:
+        pngs = sorted(f for f in os.listdir(os.path.join(img_root, d)) if f.endswith(".png"))
+        if not pngs:
+            continue
+        # reference first, then per-configuration images in name order
+        pngs.sort(key=lambda f: (f != "reference.png", f))
+        parts.append(f"<h3>{html.escape(d)}</h3><div class='grid'>")
+        for f in pngs:
+            src = html.escape(f"{rel}/{d}/{f}")
+            parts.append(f"<figure><a href='{src}'><img src='{src}' alt='{html.escape(f)}'></a>"
+                         f"<figcaption>{html.escape(f)}</figcaption></figure>")
+        parts.append("</div>")
+    if parts:
+        parts.insert(0, "<h2 id='images'>Images (error maps: |luma error| turbo 0–0.25, FLIP magma 0–1)</h2>")
+    return parts
+
+
 def write_index(run, out, made, skipped):
     name = os.path.basename(os.path.normpath(run.dir))
     parts = [
         "<!DOCTYPE html>",
         f"<html><head><meta charset='utf-8'><title>fovsim: {html.escape(name)}</title>",
-        "<style>body{font-family:sans-serif;margin:2em}img{max-width:100%;border:1px solid #ccc}</style>",
+        "<style>body{font-family:sans-serif;margin:2em}img{max-width:100%;border:1px solid #ccc}"
+        "table{border-collapse:collapse;font-size:90%}td,th{border:1px solid #ccc;padding:2px 6px;text-align:right}"
+        ".grid{display:flex;flex-wrap:wrap;gap:8px}.grid figure{width:300px;margin:0;font-size:80%}</style>",
         f"</head><body><h1>fovsim results: {html.escape(name)}</h1>",
         f"<p>{len(run.configs)} configuration(s): {html.escape(', '.join(run.configs))}</p>",
+        "<h2 id='summary'>Summary</h2>", summary_table(run),
     ]
     if made:
         parts.append("<ul>" + "".join(f"<li><a href='#{f}'>{html.escape(t)}</a></li>" for t, f in made) + "</ul>")
     for title, f in made:
         parts.append(f"<h2 id='{f}'>{html.escape(title)}</h2><a href='{f}'><img src='{f}' alt='{html.escape(title)}'></a>")
+    parts += image_sections(run, out)
     if skipped:
         parts.append("<h2>Skipped</h2><ul>")
         parts += [f"<li>{html.escape(t)}: {html.escape(r)}</li>" for t, r in skipped]
