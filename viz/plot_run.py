@@ -194,7 +194,7 @@ def plot_quality_vs_cost(run, out):
         if b is not None:
             ax.axvline(b, color="red", ls=":", lw=1, label="budget")
         ax.set_xlabel("mean est_ms_total [ms]" + note, fontsize=9)
-        ax.set_ylabel(f"mean {m}" + (" [dB]" if m != "ssim" else ""))
+        ax.set_ylabel(f"mean {m}" + (" [dB]" if m != "ssim" else " [0–1]"))
         ax.set_title(f"{m} vs. frame time")
         ax.grid(alpha=0.3)
         if len(run.configs) <= MAX_LEGEND:
@@ -293,15 +293,15 @@ def plot_quality_timeline(run, out):
                 not_drawn.setdefault(m, []).append(cid)
         ax.set_ylabel(UNITS.get(m, m), fontsize=9)
         if m in not_drawn:
-            ax.text(0.01, 0.02, "not drawn (no finite value, e.g. psnr = inf when exact): " +
-                    ", ".join(not_drawn[m][:4]) + (" …" if len(not_drawn[m]) > 4 else ""),
-                    transform=ax.transAxes, fontsize=7, color="0.3")
+            ax.set_title("not drawn (no finite value, e.g. psnr = inf when exact): " +
+                         ", ".join(not_drawn[m][:4]) + (" …" if len(not_drawn[m]) > 4 else ""),
+                         fontsize=7, color="0.3", loc="left")
         ax.grid(alpha=0.3)
     if len(handles) <= MAX_LEGEND:
         hs = [handles[c] for c in run.configs if c in handles]
-        fig.legend(hs, [h.get_label() for h in hs], fontsize=7, loc="upper left", bbox_to_anchor=(1.0, 0.95))
+        axes[0, 0].legend(hs, [h.get_label() for h in hs], fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     axes[-1, 0].set_xlabel("frame [index]" if xcol == "frame" else "t [s]")
-    axes[0, 0].set_title("Quality per frame (non-finite values not drawn)")
+    fig.suptitle("Quality per frame (non-finite values not drawn)")
     common.save(fig, os.path.join(out, "quality_timeline.png"))
     return "quality_timeline.png"
 

@@ -34,7 +34,8 @@ def axis_label(col):
              "ssim": "SSIM [0–1]", "flip": "LDR-FLIP [0–1]", "shaded_fraction": "shaded fraction [of W·H]",
              "shaded_samples": "shaded samples", "temporal_error": "temporal error [RMSE]"}
     if col in units:
-        return f"{units[col]} ({col})" if units[col].split(" [")[0].lower() != col else units[col]
+        name = units[col].split(" [")[0].lower().replace(" ", "_").replace("-", "")
+        return units[col] if name in (col, col.replace("_", "")) else f"{units[col]} ({col})"
     if col.startswith("est_ms_"):
         return f"{col} [ms]"
     if col.startswith("rmse_"):
@@ -151,6 +152,11 @@ def plot_pareto(sw, out):
     b = sw.budget()
     if b is not None and cx == "est_ms_total":
         ax.axvline(b, color="red", ls="--", lw=1, label=f"frame budget {b:.2f} ms")
+    hidden = sorted({f"{r.get('label')} {sw.params_text(r)}".strip() for r in rows
+                     if not (math.isfinite(sw.num(r, cx)) and math.isfinite(sw.num(r, cy)))})
+    if hidden:
+        ax.text(0.01, 0.01, "not drawn (non-finite, e.g. fpsnr = inf when exact): " + ", ".join(hidden[:4]) +
+                (" …" if len(hidden) > 4 else ""), transform=ax.transAxes, fontsize=7, color="0.3")
     ax.set_xlabel(axis_label(cx) + " — minimize")
     ax.set_ylabel(axis_label(cy) + (" — maximize" if maxy else " — minimize"))
     title = f"{sw.meta.get('name', '')}: {len(rows)} distinct configurations"
@@ -176,7 +182,7 @@ def plot_heatmaps(sw, out):
         for px, py in pairs:
             xs = sorted({sw.num(r, px) for r in rs})
             ys = sorted({sw.num(r, py) for r in rs})
-            fig, axes = plt.subplots(1, len(metrics), figsize=(4.2 * len(metrics), 3.8), squeeze=False)
+            fig, axes = plt.subplots(1, len(metrics), figsize=(4.8 * len(metrics), 3.8), squeeze=False)
             for ax, m in zip(axes[0], metrics):
                 grid = np.full((len(ys), len(xs)), np.nan)
                 cnt = np.zeros_like(grid)
@@ -196,7 +202,7 @@ def plot_heatmaps(sw, out):
                 ax.set_xlabel(px)
                 ax.set_ylabel(py)
                 ax.set_title(axis_label(m), fontsize=9)
-                fig.colorbar(im, ax=ax, shrink=0.8, label=axis_label(m))
+                fig.colorbar(im, ax=ax, shrink=0.8)  # unit in the panel title
                 if len(xs) * len(ys) <= 64:  # readable cell labels (8 pt) only where they fit
                     lo, hi = np.nanmin(grid), np.nanmax(grid)
                     for i in range(len(ys)):
@@ -247,7 +253,7 @@ def plot_timelines(sw, out):
         if not fr:
             continue
         ax.plot([to_float(x["frame"]) for x in fr], [to_float(x["est_ms_total"]) for x in fr], lw=1,
-                label=f"{r.get('label')} {sw.params_text(r)}".strip())
+                color=sw.color(r.get("label")), label=f"{r.get('label')} {sw.params_text(r)}".strip())
         if gaze is None:
             gaze = fr
     b = sw.budget()
@@ -273,7 +279,7 @@ def plot_timelines(sw, out):
 
 
 def plot_profiles(sw, out):
-    bands = [c for c in sw.cols if c.startswith("rmse_ecc_")]
+    bands = [c for c in sw.cols if c.startswith("rmse_ecc_") and not c.endswith("_ci95")]
     if not bands:
         raise Skip("no rmse_ecc_<a>_<b> columns")
 
@@ -285,7 +291,7 @@ def plot_profiles(sw, out):
     for r in selected(sw):
         err = [sw.num(r, c + "_ci95") for c in bands]
         ax.errorbar([mid(c) for c in bands], [sw.num(r, c) for c in bands], marker="o", lw=1, capsize=2,
-                    yerr=[e if math.isfinite(e) else 0 for e in err],
+                    yerr=[e if math.isfinite(e) else 0 for e in err], color=sw.color(r.get("label")),
                     label=f"{r.get('label')} {sw.params_text(r)}".strip())
     ax.set_xlabel("eccentricity [deg] (band centre)")
     ax.set_ylabel("RMSE [display-encoded, 0–1]")
@@ -314,10 +320,11 @@ def plot_strips(sw, out):
     from matplotlib import cm, colors
 
     made = []
-    by_cell = {}
-    for r in selected(sw, 16):
-        by_cell.setdefault(r.get("cell_id", ""), []).append(r)
-    for cid, rows in list(by_cell.items())[:4]:
+    cells = list(dict.fromkeys(r.get("cell_id", "") for r in selected(sw, 16)))[:4]  # cells of the front
+    for cid in cells:
+        # every method of the cell side by side (Pareto rows first), at most MAX_STRIP_CONFIGS
+        rows = [r for r in sw.rows if r.get("cell_id", "") == cid]
+        rows.sort(key=lambda r: r.get("pareto") != "1")
         shown = rows[:MAX_STRIP_CONFIGS]
         m = common.read_json(os.path.join(sw.dir, "runs", cid, "manifest.json")) or {}
         disp = common.find_display(m) or {}
@@ -333,7 +340,8 @@ def plot_strips(sw, out):
                 img = os.path.join(fdir, lab + ".png")
                 if os.path.exists(img):
                     err = os.path.join(fdir, lab + "_error.png")
-                    cols.append((f"{lab} {sw.params_text(r)}".strip(), plt.imread(img),
+                    star = " (Pareto)" if r.get("pareto") == "1" else ""
+                    cols.append((f"{lab} {sw.params_text(r)}{star}".strip(), plt.imread(img),
                                  plt.imread(err) if os.path.exists(err) else None))
             if len(cols) < 2:
                 continue
@@ -366,9 +374,10 @@ def plot_strips(sw, out):
                 for a in (axes[0][k], axes[1][k], axes[2][k]):
                     a.set_xticks([])
                     a.set_yticks([])
-            if has_err:
+            if has_err:  # colour bar in the reference's (empty) error slot, so columns stay aligned
                 sm = cm.ScalarMappable(norm=colors.Normalize(0, 0.25), cmap="turbo")
-                fig.colorbar(sm, ax=list(axes[3]), shrink=0.8, label="|luma error| (display-encoded)")
+                cax = axes[3][0].inset_axes([0.45, 0.05, 0.1, 0.9])
+                fig.colorbar(sm, cax=cax, label="|luma error| (display-encoded)")
             title = f"cell {cid}, frame {frame}: gaze +"
             if len(rows) > len(shown):
                 title += f" ({len(shown)} of {len(rows)} configurations shown)"

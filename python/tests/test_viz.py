@@ -73,7 +73,7 @@ class RunPlots(unittest.TestCase):
         self.assertTrue(all(len(c) == 1 for c in colours.values()), colours)
         self.assertEqual(len({next(iter(c)) for c in colours.values()}), 3)
         self.assertIn("[dB]", fig.axes[0].get_ylabel())
-        legend_labels = [t.get_text() for t in fig.legends[0].get_texts()]
+        legend_labels = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
         self.assertEqual(legend_labels, ["full", "kfr", "rmfr"])
 
     def test_index_has_summary_table_and_images(self):

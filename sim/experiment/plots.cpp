@@ -1,5 +1,6 @@
 #include "sim/experiment/plots.h"
 
+#include <cstdio>
 #include <cstdlib>
 
 #include "sim/core/files.h"
@@ -48,6 +49,8 @@ PlotOutcome run_plot_script(const std::string& script, const std::vector<std::st
                 "silence this";
     return r;
   }
+  std::fflush(stdout);  // our summary table before the script's lines
+  std::fflush(stderr);
   int rc = std::system(plot_command(path, args, quiet).c_str());
   if (rc != 0) {
     r.status = PlotOutcome::Status::Failed;
