@@ -16,6 +16,8 @@ results/README.md) and writes PNGs plus an index.html to results/<name>/plots/ (
   gaze.png              gaze path on the screen (pixels, row 0 on top)
   quality_timeline.png  fpsnr / psnr / ssim / flip per frame and config (one colour per config
                         in every plot and panel; configs with no finite value are named, not drawn)
+  passes.png            mean est_ms_<pass> stacked per config, est_ms_total with its interval
+  eccentricity.png      mean rmse_ecc_<a>_<b> / flip_ecc_<a>_<b> per band and config (95% intervals)
   index.html            summary table (means ± 95% half-width), the plots, and images/frame_<n>/
 Intervals that are undefined (nan: fewer frames than the estimator's minimum) are not drawn.
 A plot whose columns are missing is skipped with a message (and listed in index.html).
@@ -335,6 +337,80 @@ def plot_paired(run, out):
     return "paired.png"
 
 
+def pass_columns(run):
+    """est_ms_<pass> columns of summary.csv (not the total, its interval or percentiles)."""
+    return [c for c in run.scols if c.startswith("est_ms_") and not c.startswith("est_ms_total")
+            and not c.endswith(("_ci95", "_lo", "_hi"))]
+
+
+def plot_passes(run, out):
+    """Stacked mean estimated time per pass and configuration (summary.csv), with the total
+    and its 95% interval as a black marker."""
+    if not run.summary:
+        raise Skip("no summary.csv")
+    passes = pass_columns(run)
+    if not passes:
+        raise Skip("summary.csv has no est_ms_<pass> columns")
+    cfgs = run.configs
+    fig, ax = plt.subplots(figsize=(max(6, 0.7 * len(cfgs) + 3), 4.8))
+    bottom = [0.0] * len(cfgs)
+    cmap = plt.get_cmap("tab20")
+    for k, pcol in enumerate(passes):
+        vals = [run.mean(c, pcol) for c in cfgs]
+        vals = [v if math.isfinite(v) else 0.0 for v in vals]
+        if not any(vals):
+            continue
+        ax.bar(range(len(cfgs)), vals, bottom=bottom, color=cmap(k % 20), label=pcol[len("est_ms_"):],
+               edgecolor="white", lw=0.5)
+        bottom = [b + v for b, v in zip(bottom, vals)]
+    tot = [run.mean(c, "est_ms_total") for c in cfgs]
+    err = [run.ci(c, "est_ms_total") for c in cfgs]
+    ax.errorbar(range(len(cfgs)), tot, yerr=[e if math.isfinite(e) else 0 for e in err], fmt="_", color="k",
+                ms=14, capsize=3, label="est_ms_total (95% interval)")
+    b = common.budget_ms(run.manifest, run.summary)
+    if b is not None:
+        ax.axhline(b, color="red", ls="--", lw=1, label=f"budget {b:.2f} ms")
+    ax.set_xticks(range(len(cfgs)))
+    ax.set_xticklabels(cfgs, rotation=45 if len(cfgs) > 4 else 0, ha="right" if len(cfgs) > 4 else "center",
+                       fontsize=8)
+    ax.set_ylabel("mean estimated GPU time [ms]")
+    ax.set_title("Estimated frame time per pass (stacked; docs/cost_model.md)")
+    ax.grid(axis="y", alpha=0.3)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    common.save(fig, os.path.join(out, "passes.png"))
+    return "passes.png"
+
+
+def plot_eccentricity(run, out):
+    """Mean RMSE and LDR-FLIP per eccentricity band and configuration, 95% intervals."""
+    fams = [f for f in ("rmse_ecc_", "flip_ecc_") if any(c.startswith(f) and not c.endswith("_ci95")
+                                                         for c in run.scols)]
+    if not run.summary or not fams:
+        raise Skip("summary.csv has no rmse_ecc_<a>_<b> / flip_ecc_<a>_<b> columns")
+    fig, axes = plt.subplots(1, len(fams), figsize=(6 * len(fams), 4.5), squeeze=False)
+    for ax, fam in zip(axes[0], fams):
+        bands = [c for c in run.scols if c.startswith(fam) and not c.endswith("_ci95")]
+
+        def mid(c):
+            a, b = c[len(fam):].replace("p", ".").split("_")
+            return 0.5 * (float(a) + float(b))
+
+        xs = [mid(c) for c in bands]
+        for cid in run.configs:
+            ys = [run.mean(cid, c) for c in bands]
+            es = [run.ci(cid, c) for c in bands]
+            mk, col = run.style(cid)
+            ax.errorbar(xs, ys, yerr=[e if math.isfinite(e) else 0 for e in es], marker=mk, ms=4, lw=1,
+                        capsize=2, color=col, ls=run.linestyle(cid), label=cid)
+        ax.set_xlabel("eccentricity [deg] (band centre)")
+        ax.set_ylabel("RMSE [display-encoded, 0–1]" if fam == "rmse_ecc_" else "LDR-FLIP [0–1]")
+        ax.set_title(("RMSE" if fam == "rmse_ecc_" else "LDR-FLIP") + " vs. eccentricity (95% intervals)")
+        ax.grid(alpha=0.3)
+    legend(axes[0, -1], len(run.configs))
+    common.save(fig, os.path.join(out, "eccentricity.png"))
+    return "eccentricity.png"
+
+
 PLOTS = [
     ("Estimated frame time per frame", plot_timeline),
     ("Quality vs. cost", plot_quality_vs_cost),
@@ -342,6 +418,8 @@ PLOTS = [
     ("Gaze path", plot_gaze),
     ("Quality per frame", plot_quality_timeline),
     ("Paired differences between configurations", plot_paired),
+    ("Estimated time per pass", plot_passes),
+    ("Error vs. eccentricity", plot_eccentricity),
 ]
 
 

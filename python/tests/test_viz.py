@@ -88,6 +88,16 @@ class RunPlots(unittest.TestCase):
         self.assertIn("../images/frame_0/kfr.png", html)
         self.assertTrue(os.path.exists(os.path.join(self.d, "plots", "quality_timeline.png")))
 
+    def test_pass_columns_and_stacked_plot(self):
+        write(os.path.join(self.d, "summary.csv"),
+              "config_id,method,est_ms_total,est_ms_total_ci95,est_ms_total_lo,est_ms_total_p95,"
+              "est_ms_gbuffer,est_ms_gbuffer_ci95,est_ms_lighting\n"
+              "kfr,kfr,4,0.1,3.5,4.5,1.5,0.01,2.5\n")
+        run = plot_run.Run(self.d)
+        self.assertEqual(plot_run.pass_columns(run), ["est_ms_gbuffer", "est_ms_lighting"])
+        self.assertEqual(plot_run.plot_passes(run, self.d), "passes.png")
+        self.assertTrue(os.path.exists(os.path.join(self.d, "passes.png")))
+
 
 class Geometry(unittest.TestCase):
     def test_clamp_box_stays_inside(self):
