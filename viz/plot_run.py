@@ -18,6 +18,8 @@ results/README.md) and writes PNGs plus an index.html to results/<name>/plots/ (
                         in every plot and panel; configs with no finite value are named, not drawn)
   passes.png            mean est_ms_<pass> stacked per config, est_ms_total with its interval
   eccentricity.png      mean rmse_ecc_<a>_<b> / flip_ecc_<a>_<b> per band and config (95% intervals)
+  strip_<frame>.png     for images/frame_<n>/: reference and every config side by side, gaze
+                        marked, insets at the gaze and in the periphery, error colour bar
   index.html            summary table (means ± 95% half-width), the plots, and images/frame_<n>/
 Intervals that are undefined (nan: fewer frames than the estimator's minimum) are not drawn.
 A plot whose columns are missing is skipped with a message (and listed in index.html).
@@ -411,6 +413,49 @@ def plot_eccentricity(run, out):
     return "eccentricity.png"
 
 
+def plot_strips(run, out):
+    """strip_<frame>.png for each images/frame_<n>/: reference and every configuration side by
+    side with the gaze marked, insets at the gaze and in the periphery, error maps with a colour
+    bar (common.draw_strip); at most 8 configurations per strip (the title says so)."""
+    img_root = os.path.join(run.dir, "images")
+    if not os.path.isdir(img_root):
+        raise Skip("no images/ (set outputs.image_frames)")
+    d = common.find_display(run.manifest) or {}
+    made = []
+    for fdir in sorted(os.listdir(img_root), key=lambda x: (len(x), x)):
+        full = os.path.join(img_root, fdir)
+        ref = os.path.join(full, "reference.png")
+        if not fdir.startswith("frame_") or not os.path.exists(ref):
+            continue
+        frame = fdir[len("frame_"):]
+        cols = [("reference", plt.imread(ref), None)]
+        labels = [run.by_config[c][0].get("label") or c for c in run.configs]
+        shown = [lab for lab in labels if os.path.exists(os.path.join(full, lab + ".png"))]
+        for lab in shown[:8]:
+            err = os.path.join(full, lab + "_error.png")
+            cols.append((lab, plt.imread(os.path.join(full, lab + ".png")),
+                         plt.imread(err) if os.path.exists(err) else None))
+        if len(cols) < 2:
+            continue
+        h, w = cols[0][1].shape[:2]
+        gx, gy = w / 2, h / 2
+        rows = [r for r in run.frames or [] if r.get("frame") == frame]
+        if rows and isinstance(d.get("width"), (int, float)) and d["width"] > 0:
+            sc = w / float(d["width"])
+            x, y = to_float(rows[0].get("gaze_x")), to_float(rows[0].get("gaze_y"))
+            if math.isfinite(x) and math.isfinite(y):
+                gx, gy = x * sc, y * sc
+        title = f"frame {frame}: gaze +"
+        if len(shown) > 8:
+            title += f" (8 of {len(shown)} configurations shown)"
+        f = f"strip_{frame}.png"
+        common.save(common.draw_strip(cols, gx, gy, title), os.path.join(out, f))
+        made.append(f)
+    if not made:
+        raise Skip("images/ has no frame_<n>/reference.png")
+    return made
+
+
 PLOTS = [
     ("Estimated frame time per frame", plot_timeline),
     ("Quality vs. cost", plot_quality_vs_cost),
@@ -420,6 +465,7 @@ PLOTS = [
     ("Paired differences between configurations", plot_paired),
     ("Estimated time per pass", plot_passes),
     ("Error vs. eccentricity", plot_eccentricity),
+    ("Methods side by side", plot_strips),
 ]
 
 
@@ -518,12 +564,16 @@ def main(argv=None):
     made, skipped = [], []
     for title, fn in PLOTS:
         try:
-            f = fn(run, out)
-            made.append((title, f))
-            log(f"wrote {os.path.join(out, f)}")
+            fs = fn(run, out)
+            for f in fs if isinstance(fs, list) else [fs]:
+                made.append((title, f))
+                log(f"wrote {os.path.join(out, f)}")
         except Skip as e:
             skipped.append((title, str(e)))
             log(f"skipped '{title}': {e}")
+        except Exception as e:  # a plot must never hide the others (e.g. an unreadable PNG)
+            skipped.append((title, f"failed: {e!r}"))
+            log(f"failed '{title}': {e!r}")
     write_index(run, out, made, skipped)
     log(f"wrote {os.path.join(out, 'index.html')} ({len(made)} plots, {len(skipped)} skipped)")
     return 0

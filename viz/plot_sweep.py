@@ -302,23 +302,13 @@ def plot_profiles(sw, out):
     return ["eccentricity_profiles.png"]
 
 
-def strip_geometry(w, h, gx, gy):
-    """Inset boxes (x0, y0, x1, y1), clamped inside the w×h image: one centred on the gaze, one
-    in the periphery (the candidate point farthest from the gaze: left/right middle)."""
-    half = max(8, min(w, h) // 6)
-    fov = common.clamp_box(gx, gy, half, w, h)
-    cands = [(w * 0.12, h * 0.5), (w * 0.88, h * 0.5), (w * 0.5, h * 0.12), (w * 0.5, h * 0.88)]
-    px, py = max(cands, key=lambda c: (c[0] - gx) ** 2 + (c[1] - gy) ** 2)
-    per = common.clamp_box(px, py, half, w, h)
-    return fov, per
+strip_geometry = common.strip_geometry  # kept for tests and callers
 
 
 def plot_strips(sw, out):
     """Side-by-side strip per cell frame: reference and the cell's selected methods, each with
     the gaze marked, a zoomed inset at the gaze and one in the periphery, and the error map
     (|luma error|, turbo 0–0.25, with its colour bar)."""
-    from matplotlib import cm, colors
-
     made = []
     cells = list(dict.fromkeys(r.get("cell_id", "") for r in selected(sw, 16)))[:4]  # cells of the front
     for cid in cells:
@@ -351,37 +341,10 @@ def plot_strips(sw, out):
             if fr and disp.get("width"):
                 sc = w / float(disp["width"])
                 gx, gy = to_float(fr[0]["gaze_x"]) * sc, to_float(fr[0]["gaze_y"]) * sc
-            (fx0, fy0, fx1, fy1), (px0, py0, px1, py1) = strip_geometry(w, h, gx, gy)
-            has_err = any(c[2] is not None for c in cols)
-            nrow = 4 if has_err else 3
-            fig, axes = plt.subplots(nrow, len(cols), figsize=(3.2 * len(cols), 3.0 * nrow), squeeze=False)
-            for k, (name, im, err) in enumerate(cols):
-                a = axes[0][k]
-                a.imshow(im)
-                a.add_patch(plt.Rectangle((fx0, fy0), fx1 - fx0, fy1 - fy0, fill=False, ec="lime", lw=1.2))
-                a.add_patch(plt.Rectangle((px0, py0), px1 - px0, py1 - py0, fill=False, ec="orange", lw=1.2))
-                a.plot([gx], [gy], marker="+", color="red", ms=10, mew=1.5)
-                a.set_title(name, fontsize=8)
-                axes[1][k].imshow(im[fy0:fy1, fx0:fx1], interpolation="nearest")
-                axes[1][k].set_title("at the gaze (green)", fontsize=7)
-                axes[2][k].imshow(im[py0:py1, px0:px1], interpolation="nearest")
-                axes[2][k].set_title("periphery (orange)", fontsize=7)
-                if has_err:
-                    if err is not None:
-                        axes[3][k].imshow(err)
-                        axes[3][k].set_title("|luma error|", fontsize=7)
-                    axes[3][k].axis("off")
-                for a in (axes[0][k], axes[1][k], axes[2][k]):
-                    a.set_xticks([])
-                    a.set_yticks([])
-            if has_err:  # colour bar in the reference's (empty) error slot, so columns stay aligned
-                sm = cm.ScalarMappable(norm=colors.Normalize(0, 0.25), cmap="turbo")
-                cax = axes[3][0].inset_axes([0.45, 0.05, 0.1, 0.9])
-                fig.colorbar(sm, cax=cax, label="|luma error| (display-encoded)")
             title = f"cell {cid}, frame {frame}: gaze +"
             if len(rows) > len(shown):
                 title += f" ({len(shown)} of {len(rows)} configurations shown)"
-            fig.suptitle(title, fontsize=10)
+            fig = common.draw_strip(cols, gx, gy, title)
             f = f"strip_{cid}_{frame}.png"
             common.save(fig, os.path.join(out, f))
             made.append(f)

@@ -77,9 +77,10 @@ class RunPlots(unittest.TestCase):
         self.assertEqual(legend_labels, ["full", "kfr", "rmfr"])
 
     def test_index_has_summary_table_and_images(self):
-        write(os.path.join(self.d, "images", "frame_0", "reference.png"), "")
         import matplotlib.pyplot as plt
-        plt.imsave(os.path.join(self.d, "images", "frame_0", "kfr.png"), np.zeros((4, 4, 3)))
+        os.makedirs(os.path.join(self.d, "images", "frame_0"))
+        plt.imsave(os.path.join(self.d, "images", "frame_0", "reference.png"), np.ones((40, 40, 3)))
+        plt.imsave(os.path.join(self.d, "images", "frame_0", "kfr.png"), np.zeros((40, 40, 3)))
         self.assertEqual(plot_run.main([self.d]), 0)
         with open(os.path.join(self.d, "plots", "index.html")) as f:
             html = f.read()
@@ -87,6 +88,8 @@ class RunPlots(unittest.TestCase):
         self.assertIn("4 ± 0.1", html)  # kfr est_ms_total with its 95% half-width
         self.assertIn("../images/frame_0/kfr.png", html)
         self.assertTrue(os.path.exists(os.path.join(self.d, "plots", "quality_timeline.png")))
+        self.assertTrue(os.path.exists(os.path.join(self.d, "plots", "strip_0.png")))  # reference | kfr
+        self.assertNotIn("failed", html)
 
     def test_pass_columns_and_stacked_plot(self):
         write(os.path.join(self.d, "summary.csv"),
