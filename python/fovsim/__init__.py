@@ -15,11 +15,13 @@ from .results import (  # noqa: F401
     long_format,
     numeric_columns,
     select,
+    to_dataframe,
 )
 
 from .engine import Evaluator, overrides_list, run, sweep  # noqa: F401,E402  (compiled part loaded on first use)
 
-__all__ = ["load_csv", "load_run", "load_sweep", "long_format", "numeric_columns", "select", "run", "sweep",
+__all__ = ["load_csv", "load_run", "load_sweep", "long_format", "numeric_columns", "select", "to_dataframe",
+           "run", "sweep",
            "Evaluator", "overrides_list", "FovsimError"]
 
 

@@ -151,3 +151,14 @@ def long_format(arr, id_cols, value_cols=None, drop_nan=True):
     if not parts:
         return np.empty(0, dtype=dt)
     return np.concatenate(parts)
+
+
+def to_dataframe(arr):
+    """pandas.DataFrame of a structured array (frames, summary, or long_format's output).
+    pandas is optional (Debian python3-pandas); without it this raises ImportError."""
+    try:
+        import pandas as pd
+    except ImportError as e:
+        raise ImportError("fovsim.to_dataframe needs pandas (apt-get install python3-pandas); "
+                          "the structured arrays work without it") from e
+    return pd.DataFrame(arr)

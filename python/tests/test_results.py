@@ -92,6 +92,18 @@ class LoaderTest(unittest.TestCase):
         with self.assertRaisesRegex(TypeError, "'method' is text"):
             fovsim.long_format(f, ["config_id"], ["method"])
 
+    def test_to_dataframe(self):
+        f = fovsim.load_csv(os.path.join(self.d, "frames.csv"))
+        try:
+            import pandas  # noqa: F401
+        except ImportError:
+            with self.assertRaisesRegex(ImportError, "python3-pandas"):
+                fovsim.to_dataframe(f)
+            return
+        df = fovsim.to_dataframe(fovsim.long_format(f, ["config_id", "frame"], ["ssim"]))
+        self.assertEqual(list(df.columns), ["config_id", "frame", "metric", "value"])
+        self.assertEqual(len(df), 4)
+
     def test_load_sweep(self):
         write(self.d, "pareto.csv", SUMMARY.splitlines()[0] + "\n" + SUMMARY.splitlines()[2] + "\n")
         os.makedirs(os.path.join(self.d, "runs", "0-abc"))
