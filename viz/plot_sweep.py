@@ -310,8 +310,10 @@ def plot_strips(sw, out):
     the gaze marked, a zoomed inset at the gaze and one in the periphery, and the error map
     (|luma error|, turbo 0–0.25, with its colour bar)."""
     made = []
-    cells = list(dict.fromkeys(r.get("cell_id", "") for r in selected(sw, 16)))[:4]  # cells of the front
-    for cid in cells:
+    cells = list(dict.fromkeys(r.get("cell_id", "") for r in selected(sw, 16)))  # cells of the front
+    if len(cells) > 4:
+        log(f"strips: {len(cells)} cells hold front configurations; strips drawn for the first 4")
+    for cid in cells[:4]:
         # every method of the cell side by side (Pareto rows first), at most MAX_STRIP_CONFIGS
         rows = [r for r in sw.rows if r.get("cell_id", "") == cid]
         rows.sort(key=lambda r: r.get("pareto") != "1")
