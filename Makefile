@@ -7,7 +7,7 @@ PY := /usr/bin/python3
 
 DEB_PKGS := cmake g++ make pkg-config git libembree-dev libglm-dev libopenimageio-dev \
             nlohmann-json3-dev libtbb-dev libgtest-dev libcli11-dev libassimp-dev \
-            libbenchmark-dev python3-matplotlib python3-numpy
+            libbenchmark-dev python3-matplotlib python3-numpy pybind11-dev python3-dev
 # Optional extras: skimage for the live SSIM cross-check, assimp-testmodels for import tests.
 DEB_OPT  := python3-skimage assimp-testmodels
 
@@ -50,9 +50,7 @@ build: deps $(BUILD)/CMakeCache.txt
 	cmake --build $(BUILD) -j$(JOBS)
 
 demo: build
-	$(BUILD)/fovsim run configs/quickstart.json --out results/quickstart
-	@if $(PY) -c "import matplotlib" 2>/dev/null; then \
-	  $(PY) viz/plot_run.py results/quickstart; fi
+	$(BUILD)/fovsim run configs/quickstart.json --out results/quickstart  # also writes plots/ (viz/plot_run.py)
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j$(JOBS) --timeout 60

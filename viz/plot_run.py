@@ -14,7 +14,13 @@ results/README.md) and writes PNGs plus an index.html to results/<name>/plots/ (
   paired.png            paired.csv: per headline metric, the mean difference of every pair
                         of configs with its 95% interval (filled: the interval excludes 0)
   gaze.png              gaze path on the screen (pixels, row 0 on top)
-  quality_timeline.png  fpsnr / psnr / ssim / flip per frame and config
+  quality_timeline.png  fpsnr / psnr / ssim / flip per frame and config (one colour per config
+                        in every plot and panel; configs with no finite value are named, not drawn)
+  passes.png            mean est_ms_<pass> stacked per config, est_ms_total with its interval
+  eccentricity.png      mean rmse_ecc_<a>_<b> / flip_ecc_<a>_<b> per band and config (95% intervals)
+  strip_<frame>.png     for images/frame_<n>/: reference and every config side by side, gaze
+                        marked, insets at the gaze and in the periphery, error colour bar
+  index.html            summary table (means ± 95% half-width), the plots, and images/frame_<n>/
 Intervals that are undefined (nan: fewer frames than the estimator's minimum) are not drawn.
 A plot whose columns are missing is skipped with a message (and listed in index.html).
 Means use finite values only (psnr is inf for identical images, temporal_error nan on the
@@ -100,9 +106,18 @@ class Run:
         return out
 
     def style(self, cid):
+        """(marker, colour) of a configuration: marker per method, colour per configuration,
+        the same in every plot of the run."""
         ms = self.methods()
         i = ms.index(self.method(cid))
-        return MARKERS[i % len(MARKERS)], f"C{i % 10}"
+        return MARKERS[i % len(MARKERS)], self.color(cid)
+
+    def color(self, cid):
+        return common.config_color(self.configs.index(cid))
+
+    def linestyle(self, cid):
+        # Beyond the 10 tab10 colours the line style tells configurations apart.
+        return ["-", "--", ":", "-."][(self.configs.index(cid) // 10) % 4]
 
 
 def need(run, *cols):
@@ -125,13 +140,14 @@ def plot_timeline(run, out):
         raise Skip("frames.csv has neither frame nor t")
     fig, ax = plt.subplots(figsize=(9, 4.5))
     for cid in run.configs:
-        ax.plot(run.series(cid, xcol), run.series(cid, "est_ms_total"), lw=1, label=cid, color=None)
+        ax.plot(run.series(cid, xcol), run.series(cid, "est_ms_total"), lw=1, label=cid, color=run.color(cid),
+                ls=run.linestyle(cid))
     b = common.budget_ms(run.manifest, run.summary)
     if b is not None:
         ax.axhline(b, color="red", ls="--", lw=1.2, label=f"budget {b:.2f} ms ({1000 / b:.0f} Hz)")
     else:
         log("timeline: no display.refresh_hz in manifest.json and no budget_ms in summary.csv; no budget line")
-    ax.set_xlabel(xcol)
+    ax.set_xlabel("frame [index]" if xcol == "frame" else "t [s]")
     ax.set_ylabel("estimated GPU frame time [ms]")
     ax.set_title("Estimated frame time per frame")
     ax.set_ylim(bottom=0)
@@ -157,7 +173,7 @@ def plot_quality_vs_cost(run, out):
                 continue
             mk, col = run.style(cid)
             meth = run.method(cid)
-            ax.scatter([x], [y], marker=mk, color=col, s=40, label=None if meth in seen else meth, zorder=3)
+            ax.scatter([x], [y], marker=mk, color=col, s=40, label=cid, zorder=3)
             ex, ey = run.ci(cid, "est_ms_total"), run.ci(cid, m)
             if math.isfinite(ex) or math.isfinite(ey):
                 ax.errorbar([x], [y], xerr=[ex] if math.isfinite(ex) else None,
@@ -182,10 +198,11 @@ def plot_quality_vs_cost(run, out):
         if b is not None:
             ax.axvline(b, color="red", ls=":", lw=1, label="budget")
         ax.set_xlabel("mean est_ms_total [ms]" + note, fontsize=9)
-        ax.set_ylabel(f"mean {m}" + (" [dB]" if m != "ssim" else ""))
+        ax.set_ylabel(f"mean {m}" + (" [dB]" if m != "ssim" else " [0–1]"))
         ax.set_title(f"{m} vs. frame time")
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=7, loc="best")
+        if len(run.configs) <= MAX_LEGEND:
+            ax.legend(fontsize=7, loc="best")
     skipped = [m for m in ("fpsnr", "psnr") if m not in metrics]
     if skipped:
         log("quality_vs_cost: no column " + ", ".join(skipped) + " (panel left out)")
@@ -250,6 +267,9 @@ def plot_gaze(run, out):
     return "gaze.png"
 
 
+UNITS = {"fpsnr": "fpsnr [dB]", "psnr": "psnr [dB]", "ssim": "ssim [0–1]", "flip": "flip [0–1] (lower is better)"}
+
+
 def plot_quality_timeline(run, out):
     if not run.frames:
         raise Skip("no frames.csv")
@@ -260,17 +280,32 @@ def plot_quality_timeline(run, out):
     if not run.has(xcol):
         raise Skip("frames.csv has neither frame nor t")
     fig, axes = plt.subplots(len(metrics), 1, figsize=(9, 2.6 * len(metrics)), sharex=True, squeeze=False)
+    # Colour per configuration fixed across panels (run.style); one figure-level legend built from
+    # every configuration, so a configuration missing from a panel (psnr inf) cannot shift labels.
+    handles = {}
+    not_drawn = {}
     for ax, m in zip(axes[:, 0], metrics):
         for cid in run.configs:
             x, y = run.series(cid, xcol), run.series(cid, m)
             pts = [(a, b) for a, b in zip(x, y) if math.isfinite(b)]
+            col = run.color(cid)
             if pts:
-                ax.plot([p[0] for p in pts], [p[1] for p in pts], lw=1, label=cid)
-        ax.set_ylabel("flip (lower is better)" if m == "flip" else m)
+                (h,) = ax.plot([p[0] for p in pts], [p[1] for p in pts], lw=1, color=col, ls=run.linestyle(cid),
+                               label=cid)
+                handles.setdefault(cid, h)
+            else:
+                not_drawn.setdefault(m, []).append(cid)
+        ax.set_ylabel(UNITS.get(m, m), fontsize=9)
+        if m in not_drawn:
+            ax.set_title("not drawn (no finite value, e.g. psnr = inf when exact): " +
+                         ", ".join(not_drawn[m][:4]) + (" …" if len(not_drawn[m]) > 4 else ""),
+                         fontsize=7, color="0.3", loc="left")
         ax.grid(alpha=0.3)
-    legend(axes[0, 0], len(run.configs))
-    axes[-1, 0].set_xlabel(xcol)
-    axes[0, 0].set_title("Quality per frame (non-finite values not drawn)")
+    if len(handles) <= MAX_LEGEND:
+        hs = [handles[c] for c in run.configs if c in handles]
+        axes[0, 0].legend(hs, [h.get_label() for h in hs], fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    axes[-1, 0].set_xlabel("frame [index]" if xcol == "frame" else "t [s]")
+    fig.suptitle("Quality per frame (non-finite values not drawn)")
     common.save(fig, os.path.join(out, "quality_timeline.png"))
     return "quality_timeline.png"
 
@@ -304,6 +339,123 @@ def plot_paired(run, out):
     return "paired.png"
 
 
+def pass_columns(run):
+    """est_ms_<pass> columns of summary.csv (not the total, its interval or percentiles)."""
+    return [c for c in run.scols if c.startswith("est_ms_") and not c.startswith("est_ms_total")
+            and not c.endswith(("_ci95", "_lo", "_hi"))]
+
+
+def plot_passes(run, out):
+    """Stacked mean estimated time per pass and configuration (summary.csv), with the total
+    and its 95% interval as a black marker."""
+    if not run.summary:
+        raise Skip("no summary.csv")
+    passes = pass_columns(run)
+    if not passes:
+        raise Skip("summary.csv has no est_ms_<pass> columns")
+    cfgs = run.configs
+    fig, ax = plt.subplots(figsize=(max(6, 0.7 * len(cfgs) + 3), 4.8))
+    bottom = [0.0] * len(cfgs)
+    cmap = plt.get_cmap("tab20")
+    for k, pcol in enumerate(passes):
+        vals = [run.mean(c, pcol) for c in cfgs]
+        vals = [v if math.isfinite(v) else 0.0 for v in vals]
+        if not any(vals):
+            continue
+        ax.bar(range(len(cfgs)), vals, bottom=bottom, color=cmap(k % 20), label=pcol[len("est_ms_"):],
+               edgecolor="white", lw=0.5)
+        bottom = [b + v for b, v in zip(bottom, vals)]
+    tot = [run.mean(c, "est_ms_total") for c in cfgs]
+    err = [run.ci(c, "est_ms_total") for c in cfgs]
+    ax.errorbar(range(len(cfgs)), tot, yerr=[e if math.isfinite(e) else 0 for e in err], fmt="_", color="k",
+                ms=14, capsize=3, label="est_ms_total (95% interval)")
+    b = common.budget_ms(run.manifest, run.summary)
+    if b is not None:
+        ax.axhline(b, color="red", ls="--", lw=1, label=f"budget {b:.2f} ms")
+    ax.set_xticks(range(len(cfgs)))
+    ax.set_xticklabels(cfgs, rotation=45 if len(cfgs) > 4 else 0, ha="right" if len(cfgs) > 4 else "center",
+                       fontsize=8)
+    ax.set_ylabel("mean estimated GPU time [ms]")
+    ax.set_title("Estimated frame time per pass (stacked; docs/cost_model.md)")
+    ax.grid(axis="y", alpha=0.3)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    common.save(fig, os.path.join(out, "passes.png"))
+    return "passes.png"
+
+
+def plot_eccentricity(run, out):
+    """Mean RMSE and LDR-FLIP per eccentricity band and configuration, 95% intervals."""
+    fams = [f for f in ("rmse_ecc_", "flip_ecc_") if any(c.startswith(f) and not c.endswith("_ci95")
+                                                         for c in run.scols)]
+    if not run.summary or not fams:
+        raise Skip("summary.csv has no rmse_ecc_<a>_<b> / flip_ecc_<a>_<b> columns")
+    fig, axes = plt.subplots(1, len(fams), figsize=(6 * len(fams), 4.5), squeeze=False)
+    for ax, fam in zip(axes[0], fams):
+        bands = [c for c in run.scols if c.startswith(fam) and not c.endswith("_ci95")]
+
+        def mid(c):
+            a, b = c[len(fam):].replace("p", ".").split("_")
+            return 0.5 * (float(a) + float(b))
+
+        xs = [mid(c) for c in bands]
+        for cid in run.configs:
+            ys = [run.mean(cid, c) for c in bands]
+            es = [run.ci(cid, c) for c in bands]
+            mk, col = run.style(cid)
+            ax.errorbar(xs, ys, yerr=[e if math.isfinite(e) else 0 for e in es], marker=mk, ms=4, lw=1,
+                        capsize=2, color=col, ls=run.linestyle(cid), label=cid)
+        ax.set_xlabel("eccentricity [deg] (band centre)")
+        ax.set_ylabel("RMSE [display-encoded, 0–1]" if fam == "rmse_ecc_" else "LDR-FLIP [0–1]")
+        ax.set_title(("RMSE" if fam == "rmse_ecc_" else "LDR-FLIP") + " vs. eccentricity (95% intervals)")
+        ax.grid(alpha=0.3)
+    legend(axes[0, -1], len(run.configs))
+    common.save(fig, os.path.join(out, "eccentricity.png"))
+    return "eccentricity.png"
+
+
+def plot_strips(run, out):
+    """strip_<frame>.png for each images/frame_<n>/: reference and every configuration side by
+    side with the gaze marked, insets at the gaze and in the periphery, error maps with a colour
+    bar (common.draw_strip); at most 8 configurations per strip (the title says so)."""
+    img_root = os.path.join(run.dir, "images")
+    if not os.path.isdir(img_root):
+        raise Skip("no images/ (set outputs.image_frames)")
+    d = common.find_display(run.manifest) or {}
+    made = []
+    for fdir in sorted(os.listdir(img_root), key=lambda x: (len(x), x)):
+        full = os.path.join(img_root, fdir)
+        ref = os.path.join(full, "reference.png")
+        if not fdir.startswith("frame_") or not os.path.exists(ref):
+            continue
+        frame = fdir[len("frame_"):]
+        cols = [("reference", plt.imread(ref), None)]
+        labels = [run.by_config[c][0].get("label") or c for c in run.configs]
+        shown = [lab for lab in labels if os.path.exists(os.path.join(full, lab + ".png"))]
+        for lab in shown[:8]:
+            err = os.path.join(full, lab + "_error.png")
+            cols.append((lab, plt.imread(os.path.join(full, lab + ".png")),
+                         plt.imread(err) if os.path.exists(err) else None))
+        if len(cols) < 2:
+            continue
+        h, w = cols[0][1].shape[:2]
+        gx, gy = w / 2, h / 2
+        rows = [r for r in run.frames or [] if r.get("frame") == frame]
+        if rows and isinstance(d.get("width"), (int, float)) and d["width"] > 0:
+            sc = w / float(d["width"])
+            x, y = to_float(rows[0].get("gaze_x")), to_float(rows[0].get("gaze_y"))
+            if math.isfinite(x) and math.isfinite(y):
+                gx, gy = x * sc, y * sc
+        title = f"frame {frame}: gaze +"
+        if len(shown) > 8:
+            title += f" (8 of {len(shown)} configurations shown)"
+        f = f"strip_{frame}.png"
+        common.save(common.draw_strip(cols, gx, gy, title), os.path.join(out, f))
+        made.append(f)
+    if not made:
+        raise Skip("images/ has no frame_<n>/reference.png")
+    return made
+
+
 PLOTS = [
     ("Estimated frame time per frame", plot_timeline),
     ("Quality vs. cost", plot_quality_vs_cost),
@@ -311,7 +463,63 @@ PLOTS = [
     ("Gaze path", plot_gaze),
     ("Quality per frame", plot_quality_timeline),
     ("Paired differences between configurations", plot_paired),
+    ("Estimated time per pass", plot_passes),
+    ("Error vs. eccentricity", plot_eccentricity),
+    ("Methods side by side", plot_strips),
 ]
+
+
+SUMMARY_COLS = ["method", "frames", "est_ms_total", "shaded_fraction", "fpsnr", "psnr", "ssim", "flip"]
+
+
+def summary_table(run):
+    """HTML table of summary.csv's headline columns (mean ± 95% half-width where present)."""
+    if not run.summary:
+        return "<p>No summary.csv.</p>"
+    cols = [c for c in SUMMARY_COLS if c in run.scols]
+    head = "<tr><th>config</th>" + "".join(f"<th>{html.escape(c)}</th>" for c in cols) + "</tr>"
+    rows = []
+    for r in run.summary:
+        cid = r.get("config_id") or r.get("label") or r.get("method") or "?"
+        cells = []
+        for c in cols:
+            v = r.get(c, "")
+            ci = to_float(r.get(c + "_ci95"))
+            f = to_float(v)
+            if c == "method" or not math.isfinite(f):
+                txt = v
+            else:
+                txt = f"{f:.4g}" + (f" ± {ci:.2g}" if math.isfinite(ci) else "")
+            cells.append(f"<td>{html.escape(txt)}</td>")
+        rows.append(f"<tr><td>{html.escape(cid)}</td>" + "".join(cells) + "</tr>")
+    return ("<table><caption>summary.csv: per-configuration means ± 95% half-width (units: "
+            "results/README.md; ms, dB)</caption>" + head + "".join(rows) + "</table>")
+
+
+def image_sections(run, out):
+    """Sections for images/frame_<n>/*.png, linked relative to the plots folder."""
+    img_root = os.path.join(run.dir, "images")
+    if not os.path.isdir(img_root):
+        return []
+    rel = os.path.relpath(img_root, out)
+    parts = []
+    frames = sorted((d for d in os.listdir(img_root) if os.path.isdir(os.path.join(img_root, d))),
+                    key=lambda d: (len(d), d))
+    for d in frames:
+        pngs = sorted(f for f in os.listdir(os.path.join(img_root, d)) if f.endswith(".png"))
+        if not pngs:
+            continue
+        # reference first, then per-configuration images in name order
+        pngs.sort(key=lambda f: (f != "reference.png", f))
+        parts.append(f"<h3>{html.escape(d)}</h3><div class='grid'>")
+        for f in pngs:
+            src = html.escape(f"{rel}/{d}/{f}")
+            parts.append(f"<figure><a href='{src}'><img src='{src}' alt='{html.escape(f)}'></a>"
+                         f"<figcaption>{html.escape(f)}</figcaption></figure>")
+        parts.append("</div>")
+    if parts:
+        parts.insert(0, "<h2 id='images'>Images (error maps: |luma error| turbo 0–0.25, FLIP magma 0–1)</h2>")
+    return parts
 
 
 def write_index(run, out, made, skipped):
@@ -319,14 +527,18 @@ def write_index(run, out, made, skipped):
     parts = [
         "<!DOCTYPE html>",
         f"<html><head><meta charset='utf-8'><title>fovsim: {html.escape(name)}</title>",
-        "<style>body{font-family:sans-serif;margin:2em}img{max-width:100%;border:1px solid #ccc}</style>",
+        "<style>body{font-family:sans-serif;margin:2em}img{max-width:100%;border:1px solid #ccc}"
+        "table{border-collapse:collapse;font-size:90%}td,th{border:1px solid #ccc;padding:2px 6px;text-align:right}"
+        ".grid{display:flex;flex-wrap:wrap;gap:8px}.grid figure{width:300px;margin:0;font-size:80%}</style>",
         f"</head><body><h1>fovsim results: {html.escape(name)}</h1>",
         f"<p>{len(run.configs)} configuration(s): {html.escape(', '.join(run.configs))}</p>",
+        "<h2 id='summary'>Summary</h2>", summary_table(run),
     ]
     if made:
         parts.append("<ul>" + "".join(f"<li><a href='#{f}'>{html.escape(t)}</a></li>" for t, f in made) + "</ul>")
     for title, f in made:
         parts.append(f"<h2 id='{f}'>{html.escape(title)}</h2><a href='{f}'><img src='{f}' alt='{html.escape(title)}'></a>")
+    parts += image_sections(run, out)
     if skipped:
         parts.append("<h2>Skipped</h2><ul>")
         parts += [f"<li>{html.escape(t)}: {html.escape(r)}</li>" for t, r in skipped]
@@ -352,12 +564,16 @@ def main(argv=None):
     made, skipped = [], []
     for title, fn in PLOTS:
         try:
-            f = fn(run, out)
-            made.append((title, f))
-            log(f"wrote {os.path.join(out, f)}")
+            fs = fn(run, out)
+            for f in fs if isinstance(fs, list) else [fs]:
+                made.append((title, f))
+                log(f"wrote {os.path.join(out, f)}")
         except Skip as e:
             skipped.append((title, str(e)))
             log(f"skipped '{title}': {e}")
+        except Exception as e:  # a plot must never hide the others (e.g. an unreadable PNG)
+            skipped.append((title, f"failed: {e!r}"))
+            log(f"failed '{title}': {e!r}")
     write_index(run, out, made, skipped)
     log(f"wrote {os.path.join(out, 'index.html')} ({len(made)} plots, {len(skipped)} skipped)")
     return 0

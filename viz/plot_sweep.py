@@ -26,6 +26,22 @@ import numpy as np  # noqa: E402
 PARAMS = ["sigma", "alpha", "fx", "fy", "epsilon", "vpl_budget"]
 PAIRS = [("sigma", "alpha"), ("fx", "fy"), ("sigma", "fx"), ("epsilon", "phi_f")]
 TIMING = {"ref_ms", "sim_ms"}
+MAX_STRIP_CONFIGS = 6  # strips show at most this many Pareto rows per cell frame (said in the title)
+
+
+def axis_label(col):
+    """Column name with its unit (results/README.md)."""
+    units = {"est_ms_total": "estimated frame time [ms]", "fpsnr": "FPSNR [dB]", "psnr": "PSNR [dB]",
+             "ssim": "SSIM [0–1]", "flip": "LDR-FLIP [0–1]", "shaded_fraction": "shaded fraction [of W·H]",
+             "shaded_samples": "shaded samples", "temporal_error": "temporal error [RMSE]"}
+    if col in units:
+        name = units[col].split(" [")[0].lower().replace(" ", "_").replace("-", "")
+        return units[col] if name in (col, col.replace("_", "")) else f"{units[col]} ({col})"
+    if col.startswith("est_ms_"):
+        return f"{col} [ms]"
+    if col.startswith("rmse_"):
+        return f"{col} [RMSE, display-encoded]"
+    return col
 
 
 class Skip(Exception):
@@ -51,6 +67,43 @@ class Sweep:
                 out.append(r.get("label"))
         return out
 
+    def color(self, label):
+        """One colour per method label, the same in every plot of the sweep."""
+        labs = self.labels()
+        return common.config_color(labs.index(label)) if label in labs else "0.5"
+
+    def axes_cols(self):
+        """Summary columns of the swept axes (named by their path, docs/sweeps.md)."""
+        return [a for a in self.meta.get("axes", []) if a in self.cols]
+
+    def params_text(self, r):
+        """The swept values that apply to row r, e.g. "sigma=1.8 alpha=4" (its own method's)."""
+        parts = []
+        lab = r.get("label", "")
+        for a in self.axes_cols():
+            v = r.get(a, "")
+            if v == "":
+                continue
+            # methods[<label>].<param>: show only the row's own method's parameters
+            if a.startswith("methods[") and "]" in a and a[len("methods["):a.index("]")] not in (lab, r.get("method")):
+                continue
+            parts.append(f"{a.rsplit('.', 1)[-1]}={v}")
+        return " ".join(parts)
+
+    def distinct(self):
+        """Rows with duplicates removed: a method not touched by any axis gives the same row in
+        every cell; keep its first (returns the rows kept and how many were duplicates)."""
+        seen, keep = set(), []
+        for r in self.rows:
+            key = (r.get("label"), r.get("gpu"), self.params_text(r),
+                   tuple(r.get(c, "") for c in self.cols if c not in TIMING and c not in
+                         ("config_id", "cell_id", "cell", "pareto") and c not in self.meta.get("axes", [])))
+            if key in seen:
+                continue
+            seen.add(key)
+            keep.append(r)
+        return keep, len(self.rows) - len(keep)
+
     def objectives(self):
         obj = []
         for o in self.meta.get("objectives", []):
@@ -72,31 +125,47 @@ def plot_pareto(sw, out):
     (cx, _), (cy, maxy) = sw.objectives()[:2]
     if cx not in sw.cols or cy not in sw.cols:
         raise Skip(f"summary.csv lacks {cx} or {cy}")
-    fig, ax = plt.subplots(figsize=(8, 5.5))
+    rows, dups = sw.distinct()
+    fig, ax = plt.subplots(figsize=(9, 6))
     for lab in sw.labels():
-        rs = [r for r in sw.rows if r.get("label") == lab]
-        pts = ax.scatter([sw.num(r, cx) for r in rs], [sw.num(r, cy) for r in rs], s=18, alpha=0.6, label=lab)
+        rs = [r for r in rows if r.get("label") == lab]
+        col = sw.color(lab)
+        ax.scatter([sw.num(r, cx) for r in rs], [sw.num(r, cy) for r in rs], s=22, alpha=0.8, color=col, label=lab,
+                   zorder=3)
         # 95% intervals (<col>_ci95, docs/intervals.md); undefined ones (nan) are not drawn.
         for r in rs:
             ex, ey = sw.num(r, cx + "_ci95"), sw.num(r, cy + "_ci95")
             if math.isfinite(ex) or math.isfinite(ey):
                 ax.errorbar([sw.num(r, cx)], [sw.num(r, cy)], xerr=[ex] if math.isfinite(ex) else None,
-                            yerr=[ey] if math.isfinite(ey) else None, fmt="none", lw=0.8, alpha=0.6,
-                            ecolor=pts.get_facecolor()[0])
-    front = [r for r in sw.rows if r.get("pareto") == "1"]
+                            yerr=[ey] if math.isfinite(ey) else None, fmt="none", lw=0.8, alpha=0.6, ecolor=col)
+    front = [r for r in rows if r.get("pareto") == "1"]
+    labelled = front if len(rows) > 30 else rows  # label every point when few, else the front
+    for r in labelled:
+        x, y = sw.num(r, cx), sw.num(r, cy)
+        if math.isfinite(x) and math.isfinite(y):
+            txt = sw.params_text(r) or r.get("label", "")
+            ax.annotate(txt, (x, y), fontsize=7, xytext=(4, 3), textcoords="offset points", color="0.2")
     if front:
         front.sort(key=lambda r: sw.num(r, cx))
         ax.plot([sw.num(r, cx) for r in front], [sw.num(r, cy) for r in front], "k-", lw=1.2, label="Pareto front")
-        ax.scatter([sw.num(r, cx) for r in front], [sw.num(r, cy) for r in front], s=40, facecolors="none",
-                   edgecolors="k")
+        ax.scatter([sw.num(r, cx) for r in front], [sw.num(r, cy) for r in front], s=60, facecolors="none",
+                   edgecolors="k", zorder=4)
     b = sw.budget()
     if b is not None and cx == "est_ms_total":
         ax.axvline(b, color="red", ls="--", lw=1, label=f"frame budget {b:.2f} ms")
-    ax.set_xlabel(cx + " (minimize)")
-    ax.set_ylabel(cy + (" (maximize)" if maxy else " (minimize)"))
-    ax.set_title(f"{sw.meta.get('name', '')}: {len(sw.rows)} configurations")
+    hidden = sorted({f"{r.get('label')} {sw.params_text(r)}".strip() for r in rows
+                     if not (math.isfinite(sw.num(r, cx)) and math.isfinite(sw.num(r, cy)))})
+    if hidden:
+        ax.text(0.01, 0.01, "not drawn (non-finite, e.g. fpsnr = inf when exact): " + ", ".join(hidden[:4]) +
+                (" …" if len(hidden) > 4 else ""), transform=ax.transAxes, fontsize=7, color="0.3")
+    ax.set_xlabel(axis_label(cx) + " — minimize")
+    ax.set_ylabel(axis_label(cy) + (" — maximize" if maxy else " — minimize"))
+    title = f"{sw.meta.get('name', '')}: {len(rows)} distinct configurations"
+    if dups:
+        title += f" ({dups} identical rows of unswept methods not repeated)"
+    ax.set_title(title, fontsize=10)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=7)
+    common.dedup_legend(ax, fontsize=7)
     common.save(fig, os.path.join(out, "pareto.png"))
     return ["pareto.png"]
 
@@ -114,7 +183,7 @@ def plot_heatmaps(sw, out):
         for px, py in pairs:
             xs = sorted({sw.num(r, px) for r in rs})
             ys = sorted({sw.num(r, py) for r in rs})
-            fig, axes = plt.subplots(1, len(metrics), figsize=(4.2 * len(metrics), 3.8), squeeze=False)
+            fig, axes = plt.subplots(1, len(metrics), figsize=(4.8 * len(metrics), 3.8), squeeze=False)
             for ax, m in zip(axes[0], metrics):
                 grid = np.full((len(ys), len(xs)), np.nan)
                 cnt = np.zeros_like(grid)
@@ -133,13 +202,16 @@ def plot_heatmaps(sw, out):
                 ax.set_yticklabels([f"{y:g}" for y in ys], fontsize=7)
                 ax.set_xlabel(px)
                 ax.set_ylabel(py)
-                ax.set_title(m, fontsize=9)
-                fig.colorbar(im, ax=ax, shrink=0.8)
-                if len(xs) * len(ys) <= 120:
+                ax.set_title(axis_label(m), fontsize=9)
+                fig.colorbar(im, ax=ax, shrink=0.8)  # unit in the panel title
+                if len(xs) * len(ys) <= 64:  # readable cell labels (8 pt) only where they fit
+                    lo, hi = np.nanmin(grid), np.nanmax(grid)
                     for i in range(len(ys)):
                         for j in range(len(xs)):
                             if math.isfinite(grid[i, j]):
-                                ax.text(j, i, f"{grid[i, j]:.3g}", ha="center", va="center", fontsize=5, color="w")
+                                dark = hi > lo and (grid[i, j] - lo) / (hi - lo) < 0.5
+                                ax.text(j, i, f"{grid[i, j]:.3g}", ha="center", va="center", fontsize=8,
+                                        color="w" if dark else "k")
             fig.suptitle(f"{lab}: {px} x {py}")
             f = f"heatmap_{lab}_{px}_{py}.png"
             common.save(fig, os.path.join(out, f))
@@ -155,7 +227,8 @@ def cell_frames(sw, cell_id):
 
 
 def selected(sw, limit=8):
-    rs = [r for r in sw.rows if r.get("pareto") == "1"] or sw.rows
+    rows, _ = sw.distinct()
+    rs = [r for r in rows if r.get("pareto") == "1"] or rows
     return rs[:limit]
 
 
@@ -181,13 +254,13 @@ def plot_timelines(sw, out):
         if not fr:
             continue
         ax.plot([to_float(x["frame"]) for x in fr], [to_float(x["est_ms_total"]) for x in fr], lw=1,
-                label=r.get("config_id"))
+                color=sw.color(r.get("label")), label=f"{r.get('label')} {sw.params_text(r)}".strip())
         if gaze is None:
             gaze = fr
     b = sw.budget()
     if b is not None:
         ax.axhline(b, color="red", ls="--", lw=1.2, label=f"budget {b:.2f} ms")
-    ax.set_xlabel("frame")
+    ax.set_xlabel("frame [index]")
     ax.set_ylabel("estimated frame time [ms]")
     ax.set_ylim(bottom=0)
     ax.grid(alpha=0.3)
@@ -200,7 +273,7 @@ def plot_timelines(sw, out):
         ax2 = ax.twinx()
         ax2.plot([to_float(x["frame"]) for x in gaze[1:]], sp, color="0.5", lw=0.8, ls=":", label="gaze speed")
         ax2.set_ylabel("gaze speed [deg/s]" if deg_per_px(sw) else "gaze speed [px/s]", color="0.4")
-    ax.legend(fontsize=7, loc="upper left")
+    common.dedup_legend(ax, fontsize=7, loc="upper left")
     ax.set_title("Per-frame estimated time of the Pareto configurations, with gaze speed")
     common.save(fig, os.path.join(out, "timelines.png"))
     return ["timelines.png"]
@@ -220,55 +293,63 @@ def plot_profiles(sw, out):
     for r in selected(sw):
         err = [sw.num(r, c + "_ci95") for c in bands]
         ax.errorbar([mid(c) for c in bands], [sw.num(r, c) for c in bands], marker="o", lw=1, capsize=2,
-                    yerr=[e if math.isfinite(e) else 0 for e in err], label=r.get("config_id"))
+                    yerr=[e if math.isfinite(e) else 0 for e in err], color=sw.color(r.get("label")),
+                    label=f"{r.get('label')} {sw.params_text(r)}".strip())
     ax.set_xlabel("eccentricity [deg] (band centre)")
-    ax.set_ylabel("RMSE (display-encoded)")
-    ax.set_title("Error vs. eccentricity of the Pareto configurations")
+    ax.set_ylabel("RMSE [display-encoded, 0–1]")
+    ax.set_title("Error vs. eccentricity of the Pareto configurations (error bars: 95% interval)")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=7)
+    common.dedup_legend(ax, fontsize=7)
     common.save(fig, os.path.join(out, "eccentricity_profiles.png"))
     return ["eccentricity_profiles.png"]
 
 
+strip_geometry = common.strip_geometry  # kept for tests and callers
+
+
 def plot_strips(sw, out):
+    """Side-by-side strip per cell frame: reference and the cell's selected methods, each with
+    the gaze marked, a zoomed inset at the gaze and one in the periphery, and the error map
+    (|luma error|, turbo 0–0.25, with its colour bar)."""
     made = []
-    for r in selected(sw, 4):
-        cid, lab = r.get("cell_id", ""), r.get("label", "")
+    cells = list(dict.fromkeys(r.get("cell_id", "") for r in selected(sw, 16)))  # cells of the front
+    if len(cells) > 4:
+        log(f"strips: {len(cells)} cells hold front configurations; strips drawn for the first 4")
+    for cid in cells[:4]:
+        # every method of the cell side by side (Pareto rows first), at most MAX_STRIP_CONFIGS
+        rows = [r for r in sw.rows if r.get("cell_id", "") == cid]
+        rows.sort(key=lambda r: r.get("pareto") != "1")
+        shown = rows[:MAX_STRIP_CONFIGS]
+        m = common.read_json(os.path.join(sw.dir, "runs", cid, "manifest.json")) or {}
+        disp = common.find_display(m) or {}
+        frames_rows = cell_frames(sw, cid)
         for fdir in sorted(glob.glob(os.path.join(sw.dir, "runs", cid, "images", "frame_*")))[:2]:
-            ref, img = os.path.join(fdir, "reference.png"), os.path.join(fdir, lab + ".png")
-            err = os.path.join(fdir, lab + "_error.png")
-            if not (os.path.exists(ref) and os.path.exists(img)):
+            ref = os.path.join(fdir, "reference.png")
+            if not os.path.exists(ref):
                 continue
             frame = fdir.rsplit("_", 1)[-1]
-            fr = [x for x in cell_frames(sw, cid) if x.get("frame") == frame and x.get("label") == lab]
-            ims = [("reference", plt.imread(ref)), (lab, plt.imread(img))]
-            if os.path.exists(err):
-                ims.append(("error", plt.imread(err)))
-            h, w = ims[0][1].shape[:2]
+            cols = [("reference", plt.imread(ref), None)]
+            for r in shown:
+                lab = r.get("label", "")
+                img = os.path.join(fdir, lab + ".png")
+                if os.path.exists(img):
+                    err = os.path.join(fdir, lab + "_error.png")
+                    star = " (Pareto)" if r.get("pareto") == "1" else ""
+                    cols.append((f"{lab} {sw.params_text(r)}{star}".strip(), plt.imread(img),
+                                 plt.imread(err) if os.path.exists(err) else None))
+            if len(cols) < 2:
+                continue
+            h, w = cols[0][1].shape[:2]
             gx, gy = w / 2, h / 2
-            m = common.read_json(os.path.join(sw.dir, "runs", cid, "manifest.json")) or {}
-            disp = common.find_display(m) or {}
+            fr = [x for x in frames_rows if x.get("frame") == frame]
             if fr and disp.get("width"):
-                s = w / float(disp["width"])
-                gx, gy = to_float(fr[0]["gaze_x"]) * s, to_float(fr[0]["gaze_y"]) * s
-            z = max(8, min(w, h) // 6)
-            fig, axes = plt.subplots(2, len(ims), figsize=(3.6 * len(ims), 6), squeeze=False)
-            for k, (name, im) in enumerate(ims):
-                axes[0][k].imshow(im)
-                axes[0][k].add_patch(plt.Rectangle((gx - z, gy - z), 2 * z, 2 * z, fill=False, ec="lime", lw=1))
-                axes[0][k].add_patch(plt.Rectangle((w * 0.85 - z, h * 0.5 - z), 2 * z, 2 * z, fill=False, ec="orange", lw=1))
-                axes[0][k].set_title(name, fontsize=9)
-                x0, y0 = int(max(0, gx - z)), int(max(0, gy - z))
-                fov = im[y0:y0 + 2 * z, x0:x0 + 2 * z]
-                per = im[int(h * 0.5 - z):int(h * 0.5 + z), int(w * 0.85 - z):int(w * 0.85 + z)]
-                axes[1][k].imshow(np.concatenate([fov[:min(len(fov), len(per))], per[:min(len(fov), len(per))]], axis=1)
-                                  if fov.size and per.size and fov.shape[1:] == per.shape[1:] else (fov if fov.size else im),
-                                  interpolation="nearest")
-                axes[1][k].set_title("zoom: fovea (green) | periphery (orange)", fontsize=7)
-                for a in (axes[0][k], axes[1][k]):
-                    a.axis("off")
-            fig.suptitle(f"{r.get('config_id')} frame {frame}")
-            f = f"strip_{cid}_{lab}_{frame}.png"
+                sc = w / float(disp["width"])
+                gx, gy = to_float(fr[0]["gaze_x"]) * sc, to_float(fr[0]["gaze_y"]) * sc
+            title = f"cell {cid}, frame {frame}: gaze +"
+            if len(rows) > len(shown):
+                title += f" ({len(shown)} of {len(rows)} configurations shown)"
+            fig = common.draw_strip(cols, gx, gy, title)
+            f = f"strip_{cid}_{frame}.png"
             common.save(fig, os.path.join(out, f))
             made.append(f)
     if not made:
@@ -291,11 +372,13 @@ PLOTS = [("Pareto front", plot_pareto), ("Heat maps", plot_heatmaps), ("Timeline
          ("Foveal quality vs latency", plot_latency)]
 
 
-def csv_table(path, limit=60):
+def csv_table(path, limit=60, first=()):
+    """HTML table: the `first` columns (keys, axes, objectives), then the others up to 24."""
     cols, rows = common.read_csv(path)
     if not cols:
         return ""
-    keep = [c for c in cols if c not in TIMING][:24]
+    lead = [c for c in first if c in cols]
+    keep = (lead + [c for c in cols if c not in TIMING and c not in lead])[:max(24, len(lead))]
     h = ["<table border=1 cellspacing=0 cellpadding=2 style='font-size:11px'><tr>"]
     h += [f"<th>{html.escape(c)}</th>" for c in keep] + ["</tr>"]
     for r in rows[:limit]:
@@ -322,7 +405,10 @@ def write_index(sw, out, made, skipped):
     p.append("</ul>")
     for t in ("iso_budget.csv", "pareto.csv"):
         if os.path.exists(os.path.join(sw.dir, t)):
-            p.append(f"<h2>{t}</h2>" + csv_table(os.path.join(sw.dir, t)))
+            lead = ["config_id", "label", "gpu"] + sw.axes_cols()
+            for o, _ in sw.objectives():
+                lead += [o, o + "_ci95"]
+            p.append(f"<h2>{t}</h2>" + csv_table(os.path.join(sw.dir, t), first=lead + ["pareto"]))
     for t, f in made:
         p.append(f"<h3 id='{f}'>{html.escape(t)}: {f}</h3><a href='{f}'><img src='{f}'></a>")
     if skipped:

@@ -11,6 +11,7 @@
 #include "sim/core/error.h"
 #include "sim/core/files.h"
 #include "sim/experiment/config.h"
+#include "sim/experiment/plots.h"
 #include "sim/foveation/density.h"
 #include "sim/foveation/factory.h"
 
@@ -106,9 +107,10 @@ int run_density(const DensityArgs& a) {
     std::printf("%-11s shaded_fraction %.4f  theoretical speedup %.2fx\n", m.c_str(),
                 js["shaded_fraction"].get<double>(), js["theoretical_speedup"].get<double>());
   std::printf("wrote %s.csv, %s.json\n", a.out.c_str(), a.out.c_str());
-  if (a.plot) {
-    std::string cmd = "/usr/bin/python3 viz/plot_density.py '" + a.out + ".csv' '" + a.out + ".png'";
-    if (std::system(cmd.c_str()) != 0) throw Error("--plot", "viz/plot_density.py failed (command: " + cmd + ")");
+  if (a.plot) {  // the one launcher (sim/experiment/plots.h): finds viz/ from any directory
+    PlotOutcome p = run_plot_script("plot_density.py", {a.out + ".csv", a.out + ".png"}, false);
+    if (p.status == PlotOutcome::Status::Failed) throw Error("--plot", p.message);
+    if (!p.message.empty()) std::printf("%s\n", p.message.c_str());
   }
   return 0;
 }

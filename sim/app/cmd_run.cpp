@@ -1,7 +1,9 @@
 // `fovsim run CONFIG.json [--out DIR] [key.path=value ...]`
+#include <cstdio>
 #include <memory>
 
 #include "sim/app/commands.h"
+#include "sim/experiment/plots.h"
 #include "sim/experiment/runner.h"
 
 namespace fovsim::app {
@@ -11,7 +13,7 @@ struct RunArgs {
   std::string config, out, models;
   std::vector<std::string> overrides, targets;
   int threads = 0;
-  bool quiet = false;
+  bool quiet = false, no_plots = false;
   double watchdog_s = 60;
 };
 }  // namespace
@@ -27,6 +29,10 @@ void register_run(CLI::App& app, Action& action) {
       ->check(CLI::Range(0, 4096));
   c->add_option("--models", a->models, "Models directory (default: $FOVSIM_MODELS, ./models, or the source tree's)");
   c->add_flag("-q,--quiet", a->quiet, "Do not print the summary table");
+  c->add_flag(
+      "--no-plots", a->no_plots,
+      "Do not run viz/plot_run.py at the end (plots and index.html in <out>/plots/; skipped with a "
+      "message when /usr/bin/python3 has no matplotlib)");
   c->add_option("--watchdog", a->watchdog_s,
                 "Seconds: stop with an error naming the frame and method when one method's frame runs longer than\n"
                 "max(SECONDS, 50x the median of its previous frames) (its first frame: 10x SECONDS); 0 disables")
@@ -51,7 +57,14 @@ void register_run(CLI::App& app, Action& action) {
       for (auto& o : a->overrides) opt.command_line += " " + o;
       for (auto& t : a->targets) opt.command_line += " --target " + t;
       opt.targets = a->targets;
-      run_experiment(cfg, opt);
+      RunResult r = run_experiment(cfg, opt);
+      if (!a->no_plots) {
+        PlotOutcome p = run_plot_script("plot_run.py", {r.out_dir}, a->quiet);
+        if (p.status == PlotOutcome::Status::Failed)
+          std::fprintf(stderr, "fovsim: %s\n", p.message.c_str());
+        else if (p.status == PlotOutcome::Status::Skipped && !p.message.empty() && !a->quiet)
+          std::printf("%s\n", p.message.c_str());
+      }
       return 0;
     };
     (void)c;

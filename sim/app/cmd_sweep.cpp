@@ -8,6 +8,7 @@
 #include "sim/app/commands.h"
 #include "sim/core/error.h"
 #include "sim/core/files.h"
+#include "sim/experiment/plots.h"
 #include "sim/experiment/search_runner.h"
 #include "sim/experiment/sweep_runner.h"
 
@@ -30,17 +31,14 @@ std::string command_line(const std::string& cmd, const SweepArgs& a) {
   return s;
 }
 
-// Plots and index.html (viz/plot_sweep.py) when Python 3 with matplotlib is available.
+// Plots and index.html (viz/plot_sweep.py) through the one launcher (sim/experiment/plots.h):
+// skipped with one line when /usr/bin/python3 or matplotlib is missing.
 void make_plots(const std::string& out, bool quiet) {
-  std::string script = find_viz_script("plot_sweep.py");
-  if (script.empty()) return;
-  std::string cmd = "/usr/bin/python3 '" + script + "' '" + out + "'" + (quiet ? " >/dev/null 2>&1" : " 2>&1");
-  if (std::system(("/usr/bin/python3 -c 'import matplotlib' >/dev/null 2>&1")) != 0) {
-    if (!quiet) std::printf("plots skipped: /usr/bin/python3 with matplotlib not found\n");
-    return;
-  }
-  int rc = std::system(cmd.c_str());
-  if (rc != 0) std::fprintf(stderr, "fovsim: warning: %s failed (exit %d); results are complete\n", script.c_str(), rc);
+  PlotOutcome p = run_plot_script("plot_sweep.py", {out}, quiet);
+  if (p.status == PlotOutcome::Status::Failed)
+    std::fprintf(stderr, "fovsim: %s\n", p.message.c_str());
+  else if (p.status == PlotOutcome::Status::Skipped && !p.message.empty() && !quiet)
+    std::printf("%s\n", p.message.c_str());
 }
 
 void options_common(CLI::App* c, SweepArgs& a) {

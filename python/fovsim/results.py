@@ -1,0 +1,164 @@
+"""Loaders for fovsim's result folders (results/README.md, docs/sweeps.md).
+
+CSV cells follow results/README.md: numbers with %.10g, `inf`/`nan` spelled so, empty cells
+for parameters a method does not have. A column whose every non-empty cell parses as a
+number becomes float64 (empty -> nan); any other column stays text (numpy unicode).
+"""
+import csv
+import json
+import math
+import os
+
+import numpy as np
+
+
+def _is_number(s):
+    try:
+        float(s)
+        return True
+    except ValueError:
+        return False
+
+
+def load_csv(path):
+    """Reads one fovsim CSV into a numpy structured array (one field per column, file order).
+
+    Numeric columns are float64 with nan for empty cells; text columns are `<U n`. Returns
+    None when the file does not exist; a header-only file gives an empty array that keeps
+    its columns (all float64)."""
+    if not os.path.exists(path):
+        return None
+    with open(path, newline="") as f:
+        reader = csv.reader(f)
+        try:
+            header = next(reader)
+        except StopIteration:
+            raise ValueError(f"{path}: empty file (no header)")
+        rows = []
+        for lineno, row in enumerate(reader, start=2):
+            if len(row) != len(header):
+                raise ValueError(f"{path}:{lineno}: {len(row)} cells, header has {len(header)}")
+            rows.append(row)
+    if len(set(header)) != len(header):
+        dup = sorted({c for c in header if header.count(c) > 1})
+        raise ValueError(f"{path}:1: duplicate column(s) {', '.join(dup)}")
+    dtypes, columns = [], []
+    for j, name in enumerate(header):
+        cells = [r[j].strip() for r in rows]
+        if all(c == "" or _is_number(c) for c in cells):
+            columns.append([float(c) if c != "" else math.nan for c in cells])
+            dtypes.append((name, "f8"))
+        else:
+            width = max([1] + [len(c) for c in cells])
+            columns.append(cells)
+            dtypes.append((name, f"U{width}"))
+    out = np.empty(len(rows), dtype=dtypes)
+    for (name, _), col in zip(dtypes, columns):
+        out[name] = col
+    return out
+
+
+def _load_json(path):
+    if not os.path.exists(path):
+        return None
+    with open(path) as f:
+        return json.load(f)
+
+
+def load_run(directory):
+    """Loads a `fovsim run` folder: {"frames", "summary", "paired"} as structured arrays (None
+    when the file is absent), "manifest" as a dict (None when absent), "dir" the folder.
+    Raises FileNotFoundError when the folder has neither frames.csv nor summary.csv."""
+    d = os.fspath(directory)
+    res = {
+        "dir": d,
+        "frames": load_csv(os.path.join(d, "frames.csv")),
+        "summary": load_csv(os.path.join(d, "summary.csv")),
+        "paired": load_csv(os.path.join(d, "paired.csv")),
+        "manifest": _load_json(os.path.join(d, "manifest.json")),
+    }
+    if res["frames"] is None and res["summary"] is None:
+        raise FileNotFoundError(f"{d}: no frames.csv or summary.csv (not a fovsim run folder)")
+    return res
+
+
+def load_sweep(directory, cells=False):
+    """Loads a `fovsim sweep` folder: {"summary", "pareto"} as structured arrays, "sweep" (the
+    expanded sweep.json) as a dict, "dir"; with cells=True also "cells": {cell_id: load_run(...)}
+    for every complete cell under runs/. Raises FileNotFoundError without summary.csv."""
+    d = os.fspath(directory)
+    summary = load_csv(os.path.join(d, "summary.csv"))
+    if summary is None:
+        raise FileNotFoundError(f"{d}: no summary.csv (not a merged fovsim sweep folder)")
+    res = {
+        "dir": d,
+        "summary": summary,
+        "pareto": load_csv(os.path.join(d, "pareto.csv")),
+        "sweep": _load_json(os.path.join(d, "sweep.json")),
+    }
+    if cells:
+        res["cells"] = {}
+        runs = os.path.join(d, "runs")
+        if os.path.isdir(runs):
+            for name in sorted(os.listdir(runs)):
+                cd = os.path.join(runs, name)
+                if os.path.exists(os.path.join(cd, "cell.json")):
+                    res["cells"][name] = load_run(cd)
+    return res
+
+
+def numeric_columns(arr, exclude=()):
+    """Names of the float64 fields of a structured array, in file order."""
+    return [n for n in arr.dtype.names if arr.dtype[n].kind == "f" and n not in exclude]
+
+
+def select(arr, **equal):
+    """Rows whose fields equal the given values, e.g. select(frames, method="kfr")."""
+    mask = np.ones(len(arr), dtype=bool)
+    for k, v in equal.items():
+        if k not in arr.dtype.names:
+            raise KeyError(f"no column {k!r} (columns: {', '.join(arr.dtype.names)})")
+        mask &= arr[k] == v
+    return arr[mask]
+
+
+def long_format(arr, id_cols, value_cols=None, drop_nan=True):
+    """Tidy (long) form: one row per input row × value column, fields id_cols + `metric` +
+    `value`. value_cols defaults to every numeric column not in id_cols. With drop_nan (the
+    default) cells that are nan — a column a method does not fill — are left out; inf (psnr of
+    an exact image) is kept. Works on frames (frame × method × metric) and summaries."""
+    names = arr.dtype.names
+    for c in list(id_cols) + list(value_cols or []):
+        if c not in names:
+            raise KeyError(f"no column {c!r} (columns: {', '.join(names)})")
+    if value_cols is None:
+        value_cols = numeric_columns(arr, exclude=set(id_cols))
+    for c in value_cols:
+        if arr.dtype[c].kind != "f":
+            raise TypeError(f"column {c!r} is text, not numeric")
+    mwidth = max([6] + [len(c) for c in value_cols])
+    dt = [(c, arr.dtype[c]) for c in id_cols] + [("metric", f"U{mwidth}"), ("value", "f8")]
+    parts = []
+    for c in value_cols:
+        v = arr[c]
+        keep = ~np.isnan(v) if drop_nan else np.ones(len(arr), dtype=bool)
+        part = np.empty(int(keep.sum()), dtype=dt)
+        for ic in id_cols:
+            part[ic] = arr[ic][keep]
+        part["metric"] = c
+        part["value"] = v[keep]
+        parts.append(part)
+    if not parts:
+        return np.empty(0, dtype=dt)
+    return np.concatenate(parts)
+
+
+def to_dataframe(arr):
+    """pandas.DataFrame of a structured array (frames, summary, or long_format's output).
+    pandas is optional (Debian python3-pandas); without it this raises ImportError."""
+    try:
+        import pandas as pd
+    except ImportError as e:
+        raise ImportError("fovsim.to_dataframe needs pandas (apt-get install python3-pandas); "
+                          "the structured arrays work without it") from e
+    return pd.DataFrame(arr)

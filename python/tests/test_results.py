@@ -1,0 +1,122 @@
+#!/usr/bin/python3
+"""Tests of python/fovsim (results loader). Run by ctest (PythonResults); exits 77 (ctest
+SKIP_RETURN_CODE) when numpy is not installed."""
+import json
+import math
+import os
+import sys
+import tempfile
+import unittest
+
+try:
+    import numpy as np
+except ImportError:
+    print("numpy not installed (apt-get install python3-numpy): skipped")
+    sys.exit(77)
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+import fovsim  # noqa: E402
+
+FRAMES = """config_id,method,label,frame,t,sigma,psnr,ssim,est_ms_total
+full,full,full,0,0,,inf,1,10.5
+full,full,full,1,0.011,,inf,1,10.25
+kfr,kfr,kfr,0,0,1.8,31.5,0.91,4.5
+kfr,kfr,kfr,1,0.011,1.8,nan,0.93,4.75
+"""
+SUMMARY = """config_id,method,frames,psnr,psnr_ci95,est_ms_total
+full,full,2,inf,nan,10.375
+kfr,kfr,2,31.5,nan,4.625
+"""
+
+
+def write(d, name, text):
+    with open(os.path.join(d, name), "w") as f:
+        f.write(text)
+
+
+class LoaderTest(unittest.TestCase):
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory()
+        self.d = self.tmp.name
+        write(self.d, "frames.csv", FRAMES)
+        write(self.d, "summary.csv", SUMMARY)
+        write(self.d, "manifest.json", json.dumps({"display": {"refresh_hz": 90}}))
+
+    def tearDown(self):
+        self.tmp.cleanup()
+
+    def test_types_and_values(self):
+        f = fovsim.load_csv(os.path.join(self.d, "frames.csv"))
+        self.assertEqual(f.dtype.names, ("config_id", "method", "label", "frame", "t", "sigma", "psnr", "ssim",
+                                         "est_ms_total"))
+        self.assertEqual(f.dtype["config_id"].kind, "U")
+        self.assertEqual(f.dtype["sigma"].kind, "f")
+        self.assertTrue(math.isnan(f["sigma"][0]))  # empty: method has no sigma
+        self.assertEqual(f["sigma"][2], 1.8)
+        self.assertTrue(math.isinf(f["psnr"][0]))  # exact image
+        self.assertTrue(math.isnan(f["psnr"][3]))
+        self.assertEqual(list(f["est_ms_total"]), [10.5, 10.25, 4.5, 4.75])
+
+    def test_load_run(self):
+        r = fovsim.load_run(self.d)
+        self.assertEqual(len(r["frames"]), 4)
+        self.assertEqual(len(r["summary"]), 2)
+        self.assertIsNone(r["paired"])
+        self.assertEqual(r["manifest"]["display"]["refresh_hz"], 90)
+        self.assertEqual(list(fovsim.select(r["frames"], method="kfr")["frame"]), [0.0, 1.0])
+
+    def test_missing_folder_is_an_error(self):
+        with tempfile.TemporaryDirectory() as e:
+            with self.assertRaisesRegex(FileNotFoundError, "no frames.csv or summary.csv"):
+                fovsim.load_run(e)
+
+    def test_ragged_row_names_line(self):
+        write(self.d, "bad.csv", "a,b\n1,2\n3\n")
+        with self.assertRaisesRegex(ValueError, r"bad.csv:3: 1 cells, header has 2"):
+            fovsim.load_csv(os.path.join(self.d, "bad.csv"))
+
+    def test_long_format(self):
+        f = fovsim.load_csv(os.path.join(self.d, "frames.csv"))
+        tidy = fovsim.long_format(f, ["config_id", "frame"], ["psnr", "ssim", "sigma"])
+        self.assertEqual(tidy.dtype.names, ("config_id", "frame", "metric", "value"))
+        # 4 psnr (one nan dropped -> 3) + 4 ssim + 2 sigma (full has none) = 9 rows
+        self.assertEqual(len(tidy), 9)
+        kfr_psnr = tidy[(tidy["config_id"] == "kfr") & (tidy["metric"] == "psnr")]
+        self.assertEqual(list(kfr_psnr["value"]), [31.5])
+        self.assertEqual(len(fovsim.long_format(f, ["config_id"], ["psnr"], drop_nan=False)), 4)
+        # default value columns: every numeric column except the ids
+        self.assertEqual(set(fovsim.long_format(f, ["config_id", "frame"])["metric"]),
+                         {"t", "sigma", "psnr", "ssim", "est_ms_total"})
+        with self.assertRaisesRegex(KeyError, "no column 'nope'"):
+            fovsim.long_format(f, ["nope"])
+        with self.assertRaisesRegex(TypeError, "'method' is text"):
+            fovsim.long_format(f, ["config_id"], ["method"])
+
+    def test_to_dataframe(self):
+        f = fovsim.load_csv(os.path.join(self.d, "frames.csv"))
+        try:
+            import pandas  # noqa: F401
+        except ImportError:
+            with self.assertRaisesRegex(ImportError, "python3-pandas"):
+                fovsim.to_dataframe(f)
+            return
+        df = fovsim.to_dataframe(fovsim.long_format(f, ["config_id", "frame"], ["ssim"]))
+        self.assertEqual(list(df.columns), ["config_id", "frame", "metric", "value"])
+        self.assertEqual(len(df), 4)
+
+    def test_load_sweep(self):
+        write(self.d, "pareto.csv", SUMMARY.splitlines()[0] + "\n" + SUMMARY.splitlines()[2] + "\n")
+        os.makedirs(os.path.join(self.d, "runs", "0-abc"))
+        cell = os.path.join(self.d, "runs", "0-abc")
+        write(cell, "summary.csv", SUMMARY)
+        write(cell, "cell.json", "{}")
+        os.makedirs(os.path.join(self.d, "runs", "1-def"))  # incomplete cell: no cell.json
+        s = fovsim.load_sweep(self.d, cells=True)
+        self.assertEqual(len(s["summary"]), 2)
+        self.assertEqual(list(s["pareto"]["config_id"]), ["kfr"])
+        self.assertEqual(list(s["cells"]), ["0-abc"])
+        self.assertIsNone(s["sweep"])
+
+
+if __name__ == "__main__":
+    unittest.main()

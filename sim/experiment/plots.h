@@ -1,0 +1,34 @@
+// One way of launching the plotting scripts in viz/ (used by `fovsim run` and `fovsim sweep`).
+// Plots are optional: a missing /usr/bin/python3, matplotlib or script is reported in one line
+// and skipped; a failing script is a warning, never an error (the results are complete).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace fovsim {
+
+struct PlotOutcome {
+  enum class Status { Made, Skipped, Failed };
+  Status status = Status::Skipped;
+  std::string message;  // one line for the user: what was skipped or failed and why
+};
+
+// Interpreter used for every viz script (Debian's python3 with python3-matplotlib).
+inline constexpr const char* kPlotPython = "/usr/bin/python3";
+
+// Quotes one argument for /bin/sh (single quotes; embedded ' becomes '\'').
+std::string shell_quote(const std::string& s);
+
+// The shell command that runs viz/<script> with `args` (script path from find_viz_script).
+std::string plot_command(const std::string& script_path, const std::vector<std::string>& args,
+                         bool quiet);
+
+// Runs viz/<script> on `args`. Skips (Status::Skipped, message says why) when the script is
+// not found, /usr/bin/python3 is missing or cannot import matplotlib; skips silently (empty
+// message) when the environment sets FOVSIM_NO_PLOTS to a value other than "0" (used by the
+// test suites). `quiet` silences the script's own output.
+PlotOutcome run_plot_script(const std::string& script, const std::vector<std::string>& args,
+                            bool quiet);
+
+}  // namespace fovsim
