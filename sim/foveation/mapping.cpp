@@ -213,10 +213,13 @@ void lp_reconstruct_rows(const Image& lp, const LogPolarMap& map, int W, int H, 
       if (!(v < h)) v = 0;
       // bilinear(lp, u, v, true) for u in [0, w], v in [0, h) (finite; no clamp of fx, fy
       // needed): x clamps at the borders, y wraps.
+      // floor() without the libm call (the base build has no SSE4.1 roundsd): fx, fy are
+      // finite, in [-0.5, w] and [-0.5, h) and never -0 (u - 0.5 rounds an exact zero to +0),
+      // so truncation, minus one below a negative fraction, is floor exactly, bit for bit.
       const double fx = u - 0.5, fy = v - 0.5;
-      const double x0f = std::floor(fx), y0f = std::floor(fy);
-      const float tx = float(fx - x0f), ty = float(fy - y0f);
-      const int xi = int(x0f), yi = int(y0f);
+      const int xt = int(fx), yt = int(fy);
+      const int xi = double(xt) > fx ? xt - 1 : xt, yi = double(yt) > fy ? yt - 1 : yt;
+      const float tx = float(fx - double(xi)), ty = float(fy - double(yi));
       const int x0 = xi < 0 ? 0 : xi, x1 = xi + 1 > lw1 ? lw1 : xi + 1;
       const int y0 = yi < 0 ? lh - 1 : yi, y1 = yi + 1 >= lh ? yi + 1 - lh : yi + 1;
       const float* r0 = lpd + size_t(y0) * lstride;
