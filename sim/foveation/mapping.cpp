@@ -188,7 +188,9 @@ void polar_angle_row(double* v, int n, double gx, double dy, double v_per_rad) {
 
 namespace {
 // lp_reconstruct's row loop; Kern(t) returns K(t) for t in [0, 1]. Per row: angles (vector
-// loop), then radii (log) and the bilinear reads.
+// loop), then radii (log, K) into a row of u, then the bilinear reads. The log (a libm call
+// that clobbers every vector register) runs in its own loop so the bilinear loop keeps its
+// values in registers; each pixel's operations are unchanged.
 template <class Kern>
 void lp_reconstruct_rows(const Image& lp, const LogPolarMap& map, int W, int H, Image& out, Kern kern) {
   // Divisions by L and 2 pi / h as multiplications (a 1-ulp change of u, v in double).
@@ -198,17 +200,21 @@ void lp_reconstruct_rows(const Image& lp, const LogPolarMap& map, int W, int H, 
     const int lw1 = lp.width - 1, lh = lp.height;
     const size_t lstride = size_t(lp.width) * 3;
     const float* lpd = lp.data.data();
-    thread_local std::vector<double> vrow;  // per-thread row scratch (no per-row allocation)
+    thread_local std::vector<double> vrow, urow;  // per-thread row scratch (no per-row allocation)
     vrow.resize(size_t(W));
+    urow.resize(size_t(W));
     const double dy = (y + 0.5) - gy, dy2 = dy * dy;
     polar_angle_row(vrow.data(), W, gx, dy, v_per_rad);
-    float* o = out.row(y);
     for (int x = 0; x < W; ++x) {
       // LogPolarMap::forward (eq. 2.10).
       const double dx = (x + 0.5) - gx;
       const double r2 = dx * dx + dy2;  // log r = log(r^2) / 2 (no sqrt)
       const double t = r2 > 1.0 ? std::min(std::log(r2) * half_inv_L, 1.0) : 0.0;
-      const double u = kern(t) * w;
+      urow[size_t(x)] = kern(t) * w;
+    }
+    float* o = out.row(y);
+    for (int x = 0; x < W; ++x) {
+      const double u = urow[size_t(x)];
       double v = vrow[size_t(x)];
       if (!(v < h)) v = 0;
       // bilinear(lp, u, v, true) for u in [0, w], v in [0, h) (finite; no clamp of fx, fy
