@@ -375,6 +375,11 @@ struct SampleWriter {
   const Camera* prev;
   uint32_t ch;
 
+  void albedo(GBuffer& g, size_t i, glm::vec2 uv, int mat) const {
+    const Material& mt = scene.materials[size_t(mat)];
+    g.albedo[i] = eval_albedo(scene, mt, uv, I.mat_cs[size_t(mat)].x, I.mat_cs[size_t(mat)].y);
+  }
+
   void miss(GBuffer& g, size_t i) const {
     g.depth[i] = kInf;
     if (ch & kPosition) g.position[i] = glm::vec3(0.f);
@@ -387,8 +392,15 @@ struct SampleWriter {
     if (ch & kUV) g.uv[i] = glm::vec2(0.f);
   }
 
+  // With `deferred` (a packet's pass), the albedo is not evaluated here: the texture inputs
+  // go to deferred->uv / mat and the caller runs eval_albedo for the packet afterwards.
+  struct Deferred {
+    glm::vec2 uv;
+    int mat;
+  };
   void hit(GBuffer& g, size_t i, const glm::vec3& org, const glm::vec3& dir, float t, int obj,
-           uint32_t prim, float bu, float bv, const glm::vec2& px) const {
+           uint32_t prim, float bu, float bv, const glm::vec2& px,
+           Deferred* deferred = nullptr) const {
     refine_hit(I, scene, obj, prim, org, dir, t, bu, bv);
     g.depth[i] = t;
     if (!(ch & ~kDepth)) return;
@@ -424,8 +436,10 @@ struct SampleWriter {
       if (ch & kUV) g.uv[i] = uv;
     }
     if (ch & kAlbedo) {
-      const Material& mt = scene.materials[size_t(mat)];
-      g.albedo[i] = eval_albedo(scene, mt, uv, I.mat_cs[size_t(mat)].x, I.mat_cs[size_t(mat)].y);
+      if (deferred)
+        *deferred = {uv, mat};
+      else
+        albedo(g, i, uv, mat);
     }
     if (ch & kNormal) {
       glm::vec3 n;
@@ -521,6 +535,11 @@ struct Packet {
     rtcInitIntersectContext(&ctx);
     ctx.flags = I.packet_flags;
     rtcIntersect16(valid, I.top, &ctx, &rh);
+    // Geometry of every lane first, then the packet's textures (libm sin/cos calls) in a loop
+    // of their own; each sample's operations are unchanged.
+    SampleWriter::Deferred tex[16];
+    int hits[16], nh = 0;
+    const bool albedo = (w.ch & kAlbedo) != 0;
     for (int k = 0; k < n; ++k) {
       if (rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) {
         w.miss(g, idx[k]);
@@ -531,8 +550,11 @@ struct Packet {
       h.instID[0] = rh.hit.instID[0][k];
       glm::vec3 d(rh.ray.dir_x[k], rh.ray.dir_y[k], rh.ray.dir_z[k]);
       w.hit(g, idx[k], o, d, rh.ray.tfar[k], hit_object(I, h), rh.hit.primID[k], rh.hit.u[k],
-            rh.hit.v[k], px[k]);
+            rh.hit.v[k], px[k], albedo ? &tex[nh] : nullptr);
+      hits[nh++] = k;
     }
+    if (albedo)
+      for (int j = 0; j < nh; ++j) w.albedo(g, idx[hits[j]], tex[j].uv, tex[j].mat);
     n = 0;
   }
 };
