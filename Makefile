@@ -13,7 +13,7 @@ DEB_OPT  := python3-skimage assimp-testmodels
 
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
-.PHONY: all deps deps-bench build demo test bench clean format update-golden docs
+.PHONY: all deps deps-bench build demo test bench bench-report clean format update-golden docs
 
 all: build
 
@@ -57,6 +57,10 @@ test: build
 
 bench: deps-bench build
 	@for b in $(BUILD)/bench_*; do echo "== $$b"; $$b; done
+
+# The ratios against the real limits (issue 19; bench/README.md), one run, one thread.
+bench-report: deps-bench build
+	bench/report.sh $(BUILD)
 
 format:
 	clang-format -i $$(git ls-files 'sim/*.cpp' 'sim/*.h' 'tests/*.cpp' 'bench/*.cpp')

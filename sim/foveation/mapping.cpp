@@ -188,7 +188,9 @@ void polar_angle_row(double* v, int n, double gx, double dy, double v_per_rad) {
 
 namespace {
 // lp_reconstruct's row loop; Kern(t) returns K(t) for t in [0, 1]. Per row: angles (vector
-// loop), then radii (log) and the bilinear reads.
+// loop), then radii (log, K) into a row of u, then the bilinear reads. The log (a libm call
+// that clobbers every vector register) runs in its own loop so the bilinear loop keeps its
+// values in registers; each pixel's operations are unchanged.
 template <class Kern>
 void lp_reconstruct_rows(const Image& lp, const LogPolarMap& map, int W, int H, Image& out, Kern kern) {
   // Divisions by L and 2 pi / h as multiplications (a 1-ulp change of u, v in double).
@@ -198,25 +200,32 @@ void lp_reconstruct_rows(const Image& lp, const LogPolarMap& map, int W, int H, 
     const int lw1 = lp.width - 1, lh = lp.height;
     const size_t lstride = size_t(lp.width) * 3;
     const float* lpd = lp.data.data();
-    thread_local std::vector<double> vrow;  // per-thread row scratch (no per-row allocation)
+    thread_local std::vector<double> vrow, urow;  // per-thread row scratch (no per-row allocation)
     vrow.resize(size_t(W));
+    urow.resize(size_t(W));
     const double dy = (y + 0.5) - gy, dy2 = dy * dy;
     polar_angle_row(vrow.data(), W, gx, dy, v_per_rad);
-    float* o = out.row(y);
     for (int x = 0; x < W; ++x) {
       // LogPolarMap::forward (eq. 2.10).
       const double dx = (x + 0.5) - gx;
       const double r2 = dx * dx + dy2;  // log r = log(r^2) / 2 (no sqrt)
       const double t = r2 > 1.0 ? std::min(std::log(r2) * half_inv_L, 1.0) : 0.0;
-      const double u = kern(t) * w;
+      urow[size_t(x)] = kern(t) * w;
+    }
+    float* o = out.row(y);
+    for (int x = 0; x < W; ++x) {
+      const double u = urow[size_t(x)];
       double v = vrow[size_t(x)];
       if (!(v < h)) v = 0;
       // bilinear(lp, u, v, true) for u in [0, w], v in [0, h) (finite; no clamp of fx, fy
       // needed): x clamps at the borders, y wraps.
+      // floor() without the libm call (the base build has no SSE4.1 roundsd): fx, fy are
+      // finite, in [-0.5, w] and [-0.5, h) and never -0 (u - 0.5 rounds an exact zero to +0),
+      // so truncation, minus one below a negative fraction, is floor exactly, bit for bit.
       const double fx = u - 0.5, fy = v - 0.5;
-      const double x0f = std::floor(fx), y0f = std::floor(fy);
-      const float tx = float(fx - x0f), ty = float(fy - y0f);
-      const int xi = int(x0f), yi = int(y0f);
+      const int xt = int(fx), yt = int(fy);
+      const int xi = double(xt) > fx ? xt - 1 : xt, yi = double(yt) > fy ? yt - 1 : yt;
+      const float tx = float(fx - double(xi)), ty = float(fy - double(yi));
       const int x0 = xi < 0 ? 0 : xi, x1 = xi + 1 > lw1 ? lw1 : xi + 1;
       const int y0 = yi < 0 ? lh - 1 : yi, y1 = yi + 1 >= lh ? yi + 1 - lh : yi + 1;
       const float* r0 = lpd + size_t(y0) * lstride;

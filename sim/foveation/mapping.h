@@ -123,43 +123,58 @@ size_t gather_gbuffer_rows(const GBuffer& src, int w, int h, AtFn&& at, GBuffer&
                             : kNone;
     }
     std::fill(idx.begin() + w, idx.end(), kNone);
+    // Raw pointers, hoisted: the uint8_t stores to `used` may alias anything, so through the
+    // vectors every slot would reload every channel's data pointer.
+    const float* s_depth = src.depth.data();
+    const glm::vec3 *s_pos = src.position.data(), *s_nrm = src.normal.data(),
+                    *s_alb = src.albedo.data();
+    const int32_t *s_mat = src.material.data(), *s_obj = src.object_id.data(),
+                  *s_sub = src.submodel.data();
+    const glm::vec2 *s_mot = src.motion.data(), *s_uv = src.uv.data();
+    float* o_depth = out.depth.data();
+    glm::vec3 *o_pos = out.position.data(), *o_nrm = out.normal.data(), *o_alb = out.albedo.data();
+    int32_t *o_mat = out.material.data(), *o_obj = out.object_id.data(),
+            *o_sub = out.submodel.data();
+    glm::vec2 *o_mot = out.motion.data(), *o_uv = out.uv.data();
+    uint8_t* o_used = used.data();
+    const size_t* ix = idx.data();
     size_t n = 0;
     for (int iu = 0; iu < w; ++iu) {
       const size_t i = size_t(iv) * size_t(w) + size_t(iu);
-      const size_t s = idx[size_t(iu)];
+      const size_t s = ix[size_t(iu)];
 #if defined(__GNUC__)
-      const size_t pf = idx[size_t(iu) + kAhead];
+      const size_t pf = ix[size_t(iu) + kAhead];
       if (pf != kNone) {
-        __builtin_prefetch(&src.depth[pf]);
-        if (both & kPosition) __builtin_prefetch(&src.position[pf]);
-        if (both & kNormal) __builtin_prefetch(&src.normal[pf]);
-        if (both & kAlbedo) __builtin_prefetch(&src.albedo[pf]);
-        if (both & kMaterial) __builtin_prefetch(&src.material[pf]);
+        __builtin_prefetch(s_depth + pf);
+        if (both & kPosition) __builtin_prefetch(s_pos + pf);
+        if (both & kNormal) __builtin_prefetch(s_nrm + pf);
+        if (both & kAlbedo) __builtin_prefetch(s_alb + pf);
+        if (both & kMaterial) __builtin_prefetch(s_mat + pf);
       }
 #endif
       if (s != kNone) {
-        out.depth[i] = src.depth[s];
-        if (both & kPosition) out.position[i] = src.position[s];
-        if (both & kNormal) out.normal[i] = src.normal[s];
-        if (both & kAlbedo) out.albedo[i] = src.albedo[s];
-        if (both & kMaterial) out.material[i] = src.material[s];
-        if (both & kObjectId) out.object_id[i] = src.object_id[s];
-        if (both & kSubModel) out.submodel[i] = src.submodel[s];
-        if (both & kMotion) out.motion[i] = src.motion[s];
-        if (both & kUV) out.uv[i] = src.uv[s];
-        used[i] = 1;
+        o_depth[i] = s_depth[s];
+        if (both & kPosition) o_pos[i] = s_pos[s];
+        if (both & kNormal) o_nrm[i] = s_nrm[s];
+        if (both & kAlbedo) o_alb[i] = s_alb[s];
+        if (both & kMaterial) o_mat[i] = s_mat[s];
+        if (both & kObjectId) o_obj[i] = s_obj[s];
+        if (both & kSubModel) o_sub[i] = s_sub[s];
+        if (both & kMotion) o_mot[i] = s_mot[s];
+        if (both & kUV) o_uv[i] = s_uv[s];
+        o_used[i] = 1;
         ++n;
       } else {
-        out.depth[i] = std::numeric_limits<float>::infinity();
-        if (own & kPosition) out.position[i] = glm::vec3(0.f);
-        if (own & kNormal) out.normal[i] = glm::vec3(0.f);
-        if (own & kAlbedo) out.albedo[i] = glm::vec3(0.f);
-        if (own & kMaterial) out.material[i] = -1;
-        if (own & kObjectId) out.object_id[i] = -1;
-        if (own & kSubModel) out.submodel[i] = -1;
-        if (own & kMotion) out.motion[i] = glm::vec2(0.f);
-        if (own & kUV) out.uv[i] = glm::vec2(0.f);
-        used[i] = 0;
+        o_depth[i] = std::numeric_limits<float>::infinity();
+        if (own & kPosition) o_pos[i] = glm::vec3(0.f);
+        if (own & kNormal) o_nrm[i] = glm::vec3(0.f);
+        if (own & kAlbedo) o_alb[i] = glm::vec3(0.f);
+        if (own & kMaterial) o_mat[i] = -1;
+        if (own & kObjectId) o_obj[i] = -1;
+        if (own & kSubModel) o_sub[i] = -1;
+        if (own & kMotion) o_mot[i] = glm::vec2(0.f);
+        if (own & kUV) o_uv[i] = glm::vec2(0.f);
+        o_used[i] = 0;
       }
     }
     row_n[size_t(iv)] = n;

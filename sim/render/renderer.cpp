@@ -1,8 +1,9 @@
 // Embree 3 ray caster (DESIGN §4). Static objects are flattened into one BVH (world-space
 // vertices); when the scene has dynamic objects, the static BVH becomes one instance and
 // each dynamic object another, so a frame's recommit only rebuilds the small top level.
-// Primary rays go through Embree's stream API (rtcIntersect1M, coherent flag) one tile
-// at a time; tiles run in parallel with TBB. Every pixel is computed independently, so
+// Primary rays go through Embree as 4x4 packets (rtcIntersect16; coherent flag on static
+// scenes, incoherent on instanced ones, see packet_flags), one tile at a time; tiles run in
+// parallel with TBB. Every pixel is computed independently, so
 // results are identical at any thread count.
 #include "sim/render/renderer.h"
 
@@ -374,6 +375,11 @@ struct SampleWriter {
   const Camera* prev;
   uint32_t ch;
 
+  void albedo(GBuffer& g, size_t i, glm::vec2 uv, int mat) const {
+    const Material& mt = scene.materials[size_t(mat)];
+    g.albedo[i] = eval_albedo(scene, mt, uv, I.mat_cs[size_t(mat)].x, I.mat_cs[size_t(mat)].y);
+  }
+
   void miss(GBuffer& g, size_t i) const {
     g.depth[i] = kInf;
     if (ch & kPosition) g.position[i] = glm::vec3(0.f);
@@ -386,8 +392,15 @@ struct SampleWriter {
     if (ch & kUV) g.uv[i] = glm::vec2(0.f);
   }
 
+  // With `deferred` (a packet's pass), the albedo is not evaluated here: the texture inputs
+  // go to deferred->uv / mat and the caller runs eval_albedo for the packet afterwards.
+  struct Deferred {
+    glm::vec2 uv;
+    int mat;
+  };
   void hit(GBuffer& g, size_t i, const glm::vec3& org, const glm::vec3& dir, float t, int obj,
-           uint32_t prim, float bu, float bv, const glm::vec2& px) const {
+           uint32_t prim, float bu, float bv, const glm::vec2& px,
+           Deferred* deferred = nullptr) const {
     refine_hit(I, scene, obj, prim, org, dir, t, bu, bv);
     g.depth[i] = t;
     if (!(ch & ~kDepth)) return;
@@ -423,8 +436,10 @@ struct SampleWriter {
       if (ch & kUV) g.uv[i] = uv;
     }
     if (ch & kAlbedo) {
-      const Material& mt = scene.materials[size_t(mat)];
-      g.albedo[i] = eval_albedo(scene, mt, uv, I.mat_cs[size_t(mat)].x, I.mat_cs[size_t(mat)].y);
+      if (deferred)
+        *deferred = {uv, mat};
+      else
+        albedo(g, i, uv, mat);
     }
     if (ch & kNormal) {
       glm::vec3 n;
@@ -473,6 +488,17 @@ struct Packet {
   glm::vec2 px[16];
   int n = 0;
 
+  // Fields rtcIntersect16 only reads (tnear, time, mask, id, flags) are set once here; add()
+  // writes the rest (Embree writes tfar and the hit fields back).
+  Packet() {
+    for (int k = 0; k < 16; ++k) {
+      rh.ray.tnear[k] = 0.f;
+      rh.ray.time[k] = 0.f;
+      rh.ray.mask[k] = 0xffffffffu;
+      rh.ray.id[k] = unsigned(k);
+      rh.ray.flags[k] = 0;
+    }
+  }
   void reset() { n = 0; }
   void add(const glm::vec3& o, const glm::vec3& d, size_t i, glm::vec2 p) {
     const int k = n++;
@@ -482,12 +508,7 @@ struct Packet {
     rh.ray.dir_x[k] = d.x;
     rh.ray.dir_y[k] = d.y;
     rh.ray.dir_z[k] = d.z;
-    rh.ray.tnear[k] = 0.f;
     rh.ray.tfar[k] = kInf;
-    rh.ray.time[k] = 0.f;
-    rh.ray.mask[k] = 0xffffffffu;
-    rh.ray.id[k] = unsigned(k);
-    rh.ray.flags[k] = 0;
     rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
     valid[k] = -1;
@@ -506,12 +527,7 @@ struct Packet {
       rh.ray.dir_x[k] = rh.ray.dir_x[0];
       rh.ray.dir_y[k] = rh.ray.dir_y[0];
       rh.ray.dir_z[k] = rh.ray.dir_z[0];
-      rh.ray.tnear[k] = 0.f;
       rh.ray.tfar[k] = kInf;
-      rh.ray.time[k] = 0.f;
-      rh.ray.mask[k] = 0xffffffffu;
-      rh.ray.id[k] = unsigned(k);
-      rh.ray.flags[k] = 0;
       rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
       rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
     }
@@ -519,6 +535,11 @@ struct Packet {
     rtcInitIntersectContext(&ctx);
     ctx.flags = I.packet_flags;
     rtcIntersect16(valid, I.top, &ctx, &rh);
+    // Geometry of every lane first, then the packet's textures (libm sin/cos calls) in a loop
+    // of their own; each sample's operations are unchanged.
+    SampleWriter::Deferred tex[16];
+    int hits[16], nh = 0;
+    const bool albedo = (w.ch & kAlbedo) != 0;
     for (int k = 0; k < n; ++k) {
       if (rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) {
         w.miss(g, idx[k]);
@@ -529,8 +550,11 @@ struct Packet {
       h.instID[0] = rh.hit.instID[0][k];
       glm::vec3 d(rh.ray.dir_x[k], rh.ray.dir_y[k], rh.ray.dir_z[k]);
       w.hit(g, idx[k], o, d, rh.ray.tfar[k], hit_object(I, h), rh.hit.primID[k], rh.hit.u[k],
-            rh.hit.v[k], px[k]);
+            rh.hit.v[k], px[k], albedo ? &tex[nh] : nullptr);
+      hits[nh++] = k;
     }
+    if (albedo)
+      for (int j = 0; j < nh; ++j) w.albedo(g, idx[hits[j]], tex[j].uv, tex[j].mat);
     n = 0;
   }
 };
@@ -565,9 +589,18 @@ void Renderer::trace_gbuffer(const Camera& cam, uint32_t channels, GBuffer& out,
   const glm::vec3 org(cam.position);
   const glm::dmat3 R = glm::mat3_cast(cam.orientation);
   // Camera::dir_head's terms per column and row (same operations, so the same bits).
+  // Their squares too: glm::normalize(v) is v * (1 / sqrt((v.x*v.x + v.y*v.y) + v.z*v.z)), so
+  // (hx2 + hy2) + 1.0 below is the same sum, operation for operation.
   std::vector<double> hx(size_t(cam.width)), hy(size_t(cam.height));
-  for (int x = 0; x < cam.width; ++x) hx[size_t(x)] = (2.0 * (x + 0.5) / cam.width - 1.0) * cam.tan_half_h;
-  for (int y = 0; y < cam.height; ++y) hy[size_t(y)] = (1.0 - 2.0 * (y + 0.5) / cam.height) * cam.tan_half_v;
+  std::vector<double> hx2(size_t(cam.width)), hy2(size_t(cam.height));
+  for (int x = 0; x < cam.width; ++x) {
+    hx[size_t(x)] = (2.0 * (x + 0.5) / cam.width - 1.0) * cam.tan_half_h;
+    hx2[size_t(x)] = hx[size_t(x)] * hx[size_t(x)];
+  }
+  for (int y = 0; y < cam.height; ++y) {
+    hy[size_t(y)] = (1.0 - 2.0 * (y + 0.5) / cam.height) * cam.tan_half_v;
+    hy2[size_t(y)] = hy[size_t(y)] * hy[size_t(y)];
+  }
   SampleWriter w{scene_, I, prev, channels};
   tbb::parallel_for(
       tbb::blocked_range<int>(0, tx * ty, 1),
@@ -581,7 +614,8 @@ void Renderer::trace_gbuffer(const Camera& cam, uint32_t channels, GBuffer& out,
               for (int y = by; y < std::min(by + 4, y1); ++y)
                 for (int x = bx; x < std::min(bx + 4, x1); ++x) {
                   // == Camera::dir_world(x + 0.5, y + 0.5)
-                  glm::dvec3 d = R * glm::normalize(glm::dvec3(hx[size_t(x)], hy[size_t(y)], -1.0));
+                  const double s = 1.0 / std::sqrt((hx2[size_t(x)] + hy2[size_t(y)]) + 1.0);
+                  const glm::dvec3 d = R * glm::dvec3(hx[size_t(x)] * s, hy[size_t(y)] * s, -s);
                   pk.add(org, glm::vec3(d), size_t(y) * size_t(cam.width) + size_t(x),
                          glm::vec2(float(x) + 0.5f, float(y) + 0.5f));
                 }

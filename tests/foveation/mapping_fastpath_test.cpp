@@ -1,7 +1,8 @@
 // The optimised KFR passes (lp_gather tables, lp_reconstruct with hoisted terms and ipow,
 // run-wise variable_gaussian) against straightforward per-pixel references built from
 // LogPolarMap::inverse/forward and the plain filter loop. The filter must match bit for bit;
-// the maps to a few ulp (sqrt for hypot, x^4 by squaring).
+// the maps to a few ulp (sqrt for hypot, x^4 by squaring); lp_reconstruct bit for bit against
+// its loop before the log/bilinear split.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -174,6 +175,57 @@ TEST(MappingFastPath, LpGatherAndReconstructMatchTheMaps) {
     }
   }
   set_simd_path(simd_paths_available().back());
+}
+
+// lp_reconstruct's loop before its split (log inside the bilinear loop, std::floor), kept as
+// the bit-exact reference of the split loop with the truncation floor.
+void lp_reconstruct_ref(const Image& lp, const LogPolarMap& map, int W, int H, Image& out) {
+  out = Image(W, H, 3);
+  const double inv_L = 1.0 / map.L, w = map.w, h = map.h, gx = map.gx, gy = map.gy;
+  const double v_per_rad = h / (2.0 * kPi), half_inv_L = 0.5 * inv_L;
+  const int lw1 = lp.width - 1, lh = lp.height;
+  std::vector<double> vrow(static_cast<size_t>(W));
+  for (int y = 0; y < H; ++y) {
+    const double dy = (y + 0.5) - gy, dy2 = dy * dy;
+    polar_angle_row(vrow.data(), W, gx, dy, v_per_rad);
+    for (int x = 0; x < W; ++x) {
+      const double dx = (x + 0.5) - gx, r2 = dx * dx + dy2;
+      const double t = r2 > 1.0 ? std::min(std::log(r2) * half_inv_L, 1.0) : 0.0;
+      const double u = (map.k.alpha == 4.0 ? (t * t) * (t * t) : map.k.K(t)) * w;
+      double v = vrow[size_t(x)];
+      if (!(v < h)) v = 0;
+      const double fx = u - 0.5, fy = v - 0.5;
+      const double x0f = std::floor(fx), y0f = std::floor(fy);
+      const float tx = float(fx - x0f), ty = float(fy - y0f);
+      const int xi = int(x0f), yi = int(y0f);
+      const int x0 = xi < 0 ? 0 : xi, x1 = xi + 1 > lw1 ? lw1 : xi + 1;
+      const int y0 = yi < 0 ? lh - 1 : yi, y1 = yi + 1 >= lh ? yi + 1 - lh : yi + 1;
+      const float sx = 1 - tx, sy = 1 - ty;
+      for (int ch = 0; ch < 3; ++ch) {
+        const float top = lp.at(x0, y0)[ch] * sx + lp.at(x1, y0)[ch] * tx;
+        const float bot = lp.at(x0, y1)[ch] * sx + lp.at(x1, y1)[ch] * tx;
+        out.at(x, y)[ch] = top * sy + bot * ty;
+      }
+    }
+  }
+}
+
+TEST(MappingFastPath, LpReconstructBitIdenticalToUnsplitLoop) {
+  const int W = 97, H = 71;
+  for (double alpha : {4.0, 2.5})
+    for (glm::dvec2 g : {glm::dvec2(48.5, 35.5), glm::dvec2(3.2, 69.9), glm::dvec2(-15, 20)}) {
+      KernelFn k;
+      k.alpha = alpha;
+      const LogPolarMap m =
+          LogPolarMap::make(W, H, reduced_size(W, 1.8), reduced_size(H, 1.8), g, k);
+      const Image lp = noise_image(int(m.w), int(m.h), 11u);
+      Image got, want;
+      lp_reconstruct(lp, m, W, H, got);
+      lp_reconstruct_ref(lp, m, W, H, want);
+      ASSERT_EQ(got.data.size(), want.data.size());
+      EXPECT_EQ(std::memcmp(got.data.data(), want.data.data(), got.data.size() * sizeof(float)), 0)
+          << "alpha " << alpha << " gaze " << g.x << "," << g.y;
+    }
 }
 
 TEST(MappingFastPath, AngleMatchesAtan2) {
