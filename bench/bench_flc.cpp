@@ -72,7 +72,8 @@ void BM_FlcFrame(benchmark::State& st) {
   const char* vis[] = {"none", "blso", "exact"};
   Params p(Json{{"vpl_budget", st.range(0)}, {"visibility", vis[st.range(1)]}});
   auto m = make_method("flc", p);
-  FrameContext ctx = f.fd.context(f.scene, *f.renderer, f.display, std::getenv("FLC_BENCH_IMAGES") != nullptr);
+  FrameContext ctx =
+      f.fd.context(f.scene, *f.renderer, f.display, std::getenv("FLC_BENCH_IMAGES") != nullptr);
   {
     FrameOutput warm;  // fills the ground-truth cache outside the timed loop
     m->render(ctx, warm);

@@ -50,7 +50,7 @@ struct Setup {
   Scene scene;
   Display display;
   std::unique_ptr<Renderer> renderer;
-  FrameData a, b;  // b is the timed frame; a is the previous frame (twfr's full redraw)
+  FrameData a, b;   // b is the timed frame; a is the previous frame (twfr's full redraw)
   LogPolarMap map;  // KFR's map for frame b at sigma = 1.8, default kernel (power, alpha 4)
   Image lp_rgb;     // RGB LP-buffer (bilinear gather of b.reference), input of the inverse pass
 
@@ -76,7 +76,8 @@ struct Setup {
     renderer->set_time(s1.t);
     prepare_frame(*renderer, display, s1, 1, ch, &a.camera, b);
     const int W = b.gbuffer.width, H = b.gbuffer.height;
-    map = LogPolarMap::make(W, H, reduced_size(W, kSigma), reduced_size(H, kSigma), b.gaze_px, KernelFn{});
+    map = LogPolarMap::make(W, H, reduced_size(W, kSigma), reduced_size(H, kSigma), b.gaze_px,
+                            KernelFn{});
     forward_rgb(lp_rgb);
   }
 
@@ -89,7 +90,9 @@ struct Setup {
         const glm::dvec2 p = map.inverse(u + 0.5, v + 0.5);
         const glm::vec3 c = bilinear(b.reference, p.x, p.y, false);
         float* o = lp.at(u, v);
-        o[0] = c.x; o[1] = c.y; o[2] = c.z;
+        o[0] = c.x;
+        o[1] = c.y;
+        o[2] = c.z;
       }
     });
   }

@@ -199,7 +199,8 @@ void BM_PrimaryVsBare(benchmark::State& st) {
   Fixture& f = atrium(int(st.range(0)));
   const bool single = st.range(1) == 1;
   std::unique_ptr<tbb::global_control> gc;
-  if (single) gc = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, 1);
+  if (single)
+    gc = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, 1);
   auto now = single ? thread_cpu_s : wall_s;
   GBuffer g;
   f.renderer->trace_gbuffer(f.cam, kShadingChannels, g);  // allocate outside the timing
@@ -241,7 +242,8 @@ void BM_ReferenceFrame(benchmark::State& st) {
   Fixture& f = atrium(int(st.range(0)));
   const bool single = st.range(1) == 1;
   std::unique_ptr<tbb::global_control> gc;
-  if (single) gc = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, 1);
+  if (single)
+    gc = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, 1);
   auto now = single ? thread_cpu_s : wall_s;
   GBuffer g;
   Image img;

@@ -34,7 +34,7 @@ struct Setup {
     s0.head_pos = glm::dvec3(scene.default_eye);
     s1 = s0;
     s1.t = 1.0 / 70.0;
-    s1.head_pos += glm::dvec3(0.004, 0, -0.014);  // ~1 m/s walk
+    s1.head_pos += glm::dvec3(0.004, 0, -0.014);                           // ~1 m/s walk
     s1.head_rot = glm::angleAxis(glm::radians(0.6), glm::dvec3(0, 1, 0));  // 42 deg/s turn
     s0.gaze_dir = s1.gaze_dir = glm::normalize(glm::dvec3(0.1, -0.05, -1));
     renderer->set_time(s0.t);
@@ -87,7 +87,12 @@ void BM_TwfrFrame(benchmark::State& state) {
   state.counters["redrawn_frac"] = redrawn / f / double(S.b.gbuffer.size());
   state.counters["fov_culled_frac"] = culled / std::max(1.0, culled + submitted);
 }
-BENCHMARK(BM_TwfrFrame)->Arg(20)->Arg(100)->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(BM_TwfrFrame)
+    ->Arg(20)
+    ->Arg(100)
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
 
 // Reference point: the full-resolution shading of the same frame (what epsilon = 1 redraws).
 void BM_FullShade(benchmark::State& state) {

@@ -10,8 +10,6 @@
 #include <memory>
 #include <sstream>
 
-#include "sim/experiment/recost.h"
-#include "sim/foveation/factory.h"
 #include "sim/app/commands.h"
 #include "sim/core/error.h"
 #include "sim/core/files.h"
@@ -23,12 +21,16 @@
 #include "sim/cost/validate.h"
 #include "sim/cost/workload.h"
 #include "sim/experiment/config.h"
+#include "sim/experiment/recost.h"
+#include "sim/foveation/factory.h"
 
 namespace fovsim::app {
 
 namespace {
 
-std::string models_or_default(const std::string& m) { return m.empty() ? default_models_dir() : m; }
+std::string models_or_default(const std::string& m) {
+  return m.empty() ? default_models_dir() : m;
+}
 
 std::string fmt(const char* f, double v) {
   char b[64];
@@ -36,7 +38,9 @@ std::string fmt(const char* f, double v) {
   return b;
 }
 
-std::string pad(const std::string& s, size_t w) { return s.size() >= w ? s : s + std::string(w - s.size(), ' '); }
+std::string pad(const std::string& s, size_t w) {
+  return s.size() >= w ? s : s + std::string(w - s.size(), ' ');
+}
 
 std::vector<std::string> split(const std::string& s, char sep) {
   std::vector<std::string> out;
@@ -62,7 +66,8 @@ struct MethodSpec {
 // the method's own parser inside analytic_counters.
 MethodSpec parse_method(const std::string& s) {
   MethodArg a = parse_method_arg(s, "--method");
-  if (!is_cost_method(a.name)) throw Error("--method " + s, "no cost model for method \"" + a.name + "\"");
+  if (!is_cost_method(a.name))
+    throw Error("--method " + s, "no cost model for method \"" + a.name + "\"");
   MethodSpec m;
   m.text = a.text;
   m.name = a.name;
@@ -79,21 +84,29 @@ struct Target {  // display + workload + GPUs shared by predict and budget
 };
 
 void add_target_options(CLI::App* c, Target& t, const std::string& default_methods) {
-  c->add_option("--gpu", t.gpus, "GPU profile name(s) or path(s) (models/gpus/NAME.json); repeat or comma-separate")
+  c->add_option("--gpu", t.gpus,
+                "GPU profile name(s) or path(s) (models/gpus/NAME.json); repeat or comma-separate")
       ->required()
       ->delimiter(',');
   c->add_option("--workload", t.workload,
                 "Workload descriptor name or path (models/workloads/NAME.json); required: the "
                 "scene's triangles, "
                 "lights and shading cost decide every method's cost");
-  c->add_option("--display", t.display, "Display name or path (models/displays/NAME.json)")->capture_default_str();
-  c->add_option("--width", t.width, "Override the per-eye width in pixels")->check(CLI::Range(1, 1 << 20));
-  c->add_option("--height", t.height, "Override the per-eye height in pixels")->check(CLI::Range(1, 1 << 20));
-  c->add_option("--eyes", t.eyes, "Override the number of eyes rendered (1 or 2)")->check(CLI::Range(1, 2));
-  c->add_option("-m,--method", t.methods,
-                "Method and parameters, e.g. full, kfr:sigma=1.8, rmfr:sigma=2.6, twfr:redraw_fraction=0.06, "
-                "fvrs, flc:vpl_budget=1024; repeatable (default: " + default_methods + ")");
-  c->add_option("--models", t.models, "Models directory (default: $FOVSIM_MODELS, ./models, or the source tree's)");
+  c->add_option("--display", t.display, "Display name or path (models/displays/NAME.json)")
+      ->capture_default_str();
+  c->add_option("--width", t.width, "Override the per-eye width in pixels")
+      ->check(CLI::Range(1, 1 << 20));
+  c->add_option("--height", t.height, "Override the per-eye height in pixels")
+      ->check(CLI::Range(1, 1 << 20));
+  c->add_option("--eyes", t.eyes, "Override the number of eyes rendered (1 or 2)")
+      ->check(CLI::Range(1, 2));
+  c->add_option(
+      "-m,--method", t.methods,
+      "Method and parameters, e.g. full, kfr:sigma=1.8, rmfr:sigma=2.6, twfr:redraw_fraction=0.06, "
+      "fvrs, flc:vpl_budget=1024; repeatable (default: " +
+          default_methods + ")");
+  c->add_option("--models", t.models,
+                "Models directory (default: $FOVSIM_MODELS, ./models, or the source tree's)");
 }
 
 // Without a scene the generic workload knows no lights, so every method's shading cost (and
@@ -166,7 +179,8 @@ int do_calibrate(const CalibrateArgs& a) {
   for (auto& t : split(a.tables, ',')) opt.tables.insert(t);
   opt.model = a.model == "linear" ? CostModelKind::Linear : CostModelKind::Roofline;
   CostFit fit = fit_cost_model(data, opt);
-  std::vector<std::vector<std::string>> rows = {{"table", "gpu", "workload", "config", "row", "use", "published_ms", "model_ms", "rel_err"}};
+  std::vector<std::vector<std::string>> rows = {
+      {"table", "gpu", "workload", "config", "row", "use", "published_ms", "model_ms", "rel_err"}};
   std::map<std::string, std::vector<std::pair<const CalEntry*, double>>> by_gpu;
   double sum = 0;
   int n = 0;
@@ -176,19 +190,23 @@ int do_calibrate(const CalibrateArgs& a) {
       by_gpu[e.gpu].push_back({&e, ms});
       double re = e.published_ms > 0 ? (ms - e.published_ms) / e.published_ms : 0;
       if (e.fit) sum += std::fabs(re), ++n;
-      rows.push_back({t.id, e.gpu, e.workload, e.config, e.row, e.fit ? "fit" : "check", fmt("%.3f", e.published_ms),
-                      fmt("%.3f", ms), fmt("%+.1f%%", 100 * re)});
+      rows.push_back({t.id, e.gpu, e.workload, e.config, e.row, e.fit ? "fit" : "check",
+                      fmt("%.3f", e.published_ms), fmt("%.3f", ms), fmt("%+.1f%%", 100 * re)});
     }
   if (!a.quiet) {
     print_table(rows);
-    std::cout << "\nfitted rows: " << n << ", mean |relative error|: " << fmt("%.1f%%", 100 * (n ? sum / n : 0)) << "\n";
-    std::cout << "\nworkload shading costs (effective FP32 operations per shaded sample and light / VPL):\n";
+    std::cout << "\nfitted rows: " << n
+              << ", mean |relative error|: " << fmt("%.1f%%", 100 * (n ? sum / n : 0)) << "\n";
+    std::cout << "\nworkload shading costs (effective FP32 operations per shaded sample and light "
+                 "/ VPL):\n";
     for (auto& wl : fit.fitted_workloads) {
       const Workload& w = fit.workloads.at(wl);
       std::string p = fitted_param(w);
-      std::cout << "  " << wl << "." << p << " = " << fmt("%.1f", p == "vpl_flops" ? w.vpl_flops : w.shading_flops) << "\n";
+      std::cout << "  " << wl << "." << p << " = "
+                << fmt("%.1f", p == "vpl_flops" ? w.vpl_flops : w.shading_flops) << "\n";
     }
-    std::cout << "\nshared work per counter unit (theta; coefficient = theta / spec rate of its resource):\n";
+    std::cout << "\nshared work per counter unit (theta; coefficient = theta / spec rate of its "
+                 "resource):\n";
     for (auto& [k, v] : fit.theta) std::cout << "  " << k << " = " << fmt("%.6g", v) << "\n";
   }
   if (a.dry_run) return 0;
@@ -226,17 +244,24 @@ int do_calibrate(const CalibrateArgs& a) {
     }
     j["passes"] = ps;
     nlohmann::ordered_json cal;
-    cal["comment"] = std::string("Written by `fovsim calibrate`: NNLS on relative error over the tables below; ") +
-                     (by_gpu.count(gpu) ? "residuals are this GPU's entries." :
-                                          "no table used this GPU: coefficients transferred through spec-sheet ratios only.");
+    cal["comment"] =
+        std::string(
+            "Written by `fovsim calibrate`: NNLS on relative error over the tables below; ") +
+        (by_gpu.count(gpu)
+             ? "residuals are this GPU's entries."
+             : "no table used this GPU: coefficients transferred through spec-sheet ratios only.");
     nlohmann::ordered_json tabs = nlohmann::ordered_json::array();
     for (auto& t : data.tables)
       if (opt.tables.empty() || opt.tables.count(t.id)) tabs.push_back(t.id + ": " + t.source);
     cal["tables"] = tabs;
     nlohmann::ordered_json res = nlohmann::ordered_json::array();
     for (auto& [e, ms] : by_gpu[gpu])
-      res.push_back({{"id", e->id}, {"fitted", e->fit}, {"published_ms", e->published_ms}, {"model_ms", ms},
-                     {"rel_err", e->published_ms > 0 ? (ms - e->published_ms) / e->published_ms : 0.0}});
+      res.push_back(
+          {{"id", e->id},
+           {"fitted", e->fit},
+           {"published_ms", e->published_ms},
+           {"model_ms", ms},
+           {"rel_err", e->published_ms > 0 ? (ms - e->published_ms) / e->published_ms : 0.0}});
     cal["residuals"] = res;
     j["calibration"] = cal;
     std::string file = models + "/gpus/" + gpu + ".json";
@@ -261,7 +286,7 @@ int do_calibrate(const CalibrateArgs& a) {
 struct PredictArgs {
   Target t;
   bool json = false;
-  std::string results;                 // re-cost a run's measured counters
+  std::string results;  // re-cost a run's measured counters
   bool display_given = false, workload_given = false;
 };
 
@@ -316,8 +341,8 @@ int do_predict_results(const PredictArgs& a) {
   if (a.json) {
     std::cout << out.dump(2) << "\n";
   } else {
-    std::cout << "results " << a.results << " re-costed for display " << d.name << " " << d.width << "x" << d.height
-              << " x" << d.eyes << " eye(s), workload " << res.workload
+    std::cout << "results " << a.results << " re-costed for display " << d.name << " " << d.width
+              << "x" << d.height << " x" << d.eyes << " eye(s), workload " << res.workload
               << "; mean ms per frame ('-': pass does not exist)\n";
     print_table(rows);
   }
@@ -330,7 +355,8 @@ int do_predict(const PredictArgs& a) {
   Workload w = target_workload(a.t, models);
   Display d = target_display(a.t, models);
   std::vector<MethodSpec> methods;
-  for (auto& m : a.t.methods.empty() ? std::vector<std::string>{"full"} : a.t.methods) methods.push_back(parse_method(m));
+  for (auto& m : a.t.methods.empty() ? std::vector<std::string>{"full"} : a.t.methods)
+    methods.push_back(parse_method(m));
   nlohmann::ordered_json out = nlohmann::ordered_json::array();
   std::vector<std::vector<std::string>> rows;
   std::vector<std::string> header = {"gpu", "method"};
@@ -401,7 +427,8 @@ int do_budget(const BudgetArgs& a) {
   Display d = target_display(a.t, models);
   const double budget = a.budget_ms > 0 ? a.budget_ms : 1000.0 / a.hz;
   std::vector<std::string> mlist = a.t.methods;
-  if (mlist.empty()) mlist = {"full", "kfr", "rmfr", "hyperbolic", "linear", "fvrs", "twfr"};  // run defaults
+  if (mlist.empty())
+    mlist = {"full", "kfr", "rmfr", "hyperbolic", "linear", "fvrs", "twfr"};  // run defaults
   const char* res_names[] = {"shading", "geometry", "raster", "memory", "fixed"};
   std::vector<std::vector<std::string>> rows = {
       {"gpu", "method", "total_ms", "interval_ms", "budget_ms", "fits", "headroom_ms", "headroom",
@@ -534,7 +561,8 @@ int do_validate(const ValidateArgs& a) {
   txt << "nested coverage: each target table's held-out rows against the interval built from the "
          "other tables'\n\n";
   txt << "detailed report below: model " << model_name(opt.model) << "\n\n";
-  txt << "== calibration entries (all tables fitted together; 'check' rows are totals, not fitted)\n";
+  txt << "== calibration entries (all tables fitted together; 'check' rows are totals, not "
+         "fitted)\n";
   double se[2] = {0, 0};
   int ne[2] = {0, 0};
   for (auto& r : rep.rows) {
@@ -544,8 +572,9 @@ int do_validate(const ValidateArgs& a) {
     txt << pad(r.id, 62) << " " << pad(r.kind, 9) << fmt(" %8.3f", r.published_ms)
         << fmt(" %8.3f", r.model_ms) << fmt(" %+7.1f%%", 100 * r.rel_err()) << "\n";
   }
-  txt << "mean |rel err|: fitted " << fmt("%.1f%%", ne[0] ? 100 * se[0] / ne[0] : 0) << " (" << ne[0] << " rows), check "
-      << fmt("%.1f%%", ne[1] ? 100 * se[1] / ne[1] : 0) << " (" << ne[1] << " rows)\n\n";
+  txt << "mean |rel err|: fitted " << fmt("%.1f%%", ne[0] ? 100 * se[0] / ne[0] : 0) << " ("
+      << ne[0] << " rows), check " << fmt("%.1f%%", ne[1] ? 100 * se[1] / ne[1] : 0) << " ("
+      << ne[1] << " rows)\n\n";
   txt << "== withheld figures (published values withheld from the seeds: predictions only)\n";
   std::map<std::string, std::vector<const ValidationRow*>> wh;
   for (auto& r : rep.rows)
@@ -553,7 +582,8 @@ int do_validate(const ValidateArgs& a) {
   for (auto& [k, v] : wh) {
     txt << pad(k, 52);
     for (auto* r : v) txt << " " << r->config << fmt(" %.2f ms", r->model_ms);
-    if (v.size() == 2 && v[1]->model_ms > 0) txt << fmt("  speedup %.2fx", v[0]->model_ms / v[1]->model_ms);
+    if (v.size() == 2 && v[1]->model_ms > 0)
+      txt << fmt("  speedup %.2fx", v[0]->model_ms / v[1]->model_ms);
     txt << "\n";
   }
   txt << "\n== cross-predictions (target's shading and triangle costs refit from its baseline "
@@ -561,8 +591,9 @@ int do_validate(const ValidateArgs& a) {
   std::ostringstream ccsv;
   ccsv << "name,fit_on,target,possible,n,mean_abs_rel_err,speedup_published,speedup_model\n";
   for (auto& c : rep.cross) {
-    ccsv << '"' << c.name << "\",\"" << c.fit_on << "\"," << c.target << ',' << c.possible << ',' << c.n << ','
-         << c.mean_abs_rel_err << ',' << c.speedup_published << ',' << c.speedup_model << "\n";
+    ccsv << '"' << c.name << "\",\"" << c.fit_on << "\"," << c.target << ',' << c.possible << ','
+         << c.n << ',' << c.mean_abs_rel_err << ',' << c.speedup_published << ',' << c.speedup_model
+         << "\n";
     txt << pad(c.name, 48);
     if (!c.possible) {
       txt << " not predictable (" << c.why << ")\n";
@@ -570,7 +601,8 @@ int do_validate(const ValidateArgs& a) {
     }
     txt << " rows " << c.n << ", mean |rel err| " << fmt("%.1f%%", 100 * c.mean_abs_rel_err);
     if (c.speedup_published > 0)
-      txt << ", speedup published " << fmt("%.2fx", c.speedup_published) << " model " << fmt("%.2fx", c.speedup_model);
+      txt << ", speedup published " << fmt("%.2fx", c.speedup_published) << " model "
+          << fmt("%.2fx", c.speedup_model);
     if (!c.why.empty()) txt << " [rows skipped, " << c.why << "]";
     txt << "\n";
   }
@@ -578,13 +610,17 @@ int do_validate(const ValidateArgs& a) {
   write_file_atomic(a.out + "/validate_cost.csv", csv.str());
   write_file_atomic(a.out + "/cross_predictions.csv", ccsv.str());
   write_file_atomic(a.out + "/report.txt", txt.str());
-  std::cout << txt.str() << "\nwrote " << a.out << "/{report.txt,validate_cost.csv,cross_predictions.csv}\n";
+  std::cout << txt.str() << "\nwrote " << a.out
+            << "/{report.txt,validate_cost.csv,cross_predictions.csv}\n";
   if (!a.no_plot) {
     std::string script = models + "/../viz/plot_cost.py";
-    std::string cmd = "/usr/bin/python3 '" + script + "' '" + a.out + "/validate_cost.csv' '" + a.out + "/validate_cost.png'";
+    std::string cmd = "/usr/bin/python3 '" + script + "' '" + a.out + "/validate_cost.csv' '" +
+                      a.out + "/validate_cost.png'";
     int rc = std::system(cmd.c_str());
-    if (rc != 0) std::cerr << "fovsim: warning: plot failed (" << cmd << ")\n";
-    else std::cout << "wrote " << a.out << "/validate_cost.png\n";
+    if (rc != 0)
+      std::cerr << "fovsim: warning: plot failed (" << cmd << ")\n";
+    else
+      std::cout << "wrote " << a.out << "/validate_cost.png\n";
   }
   return 0;
 }
@@ -594,10 +630,16 @@ int do_validate(const ValidateArgs& a) {
 void register_cost(CLI::App& app, Action& action) {
   {
     auto a = std::make_shared<CalibrateArgs>();
-    CLI::App* c = app.add_subcommand("calibrate", "Fit GPU profiles and workload shading costs to the seeds' per-pass tables (models/calibration) and write models/gpus/*.json");
-    c->add_option("--models", a->models, "Models directory (default: $FOVSIM_MODELS, ./models, or the source tree's)");
-    c->add_option("--tables", a->tables, "Comma-separated calibration table ids to fit (default: all)");
-    c->add_flag("--dry-run", a->dry_run, "Print the fit and residuals without writing profiles or workloads");
+    CLI::App* c =
+        app.add_subcommand("calibrate",
+                           "Fit GPU profiles and workload shading costs to the seeds' per-pass "
+                           "tables (models/calibration) and write models/gpus/*.json");
+    c->add_option("--models", a->models,
+                  "Models directory (default: $FOVSIM_MODELS, ./models, or the source tree's)");
+    c->add_option("--tables", a->tables,
+                  "Comma-separated calibration table ids to fit (default: all)");
+    c->add_flag("--dry-run", a->dry_run,
+                "Print the fit and residuals without writing profiles or workloads");
     c->add_flag("-q,--quiet", a->quiet, "Do not print the residual table");
     c->add_option("--model", a->model,
                   "How a pass combines its resources: roofline (bottleneck) or linear (sum)")
@@ -607,12 +649,18 @@ void register_cost(CLI::App& app, Action& action) {
   }
   {
     auto a = std::make_shared<PredictArgs>();
-    CLI::App* c = app.add_subcommand("predict", "Per-pass and total frame time of methods for a GPU, workload and display (analytic counters, no rendering), or of a finished run's measured counters (--results)");
+    CLI::App* c = app.add_subcommand(
+        "predict",
+        "Per-pass and total frame time of methods for a GPU, workload and display (analytic "
+        "counters, no rendering), or of a finished run's measured counters (--results)");
     add_target_options(c, a->t, "full");
-    c->add_flag("--json", a->json, "Print JSON with est_ms_total and est_ms_<pass> per GPU and method");
-    c->add_option("--results", a->results,
-                  "A results directory of `fovsim run`: re-cost its measured counters (frames.csv) for --gpu, and for "
-                  "--display/--width/--height/--eyes when given (default: the run's display); -m is ignored");
+    c->add_flag("--json", a->json,
+                "Print JSON with est_ms_total and est_ms_<pass> per GPU and method");
+    c->add_option(
+        "--results", a->results,
+        "A results directory of `fovsim run`: re-cost its measured counters (frames.csv) for "
+        "--gpu, and for "
+        "--display/--width/--height/--eyes when given (default: the run's display); -m is ignored");
     c->callback([a, &action, c]() {
       a->display_given = c->get_option("--display")->count() > 0;
       a->workload_given = c->get_option("--workload")->count() > 0;
@@ -621,22 +669,40 @@ void register_cost(CLI::App& app, Action& action) {
   }
   {
     auto a = std::make_shared<BudgetArgs>();
-    CLI::App* c = app.add_subcommand("budget", "Which configurations fit a refresh-rate budget, their headroom, and the throughput factor each resource would need");
+    CLI::App* c =
+        app.add_subcommand("budget",
+                           "Which configurations fit a refresh-rate budget, their headroom, and "
+                           "the throughput factor each resource would need");
     add_target_options(c, a->t, "full, kfr, rmfr, hyperbolic, linear, fvrs, twfr (run defaults)");
-    c->add_option("--hz", a->hz, "Refresh rate whose frame time is the budget (e.g. 72, 90, 120, 144)")->capture_default_str()->check(CLI::Range(1.0, 10000.0));
-    c->add_option("--budget-ms", a->budget_ms, "Frame budget in ms (overrides --hz)")->check(CLI::Range(0.0, 1e6));
-    c->add_option("--scale-shading", a->s_shading, "What-if: multiply shading (FP32) throughput")->check(CLI::Range(1e-6, 1e6));
-    c->add_option("--scale-geometry", a->s_geometry, "What-if: multiply geometry (triangle) throughput")->check(CLI::Range(1e-6, 1e6));
-    c->add_option("--scale-raster", a->s_raster, "What-if: multiply raster (fill) throughput")->check(CLI::Range(1e-6, 1e6));
-    c->add_option("--scale-memory", a->s_memory, "What-if: multiply memory bandwidth")->check(CLI::Range(1e-6, 1e6));
-    c->add_option("--scale-fixed", a->s_fixed, "What-if: divide fixed per-pass overheads by this factor")->check(CLI::Range(1e-6, 1e6));
+    c->add_option("--hz", a->hz,
+                  "Refresh rate whose frame time is the budget (e.g. 72, 90, 120, 144)")
+        ->capture_default_str()
+        ->check(CLI::Range(1.0, 10000.0));
+    c->add_option("--budget-ms", a->budget_ms, "Frame budget in ms (overrides --hz)")
+        ->check(CLI::Range(0.0, 1e6));
+    c->add_option("--scale-shading", a->s_shading, "What-if: multiply shading (FP32) throughput")
+        ->check(CLI::Range(1e-6, 1e6));
+    c->add_option("--scale-geometry", a->s_geometry,
+                  "What-if: multiply geometry (triangle) throughput")
+        ->check(CLI::Range(1e-6, 1e6));
+    c->add_option("--scale-raster", a->s_raster, "What-if: multiply raster (fill) throughput")
+        ->check(CLI::Range(1e-6, 1e6));
+    c->add_option("--scale-memory", a->s_memory, "What-if: multiply memory bandwidth")
+        ->check(CLI::Range(1e-6, 1e6));
+    c->add_option("--scale-fixed", a->s_fixed,
+                  "What-if: divide fixed per-pass overheads by this factor")
+        ->check(CLI::Range(1e-6, 1e6));
     c->add_flag("--json", a->json, "Print JSON");
     c->callback([a, &action]() { action = [a]() { return do_budget(*a); }; });
   }
   {
     auto a = std::make_shared<ValidateArgs>();
-    CLI::App* c = app.add_subcommand("validate-cost", "Report predicted vs. published times for every calibration entry, withheld-figure predictions and cross-predictions (text, CSV, plot)");
-    c->add_option("--models", a->models, "Models directory (default: $FOVSIM_MODELS, ./models, or the source tree's)");
+    CLI::App* c =
+        app.add_subcommand("validate-cost",
+                           "Report predicted vs. published times for every calibration entry, "
+                           "withheld-figure predictions and cross-predictions (text, CSV, plot)");
+    c->add_option("--models", a->models,
+                  "Models directory (default: $FOVSIM_MODELS, ./models, or the source tree's)");
     c->add_option("-o,--out", a->out, "Output directory")->capture_default_str();
     c->add_flag("--no-plot", a->no_plot, "Do not run viz/plot_cost.py");
     c->callback([a, &action]() { action = [a]() { return do_validate(*a); }; });

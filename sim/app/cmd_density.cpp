@@ -53,14 +53,18 @@ int run_density(const DensityArgs& a) {
       if (kv.substr(0, dot) != m) continue;
       std::string val = kv.substr(eq + 1);
       const std::string key = kv.substr(dot + 1, eq - dot - 1);
-      if (pj.contains(key)) throw Error("--param " + kv, "\"" + key + "\" is also given in --method " + arg);
+      if (pj.contains(key))
+        throw Error("--param " + kv, "\"" + key + "\" is also given in --method " + arg);
       pj[key] = parse_value_or_string(val, "--param " + kv);
     }
     // The method's own parser (make_method: unknown keys are errors) and its sampling geometry.
     Params p(pj, "--method " + arg, "");
     const auto inst = make_method(m, p);
     if (!inst->mapping_spec())
-      throw Error("--method " + arg, "\"" + m + "\" has no analytic sampling density (only image-mapping methods and baselines)");
+      throw Error(
+          "--method " + arg,
+          "\"" + m +
+              "\" has no analytic sampling density (only image-mapping methods and baselines)");
     MappingSpec s = *inst->mapping_spec();
     bool reachable = true;
     const double target = a.target > 0 ? a.target : s.target_shaded_fraction;
@@ -96,8 +100,8 @@ int run_density(const DensityArgs& a) {
         const double t = tmax * (i + 0.5) / a.samples;
         const double x = v.gaze_px.x + dx * t, y = v.gaze_px.y + dy * t;
         const double dens = sample_density(s, v, x, y);
-        csv << ma.text << ',' << rad2deg(th) << ',' << t << ',' << x << ',' << y << ',' << v.ecc_deg(x, y) << ','
-            << dens << ',' << std::min(dens, 1.0) << '\n';
+        csv << ma.text << ',' << rad2deg(th) << ',' << t << ',' << x << ',' << y << ','
+            << v.ecc_deg(x, y) << ',' << dens << ',' << std::min(dens, 1.0) << '\n';
       }
     }
   }
@@ -118,21 +122,30 @@ int run_density(const DensityArgs& a) {
 
 void register_density(CLI::App& app, Action& action) {
   auto a = std::make_shared<DensityArgs>();
-  CLI::App* c = app.add_subcommand("density", "Analytic sampling density and theoretical shading reduction of mapping methods");
+  CLI::App* c = app.add_subcommand(
+      "density", "Analytic sampling density and theoretical shading reduction of mapping methods");
   c->add_option("--method,-m", a->methods,
-                "Method and parameters in the syntax of every command, e.g. kfr, kfr:sigma=1.8,alpha=2, rmfr:fx=0.3 "
+                "Method and parameters in the syntax of every command, e.g. kfr, "
+                "kfr:sigma=1.8,alpha=2, rmfr:fx=0.3 "
                 "(keys as in the run config; repeat); one of kfr, rmfr, hyperbolic, linear, fvrs")
       ->capture_default_str();
   c->add_option("--param", a->params, "Alias: METHOD.key=value, e.g. kfr.alpha=2 (repeat)");
-  c->add_option("--display", a->display, "Display name or path (models/displays/NAME.json)")->capture_default_str();
+  c->add_option("--display", a->display, "Display name or path (models/displays/NAME.json)")
+      ->capture_default_str();
   c->add_option("--models", a->models, "Models directory");
   c->add_option("--gaze-u", a->gaze_u, "Gaze x as a fraction of W")->capture_default_str();
   c->add_option("--gaze-v", a->gaze_v, "Gaze y as a fraction of H")->capture_default_str();
-  c->add_option("--target", a->target, "Iso-budget: shaded fraction every method is tuned to (seed 003 §5.1)")
+  c->add_option("--target", a->target,
+                "Iso-budget: shaded fraction every method is tuned to (seed 003 §5.1)")
       ->check(CLI::Range(0.0, 1.0));
-  c->add_option("--directions", a->directions, "Directions from the gaze")->check(CLI::Range(1, 360))->capture_default_str();
-  c->add_option("--samples", a->samples, "Samples per direction")->check(CLI::Range(1, 100000))->capture_default_str();
-  c->add_option("--out", a->out, "Output prefix (writes PREFIX.csv, PREFIX.json)")->capture_default_str();
+  c->add_option("--directions", a->directions, "Directions from the gaze")
+      ->check(CLI::Range(1, 360))
+      ->capture_default_str();
+  c->add_option("--samples", a->samples, "Samples per direction")
+      ->check(CLI::Range(1, 100000))
+      ->capture_default_str();
+  c->add_option("--out", a->out, "Output prefix (writes PREFIX.csv, PREFIX.json)")
+      ->capture_default_str();
   c->add_flag("--plot", a->plot, "Plot with viz/plot_density.py (PREFIX.png)");
   c->callback([a, &action] { action = [a] { return run_density(*a); }; });
 }

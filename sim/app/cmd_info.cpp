@@ -10,7 +10,8 @@
 namespace fovsim::app {
 
 void register_info(CLI::App& app, Action& action) {
-  auto* cmd = app.add_subcommand("info", "Version and the CPU code paths (Embree ISA, SIMD kernels) available here");
+  auto* cmd = app.add_subcommand(
+      "info", "Version and the CPU code paths (Embree ISA, SIMD kernels) available here");
   auto json = std::make_shared<bool>(false);
   cmd->add_flag("--json", *json, "Print one JSON object instead of text");
   cmd->footer(
@@ -41,9 +42,11 @@ void register_info(CLI::App& app, Action& action) {
 }
 
 void register_methods(CLI::App& app, Action& action) {
-  auto* cmd = app.add_subcommand("methods", "List the foveation methods and their parameters (from their declarations)");
+  auto* cmd = app.add_subcommand(
+      "methods", "List the foveation methods and their parameters (from their declarations)");
   auto md = std::make_shared<bool>(false);
-  cmd->add_flag("--markdown", *md, "Print the parameter tables as Markdown (embedded in docs/methods.md)");
+  cmd->add_flag("--markdown", *md,
+                "Print the parameter tables as Markdown (embedded in docs/methods.md)");
   cmd->callback([&action, md]() {
     action = [md]() {
       if (*md) {

@@ -20,22 +20,29 @@ struct RunArgs {
 
 void register_run(CLI::App& app, Action& action) {
   auto a = std::make_shared<RunArgs>();
-  CLI::App* c = app.add_subcommand("run", "Run one config: replay a trace through every method, write results/<name>/");
-  c->add_option("config", a->config, "Run config (JSON); see configs/README.md for every key")->required();
+  CLI::App* c = app.add_subcommand(
+      "run", "Run one config: replay a trace through every method, write results/<name>/");
+  c->add_option("config", a->config, "Run config (JSON); see configs/README.md for every key")
+      ->required();
   c->add_option("overrides", a->overrides,
-                "Overrides key.path=value applied after loading (e.g. render.scale=0.5 methods[1].sigma=2.2)");
+                "Overrides key.path=value applied after loading (e.g. render.scale=0.5 "
+                "methods[1].sigma=2.2)");
   c->add_option("-o,--out", a->out, "Output directory (default: results/<name>)");
-  c->add_option("-j,--threads", a->threads, "Worker threads (default: all cores); results are identical at any count")
+  c->add_option("-j,--threads", a->threads,
+                "Worker threads (default: all cores); results are identical at any count")
       ->check(CLI::Range(0, 4096));
-  c->add_option("--models", a->models, "Models directory (default: $FOVSIM_MODELS, ./models, or the source tree's)");
+  c->add_option("--models", a->models,
+                "Models directory (default: $FOVSIM_MODELS, ./models, or the source tree's)");
   c->add_flag("-q,--quiet", a->quiet, "Do not print the summary table");
   c->add_flag(
       "--no-plots", a->no_plots,
       "Do not run viz/plot_run.py at the end (plots and index.html in <out>/plots/; skipped with a "
       "message when /usr/bin/python3 has no matplotlib)");
   c->add_option("--watchdog", a->watchdog_s,
-                "Seconds: stop with an error naming the frame and method when one method's frame runs longer than\n"
-                "max(SECONDS, 50x the median of its previous frames) (its first frame: 10x SECONDS); 0 disables")
+                "Seconds: stop with an error naming the frame and method when one method's frame "
+                "runs longer than\n"
+                "max(SECONDS, 50x the median of its previous frames) (its first frame: 10x "
+                "SECONDS); 0 disables")
       ->check(CLI::Range(0.0, 1e9));
   c->add_option("--target", a->targets,
                 "Stop early: COLUMN:VALUE[%|dB|ms] (repeatable, e.g. est_ms_total:1%); "

@@ -42,35 +42,46 @@ void make_plots(const std::string& out, bool quiet) {
 }
 
 void options_common(CLI::App* c, SweepArgs& a) {
-  c->add_option("overrides", a.overrides, "Overrides key.path=value applied after loading (before expansion)");
-  c->add_option("--models", a.models, "Models directory (default: $FOVSIM_MODELS, ./models, or the source tree's)");
+  c->add_option("overrides", a.overrides,
+                "Overrides key.path=value applied after loading (before expansion)");
+  c->add_option("--models", a.models,
+                "Models directory (default: $FOVSIM_MODELS, ./models, or the source tree's)");
 }
 
 void register_sweep(CLI::App& app, Action& action) {
   auto a = std::make_shared<SweepArgs>();
-  CLI::App* c = app.add_subcommand(
-      "sweep", "Run a sweep config: every cell over shared references, results/<name>/runs/<index>-<hash>/ + summary.csv; "
-               "rerunning resumes");
-  c->add_option("config", a->config, "Sweep config (JSON with a \"sweep\" block); see docs/sweeps.md");
+  CLI::App* c = app.add_subcommand("sweep",
+                                   "Run a sweep config: every cell over shared references, "
+                                   "results/<name>/runs/<index>-<hash>/ + summary.csv; "
+                                   "rerunning resumes");
+  c->add_option("config", a->config,
+                "Sweep config (JSON with a \"sweep\" block); see docs/sweeps.md");
   options_common(c, *a);
   c->add_option("-o,--out", a->out, "Output directory (default: results/<name>)");
-  c->add_option("-j,--threads", a->threads, "Worker threads (default: all cores); results are identical at any count")
+  c->add_option("-j,--threads", a->threads,
+                "Worker threads (default: all cores); results are identical at any count")
       ->check(CLI::Range(0, 4096));
   c->add_option("--shard", a->shard,
-                "Run only shard i of N (\"i/N\", contiguous index ranges); default from SLURM_ARRAY_TASK_ID/COUNT");
+                "Run only shard i of N (\"i/N\", contiguous index ranges); default from "
+                "SLURM_ARRAY_TASK_ID/COUNT");
   c->add_option("--batch", a->batch,
-                "Cells per reference pass (default 0: all pending cells of a reference group share one pass)")
+                "Cells per reference pass (default 0: all pending cells of a reference group share "
+                "one pass)")
       ->check(CLI::Range(0, 1000000));
-  c->add_flag("--bench", a->bench, "Print the timing report (references vs. cells' own work) and write bench.json");
+  c->add_flag("--bench", a->bench,
+              "Print the timing report (references vs. cells' own work) and write bench.json");
   c->add_flag("--no-plots", a->no_plots, "Do not run viz/plot_sweep.py at the end");
   c->add_flag("-q,--quiet", a->quiet, "Print only errors");
   c->add_option("--watchdog", a->watchdog_s,
-                "Seconds: stop with an error naming the frame and method when one method's frame runs longer than\n"
-                "max(SECONDS, 50x the median of its previous frames) (its first frame: 10x SECONDS); 0 disables")
+                "Seconds: stop with an error naming the frame and method when one method's frame "
+                "runs longer than\n"
+                "max(SECONDS, 50x the median of its previous frames) (its first frame: 10x "
+                "SECONDS); 0 disables")
       ->check(CLI::Range(0.0, 1e9));
 
   auto e = std::make_shared<SweepArgs>();
-  CLI::App* ex = c->add_subcommand("expand", "Print the ordered cell list of a sweep (cell i is always the same run)");
+  CLI::App* ex = c->add_subcommand(
+      "expand", "Print the ordered cell list of a sweep (cell i is always the same run)");
   ex->add_option("config", e->config, "Sweep config")->required();
   options_common(ex, *e);
   ex->add_flag("--json", e->json, "Print each cell's full run config as JSON lines");
@@ -81,7 +92,9 @@ void register_sweep(CLI::App& app, Action& action) {
       validate_cells(plan);
       for (auto& cell : plan.cells) {
         if (e->json) {
-          std::printf("%s\n", Json{{"index", cell.index}, {"id", cell.id()}, {"config", cell.doc}}.dump().c_str());
+          std::printf(
+              "%s\n",
+              Json{{"index", cell.index}, {"id", cell.id()}, {"config", cell.doc}}.dump().c_str());
           continue;
         }
         std::string as;
@@ -97,7 +110,8 @@ void register_sweep(CLI::App& app, Action& action) {
   c->callback([a, &action, c]() {
     if (!c->get_subcommands().empty()) return;  // `sweep expand`
     action = [a]() {
-      if (a->config.empty()) throw Error("fovsim sweep", "missing CONFIG (see fovsim sweep --help)");
+      if (a->config.empty())
+        throw Error("fovsim sweep", "missing CONFIG (see fovsim sweep --help)");
       LoadedConfig cfg = load_config(a->config, a->overrides);
       SweepPlan plan = expand_sweep(cfg);
       validate_cells(plan);
@@ -108,36 +122,51 @@ void register_sweep(CLI::App& app, Action& action) {
       opt.batch = a->batch;
       opt.watchdog_s = a->watchdog_s;
       opt.command_line = command_line("sweep", *a);
-      if (!a->shard.empty()) parse_shard(a->shard, opt.shard, opt.shards);
-      else shard_from_env(opt.shard, opt.shards);
+      if (!a->shard.empty())
+        parse_shard(a->shard, opt.shard, opt.shards);
+      else
+        shard_from_env(opt.shard, opt.shards);
       SweepReport r = run_sweep(plan, cfg, opt);
       if (!a->quiet) {
         std::printf("sweep %s: %d cells", plan.name.c_str(), r.cells_total);
-        if (opt.shards > 1) std::printf(", shard %d/%d holds %d", opt.shard, opt.shards, r.cells_in_shard);
-        std::printf("; %d already complete (skipped), %d run in %d reference pass%s (%d references)\n",
-                    r.cells_done_before, r.cells_run, r.reference_passes, r.reference_passes == 1 ? "" : "es",
-                    r.reference_frames);
+        if (opt.shards > 1)
+          std::printf(", shard %d/%d holds %d", opt.shard, opt.shards, r.cells_in_shard);
+        std::printf(
+            "; %d already complete (skipped), %d run in %d reference pass%s (%d references)\n",
+            r.cells_done_before, r.cells_run, r.reference_passes,
+            r.reference_passes == 1 ? "" : "es", r.reference_frames);
         if (r.stale_dirs)
-          std::printf("note: %d folder%s in %s/runs belong to cells no longer in this config (ignored)\n", r.stale_dirs,
-                      r.stale_dirs == 1 ? "" : "s", r.out_dir.c_str());
-        std::printf(r.complete ? "results in %s (summary.csv)\n"
-                               : "results in %s; other shards pending: run `fovsim merge %s` when all are done\n",
-                    r.out_dir.c_str(), r.out_dir.c_str());
+          std::printf(
+              "note: %d folder%s in %s/runs belong to cells no longer in this config (ignored)\n",
+              r.stale_dirs, r.stale_dirs == 1 ? "" : "s", r.out_dir.c_str());
+        std::printf(
+            r.complete
+                ? "results in %s (summary.csv)\n"
+                : "results in %s; other shards pending: run `fovsim merge %s` when all are done\n",
+            r.out_dir.c_str(), r.out_dir.c_str());
       }
       if (a->bench) {
         int threads = a->threads > 0 ? a->threads : int(std::thread::hardware_concurrency());
         double base = r.ref_ms + r.cell_ms;
-        Json b{{"cells_run", r.cells_run},        {"reference_passes", r.reference_passes},
-               {"reference_frames", r.reference_frames}, {"threads", threads},
-               {"wall_ms", r.wall_ms},            {"reference_ms", r.ref_ms},
-               {"cells_own_ms", r.cell_ms},       {"setup_ms", r.setup_ms},
+        Json b{{"cells_run", r.cells_run},
+               {"reference_passes", r.reference_passes},
+               {"reference_frames", r.reference_frames},
+               {"threads", threads},
+               {"wall_ms", r.wall_ms},
+               {"reference_ms", r.ref_ms},
+               {"cells_own_ms", r.cell_ms},
+               {"setup_ms", r.setup_ms},
                {"ratio_wall_over_ref_plus_cells", base > 0 ? r.wall_ms / base : 0}};
         write_file_atomic(r.out_dir + "/bench.json", b.dump(2) + "\n");
-        std::printf("bench: %d cells, %d references rendered in %d pass%s, %d threads\n", r.cells_run,
-                    r.reference_frames, r.reference_passes, r.reference_passes == 1 ? "" : "es", threads);
-        std::printf("bench: wall %.1f ms = setup %.1f + references %.1f + cells' own work %.1f (summed over cells)\n",
-                    r.wall_ms, r.setup_ms, r.ref_ms, r.cell_ms);
-        std::printf("bench: wall / (references + cells' own work) = %.3f\n", base > 0 ? r.wall_ms / base : 0.0);
+        std::printf("bench: %d cells, %d references rendered in %d pass%s, %d threads\n",
+                    r.cells_run, r.reference_frames, r.reference_passes,
+                    r.reference_passes == 1 ? "" : "es", threads);
+        std::printf(
+            "bench: wall %.1f ms = setup %.1f + references %.1f + cells' own work %.1f (summed "
+            "over cells)\n",
+            r.wall_ms, r.setup_ms, r.ref_ms, r.cell_ms);
+        std::printf("bench: wall / (references + cells' own work) = %.3f\n",
+                    base > 0 ? r.wall_ms / base : 0.0);
       }
       if (r.complete && !a->no_plots) make_plots(r.out_dir, a->quiet);
       return 0;
@@ -147,19 +176,23 @@ void register_sweep(CLI::App& app, Action& action) {
 
 void register_merge(CLI::App& app, Action& action) {
   auto a = std::make_shared<SweepArgs>();
-  CLI::App* c = app.add_subcommand(
-      "merge", "Merge a sharded sweep: collect complete cells (also from --from folders), write summary.csv, pareto.csv");
+  CLI::App* c = app.add_subcommand("merge",
+                                   "Merge a sharded sweep: collect complete cells (also from "
+                                   "--from folders), write summary.csv, pareto.csv");
   c->add_option("dir", a->out, "Sweep output folder (holds sweep.json)")->required();
-  c->add_option("--from", a->sources, "Other output folders of the same sweep (e.g. node-local shard folders)");
-  c->add_flag("--allow-partial", a->allow_partial, "Write the summaries even when cells are missing");
+  c->add_option("--from", a->sources,
+                "Other output folders of the same sweep (e.g. node-local shard folders)");
+  c->add_flag("--allow-partial", a->allow_partial,
+              "Write the summaries even when cells are missing");
   c->add_flag("--no-plots", a->no_plots, "Do not run viz/plot_sweep.py");
   c->add_flag("-q,--quiet", a->quiet, "Print only errors");
   c->callback([a, &action]() {
     action = [a]() {
       MergeReport r = merge_sweep(a->out, a->sources, a->allow_partial);
       if (!a->quiet)
-        std::printf("merge %s: %d of %d cells (%d copied), %zu missing; %zu summary rows\n", a->out.c_str(), r.found,
-                    r.cells, r.copied, r.missing.size(), r.summary.rows().size());
+        std::printf("merge %s: %d of %d cells (%d copied), %zu missing; %zu summary rows\n",
+                    a->out.c_str(), r.found, r.cells, r.copied, r.missing.size(),
+                    r.summary.rows().size());
       if (!a->no_plots) make_plots(a->out, a->quiet);
       return 0;
     };
@@ -168,12 +201,15 @@ void register_merge(CLI::App& app, Action& action) {
 
 void register_search(CLI::App& app, Action& action) {
   auto a = std::make_shared<SweepArgs>();
-  CLI::App* c = app.add_subcommand(
-      "search", "Ask/tell search of sweep.search.space per context (sweep cell), e.g. best fx, fy per scene under a budget");
-  c->add_option("config", a->config, "Config with a sweep.search block; see docs/sweeps.md")->required();
+  CLI::App* c = app.add_subcommand("search",
+                                   "Ask/tell search of sweep.search.space per context (sweep "
+                                   "cell), e.g. best fx, fy per scene under a budget");
+  c->add_option("config", a->config, "Config with a sweep.search block; see docs/sweeps.md")
+      ->required();
   options_common(c, *a);
   c->add_option("-o,--out", a->out, "Output directory (default: results/<name>)");
-  c->add_option("-j,--threads", a->threads, "Worker threads (default: all cores)")->check(CLI::Range(0, 4096));
+  c->add_option("-j,--threads", a->threads, "Worker threads (default: all cores)")
+      ->check(CLI::Range(0, 4096));
   c->add_option("--shard", a->shard, "Search only contexts of shard i of N (\"i/N\")");
   c->add_flag("-q,--quiet", a->quiet, "Print only errors");
   c->callback([a, &action]() {
@@ -186,12 +222,14 @@ void register_search(CLI::App& app, Action& action) {
       opt.models_dir = a->models;
       opt.threads = a->threads;
       opt.command_line = command_line("search", *a);
-      if (!a->shard.empty()) parse_shard(a->shard, opt.shard, opt.shards);
-      else shard_from_env(opt.shard, opt.shards);
+      if (!a->shard.empty())
+        parse_shard(a->shard, opt.shard, opt.shards);
+      else
+        shard_from_env(opt.shard, opt.shards);
       SearchReport r = run_search(plan, cfg, opt);
       if (!a->quiet) {
-        std::printf("search %s: %d context%s, %d evaluations (%d from cache)\n", plan.name.c_str(), r.contexts,
-                    r.contexts == 1 ? "" : "s", r.evaluations, r.cached);
+        std::printf("search %s: %d context%s, %d evaluations (%d from cache)\n", plan.name.c_str(),
+                    r.contexts, r.contexts == 1 ? "" : "s", r.evaluations, r.cached);
         std::printf("%s", r.best.to_csv().c_str());
         std::printf("results in %s (search_best.csv, search_history.csv)\n", r.out_dir.c_str());
       }

@@ -29,7 +29,9 @@ Display load_display(const TraceArgs& a) {
 }
 
 BadSamplePolicy policy(const std::string& s) {
-  return s == "skip" ? BadSamplePolicy::Skip : s == "hold" ? BadSamplePolicy::Hold : BadSamplePolicy::Fail;
+  return s == "skip"   ? BadSamplePolicy::Skip
+         : s == "hold" ? BadSamplePolicy::Hold
+                       : BadSamplePolicy::Fail;
 }
 
 long outside_fov(const Trace& tr, const Display& d) {
@@ -42,25 +44,29 @@ long outside_fov(const Trace& tr, const Display& d) {
 void print_summary(const Trace& tr, const Display& d) {
   std::printf("%s", format_stats(trace_stats(tr)).c_str());
   long out = outside_fov(tr, d);
-  std::printf("outside FOV        %ld valid samples outside the %s FOV (%.0fx%.0f deg)\n", out, d.name.c_str(),
-              d.fov_h_deg, d.fov_v_deg);
+  std::printf("outside FOV        %ld valid samples outside the %s FOV (%.0fx%.0f deg)\n", out,
+              d.name.c_str(), d.fov_h_deg, d.fov_v_deg);
   for (auto& w : tr.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
 }
 
 void add_display_opts(CLI::App* c, TraceArgs& a) {
-  c->add_option("--display", a.display, "Display name or path (models/displays/NAME.json); bounds the gaze FOV")
+  c->add_option("--display", a.display,
+                "Display name or path (models/displays/NAME.json); bounds the gaze FOV")
       ->capture_default_str();
-  c->add_option("--models", a.models, "Models directory (default: $FOVSIM_MODELS, ./models, or the source tree's)");
+  c->add_option("--models", a.models,
+                "Models directory (default: $FOVSIM_MODELS, ./models, or the source tree's)");
 }
 
 }  // namespace
 
 void register_trace(CLI::App& app, Action& action) {
   auto a = std::make_shared<TraceArgs>();
-  CLI::App* t = app.add_subcommand("trace", "Head+gaze traces: import recordings, validate, summarize, synthesize");
+  CLI::App* t = app.add_subcommand(
+      "trace", "Head+gaze traces: import recordings, validate, summarize, synthesize");
   t->require_subcommand(1);
 
-  CLI::App* imp = t->add_subcommand("import", "Convert a recording to the canonical CSV with a JSON column map");
+  CLI::App* imp = t->add_subcommand(
+      "import", "Convert a recording to the canonical CSV with a JSON column map");
   imp->add_option("IN", a->in, "Recording to import (CSV/TSV/...)")->required();
   imp->add_option("--map", a->map,
                   "Column map JSON (see traces/README.md, e.g. traces/maps/pico_neo3_pro.json)");
@@ -93,17 +99,19 @@ void register_trace(CLI::App& app, Action& action) {
       Trace tr = import_trace(a->in, a->map, d, &rep, io);
       write_trace_csv(a->out, tr);
       std::printf("imported %s -> %s\n", a->in.c_str(), a->out.c_str());
-      std::printf("rows               %ld read, %ld skipped, %ld flagged invalid\n", rep.data_rows, rep.skipped_rows,
-                  rep.invalid_rows);
+      std::printf("rows               %ld read, %ld skipped, %ld flagged invalid\n", rep.data_rows,
+                  rep.skipped_rows, rep.invalid_rows);
       if (rep.time_offset_s != 0) std::printf("time rebased by    %.6f s\n", rep.time_offset_s);
       print_summary(tr, d);
       return 0;
     };
   });
 
-  CLI::App* val = t->add_subcommand("validate", "Check a canonical trace CSV (errors name file:line:column)");
+  CLI::App* val =
+      t->add_subcommand("validate", "Check a canonical trace CSV (errors name file:line:column)");
   val->add_option("FILE", a->in, "Canonical trace CSV")->required();
-  val->add_option("--on-bad", a->on_bad, "Bad-sample policy: fail (first problem is an error), skip or hold")
+  val->add_option("--on-bad", a->on_bad,
+                  "Bad-sample policy: fail (first problem is an error), skip or hold")
       ->check(CLI::IsMember({"fail", "skip", "hold"}))
       ->capture_default_str();
   add_display_opts(val, *a);
@@ -115,7 +123,8 @@ void register_trace(CLI::App& app, Action& action) {
       Trace tr = read_trace_csv(a->in, d, o);
       print_summary(tr, d);
       if (!tr.warnings.empty()) {
-        std::printf("%s: usable, with %zu kind(s) of problems (see warnings)\n", a->in.c_str(), tr.warnings.size());
+        std::printf("%s: usable, with %zu kind(s) of problems (see warnings)\n", a->in.c_str(),
+                    tr.warnings.size());
         return 1;
       }
       std::printf("%s: valid\n", a->in.c_str());
@@ -123,7 +132,8 @@ void register_trace(CLI::App& app, Action& action) {
     };
   });
 
-  CLI::App* st = t->add_subcommand("stats", "Summary of a trace: duration, rate, gaps, invalid fraction, gaze statistics");
+  CLI::App* st = t->add_subcommand(
+      "stats", "Summary of a trace: duration, rate, gaps, invalid fraction, gaze statistics");
   st->add_option("FILE", a->in, "Canonical trace CSV (or a raw recording with --map)")->required();
   st->add_option("--map", a->map, "Column map: summarize a raw recording without writing it");
   st->add_option("--on-bad", a->on_bad, "Bad-sample policy for canonical files: fail, skip or hold")
@@ -149,14 +159,23 @@ void register_trace(CLI::App& app, Action& action) {
     };
   });
 
-  CLI::App* syn = t->add_subcommand("synth", "Generate a synthetic trace from the eye-movement model");
+  CLI::App* syn =
+      t->add_subcommand("synth", "Generate a synthetic trace from the eye-movement model");
   std::string names;
   for (auto& s : synth_scenarios()) names += (names.empty() ? "" : ", ") + s;
-  syn->add_option("--scenario", a->scenario, "Scenario: " + names)->required()->check(CLI::IsMember(synth_scenarios()));
-  syn->add_option("--seed", a->seed, "Random seed (same seed, same trace)")->capture_default_str()->check(CLI::NonNegativeNumber);
-  syn->add_option("--duration", a->duration, "Duration in seconds")->capture_default_str()->check(CLI::PositiveNumber);
-  syn->add_option("--rate", a->rate, "Output rate in Hz (default: the display's refresh rate)")->check(CLI::PositiveNumber);
-  syn->add_option("--params", a->params, "Eye-model overrides JSON (any subset of models/eyemodel/default.json)");
+  syn->add_option("--scenario", a->scenario, "Scenario: " + names)
+      ->required()
+      ->check(CLI::IsMember(synth_scenarios()));
+  syn->add_option("--seed", a->seed, "Random seed (same seed, same trace)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  syn->add_option("--duration", a->duration, "Duration in seconds")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  syn->add_option("--rate", a->rate, "Output rate in Hz (default: the display's refresh rate)")
+      ->check(CLI::PositiveNumber);
+  syn->add_option("--params", a->params,
+                  "Eye-model overrides JSON (any subset of models/eyemodel/default.json)");
   syn->add_option("-o,--output", a->out, "Canonical CSV to write")->required();
   add_display_opts(syn, *a);
   syn->callback([a, &action] {

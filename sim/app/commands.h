@@ -9,10 +9,13 @@ namespace fovsim::app {
 // A registered subcommand sets `action`; main runs it inside the one try/catch.
 using Action = std::function<int()>;
 
-void register_run(CLI::App& app, Action& action);      // fovsim run
-void register_cost(CLI::App& app, Action& action);     // fovsim calibrate | predict | budget | validate-cost
-void register_sweeps(CLI::App& app, Action& action);   // fovsim sweep | sweep expand | merge | search
-void register_trace(CLI::App& app, Action& action);    // fovsim trace import | validate | stats | synth
+void register_run(CLI::App& app, Action& action);  // fovsim run
+void register_cost(CLI::App& app,
+                   Action& action);  // fovsim calibrate | predict | budget | validate-cost
+void register_sweeps(CLI::App& app,
+                     Action& action);  // fovsim sweep | sweep expand | merge | search
+void register_trace(CLI::App& app,
+                    Action& action);  // fovsim trace import | validate | stats | synth
 void register_density(CLI::App& app, Action& action);  // fovsim density
 void register_info(CLI::App& app, Action& action);     // fovsim info
 void register_methods(CLI::App& app, Action& action);  // fovsim methods

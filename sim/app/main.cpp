@@ -6,15 +6,14 @@
 
 #include "sim/app/commands.h"
 #include "sim/core/error.h"
-#include "sim/core/watchdog.h"
 #include "sim/core/version.h"
+#include "sim/core/watchdog.h"
 
 int main(int argc, char** argv) {
-  CLI::App app{
-      "fovsim " + fovsim::version_string() +
-      " — trace-driven simulator and design-space explorer for foveated rendering.\n"
-      "Replays head+gaze traces through CPU implementations of foveation methods and a\n"
-      "cost-modelled GPU pipeline; reports per-frame costs, counters and image metrics."};
+  CLI::App app{"fovsim " + fovsim::version_string() +
+               " — trace-driven simulator and design-space explorer for foveated rendering.\n"
+               "Replays head+gaze traces through CPU implementations of foveation methods and a\n"
+               "cost-modelled GPU pipeline; reports per-frame costs, counters and image metrics."};
   app.set_version_flag("--version", fovsim::version_string() + " (" + fovsim::git_commit() + ")");
   app.require_subcommand(1);
   fovsim::app::Action action;
@@ -47,7 +46,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "fovsim: error: %s\n", e.what());
     return 2;
   } catch (const std::bad_alloc&) {
-    std::fprintf(stderr, "fovsim: error: out of memory (try a smaller render.scale or fewer frames)\n");
+    std::fprintf(stderr,
+                 "fovsim: error: out of memory (try a smaller render.scale or fewer frames)\n");
     return 3;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "fovsim: internal error: %s\n", e.what());

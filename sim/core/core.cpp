@@ -34,10 +34,16 @@ std::string hex64(uint64_t v) {
   return buf;
 }
 
-std::string short_hash(std::string_view s) { return hex64(fnv1a64(s)).substr(0, 10); }
+std::string short_hash(std::string_view s) {
+  return hex64(fnv1a64(s)).substr(0, 10);
+}
 
-std::string version_string() { return FOVSIM_VERSION; }
-std::string git_commit() { return FOVSIM_GIT_COMMIT; }
+std::string version_string() {
+  return FOVSIM_VERSION;
+}
+std::string git_commit() {
+  return FOVSIM_GIT_COMMIT;
+}
 
 void make_dirs(const std::string& path) {
   if (path.empty()) return;
@@ -179,7 +185,9 @@ Progress::Progress(std::string label, size_t total)
   start_ = last_ = std::chrono::steady_clock::now();
 }
 
-Progress::~Progress() { done(); }
+Progress::~Progress() {
+  done();
+}
 
 void Progress::step(size_t n) {
   count_ += n;

@@ -10,7 +10,9 @@ class Error : public std::runtime_error {
  public:
   // `where` is a location such as "configs/run.json: methods[0].sigma" or "trace.csv:12:4".
   Error(const std::string& where, const std::string& what)
-      : std::runtime_error(where.empty() ? what : where + ": " + what), where_(where), what_(what) {}
+      : std::runtime_error(where.empty() ? what : where + ": " + what),
+        where_(where),
+        what_(what) {}
   const std::string& where() const { return where_; }
   const std::string& message() const { return what_; }
 

@@ -13,7 +13,7 @@ inline uint64_t fnv1a64(std::string_view s, uint64_t h = 0xcbf29ce484222325ull) 
   }
   return h;
 }
-std::string hex64(uint64_t v);                  // 16 lowercase hex digits
-std::string short_hash(std::string_view s);     // first 10 hex digits of fnv1a64
+std::string hex64(uint64_t v);               // 16 lowercase hex digits
+std::string short_hash(std::string_view s);  // first 10 hex digits of fnv1a64
 
 }  // namespace fovsim

@@ -1,9 +1,8 @@
 // Image helpers and I/O through OpenImageIO (DESIGN: prefer a library for image I/O).
 #include "sim/core/image.h"
 
-#include <unistd.h>
-
 #include <OpenImageIO/imageio.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -56,11 +55,14 @@ void write_image(const std::string& path, const Image& img) {
   if (p.has_parent_path()) make_dirs(p.parent_path().string());
   std::string ext = p.extension().string();
   // Keep the real extension on the temp file so OIIO picks the right format.
-  std::string tmp = (p.parent_path() / (".tmp." + std::to_string(::getpid()) + "." + p.filename().string())).string();
+  std::string tmp =
+      (p.parent_path() / (".tmp." + std::to_string(::getpid()) + "." + p.filename().string()))
+          .string();
   bool is_exr = ext == ".exr";
   auto out = OIIO::ImageOutput::create(tmp);
   if (!out) throw Error(path, "unsupported image format \"" + ext + "\" (use .png or .exr)");
-  OIIO::ImageSpec spec(img.width, img.height, img.channels, is_exr ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
+  OIIO::ImageSpec spec(img.width, img.height, img.channels,
+                       is_exr ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
   if (!out->open(tmp, spec)) {
     std::string err = out->geterror();
     std::remove(tmp.c_str());
@@ -118,9 +120,10 @@ static glm::vec3 turbo(float t) {
       kb2(-89.90310912f, 27.34824973f);
   glm::vec4 v4(1.f, t, t * t, t * t * t);
   glm::vec2 v2 = glm::vec2(v4.z, v4.w) * v4.z;
-  return glm::clamp(glm::vec3(glm::dot(v4, kr) + glm::dot(v2, kr2), glm::dot(v4, kg) + glm::dot(v2, kg2),
-                              glm::dot(v4, kb) + glm::dot(v2, kb2)),
-                    0.f, 1.f);
+  return glm::clamp(
+      glm::vec3(glm::dot(v4, kr) + glm::dot(v2, kr2), glm::dot(v4, kg) + glm::dot(v2, kg2),
+                glm::dot(v4, kb) + glm::dot(v2, kb2)),
+      0.f, 1.f);
 }
 
 Image heatmap(const Image& scalar, float lo, float hi) {

@@ -22,7 +22,9 @@ struct Image {
   }
   size_t pixels() const { return size_t(width) * size_t(height); }
   bool empty() const { return data.empty(); }
-  float* at(int x, int y) { return &data[(size_t(y) * size_t(width) + size_t(x)) * size_t(channels)]; }
+  float* at(int x, int y) {
+    return &data[(size_t(y) * size_t(width) + size_t(x)) * size_t(channels)];
+  }
   const float* at(int x, int y) const {
     return &data[(size_t(y) * size_t(width) + size_t(x)) * size_t(channels)];
   }

@@ -24,19 +24,26 @@ static std::string fmt_num(double v) {
 }
 
 std::string Range::str() const {
-  return std::string(lo_open ? "(" : "[") + fmt_num(lo) + ", " + fmt_num(hi) + (hi_open ? ")" : "]");
+  return std::string(lo_open ? "(" : "[") + fmt_num(lo) + ", " + fmt_num(hi) +
+         (hi_open ? ")" : "]");
 }
 
 std::string describe_json(const Json& v) {
   std::string dump = v.dump(-1, ' ', false, Json::error_handler_t::replace);
   if (dump.size() > 40) dump = dump.substr(0, 37) + "...";
   switch (v.type()) {
-    case Json::value_t::null: return "null";
-    case Json::value_t::boolean: return "a boolean " + dump;
-    case Json::value_t::string: return "a string " + dump;
-    case Json::value_t::array: return "an array " + dump;
-    case Json::value_t::object: return "an object";
-    default: return "a number " + dump;
+    case Json::value_t::null:
+      return "null";
+    case Json::value_t::boolean:
+      return "a boolean " + dump;
+    case Json::value_t::string:
+      return "a string " + dump;
+    case Json::value_t::array:
+      return "an array " + dump;
+    case Json::value_t::object:
+      return "an object";
+    default:
+      return "a number " + dump;
   }
 }
 
@@ -136,7 +143,9 @@ Json Params::parse_json_file(const std::string& file) {
   return parse_json_text(read_file(file), file);
 }
 
-Params Params::from_file(const std::string& file) { return Params(parse_json_file(file), file); }
+Params Params::from_file(const std::string& file) {
+  return Params(parse_json_file(file), file);
+}
 
 std::string Params::path_of(const std::string& key) const {
   if (key.empty()) return path_;
@@ -149,9 +158,13 @@ std::string Params::where(const std::string& key) const {
   return st_->file.empty() ? p : st_->file + ": " + p;
 }
 
-void Params::fail(const std::string& key, const std::string& msg) const { throw Error(where(key), msg); }
+void Params::fail(const std::string& key, const std::string& msg) const {
+  throw Error(where(key), msg);
+}
 
-bool Params::has(const std::string& key) const { return j_.contains(key); }
+bool Params::has(const std::string& key) const {
+  return j_.contains(key);
+}
 
 const Json* Params::find(const std::string& key) const {
   auto it = j_.find(key);
@@ -207,7 +220,8 @@ int Params::integer(const std::string& key, int def, Range r) {
 int Params::integer(const std::string& key, Range r) {
   const Json* v = find(key);
   if (!v) fail(key, "required integer is missing (allowed range " + r.str() + ")");
-  if (!v->is_number()) fail(key, "expected an integer in " + r.str() + ", got " + describe_json(*v));
+  if (!v->is_number())
+    fail(key, "expected an integer in " + r.str() + ", got " + describe_json(*v));
   double d = v->get<double>();
   if (d != std::floor(d) || std::fabs(d) > 2e9) fail(key, "expected an integer, got " + v->dump());
   check_range(key, d, r);
@@ -243,7 +257,9 @@ std::string Params::string(const std::string& key, const std::string& def,
 
 std::string Params::string(const std::string& key, const std::vector<std::string>& allowed) {
   const Json* v = find(key);
-  if (!v) fail(key, "required string is missing" + (allowed.empty() ? "" : " (one of: " + join(allowed) + ")"));
+  if (!v)
+    fail(key, "required string is missing" +
+                  (allowed.empty() ? "" : " (one of: " + join(allowed) + ")"));
   if (!v->is_string()) fail(key, "expected a string, got " + describe_json(*v));
   std::string s = v->get<std::string>();
   if (!allowed.empty()) {
@@ -255,7 +271,8 @@ std::string Params::string(const std::string& key, const std::vector<std::string
   return s;
 }
 
-std::vector<double> Params::numbers(const std::string& key, const std::vector<double>& def, Range r) {
+std::vector<double> Params::numbers(const std::string& key, const std::vector<double>& def,
+                                    Range r) {
   const Json* v = find(key);
   if (!v) {
     mark(key, def);
@@ -314,14 +331,16 @@ const Json& Params::raw(const std::string& key) {
     stack.pop_back();
     st_->used.insert(p.to_string());
     if (node->is_object())
-      for (auto it = node->begin(); it != node->end(); ++it) stack.push_back({p / it.key(), &it.value()});
+      for (auto it = node->begin(); it != node->end(); ++it)
+        stack.push_back({p / it.key(), &it.value()});
     else if (node->is_array())
       for (size_t i = 0; i < node->size(); ++i) stack.push_back({p / i, &(*node)[i]});
   }
   return *v;
 }
 
-void Params::finish_rec(const Json& j, const Json::json_pointer& ptr, const std::string& path) const {
+void Params::finish_rec(const Json& j, const Json::json_pointer& ptr,
+                        const std::string& path) const {
   if (j.is_object()) {
     for (auto it = j.begin(); it != j.end(); ++it) {
       auto p = ptr / it.key();
@@ -335,13 +354,14 @@ void Params::finish_rec(const Json& j, const Json::json_pointer& ptr, const std:
   } else if (j.is_array()) {
     for (size_t i = 0; i < j.size(); ++i) {
       auto p = ptr / i;
-      if (st_->used.count(p.to_string()))
-        finish_rec(j[i], p, path + "[" + std::to_string(i) + "]");
+      if (st_->used.count(p.to_string())) finish_rec(j[i], p, path + "[" + std::to_string(i) + "]");
     }
   }
 }
 
-void Params::finish() const { finish_rec(j_, ptr_, path_); }
+void Params::finish() const {
+  finish_rec(j_, ptr_, path_);
+}
 
 Json parse_value_or_string(const std::string& text, const std::string& where) {
   check_json_depth(text, where);

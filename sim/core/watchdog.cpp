@@ -8,7 +8,9 @@ namespace fovsim {
 namespace {
 std::mutex g_handler_m;
 Watchdog::Handler& handler_ref() {
-  static Watchdog::Handler h = [](const std::string& msg) { std::fprintf(stderr, "fovsim: watchdog: %s\n", msg.c_str()); };
+  static Watchdog::Handler h = [](const std::string& msg) {
+    std::fprintf(stderr, "fovsim: watchdog: %s\n", msg.c_str());
+  };
   return h;
 }
 
@@ -78,12 +80,13 @@ void Watchdog::loop() {
       const double t = std::chrono::duration<double>(now - s.start).count(), lim = limit_locked(s);
       if (t <= lim) continue;
       s.fired = true;
-      std::string msg = s.what + " has run for " + seconds(t) + ", over its limit of " + seconds(lim);
+      std::string msg =
+          s.what + " has run for " + seconds(t) + ", over its limit of " + seconds(lim);
       if (!s.history.empty()) {
         std::vector<double> h = s.history;
         std::nth_element(h.begin(), h.begin() + long(h.size() / 2), h.end());
-        msg += " (" + std::to_string(int(lim_.factor)) + "x the median " + seconds(h[h.size() / 2]) +
-               " of its previous frames)";
+        msg += " (" + std::to_string(int(lim_.factor)) + "x the median " +
+               seconds(h[h.size() / 2]) + " of its previous frames)";
       }
       msg += "; stopped by the watchdog (--watchdog SECONDS raises the limit, 0 disables it)";
       Handler h;

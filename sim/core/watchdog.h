@@ -18,8 +18,8 @@
 namespace fovsim {
 
 struct WatchdogLimits {
-  double min_s = 60;      // 0 disables the watchdog
-  double factor = 50;     // times the median of the slot's previous steps
+  double min_s = 60;         // 0 disables the watchdog
+  double factor = 50;        // times the median of the slot's previous steps
   double first_factor = 10;  // a slot's first step (no neighbours yet): first_factor * min_s
 };
 

@@ -34,14 +34,19 @@ std::vector<std::string> analytic_keys(CostFamily f, bool whole_buffer) {
   switch (f) {
     case CostFamily::Mapping:
       return whole_buffer ? std::vector<std::string>{"filter_taps_per_pixel"}
-                          : std::vector<std::string>{"shaded_fraction", "gaze_u", "gaze_v", "filter_taps_per_pixel"};
-    case CostFamily::Fvrs: return {"shaded_fraction", "gaze_u", "gaze_v"};
-    case CostFamily::Twfr: return {"redraw_fraction", "prims_fraction"};
-    default: return {};
+                          : std::vector<std::string>{"shaded_fraction", "gaze_u", "gaze_v",
+                                                     "filter_taps_per_pixel"};
+    case CostFamily::Fvrs:
+      return {"shaded_fraction", "gaze_u", "gaze_v"};
+    case CostFamily::Twfr:
+      return {"redraw_fraction", "prims_fraction"};
+    default:
+      return {};
   }
 }
 
-double column(const std::vector<std::pair<std::string, double>>& cols, const std::string& k, double def) {
+double column(const std::vector<std::pair<std::string, double>>& cols, const std::string& k,
+              double def) {
   for (auto& [n, v] : cols)
     if (n == k) return v;
   return def;
@@ -49,7 +54,9 @@ double column(const std::vector<std::pair<std::string, double>>& cols, const std
 
 // kfr/rmfr-style buffers (a whole (W/sigma) x (H/sigma) buffer is shaded) vs baselines whose
 // shaded samples follow their layers / probability.
-bool shades_whole_buffer(const std::string& kind) { return kind == "kfr" || kind == "rmfr"; }
+bool shades_whole_buffer(const std::string& kind) {
+  return kind == "kfr" || kind == "rmfr";
+}
 
 std::string mapping_kind(const std::string& method, const std::string& where) {
   // The declared sampling geometry of the method at its defaults.
@@ -79,20 +86,23 @@ Counters analytic_counters(const std::string& method, const Json& params, const 
   const double P = double(std::max(0, d.width)) * double(std::max(0, d.height));
   Counters c;
   auto shaded_frac_param = [&](double def) {
-    double f = p.number("shaded_fraction", w.shaded_fraction >= 0 ? w.shaded_fraction : -1, Range::closed(-1, 1));
+    double f = p.number("shaded_fraction", w.shaded_fraction >= 0 ? w.shaded_fraction : -1,
+                        Range::closed(-1, 1));
     return f >= 0 ? f : def;
   };
   // The baselines' shaded fraction from their real parameters at a gaze point (the same
   // geometry their render passes use, density.h), unless given.
   auto baseline_fraction = [&](double def_if_empty) {
-    const double gu = p.number("gaze_u", 0.5, Range::closed(-1, 2)), gv = p.number("gaze_v", 0.5, Range::closed(-1, 2));
+    const double gu = p.number("gaze_u", 0.5, Range::closed(-1, 2)),
+                 gv = p.number("gaze_v", 0.5, Range::closed(-1, 2));
     double f = shaded_frac_param(-1);
     if (f >= 0 || P <= 0) return f >= 0 ? f : def_if_empty;
     const MappingSpec* spec = inst->mapping_spec();
     if (!spec) return def_if_empty;
     Camera cam = Camera::from_pose(d, glm::dvec3(0), glm::dquat(1, 0, 0, 0));
     MappingView v = MappingView::at(cam, {gu * d.width, gv * d.height});
-    if (fam == CostFamily::Fvrs) return fvrs_shaded_fraction(d, gu, gv, spec->r1_eff(), spec->r2_eff());
+    if (fam == CostFamily::Fvrs)
+      return fvrs_shaded_fraction(d, gu, gv, spec->r1_eff(), spec->r2_eff());
     return expected_shaded_samples(*spec, v) / P;
   };
   if (fam == CostFamily::Full) {
@@ -128,7 +138,8 @@ Counters analytic_counters(const std::string& method, const Json& params, const 
     double lights = std::max(1.0, w.lights);
     double total = w.rsm_res * w.rsm_res * lights;  // one VPL per RSM texel (seed 001 §3)
     // The budget given on the command line (validated by FLC's parser), else the workload's.
-    const double budget = own.contains("vpl_budget") ? column(cols, "vpl_budget", w.vpl_budget) : w.vpl_budget;
+    const double budget =
+        own.contains("vpl_budget") ? column(cols, "vpl_budget", w.vpl_budget) : w.vpl_budget;
     double kept = std::min(total, budget);
     double ns = w.importance_samples;
     double s = P * w.lpt_fraction;
@@ -138,7 +149,7 @@ Counters analytic_counters(const std::string& method, const Json& params, const 
     c.set("vpls_total", total);
     c.set("vpls_kept", kept);
     c.set("importance_samples", ns);
-    c.set("contribution_evals", total * ns);       // eq. 14 for every VPL and sample
+    c.set("contribution_evals", total * ns);               // eq. 14 for every VPL and sample
     c.set("shaded_sample_vpls", s * kept / w.interleave);  // interleaved sampling (§6)
   }
   p.finish();

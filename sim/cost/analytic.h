@@ -5,13 +5,16 @@
 // method's own parser through the factory: same defaults and ranges, unknown keys are errors),
 // plus these analytic assumptions, which replace what a rendered run would measure:
 //   name                   methods                     default   range    meaning
-//   shaded_fraction        hyperbolic, linear, fvrs    computed  [0, 1]   override of the shaded fraction
-//                                                                         (default: the method's layers /
-//                                                                         probability / rates at the gaze)
-//   gaze_u, gaze_v         hyperbolic, linear, fvrs    0.5       [-1, 2]  gaze point as a fraction of W, H
-//   filter_taps_per_pixel  kfr, rmfr, hyperbolic, lin. 4         >= 0     pass-2 taps per full-res pixel
-//   redraw_fraction        twfr                        workload  [0, 1]   pixels redrawn / W*H (seed 002 §8.4)
-//   prims_fraction         twfr                        workload  [0, 1]   primitives kept by foveated culling
+//   shaded_fraction        hyperbolic, linear, fvrs    computed  [0, 1]   override of the shaded
+//   fraction
+//                                                                         (default: the method's
+//                                                                         layers / probability /
+//                                                                         rates at the gaze)
+//   gaze_u, gaze_v         hyperbolic, linear, fvrs    0.5       [-1, 2]  gaze point as a fraction
+//   of W, H filter_taps_per_pixel  kfr, rmfr, hyperbolic, lin. 4         >= 0     pass-2 taps per
+//   full-res pixel redraw_fraction        twfr                        workload  [0, 1]   pixels
+//   redrawn / W*H (seed 002 §8.4) prims_fraction         twfr                        workload  [0,
+//   1]   primitives kept by foveated culling
 // kfr/rmfr shade their whole (W/sigma) x (H/sigma) buffer; flc's vpl_budget is FLC's own key
 // (default: the workload's budget when not given).
 #pragma once

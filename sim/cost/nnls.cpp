@@ -8,8 +8,8 @@ namespace fovsim {
 namespace {
 // Unconstrained least squares on the columns in `set` via normal equations (Gaussian
 // elimination with partial pivoting); columns not in `set` are 0.
-std::vector<double> ls_subset(const std::vector<double>& A, int m, int n, const std::vector<double>& b,
-                              const std::vector<char>& set) {
+std::vector<double> ls_subset(const std::vector<double>& A, int m, int n,
+                              const std::vector<double>& b, const std::vector<char>& set) {
   std::vector<int> idx;
   for (int j = 0; j < n; ++j)
     if (set[j]) idx.push_back(j);
@@ -30,7 +30,8 @@ std::vector<double> ls_subset(const std::vector<double>& A, int m, int n, const 
     for (int r = c + 1; r < k; ++r)
       if (std::fabs(M[size_t(r) * (k + 1) + c]) > std::fabs(M[size_t(piv) * (k + 1) + c])) piv = r;
     if (piv != c)
-      for (int q = 0; q <= k; ++q) std::swap(M[size_t(c) * (k + 1) + q], M[size_t(piv) * (k + 1) + q]);
+      for (int q = 0; q <= k; ++q)
+        std::swap(M[size_t(c) * (k + 1) + q], M[size_t(piv) * (k + 1) + q]);
     double d = M[size_t(c) * (k + 1) + c];
     if (std::fabs(d) < 1e-300) continue;
     for (int r = 0; r < k; ++r) {
@@ -49,7 +50,8 @@ std::vector<double> ls_subset(const std::vector<double>& A, int m, int n, const 
 }
 }  // namespace
 
-std::vector<double> nnls(const std::vector<double>& A, int m, int n, const std::vector<double>& b, int max_iter) {
+std::vector<double> nnls(const std::vector<double>& A, int m, int n, const std::vector<double>& b,
+                         int max_iter) {
   std::vector<double> x(n, 0.0);
   std::vector<char> P(n, 0);
   auto gradient = [&](std::vector<double>& w) {

@@ -6,7 +6,7 @@
 namespace fovsim {
 
 // Minimises ||A x - b|| subject to x >= 0. A is row-major rows x cols. Small dense problems.
-std::vector<double> nnls(const std::vector<double>& A, int rows, int cols, const std::vector<double>& b,
-                         int max_iter = 500);
+std::vector<double> nnls(const std::vector<double>& A, int rows, int cols,
+                         const std::vector<double>& b, int max_iter = 500);
 
 }  // namespace fovsim

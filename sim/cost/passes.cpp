@@ -85,7 +85,9 @@ const std::vector<std::string>& cost_methods() {
   return m;
 }
 
-bool is_cost_method(const std::string& m) { return find_method(m) != nullptr; }
+bool is_cost_method(const std::string& m) {
+  return find_method(m) != nullptr;
+}
 
 CostFamily cost_family(const std::string& m) {
   const MethodEntry* e = find_method(m);
@@ -93,7 +95,9 @@ CostFamily cost_family(const std::string& m) {
   return e->family;
 }
 
-bool has_mapping_pass2(const std::string& m) { return is_cost_method(m) && cost_family(m) == CostFamily::Mapping; }
+bool has_mapping_pass2(const std::string& m) {
+  return is_cost_method(m) && cost_family(m) == CostFamily::Mapping;
+}
 
 Resource term_resource(const std::string& pass, const std::string& term, const std::string& where) {
   for (auto& d : term_table())
@@ -157,8 +161,9 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
   const bool twfr = fam == CostFamily::Twfr, flc = fam == CostFamily::Flc;
 
   // Shaded samples per eye at the real resolution. `full` shades every pixel by definition.
-  const double S = fam == CostFamily::Full ? (c.has("shaded_samples") ? c.get("shaded_samples") * scale : P)
-                               : need_px("shaded_samples", 0);
+  const double S = fam == CostFamily::Full
+                       ? (c.has("shaded_samples") ? c.get("shaded_samples") * scale : P)
+                       : need_px("shaded_samples", 0);
 
   std::vector<PassWork> out;
   auto add = [&](const char* pass, std::vector<Term> terms) {

@@ -35,7 +35,7 @@ Display Display::load(const std::string& name_or_path, const std::string& models
 }
 
 Json Display::to_json() const {
-  return Json{{"name", name},           {"width", width},           {"height", height},
+  return Json{{"name", name},           {"width", width},         {"height", height},
               {"fov_h_deg", fov_h_deg}, {"fov_v_deg", fov_v_deg}, {"refresh_hz", refresh_hz},
               {"eyes", eyes},           {"source", source}};
 }
@@ -97,7 +97,8 @@ std::vector<float> eccentricity_map(const Camera& cam, const glm::dvec3& gaze_di
   glm::dvec3 g = glm::normalize(gaze_dir_head);
   tbb::parallel_for(0, cam.height, [&](int y) {
     for (int x = 0; x < cam.width; ++x)
-      e[size_t(y) * size_t(cam.width) + size_t(x)] = float(cam.eccentricity_deg(x + 0.5, y + 0.5, g));
+      e[size_t(y) * size_t(cam.width) + size_t(x)] =
+          float(cam.eccentricity_deg(x + 0.5, y + 0.5, g));
   });
   return e;
 }

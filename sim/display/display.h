@@ -41,17 +41,22 @@ struct Camera {
 
   static Camera from_pose(const Display& d, const glm::dvec3& pos, const glm::dquat& rot);
 
-  // Head-space direction (unit) through screen point (px, py) in pixels (centre of pixel i is i+0.5).
+  // Head-space direction (unit) through screen point (px, py) in pixels (centre of pixel i is
+  // i+0.5).
   glm::dvec3 dir_head(double px, double py) const;
   glm::dvec3 dir_world(double px, double py) const { return orientation * dir_head(px, py); }
   glm::dvec3 to_world_dir(const glm::dvec3& head_dir) const { return orientation * head_dir; }
-  glm::dvec3 to_head_dir(const glm::dvec3& world_dir) const { return glm::conjugate(orientation) * world_dir; }
+  glm::dvec3 to_head_dir(const glm::dvec3& world_dir) const {
+    return glm::conjugate(orientation) * world_dir;
+  }
   // Projects a head-space direction to pixels. Returns false (and leaves px) if the direction
   // points behind the eye (z >= 0). The point may land outside [0,W)x[0,H).
   bool project_head(const glm::dvec3& dir, glm::dvec2& px) const;
   // Projects a world point; `depth` is the distance along the view axis (-z in head space).
   bool project_world(const glm::dvec3& p, glm::dvec2& px, double* depth = nullptr) const;
-  bool inside(const glm::dvec2& px) const { return px.x >= 0 && px.y >= 0 && px.x < width && px.y < height; }
+  bool inside(const glm::dvec2& px) const {
+    return px.x >= 0 && px.y >= 0 && px.x < width && px.y < height;
+  }
 
   // Exact eccentricity (degrees) of pixel point (px,py): angle between the gaze ray and the
   // pixel's ray through the real projection (DESIGN §3; not a pixel-distance proxy).

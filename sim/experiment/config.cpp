@@ -36,8 +36,10 @@ static Json load_with_bases(const std::string& path, std::set<std::string>& seen
   Json doc = Params::parse_json_file(path);
   if (!doc.is_object()) throw Error(path, "a config must be a JSON object");
   if (doc.contains("base")) {
-    if (!doc["base"].is_string()) throw Error(path + ": base", "expected a path string, got " + describe_json(doc["base"]));
-    std::string base = resolve_path(fs::path(path).parent_path().string(), doc["base"].get<std::string>());
+    if (!doc["base"].is_string())
+      throw Error(path + ": base", "expected a path string, got " + describe_json(doc["base"]));
+    std::string base =
+        resolve_path(fs::path(path).parent_path().string(), doc["base"].get<std::string>());
     if (!fs::exists(base, ec))
       throw Error(path + ": base", "base config \"" + base + "\" not found");
     Json merged = load_with_bases(base, seen);

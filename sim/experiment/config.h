@@ -10,9 +10,9 @@
 namespace fovsim {
 
 struct LoadedConfig {
-  Json doc;             // merged document (base files applied, overrides applied)
-  std::string file;     // path of the config given by the user
-  std::string base_dir; // directory of that file (for relative paths)
+  Json doc;              // merged document (base files applied, overrides applied)
+  std::string file;      // path of the config given by the user
+  std::string base_dir;  // directory of that file (for relative paths)
 };
 
 // Loads CONFIG, applies "base" chains (cycle-checked) and then `overrides` in order.

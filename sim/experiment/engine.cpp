@@ -1,6 +1,3 @@
-#include "sim/core/watchdog.h"
-#include "sim/foveation/simd_kernels.h"
-#include "sim/render/embree_device.h"
 #include "sim/experiment/engine.h"
 
 #include <tbb/info.h>
@@ -23,6 +20,7 @@
 #include "sim/core/hash.h"
 #include "sim/core/progress.h"
 #include "sim/core/version.h"
+#include "sim/core/watchdog.h"
 #include "sim/cost/cost_model.h"
 #include "sim/cost/gpu_profile.h"
 #include "sim/cost/workload.h"
@@ -32,7 +30,9 @@
 #include "sim/experiment/runner.h"
 #include "sim/foveation/factory.h"
 #include "sim/foveation/frame.h"
+#include "sim/foveation/simd_kernels.h"
 #include "sim/metrics/metrics.h"
+#include "sim/render/embree_device.h"
 #include "sim/render/renderer.h"
 #include "sim/trace/trace.h"
 
@@ -74,7 +74,9 @@ Json machine_info() {
               {"simd_path", simd_path_name(simd_path())}};
 }
 
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
 
 struct MethodRun {
   std::string label;
@@ -90,8 +92,8 @@ struct ImageOutputs {
   bool png = true, exr = false, debug = false;
 };
 
-void write_images(const std::string& dir, const std::string& stem, const Image& display_img, const Image* linear,
-                  const ImageOutputs& io) {
+void write_images(const std::string& dir, const std::string& stem, const Image& display_img,
+                  const Image* linear, const ImageOutputs& io) {
   if (io.png) write_image(dir + "/" + safe_file_name(stem) + ".png", display_img);
   if (io.exr && linear) write_image(dir + "/" + safe_file_name(stem) + ".exr", *linear);
 }
@@ -119,7 +121,7 @@ struct Shared {
   Trace raw_trace;  // before resampling: gaze at any time for the latency what-if
   int start = 0, stride = 1, count = 0;
   double pixel_scale = 1;
-  Json resolved;                 // resolved shared keys (for every cell's manifest)
+  Json resolved;  // resolved shared keys (for every cell's manifest)
 
   void parse(Params& root, const std::string& cfg_file, const std::string& base_dir) {
     seed = uint64_t(root.integer("seed", 1, Range::closed(0, 2e9)));
@@ -149,8 +151,9 @@ struct Shared {
     scene = std::make_unique<Scene>(make_scene(sp, models));
     tonemap.exposure = tp.number("exposure", scene->exposure, Range::above(0, 1e6));
     std::string curve = tp.string("curve", "aces", {"aces", "reinhard", "clamp"});
-    tonemap.curve = curve == "aces" ? ToneMap::Curve::Aces
-                                    : (curve == "reinhard" ? ToneMap::Curve::Reinhard : ToneMap::Curve::Clamp);
+    tonemap.curve = curve == "aces"
+                        ? ToneMap::Curve::Aces
+                        : (curve == "reinhard" ? ToneMap::Curve::Reinhard : ToneMap::Curve::Clamp);
 
     // The frame range is read first so that only the part of the trace it uses is resampled
     // (a trace spanning 1e7 s with frames.count = 2 resamples 2 frames, not 1e7 s).
@@ -167,7 +170,8 @@ struct Shared {
     trace = resample(raw_trace, display.refresh_hz,
                      raw_trace.samples.empty() ? INFINITY : raw_trace.samples.front().t + needed_s);
     this->raw_trace = raw_trace;
-    if (trace.samples.empty()) throw Error(root.where("trace"), "trace has no samples after resampling");
+    if (trace.samples.empty())
+      throw Error(root.where("trace"), "trace has no samples after resampling");
     if (placement == "scene") {
       // The trace's first head position is placed at the scene's default eye (recordings use
       // their own world origin); orientation is kept as recorded.
@@ -178,24 +182,30 @@ struct Shared {
     int avail = int(trace.samples.size());
     std::string on_short = fp.string("on_short_trace", "fail", {"fail", "truncate"});
     if (start >= avail)
-      fp.fail("start", "frame " + std::to_string(start) + " is past the end of the trace (" + std::to_string(avail) +
-                           " frames at " + format_number(display.refresh_hz) + " Hz)");
+      fp.fail("start", "frame " + std::to_string(start) + " is past the end of the trace (" +
+                           std::to_string(avail) + " frames at " +
+                           format_number(display.refresh_hz) + " Hz)");
     int max_count = (avail - start + stride - 1) / stride;
     if (count == 0) count = max_count;
     if (count > max_count) {
       if (on_short == "fail")
-        fp.fail("count", "trace is too short: " + std::to_string(count) + " frames requested from frame " +
-                             std::to_string(start) + " with stride " + std::to_string(stride) + ", only " +
-                             std::to_string(max_count) + " available (set frames.on_short_trace=\"truncate\" to accept)");
+        fp.fail("count", "trace is too short: " + std::to_string(count) +
+                             " frames requested from frame " + std::to_string(start) +
+                             " with stride " + std::to_string(stride) + ", only " +
+                             std::to_string(max_count) +
+                             " available (set frames.on_short_trace=\"truncate\" to accept)");
       count = max_count;
     }
-    pixel_scale = double(display.width) * display.height / (double(sim_display.width) * sim_display.height);
+    pixel_scale =
+        double(display.width) * display.height / (double(sim_display.width) * sim_display.height);
     (void)cfg_file;
   }
 };
 
 // Scene features as recorded in manifest.json (what `fovsim predict --results` re-costs with).
-Json scene_features_json(const SceneFeatures& f) { return f.to_json(); }
+Json scene_features_json(const SceneFeatures& f) {
+  return f.to_json();
+}
 
 // One cell: its methods, metrics, GPU profiles, outputs and accumulated rows.
 struct Cell {
@@ -228,14 +238,16 @@ struct Cell {
     std::map<std::string, std::string> stems{{"reference", "the reference image"}};
     channels = kShadingChannels;
     auto mps = root.children("methods");
-    if (mps.empty()) root.fail("methods", "at least one method is required, e.g. [{\"method\": \"full\"}]");
+    if (mps.empty())
+      root.fail("methods", "at least one method is required, e.g. [{\"method\": \"full\"}]");
     for (size_t i = 0; i < mps.size(); ++i) {
       Params& mp = mps[i];
       MethodRun m;
       m.method = mp.string("method");
       m.label = mp.string("label", m.method);
       if (!labels.insert(m.label).second)
-        mp.fail("label", "duplicate label \"" + m.label + "\" (give each method entry a unique \"label\")");
+        mp.fail("label",
+                "duplicate label \"" + m.label + "\" (give each method entry a unique \"label\")");
       m.stem = safe_file_name(m.label);
       auto [st, fresh] = stems.insert({m.stem, "label \"" + m.label + "\""});
       if (!fresh)
@@ -254,10 +266,12 @@ struct Cell {
     std::vector<std::string> names;
     if (root.has("gpus")) {
       const Json& gj = root.raw("gpus");
-      if (!gj.is_array() || gj.empty()) root.fail("gpus", "expected a non-empty array of GPU profile names");
+      if (!gj.is_array() || gj.empty())
+        root.fail("gpus", "expected a non-empty array of GPU profile names");
       for (size_t i = 0; i < gj.size(); ++i) {
         if (!gj[i].is_string())
-          root.fail("gpus[" + std::to_string(i) + "]", "expected a profile name, got " + describe_json(gj[i]));
+          root.fail("gpus[" + std::to_string(i) + "]",
+                    "expected a profile name, got " + describe_json(gj[i]));
         names.push_back(gj[i].get<std::string>());
       }
     } else {
@@ -330,13 +344,14 @@ struct Cell {
       }
       auto m0 = Clock::now();
       if (watchdog)
-        watchdog->begin(watchdog_slot, "frame " + std::to_string(fi) + ", method \"" + m.method + "\" (label \"" +
-                                           m.label + "\")");
+        watchdog->begin(watchdog_slot, "frame " + std::to_string(fi) + ", method \"" + m.method +
+                                           "\" (label \"" + m.label + "\")");
       m.impl->render(ctx, fo);
       if (watchdog) watchdog->end(watchdog_slot);
       double sim_ms = ms_since(m0);
       const Image& lin = fo.image_is_reference ? fd.reference : fo.image;
-      if (lin.width != sh.sim_display.width || lin.height != sh.sim_display.height || lin.channels != 3)
+      if (lin.width != sh.sim_display.width || lin.height != sh.sim_display.height ||
+          lin.channels != 3)
         throw Error("method " + m.label, "produced an image of the wrong size");
       sh.tonemap.apply(lin, out_display);
       const Image* refd = &ref_display;
@@ -344,8 +359,8 @@ struct Cell {
         sh.tonemap.apply(*fo.reference, override_display);
         refd = &override_display;
       }
-      Counters metrics = compute_metrics(mcfg, out_display, *refd, fd.camera, fd.eccentricity, &m.temporal,
-                                         &metrics_scratch);
+      Counters metrics = compute_metrics(mcfg, out_display, *refd, fd.camera, fd.eccentricity,
+                                         &m.temporal, &metrics_scratch);
       for (auto& f : fo.flags) flags_seen.insert(m.label + ":" + f);
       if (latency.enabled)
         for (auto& kv : metrics.items()) metric_names.insert(kv.first);
@@ -398,7 +413,8 @@ struct Cell {
         row.set("prims_submitted", fo.counters.get("prims_submitted", double(features.triangles)));
         row.set("prims_culled", fo.counters.get("prims_culled", 0.0));
         for (auto& [cn, cv] : fo.counters.items())
-          if (cn != "shaded_samples" && cn != "prims_submitted" && cn != "prims_culled") row.set(cn, cv);
+          if (cn != "shaded_samples" && cn != "prims_submitted" && cn != "prims_culled")
+            row.set(cn, cv);
         row.set("est_ms_total", cost.total_ms);
         if (cost.interval_level > 0) {  // the profile's prediction interval (docs/cost_model.md)
           row.set("est_ms_total_lo", cost.total_lo_ms);
@@ -426,7 +442,8 @@ struct Cell {
 
 }  // namespace
 
-std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const EngineOptions& opt, GroupStats* stats) {
+std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const EngineOptions& opt,
+                                  GroupStats* stats) {
   auto g0 = Clock::now();
   std::vector<CellResult> results;
   if (jobs.empty()) return results;
@@ -448,7 +465,8 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
     Json own = job.doc;
     if (ci > 0 && own.is_object())
       for (auto it = job.doc.begin(); it != job.doc.end(); ++it)
-        if (std::find(per_cell_keys().begin(), per_cell_keys().end(), it.key()) == per_cell_keys().end())
+        if (std::find(per_cell_keys().begin(), per_cell_keys().end(), it.key()) ==
+            per_cell_keys().end())
           own.erase(it.key());
     Params root(own, job.file);
     root.ignore("comment");
@@ -475,26 +493,30 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
         if (root.resolved().contains(k)) resolved[k] = root.resolved()[k];
       }
     }
-    cell->manifest = Json{{"tool", "fovsim"},
-                          {"version", version_string()},
-                          {"git_commit", git_commit()},
-                          {"command_line", job.command_line},
-                          {"config_file", job.file},
-                          {"config", job.doc},
-                          {"resolved_config", resolved},
-                          {"seed", sh.seed},
-                          {"display", sh.display.to_json()},
-                          {"simulated_resolution", {sh.sim_display.width, sh.sim_display.height}},
-                          {"scene", {{"name", sh.scene->name}, {"triangles", sh.scene->triangle_count()},
-                                     {"features", scene_features_json(sh.scene->features())}}},
-                          {"trace", {{"source", sh.trace.source}, {"samples", sh.trace.samples.size()}}},
-                          {"frames", {{"start", sh.start}, {"count", sh.count}, {"stride", sh.stride}}},
-                          {"machine", machine_info()},
-                          {"threads", opt.threads > 0 ? opt.threads : int(tbb::info::default_concurrency())},
-                          {"start_time", iso_now()},
-                          {"status", "running"}};
+    cell->manifest =
+        Json{{"tool", "fovsim"},
+             {"version", version_string()},
+             {"git_commit", git_commit()},
+             {"command_line", job.command_line},
+             {"config_file", job.file},
+             {"config", job.doc},
+             {"resolved_config", resolved},
+             {"seed", sh.seed},
+             {"display", sh.display.to_json()},
+             {"simulated_resolution", {sh.sim_display.width, sh.sim_display.height}},
+             {"scene",
+              {{"name", sh.scene->name},
+               {"triangles", sh.scene->triangle_count()},
+               {"features", scene_features_json(sh.scene->features())}}},
+             {"trace", {{"source", sh.trace.source}, {"samples", sh.trace.samples.size()}}},
+             {"frames", {{"start", sh.start}, {"count", sh.count}, {"stride", sh.stride}}},
+             {"machine", machine_info()},
+             {"threads", opt.threads > 0 ? opt.threads : int(tbb::info::default_concurrency())},
+             {"start_time", iso_now()},
+             {"status", "running"}};
     if (job.extra_manifest.is_object())
-      for (auto it = job.extra_manifest.begin(); it != job.extra_manifest.end(); ++it) cell->manifest[it.key()] = it.value();
+      for (auto it = job.extra_manifest.begin(); it != job.extra_manifest.end(); ++it)
+        cell->manifest[it.key()] = it.value();
     cells.push_back(std::move(cell));
   }
 
@@ -523,7 +545,9 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
   FrameData fd;
   Image ref_display;
   std::optional<Camera> prev_cam;
-  Progress progress(jobs.size() > 1 ? "frames x " + std::to_string(jobs.size()) + " cells" : "frames", size_t(sh.count));
+  Progress progress(
+      jobs.size() > 1 ? "frames x " + std::to_string(jobs.size()) + " cells" : "frames",
+      size_t(sh.count));
   double ref_total = 0;
   auto do_frame = [&](int k, bool record) {
     int fi = sh.start + k * sh.stride;
@@ -624,7 +648,8 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
       for (auto& [k, v] : row.num) o[k] = std::isfinite(v) ? Json(v) : Json(format_number(v));
       sj.push_back(o);
     }
-    Json summary{{"name", c->name}, {"budget_ms", r.budget_ms}, {"configs", sj}, {"flags", r.flags}};
+    Json summary{
+        {"name", c->name}, {"budget_ms", r.budget_ms}, {"configs", sj}, {"flags", r.flags}};
     write_file_atomic(out + "/summary.json", summary.dump(2) + "\n");
     c->manifest["status"] = "complete";
     c->manifest["end_time"] = iso_now();

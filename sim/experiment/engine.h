@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "sim/core/watchdog.h"
 #include "sim/core/params.h"
+#include "sim/core/watchdog.h"
 #include "sim/experiment/intervals.h"
 #include "sim/experiment/table.h"
 
@@ -20,19 +20,19 @@ const std::vector<std::string>& per_cell_keys();
 std::string reference_key(const Json& run_doc);
 
 struct CellJob {
-  Json doc;                    // the run config
-  std::string file;            // config file (error locations)
-  std::string base_dir;        // for relative paths in the config
-  std::string out_dir;         // results folder of this cell
-  std::string command_line;    // recorded in its manifest
-  Json extra_manifest;         // merged into manifest.json (e.g. sweep cell index, hash)
+  Json doc;                  // the run config
+  std::string file;          // config file (error locations)
+  std::string base_dir;      // for relative paths in the config
+  std::string out_dir;       // results folder of this cell
+  std::string command_line;  // recorded in its manifest
+  Json extra_manifest;       // merged into manifest.json (e.g. sweep cell index, hash)
 };
 
 struct EngineOptions {
-  std::string models_dir;      // empty -> default_models_dir()
-  bool print_summary = true;   // default of outputs.print_summary
-  int threads = 0;             // recorded in manifests (the caller sets TBB's limit)
-  WatchdogLimits watchdog;     // a frame far slower than its neighbours is reported (watchdog.h)
+  std::string models_dir;     // empty -> default_models_dir()
+  bool print_summary = true;  // default of outputs.print_summary
+  int threads = 0;            // recorded in manifests (the caller sets TBB's limit)
+  WatchdogLimits watchdog;    // a frame far slower than its neighbours is reported (watchdog.h)
   std::vector<IntervalTarget> targets;  // --target: sampled order, stop when all hold
 };
 
@@ -44,15 +44,15 @@ struct CellResult {
   double refresh_hz = 0;
   bool print_summary = false;
   std::vector<std::string> flags;
-  double cell_ms = 0;          // wall time spent in this cell's own work (methods, metrics, cost, images)
-  Json target;                 // with targets: the manifest's "target" record (else null)
+  double cell_ms = 0;  // wall time spent in this cell's own work (methods, metrics, cost, images)
+  Json target;         // with targets: the manifest's "target" record (else null)
 };
 
 struct GroupStats {
-  int frames = 0;              // references rendered (= frames of the group)
-  double ref_ms = 0;           // wall time of reference rendering
-  double wall_ms = 0;          // whole group, including setup
-  double setup_ms = 0;         // scene build, trace load, BVH
+  int frames = 0;       // references rendered (= frames of the group)
+  double ref_ms = 0;    // wall time of reference rendering
+  double wall_ms = 0;   // whole group, including setup
+  double setup_ms = 0;  // scene build, trace load, BVH
   uint64_t rays = 0;
 };
 

@@ -17,14 +17,17 @@ double oriented(double v, const Objective& o) {
 std::string group_key(const ResultRow& r, const std::vector<std::string>& group_by) {
   std::string k;
   for (auto& g : group_by) {
-    if (const std::string* s = r.text_of(g)) k += *s;
-    else k += format_number(r.get(g, NAN));
+    if (const std::string* s = r.text_of(g))
+      k += *s;
+    else
+      k += format_number(r.get(g, NAN));
     k += '\x1f';
   }
   return k;
 }
 
-bool dominates(const std::vector<double>& a, const std::vector<double>& b, const std::vector<Objective>& obj) {
+bool dominates(const std::vector<double>& a, const std::vector<double>& b,
+               const std::vector<Objective>& obj) {
   bool strictly = false;
   for (size_t i = 0; i < obj.size(); ++i) {
     double x = oriented(a[i], obj[i]), y = oriented(b[i], obj[i]);

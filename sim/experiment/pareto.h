@@ -12,7 +12,8 @@ namespace fovsim {
 
 // a dominates b: no worse in every objective and strictly better in one. A NaN objective
 // never dominates and is always dominated by a finite value.
-bool dominates(const std::vector<double>& a, const std::vector<double>& b, const std::vector<Objective>& obj);
+bool dominates(const std::vector<double>& a, const std::vector<double>& b,
+               const std::vector<Objective>& obj);
 
 // Indices of the non-dominated rows (ascending index order). Rows are compared only within
 // the same values of `group_by` text/numeric columns (e.g. per GPU). Duplicated points are all

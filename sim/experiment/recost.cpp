@@ -16,7 +16,8 @@ RecostResult recost_results(const RecostOptions& o) {
   if (man.value("status", "") != "complete")
     throw Error(man_path, "run is not complete (status \"" + man.value("status", "?") + "\")");
   if (!man.contains("scene") || !man["scene"].contains("features"))
-    throw Error(man_path + ": scene.features", "missing (results written by an older fovsim: rerun the config)");
+    throw Error(man_path + ": scene.features",
+                "missing (results written by an older fovsim: rerun the config)");
   const SceneFeatures f = SceneFeatures::from_json(man["scene"]["features"]);
   RecostResult res;
   Display& d = res.display;
@@ -32,7 +33,8 @@ RecostResult recost_results(const RecostOptions& o) {
   const Json& sim = man.at("simulated_resolution");
   const double sim_px = sim.at(0).get<double>() * sim.at(1).get<double>();
   std::string wname = o.workload.empty() ? "generic" : o.workload;
-  if (o.workload.empty() && man.contains("resolved_config") && man["resolved_config"].contains("workload"))
+  if (o.workload.empty() && man.contains("resolved_config") &&
+      man["resolved_config"].contains("workload"))
     wname = man["resolved_config"]["workload"].get<std::string>();
   Workload w = Workload::load(wname, o.models);
   res.workload = w.name;
@@ -56,8 +58,9 @@ RecostResult recost_results(const RecostOptions& o) {
   for (size_t ri = 1; ri < rows.size(); ++ri) {
     const CsvRow& row = rows[ri];
     if (row.fields.size() != header.size())
-      throw Error(file_location(csv_path, row.line), "expected " + std::to_string(header.size()) + " fields, got " +
-                                                        std::to_string(row.fields.size()));
+      throw Error(file_location(csv_path, row.line), "expected " + std::to_string(header.size()) +
+                                                         " fields, got " +
+                                                         std::to_string(row.fields.size()));
     auto cell = [&](int i) -> const std::string& { return row.fields[size_t(i)].text; };
     // A run costed for several GPUs repeats each frame per GPU: the counters are the same, use one.
     if (c_gpu >= 0) {

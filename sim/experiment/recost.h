@@ -11,12 +11,12 @@
 namespace fovsim {
 
 struct RecostOptions {
-  std::string results;             // the run's output directory (manifest.json, frames.csv)
-  std::string models;              // models directory
-  std::vector<std::string> gpus;   // GPU profile names or paths
-  std::string display;             // "" = the run's display
+  std::string results;                  // the run's output directory (manifest.json, frames.csv)
+  std::string models;                   // models directory
+  std::vector<std::string> gpus;        // GPU profile names or paths
+  std::string display;                  // "" = the run's display
   int width = 0, height = 0, eyes = 0;  // overrides (0 = keep)
-  std::string workload;            // "" = the run's workload (resolved_config.workload) or generic
+  std::string workload;  // "" = the run's workload (resolved_config.workload) or generic
 };
 
 struct RecostRow {

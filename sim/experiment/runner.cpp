@@ -9,8 +9,8 @@
 #include <map>
 #include <memory>
 
-#include "sim/core/stats.h"
 #include "sim/core/files.h"
+#include "sim/core/stats.h"
 #include "sim/experiment/engine.h"
 #include "sim/experiment/intervals.h"
 
@@ -20,7 +20,7 @@ RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt) {
   std::unique_ptr<tbb::global_control> threads;
   if (opt.threads > 0)
     threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                                     size_t(opt.threads));
+                                                    size_t(opt.threads));
   // A run is a group of one cell (sim/experiment/engine.h).
   CellJob job;
   job.doc = cfg.doc;
@@ -59,7 +59,8 @@ RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt) {
                   r.get("est_ms_total_ci95", NAN), r.get("psnr", NAN), r.get("ssim", NAN),
                   r.get("fpsnr", NAN), r.get("fpsnr_ci95", NAN), r.get("flip", NAN));
     }
-    std::printf("budget %.2f ms (%.0f Hz); results in %s\n", c.budget_ms, c.refresh_hz, c.out_dir.c_str());
+    std::printf("budget %.2f ms (%.0f Hz); results in %s\n", c.budget_ms, c.refresh_hz,
+                c.out_dir.c_str());
     for (auto& f : c.flags) std::printf("flag: %s\n", f.c_str());
     if (c.target.is_object())
       std::printf(

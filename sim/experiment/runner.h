@@ -11,12 +11,12 @@
 namespace fovsim {
 
 struct RunOptions {
-  std::string out_dir;          // empty -> results/<name>
-  std::string models_dir;       // empty -> default_models_dir()
-  int threads = 0;              // 0 = TBB default
-  bool print_summary = true;    // summary table on stdout at the end
-  std::string command_line;     // recorded in the manifest
-  double watchdog_s = 60;       // WatchdogLimits::min_s (0 disables; sim/core/watchdog.h)
+  std::string out_dir;        // empty -> results/<name>
+  std::string models_dir;     // empty -> default_models_dir()
+  int threads = 0;            // 0 = TBB default
+  bool print_summary = true;  // summary table on stdout at the end
+  std::string command_line;   // recorded in the manifest
+  double watchdog_s = 60;     // WatchdogLimits::min_s (0 disables; sim/core/watchdog.h)
   // --target specs ("est_ms_total:1%", "fpsnr:0.2dB"): evaluate frames in a seeded random
   // order of sampling units and stop once every 95% half-width is within its target.
   std::vector<std::string> targets;

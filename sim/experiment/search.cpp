@@ -7,7 +7,10 @@
 namespace fovsim {
 
 Searcher::Searcher(std::vector<SearchDim> space, bool maximize, uint64_t seed, int batch)
-    : dims_(std::move(space)), maximize_(maximize), batch_(std::max(1, batch)), rng_(seed, 0x5ea6c4) {
+    : dims_(std::move(space)),
+      maximize_(maximize),
+      batch_(std::max(1, batch)),
+      rng_(seed, 0x5ea6c4) {
   // Stop when the step is below the resolution of every dimension (the finest one decides).
   min_step_ = 0.125;
   for (auto& d : dims_) {
@@ -24,7 +27,8 @@ std::vector<double> Searcher::to_real(const std::vector<double>& u) const {
   for (size_t i = 0; i < dims_.size(); ++i) {
     const auto& d = dims_[i];
     double t = std::clamp(u[i], 0.0, 1.0);
-    double v = d.log ? std::exp(std::log(d.lo) + t * (std::log(d.hi) - std::log(d.lo))) : d.lo + t * (d.hi - d.lo);
+    double v = d.log ? std::exp(std::log(d.lo) + t * (std::log(d.hi) - std::log(d.lo)))
+                     : d.lo + t * (d.hi - d.lo);
     if (d.step > 0) v = std::min(d.hi, d.lo + std::round((v - d.lo) / d.step) * d.step);
     if (d.integer) v = std::round(v);
     x[i] = tidy(std::clamp(v, d.lo, d.hi));
@@ -36,7 +40,8 @@ std::vector<double> Searcher::to_unit(const std::vector<double>& x) const {
   std::vector<double> u(dims_.size());
   for (size_t i = 0; i < dims_.size(); ++i) {
     const auto& d = dims_[i];
-    u[i] = d.log ? (std::log(x[i]) - std::log(d.lo)) / (std::log(d.hi) - std::log(d.lo)) : (x[i] - d.lo) / (d.hi - d.lo);
+    u[i] = d.log ? (std::log(x[i]) - std::log(d.lo)) / (std::log(d.hi) - std::log(d.lo))
+                 : (x[i] - d.lo) / (d.hi - d.lo);
   }
   return u;
 }
@@ -101,7 +106,8 @@ std::vector<std::vector<double>> Searcher::ask() {
       }
     for (int tries = 0; int(out.size()) < batch_ && tries < 4 * batch_; ++tries) {
       auto u = c;
-      for (size_t j = 0; j < d; ++j) u[j] = std::clamp(u[j] + step_ * (2 * rng_.uniform() - 1), 0.0, 1.0);
+      for (size_t j = 0; j < d; ++j)
+        u[j] = std::clamp(u[j] + step_ * (2 * rng_.uniform() - 1), 0.0, 1.0);
       push(u);
     }
   }

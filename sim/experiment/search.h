@@ -19,9 +19,9 @@
 namespace fovsim {
 
 struct SearchEval {
-  std::vector<double> x;    // real units, one per dimension
-  double score = 0;         // objective (oriented by SearchSpec: maximize or minimize)
-  double violation = 0;     // max(0, constraint - limit); 0 = feasible
+  std::vector<double> x;  // real units, one per dimension
+  double score = 0;       // objective (oriented by SearchSpec: maximize or minimize)
+  double violation = 0;   // max(0, constraint - limit); 0 = feasible
 };
 
 class Searcher {
@@ -51,9 +51,9 @@ class Searcher {
   int batch_;
   Rng rng_;
   bool started_ = false;
-  double step_ = 0.25;       // in unit-cube coordinates
+  double step_ = 0.25;  // in unit-cube coordinates
   double min_step_;
-  bool improved_ = false;    // since the last ask
+  bool improved_ = false;  // since the last ask
   bool has_best_ = false;
   SearchEval best_;
   std::vector<SearchEval> history_;

@@ -29,10 +29,13 @@ const ResultRow* scored_row(const ResultTable& t, const std::string& label) {
 
 SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const SweepOptions& opt) {
   const SearchSpec& sp = plan.search;
-  if (!sp.enabled()) throw Error(cfg.file + ": sweep.search", "missing: a search needs sweep.search.space and an objective");
+  if (!sp.enabled())
+    throw Error(cfg.file + ": sweep.search",
+                "missing: a search needs sweep.search.space and an objective");
   std::unique_ptr<tbb::global_control> threads;
   if (opt.threads > 0)
-    threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, size_t(opt.threads));
+    threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                    size_t(opt.threads));
   SearchReport rep;
   rep.out_dir = sweep_out_dir(plan, opt.out_dir);
   const std::string evals_dir = rep.out_dir + "/search/evals";
@@ -57,7 +60,8 @@ SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const Sw
       std::vector<std::string> dirs;
       for (auto& x : pts) {
         Json doc = ctx.doc;
-        for (size_t d = 0; d < x.size(); ++d) apply_assignment(doc, sp.space[d].path, Json(x[d]), sp.space[d].where);
+        for (size_t d = 0; d < x.size(); ++d)
+          apply_assignment(doc, sp.space[d].path, Json(x[d]), sp.space[d].where);
         std::string h = short_hash(doc.dump());
         std::string dir = evals_dir + "/" + h;
         dirs.push_back(dir);
@@ -81,10 +85,14 @@ SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const Sw
         auto res = run_cells(js, eo);
         for (size_t i = 0; i < res.size(); ++i) {
           const ResultRow* r = scored_row(res[i].summary, sp.select_label);
-          if (!r) throw Error(cfg.file + ": sweep.search.label", "no method labelled \"" + sp.select_label + "\"");
+          if (!r)
+            throw Error(cfg.file + ": sweep.search.label",
+                        "no method labelled \"" + sp.select_label + "\"");
           auto num = [](double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); };
           Json done{{"score", num(r->get(sp.objective.column, NAN))},
-                    {"constraint", sp.constraint_column.empty() ? Json(nullptr) : num(r->get(sp.constraint_column, NAN))}};
+                    {"constraint", sp.constraint_column.empty()
+                                       ? Json(nullptr)
+                                       : num(r->get(sp.constraint_column, NAN))}};
           write_file_atomic(js[i].out_dir + "/done.json", done.dump() + "\n");
         }
       }
@@ -95,7 +103,9 @@ SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const Sw
         e.x = pts[i];
         e.score = done["score"].is_number() ? done["score"].get<double>() : NAN;
         double cv = done["constraint"].is_number() ? done["constraint"].get<double>() : NAN;
-        e.violation = sp.constraint_column.empty() ? 0.0 : (std::isnan(cv) ? INFINITY : std::max(0.0, cv - sp.constraint_max));
+        e.violation = sp.constraint_column.empty()
+                          ? 0.0
+                          : (std::isnan(cv) ? INFINITY : std::max(0.0, cv - sp.constraint_max));
         ev.push_back(e);
         ResultRow h;
         h.set_text("context_id", ctx.id());
@@ -127,7 +137,9 @@ SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const Sw
     }
     best.add(std::move(b));
   }
-  std::string suffix = opt.shards > 1 ? ".shard" + std::to_string(opt.shard) + "of" + std::to_string(opt.shards) : "";
+  std::string suffix =
+      opt.shards > 1 ? ".shard" + std::to_string(opt.shard) + "of" + std::to_string(opt.shards)
+                     : "";
   write_file_atomic(rep.out_dir + "/search_history" + suffix + ".csv", history.to_csv());
   write_file_atomic(rep.out_dir + "/search_best" + suffix + ".csv", best.to_csv());
   rep.best = std::move(best);

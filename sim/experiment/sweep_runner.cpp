@@ -23,9 +23,13 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
 
-Json num_json(double v) { return std::isfinite(v) ? Json(v) : Json(format_number(v)); }
+Json num_json(double v) {
+  return std::isfinite(v) ? Json(v) : Json(format_number(v));
+}
 double json_num(const Json& j) {
   if (j.is_number()) return j.get<double>();
   if (j.is_string()) {
@@ -55,16 +59,20 @@ void add_cell_rows(ResultTable& out, const SweepCell& c, const ResultTable& cell
       if (k != "config_id") n.set_text(k, v);
     n.set("cell", c.index);
     for (auto& a : c.assign) {
-      if (a.value.is_number()) n.set(a.path, a.value.get<double>());
-      else if (a.value.is_string()) n.set_text(a.path, a.value.get<std::string>());
-      else if (a.value.is_boolean()) n.set(a.path, a.value.get<bool>() ? 1 : 0);
+      if (a.value.is_number())
+        n.set(a.path, a.value.get<double>());
+      else if (a.value.is_string())
+        n.set_text(a.path, a.value.get<std::string>());
+      else if (a.value.is_boolean())
+        n.set(a.path, a.value.get<bool>() ? 1 : 0);
     }
     for (auto& [k, v] : r.num) n.set(k, v);
     out.add(std::move(n));
   }
 }
 
-void write_cell_json(const std::string& dir, const SweepCell& c, const ResultTable& summary, double cell_ms) {
+void write_cell_json(const std::string& dir, const SweepCell& c, const ResultTable& summary,
+                     double cell_ms) {
   Json rows = Json::array();
   for (auto& r : summary.rows()) {
     Json t = Json::object(), n = Json::array();
@@ -72,25 +80,21 @@ void write_cell_json(const std::string& dir, const SweepCell& c, const ResultTab
     for (auto& [k, v] : r.num) n.push_back(Json::array({k, num_json(v)}));  // keeps column order
     rows.push_back(Json{{"text", t}, {"num", n}});
   }
-  Json j{{"status", "complete"}, {"index", c.index}, {"hash", c.hash}, {"assign", assign_json(c)},
-         {"cell_ms", cell_ms}, {"summary", rows}};
+  Json j{{"status", "complete"},     {"index", c.index},   {"hash", c.hash},
+         {"assign", assign_json(c)}, {"cell_ms", cell_ms}, {"summary", rows}};
   write_file_atomic(dir + "/cell.json", j.dump(1) + "\n");
 }
 
 void write_sweep_json(const std::string& out, const SweepPlan& plan, const LoadedConfig& cfg) {
   Json cells = Json::array();
-  for (auto& c : plan.cells) cells.push_back(Json{{"index", c.index}, {"id", c.id()}, {"assign", assign_json(c)}});
+  for (auto& c : plan.cells)
+    cells.push_back(Json{{"index", c.index}, {"id", c.id()}, {"assign", assign_json(c)}});
   Json objectives = Json::array();
-  for (auto& o : plan.objectives) objectives.push_back(Json{{o.maximize ? "maximize" : "minimize", o.column}});
-  Json j{{"tool", "fovsim"},
-         {"version", version_string()},
-         {"name", plan.name},
-         {"plan_hash", plan.hash},
-         {"config_file", cfg.file},
-         {"base_dir", cfg.base_dir},
-         {"config", cfg.doc},
-         {"axes", plan.axis_paths},
-         {"objectives", objectives},
+  for (auto& o : plan.objectives)
+    objectives.push_back(Json{{o.maximize ? "maximize" : "minimize", o.column}});
+  Json j{{"tool", "fovsim"},       {"version", version_string()}, {"name", plan.name},
+         {"plan_hash", plan.hash}, {"config_file", cfg.file},     {"base_dir", cfg.base_dir},
+         {"config", cfg.doc},      {"axes", plan.axis_paths},     {"objectives", objectives},
          {"cells", cells}};
   std::string path = out + "/sweep.json";
   std::string text = j.dump(1) + "\n";
@@ -98,7 +102,9 @@ void write_sweep_json(const std::string& out, const SweepPlan& plan, const Loade
   write_file_atomic(path, text);
 }
 
-std::string cell_dir(const std::string& out, const SweepCell& c) { return out + "/runs/" + c.id(); }
+std::string cell_dir(const std::string& out, const SweepCell& c) {
+  return out + "/runs/" + c.id();
+}
 
 }  // namespace
 
@@ -154,7 +160,8 @@ bool cell_complete(const std::string& dir, const std::string& hash) {
   if (!file_exists(p)) return false;
   try {
     Json j = parse_json_text(read_file(p), p);
-    return j.value("status", "") == "complete" && j.value("hash", "") == hash && j.contains("summary");
+    return j.value("status", "") == "complete" && j.value("hash", "") == hash &&
+           j.contains("summary");
   } catch (...) {
     return false;  // unreadable: recompute
   }
@@ -196,8 +203,8 @@ SweepPlan load_sweep_plan(const std::string& dir) {
   }
   SweepPlan plan = expand_sweep(cfg);
   if (plan.hash != j.value("plan_hash", ""))
-    throw Error(p, "the recorded sweep expands differently with this fovsim version (plan hash " + plan.hash +
-                       " vs " + j.value("plan_hash", "") + ")");
+    throw Error(p, "the recorded sweep expands differently with this fovsim version (plan hash " +
+                       plan.hash + " vs " + j.value("plan_hash", "") + ")");
   return plan;
 }
 
@@ -205,7 +212,8 @@ SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const Swee
   auto t0 = Clock::now();
   std::unique_ptr<tbb::global_control> threads;
   if (opt.threads > 0)
-    threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, size_t(opt.threads));
+    threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                    size_t(opt.threads));
   SweepReport rep;
   rep.out_dir = sweep_out_dir(plan, opt.out_dir);
   rep.cells_total = int(plan.cells.size());
@@ -233,8 +241,10 @@ SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const Swee
   std::vector<const SweepCell*> pending;
   for (int i = first; i < last; ++i) {
     const SweepCell& c = plan.cells[size_t(i)];
-    if (cell_complete(cell_dir(out, c), c.hash)) ++rep.cells_done_before;
-    else pending.push_back(&c);
+    if (cell_complete(cell_dir(out, c), c.hash))
+      ++rep.cells_done_before;
+    else
+      pending.push_back(&c);
   }
 
   // Group pending cells by reference key, groups in order of their first cell.
@@ -256,7 +266,8 @@ SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const Swee
     size_t step = opt.batch > 0 ? size_t(opt.batch) : cells.size();
     for (size_t b = 0; b < cells.size(); b += step) {
       std::vector<CellJob> jobs;
-      std::vector<const SweepCell*> batch(cells.begin() + long(b), cells.begin() + long(std::min(cells.size(), b + step)));
+      std::vector<const SweepCell*> batch(cells.begin() + long(b),
+                                          cells.begin() + long(std::min(cells.size(), b + step)));
       for (auto* c : batch) {
         CellJob j;
         j.doc = c->doc;
@@ -264,8 +275,12 @@ SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const Swee
         j.base_dir = cfg.base_dir;
         j.out_dir = cell_dir(out, *c);
         j.command_line = opt.command_line;
-        j.extra_manifest = Json{{"sweep", {{"name", plan.name}, {"cell", c->index}, {"hash", c->hash},
-                                           {"plan_hash", plan.hash}, {"assign", assign_json(*c)}}}};
+        j.extra_manifest = Json{{"sweep",
+                                 {{"name", plan.name},
+                                  {"cell", c->index},
+                                  {"hash", c->hash},
+                                  {"plan_hash", plan.hash},
+                                  {"assign", assign_json(*c)}}}};
         jobs.push_back(std::move(j));
       }
       GroupStats gs;
@@ -294,7 +309,8 @@ SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const Swee
   return rep;
 }
 
-MergeReport merge_sweep(const std::string& out_dir, const std::vector<std::string>& sources, bool allow_partial) {
+MergeReport merge_sweep(const std::string& out_dir, const std::vector<std::string>& sources,
+                        bool allow_partial) {
   SweepPlan plan = load_sweep_plan(out_dir);
   MergeReport rep;
   rep.cells = int(plan.cells.size());
@@ -330,7 +346,8 @@ MergeReport merge_sweep(const std::string& out_dir, const std::vector<std::strin
   }
   if (!rep.missing.empty() && !allow_partial) {
     std::string list;
-    for (size_t i = 0; i < rep.missing.size() && i < 20; ++i) list += (i ? ", " : "") + std::to_string(rep.missing[i]);
+    for (size_t i = 0; i < rep.missing.size() && i < 20; ++i)
+      list += (i ? ", " : "") + std::to_string(rep.missing[i]);
     if (rep.missing.size() > 20) list += ", ...";
     throw Error(out_dir, std::to_string(rep.missing.size()) + " of " + std::to_string(rep.cells) +
                              " cells are missing or incomplete (cells " + list +
@@ -360,16 +377,25 @@ MergeReport merge_sweep(const std::string& out_dir, const std::vector<std::strin
   }
   write_file_atomic(out_dir + "/summary.csv", summary.to_csv());
   if (plan.iso.enabled()) {
-    write_file_atomic(out_dir + "/iso_budget.csv", iso_budget_table(summary, plan.iso, params).to_csv());
+    write_file_atomic(out_dir + "/iso_budget.csv",
+                      iso_budget_table(summary, plan.iso, params).to_csv());
     files.push_back("iso_budget.csv");
   }
   Json objectives = Json::array();
-  for (auto& o : plan.objectives) objectives.push_back(Json{{o.maximize ? "maximize" : "minimize", o.column}});
-  Json ss{{"name", plan.name},       {"plan_hash", plan.hash}, {"cells", rep.cells},   {"cells_found", rep.found},
-          {"missing", rep.missing},  {"axes", plan.axis_paths}, {"objectives", objectives},
-          {"pareto_group_by", plan.pareto_group_by}, {"files", files}};
+  for (auto& o : plan.objectives)
+    objectives.push_back(Json{{o.maximize ? "maximize" : "minimize", o.column}});
+  Json ss{{"name", plan.name},
+          {"plan_hash", plan.hash},
+          {"cells", rep.cells},
+          {"cells_found", rep.found},
+          {"missing", rep.missing},
+          {"axes", plan.axis_paths},
+          {"objectives", objectives},
+          {"pareto_group_by", plan.pareto_group_by},
+          {"files", files}};
   if (plan.iso.enabled())
-    ss["iso_budget"] = Json{{"column", plan.iso.column}, {"budgets", plan.iso.budgets}, {"quality", plan.iso.quality}};
+    ss["iso_budget"] = Json{
+        {"column", plan.iso.column}, {"budgets", plan.iso.budgets}, {"quality", plan.iso.quality}};
   write_file_atomic(out_dir + "/sweep_summary.json", ss.dump(2) + "\n");
   rep.summary = std::move(summary);
   return rep;

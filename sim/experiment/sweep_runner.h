@@ -15,27 +15,27 @@
 namespace fovsim {
 
 struct SweepOptions {
-  std::string out_dir;         // empty -> results/<name>
-  std::string models_dir;      // empty -> default_models_dir()
-  int threads = 0;             // 0 = TBB default
-  int shard = 0, shards = 1;   // run only cells [shard_range(n, shard, shards))
-  int batch = 0;               // max cells per reference pass; 0 = every pending cell of a group
-  std::string command_line;    // recorded in manifests
-  double watchdog_s = 60;      // WatchdogLimits::min_s (0 disables; sim/core/watchdog.h)
+  std::string out_dir;        // empty -> results/<name>
+  std::string models_dir;     // empty -> default_models_dir()
+  int threads = 0;            // 0 = TBB default
+  int shard = 0, shards = 1;  // run only cells [shard_range(n, shard, shards))
+  int batch = 0;              // max cells per reference pass; 0 = every pending cell of a group
+  std::string command_line;   // recorded in manifests
+  double watchdog_s = 60;     // WatchdogLimits::min_s (0 disables; sim/core/watchdog.h)
 };
 
 struct SweepReport {
   std::string out_dir;
-  int cells_total = 0;         // in the whole sweep
+  int cells_total = 0;  // in the whole sweep
   int cells_in_shard = 0;
-  int cells_done_before = 0;   // found complete (resumed), not recomputed
+  int cells_done_before = 0;  // found complete (resumed), not recomputed
   int cells_run = 0;
-  int stale_dirs = 0;          // runs/ folders of cells that no longer exist in this config
-  int groups = 0;              // distinct reference keys among cells run
-  int reference_passes = 0;    // frame loops (groups x batches)
-  int reference_frames = 0;    // references rendered
+  int stale_dirs = 0;        // runs/ folders of cells that no longer exist in this config
+  int groups = 0;            // distinct reference keys among cells run
+  int reference_passes = 0;  // frame loops (groups x batches)
+  int reference_frames = 0;  // references rendered
   double wall_ms = 0, ref_ms = 0, cell_ms = 0, setup_ms = 0;
-  bool complete = false;       // every cell of the sweep is complete in out_dir (summary written)
+  bool complete = false;  // every cell of the sweep is complete in out_dir (summary written)
 };
 
 // Contiguous index range [first, last) of shard `i` of `n` over `cells` cells.
@@ -60,7 +60,8 @@ struct MergeReport {
 // `sources` folders (complete cells found only in a source are copied into out_dir). Writes
 // summary.csv (one row per cell x method x GPU), pareto.csv, iso_budget.csv and
 // sweep_summary.json when no cell is missing (or allow_partial). Throws listing missing cells.
-MergeReport merge_sweep(const std::string& out_dir, const std::vector<std::string>& sources, bool allow_partial);
+MergeReport merge_sweep(const std::string& out_dir, const std::vector<std::string>& sources,
+                        bool allow_partial);
 
 // The plan recorded in <dir>/sweep.json (re-expanded; its hash is checked).
 SweepPlan load_sweep_plan(const std::string& dir);

@@ -23,12 +23,15 @@ using Row = std::vector<Assignment>;  // one point of a block: the assignments i
 
 const std::set<std::string> kBlockKinds = {"grid", "list", "zip", "random", "lhs"};
 
-std::string key_where(const std::string& where, const std::string& key) { return where + "." + key; }
+std::string key_where(const std::string& where, const std::string& key) {
+  return where + "." + key;
+}
 
 double num_of(const Json& j, const std::string& where, const char* key) {
   if (!j.contains(key)) throw Error(where, std::string("missing \"") + key + "\"");
   const Json& v = j[key];
-  if (!v.is_number()) throw Error(key_where(where, key), "expected a number, got " + describe_json(v));
+  if (!v.is_number())
+    throw Error(key_where(where, key), "expected a number, got " + describe_json(v));
   double d = v.get<double>();
   if (!std::isfinite(d)) throw Error(key_where(where, key), "expected a finite number");
   return d;
@@ -51,8 +54,8 @@ Json number_json(double v) {
 
 // Ordered (path, spec) axes of a grid or zip block: an object (keys in sorted order, as JSON
 // objects are read) or an array of one-key objects (order as written).
-std::vector<std::pair<std::string, std::pair<Json, std::string>>> ordered_axes(const Json& j,
-                                                                                const std::string& where) {
+std::vector<std::pair<std::string, std::pair<Json, std::string>>> ordered_axes(
+    const Json& j, const std::string& where) {
   std::vector<std::pair<std::string, std::pair<Json, std::string>>> out;
   if (j.is_object()) {
     for (auto it = j.begin(); it != j.end(); ++it)
@@ -61,11 +64,13 @@ std::vector<std::pair<std::string, std::pair<Json, std::string>>> ordered_axes(c
     for (size_t i = 0; i < j.size(); ++i) {
       std::string w = where + "[" + std::to_string(i) + "]";
       if (!j[i].is_object() || j[i].size() != 1)
-        throw Error(w, "expected a one-key object {\"config.path\": values}, got " + describe_json(j[i]));
+        throw Error(
+            w, "expected a one-key object {\"config.path\": values}, got " + describe_json(j[i]));
       out.push_back({j[i].begin().key(), {j[i].begin().value(), key_where(w, j[i].begin().key())}});
     }
   } else {
-    throw Error(where, "expected an object {\"config.path\": values, ...}, got " + describe_json(j));
+    throw Error(where,
+                "expected an object {\"config.path\": values, ...}, got " + describe_json(j));
   }
   if (out.empty()) throw Error(where, "no axes (expected at least one \"config.path\": values)");
   return out;
@@ -118,24 +123,29 @@ std::vector<Row> zip_rows(const Json& j, const std::string& where, double cap) {
   for (size_t i = 1; i < axes.size(); ++i)
     if (vals[i].size() != vals[0].size())
       throw Error(where, "zip axes must have equal lengths: \"" + axes[0].first + "\" has " +
-                             std::to_string(vals[0].size()) + " values, \"" + axes[i].first + "\" has " +
-                             std::to_string(vals[i].size()));
+                             std::to_string(vals[0].size()) + " values, \"" + axes[i].first +
+                             "\" has " + std::to_string(vals[i].size()));
   std::vector<Row> rows(vals[0].size());
   for (size_t k = 0; k < rows.size(); ++k)
-    for (size_t i = 0; i < axes.size(); ++i) rows[k].push_back({axes[i].first, vals[i][k], axes[i].second.second});
+    for (size_t i = 0; i < axes.size(); ++i)
+      rows[k].push_back({axes[i].first, vals[i][k], axes[i].second.second});
   return rows;
 }
 
 std::vector<Row> list_rows(const Json& j, const std::string& where) {
-  if (!j.is_array()) throw Error(where, "expected an array of {\"config.path\": value} objects, got " + describe_json(j));
+  if (!j.is_array())
+    throw Error(where,
+                "expected an array of {\"config.path\": value} objects, got " + describe_json(j));
   if (j.empty()) throw Error(where, "empty list (no runs)");
   std::vector<Row> rows;
   for (size_t i = 0; i < j.size(); ++i) {
     std::string w = where + "[" + std::to_string(i) + "]";
     if (!j[i].is_object() || j[i].empty())
-      throw Error(w, "expected a non-empty object {\"config.path\": value}, got " + describe_json(j[i]));
+      throw Error(
+          w, "expected a non-empty object {\"config.path\": value}, got " + describe_json(j[i]));
     Row r;
-    for (auto it = j[i].begin(); it != j[i].end(); ++it) r.push_back({it.key(), it.value(), key_where(w, it.key())});
+    for (auto it = j[i].begin(); it != j[i].end(); ++it)
+      r.push_back({it.key(), it.value(), key_where(w, it.key())});
     rows.push_back(std::move(r));
   }
   return rows;
@@ -149,8 +159,10 @@ struct Dim {
   double lo = 0, hi = 1, step = 0;
   bool log = false, integer = false;
   Json value(double u) const {  // u in [0, 1)
-    if (!choices.empty()) return choices[std::min(choices.size() - 1, size_t(u * double(choices.size())))];
-    double v = log ? std::exp(std::log(lo) + u * (std::log(hi) - std::log(lo))) : lo + u * (hi - lo);
+    if (!choices.empty())
+      return choices[std::min(choices.size() - 1, size_t(u * double(choices.size())))];
+    double v =
+        log ? std::exp(std::log(lo) + u * (std::log(hi) - std::log(lo))) : lo + u * (hi - lo);
     if (step > 0) v = std::min(hi, lo + std::round((v - lo) / step) * step);
     if (integer) v = std::round(v);
     return number_json(v);
@@ -166,7 +178,8 @@ Dim parse_dim(const std::string& path, const Json& j, const std::string& where) 
     return d;
   }
   if (!j.is_object())
-    throw Error(where, "expected {\"from\": a, \"to\": b} or an array of choices, got " + describe_json(j));
+    throw Error(
+        where, "expected {\"from\": a, \"to\": b} or an array of choices, got " + describe_json(j));
   only_keys(j, where, {"from", "to", "step", "log", "integer"});
   d.lo = num_of(j, where, "from");
   d.hi = num_of(j, where, "to");
@@ -176,7 +189,8 @@ Dim parse_dim(const std::string& path, const Json& j, const std::string& where) 
     if (!(d.step > 0)) throw Error(key_where(where, "step"), "must be > 0");
   }
   for (const char* k : {"log", "integer"})
-    if (j.contains(k) && !j[k].is_boolean()) throw Error(key_where(where, k), "expected true or false");
+    if (j.contains(k) && !j[k].is_boolean())
+      throw Error(key_where(where, k), "expected true or false");
   d.log = j.value("log", false);
   d.integer = j.value("integer", false);
   if (d.log && d.lo <= 0) throw Error(key_where(where, "from"), "a log axis needs from > 0");
@@ -199,7 +213,8 @@ std::vector<Row> sampled_rows(const Json& j, const std::string& where, bool lhs,
   }
   if (!j.contains("axes")) throw Error(where, "missing \"axes\"");
   std::vector<Dim> dims;
-  for (auto& [path, sv] : ordered_axes(j["axes"], key_where(where, "axes"))) dims.push_back(parse_dim(path, sv.first, sv.second));
+  for (auto& [path, sv] : ordered_axes(j["axes"], key_where(where, "axes")))
+    dims.push_back(parse_dim(path, sv.first, sv.second));
   size_t n = size_t(cnt);
   std::vector<std::vector<double>> u(n, std::vector<double>(dims.size()));
   if (!lhs) {
@@ -219,13 +234,16 @@ std::vector<Row> sampled_rows(const Json& j, const std::string& where, bool lhs,
   }
   std::vector<Row> rows(n);
   for (size_t i = 0; i < n; ++i)
-    for (size_t d = 0; d < dims.size(); ++d) rows[i].push_back({dims[d].path, dims[d].value(u[i][d]), dims[d].where});
+    for (size_t d = 0; d < dims.size(); ++d)
+      rows[i].push_back({dims[d].path, dims[d].value(u[i][d]), dims[d].where});
   return rows;
 }
 
 std::vector<Row> block_rows(const Json& block, const std::string& where, double cap) {
   if (!block.is_object() || block.size() != 1 || !kBlockKinds.count(block.begin().key()))
-    throw Error(where, "expected one of {\"grid\": ...}, {\"list\": ...}, {\"zip\": ...}, {\"random\": ...}, {\"lhs\": ...}");
+    throw Error(where,
+                "expected one of {\"grid\": ...}, {\"list\": ...}, {\"zip\": ...}, {\"random\": "
+                "...}, {\"lhs\": ...}");
   const std::string kind = block.begin().key();
   const Json& j = block.begin().value();
   std::string w = key_where(where, kind);
@@ -251,7 +269,8 @@ std::vector<PathPart> split_path(const std::string& path, const std::string& whe
   while (i < path.size()) {
     if (path[i] == '[') {
       size_t close = path.find(']', i);
-      if (close == std::string::npos || close == i + 1) throw Error(where, "bad path \"" + path + "\": missing or empty [...]");
+      if (close == std::string::npos || close == i + 1)
+        throw Error(where, "bad path \"" + path + "\": missing or empty [...]");
       parts.push_back({path.substr(i + 1, close - i - 1), true});
       i = close + 1;
       if (i < path.size() && path[i] == '.') ++i;
@@ -262,7 +281,8 @@ std::vector<PathPart> split_path(const std::string& path, const std::string& whe
       parts.push_back({k, false});
       if (j == std::string::npos) break;
       i = path[j] == '.' ? j + 1 : j;
-      if (path[j] == '.' && i == path.size()) throw Error(where, "bad path \"" + path + "\": trailing '.'");
+      if (path[j] == '.' && i == path.size())
+        throw Error(where, "bad path \"" + path + "\": trailing '.'");
     }
   }
   if (parts.empty()) throw Error(where, "empty config path");
@@ -299,29 +319,37 @@ std::vector<Json> axis_values(const Json& spec, const std::string& where) {
     only_keys(spec, where, {"from", "to", "step", "count"});
     double a = num_of(spec, where, "from"), b = num_of(spec, where, "to");
     if (spec.contains("step") == spec.contains("count"))
-      throw Error(where, "a range needs exactly one of \"step\" or \"count\": {\"from\": a, \"to\": b, \"step\": s}");
+      throw Error(where,
+                  "a range needs exactly one of \"step\" or \"count\": {\"from\": a, \"to\": b, "
+                  "\"step\": s}");
     if (spec.contains("step")) {
       double s = num_of(spec, where, "step");
       if (s == 0 || (b - a) * s < 0)
-        throw Error(key_where(where, "step"), "step " + std::to_string(s) + " never reaches \"to\" from \"from\"");
+        throw Error(key_where(where, "step"),
+                    "step " + std::to_string(s) + " never reaches \"to\" from \"from\"");
       double n = std::floor((b - a) / s + 1e-9);
       if (n > 1e6) throw Error(where, "range has more than a million values");
       for (int64_t k = 0; k <= int64_t(n); ++k) out.push_back(number_json(a + double(k) * s));
     } else {
       double c = num_of(spec, where, "count");
-      if (c < 1 || c != std::floor(c) || c > 1e6) throw Error(key_where(where, "count"), "expected an integer >= 1");
+      if (c < 1 || c != std::floor(c) || c > 1e6)
+        throw Error(key_where(where, "count"), "expected an integer >= 1");
       int n = int(c);
-      for (int k = 0; k < n; ++k) out.push_back(number_json(n == 1 ? a : a + (b - a) * double(k) / double(n - 1)));
+      for (int k = 0; k < n; ++k)
+        out.push_back(number_json(n == 1 ? a : a + (b - a) * double(k) / double(n - 1)));
     }
   } else {
-    throw Error(where, "expected an array of values or a range {\"from\": a, \"to\": b, \"step\": s}, got " +
-                           describe_json(spec));
+    throw Error(
+        where,
+        "expected an array of values or a range {\"from\": a, \"to\": b, \"step\": s}, got " +
+            describe_json(spec));
   }
   if (out.empty()) throw Error(where, "empty axis (no values)");
   return out;
 }
 
-std::string apply_assignment(Json& doc, const std::string& path, const Json& value, const std::string& where) {
+std::string apply_assignment(Json& doc, const std::string& path, const Json& value,
+                             const std::string& where) {
   auto parts = split_path(path, where);
   Json* node = &doc;
   std::string concrete;
@@ -334,13 +362,15 @@ std::string apply_assignment(Json& doc, const std::string& path, const Json& val
       node = &(*node)[p.key];
       continue;
     }
-    if (!node->is_array()) throw Error(where, "\"" + concrete + "\" is not an array, cannot set \"" + path + "\"");
+    if (!node->is_array())
+      throw Error(where, "\"" + concrete + "\" is not an array, cannot set \"" + path + "\"");
     size_t idx = 0;
     if (all_digits(p.key)) {
       // Compared as text first: an index with more digits than any size_t is simply absent.
       idx = p.key.size() > 9 ? size_t(-1) : size_t(std::stoul(p.key));
       if (idx >= node->size())
-        throw Error(where, "\"" + concrete + "\" has no element [" + p.key + "] (it has " + std::to_string(node->size()) + ")");
+        throw Error(where, "\"" + concrete + "\" has no element [" + p.key + "] (it has " +
+                               std::to_string(node->size()) + ")");
     } else {
       // Method-scoped form: the element whose "label" (or, without a label, "method") matches.
       std::vector<size_t> hits;
@@ -348,16 +378,19 @@ std::string apply_assignment(Json& doc, const std::string& path, const Json& val
       for (size_t k = 0; k < node->size(); ++k) {
         const Json& e = (*node)[k];
         if (!e.is_object()) continue;
-        std::string lab = e.contains("label") && e["label"].is_string() ? e["label"].get<std::string>()
-                          : e.contains("method") && e["method"].is_string() ? e["method"].get<std::string>()
-                                                                            : "";
+        std::string lab =
+            e.contains("label") && e["label"].is_string()     ? e["label"].get<std::string>()
+            : e.contains("method") && e["method"].is_string() ? e["method"].get<std::string>()
+                                                              : "";
         names += (names.empty() ? "" : ", ") + lab;
         if (lab == p.key) hits.push_back(k);
       }
       if (hits.empty())
-        throw Error(where, "no entry of \"" + concrete + "\" has label \"" + p.key + "\" (labels: " + names + ")");
+        throw Error(where, "no entry of \"" + concrete + "\" has label \"" + p.key +
+                               "\" (labels: " + names + ")");
       if (hits.size() > 1)
-        throw Error(where, "several entries of \"" + concrete + "\" are called \"" + p.key + "\"; give them labels");
+        throw Error(where, "several entries of \"" + concrete + "\" are called \"" + p.key +
+                               "\"; give them labels");
       idx = hits[0];
     }
     concrete += "[" + std::to_string(idx) + "]";
@@ -376,8 +409,9 @@ SweepPlan expand_sweep(const LoadedConfig& cfg) {
                 "a config must be a JSON object, got " + describe_json(cfg.doc));
   plan.base = cfg.doc;
   plan.base.erase("sweep");
-  plan.name = plan.base.contains("name") && plan.base["name"].is_string() ? plan.base["name"].get<std::string>()
-                                                                       : fs::path(cfg.file).stem().string();
+  plan.name = plan.base.contains("name") && plan.base["name"].is_string()
+                  ? plan.base["name"].get<std::string>()
+                  : fs::path(cfg.file).stem().string();
   const std::string W = cfg.file.empty() ? "sweep" : cfg.file + ": sweep";
   std::vector<std::vector<Row>> blocks;
   double cap = kDefaultMaxCells;
@@ -400,23 +434,30 @@ SweepPlan expand_sweep(const LoadedConfig& cfg) {
         blocks.push_back(block_rows(Json{{k, sw[k]}}, W, cap));
       }
     if (direct > 1 || (direct && sw.contains("axes")))
-      throw Error(W, "give one block directly, or several under \"axes\": [...] (their order is the loop order)");
+      throw Error(W,
+                  "give one block directly, or several under \"axes\": [...] (their order is the "
+                  "loop order)");
     if (sw.contains("axes")) {
       const Json& ax = sw["axes"];
-      if (!ax.is_array() || ax.empty()) throw Error(W + ".axes", "expected a non-empty array of blocks");
+      if (!ax.is_array() || ax.empty())
+        throw Error(W + ".axes", "expected a non-empty array of blocks");
       for (size_t i = 0; i < ax.size(); ++i)
         blocks.push_back(block_rows(ax[i], W + ".axes[" + std::to_string(i) + "]", cap));
     }
     // Objectives: [{"minimize": "est_ms_total"}, {"maximize": "fpsnr"}].
     if (sw.contains("objectives")) {
       const Json& ob = sw["objectives"];
-      if (!ob.is_array()) throw Error(W + ".objectives", "expected an array like [{\"minimize\": \"est_ms_total\"}, {\"maximize\": \"fpsnr\"}]");
+      if (!ob.is_array())
+        throw Error(
+            W + ".objectives",
+            "expected an array like [{\"minimize\": \"est_ms_total\"}, {\"maximize\": \"fpsnr\"}]");
       for (size_t i = 0; i < ob.size(); ++i) {
         std::string w = W + ".objectives[" + std::to_string(i) + "]";
         if (!ob[i].is_object() || ob[i].size() != 1 || !ob[i].begin().value().is_string() ||
             (ob[i].begin().key() != "minimize" && ob[i].begin().key() != "maximize"))
           throw Error(w, "expected {\"minimize\": \"column\"} or {\"maximize\": \"column\"}");
-        plan.objectives.push_back({ob[i].begin().value().get<std::string>(), ob[i].begin().key() == "maximize"});
+        plan.objectives.push_back(
+            {ob[i].begin().value().get<std::string>(), ob[i].begin().key() == "maximize"});
       }
     }
     plan.pareto_group_by = {"gpu"};
@@ -426,9 +467,11 @@ SweepPlan expand_sweep(const LoadedConfig& cfg) {
       only_keys(p, W + ".pareto", {"group_by"});
       if (p.contains("group_by")) {
         plan.pareto_group_by.clear();
-        if (!p["group_by"].is_array()) throw Error(W + ".pareto.group_by", "expected an array of column names");
+        if (!p["group_by"].is_array())
+          throw Error(W + ".pareto.group_by", "expected an array of column names");
         for (auto& g : p["group_by"]) {
-          if (!g.is_string()) throw Error(W + ".pareto.group_by", "expected column names (strings)");
+          if (!g.is_string())
+            throw Error(W + ".pareto.group_by", "expected column names (strings)");
           plan.pareto_group_by.push_back(g.get<std::string>());
         }
       }
@@ -438,7 +481,8 @@ SweepPlan expand_sweep(const LoadedConfig& cfg) {
       std::string w = W + ".iso_budget";
       if (!ib.is_object()) throw Error(w, "expected an object");
       only_keys(ib, w, {"column", "budgets", "tolerance", "quality", "group_by"});
-      if (!ib.contains("column") || !ib["column"].is_string()) throw Error(w + ".column", "expected a column name, e.g. \"shaded_fraction\"");
+      if (!ib.contains("column") || !ib["column"].is_string())
+        throw Error(w + ".column", "expected a column name, e.g. \"shaded_fraction\"");
       plan.iso.column = ib["column"].get<std::string>();
       if (!ib.contains("budgets")) throw Error(w, "missing \"budgets\"");
       for (auto& v : axis_values(ib["budgets"], w + ".budgets")) {
@@ -450,7 +494,8 @@ SweepPlan expand_sweep(const LoadedConfig& cfg) {
       if (ib.contains("quality")) {
         plan.iso.quality.clear();
         const Json& q = ib["quality"];
-        if (!q.is_array() || q.empty()) throw Error(w + ".quality", "expected a non-empty array of column names");
+        if (!q.is_array() || q.empty())
+          throw Error(w + ".quality", "expected a non-empty array of column names");
         for (auto& c : q) {
           if (!c.is_string()) throw Error(w + ".quality", "expected column names (strings)");
           plan.iso.quality.push_back(c.get<std::string>());
@@ -471,22 +516,30 @@ SweepPlan expand_sweep(const LoadedConfig& cfg) {
       const Json& s = sw["search"];
       std::string w = W + ".search";
       if (!s.is_object()) throw Error(w, "expected an object");
-      only_keys(s, w, {"space", "maximize", "minimize", "subject_to", "label", "evaluations", "batch", "seed"});
-      if (!s.contains("space")) throw Error(w, "missing \"space\": {\"config.path\": {\"from\": a, \"to\": b}, ...}");
+      only_keys(
+          s, w,
+          {"space", "maximize", "minimize", "subject_to", "label", "evaluations", "batch", "seed"});
+      if (!s.contains("space"))
+        throw Error(w, "missing \"space\": {\"config.path\": {\"from\": a, \"to\": b}, ...}");
       for (auto& [path, sv] : ordered_axes(s["space"], w + ".space")) {
         Dim d = parse_dim(path, sv.first, sv.second);
-        if (!d.choices.empty()) throw Error(sv.second, "a search dimension must be a range {\"from\": a, \"to\": b}");
+        if (!d.choices.empty())
+          throw Error(sv.second, "a search dimension must be a range {\"from\": a, \"to\": b}");
         plan.search.space.push_back({path, d.lo, d.hi, d.step, d.log, d.integer, d.where});
       }
-      if (s.contains("maximize") == s.contains("minimize")) throw Error(w, "give exactly one of \"maximize\" or \"minimize\": \"column\"");
+      if (s.contains("maximize") == s.contains("minimize"))
+        throw Error(w, "give exactly one of \"maximize\" or \"minimize\": \"column\"");
       const Json& oc = s.contains("maximize") ? s["maximize"] : s["minimize"];
       if (!oc.is_string()) throw Error(w, "the objective must be a column name");
       plan.search.objective = {oc.get<std::string>(), s.contains("maximize")};
       if (s.contains("subject_to")) {
         const Json& c = s["subject_to"];
         std::string cw = w + ".subject_to";
-        if (!c.is_object() || c.size() != 1 || !c.begin().value().is_object() || !c.begin().value().contains("max"))
-          throw Error(cw, "expected {\"column\": {\"max\": value}}, e.g. {\"est_ms_total\": {\"max\": 11.1}}");
+        if (!c.is_object() || c.size() != 1 || !c.begin().value().is_object() ||
+            !c.begin().value().contains("max"))
+          throw Error(
+              cw,
+              "expected {\"column\": {\"max\": value}}, e.g. {\"est_ms_total\": {\"max\": 11.1}}");
         plan.search.constraint_column = c.begin().key();
         only_keys(c.begin().value(), cw + "." + c.begin().key(), {"max"});
         plan.search.constraint_max = num_of(c.begin().value(), cw + "." + c.begin().key(), "max");
@@ -507,8 +560,10 @@ SweepPlan expand_sweep(const LoadedConfig& cfg) {
         plan.search.evaluations = int(int_in("evaluations", 1, 100000));
       if (s.contains("batch")) plan.search.batch = int(int_in("batch", 1, 1024));
       if (s.contains("seed")) plan.search.seed = uint64_t(int_in("seed", 0, 9007199254740992.0));
-      if (plan.search.evaluations < 1 || plan.search.evaluations > 100000) throw Error(w + ".evaluations", "expected 1..100000");
-      if (plan.search.batch < 1 || plan.search.batch > 1024) throw Error(w + ".batch", "expected 1..1024");
+      if (plan.search.evaluations < 1 || plan.search.evaluations > 100000)
+        throw Error(w + ".evaluations", "expected 1..100000");
+      if (plan.search.batch < 1 || plan.search.batch > 1024)
+        throw Error(w + ".batch", "expected 1..1024");
     }
   }
   if (plan.pareto_group_by.empty() && !cfg.doc.contains("sweep")) plan.pareto_group_by = {"gpu"};
@@ -539,7 +594,8 @@ SweepPlan expand_sweep(const LoadedConfig& cfg) {
     for (auto& a : c.assign) {
       std::string concrete = apply_assignment(c.doc, a.path, a.value, a.where);
       if (!set_here.insert(concrete).second)
-        throw Error(a.where, "\"" + a.path + "\" is set by two axes of the same sweep (it is " + concrete + ")");
+        throw Error(a.where, "\"" + a.path + "\" is set by two axes of the same sweep (it is " +
+                                 concrete + ")");
       if (seen_paths.insert(a.path).second) plan.axis_paths.push_back(a.path);
     }
     c.hash = short_hash(c.doc.dump());
@@ -570,14 +626,15 @@ void validate_cells(const SweepPlan& plan) {
       key = key.substr(0, key.find_first_of(".["));
       if (key == "method" || key == "label") continue;
       const Json& m = c.doc["methods"][mi];
-      std::string mname = m.contains("method") && m["method"].is_string() ? m["method"].get<std::string>() : "";
+      std::string mname =
+          m.contains("method") && m["method"].is_string() ? m["method"].get<std::string>() : "";
       auto it = known.find(mname);
       if (it == known.end()) continue;  // make_method below reports the unknown method
       if (std::find(it->second.begin(), it->second.end(), key) == it->second.end()) {
         std::string names;
         for (auto& n : it->second) names += (names.empty() ? "" : ", ") + n;
-        throw Error(a.where, "unknown parameter \"" + key + "\" for method \"" + mname + "\" (parameters: " +
-                                 (names.empty() ? "none" : names) + ")");
+        throw Error(a.where, "unknown parameter \"" + key + "\" for method \"" + mname +
+                                 "\" (parameters: " + (names.empty() ? "none" : names) + ")");
       }
     }
     // Construct each distinct method block once: range and type errors surface now.
@@ -587,7 +644,8 @@ void validate_cells(const SweepPlan& plan) {
       std::string key = ms[i].dump();
       if (!built.insert(key).second || !ms[i].is_object()) continue;
       Json mj = ms[i];
-      std::string mname = mj.contains("method") && mj["method"].is_string() ? mj["method"].get<std::string>() : "";
+      std::string mname =
+          mj.contains("method") && mj["method"].is_string() ? mj["method"].get<std::string>() : "";
       mj.erase("method");
       mj.erase("label");
       try {
@@ -596,7 +654,8 @@ void validate_cells(const SweepPlan& plan) {
       } catch (const Error& e) {
         std::string how;
         for (auto& a : c.assign) how += (how.empty() ? "" : ", ") + a.path + "=" + a.value.dump();
-        throw Error(e.where(), e.message() + " (in sweep cell " + std::to_string(c.index) + (how.empty() ? "" : ": " + how) + ")");
+        throw Error(e.where(), e.message() + " (in sweep cell " + std::to_string(c.index) +
+                                   (how.empty() ? "" : ": " + how) + ")");
       }
     }
   }

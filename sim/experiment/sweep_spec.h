@@ -18,7 +18,7 @@
 namespace fovsim {
 
 struct Assignment {
-  std::string path;   // as written in the sweep ("methods[kfr].sigma")
+  std::string path;  // as written in the sweep ("methods[kfr].sigma")
   Json value;
   std::string where;  // location of the axis in the sweep config, for errors
 };
@@ -39,10 +39,10 @@ struct Objective {
 // Iso-budget comparison (RMFR §5.1): per method, the best cell whose `column` stays within
 // each budget.
 struct IsoBudgetSpec {
-  std::string column;               // e.g. "shaded_fraction" or "est_ms_total"
+  std::string column;  // e.g. "shaded_fraction" or "est_ms_total"
   std::vector<double> budgets;
-  double tolerance = 0.0;           // relative slack: value <= budget * (1 + tolerance)
-  std::vector<std::string> quality; // first one ranks; all are reported
+  double tolerance = 0.0;            // relative slack: value <= budget * (1 + tolerance)
+  std::vector<std::string> quality;  // first one ranks; all are reported
   std::vector<std::string> group_by;
   bool enabled() const { return !column.empty(); }
 };
@@ -52,17 +52,17 @@ struct IsoBudgetSpec {
 struct SearchDim {
   std::string path;
   double lo = 0, hi = 1;
-  double step = 0;      // > 0: quantized
+  double step = 0;  // > 0: quantized
   bool log = false;
   bool integer = false;
   std::string where = {};
 };
 struct SearchSpec {
   std::vector<SearchDim> space;
-  Objective objective;                  // maximize/minimize a summary column
-  std::string constraint_column;        // optional "value <= max" constraint
+  Objective objective;            // maximize/minimize a summary column
+  std::string constraint_column;  // optional "value <= max" constraint
   double constraint_max = 0;
-  std::string select_label;             // which summary row is scored (label); "" = first row
+  std::string select_label;  // which summary row is scored (label); "" = first row
   int evaluations = 32;
   int batch = 8;
   uint64_t seed = 1;
@@ -72,14 +72,14 @@ struct SearchSpec {
 struct SweepPlan {
   std::string name;
   std::string file, base_dir;
-  Json base;                           // run config without the sweep block
-  std::vector<std::string> axis_paths; // distinct assignment paths in first-seen order
+  Json base;                            // run config without the sweep block
+  std::vector<std::string> axis_paths;  // distinct assignment paths in first-seen order
   std::vector<SweepCell> cells;
   std::vector<Objective> objectives;
   std::vector<std::string> pareto_group_by;  // default {"gpu"}
   IsoBudgetSpec iso;
   SearchSpec search;
-  std::string hash;                    // of all cell hashes in order
+  std::string hash;  // of all cell hashes in order
 };
 
 // Expands cfg.doc's "sweep" block (a config without one is a single cell). Every error

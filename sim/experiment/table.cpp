@@ -36,7 +36,9 @@ const std::string* ResultRow::text_of(const std::string& k) const {
   return nullptr;
 }
 
-void ResultTable::add(ResultRow r) { rows_.push_back(std::move(r)); }
+void ResultTable::add(ResultRow r) {
+  rows_.push_back(std::move(r));
+}
 
 template <class Get>
 static std::vector<std::string> collect(const std::vector<ResultRow>& rows, Get get) {
@@ -49,10 +51,12 @@ static std::vector<std::string> collect(const std::vector<ResultRow>& rows, Get 
 }
 
 std::vector<std::string> ResultTable::text_columns() const {
-  return collect(rows_, [](const ResultRow& r) -> const auto& { return r.text; });
+  return collect(
+      rows_, [](const ResultRow& r) -> const auto& { return r.text; });
 }
 std::vector<std::string> ResultTable::numeric_columns() const {
-  return collect(rows_, [](const ResultRow& r) -> const auto& { return r.num; });
+  return collect(
+      rows_, [](const ResultRow& r) -> const auto& { return r.num; });
 }
 
 std::string format_number(double v) {

@@ -59,16 +59,18 @@ void hyper_effective_weights(const MappingSpec& s, const std::vector<HyperLayer>
   }
 }
 
-double hyperbolic_needed(const MappingSpec& s, const MappingView& v, const std::vector<HyperLayer>& layers,
-                         std::vector<uint8_t>* masks) {
+double hyperbolic_needed(const MappingSpec& s, const MappingView& v,
+                         const std::vector<HyperLayer>& layers, std::vector<uint8_t>* masks) {
   std::vector<uint8_t> local[3];
   std::vector<uint8_t>* m = masks ? masks : local;
-  for (size_t i = 0; i < 3; ++i) m[i].assign(size_t(std::max(layers[i].w, 0)) * size_t(std::max(layers[i].h, 0)), 0);
+  for (size_t i = 0; i < 3; ++i)
+    m[i].assign(size_t(std::max(layers[i].w, 0)) * size_t(std::max(layers[i].h, 0)), 0);
   // Serial: footprints of neighbouring pixels overlap (no write races); ~W*H cheap steps.
   for (int y = 0; y < v.H; ++y)
     for (int x = 0; x < v.W; ++x) {
       const double px = x + 0.5, py = y + 0.5;
-      const double e = v.ecc ? double((*v.ecc)[size_t(y) * size_t(v.W) + size_t(x)]) : v.ecc_deg(px, py);
+      const double e =
+          v.ecc ? double((*v.ecc)[size_t(y) * size_t(v.W) + size_t(x)]) : v.ecc_deg(px, py);
       float eff[3];
       hyper_effective_weights(s, layers, px, py, e, eff);
       for (size_t i = 0; i < 3; ++i) {
@@ -164,7 +166,8 @@ double expected_shaded_samples(const MappingSpec& s, const MappingView& v) {
     parallel_rows(v.H, [&](int y) {
       double n = 0;
       for (int x = 0; x < v.W; ++x) {
-        double e = v.ecc ? double((*v.ecc)[size_t(y) * size_t(v.W) + size_t(x)]) : v.ecc_deg(x + 0.5, y + 0.5);
+        double e = v.ecc ? double((*v.ecc)[size_t(y) * size_t(v.W) + size_t(x)])
+                         : v.ecc_deg(x + 0.5, y + 0.5);
         n += linear_probability(s, e);
       }
       rows[size_t(y)] = n;
@@ -207,7 +210,10 @@ bool solve_iso_budget(const MappingSpec& s, const MappingView& v, double target,
     const bool is_kfr = s.method == "kfr";
     double lo = is_kfr ? 0.0 : std::log(1e-4), hi = is_kfr ? std::log(1e4) : std::log(1e3);
     auto set = [&](double t) {
-      if (is_kfr) out.sigma = std::exp(t); else out.radius_scale = std::exp(t);
+      if (is_kfr)
+        out.sigma = std::exp(t);
+      else
+        out.radius_scale = std::exp(t);
       return frac(out);
     };
     const double f_lo = set(lo), f_hi = set(hi);
@@ -222,7 +228,10 @@ bool solve_iso_budget(const MappingSpec& s, const MappingView& v, double target,
         const double f = set(mid);
         const bool above = f > target;
         // kfr: too many samples -> larger sigma; baselines: too many -> smaller radius.
-        if (above == is_kfr) lo = mid; else hi = mid;
+        if (above == is_kfr)
+          lo = mid;
+        else
+          hi = mid;
       }
       const double flo = set(lo), fhi = set(hi);
       set(std::abs(flo - target) <= std::abs(fhi - target) ? lo : hi);

@@ -49,8 +49,8 @@ void hyper_effective_weights(const MappingSpec& s, const std::vector<HyperLayer>
 // effective weight): only those are shaded, like a stencil-masked layer pass, so hidden parts
 // of coarser layers cost nothing. masks (optional) receives one w*h mask per layer.
 // Returns the number of marked layer pixels.
-double hyperbolic_needed(const MappingSpec& s, const MappingView& v, const std::vector<HyperLayer>& layers,
-                         std::vector<uint8_t>* masks);
+double hyperbolic_needed(const MappingSpec& s, const MappingView& v,
+                         const std::vector<HyperLayer>& layers, std::vector<uint8_t>* masks);
 
 // Linear fall-off (Weier et al. 2016, seed 003 §5.1): sampling probability 1 inside r1,
 // falling linearly to p_min at r2, p_min beyond.

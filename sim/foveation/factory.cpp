@@ -6,9 +6,11 @@
 namespace fovsim {
 
 const std::vector<MethodEntry>& method_table() {
-  // One line per method in method_list.h; each method's file defines create_<name> and <name>_params.
+  // One line per method in method_list.h; each method's file defines create_<name> and
+  // <name>_params.
   static const std::vector<MethodEntry> table = {
-#define FOVSIM_METHOD(name, summary, family) {#name, summary, create_##name, name##_params, CostFamily::family},
+#define FOVSIM_METHOD(name, summary, family) \
+  {#name, summary, create_##name, name##_params, CostFamily::family},
 #include "sim/foveation/method_list.h"
 #undef FOVSIM_METHOD
   };
@@ -50,8 +52,8 @@ std::string methods_markdown() {
     }
     md += "| key | type | default | range | source | meaning |\n|---|---|---|---|---|---|\n";
     for (const ParamInfo& p : ps)
-      md += "| `" + std::string(p.name) + "` | " + cell(p.type) + " | " + cell(p.def) + " | " + cell(p.range) + " | " +
-            cell(p.source) + " | " + cell(p.doc) + " |\n";
+      md += "| `" + std::string(p.name) + "` | " + cell(p.type) + " | " + cell(p.def) + " | " +
+            cell(p.range) + " | " + cell(p.source) + " | " + cell(p.doc) + " |\n";
     md += "\n";
   }
   return md;
@@ -78,7 +80,8 @@ MethodArg parse_method_arg(const std::string& text, const std::string& flag) {
     if (j == std::string::npos) j = rest.size();
     const std::string kv = rest.substr(i, j - i);
     const auto eq = kv.find('=');
-    if (eq == std::string::npos || eq == 0) throw Error(where, "expected key=value, got \"" + kv + "\"");
+    if (eq == std::string::npos || eq == 0)
+      throw Error(where, "expected key=value, got \"" + kv + "\"");
     const std::string key = kv.substr(0, eq), v = kv.substr(eq + 1);
     if (m.params.contains(key)) throw Error(where, "key \"" + key + "\" given twice");
     Json jv = Json::parse(v, nullptr, false);

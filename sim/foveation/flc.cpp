@@ -79,7 +79,8 @@ double ms_between(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
 }
 
-double rmse_region(const Image& a, const Image& b, const glm::dvec2& gaze, double radius, bool inside) {
+double rmse_region(const Image& a, const Image& b, const glm::dvec2& gaze, double radius,
+                   bool inside) {
   double acc = 0;
   size_t n = 0;
   for (int y = 0; y < a.height; ++y)
@@ -145,16 +146,17 @@ class FlcMethod final : public FoveationMethod {
     std::ostringstream key;
     key.precision(17);
     const Camera& cam = *ctx.camera;
-    key << &scene << '|' << &r << '|' << r.time() << '|' << W << 'x' << H << '|' << cam.position.x << ','
-        << cam.position.y << ',' << cam.position.z << '|' << cam.orientation.w << ',' << cam.orientation.x << ','
-        << cam.orientation.y << ',' << cam.orientation.z << '|' << cam.tan_half_h << ',' << cam.tan_half_v << '|'
-        << s_.rsm_size << '|' << s_.min_dist << '|' << s_.shading_visibility << '|' << scene.name << '|'
-        << scene.triangle_count() << '|' << vpls.size();
+    key << &scene << '|' << &r << '|' << r.time() << '|' << W << 'x' << H << '|' << cam.position.x
+        << ',' << cam.position.y << ',' << cam.position.z << '|' << cam.orientation.w << ','
+        << cam.orientation.x << ',' << cam.orientation.y << ',' << cam.orientation.z << '|'
+        << cam.tan_half_h << ',' << cam.tan_half_v << '|' << s_.rsm_size << '|' << s_.min_dist
+        << '|' << s_.shading_visibility << '|' << scene.name << '|' << scene.triangle_count() << '|'
+        << vpls.size();
     // Light content too, so a different scene that reuses an address never hits a stale entry.
     for (const RSM& m : rsms)
-      key << '|' << m.ls.position.x << ',' << m.ls.position.y << ',' << m.ls.position.z << ',' << m.ls.direction.x
-          << ',' << m.ls.direction.y << ',' << m.ls.direction.z << ',' << m.ls.radiance.x << ',' << m.ls.radiance.y
-          << ',' << m.ls.radiance.z;
+      key << '|' << m.ls.position.x << ',' << m.ls.position.y << ',' << m.ls.position.z << ','
+          << m.ls.direction.x << ',' << m.ls.direction.y << ',' << m.ls.direction.z << ','
+          << m.ls.radiance.x << ',' << m.ls.radiance.y << ',' << m.ls.radiance.z;
     std::shared_ptr<const Image> gt_ind = gt_cache().get(key.str());
     if (!gt_ind) {
       auto img = std::make_shared<Image>();
@@ -171,17 +173,20 @@ class FlcMethod final : public FoveationMethod {
     tm.exposure = scene.exposure;
     Image color;
     tm.apply(*ctx.reference, color);
-    const double tan_diag = std::sqrt(cam.tan_half_h * cam.tan_half_h + cam.tan_half_v * cam.tan_half_v);
+    const double tan_diag =
+        std::sqrt(cam.tan_half_h * cam.tan_half_h + cam.tan_half_v * cam.tan_half_v);
     FlcImportanceMaps maps;
     const bool hist_ok = history_.width == W && history_.height == H;
-    flc_importance_map(g, color, hist_ok ? &history_ : nullptr, ctx.gaze_px, tan_diag, ctx.eccentricity, s_.imp,
-                       maps, ctx.want_debug);
+    flc_importance_map(g, color, hist_ok ? &history_ : nullptr, ctx.gaze_px, tan_diag,
+                       ctx.eccentricity, s_.imp, maps, ctx.want_debug);
 
     t1 = Clock::now();
     times_.importance = ms_between(t0, t1);
     // §4.2, Alg. 1: N_s chains of length M over shuffled Halton points.
-    const std::vector<glm::vec2> halton = shuffled_halton(size_t(s_.samples) * size_t(s_.chain_length), fseed);
-    const std::vector<ImportanceSample> samples = flc_select_samples(maps.importance, halton, s_.samples, s_.chain_length);
+    const std::vector<glm::vec2> halton =
+        shuffled_halton(size_t(s_.samples) * size_t(s_.chain_length), fseed);
+    const std::vector<ImportanceSample> samples =
+        flc_select_samples(maps.importance, halton, s_.samples, s_.chain_length);
     c.set("importance_samples", double(samples.size()));
     c.set("halton_proposals", double(halton.size()));
     const double half_diag = 0.5 * std::sqrt(double(W) * W + double(H) * H);
@@ -196,8 +201,10 @@ class FlcMethod final : public FoveationMethod {
       }
       p.p = g.position[sm.pixel];
       p.n = g.normal[sm.pixel];
-      const double dx = (sm.pixel % uint32_t(W)) + 0.5 - ctx.gaze_px.x, dy = (sm.pixel / uint32_t(W)) + 0.5 - ctx.gaze_px.y;
-      const double wr = (dx * dx + dy * dy <= fovea_px * fovea_px) ? s_.w_fovea : s_.w_periphery;  // eq. 1
+      const double dx = (sm.pixel % uint32_t(W)) + 0.5 - ctx.gaze_px.x,
+                   dy = (sm.pixel / uint32_t(W)) + 0.5 - ctx.gaze_px.y;
+      const double wr =
+          (dx * dx + dy * dy <= fovea_px * fovea_px) ? s_.w_fovea : s_.w_periphery;  // eq. 1
       p.weight = float(sm.weight * wr);
       pts.push_back(p);
     }
@@ -225,7 +232,8 @@ class FlcMethod final : public FoveationMethod {
     const std::vector<VplSoA> groups = flc_interleave_groups(vpls, kept.kept, kept.weight, n);
     Image indirect, lp_dbg;
     if (s_.log_polar)
-      flc_shade_logpolar(g, ctx.gaze_px, s_.lp_sigma, groups, n, sh, &r, indirect, &c, ctx.want_debug ? &lp_dbg : nullptr);
+      flc_shade_logpolar(g, ctx.gaze_px, s_.lp_sigma, groups, n, sh, &r, indirect, &c,
+                         ctx.want_debug ? &lp_dbg : nullptr);
     else
       flc_shade_cartesian(g, groups, n, sh, &r, indirect, &c);
 
@@ -295,7 +303,9 @@ const FlcStageTimes* flc_stage_times(const FoveationMethod& m) {
   const auto* f = dynamic_cast<const FlcMethod*>(&m);
   return f ? &f->times() : nullptr;
 }
-void flc_clear_ground_truth_cache() { gt_cache().clear(); }
+void flc_clear_ground_truth_cache() {
+  gt_cache().clear();
+}
 
 std::unique_ptr<FoveationMethod> create_flc(Params& p) {
   FlcSettings s;
@@ -317,7 +327,8 @@ std::unique_ptr<FoveationMethod> create_flc(Params& p) {
   s.w_periphery = p.number("w_periphery", 1.0, Range::closed(0, 1e6));
   s.epsilon = p.number("epsilon", 0.02, Range::above(0, 1));
   const std::string vis = p.string("visibility", "blso", {"none", "blso", "exact"});
-  s.visibility = vis == "none" ? FlcVisibility::None : (vis == "exact" ? FlcVisibility::Exact : FlcVisibility::Blso);
+  s.visibility = vis == "none" ? FlcVisibility::None
+                               : (vis == "exact" ? FlcVisibility::Exact : FlcVisibility::Blso);
   s.blso.lambda = p.number("blso_lambda", 0.5, Range::closed(0, 1));
   s.blso.k = p.number("blso_k", 34.0, Range::above(0, 1e6));
   s.blso.xi = p.number("blso_xi", 0.01, Range::above(0, 1));

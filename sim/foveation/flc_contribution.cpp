@@ -16,7 +16,9 @@ namespace fovsim {
 
 namespace {
 
-inline float hash_unit(uint64_t key) { return float(splitmix64(key) >> 40) * (1.0f / 16777216.0f); }
+inline float hash_unit(uint64_t key) {
+  return float(splitmix64(key) >> 40) * (1.0f / 16777216.0f);
+}
 
 void basis(const glm::vec3& n, glm::vec3& t1, glm::vec3& t2) {
   float sign = std::copysign(1.0f, n.z);
@@ -30,13 +32,13 @@ void basis(const glm::vec3& n, glm::vec3& t1, glm::vec3& t2) {
 
 double blso_g(double dh, double xi, double k) {
   // eq. 12
-  if (dh <= -xi) return 1.0;       // in front of the lit surface: free space
-  if (dh < xi) return 0.0;         // on a surface: occluder
+  if (dh <= -xi) return 1.0;  // in front of the lit surface: free space
+  if (dh < xi) return 0.0;    // on a surface: occluder
   return 1.0 - std::exp(-k * std::sqrt(dh));
 }
 
-double blso_T(const RSM& rsm, const glm::vec3& o, const glm::vec3& dir, float max_dist, const BlsoParams& p,
-              float scene_scale, uint64_t key) {
+double blso_T(const RSM& rsm, const glm::vec3& o, const glm::vec3& dir, float max_dist,
+              const BlsoParams& p, float scene_scale, uint64_t key) {
   const int n = std::max(1, p.samples);
   const float tmin = float(2.0 * p.xi) * scene_scale;
   const float tmax = std::min(float(p.radius) * scene_scale, max_dist);
@@ -68,57 +70,65 @@ double blso_T(const RSM& rsm, const glm::vec3& o, const glm::vec3& dir, float ma
 }
 
 std::vector<double> flc_contributions(const std::vector<VPL>& vpls, const std::vector<RSM>& rsms,
-                                      const std::vector<FlcShadingPoint>& pts, const ContributionSettings& s,
-                                      const Renderer* r, Counters* c) {
+                                      const std::vector<FlcShadingPoint>& pts,
+                                      const ContributionSettings& s, const Renderer* r,
+                                      Counters* c) {
   std::vector<double> C(vpls.size(), 0.0);
   std::vector<int> rsm_of_light;
   for (size_t k = 0; k < rsms.size(); ++k) {
     if (rsms[k].light < 0) continue;
-    if (size_t(rsms[k].light) >= rsm_of_light.size()) rsm_of_light.resize(size_t(rsms[k].light) + 1, -1);
+    if (size_t(rsms[k].light) >= rsm_of_light.size())
+      rsm_of_light.resize(size_t(rsms[k].light) + 1, -1);
     rsm_of_light[size_t(rsms[k].light)] = int(k);
   }
   const size_t ns = pts.size();
   std::atomic<uint64_t> lookups{0}, rays{0};
-  const FlcVisibility vis = (s.visibility == FlcVisibility::Exact && !r) ? FlcVisibility::None : s.visibility;
+  const FlcVisibility vis =
+      (s.visibility == FlcVisibility::Exact && !r) ? FlcVisibility::None : s.visibility;
   const float lam = float(s.blso.lambda);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, vpls.size(), 16), [&](const tbb::blocked_range<size_t>& b) {
-    uint64_t nl = 0, nr = 0;
-    for (size_t v = b.begin(); v < b.end(); ++v) {
-      const VPL& l = vpls[v];
-      const float Iv = luma(l.flux.x, l.flux.y, l.flux.z);
-      const RSM* rsm = (l.light >= 0 && size_t(l.light) < rsm_of_light.size() && rsm_of_light[size_t(l.light)] >= 0)
-                           ? &rsms[size_t(rsm_of_light[size_t(l.light)])]
-                           : nullptr;
-      double acc = 0.0;
-      for (size_t i = 0; i < ns; ++i) {
-        const FlcShadingPoint& sp = pts[i];
-        if (!(sp.weight > 0.f)) continue;
-        glm::vec3 d = sp.p - l.position;
-        const float d2 = glm::dot(d, d);
-        const float dl = std::sqrt(d2);
-        if (!(dl > 0.f)) continue;
-        d /= dl;
-        const float cl = glm::dot(l.normal, d), cp = -glm::dot(sp.n, d);
-        if (cl <= 0.f || cp <= 0.f) continue;
-        float V = 1.f;
-        if (vis == FlcVisibility::Blso && rsm) {
-          // eq. 11: V = mix(T_lv(d), T_p(-d), lambda)
-          const uint64_t key = s.seed ^ (uint64_t(v) * 0x100000001b3ull + uint64_t(i) * 0x9e3779b97f4a7c15ull);
-          const double Tl = blso_T(*rsm, l.position, d, dl, s.blso, s.scene_scale, key);
-          const double Tp = blso_T(*rsm, sp.p, -d, dl, s.blso, s.scene_scale, ~key);
-          V = float(Tl) * (1.f - lam) + float(Tp) * lam;
-          nl += 2u * uint64_t(std::max(1, s.blso.samples));
-        } else if (vis == FlcVisibility::Exact) {
-          ++nr;
-          V = r->occluded(l.position + l.normal * s.ray_offset, sp.p + sp.n * s.ray_offset) ? 0.f : 1.f;
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, vpls.size(), 16), [&](const tbb::blocked_range<size_t>& b) {
+        uint64_t nl = 0, nr = 0;
+        for (size_t v = b.begin(); v < b.end(); ++v) {
+          const VPL& l = vpls[v];
+          const float Iv = luma(l.flux.x, l.flux.y, l.flux.z);
+          const RSM* rsm = (l.light >= 0 && size_t(l.light) < rsm_of_light.size() &&
+                            rsm_of_light[size_t(l.light)] >= 0)
+                               ? &rsms[size_t(rsm_of_light[size_t(l.light)])]
+                               : nullptr;
+          double acc = 0.0;
+          for (size_t i = 0; i < ns; ++i) {
+            const FlcShadingPoint& sp = pts[i];
+            if (!(sp.weight > 0.f)) continue;
+            glm::vec3 d = sp.p - l.position;
+            const float d2 = glm::dot(d, d);
+            const float dl = std::sqrt(d2);
+            if (!(dl > 0.f)) continue;
+            d /= dl;
+            const float cl = glm::dot(l.normal, d), cp = -glm::dot(sp.n, d);
+            if (cl <= 0.f || cp <= 0.f) continue;
+            float V = 1.f;
+            if (vis == FlcVisibility::Blso && rsm) {
+              // eq. 11: V = mix(T_lv(d), T_p(-d), lambda)
+              const uint64_t key =
+                  s.seed ^ (uint64_t(v) * 0x100000001b3ull + uint64_t(i) * 0x9e3779b97f4a7c15ull);
+              const double Tl = blso_T(*rsm, l.position, d, dl, s.blso, s.scene_scale, key);
+              const double Tp = blso_T(*rsm, sp.p, -d, dl, s.blso, s.scene_scale, ~key);
+              V = float(Tl) * (1.f - lam) + float(Tp) * lam;
+              nl += 2u * uint64_t(std::max(1, s.blso.samples));
+            } else if (vis == FlcVisibility::Exact) {
+              ++nr;
+              V = r->occluded(l.position + l.normal * s.ray_offset, sp.p + sp.n * s.ray_offset)
+                      ? 0.f
+                      : 1.f;
+            }
+            acc += double(Iv * V * cp * cl * sp.weight / (d2 + s.eps2));  // eq. 14 summand
+          }
+          C[v] = ns ? acc / double(ns) : 0.0;
         }
-        acc += double(Iv * V * cp * cl * sp.weight / (d2 + s.eps2));  // eq. 14 summand
-      }
-      C[v] = ns ? acc / double(ns) : 0.0;
-    }
-    lookups += nl;
-    rays += nr;
-  });
+        lookups += nl;
+        rays += nr;
+      });
   if (c) {
     c->add("contribution_evals", double(vpls.size()) * double(ns));
     c->add("blso_lookups", double(lookups.load()));
@@ -148,7 +158,8 @@ CullResult flc_cull(const std::vector<double>& C, int budget, double floor_mix, 
   // Water filling: the largest items saturate at q = 1, the rest share the remaining budget.
   std::vector<uint32_t> order(n);
   std::iota(order.begin(), order.end(), 0u);
-  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return x[a] > x[b] || (x[a] == x[b] && a < b); });
+  std::sort(order.begin(), order.end(),
+            [&](uint32_t a, uint32_t b) { return x[a] > x[b] || (x[a] == x[b] && a < b); });
   std::vector<double> tail(n + 1, 0.0);
   for (size_t k = n; k-- > 0;) tail[k] = tail[k + 1] + x[order[k]];
   const double B = double(budget);

@@ -30,8 +30,8 @@ double blso_g(double dh, double xi, double k);
 // eq. 13: T(d) = mean of g over N' positions sampled in the cone of half-angle cone_deg around
 // `dir` at distances in [2 xi, min(radius, max_dist)] (scene units scaled by `scene_scale`)
 // from `o`. `key` seeds the positions (deterministic per pair).
-double blso_T(const RSM& rsm, const glm::vec3& o, const glm::vec3& dir, float max_dist, const BlsoParams& p,
-              float scene_scale, uint64_t key);
+double blso_T(const RSM& rsm, const glm::vec3& o, const glm::vec3& dir, float max_dist,
+              const BlsoParams& p, float scene_scale, uint64_t key);
 
 struct FlcShadingPoint {
   glm::vec3 p{0.f}, n{0, 1, 0};
@@ -51,8 +51,9 @@ struct ContributionSettings {
 // I_v = luma of the VPL flux. `rsms` must contain the RSM of each VPL's light (BLSO).
 // Counters: contribution_evals (VPLs x samples), blso_lookups, visibility_rays.
 std::vector<double> flc_contributions(const std::vector<VPL>& vpls, const std::vector<RSM>& rsms,
-                                      const std::vector<FlcShadingPoint>& pts, const ContributionSettings& s,
-                                      const Renderer* r, Counters* c = nullptr);
+                                      const std::vector<FlcShadingPoint>& pts,
+                                      const ContributionSettings& s, const Renderer* r,
+                                      Counters* c = nullptr);
 
 struct CullResult {
   std::vector<uint32_t> kept;  // indices of kept VPLs, ascending

@@ -8,8 +8,8 @@
 
 namespace fovsim {
 
-double flc_acuity(double dist_px, double half_diag_px, double tan_half_fov_diag, const FlcImportanceParams& p,
-                  double ecc_rad) {
+double flc_acuity(double dist_px, double half_diag_px, double tan_half_fov_diag,
+                  const FlcImportanceParams& p, double ecc_rad) {
   // eq. 5: m(r, alpha) = atan(sqrt(r) tan(alpha/2)), sqrt(r) = fovea_frac.
   const double m = std::atan(p.fovea_frac * tan_half_fov_diag);
   double e = ecc_rad;
@@ -19,7 +19,7 @@ double flc_acuity(double dist_px, double half_diag_px, double tan_half_fov_diag,
     e = std::atan(k * tan_half_fov_diag);
   }
   const double h = 1.0 + p.slope * (m - e);  // eq. 4
-  return std::clamp(h, p.omega_p, 1.0);       // eq. 3
+  return std::clamp(h, p.omega_p, 1.0);      // eq. 3
 }
 
 double flc_color_difference(const float* c, const float* cn) {
@@ -31,9 +31,10 @@ double flc_color_difference(const float* c, const float* cn) {
   return std::sqrt(std::max(0.0, (2.0 + rbar) * dr * dr + 4.0 * dg * dg + (3.0 - rbar) * db * db));
 }
 
-void flc_importance_map(const GBuffer& g, const Image& color, const Image* history, const glm::dvec2& gaze_px,
-                        double tan_half_fov_diag, const std::vector<float>* ecc_deg,
-                        const FlcImportanceParams& p, FlcImportanceMaps& out, bool keep_parts) {
+void flc_importance_map(const GBuffer& g, const Image& color, const Image* history,
+                        const glm::dvec2& gaze_px, double tan_half_fov_diag,
+                        const std::vector<float>* ecc_deg, const FlcImportanceParams& p,
+                        FlcImportanceMaps& out, bool keep_parts) {
   const int W = g.width, H = g.height;
   out.importance.resize(W, H, 1);
   if (keep_parts) {
@@ -43,7 +44,8 @@ void flc_importance_map(const GBuffer& g, const Image& color, const Image* histo
   }
   const double half_diag = 0.5 * std::sqrt(double(W) * W + double(H) * H);
   const bool have_color = color.width == W && color.height == H && color.channels >= 3;
-  const bool have_hist = history && history->width == W && history->height == H && history->channels == 1;
+  const bool have_hist =
+      history && history->width == W && history->height == H && history->channels == 1;
   const bool use_ecc = p.exact_eccentricity && ecc_deg && ecc_deg->size() == g.size();
   const bool have_normal = g.has(kNormal);
   const double cos_thr = std::cos(deg2rad(p.normal_threshold_deg));
@@ -57,7 +59,8 @@ void flc_importance_map(const GBuffer& g, const Image& color, const Image* histo
       }
       const double dx = x + 0.5 - gaze_px.x, dy = y + 0.5 - gaze_px.y;
       const double ecc = use_ecc ? deg2rad(double((*ecc_deg)[i])) : -1.0;
-      const double pa = flc_acuity(std::sqrt(dx * dx + dy * dy), half_diag, tan_half_fov_diag, p, ecc);
+      const double pa =
+          flc_acuity(std::sqrt(dx * dx + dy * dy), half_diag, tan_half_fov_diag, p, ecc);
       // §4.1.2: silhouette from depth gradient, normal angle and colour difference (eq. 7).
       bool sil = false;
       const int nbx[4] = {x - 1, x + 1, x, x};
@@ -67,14 +70,18 @@ void flc_importance_map(const GBuffer& g, const Image& color, const Image* histo
         if (nbx[k] < 0 || nby[k] < 0 || nbx[k] >= W || nby[k] >= H) continue;
         const size_t j = size_t(nby[k]) * size_t(W) + size_t(nbx[k]);
         const float zn = g.depth[j];
-        if (!(std::fabs(zn - z) <= float(p.depth_threshold) * z)) sil = true;  // also misses (inf)
-        else if (have_normal && double(glm::dot(g.normal[i], g.normal[j])) < cos_thr) sil = true;
-        else if (have_color && flc_color_difference(color.at(x, y), color.at(nbx[k], nby[k])) > p.color_threshold)
+        if (!(std::fabs(zn - z) <= float(p.depth_threshold) * z))
+          sil = true;  // also misses (inf)
+        else if (have_normal && double(glm::dot(g.normal[i], g.normal[j])) < cos_thr)
+          sil = true;
+        else if (have_color &&
+                 flc_color_difference(color.at(x, y), color.at(nbx[k], nby[k])) > p.color_threshold)
           sil = true;
       }
       const double pg = sil ? p.silhouette_value : 0.0;
       // eq. 8: p_b = min(1, delta * b(p)), b = tone-mapped indirect brightness of history.
-      const double pb = have_hist ? std::min(1.0, p.delta * std::max(0.0, double(history->data[i]))) : 1.0;
+      const double pb =
+          have_hist ? std::min(1.0, p.delta * std::max(0.0, double(history->data[i]))) : 1.0;
       const double imp = std::max(pa, pg) * pb;  // eq. 9
       out.importance.data[i] = float(imp);
       if (keep_parts) {

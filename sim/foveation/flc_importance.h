@@ -10,8 +10,8 @@
 namespace fovsim {
 
 struct FlcImportanceParams {
-  double omega_p = 0.2;       // eq. 3: acuity floor in the outer periphery
-  double slope = 2.25;        // eq. 4: acuity slope s (per radian of eccentricity)
+  double omega_p = 0.2;  // eq. 3: acuity floor in the outer periphery
+  double slope = 2.25;   // eq. 4: acuity slope s (per radian of eccentricity)
   // eq. 5: ratio r of the foveal region to the screen, given as the foveal radius over the
   // half screen diagonal |d| (r = fovea_frac^2, so m(r, alpha) = e at the fovea's edge).
   // Seed §7: 150 px at 1024x1024 -> 150 / (512 sqrt 2) = 0.2072.
@@ -29,8 +29,8 @@ struct FlcImportanceParams {
 // eqs. 5-6 with alpha the diagonal field of view (|d| is the half diagonal): the acuity
 // importance of a pixel at `dist_px` from the gaze (eqs. 3-4); `ecc_rad` overrides eq. 6
 // when >= 0.
-double flc_acuity(double dist_px, double half_diag_px, double tan_half_fov_diag, const FlcImportanceParams& p,
-                  double ecc_rad = -1.0);
+double flc_acuity(double dist_px, double half_diag_px, double tan_half_fov_diag,
+                  const FlcImportanceParams& p, double ecc_rad = -1.0);
 // eq. 7: weighted colour difference of two display-encoded RGB colours in [0,1].
 double flc_color_difference(const float* c, const float* cn);
 
@@ -42,8 +42,9 @@ struct FlcImportanceMaps {
 // `color`: display-encoded RGB of the frame (for eq. 7); `history` (1-channel tone-mapped
 // indirect luma, or nullptr when there is none yet -> p_b = 1); `ecc_deg` (W*H, optional,
 // used when p.exact_eccentricity). `keep_parts`: also fill acuity/silhouette/brightness.
-void flc_importance_map(const GBuffer& g, const Image& color, const Image* history, const glm::dvec2& gaze_px,
-                        double tan_half_fov_diag, const std::vector<float>* ecc_deg,
-                        const FlcImportanceParams& p, FlcImportanceMaps& out, bool keep_parts);
+void flc_importance_map(const GBuffer& g, const Image& color, const Image* history,
+                        const glm::dvec2& gaze_px, double tan_half_fov_diag,
+                        const std::vector<float>* ecc_deg, const FlcImportanceParams& p,
+                        FlcImportanceMaps& out, bool keep_parts);
 
 }  // namespace fovsim

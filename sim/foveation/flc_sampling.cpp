@@ -35,7 +35,8 @@ std::vector<glm::vec2> shuffled_halton(size_t n, uint64_t seed) {
   return h;
 }
 
-std::vector<ImportanceSample> flc_select_samples(const Image& P, const std::vector<glm::vec2>& H, int n_s, int m) {
+std::vector<ImportanceSample> flc_select_samples(const Image& P, const std::vector<glm::vec2>& H,
+                                                 int n_s, int m) {
   if (n_s < 0 || m < 1) throw Error("flc", "invalid chain count/length");
   if (H.size() < size_t(n_s) * size_t(m)) throw Error("flc", "too few Halton points for N_s * M");
   std::vector<ImportanceSample> out(static_cast<size_t>(n_s));

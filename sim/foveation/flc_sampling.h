@@ -23,6 +23,7 @@ struct ImportanceSample {
 // Algorithm 1: chain j starts at H[j*M] and, for the M-1 following proposals H[j*M+i], moves
 // to the proposal when its importance is greater. Returns one sample per chain (N_s chains);
 // H must hold at least N_s * M points in [0,1)^2, mapped to pixels of the W x H map `P`.
-std::vector<ImportanceSample> flc_select_samples(const Image& P, const std::vector<glm::vec2>& H, int n_s, int m);
+std::vector<ImportanceSample> flc_select_samples(const Image& P, const std::vector<glm::vec2>& H,
+                                                 int n_s, int m);
 
 }  // namespace fovsim

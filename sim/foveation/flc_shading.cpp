@@ -12,7 +12,8 @@
 
 namespace fovsim {
 
-std::vector<VplSoA> flc_interleave_groups(const std::vector<VPL>& vpls, const std::vector<uint32_t>& idx,
+std::vector<VplSoA> flc_interleave_groups(const std::vector<VPL>& vpls,
+                                          const std::vector<uint32_t>& idx,
                                           const std::vector<float>& weight, int n) {
   n = std::max(1, n);
   const size_t G = size_t(n) * size_t(n);
@@ -35,8 +36,10 @@ void flc_gauss3(Image& img, const std::vector<uint8_t>& valid, bool wrap_y) {
       float wsum = 0.f;
       for (int dy = -1; dy <= 1; ++dy) {
         int yy = y + dy;
-        if (wrap_y) yy = (yy + H) % H;
-        else if (yy < 0 || yy >= H) continue;
+        if (wrap_y)
+          yy = (yy + H) % H;
+        else if (yy < 0 || yy >= H)
+          continue;
         for (int dx = -1; dx <= 1; ++dx) {
           const int xx = x + dx;
           if (xx < 0 || xx >= W) continue;
@@ -54,10 +57,11 @@ void flc_gauss3(Image& img, const std::vector<uint8_t>& valid, bool wrap_y) {
   });
 }
 
-void flc_shade_cartesian(const GBuffer& g, const std::vector<VplSoA>& groups, int n, const VplShading& s,
-                         const Renderer* r, Image& out, Counters* c) {
+void flc_shade_cartesian(const GBuffer& g, const std::vector<VplSoA>& groups, int n,
+                         const VplShading& s, const Renderer* r, Image& out, Counters* c) {
   n = std::max(1, n);
-  if (out.width != g.width || out.height != g.height || out.channels != 3) out.resize(g.width, g.height, 3);
+  if (out.width != g.width || out.height != g.height || out.channels != 3)
+    out.resize(g.width, g.height, 3);
   std::atomic<uint64_t> shaded{0}, pairs{0}, rays{0};
   tbb::parallel_for(tbb::blocked_range<int>(0, g.height, 4), [&](const tbb::blocked_range<int>& b) {
     uint64_t ns = 0, np = 0, nr = 0;
@@ -70,7 +74,8 @@ void flc_shade_cartesian(const GBuffer& g, const std::vector<VplSoA>& groups, in
           continue;
         }
         const VplSoA& grp = groups[size_t(x % n) + size_t(n) * size_t(y % n)];
-        glm::vec3 L = shade_vpls_point(grp, g.position[i], g.normal[i], g.albedo[i], s, r, 1.f, &nr);
+        glm::vec3 L =
+            shade_vpls_point(grp, g.position[i], g.normal[i], g.albedo[i], s, r, 1.f, &nr);
         ++ns;
         np += grp.size();
         o[0] = L.x;
@@ -93,8 +98,9 @@ void flc_shade_cartesian(const GBuffer& g, const std::vector<VplSoA>& groups, in
   }
 }
 
-void flc_shade_logpolar(const GBuffer& g, const glm::dvec2& gaze_px, double sigma, const std::vector<VplSoA>& groups,
-                        int n, const VplShading& s, const Renderer* r, Image& out, Counters* c, Image* lp_debug) {
+void flc_shade_logpolar(const GBuffer& g, const glm::dvec2& gaze_px, double sigma,
+                        const std::vector<VplSoA>& groups, int n, const VplShading& s,
+                        const Renderer* r, Image& out, Counters* c, Image* lp_debug) {
   n = std::max(1, n);
   sigma = std::max(1.0, sigma);
   const int W = g.width, H = g.height;

@@ -17,7 +17,10 @@ void prepare_frame(const Renderer& r, const Display& d, const TraceSample& s, in
   out.frame = frame;
   out.t = s.t;
   out.camera = Camera::from_pose(d, s.head_pos, s.head_rot);
-  if (prev) out.prev_camera = *prev; else out.prev_camera.reset();
+  if (prev)
+    out.prev_camera = *prev;
+  else
+    out.prev_camera.reset();
   out.gaze_dir = glm::normalize(s.gaze_dir);
   out.gaze_valid = s.valid;
   out.gaze_px = gaze_pixel(out.camera, out.gaze_dir);
@@ -27,7 +30,8 @@ void prepare_frame(const Renderer& r, const Display& d, const TraceSample& s, in
   out.eccentricity = eccentricity_map(out.camera, out.gaze_dir);
 }
 
-FrameContext FrameData::context(const Scene& scene, const Renderer& r, const Display& d, bool debug) const {
+FrameContext FrameData::context(const Scene& scene, const Renderer& r, const Display& d,
+                                bool debug) const {
   FrameContext c;
   c.frame = frame;
   c.t = t;

@@ -17,10 +17,10 @@ struct FrameData {
   glm::dvec3 gaze_dir{0, 0, -1};
   glm::dvec2 gaze_px{0, 0};
   bool gaze_valid = true;
-  GBuffer gbuffer;          // channels: kShadingChannels | what the methods asked for
-  Image reference;          // linear RGB
+  GBuffer gbuffer;                  // channels: kShadingChannels | what the methods asked for
+  Image reference;                  // linear RGB
   std::vector<float> eccentricity;  // degrees, W*H
-  Counters counters;        // rays etc. of the reference pass
+  Counters counters;                // rays etc. of the reference pass
 
   FrameContext context(const Scene& scene, const Renderer& r, const Display& d, bool debug) const;
 };

@@ -23,7 +23,9 @@ class FullMethod final : public FoveationMethod {
 
 }  // namespace
 
-std::unique_ptr<FoveationMethod> create_full(Params&) { return std::make_unique<FullMethod>(); }
+std::unique_ptr<FoveationMethod> create_full(Params&) {
+  return std::make_unique<FullMethod>();
+}
 const std::vector<ParamInfo>& full_params() {
   static const std::vector<ParamInfo> t;
   return t;

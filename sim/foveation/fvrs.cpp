@@ -97,9 +97,11 @@ const std::vector<ParamInfo>& fvrs_params() {
   static const std::vector<ParamInfo> t = {
       {"r1", "number", "10", "[0, 180]", "seed 002 §8.4", "1x1 shading inside (deg)"},
       {"r2", "number", "20", "[r1, 180]", "seed 002 §8.4", "2x2 inside, 4x4 beyond (deg)"},
-      {"edge_aware", "bool", "true", "", "Vaidyanathan 2014", "pixels of another surface shade themselves"},
+      {"edge_aware", "bool", "true", "", "Vaidyanathan 2014",
+       "pixels of another surface shade themselves"},
       {"radius_scale", "number", "1", "(0, inf)", "iso-budget", "multiplies r1 and r2"},
-      {"target_shaded_fraction", "number", "none", "(0, 1]", "seed 003 §5.1", "iso-budget: solve radius_scale"},
+      {"target_shaded_fraction", "number", "none", "(0, 1]", "seed 003 §5.1",
+       "iso-budget: solve radius_scale"},
   };
   return t;
 }

@@ -36,7 +36,8 @@ class HyperbolicMethod final : public MappingMethodBase {
       if (L.w <= 0) continue;
       // Layer pixel centres, kept inside the layer rectangle for a partial last row/column.
       auto inv = [&](double a, double b) {
-        return glm::dvec2(std::min(L.x0 + a * L.s, L.x1 - 1e-3), std::min(L.y0 + b * L.s, L.y1 - 1e-3));
+        return glm::dvec2(std::min(L.x0 + a * L.s, L.x1 - 1e-3),
+                          std::min(L.y0 + b * L.s, L.y1 - 1e-3));
       };
       gather_gbuffer(gb, L.w, L.h, inv, buf_[i], used_[i]);
       shade_buffer(ctx, buf_[i], col_[i], &needed_[i], out);  // only the pixels the composite reads
@@ -60,7 +61,9 @@ class HyperbolicMethod final : public MappingMethodBase {
           taps += 4;
         }
         float* o = out.image.at(x, y);
-        o[0] = c.x; o[1] = c.y; o[2] = c.z;
+        o[0] = c.x;
+        o[1] = c.y;
+        o[2] = c.z;
       }
       row_taps[size_t(y)] = taps;
     });
@@ -94,9 +97,11 @@ const std::vector<ParamInfo>& hyperbolic_params() {
       {"s1", "number", "1", "[1, 1e4]", "seed 003 §5.1", "inner layer pixel size"},
       {"s2", "number", "2", "[1, 1e4]", "seed 003 §5.1", "middle layer pixel size"},
       {"s3", "number", "12.35", "[1, 1e4]", "seed 003 §5.1", "outer layer pixel size"},
-      {"blend_deg", "number", "1", "[0, 90]", "Guenter 2012", "smoothstep blend band inside each layer edge (deg)"},
+      {"blend_deg", "number", "1", "[0, 90]", "Guenter 2012",
+       "smoothstep blend band inside each layer edge (deg)"},
       {"radius_scale", "number", "1", "(0, inf)", "iso-budget", "multiplies r1 and r2"},
-      {"target_shaded_fraction", "number", "none", "(0, 1]", "seed 003 §5.1", "iso-budget: solve radius_scale"},
+      {"target_shaded_fraction", "number", "none", "(0, 1]", "seed 003 §5.1",
+       "iso-budget: solve radius_scale"},
   };
   return t;
 }

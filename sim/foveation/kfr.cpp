@@ -8,11 +8,11 @@
 //
 // Parameters: the declaration kfr_params() at the end of this file (name, type, default,
 // range, seed section, meaning); docs/methods.md and configs/README.md are generated from it.
-#include "sim/foveation/mapping_method.h"
-#include "sim/foveation/methods.h"
-
 #include <algorithm>
 #include <cmath>
+
+#include "sim/foveation/mapping_method.h"
+#include "sim/foveation/methods.h"
 
 namespace fovsim {
 namespace {
@@ -74,12 +74,14 @@ class KfrMethod final : public MappingMethodBase {
     const LogPolarMap map = LogPolarMap::make(W, H, w, h, ctx.gaze_px, s.kernel);
 
     // Pass 1: forward kernel log-polar transformation of the G-buffer (§2.2.1-2.2.2).
-    const size_t n_used = lp_gather(gb, map, lp_, used_, required_channels());  // shading channels only
+    const size_t n_used =
+        lp_gather(gb, map, lp_, used_, required_channels());  // shading channels only
     shade_buffer(ctx, lp_, lp_col_, &used_, out);
     extend_unused(lp_col_, used_);
     double taps = 0;
     // §2.2.3 internal anti-aliasing: 3x3 Gaussian on the right (peripheral) part.
-    if (s.internal_aa) taps += gaussian3x3_from(lp_col_, int(std::floor(s.internal_aa_start * w)), true, &tmp_lp_);
+    if (s.internal_aa)
+      taps += gaussian3x3_from(lp_col_, int(std::floor(s.internal_aa_start * w)), true, &tmp_lp_);
 
     // Pass 2: inverse transformation by sampling the LP-buffer at each pixel's forward map
     // (Alg. 2 as a gather), bilinear, angle wrapping.
@@ -95,7 +97,8 @@ class KfrMethod final : public MappingMethodBase {
       // square, sqrt, division, ceil -- is monotone in floating point), so each side of the
       // gaze splits into runs of equal eta: found by galloping/binary search with the exact
       // per-pixel formula, then filled.
-      int split = int(std::clamp(std::ceil(map.gx - 0.5), 0.0, double(W)));  // first x: x + 0.5 >= gx
+      int split =
+          int(std::clamp(std::ceil(map.gx - 0.5), 0.0, double(W)));  // first x: x + 0.5 >= gx
       while (split > 0 && split - 1 + 0.5 >= map.gx) --split;
       while (split < W && !(split + 0.5 >= map.gx)) ++split;
       parallel_rows(H, [&](int y) {
@@ -119,7 +122,10 @@ class KfrMethod final : public MappingMethodBase {
           int hi = std::min(lo + step, end);  // eta(hi) != e or hi == end
           while (hi - lo > 1) {
             const int mid = lo + (hi - lo) / 2;
-            if (eta_at(mid) == e) lo = mid; else hi = mid;
+            if (eta_at(mid) == e)
+              lo = mid;
+            else
+              hi = mid;
           }
           std::fill(er + x, er + lo + 1, e);
           x = lo + 1;
@@ -128,7 +134,8 @@ class KfrMethod final : public MappingMethodBase {
       taps += variable_gaussian(out.image, eta_, 39, &tmp_full_);
     }
 
-    set_counters(out, double(n_used), double(n_used), double(w) * h, double(n_used), double(W) * H, taps);
+    set_counters(out, double(n_used), double(n_used), double(w) * h, double(n_used), double(W) * H,
+                 taps);
     if (ctx.want_debug) {
       out.debug.emplace_back("lp_buffer", lp_col_);
       Image m(w, h, 1);
@@ -139,10 +146,10 @@ class KfrMethod final : public MappingMethodBase {
   }
 
  private:
-  GBuffer lp_;                 // reused across frames (no per-frame reallocation when sizes match)
+  GBuffer lp_;  // reused across frames (no per-frame reallocation when sizes match)
   Image lp_col_;
   std::vector<uint8_t> used_, eta_;
-  Image tmp_lp_, tmp_full_;    // scratch of the two Gaussian passes (kept: no per-frame allocation)
+  Image tmp_lp_, tmp_full_;  // scratch of the two Gaussian passes (kept: no per-frame allocation)
 };
 
 }  // namespace
@@ -153,14 +160,20 @@ std::unique_ptr<FoveationMethod> create_kfr(Params& p) {
 
 const std::vector<ParamInfo>& kfr_params() {
   static const std::vector<ParamInfo> t = {
-      {"sigma", "number", "1.8", "[1, inf)", "seed 004 §2.1 eq. 2.8", "W / w = H / h of the LP-buffer"},
-      {"alpha", "number", "4", "[1e-3, 1e3]", "seed 004 §2.1 eq. 2.9", "exponent of K(x) = x^alpha"},
+      {"sigma", "number", "1.8", "[1, inf)", "seed 004 §2.1 eq. 2.8",
+       "W / w = H / h of the LP-buffer"},
+      {"alpha", "number", "4", "[1e-3, 1e3]", "seed 004 §2.1 eq. 2.9",
+       "exponent of K(x) = x^alpha"},
       {"kernel", "string", "power", "power | sine | exp", "seed 004 §2.1",
        "K(x) = x^alpha, sin(x pi/2) or (e^x - 1)/(e - 1)"},
-      {"internal_aa", "bool", "true", "", "seed 004 §2.2.3", "3x3 Gaussian on the peripheral LP part"},
-      {"internal_aa_start", "number", "0.5", "[0, 1]", "seed 004 §2.2.3", "u/w where the filtered part starts"},
-      {"post_aa", "bool", "true", "", "seed 004 §2.3.2 eq. 2.14", "eccentricity-sized Gaussian post filter"},
-      {"target_shaded_fraction", "number", "none", "(0, 1]", "seed 003 §5.1", "iso-budget: solve sigma"},
+      {"internal_aa", "bool", "true", "", "seed 004 §2.2.3",
+       "3x3 Gaussian on the peripheral LP part"},
+      {"internal_aa_start", "number", "0.5", "[0, 1]", "seed 004 §2.2.3",
+       "u/w where the filtered part starts"},
+      {"post_aa", "bool", "true", "", "seed 004 §2.3.2 eq. 2.14",
+       "eccentricity-sized Gaussian post filter"},
+      {"target_shaded_fraction", "number", "none", "(0, 1]", "seed 003 §5.1",
+       "iso-budget: solve sigma"},
   };
   return t;
 }

@@ -58,7 +58,8 @@ const std::vector<ParamInfo>& linear_params() {
       {"p_min", "number", "0.047", "(0, 1]", "seed 003 §5.1", "minimum sampling probability"},
       {"seed", "integer", "0", "[0, 2^31)", "", "stochastic sample pattern seed"},
       {"radius_scale", "number", "1", "(0, inf)", "iso-budget", "multiplies r1 and r2"},
-      {"target_shaded_fraction", "number", "none", "(0, 1]", "seed 003 §5.1", "iso-budget: solve radius_scale"},
+      {"target_shaded_fraction", "number", "none", "(0, 1]", "seed 003 §5.1",
+       "iso-budget: solve radius_scale"},
   };
   return t;
 }

@@ -12,44 +12,60 @@ namespace fovsim {
 namespace {
 constexpr double kE = 2.718281828459045;
 constexpr double kTiny = 1e-12;
-inline double clampd(double v, double lo, double hi) { return v < lo ? lo : (v > hi ? hi : v); }
-inline double finite_or(double v, double d) { return std::isfinite(v) ? v : d; }
+inline double clampd(double v, double lo, double hi) {
+  return v < lo ? lo : (v > hi ? hi : v);
+}
+inline double finite_or(double v, double d) {
+  return std::isfinite(v) ? v : d;
+}
 }  // namespace
 
 // ---- kernels (seed 004 §2.1, eq. 2.9 and the two alternatives named after it) ----------
 double KernelFn::K(double x) const {
   x = clampd(x, 0.0, 1.0);
   switch (kind) {
-    case KernelKind::Power: return std::pow(x, alpha);
-    case KernelKind::Sine: return std::sin(x * kPi * 0.5);
-    case KernelKind::Exp: return (std::exp(x) - 1.0) / (kE - 1.0);
+    case KernelKind::Power:
+      return std::pow(x, alpha);
+    case KernelKind::Sine:
+      return std::sin(x * kPi * 0.5);
+    case KernelKind::Exp:
+      return (std::exp(x) - 1.0) / (kE - 1.0);
   }
   return x;
 }
 double KernelFn::Kinv(double y) const {
   y = clampd(y, 0.0, 1.0);
   switch (kind) {
-    case KernelKind::Power: return std::pow(y, 1.0 / alpha);
-    case KernelKind::Sine: return std::asin(y) * 2.0 / kPi;
-    case KernelKind::Exp: return std::log1p(y * (kE - 1.0));
+    case KernelKind::Power:
+      return std::pow(y, 1.0 / alpha);
+    case KernelKind::Sine:
+      return std::asin(y) * 2.0 / kPi;
+    case KernelKind::Exp:
+      return std::log1p(y * (kE - 1.0));
   }
   return y;
 }
 double KernelFn::Kinv_deriv(double y) const {
   y = clampd(y, kTiny, 1.0 - kTiny);
   switch (kind) {
-    case KernelKind::Power: return std::pow(y, 1.0 / alpha - 1.0) / alpha;
-    case KernelKind::Sine: return (2.0 / kPi) / std::sqrt(1.0 - y * y);
-    case KernelKind::Exp: return (kE - 1.0) / (1.0 + y * (kE - 1.0));
+    case KernelKind::Power:
+      return std::pow(y, 1.0 / alpha - 1.0) / alpha;
+    case KernelKind::Sine:
+      return (2.0 / kPi) / std::sqrt(1.0 - y * y);
+    case KernelKind::Exp:
+      return (kE - 1.0) / (1.0 + y * (kE - 1.0));
   }
   return 1.0;
 }
 double KernelFn::K_deriv(double x) const {
   x = clampd(x, kTiny, 1.0);
   switch (kind) {
-    case KernelKind::Power: return alpha * std::pow(x, alpha - 1.0);
-    case KernelKind::Sine: return 0.5 * kPi * std::cos(x * kPi * 0.5);
-    case KernelKind::Exp: return std::exp(x) / (kE - 1.0);
+    case KernelKind::Power:
+      return alpha * std::pow(x, alpha - 1.0);
+    case KernelKind::Sine:
+      return 0.5 * kPi * std::cos(x * kPi * 0.5);
+    case KernelKind::Exp:
+      return std::exp(x) / (kE - 1.0);
   }
   return 1.0;
 }
@@ -61,9 +77,12 @@ KernelKind KernelFn::parse(const std::string& s) {
 }
 const char* KernelFn::name(KernelKind k) {
   switch (k) {
-    case KernelKind::Power: return "power";
-    case KernelKind::Sine: return "sine";
-    case KernelKind::Exp: return "exp";
+    case KernelKind::Power:
+      return "power";
+    case KernelKind::Sine:
+      return "sine";
+    case KernelKind::Exp:
+      return "exp";
   }
   return "power";
 }
@@ -161,11 +180,12 @@ int reduced_size(int S, double sigma) {
 }
 
 // ---- buffer passes ------------------------------------------------------------------------
-size_t lp_gather(const GBuffer& src, const LogPolarMap& map, GBuffer& out, std::vector<uint8_t>& used,
-                 uint32_t keep) {
+size_t lp_gather(const GBuffer& src, const LogPolarMap& map, GBuffer& out,
+                 std::vector<uint8_t>& used, uint32_t keep) {
   const int w = int(map.w), h = int(map.h);
   // LogPolarMap::inverse(iu + 0.5, iv + 0.5) split into its column and row factors.
-  std::vector<double> rad(size_t(std::max(w, 0))), cs(size_t(std::max(h, 0))), sn(size_t(std::max(h, 0)));
+  std::vector<double> rad(size_t(std::max(w, 0))), cs(size_t(std::max(h, 0))),
+      sn(size_t(std::max(h, 0)));
   for (int iu = 0; iu < w; ++iu) rad[size_t(iu)] = std::exp(map.L * map.k.Kinv((iu + 0.5) / map.w));
   for (int iv = 0; iv < h; ++iv) {
     const double th = (iv + 0.5) * 2.0 * kPi / map.h;
@@ -192,7 +212,8 @@ namespace {
 // that clobbers every vector register) runs in its own loop so the bilinear loop keeps its
 // values in registers; each pixel's operations are unchanged.
 template <class Kern>
-void lp_reconstruct_rows(const Image& lp, const LogPolarMap& map, int W, int H, Image& out, Kern kern) {
+void lp_reconstruct_rows(const Image& lp, const LogPolarMap& map, int W, int H, Image& out,
+                         Kern kern) {
   // Divisions by L and 2 pi / h as multiplications (a 1-ulp change of u, v in double).
   const double inv_L = 1.0 / map.L, w = map.w, h = map.h, gx = map.gx, gy = map.gy;
   const double v_per_rad = h / (2.0 * kPi), half_inv_L = 0.5 * inv_L;
@@ -249,8 +270,8 @@ void lp_reconstruct(const Image& lp, const LogPolarMap& map, int W, int H, Image
   ensure_shape(out, W, H, 3);
   const KernelFn& k = map.k;
   // K(t) = t^alpha with integer alpha by squaring (default alpha = 4: (t^2)^2).
-  const bool int_alpha =
-      k.kind == KernelKind::Power && k.alpha >= 1 && k.alpha <= 64 && k.alpha == std::floor(k.alpha);
+  const bool int_alpha = k.kind == KernelKind::Power && k.alpha >= 1 && k.alpha <= 64 &&
+                         k.alpha == std::floor(k.alpha);
   if (int_alpha && k.alpha == 4.0) {
     lp_reconstruct_rows(lp, map, W, H, out, [](double t) {
       const double t2 = t * t;
@@ -299,7 +320,6 @@ double gaussian3x3_from(Image& img, int x0, bool wrap_y, Image* scratch) {
   });
   return 6.0 * double(w - x0) * double(h);
 }
-
 
 double variable_gaussian(Image& img, const std::vector<uint8_t>& eta, int max_eta, Image* scratch) {
   const int w = img.width, h = img.height;
@@ -357,7 +377,9 @@ double variable_gaussian(Image& img, const std::vector<uint8_t>& eta, int max_et
           for (int c = 0; c < 3; ++c) acc[c] += kv[size_t(i)] * s[c];
         }
         float* o = orow + 3 * size_t(x);
-        o[0] = acc[0]; o[1] = acc[1]; o[2] = acc[2];
+        o[0] = acc[0];
+        o[1] = acc[1];
+        o[2] = acc[2];
       };
       // Interior [a, b): every tap inside the row.
       const int a = std::min(std::max(x0, half), x1), b = std::max(a, std::min(x1, w - half));
@@ -381,7 +403,8 @@ double variable_gaussian(Image& img, const std::vector<uint8_t>& eta, int max_et
       const auto& kv = k[size_t(n)];
       const int half = n / 2;
       const float* rows[256];  // n <= 255 (eta is uint8)
-      for (int i = 0; i < n; ++i) rows[i] = tmp.row(std::clamp(y + i - half, 0, h - 1)) + 3 * size_t(x0);
+      for (int i = 0; i < n; ++i)
+        rows[i] = tmp.row(std::clamp(y + i - half, 0, h - 1)) + 3 * size_t(x0);
       simd_weighted_rows(orow + 3 * size_t(x0), rows, kv.data(), n, 3 * size_t(x1 - x0));
       taps += double(n) * double(x1 - x0);
     });
@@ -455,7 +478,9 @@ double push_pull_fill(Image& img, const std::vector<uint8_t>& valid) {
     float* d = &img.data[i * size_t(img.channels)];
     const glm::vec4& q = lv[0].p[i];
     glm::vec3 col = q.a > 0.f ? glm::vec3(q) / q.a : glm::vec3(0.f);
-    d[0] = col.x; d[1] = col.y; d[2] = col.z;
+    d[0] = col.x;
+    d[1] = col.y;
+    d[2] = col.z;
   }
   return taps;
 }

@@ -6,15 +6,15 @@
 // Coordinates: screen points in pixels with pixel i's centre at i + 0.5 (sim/core/math.h);
 // reduced-buffer points (u, v) the same way in the w x h buffer.
 #pragma once
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <string>
 #include <vector>
-
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include "sim/core/image.h"
 #include "sim/core/math.h"
@@ -29,9 +29,9 @@ struct KernelFn {
   double alpha = 4.0;  // exponent of K(x) = x^alpha (Power only)
   // K(x) = x^alpha (eq. 2.9 with one term), sin(x pi/2), (e^x - 1)/(e - 1) (seed 004 §2.1).
   double K(double x) const;
-  double Kinv(double y) const;        // inverse, y clamped to [0, 1]
-  double Kinv_deriv(double y) const;  // d K^-1 / dy, finite (clamped away from 0 and 1)
-  double K_deriv(double x) const;     // d K / dx, finite (x clamped away from 0)
+  double Kinv(double y) const;                    // inverse, y clamped to [0, 1]
+  double Kinv_deriv(double y) const;              // d K^-1 / dy, finite (clamped away from 0 and 1)
+  double K_deriv(double x) const;                 // d K / dx, finite (x clamped away from 0)
   static KernelKind parse(const std::string& s);  // "power" | "sine" | "exp"
   static const char* name(KernelKind k);
 };
@@ -118,9 +118,10 @@ size_t gather_gbuffer_rows(const GBuffer& src, int w, int h, AtFn&& at, GBuffer&
     idx.resize(size_t(std::max(w, 0)) + kAhead);
     for (int iu = 0; iu < w; ++iu) {
       const glm::dvec2 p = at(iv, iu);
-      idx[size_t(iu)] = (std::isfinite(p.x) && std::isfinite(p.y) && p.x >= 0 && p.y >= 0 && p.x < W && p.y < H)
-                            ? std::min(size_t(p.y), ymax) * sw + std::min(size_t(p.x), xmax)
-                            : kNone;
+      idx[size_t(iu)] =
+          (std::isfinite(p.x) && std::isfinite(p.y) && p.x >= 0 && p.y >= 0 && p.x < W && p.y < H)
+              ? std::min(size_t(p.y), ymax) * sw + std::min(size_t(p.x), xmax)
+              : kNone;
     }
     std::fill(idx.begin() + w, idx.end(), kNone);
     // Raw pointers, hoisted: the uint8_t stores to `used` may alias anything, so through the
@@ -191,7 +192,8 @@ size_t gather_gbuffer_rows(const GBuffer& src, int w, int h, AtFn&& at, GBuffer&
 template <class InvFn>
 size_t gather_gbuffer(const GBuffer& src, int w, int h, InvFn&& inv, GBuffer& out,
                       std::vector<uint8_t>& used) {
-  return gather_gbuffer_rows(src, w, h, [&](int iv, int iu) { return inv(iu + 0.5, iv + 0.5); }, out, used);
+  return gather_gbuffer_rows(
+      src, w, h, [&](int iv, int iu) { return inv(iu + 0.5, iv + 0.5); }, out, used);
 }
 
 // Bilinear sample of an RGB image at continuous pixel coordinates (centres at i + 0.5).
@@ -267,10 +269,18 @@ inline double angle_0_2pi(double dy, double dx) {
     x = (x - 1.0) / (x + 1.0);
   }
   const double z = x * x;
-  const double p = (((-8.750608600031904122785e-1 * z - 1.615753718733365076637e1) * z - 7.500855792314704667340e1) * z -
-                    1.228866684490136173410e2) * z - 6.485021904942025371773e1;
-  const double q = ((((z + 2.485846490142306297962e1) * z + 1.650270098316988542046e2) * z + 4.328810604912902668951e2) * z +
-                    4.853903996359136964868e2) * z + 1.945506571482613964425e2;
+  const double p = (((-8.750608600031904122785e-1 * z - 1.615753718733365076637e1) * z -
+                     7.500855792314704667340e1) *
+                        z -
+                    1.228866684490136173410e2) *
+                       z -
+                   6.485021904942025371773e1;
+  const double q = ((((z + 2.485846490142306297962e1) * z + 1.650270098316988542046e2) * z +
+                     4.328810604912902668951e2) *
+                        z +
+                    4.853903996359136964868e2) *
+                       z +
+                   1.945506571482613964425e2;
   const double base = y0 + ((x * (z * p / q) + x) + extra);  // atan(|dy| / |dx|) in [0, pi/2]
   const double pi = 2.0 * kPio2;
   if (dx < 0) return dy < 0 ? pi + base : pi - base;
@@ -288,8 +298,8 @@ void polar_angle_row(double* v, int n, double gx, double dy, double v_per_rad);
 // exp(L K^-1(u/w)) depends on the column only and cos/sin(B v) on the row only, so both are
 // tabulated once per frame (the same double expressions as LogPolarMap::inverse).
 // `keep` limits the copied channels (e.g. to the shading channels; kDepth always).
-size_t lp_gather(const GBuffer& src, const LogPolarMap& map, GBuffer& out, std::vector<uint8_t>& used,
-                 uint32_t keep = ~0u);
+size_t lp_gather(const GBuffer& src, const LogPolarMap& map, GBuffer& out,
+                 std::vector<uint8_t>& used, uint32_t keep = ~0u);
 // Inverse map / pass 2 (Alg. 2 as a gather): every pixel of the W x H output maps forward
 // (eq. 2.10) and reads the RGB LP-buffer bilinearly, angle (y) wrapping. Parallel over rows.
 // Same arithmetic as LogPolarMap::forward + bilinear() with per-row terms hoisted and
@@ -307,7 +317,8 @@ double gaussian3x3_from(Image& img, int x0, bool wrap_y, Image* scratch = nullpt
 // Returns the number of taps read. Pixels are processed in runs of equal eta along a row
 // (each run one contiguous, vectorisable multiply-add per tap, same float operation order as
 // a per-pixel loop). The intermediate is *scratch when given, else a local.
-double variable_gaussian(Image& img, const std::vector<uint8_t>& eta, int max_eta, Image* scratch = nullptr);
+double variable_gaussian(Image& img, const std::vector<uint8_t>& eta, int max_eta,
+                         Image* scratch = nullptr);
 
 // Push-pull hole filling (Gortler et al. 1996, as used by seed 003 §2 for sparse samples):
 // pixels with valid[i] == 0 get an interpolation of valid neighbours at the coarsest needed
@@ -323,10 +334,16 @@ double radius_px_for_deg(EccFn&& ecc, glm::dvec2 gaze, double deg, double max_px
   const glm::dvec2 dirs[4] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
   for (auto d : dirs) {
     double lo = 0, hi = max_px;
-    if (ecc(gaze.x + d.x * hi, gaze.y + d.y * hi) < deg) { best = std::max(best, hi); continue; }
+    if (ecc(gaze.x + d.x * hi, gaze.y + d.y * hi) < deg) {
+      best = std::max(best, hi);
+      continue;
+    }
     for (int it = 0; it < 48; ++it) {
       double mid = 0.5 * (lo + hi);
-      if (ecc(gaze.x + d.x * mid, gaze.y + d.y * mid) < deg) lo = mid; else hi = mid;
+      if (ecc(gaze.x + d.x * mid, gaze.y + d.y * mid) < deg)
+        lo = mid;
+      else
+        hi = mid;
     }
     best = std::max(best, 0.5 * (lo + hi));
   }

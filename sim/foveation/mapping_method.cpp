@@ -54,7 +54,8 @@ void MappingMethodBase::set_counters(FrameOutput& out, double shaded, double gbu
   out.counters.set("filter_taps", taps);
 }
 
-void MappingMethodBase::debug_density(const FrameContext& ctx, const MappingSpec& s, FrameOutput& out) const {
+void MappingMethodBase::debug_density(const FrameContext& ctx, const MappingSpec& s,
+                                      FrameOutput& out) const {
   MappingView v = view_of(ctx);
   Image d(v.W, v.H, 1);
   if (s.method == "hyperbolic") {
@@ -64,7 +65,8 @@ void MappingMethodBase::debug_density(const FrameContext& ctx, const MappingSpec
       for (int x = 0; x < v.W; ++x) {
         double e = (*v.ecc)[size_t(y) * size_t(v.W) + size_t(x)], val = 1.0 / (s.s3 * s.s3);
         for (auto& L : layers)
-          if (L.w > 0 && e < L.ecc_limit && x + 0.5 >= L.x0 && x + 0.5 < L.x1 && y + 0.5 >= L.y0 && y + 0.5 < L.y1) {
+          if (L.w > 0 && e < L.ecc_limit && x + 0.5 >= L.x0 && x + 0.5 < L.x1 && y + 0.5 >= L.y0 &&
+              y + 0.5 < L.y1) {
             val = 1.0 / (L.s * L.s);
             break;
           }
@@ -79,8 +81,8 @@ void MappingMethodBase::debug_density(const FrameContext& ctx, const MappingSpec
   out.debug.emplace_back("sample_density", std::move(d));
 }
 
-double shade_buffer(const FrameContext& ctx, const GBuffer& g, Image& col, const std::vector<uint8_t>* used,
-                    FrameOutput& out) {
+double shade_buffer(const FrameContext& ctx, const GBuffer& g, Image& col,
+                    const std::vector<uint8_t>* used, FrameOutput& out) {
   Counters c;
   ctx.renderer->shade(g, ctx.camera->position, col, used ? used->data() : nullptr, &c);
   double n = 0;

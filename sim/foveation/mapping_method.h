@@ -30,13 +30,13 @@ class MappingMethodBase : public FoveationMethod {
   const MappingSpec& resolve(const FrameContext& ctx, FrameOutput& out);
   static MappingView view_of(const FrameContext& ctx);
   // Writes the counters every mapping method reports (see docs/methods.md).
-  static void set_counters(FrameOutput& out, double shaded, double gbuffer_samples, double allocated,
-                           double used, double fullres, double taps);
+  static void set_counters(FrameOutput& out, double shaded, double gbuffer_samples,
+                           double allocated, double used, double fullres, double taps);
   // Appends a 1-channel "sample_density" debug image (samples per pixel, analytic).
   void debug_density(const FrameContext& ctx, const MappingSpec& s, FrameOutput& out) const;
 
-  MappingSpec spec_;     // as configured
-  MappingSpec active_;   // as rendered (free parameter resolved)
+  MappingSpec spec_;    // as configured
+  MappingSpec active_;  // as rendered (free parameter resolved)
   int res_w_ = -1, res_h_ = -1;
   double res_tan_h_ = 0, res_tan_v_ = 0;
   double achieved_ = -1;
@@ -46,8 +46,8 @@ class MappingMethodBase : public FoveationMethod {
 // Shades the used slots of a gathered buffer with the frame's renderer; returns the number of
 // shaded samples (the renderer's shaded_samples counter when it reports one) and merges the
 // renderer's other counters (shadow_rays, ...) into out.counters.
-double shade_buffer(const FrameContext& ctx, const GBuffer& g, Image& col, const std::vector<uint8_t>* used,
-                    FrameOutput& out);
+double shade_buffer(const FrameContext& ctx, const GBuffer& g, Image& col,
+                    const std::vector<uint8_t>* used, FrameOutput& out);
 
 // Uniform [0,1) from (seed, frame, index): thread-count independent per-pixel randomness.
 inline double hash01(uint64_t seed, uint64_t frame, uint64_t i) {

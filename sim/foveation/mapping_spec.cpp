@@ -34,12 +34,18 @@ MappingSpec MappingSpec::from_params(const std::string& method, Params& p) {
     read_target(s, p);
   } else if (method == "rmfr") {
     s.sigma = p.number("sigma", 2.6, Range::at_least(1));
-    if (p.has("fx") && p.has("fx_px")) p.fail("fx_px", "give either fx (fraction of W) or fx_px, not both");
-    if (p.has("fy") && p.has("fy_px")) p.fail("fy_px", "give either fy (fraction of H) or fy_px, not both");
-    if (p.has("fx_px")) s.fx_px = p.number("fx_px", Range::above(0));
-    else s.fx = p.number("fx", 0.38, Range::above(0));
-    if (p.has("fy_px")) s.fy_px = p.number("fy_px", Range::above(0));
-    else s.fy = p.number("fy", 0.38, Range::above(0));
+    if (p.has("fx") && p.has("fx_px"))
+      p.fail("fx_px", "give either fx (fraction of W) or fx_px, not both");
+    if (p.has("fy") && p.has("fy_px"))
+      p.fail("fy_px", "give either fy (fraction of H) or fy_px, not both");
+    if (p.has("fx_px"))
+      s.fx_px = p.number("fx_px", Range::above(0));
+    else
+      s.fx = p.number("fx", 0.38, Range::above(0));
+    if (p.has("fy_px"))
+      s.fy_px = p.number("fy_px", Range::above(0));
+    else
+      s.fy = p.number("fy", 0.38, Range::above(0));
     read_target(s, p);
   } else if (method == "hyperbolic") {
     read_radii(s, p);
@@ -70,8 +76,14 @@ std::vector<std::pair<std::string, double>> MappingSpec::columns() const {
   } else if (method == "rmfr") {
     c = {{"sigma", sigma}};
     // fx, fy always as fractions of W / H; fx_px, fy_px only when given in pixels.
-    if (fx_px > 0) c.push_back({"fx_px", fx_px}); else c.push_back({"fx", fx});
-    if (fy_px > 0) c.push_back({"fy_px", fy_px}); else c.push_back({"fy", fy});
+    if (fx_px > 0)
+      c.push_back({"fx_px", fx_px});
+    else
+      c.push_back({"fx", fx});
+    if (fy_px > 0)
+      c.push_back({"fy_px", fy_px});
+    else
+      c.push_back({"fy", fy});
   } else {
     c = {{"r1", r1_eff()}, {"r2", r2_eff()}, {"radius_scale", radius_scale}};
     if (method == "hyperbolic") {

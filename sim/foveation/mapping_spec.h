@@ -15,21 +15,22 @@ namespace fovsim {
 struct MappingSpec {
   std::string method = "kfr";  // kfr | rmfr | hyperbolic | linear | fvrs
   // kfr (seed 004 ch. 2) and rmfr (seed 003 §3.2)
-  double sigma = 1.8;          // W / w (= H / h)
-  KernelFn kernel;             // kfr kernel K and alpha
-  bool internal_aa = true;     // kfr §2.2.3 3x3 Gaussian on the peripheral part of the LP-buffer
+  double sigma = 1.8;       // W / w (= H / h)
+  KernelFn kernel;          // kfr kernel K and alpha
+  bool internal_aa = true;  // kfr §2.2.3 3x3 Gaussian on the peripheral part of the LP-buffer
   double internal_aa_start = 0.5;  // fraction of the LP-buffer width where "the right part" starts
-  bool post_aa = true;         // kfr §2.3.2 eq. 2.14 Gaussian post filter
-  double fx = 0.38, fy = 0.38; // rmfr, as fractions of W / H ...
-  double fx_px = 0, fy_px = 0; // ... or in pixels when > 0 (keys fx_px / fy_px)
+  bool post_aa = true;             // kfr §2.3.2 eq. 2.14 Gaussian post filter
+  double fx = 0.38, fy = 0.38;     // rmfr, as fractions of W / H ...
+  double fx_px = 0, fy_px = 0;     // ... or in pixels when > 0 (keys fx_px / fy_px)
   // baselines (seed 003 §5.1)
-  double r1 = 10, r2 = 20;     // eccentricity thresholds, degrees
+  double r1 = 10, r2 = 20;            // eccentricity thresholds, degrees
   double s1 = 1, s2 = 2, s3 = 12.35;  // hyperbolic layer pixel sizes
-  double blend_deg = 1.0;      // hyperbolic: width of the smoothstep blend inside each layer edge
-  double p_min = 0.047;        // linear: minimum sampling probability
-  double radius_scale = 1.0;   // baselines: multiplies r1 and r2 (the iso-budget free parameter)
-  bool edge_aware = true;      // fvrs: pixels on another surface than their coarse sample shade themselves
-  uint64_t seed = 0;           // linear: stochastic sample pattern
+  double blend_deg = 1.0;     // hyperbolic: width of the smoothstep blend inside each layer edge
+  double p_min = 0.047;       // linear: minimum sampling probability
+  double radius_scale = 1.0;  // baselines: multiplies r1 and r2 (the iso-budget free parameter)
+  bool edge_aware =
+      true;           // fvrs: pixels on another surface than their coarse sample shade themselves
+  uint64_t seed = 0;  // linear: stochastic sample pattern
   double target_shaded_fraction = 0;  // > 0: iso-budget, solve sigma / radius_scale for it
 
   double fx_pixels(int W) const { return fx_px > 0 ? fx_px : fx * W; }

@@ -25,29 +25,29 @@ struct MappingSpec;  // sim/foveation/mapping_spec.h
 enum class CostFamily { Full, Mapping, Fvrs, Twfr, Flc };
 
 struct FrameContext {
-  int frame = 0;             // index in the resampled trace
-  double t = 0;              // seconds
+  int frame = 0;  // index in the resampled trace
+  double t = 0;   // seconds
   const Scene* scene = nullptr;
   const Renderer* renderer = nullptr;
-  const Display* display = nullptr;   // simulated (render-scaled) display
+  const Display* display = nullptr;  // simulated (render-scaled) display
   const Camera* camera = nullptr;
   const Camera* prev_camera = nullptr;  // nullptr on the first frame
-  glm::dvec3 gaze_dir{0, 0, -1};      // head space, unit
-  glm::dvec2 gaze_px{0, 0};           // pixels; may lie outside the screen
+  glm::dvec3 gaze_dir{0, 0, -1};        // head space, unit
+  glm::dvec2 gaze_px{0, 0};             // pixels; may lie outside the screen
   bool gaze_valid = true;
-  const GBuffer* gbuffer = nullptr;   // full-res primary-ray G-buffer (channels = union of needs)
-  const Image* reference = nullptr;   // full-res linear shading of `gbuffer`
+  const GBuffer* gbuffer = nullptr;  // full-res primary-ray G-buffer (channels = union of needs)
+  const Image* reference = nullptr;  // full-res linear shading of `gbuffer`
   const std::vector<float>* eccentricity = nullptr;  // degrees per pixel, W*H
-  bool want_debug = false;            // fill FrameOutput::debug
+  bool want_debug = false;                           // fill FrameOutput::debug
 };
 
 struct FrameOutput {
-  Image image;                        // linear RGB, W x H
-  bool image_is_reference = false;    // set instead of copying ctx.reference into image
-  Counters counters;                  // see results/README.md for names
+  Image image;                      // linear RGB, W x H
+  bool image_is_reference = false;  // set instead of copying ctx.reference into image
+  Counters counters;                // see results/README.md for names
   std::vector<std::pair<std::string, Image>> debug;  // name -> image (RGB or 1-channel)
-  std::optional<Image> reference;     // when the method's ground truth differs (FLC: all VPLs)
-  std::vector<std::string> flags;     // limitations hit this frame (e.g. "moving_lights")
+  std::optional<Image> reference;  // when the method's ground truth differs (FLC: all VPLs)
+  std::vector<std::string> flags;  // limitations hit this frame (e.g. "moving_lights")
 };
 
 class FoveationMethod {

@@ -18,5 +18,9 @@ FOVSIM_METHOD(rmfr, "rectangular mapping-based foveated rendering (seed 003 §3.
 FOVSIM_METHOD(hyperbolic, "Guenter three-layer baseline (seed 003 §5.1)", Mapping)
 FOVSIM_METHOD(linear, "Weier linear fall-off baseline (seed 003 §5.1)", Mapping)
 FOVSIM_METHOD(fvrs, "foveated coarse-pixel shading baseline (seed 002 §8.4)", Fvrs)
-FOVSIM_METHOD(twfr, "time-warped foveated rendering: reprojection + confidence redraw (seed 002)", Twfr)
-FOVSIM_METHOD(rmfr_auto, "RMFR with f_x, f_y chosen per frame from peripheral edge orientation (seed 003 §4.4.1, §7 future work)", Mapping)
+FOVSIM_METHOD(twfr, "time-warped foveated rendering: reprojection + confidence redraw (seed 002)",
+              Twfr)
+FOVSIM_METHOD(rmfr_auto,
+              "RMFR with f_x, f_y chosen per frame from peripheral edge orientation (seed 003 "
+              "§4.4.1, §7 future work)",
+              Mapping)

@@ -8,7 +8,7 @@
 
 namespace fovsim {
 
-#define FOVSIM_METHOD(name, summary, family)                  \
+#define FOVSIM_METHOD(name, summary, family)                 \
   std::unique_ptr<FoveationMethod> create_##name(Params& p); \
   const std::vector<ParamInfo>& name##_params();
 #include "sim/foveation/method_list.h"

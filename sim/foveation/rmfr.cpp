@@ -26,20 +26,23 @@ class RmfrMethod final : public MappingMethodBase {
     const RectMap map = RectMap::make(W, H, w, h, ctx.gaze_px, s.fx_pixels(W), s.fy_pixels(H));
 
     // Rectangular mapping of the G-buffer into the TG-buffer, shading into the RS-buffer.
-    const size_t n_used = gather_gbuffer(gb, w, h, [&](double u, double v) { return map.inverse(u, v); },
-                                         rs_, used_);
+    const size_t n_used = gather_gbuffer(
+        gb, w, h, [&](double u, double v) { return map.inverse(u, v); }, rs_, used_);
     shade_buffer(ctx, rs_, rs_col_, &used_, out);
 
     // Rendering to the screen: inverse rectangular mapping as a per-pixel gather (eqs. 4-5).
     out.image.resize(W, H, 3);
-    std::vector<double> ux(static_cast<size_t>(W)), vy(static_cast<size_t>(H));  // separable: one forward map per column/row
+    std::vector<double> ux(static_cast<size_t>(W)),
+        vy(static_cast<size_t>(H));  // separable: one forward map per column/row
     for (int x = 0; x < W; ++x) ux[size_t(x)] = map.ax.forward(x + 0.5);
     for (int y = 0; y < H; ++y) vy[size_t(y)] = map.ay.forward(y + 0.5);
     parallel_rows(H, [&](int y) {
       for (int x = 0; x < W; ++x) {
         glm::vec3 c = bilinear(rs_col_, ux[size_t(x)], vy[size_t(y)], false);
         float* o = out.image.at(x, y);
-        o[0] = c.x; o[1] = c.y; o[2] = c.z;
+        o[0] = c.x;
+        o[1] = c.y;
+        o[2] = c.z;
       }
     });
     set_counters(out, double(n_used), double(n_used), double(w) * h, double(n_used), double(W) * H,
@@ -64,12 +67,14 @@ std::unique_ptr<FoveationMethod> create_rmfr(Params& p) {
 
 const std::vector<ParamInfo>& rmfr_params() {
   static const std::vector<ParamInfo> t = {
-      {"sigma", "number", "2.6", "[1, inf)", "seed 003 §3.2, §6.1", "W / w = H / h of the RS-buffer"},
+      {"sigma", "number", "2.6", "[1, inf)", "seed 003 §3.2, §6.1",
+       "W / w = H / h of the RS-buffer"},
       {"fx", "number", "0.38", "(0, inf)", "seed 003 eq. 4, Fig. 7", "f_x as a fraction of W"},
       {"fy", "number", "0.38", "(0, inf)", "seed 003 eq. 4, Fig. 7", "f_y as a fraction of H"},
       {"fx_px", "number", "none", "(0, inf)", "seed 003 eq. 4", "f_x in pixels (instead of fx)"},
       {"fy_px", "number", "none", "(0, inf)", "seed 003 eq. 4", "f_y in pixels (instead of fy)"},
-      {"target_shaded_fraction", "number", "none", "(0, 1]", "seed 003 §5.1", "iso-budget: solve sigma"},
+      {"target_shaded_fraction", "number", "none", "(0, 1]", "seed 003 §5.1",
+       "iso-budget: solve sigma"},
   };
   return t;
 }

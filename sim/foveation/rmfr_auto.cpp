@@ -39,7 +39,9 @@ class RmfrAutoMethod final : public FoveationMethod {
   std::vector<std::pair<std::string, double>> param_columns() const override {
     return {{"sigma", p_.sigma}, {"fx", qx_}, {"fy", qy_}, {"f_sum", p_.f_sum}};
   }
-  const MappingSpec* mapping_spec() const override { return current_ ? current_->mapping_spec() : nullptr; }
+  const MappingSpec* mapping_spec() const override {
+    return current_ ? current_->mapping_spec() : nullptr;
+  }
 
   void render(const FrameContext& ctx, FrameOutput& out) override {
     if (has_prev_) estimate(ctx);
@@ -69,7 +71,8 @@ class RmfrAutoMethod final : public FoveationMethod {
     };
     for (int y = 1; y + 1 < im.height; y += 2)
       for (int x = 1; x + 1 < im.width; x += 2) {
-        if ((*ctx.eccentricity)[size_t(y) * size_t(im.width) + size_t(x)] < p_.periphery_deg) continue;
+        if ((*ctx.eccentricity)[size_t(y) * size_t(im.width) + size_t(x)] < p_.periphery_deg)
+          continue;
         const double gx = luma(x + 1, y) - luma(x - 1, y), gy = luma(x, y + 1) - luma(x, y - 1);
         ex += gx * gx;
         ey += gy * gy;
@@ -115,12 +118,16 @@ std::unique_ptr<FoveationMethod> create_rmfr_auto(Params& p) {
 
 const std::vector<ParamInfo>& rmfr_auto_params() {
   static const std::vector<ParamInfo> t = {
-      {"sigma", "number", "2.6", "[1, inf)", "seed 003 §3.2, §4.4.2", "W / w = H / h of the RS-buffer"},
-      {"f_sum", "number", "0.76", "(0, 2]", "ours (2 x RMFR's 0.38)", "f_x + f_y (fractions of W, H) split by edge orientation"},
+      {"sigma", "number", "2.6", "[1, inf)", "seed 003 §3.2, §4.4.2",
+       "W / w = H / h of the RS-buffer"},
+      {"f_sum", "number", "0.76", "(0, 2]", "ours (2 x RMFR's 0.38)",
+       "f_x + f_y (fractions of W, H) split by edge orientation"},
       {"f_min", "number", "0.1", "(0, 1]", "seed 003 Fig. 9 range", "lower clamp of f_x, f_y"},
       {"f_max", "number", "0.8", "(0, 2]", "seed 003 Fig. 9 range", "upper clamp of f_x, f_y"},
-      {"adapt", "number", "0.5", "(0, 1]", "ours", "weight of the newest estimate (temporal smoothing)"},
-      {"periphery_deg", "number", "10", "[0, 180]", "ours", "edges counted beyond this eccentricity (deg)"},
+      {"adapt", "number", "0.5", "(0, 1]", "ours",
+       "weight of the newest estimate (temporal smoothing)"},
+      {"periphery_deg", "number", "10", "[0, 180]", "ours",
+       "edges counted beyond this eccentricity (deg)"},
   };
   return t;
 }

@@ -49,11 +49,13 @@ std::atomic<int> g_override{-1};
 
 SimdPath from_env() {
   const char* v = std::getenv("FOVSIM_SIMD");
-  if (!v || !*v || std::string(v) == "native") return cpu_has_avx2() ? SimdPath::Avx2 : SimdPath::Generic;
+  if (!v || !*v || std::string(v) == "native")
+    return cpu_has_avx2() ? SimdPath::Avx2 : SimdPath::Generic;
   const std::string s(v);
   if (s == "generic") return SimdPath::Generic;
   if (s == "avx2") {
-    if (!cpu_has_avx2()) throw Error("FOVSIM_SIMD", "this CPU has no AVX2 (allowed here: native, generic)");
+    if (!cpu_has_avx2())
+      throw Error("FOVSIM_SIMD", "this CPU has no AVX2 (allowed here: native, generic)");
     return SimdPath::Avx2;
   }
   throw Error("FOVSIM_SIMD", "unknown SIMD path \"" + s + "\" (allowed: native, generic, avx2)");
@@ -61,7 +63,9 @@ SimdPath from_env() {
 
 }  // namespace
 
-const char* simd_path_name(SimdPath p) { return p == SimdPath::Avx2 ? "avx2" : "generic"; }
+const char* simd_path_name(SimdPath p) {
+  return p == SimdPath::Avx2 ? "avx2" : "generic";
+}
 
 std::vector<SimdPath> simd_paths_available() {
   std::vector<SimdPath> v = {SimdPath::Generic};

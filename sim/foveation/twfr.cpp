@@ -71,9 +71,11 @@ uint32_t TwfrMethod::required_channels() const {
 }
 
 std::vector<std::pair<std::string, double>> TwfrMethod::param_columns() const {
-  std::vector<std::pair<std::string, double>> c = {{"epsilon", p_.conf.epsilon}, {"phi_f", p_.conf.phi_f},
-                                                     {"phi_0", p_.conf.phi_0},     {"A", p_.conf.A},
-                                                     {"D", p_.conf.D}};
+  std::vector<std::pair<std::string, double>> c = {{"epsilon", p_.conf.epsilon},
+                                                   {"phi_f", p_.conf.phi_f},
+                                                   {"phi_0", p_.conf.phi_0},
+                                                   {"A", p_.conf.A},
+                                                   {"D", p_.conf.D}};
   // The value as given when the float in use still equals it (mutable_params may change it).
   for (auto& [k, v] : c)
     for (auto& [gk, gv] : p_.given)
@@ -134,9 +136,11 @@ void TwfrMethod::render(const FrameContext& ctx, FrameOutput& out) {
   auto t0 = Clock::now();
   compute_object_motion(scene, ctx.t);
   fovea_.resize(n);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1 << 14), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i) fovea_[i] = ecc[i] < p_.conf.phi_f;
-  });
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1 << 14),
+                    [&](const tbb::blocked_range<size_t>& r) {
+                      for (size_t i = r.begin(); i != r.end(); ++i)
+                        fovea_[i] = ecc[i] < p_.conf.phi_f;
+                    });
   twfr::ReprojectInput ri;
   ri.color = &prev_color_;
   ri.samples = &samples_;
@@ -150,8 +154,8 @@ void TwfrMethod::render(const FrameContext& ctx, FrameOutput& out) {
 
   // ---- 2. push-pull hole filling (§5.1), outside the fovea (redrawn anyway) ----
   t0 = Clock::now();
-  twfr::PushPullStats ps =
-      twfr::push_pull_fill(color_, covered_, fovea_.data(), float(scene.exposure), level_, cc_, pushpull_);
+  twfr::PushPullStats ps = twfr::push_pull_fill(color_, covered_, fovea_.data(),
+                                                float(scene.exposure), level_, cc_, pushpull_);
   timings_.pushpull_ms = ms_since(t0);
 
   // ---- 3. confidence and redraw map (§5.2, §7) ----
@@ -160,20 +164,22 @@ void TwfrMethod::render(const FrameContext& ctx, FrameOutput& out) {
   dynamic_.resize(n);
   age_.resize(n);
   forced_.resize(use_forced ? n : 0);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1 << 14), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i) {
-      const twfr::Sample& s = next_samples_[i];
-      const bool dyn = covered_[i] && s.kind == twfr::kSurface && s.object >= 0 &&
-                       size_t(s.object) < object_dynamic_.size() && object_dynamic_[size_t(s.object)];
-      dynamic_[i] = dyn;
-      age_[i] = s.age;
-      if (use_forced) {
-        const int32_t m = g.material[i];
-        forced_[i] = g.hit(i) && m >= 0 && size_t(m) < scene.materials.size() &&
-                     scene.materials[size_t(m)].transparent;
-      }
-    }
-  });
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1 << 14),
+                    [&](const tbb::blocked_range<size_t>& r) {
+                      for (size_t i = r.begin(); i != r.end(); ++i) {
+                        const twfr::Sample& s = next_samples_[i];
+                        const bool dyn = covered_[i] && s.kind == twfr::kSurface && s.object >= 0 &&
+                                         size_t(s.object) < object_dynamic_.size() &&
+                                         object_dynamic_[size_t(s.object)];
+                        dynamic_[i] = dyn;
+                        age_[i] = s.age;
+                        if (use_forced) {
+                          const int32_t m = g.material[i];
+                          forced_[i] = g.hit(i) && m >= 0 && size_t(m) < scene.materials.size() &&
+                                       scene.materials[size_t(m)].transparent;
+                        }
+                      }
+                    });
   twfr::ConfidenceInputs ci;
   ci.eccentricity = ecc.data();
   ci.hole_level = level_.data();
@@ -295,10 +301,14 @@ void TwfrMethod::render(const FrameContext& ctx, FrameOutput& out) {
     for (size_t i = 0; i < n; ++i) {
       glm::vec3 col(0.f);
       const uint8_t r = redraw_[i];
-      if (r & twfr::kRedrawForced) col = {0.2f, 1.f, 0.2f};
-      else if (r & twfr::kRedrawFovea) col = {0.3f, 0.5f, 1.f};
-      else if (r & twfr::kRedrawUncovered) col = {1.f, 0.2f, 0.2f};
-      else if (r & twfr::kRedrawConfidence) col = {1.f, 1.f, 1.f};
+      if (r & twfr::kRedrawForced)
+        col = {0.2f, 1.f, 0.2f};
+      else if (r & twfr::kRedrawFovea)
+        col = {0.3f, 0.5f, 1.f};
+      else if (r & twfr::kRedrawUncovered)
+        col = {1.f, 0.2f, 0.2f};
+      else if (r & twfr::kRedrawConfidence)
+        col = {1.f, 1.f, 1.f};
       rm.data[3 * i] = col.r;
       rm.data[3 * i + 1] = col.g;
       rm.data[3 * i + 2] = col.b;
@@ -345,21 +355,26 @@ void TwfrMethod::apply_taa(const FrameContext& ctx, const Image& cur, Image& out
                 ok = prev_cam_.project_head(prev_cam_.to_head_dir(glm::dvec3(s.pos)), px);
               } else {
                 glm::vec3 p = s.pos;
-                if (s.object >= 0 && size_t(s.object) < inv_motion.size() && object_dynamic_[size_t(s.object)])
+                if (s.object >= 0 && size_t(s.object) < inv_motion.size() &&
+                    object_dynamic_[size_t(s.object)])
                   p = glm::vec3(inv_motion[size_t(s.object)] * glm::vec4(p, 1.f));
                 ok = prev_cam_.project_world(glm::dvec3(p), px);
               }
-              if (!ok || !std::isfinite(px.x) || !std::isfinite(px.y) || !prev_cam_.inside(px)) continue;
+              if (!ok || !std::isfinite(px.x) || !std::isfinite(px.y) || !prev_cam_.inside(px))
+                continue;
               // Bilinear history fetch.
               const double u = px.x - 0.5, v = px.y - 0.5;
-              const int x0 = std::clamp(int(std::floor(u)), 0, W - 1), y0 = std::clamp(int(std::floor(v)), 0, H - 1);
+              const int x0 = std::clamp(int(std::floor(u)), 0, W - 1),
+                        y0 = std::clamp(int(std::floor(v)), 0, H - 1);
               const int x1 = std::min(x0 + 1, W - 1), y1 = std::min(y0 + 1, H - 1);
               const float fx = float(std::clamp(u - std::floor(u), 0.0, 1.0)),
                           fy = float(std::clamp(v - std::floor(v), 0.0, 1.0));
               float hist[3], lo[3] = {1e30f, 1e30f, 1e30f}, hi[3] = {-1e30f, -1e30f, -1e30f};
               for (int k = 0; k < 3; ++k) {
-                hist[k] = (1 - fy) * ((1 - fx) * prev_display_.at(x0, y0)[k] + fx * prev_display_.at(x1, y0)[k]) +
-                          fy * ((1 - fx) * prev_display_.at(x0, y1)[k] + fx * prev_display_.at(x1, y1)[k]);
+                hist[k] = (1 - fy) * ((1 - fx) * prev_display_.at(x0, y0)[k] +
+                                      fx * prev_display_.at(x1, y0)[k]) +
+                          fy * ((1 - fx) * prev_display_.at(x0, y1)[k] +
+                                fx * prev_display_.at(x1, y1)[k]);
               }
               for (int dy = -1; dy <= 1; ++dy)
                 for (int dx = -1; dx <= 1; ++dx) {
@@ -372,8 +387,12 @@ void TwfrMethod::apply_taa(const FrameContext& ctx, const Image& cur, Image& out
                 }
               float* o = out.at(x, y);
               const float* q = cur.at(x, y);
-              for (int k = 0; k < 3; ++k) o[k] = a * q[k] + (1 - a) * std::clamp(hist[k], lo[k], hi[k]);
-              if (mask_[i]) ++ac.taa; else ++ac.smooth;
+              for (int k = 0; k < 3; ++k)
+                o[k] = a * q[k] + (1 - a) * std::clamp(hist[k], lo[k], hi[k]);
+              if (mask_[i])
+                ++ac.taa;
+              else
+                ++ac.smooth;
             }
           }
           return ac;
@@ -397,14 +416,20 @@ std::unique_ptr<FoveationMethod> create_twfr(Params& p) {
 
 const std::vector<ParamInfo>& twfr_params() {
   static const std::vector<ParamInfo> t = {
-      {"epsilon", "number", "0.2", "[0, 1]", "§5.2, §8.1", "confidence threshold: a pixel is redrawn iff c <= epsilon"},
-      {"phi_f", "number", "10", "[0, 180] deg", "§5.2", "fovea angle phi_F (c_e = 0 inside; reprojected splats discarded inside)"},
-      {"phi_0", "number", "30", "[phi_f, 180] deg", "§5.2", "eccentricity fully in the periphery (c_e = 1 beyond)"},
+      {"epsilon", "number", "0.2", "[0, 1]", "§5.2, §8.1",
+       "confidence threshold: a pixel is redrawn iff c <= epsilon"},
+      {"phi_f", "number", "10", "[0, 180] deg", "§5.2",
+       "fovea angle phi_F (c_e = 0 inside; reprojected splats discarded inside)"},
+      {"phi_0", "number", "30", "[phi_f, 180] deg", "§5.2",
+       "eccentricity fully in the periphery (c_e = 1 beyond)"},
       {"A", "number", "0.6", "(0, 1]", "§5.2", "hole-size confidence c_s(m) = A^m"},
       {"D", "number", "0.75", "(0, 1]", "§7", "dynamic confidence c_d(t) = D^t"},
-      {"taa", "bool", "false", "", "§6.2", "TAA on redrawn pixels and motion smoothing on reprojected ones"},
-      {"taa_alpha", "number", "0.1", "(0, 1]", "§6.2", "TAA / motion-smoothing accumulation factor"},
-      {"redraw_transparent", "bool", "true", "", "§8.5", "transparent surfaces are redrawn every frame"},
+      {"taa", "bool", "false", "", "§6.2",
+       "TAA on redrawn pixels and motion smoothing on reprojected ones"},
+      {"taa_alpha", "number", "0.1", "(0, 1]", "§6.2",
+       "TAA / motion-smoothing accumulation factor"},
+      {"redraw_transparent", "bool", "true", "", "§8.5",
+       "transparent surfaces are redrawn every frame"},
   };
   return t;
 }

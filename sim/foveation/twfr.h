@@ -16,16 +16,18 @@ namespace fovsim {
 
 struct TwfrParams {
   twfr::ConfidenceParams conf;
-  bool taa = false;               // §6.2 TAA on redrawn + motion smoothing on reprojected pixels
-  float taa_alpha = 0.1f;         // §6.2 accumulation factor
-  bool redraw_transparent = true; // §8.5: transparent surfaces rendered every frame
-  std::vector<std::pair<std::string, double>> given;  // epsilon, phi_f, phi_0, A, D as parsed (CSV columns)
+  bool taa = false;                // §6.2 TAA on redrawn + motion smoothing on reprojected pixels
+  float taa_alpha = 0.1f;          // §6.2 accumulation factor
+  bool redraw_transparent = true;  // §8.5: transparent surfaces rendered every frame
+  std::vector<std::pair<std::string, double>>
+      given;  // epsilon, phi_f, phi_0, A, D as parsed (CSV columns)
   static TwfrParams from_params(Params& p);
 };
 
 // Wall time of each stage of the last frame (CPU simulation, not the GPU estimate).
 struct TwfrTimings {
-  double reproject_ms = 0, pushpull_ms = 0, confidence_ms = 0, cull_ms = 0, redraw_ms = 0, taa_ms = 0;
+  double reproject_ms = 0, pushpull_ms = 0, confidence_ms = 0, cull_ms = 0, redraw_ms = 0,
+         taa_ms = 0;
 };
 
 class TwfrMethod final : public FoveationMethod {
@@ -42,10 +44,10 @@ class TwfrMethod final : public FoveationMethod {
   TwfrParams& mutable_params() { return p_; }  // tests: change epsilon between frames
   const TwfrTimings& timings() const { return timings_; }
   // Buffers of the last rendered frame (W*H, row-major) for tests and debugging.
-  const std::vector<uint8_t>& redraw_map() const { return redraw_; }   // twfr::RedrawReason bits
-  const std::vector<uint8_t>& shade_mask() const { return mask_; }     // pixels shaded in the redraw
+  const std::vector<uint8_t>& redraw_map() const { return redraw_; }  // twfr::RedrawReason bits
+  const std::vector<uint8_t>& shade_mask() const { return mask_; }    // pixels shaded in the redraw
   const std::vector<float>& confidence() const { return conf_; }
-  const std::vector<uint8_t>& hole_level() const { return level_; }    // 0, m, or kUncovered
+  const std::vector<uint8_t>& hole_level() const { return level_; }  // 0, m, or kUncovered
   const std::vector<uint8_t>& submodel_culled() const { return culled_; }
   const std::vector<twfr::Sample>& samples() const { return samples_; }  // carried to next frame
   size_t cull_conflicts() const { return conflicts_; }  // marked pixels on culled sub-models (0)

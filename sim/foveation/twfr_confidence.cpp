@@ -10,8 +10,9 @@
 namespace fovsim {
 namespace twfr {
 
-ConfidenceStats compute_redraw_map(const ConfidenceInputs& in, const ConfidenceParams& p, int W, int H,
-                                   std::vector<float>& confidence, std::vector<uint8_t>& redraw) {
+ConfidenceStats compute_redraw_map(const ConfidenceInputs& in, const ConfidenceParams& p, int W,
+                                   int H, std::vector<float>& confidence,
+                                   std::vector<uint8_t>& redraw) {
   const size_t n = size_t(W) * size_t(H);
   confidence.resize(n);
   redraw.resize(n);

@@ -50,10 +50,10 @@ struct ConfidenceInputs {
   const float* eccentricity = nullptr;  // degrees
   const uint8_t* hole_level = nullptr;  // 0 reprojected, m >= 1 filled at level m, 255 uncovered
   const float* contrast = nullptr;      // c_c (1 for reprojected pixels)
-  const uint8_t* dynamic = nullptr;     // 1 where the reprojected sample belongs to a dynamic object
-  const uint16_t* age = nullptr;        // frames since last redraw (reprojected samples)
-  const uint8_t* fovea = nullptr;       // 1 where splats were discarded (ecc < phi_F)
-  const uint8_t* forced = nullptr;      // optional: 1 forces a redraw (transparency)
+  const uint8_t* dynamic = nullptr;  // 1 where the reprojected sample belongs to a dynamic object
+  const uint16_t* age = nullptr;     // frames since last redraw (reprojected samples)
+  const uint8_t* fovea = nullptr;    // 1 where splats were discarded (ecc < phi_F)
+  const uint8_t* forced = nullptr;   // optional: 1 forces a redraw (transparency)
 };
 
 struct ConfidenceStats {
@@ -62,8 +62,9 @@ struct ConfidenceStats {
 
 // c = c_e * c_c * c_s * c_d (§5.2, §7); writes confidence (0 where uncovered) and the redraw
 // map (reason bits, 0 = keep). Parallel over rows; W*H entries.
-ConfidenceStats compute_redraw_map(const ConfidenceInputs& in, const ConfidenceParams& p, int W, int H,
-                                   std::vector<float>& confidence, std::vector<uint8_t>& redraw);
+ConfidenceStats compute_redraw_map(const ConfidenceInputs& in, const ConfidenceParams& p, int W,
+                                   int H, std::vector<float>& confidence,
+                                   std::vector<uint8_t>& redraw);
 
 // OR-mipmap of a binary map (§6.1): level 0 = map != 0, level k+1 texel = OR of its children.
 struct OrMip {

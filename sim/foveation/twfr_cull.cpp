@@ -22,7 +22,8 @@ RectKind screen_rect(const Camera& cam, const AABB& box, int& x0, int& y0, int& 
   glm::dvec3 h[8];
   int behind = 0;
   for (int c = 0; c < 8; ++c) {
-    glm::dvec3 p((c & 1) ? box.hi.x : box.lo.x, (c & 2) ? box.hi.y : box.lo.y, (c & 4) ? box.hi.z : box.lo.z);
+    glm::dvec3 p((c & 1) ? box.hi.x : box.lo.x, (c & 2) ? box.hi.y : box.lo.y,
+                 (c & 4) ? box.hi.z : box.lo.z);
     h[c] = inv * (p - cam.position);
     if (!(h[c].z < 0.0)) ++behind;
   }
@@ -45,7 +46,8 @@ RectKind screen_rect(const Camera& cam, const AABB& box, int& x0, int& y0, int& 
   // Pixel (i, j) has its centre at (i + 0.5, j + 0.5): it is in the hull only if
   // lx <= i + 0.5 <= hx. Half a pixel of margin absorbs rounding (float AABBs, double rays).
   const double m = 0.5;
-  double fx0 = std::floor(lx - m), fy0 = std::floor(ly - m), fx1 = std::floor(hx + m), fy1 = std::floor(hy + m);
+  double fx0 = std::floor(lx - m), fy0 = std::floor(ly - m), fx1 = std::floor(hx + m),
+         fy1 = std::floor(hy + m);
   if (fx1 < 0 || fy1 < 0 || fx0 > cam.width - 1 || fy0 > cam.height - 1) return RectKind::Offscreen;
   x0 = int(std::max(fx0, 0.0));
   y0 = int(std::max(fy0, 0.0));
@@ -56,7 +58,8 @@ RectKind screen_rect(const Camera& cam, const AABB& box, int& x0, int& y0, int& 
 
 CullStats cull_submodels(const Camera& cam, const OrMip& mip, size_t count,
                          const std::function<AABB(size_t)>& bounds,
-                         const std::function<double(size_t)>& tri_count, std::vector<uint8_t>& culled) {
+                         const std::function<double(size_t)>& tri_count,
+                         std::vector<uint8_t>& culled) {
   culled.assign(count, 0);
   std::vector<uint8_t> offscreen(count, 0);
   // One test per sub-model (a compute-shader invocation per sub-model in the seed, §6.1).

@@ -30,7 +30,8 @@ struct CullStats {
 // bounds(s) gives the world AABB of sub-model s now; tri_count(s) its triangle count.
 CullStats cull_submodels(const Camera& cam, const OrMip& redraw_mip, size_t count,
                          const std::function<AABB(size_t)>& bounds,
-                         const std::function<double(size_t)>& tri_count, std::vector<uint8_t>& culled);
+                         const std::function<double(size_t)>& tri_count,
+                         std::vector<uint8_t>& culled);
 
 }  // namespace twfr
 }  // namespace fovsim

@@ -91,8 +91,8 @@ inline void reduce_texel(int x, int y, int cw, int ch, GetChild child, float* ou
 }  // namespace
 
 PushPullStats push_pull_fill(Image& color, const std::vector<uint8_t>& valid, const uint8_t* skip,
-                             float exposure, std::vector<uint8_t>& level_out, std::vector<float>& cc_out,
-                             PushPull& pp) {
+                             float exposure, std::vector<uint8_t>& level_out,
+                             std::vector<float>& cc_out, PushPull& pp) {
   const int W = color.width, H = color.height;
   const size_t n = size_t(W) * size_t(H);
   level_out.resize(n);

@@ -44,8 +44,8 @@ struct PushPullStats {
 // kUncovered where nothing could fill them (and for skipped pixels); cc_out[i] = contrast
 // confidence (1 for valid pixels, the alpha at level m for filled, 0 otherwise).
 PushPullStats push_pull_fill(Image& color, const std::vector<uint8_t>& valid, const uint8_t* skip,
-                             float exposure, std::vector<uint8_t>& level_out, std::vector<float>& cc_out,
-                             PushPull& scratch);
+                             float exposure, std::vector<uint8_t>& level_out,
+                             std::vector<float>& cc_out, PushPull& scratch);
 
 }  // namespace twfr
 }  // namespace fovsim

@@ -86,8 +86,9 @@ void SplatBuffer::resize(size_t n) {
   }
 }
 
-ReprojectStats forward_reproject(const ReprojectInput& in, Image& color, std::vector<Sample>& samples,
-                                 std::vector<uint8_t>& covered, SplatBuffer& scratch) {
+ReprojectStats forward_reproject(const ReprojectInput& in, Image& color,
+                                 std::vector<Sample>& samples, std::vector<uint8_t>& covered,
+                                 SplatBuffer& scratch) {
   const Camera& cam = *in.camera;
   const int W = cam.width, H = cam.height;
   const size_t n = size_t(W) * size_t(H);
@@ -100,9 +101,11 @@ ReprojectStats forward_reproject(const ReprojectInput& in, Image& color, std::ve
   samples.resize(n);
   covered.resize(n);
 
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1 << 14), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i) scratch.key[i].store(kEmpty, std::memory_order_relaxed);
-  });
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1 << 14),
+                    [&](const tbb::blocked_range<size_t>& r) {
+                      for (size_t i = r.begin(); i != r.end(); ++i)
+                        scratch.key[i].store(kEmpty, std::memory_order_relaxed);
+                    });
 
   struct Counts {
     size_t splats = 0, offscreen = 0, fovea = 0;

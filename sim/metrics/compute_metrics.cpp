@@ -18,8 +18,9 @@ static double rms(double sq, double n) {
   return n > 0 ? std::sqrt(sq / n) : std::numeric_limits<double>::quiet_NaN();
 }
 
-Counters compute_metrics(const MetricsConfig& cfg, const Image& test, const Image& ref, const Camera& cam,
-                         const std::vector<float>& ecc_deg, TemporalState* temporal, MetricsScratch* scratch) {
+Counters compute_metrics(const MetricsConfig& cfg, const Image& test, const Image& ref,
+                         const Camera& cam, const std::vector<float>& ecc_deg,
+                         TemporalState* temporal, MetricsScratch* scratch) {
   const char* where = "metrics.compute_metrics";
   detail::check_same_size(test, ref, where);
   const bool need_ecc = cfg.fpsnr || cfg.regions || cfg.temporal;
@@ -47,15 +48,16 @@ Counters compute_metrics(const MetricsConfig& cfg, const Image& test, const Imag
     out.set("rmse_fovea", rms(s.fovea_sq, s.fovea_n));
     out.set("rmse_periphery", rms(s.periph_sq, s.periph_n));
     for (size_t k = 0; k + 1 < cfg.band_edges_deg.size(); ++k)
-      out.set(band_column(cfg.band_edges_deg[k], cfg.band_edges_deg[k + 1]), rms(s.band_sq[k], s.band_n[k]));
+      out.set(band_column(cfg.band_edges_deg[k], cfg.band_edges_deg[k + 1]),
+              rms(s.band_sq[k], s.band_n[k]));
   }
   if (cfg.flip) {
     MetricsScratch local;
     MetricsScratch& sc = scratch ? *scratch : local;
     const double ppd = flip_ppd(cam);
     const Image& rp = sc.flip_ref_pixels;
-    if (sc.flip_ref.ppd != ppd || rp.width != ref.width || rp.height != ref.height || rp.channels != ref.channels ||
-        rp.data != ref.data) {
+    if (sc.flip_ref.ppd != ppd || rp.width != ref.width || rp.height != ref.height ||
+        rp.channels != ref.channels || rp.data != ref.data) {
       flip_prepare(ref, ppd, sc.flip_ref, &sc.flip_workspace);
       sc.flip_ref_pixels = ref;
     }
@@ -87,8 +89,9 @@ Counters compute_metrics(const MetricsConfig& cfg, const Image& test, const Imag
     }
   }
   if (cfg.temporal) {
-    out.set("temporal_error", temporal ? temporal_error(test, ref, ecc_deg, cfg.fovea_deg, *temporal)
-                                       : std::numeric_limits<double>::quiet_NaN());
+    out.set("temporal_error", temporal
+                                  ? temporal_error(test, ref, ecc_deg, cfg.fovea_deg, *temporal)
+                                  : std::numeric_limits<double>::quiet_NaN());
   }
   return out;
 }

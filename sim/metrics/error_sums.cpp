@@ -16,7 +16,8 @@ namespace fovsim {
 namespace detail {
 
 static std::string dims(const Image& a) {
-  return std::to_string(a.width) + "x" + std::to_string(a.height) + "x" + std::to_string(a.channels);
+  return std::to_string(a.width) + "x" + std::to_string(a.height) + "x" +
+         std::to_string(a.channels);
 }
 
 void check_same_size(const Image& a, const Image& b, const char* where) {
@@ -27,14 +28,15 @@ void check_same_size(const Image& a, const Image& b, const char* where) {
 
 void check_ecc(const Image& a, const std::vector<float>& ecc, const char* where) {
   if (ecc.size() != a.pixels())
-    throw Error(where, "eccentricity map has " + std::to_string(ecc.size()) + " entries, image has " +
-                           std::to_string(a.pixels()) + " pixels");
+    throw Error(where, "eccentricity map has " + std::to_string(ecc.size()) +
+                           " entries, image has " + std::to_string(a.pixels()) + " pixels");
 }
 
 void check_cam(const Image& a, const Camera& cam, const char* where) {
   if (cam.width != a.width || cam.height != a.height)
-    throw Error(where, "camera is " + std::to_string(cam.width) + "x" + std::to_string(cam.height) + ", image is " +
-                           std::to_string(a.width) + "x" + std::to_string(a.height));
+    throw Error(where, "camera is " + std::to_string(cam.width) + "x" + std::to_string(cam.height) +
+                           ", image is " + std::to_string(a.width) + "x" +
+                           std::to_string(a.height));
 }
 
 double psnr_from_mse(double m) {
@@ -44,7 +46,9 @@ double psnr_from_mse(double m) {
 
 ErrorSums error_sums(const Image& a, const Image& b, const ErrorSumsRequest& req) {
   const int W = a.width, H = a.height, C = a.channels;
-  const size_t nb = (req.regions && req.band_edges && req.band_edges->size() >= 2) ? req.band_edges->size() - 1 : 0;
+  const size_t nb = (req.regions && req.band_edges && req.band_edges->size() >= 2)
+                        ? req.band_edges->size() - 1
+                        : 0;
   // Per-row slots: sq, w_sq, w, fovea_sq, fovea_n, periph_sq, periph_n, then band sq/n pairs.
   const size_t K = 7 + 2 * nb;
   std::vector<double> rows(size_t(H) * K, 0.0);
@@ -94,7 +98,8 @@ ErrorSums error_sums(const Image& a, const Image& b, const ErrorSumsRequest& req
         sq += e2;
         if (req.weighted) {
           // Lee-Pattichis-Bovik 2002: weight = min(f_c(e), ppd/2) (DESIGN §7).
-          const double ppd = 0.5 * deg * (1.0 + col_u2[size_t(x)] + v2) * (row_a + col_b[size_t(x)]);
+          const double ppd =
+              0.5 * deg * (1.0 + col_u2[size_t(x)] + v2) * (row_a + col_b[size_t(x)]);
           const double wt = fpsnr_weight(er[x], ppd * req.ppd_scale);
           w_sq += wt * e2;
           w += wt;

@@ -11,8 +11,8 @@ namespace fovsim {
 namespace detail {
 
 struct ErrorSumsRequest {
-  bool weighted = false;                 // accumulate FPSNR sums (needs ecc + cam)
-  bool regions = false;                  // fovea/periphery/band sums (needs ecc)
+  bool weighted = false;  // accumulate FPSNR sums (needs ecc + cam)
+  bool regions = false;   // fovea/periphery/band sums (needs ecc)
   double fovea_deg = 5.0;
   const std::vector<double>* band_edges = nullptr;  // strictly increasing
   const std::vector<float>* ecc = nullptr;
@@ -21,8 +21,8 @@ struct ErrorSumsRequest {
 };
 
 struct ErrorSums {
-  double sq = 0;          // sum over pixels of the channel-mean squared error
-  double n = 0;           // pixel count
+  double sq = 0;           // sum over pixels of the channel-mean squared error
+  double n = 0;            // pixel count
   double w_sq = 0, w = 0;  // FPSNR: sum w e^2, sum w
   double fovea_sq = 0, fovea_n = 0, periph_sq = 0, periph_n = 0;
   std::vector<double> band_sq, band_n;  // one per band [edges[i], edges[i+1])

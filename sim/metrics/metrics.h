@@ -15,7 +15,7 @@ namespace fovsim {
 
 // All functions throw fovsim::Error("metrics.<name>", ...) when the two images differ in
 // size or channel count, or an eccentricity map does not have width*height entries.
-double mse(const Image& a, const Image& b);   // mean over all pixels and channels
+double mse(const Image& a, const Image& b);  // mean over all pixels and channels
 // 10 log10(1 / MSE), data range 1. Returns +inf for identical images (no cap here;
 // frames.csv writes it as "inf", see docs/metrics.md).
 double psnr(const Image& a, const Image& b);
@@ -39,8 +39,8 @@ double local_ppd(const Camera& cam, double px, double py);
 
 struct MetricsConfig {
   bool psnr = true, ssim = true, fpsnr = true, regions = true, temporal = true;
-  bool flip = true;  // LDR-FLIP mean `flip` (+ flip_ecc_<a>_<b> bands when `regions`)
-  double fovea_deg = 5.0;                                  // fovea radius for rmse_fovea
+  bool flip = true;        // LDR-FLIP mean `flip` (+ flip_ecc_<a>_<b> bands when `regions`)
+  double fovea_deg = 5.0;  // fovea radius for rmse_fovea
   std::vector<double> band_edges_deg{0, 5, 10, 20, 30, 60};  // rmse_ecc_<a>_<b> columns
   // Not a config key: set by the runner to 1 / render.scale so FPSNR's Nyquist clip is that
   // of the real display even when the simulation runs at a reduced resolution.
@@ -88,7 +88,7 @@ struct MetricsScratch {
 // its prepared reference and leaves its error map in scratch->flip_map; the numbers are the
 // same with or without it.
 Counters compute_metrics(const MetricsConfig& cfg, const Image& test, const Image& ref,
-                         const Camera& cam, const std::vector<float>& ecc_deg, TemporalState* temporal,
-                         MetricsScratch* scratch = nullptr);
+                         const Camera& cam, const std::vector<float>& ecc_deg,
+                         TemporalState* temporal, MetricsScratch* scratch = nullptr);
 
 }  // namespace fovsim

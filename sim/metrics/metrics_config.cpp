@@ -31,9 +31,9 @@ MetricsConfig MetricsConfig::from_params(Params& p) {
     p.fail("band_edges_deg", "needs at least 2 edges (or [] for no bands), got 1");
   for (size_t i = 1; i < c.band_edges_deg.size(); ++i)
     if (!(c.band_edges_deg[i] > c.band_edges_deg[i - 1]))
-      p.fail("band_edges_deg[" + std::to_string(i) + "]", "edges must be strictly increasing, got " +
-                                                              std::to_string(c.band_edges_deg[i - 1]) + " then " +
-                                                              std::to_string(c.band_edges_deg[i]));
+      p.fail("band_edges_deg[" + std::to_string(i) + "]",
+             "edges must be strictly increasing, got " + std::to_string(c.band_edges_deg[i - 1]) +
+                 " then " + std::to_string(c.band_edges_deg[i]));
   return c;
 }
 
@@ -46,7 +46,9 @@ static std::string short_number(double v) {
   return s;
 }
 
-std::string band_column(double a, double b) { return "rmse_ecc_" + short_number(a) + "_" + short_number(b); }
+std::string band_column(double a, double b) {
+  return "rmse_ecc_" + short_number(a) + "_" + short_number(b);
+}
 
 std::string flip_band_column(double a, double b) {
   return "flip_ecc_" + short_number(a) + "_" + short_number(b);

@@ -39,7 +39,9 @@ double local_ppd(const Camera& cam, double px, double py) {
   return 0.5 * (deg / rad_per_px_h + deg / rad_per_px_v);
 }
 
-double flip_ppd(const Camera& cam) { return local_ppd(cam, 0.5 * cam.width, 0.5 * cam.height); }
+double flip_ppd(const Camera& cam) {
+  return local_ppd(cam, 0.5 * cam.width, 0.5 * cam.height);
+}
 
 double mse(const Image& a, const Image& b) {
   detail::check_same_size(a, b, "metrics.mse");

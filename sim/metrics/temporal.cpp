@@ -17,14 +17,16 @@
 
 namespace fovsim {
 
-double temporal_error(const Image& test, const Image& ref, const std::vector<float>& ecc_deg, double fovea_deg,
-                      TemporalState& st) {
+double temporal_error(const Image& test, const Image& ref, const std::vector<float>& ecc_deg,
+                      double fovea_deg, TemporalState& st) {
   detail::check_same_size(test, ref, "metrics.temporal_error");
   detail::check_ecc(test, ecc_deg, "metrics.temporal_error");
   if (test.channels == 2) throw Error("metrics.temporal_error", "2-channel images have no luma");
   const int W = test.width, H = test.height, C = test.channels;
-  const bool have_prev = st.prev_error.width == W && st.prev_error.height == H && st.prev_error.channels == 1;
-  if (st.scratch.width != W || st.scratch.height != H || st.scratch.channels != 1) st.scratch.resize(W, H, 1);
+  const bool have_prev =
+      st.prev_error.width == W && st.prev_error.height == H && st.prev_error.channels == 1;
+  if (st.scratch.width != W || st.scratch.height != H || st.scratch.channels != 1)
+    st.scratch.resize(W, H, 1);
   std::vector<double> rows(2 * size_t(H), 0.0);  // per row: sum of squared change, count
 
   tbb::parallel_for(tbb::blocked_range<int>(0, H), [&](const tbb::blocked_range<int>& r) {
@@ -34,7 +36,8 @@ double temporal_error(const Image& test, const Image& ref, const std::vector<flo
       float* cur = st.scratch.row(y);
       for (int x = 0; x < W; ++x) {
         const size_t i = size_t(x) * C;
-        cur[x] = C == 1 ? pt[i] - pr[i] : luma(pt[i], pt[i + 1], pt[i + 2]) - luma(pr[i], pr[i + 1], pr[i + 2]);
+        cur[x] = C == 1 ? pt[i] - pr[i]
+                        : luma(pt[i], pt[i + 1], pt[i + 2]) - luma(pr[i], pr[i + 1], pr[i + 2]);
       }
       if (!have_prev) continue;
       const float* prev = st.prev_error.row(y);

@@ -21,8 +21,8 @@ std::vector<std::string> embree_supported_isas() {
   s.push_back("sse4.2");
   if (!__builtin_cpu_supports("avx")) return s;
   s.push_back("avx");
-  if (!(__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && __builtin_cpu_supports("bmi") &&
-        __builtin_cpu_supports("bmi2")))
+  if (!(__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") &&
+        __builtin_cpu_supports("bmi") && __builtin_cpu_supports("bmi2")))
     return s;
   s.push_back("avx2");
   if (!(__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512cd") &&
@@ -44,10 +44,12 @@ std::string embree_forced_isa() {
     return r;
   };
   if (std::find(names.begin(), names.end(), isa) == names.end())
-    throw Error("FOVSIM_EMBREE_ISA", "unknown Embree ISA \"" + isa + "\" (allowed: native, " + join(names) + ")");
+    throw Error("FOVSIM_EMBREE_ISA",
+                "unknown Embree ISA \"" + isa + "\" (allowed: native, " + join(names) + ")");
   const auto sup = embree_supported_isas();
   if (std::find(sup.begin(), sup.end(), isa) == sup.end())
-    throw Error("FOVSIM_EMBREE_ISA", "this CPU cannot run Embree's " + isa + " path (it supports: " + join(sup) + ")");
+    throw Error("FOVSIM_EMBREE_ISA",
+                "this CPU cannot run Embree's " + isa + " path (it supports: " + join(sup) + ")");
   return isa;
 }
 

@@ -13,8 +13,10 @@ void GBuffer::resize(int w, int h, uint32_t ch) {
   // Channels not requested are released (not merely left stale): "only what is needed".
   auto fit = [n](auto& v, bool on) {
     using V = std::decay_t<decltype(v)>;
-    if (on) v.resize(n);
-    else V().swap(v);
+    if (on)
+      v.resize(n);
+    else
+      V().swap(v);
   };
   fit(depth, true);
   fit(position, has(kPosition));

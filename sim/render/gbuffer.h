@@ -9,14 +9,14 @@
 namespace fovsim {
 
 enum Channel : uint32_t {
-  kDepth = 1u << 0,      // always filled: distance along the primary ray; +inf on a miss
-  kPosition = 1u << 1,   // world-space hit point
-  kNormal = 1u << 2,     // world-space shading normal (faces the viewer)
-  kAlbedo = 1u << 3,     // texture-evaluated diffuse colour
-  kMaterial = 1u << 4,   // material index (specular parameters)
-  kObjectId = 1u << 5,   // object index, -1 on a miss
-  kSubModel = 1u << 6,   // sub-model index, -1 on a miss
-  kMotion = 1u << 7,     // screen motion (pixels) from the previous frame's camera+objects
+  kDepth = 1u << 0,     // always filled: distance along the primary ray; +inf on a miss
+  kPosition = 1u << 1,  // world-space hit point
+  kNormal = 1u << 2,    // world-space shading normal (faces the viewer)
+  kAlbedo = 1u << 3,    // texture-evaluated diffuse colour
+  kMaterial = 1u << 4,  // material index (specular parameters)
+  kObjectId = 1u << 5,  // object index, -1 on a miss
+  kSubModel = 1u << 6,  // sub-model index, -1 on a miss
+  kMotion = 1u << 7,    // screen motion (pixels) from the previous frame's camera+objects
   kUV = 1u << 8,
 };
 // Channels the shader needs (Renderer::shade).

@@ -56,33 +56,34 @@ struct LightNow {
 struct RenderState {
   RTCDevice device = nullptr;
   RTCScene top = nullptr;
-  RTCScene static_scene = nullptr;          // == top when there are no dynamic objects
+  RTCScene static_scene = nullptr;  // == top when there are no dynamic objects
   unsigned static_inst = RTC_INVALID_GEOMETRY_ID;
-  std::vector<int> static_geom_object;      // geomID in static_scene -> object
-  std::vector<int> inst_object;             // geomID in top (instances) -> object, -1 = static
+  std::vector<int> static_geom_object;  // geomID in static_scene -> object
+  std::vector<int> inst_object;         // geomID in top (instances) -> object, -1 = static
   std::vector<RTCScene> child_scenes;
-  std::vector<unsigned> dyn_geom;           // object -> instance geomID in top (or invalid)
+  std::vector<unsigned> dyn_geom;  // object -> instance geomID in top (or invalid)
 
   // Per object: shading data.
   struct Obj {
-    std::vector<glm::vec3> pos;     // world space (static) or object space (dynamic), +1 pad
-    std::vector<glm::vec3> nrm;     // world/object space vertex normals (may be empty)
+    std::vector<glm::vec3> pos;  // world space (static) or object space (dynamic), +1 pad
+    std::vector<glm::vec3> nrm;  // world/object space vertex normals (may be empty)
     glm::mat4 xf{1.f}, inv{1.f}, prev_xf{1.f};
-    glm::mat3 nxf{1.f};             // normal matrix of xf
+    glm::mat3 nxf{1.f};  // normal matrix of xf
     bool dynamic = false;
-    std::vector<int32_t> tri_sub;   // primitive -> sub-model index
+    std::vector<int32_t> tri_sub;  // primitive -> sub-model index
   };
   std::vector<Obj> objs;
   std::vector<LightNow> lights;
   std::vector<glm::vec2> mat_cs;  // cos, sin of each material's texture angle
-  float scene_scale = 1.f;  // for ray offsets
+  float scene_scale = 1.f;        // for ray offsets
   // Context flags for 16-wide packets (primary and shadow rays). See packet_flags() below.
   RTCIntersectContextFlags packet_flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
 
   void check(const char* what) {
     RTCError e = rtcGetDeviceError(device);
     if (e != RTC_ERROR_NONE)
-      throw Error("embree", std::string(what) + " failed (RTCError " + std::to_string(int(e)) + ")");
+      throw Error("embree",
+                  std::string(what) + " failed (RTCError " + std::to_string(int(e)) + ")");
   }
 
   ~RenderState() {
@@ -150,7 +151,8 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
     rtcSetSceneBuildQuality(I.top, RTC_BUILD_QUALITY_LOW);
   }
 
-  for (const Material& m : scene.materials) I.mat_cs.emplace_back(std::cos(m.angle), std::sin(m.angle));
+  for (const Material& m : scene.materials)
+    I.mat_cs.emplace_back(std::cos(m.angle), std::sin(m.angle));
   I.objs.resize(scene.objects.size());
   I.dyn_geom.assign(scene.objects.size(), RTC_INVALID_GEOMETRY_ID);
   AABB world;
@@ -158,7 +160,8 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
   for (size_t si = 0; si < scene.submodels.size(); ++si) {
     const SubModel& sm = scene.submodels[si];
     auto& ts = I.objs[size_t(sm.object)].tri_sub;
-    if (ts.empty()) ts.assign(scene.meshes[size_t(scene.objects[size_t(sm.object)].mesh)].triangles.size(), -1);
+    if (ts.empty())
+      ts.assign(scene.meshes[size_t(scene.objects[size_t(sm.object)].mesh)].triangles.size(), -1);
     for (uint32_t t = sm.first_tri; t < sm.first_tri + sm.tri_count && t < ts.size(); ++t)
       ts[t] = int32_t(si);
   }
@@ -236,7 +239,9 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
 
 Renderer::~Renderer() = default;
 
-void* Renderer::embree_scene() const { return impl_->top; }
+void* Renderer::embree_scene() const {
+  return impl_->top;
+}
 
 void Renderer::set_time(double t) {
   Impl& I = *impl_;
@@ -320,7 +325,7 @@ inline void refine_hit(const RenderState& I, const Scene& scene, int obj, uint32
     d = glm::dmat3(inv) * d;
   }
   const glm::dvec3 p0(ob.pos[tri.x]), e1 = glm::dvec3(ob.pos[tri.y]) - p0,
-      e2 = glm::dvec3(ob.pos[tri.z]) - p0;
+                                      e2 = glm::dvec3(ob.pos[tri.z]) - p0;
   const glm::dvec3 pv = glm::cross(d, e2);
   const double det = glm::dot(e1, pv);
   if (!(std::fabs(det) > 1e-300)) return;
@@ -367,7 +372,9 @@ void occlusion_filter(const RTCFilterFunctionNArguments* args) {
 }
 
 // The widening of the interval handed to Embree (see OcclusionContext).
-inline float occlusion_slack(const RenderState& I) { return 1e-4f * I.scene_scale; }
+inline float occlusion_slack(const RenderState& I) {
+  return 1e-4f * I.scene_scale;
+}
 
 struct SampleWriter {
   const Scene& scene;
@@ -430,8 +437,8 @@ struct SampleWriter {
         glm::vec3 po = ob.dynamic ? xform_point(ob.inv, P) : P;
         glm::vec3 a = glm::abs(ng);
         uv = (a.x >= a.y && a.x >= a.z) ? glm::vec2(po.z, po.y)
-             : (a.y >= a.z)            ? glm::vec2(po.x, po.z)
-                                       : glm::vec2(po.x, po.y);
+             : (a.y >= a.z)             ? glm::vec2(po.x, po.z)
+                                        : glm::vec2(po.x, po.y);
       }
       if (ch & kUV) g.uv[i] = uv;
     }
@@ -763,8 +770,8 @@ inline bool surface(const Scene& scene, const RenderState& I, const GBuffer& g, 
 }
 
 // Direct lighting of one sample with single shadow rays (deterministic: no sampling).
-static glm::vec3 shade_one(const Scene& scene, const RenderState& I, bool shadows,
-                           const GBuffer& g, size_t i, const glm::vec3& eye, uint64_t* shadow_rays) {
+static glm::vec3 shade_one(const Scene& scene, const RenderState& I, bool shadows, const GBuffer& g,
+                           size_t i, const glm::vec3& eye, uint64_t* shadow_rays) {
   SurfacePoint sp;
   glm::vec3 col;
   if (!surface(scene, I, g, i, eye, sp, col)) return col;
@@ -811,7 +818,8 @@ static void shade_block(const Scene& scene, const RenderState& I, bool shadows, 
       uint8_t st = 0;
       glm::vec3 L(0.f, 1.f, 0.f);
       float tfar = kInf;
-      if (k < n && hit[k]) st = uint8_t(light_term(l, sp[k], shadows, eps, contrib[size_t(k) * nl + li], L, tfar));
+      if (k < n && hit[k])
+        st = uint8_t(light_term(l, sp[k], shadows, eps, contrib[size_t(k) * nl + li], L, tfar));
       state[size_t(k) * nl + li] = st;
       // Inactive lanes get a harmless ray too (Debian's Embree asserts on all lanes' fields).
       const glm::vec3 o = (k < n && hit[k]) ? sp[k].O : glm::vec3(0.f);
@@ -864,7 +872,8 @@ glm::vec3 Renderer::shade_sample(const GBuffer& g, size_t i, const glm::vec3& ey
 void Renderer::shade(const GBuffer& g, const glm::dvec3& eye_d, Image& out, const uint8_t* mask,
                      Counters* c) const {
   if (!g.has(kShadingChannels))
-    throw Error("renderer", "shade() needs a G-buffer with depth, position, normal, albedo, material");
+    throw Error("renderer",
+                "shade() needs a G-buffer with depth, position, normal, albedo, material");
   if (out.width != g.width || out.height != g.height || out.channels != 3)
     out.resize(g.width, g.height, 3);
   const glm::vec3 eye(eye_d);
@@ -886,11 +895,13 @@ void Renderer::shade(const GBuffer& g, const glm::dvec3& eye_d, Image& out, cons
             idx[k++] = i;
             ++ss;
             if (k == 16) {
-              shade_block(scene_, *impl_, settings_.shadows, g, idx, k, eye, out, sr, contrib, state);
+              shade_block(scene_, *impl_, settings_.shadows, g, idx, k, eye, out, sr, contrib,
+                          state);
               k = 0;
             }
           }
-          if (k) shade_block(scene_, *impl_, settings_.shadows, g, idx, k, eye, out, sr, contrib, state);
+          if (k)
+            shade_block(scene_, *impl_, settings_.shadows, g, idx, k, eye, out, sr, contrib, state);
           shadow[b] = sr;
           shaded[b] = ss;
         }
@@ -954,7 +965,8 @@ AABB Renderer::submodel_bounds_world(size_t i) const {
   AABB b;
   if (sm.bounds.empty()) return b;
   for (int k = 0; k < 8; ++k) {
-    glm::vec3 p((k & 1) ? sm.bounds.hi.x : sm.bounds.lo.x, (k & 2) ? sm.bounds.hi.y : sm.bounds.lo.y,
+    glm::vec3 p((k & 1) ? sm.bounds.hi.x : sm.bounds.lo.x,
+                (k & 2) ? sm.bounds.hi.y : sm.bounds.lo.y,
                 (k & 4) ? sm.bounds.hi.z : sm.bounds.lo.z);
     b.extend(xform_point(xf, p));
   }
@@ -986,19 +998,26 @@ void ToneMap::apply(const Image& linear, Image& display) const {
   const float ex = float(exposure);
   const Curve cv = curve;
   const size_t n = linear.data.size();
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1 << 14), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i) {
-      float x = linear.data[i] * ex;
-      if (!(x > 0.f)) x = 0.f;  // negatives and NaN -> black
-      float y;
-      switch (cv) {
-        case Curve::Reinhard: y = std::isinf(x) ? 1.f : x / (1.f + x); break;
-        case Curve::Aces: y = std::isinf(x) ? 1.f : aces(x); break;
-        default: y = clamp01(x); break;
-      }
-      display.data[i] = srgb_oetf(y);
-    }
-  });
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1 << 14),
+                    [&](const tbb::blocked_range<size_t>& r) {
+                      for (size_t i = r.begin(); i != r.end(); ++i) {
+                        float x = linear.data[i] * ex;
+                        if (!(x > 0.f)) x = 0.f;  // negatives and NaN -> black
+                        float y;
+                        switch (cv) {
+                          case Curve::Reinhard:
+                            y = std::isinf(x) ? 1.f : x / (1.f + x);
+                            break;
+                          case Curve::Aces:
+                            y = std::isinf(x) ? 1.f : aces(x);
+                            break;
+                          default:
+                            y = clamp01(x);
+                            break;
+                        }
+                        display.data[i] = srgb_oetf(y);
+                      }
+                    });
 }
 
 }  // namespace fovsim

@@ -17,13 +17,13 @@
 namespace fovsim {
 
 struct RenderSettings {
-  bool shadows = true;      // shadow rays for lights with shadows=true
-  int tile = 32;            // tile edge in pixels for TBB
+  bool shadows = true;  // shadow rays for lights with shadows=true
+  int tile = 32;        // tile edge in pixels for TBB
   static RenderSettings from_params(Params& p);
 };
 
 struct ToneMap {
-  double exposure = 1.0;             // linear scale before the curve
+  double exposure = 1.0;  // linear scale before the curve
   enum class Curve { Reinhard, Aces, Clamp } curve = Curve::Aces;
   // Linear HDR RGB -> display-encoded sRGB in [0,1] (what metrics are computed on).
   void apply(const Image& linear, Image& display) const;

@@ -61,7 +61,9 @@ glm::vec2 oct_encode(const glm::vec3& d) {
   return e;
 }
 
-glm::vec3 oct_decode(glm::vec2 e) { return glm::normalize(oct_point(e.x, e.y)); }
+glm::vec3 oct_decode(glm::vec2 e) {
+  return glm::normalize(oct_point(e.x, e.y));
+}
 
 LightState light_state(const Light& l, double t) {
   LightState s;
@@ -172,12 +174,14 @@ AABB scene_bounds(const Renderer& r) {
   }
   for (const Object& o : s.objects) {
     glm::mat4 m = o.transform_at(r.time());
-    for (const glm::vec3& p : s.meshes[size_t(o.mesh)].positions) b.extend(glm::vec3(m * glm::vec4(p, 1.f)));
+    for (const glm::vec3& p : s.meshes[size_t(o.mesh)].positions)
+      b.extend(glm::vec3(m * glm::vec4(p, 1.f)));
   }
   return b;
 }
 
-void setup_rsm(const Scene& scene, int light_index, double t, int size, const AABB& bounds, RSM& out) {
+void setup_rsm(const Scene& scene, int light_index, double t, int size, const AABB& bounds,
+               RSM& out) {
   if (light_index < 0 || size_t(light_index) >= scene.lights.size())
     throw Error("rsm", "light index " + std::to_string(light_index) + " out of range");
   if (size < 1) throw Error("rsm", "RSM size must be >= 1, got " + std::to_string(size));
@@ -214,7 +218,8 @@ void setup_rsm(const Scene& scene, int light_index, double t, int size, const AA
           break;
         case Light::Type::Spot: {
           const float T = out.tan_outer;
-          m = texel_measure(u0 * T, v0 * T, du * T, du * T, [](float a, float b) { return glm::vec3(a, b, 1.f); });
+          m = texel_measure(u0 * T, v0 * T, du * T, du * T,
+                            [](float a, float b) { return glm::vec3(a, b, 1.f); });
           break;
         }
         case Light::Type::Directional:
@@ -227,7 +232,8 @@ void setup_rsm(const Scene& scene, int light_index, double t, int size, const AA
 
 constexpr float kTexelJitterX = 0.5f + 0.0123457f, kTexelJitterY = 0.5f - 0.0098765f;
 
-void render_rsm(const Renderer& r, int light_index, int size, const AABB& bounds, RSM& out, Counters* c) {
+void render_rsm(const Renderer& r, int light_index, int size, const AABB& bounds, RSM& out,
+                Counters* c) {
   const Scene& scene = r.scene();
   setup_rsm(scene, light_index, r.time(), size, bounds, out);
   tbb::parallel_for(0, size, [&](int y) {
@@ -247,11 +253,15 @@ void render_rsm(const Renderer& r, int light_index, int size, const AABB& bounds
       const Object& o = scene.objects[size_t(obj)];
       const Mesh& mesh = scene.meshes[size_t(o.mesh)];
       int mi = mesh.material;
-      if (prim >= 0 && size_t(prim) < mesh.tri_material.size()) mi = mesh.tri_material[size_t(prim)];
-      const Material& mat = scene.materials[size_t(std::clamp(mi, 0, int(scene.materials.size()) - 1))];
+      if (prim >= 0 && size_t(prim) < mesh.tri_material.size())
+        mi = mesh.tri_material[size_t(prim)];
+      const Material& mat =
+          scene.materials[size_t(std::clamp(mi, 0, int(scene.materials.size()) - 1))];
       if (glm::dot(n, n) > 0.f) n = glm::normalize(n);
       if (glm::dot(n, dir) > 0.f) n = -n;  // face the light
-      out.depth[i] = out.ls.type == Light::Type::Directional ? glm::dot(org + t * dir - out.origin, out.axis) : t;
+      out.depth[i] = out.ls.type == Light::Type::Directional
+                         ? glm::dot(org + t * dir - out.origin, out.axis)
+                         : t;
       out.position[i] = org + t * dir;
       out.normal[i] = n;
       if (mat.transparent) continue;  // no diffuse bounce off glass

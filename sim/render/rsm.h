@@ -5,7 +5,8 @@
 //
 // Parameterisation per light type (all texel solid angles/areas are exact integrals of the
 // mapping, so the texels of a point light sum to 4 pi):
-//  - point:       octahedral map of the whole sphere, d omega = du dv / |p|^3, p = (u, v, 1-|u|-|v|);
+//  - point:       octahedral map of the whole sphere, d omega = du dv / |p|^3, p = (u, v,
+//  1-|u|-|v|);
 //  - spot:        perspective map over the outer cone, d omega = dx dy / |p|^3, p = (x, y, 1);
 //  - directional: orthographic map over the scene bounds, texel area (extent / size)^2.
 // Light-space depth (for BLSO, seed 001 eq. 12) is the distance from the light for point and
@@ -26,8 +27,8 @@ class Renderer;
 struct LightState {
   Light::Type type = Light::Type::Point;
   glm::vec3 position{0.f};
-  glm::vec3 direction{0, -1, 0};  // unit, direction light travels
-  glm::vec3 radiance{1.f};        // colour * intensity
+  glm::vec3 direction{0, -1, 0};           // unit, direction light travels
+  glm::vec3 radiance{1.f};                 // colour * intensity
   float cos_inner = 1.f, cos_outer = 0.f;  // spot cone
   bool shadows = true;
 };
@@ -36,14 +37,14 @@ LightState light_state(const Light& l, double t);
 float spot_falloff(const LightState& l, const glm::vec3& dir);
 
 struct RSM {
-  int size = 0;        // texels per edge
-  int light = -1;      // index in Scene::lights
+  int size = 0;    // texels per edge
+  int light = -1;  // index in Scene::lights
   LightState ls;
   // Light frame: for spot/directional lights `axis` is the light direction; t1, t2 span the map.
   glm::vec3 axis{0, -1, 0}, t1{1, 0, 0}, t2{0, 0, 1};
-  glm::vec3 origin{0.f};   // directional: centre of the map plane (upstream of the scene)
-  float tan_outer = 1.f;   // spot: tangent of the outer cone half-angle
-  float half_extent = 1.f; // directional: half edge of the map in world units
+  glm::vec3 origin{0.f};    // directional: centre of the map plane (upstream of the scene)
+  float tan_outer = 1.f;    // spot: tangent of the outer cone half-angle
+  float half_extent = 1.f;  // directional: half edge of the map in world units
   // Per texel (row-major, size*size); depth = +inf where the ray missed.
   std::vector<float> depth;
   std::vector<glm::vec3> position, normal, flux;
@@ -67,7 +68,8 @@ glm::vec3 oct_decode(glm::vec2 e);  // unit direction
 
 // Sets up the map geometry of light `light_index` at time t (no rays). `bounds` = world AABB
 // of the scene (used by directional lights).
-void setup_rsm(const Scene& scene, int light_index, double t, int size, const AABB& bounds, RSM& out);
+void setup_rsm(const Scene& scene, int light_index, double t, int size, const AABB& bounds,
+               RSM& out);
 // Renders the RSM of light `light_index` at the renderer's current time. Counters:
 // rsm_texels (+= size^2), rsm_rays.
 void render_rsm(const Renderer& r, int light_index, int size, const AABB& bounds, RSM& out,

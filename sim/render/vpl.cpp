@@ -44,7 +44,8 @@ void VplSoA::push(const VPL& v, float weight) {
   fb.push_back(v.flux.z * s);
 }
 
-VplSoA make_soa(const std::vector<VPL>& vpls, const std::vector<uint32_t>& idx, const std::vector<float>& weight) {
+VplSoA make_soa(const std::vector<VPL>& vpls, const std::vector<uint32_t>& idx,
+                const std::vector<float>& weight) {
   VplSoA s;
   for (size_t k = 0; k < idx.size(); ++k) s.push(vpls[idx[k]], weight.empty() ? 1.f : weight[k]);
   return s;
@@ -56,8 +57,9 @@ VplSoA make_soa(const std::vector<VPL>& vpls) {
   return s;
 }
 
-glm::vec3 shade_vpls_point(const VplSoA& v, const glm::vec3& p, const glm::vec3& n, const glm::vec3& a,
-                           const VplShading& s, const Renderer* r, float scale, uint64_t* rays) {
+glm::vec3 shade_vpls_point(const VplSoA& v, const glm::vec3& p, const glm::vec3& n,
+                           const glm::vec3& a, const VplShading& s, const Renderer* r, float scale,
+                           uint64_t* rays) {
   const size_t m = v.size();
   if (m == 0) return glm::vec3(0.f);
   const float dmin2 = s.min_dist * s.min_dist;
@@ -116,7 +118,8 @@ glm::vec3 shade_vpls_point(const VplSoA& v, const glm::vec3& p, const glm::vec3&
       const float cx = -(n.x * dx + n.y * dy + n.z * dz) * inv;
       if (cv <= 0.f || cx <= 0.f) continue;  // no contribution: no ray needed
       ++nr;
-      const glm::vec3 ve(px[k] + nx[k] * s.ray_offset, py[k] + ny[k] * s.ray_offset, pz[k] + nz[k] * s.ray_offset);
+      const glm::vec3 ve(px[k] + nx[k] * s.ray_offset, py[k] + ny[k] * s.ray_offset,
+                         pz[k] + nz[k] * s.ray_offset);
       if (r->occluded(ve, pe)) continue;
       const float g = cv * cx / std::max(d2, dmin2);
       ar += fr[k] * g;
@@ -128,30 +131,33 @@ glm::vec3 shade_vpls_point(const VplSoA& v, const glm::vec3& p, const glm::vec3&
   return a * glm::vec3(ar, ag, ab) * scale;
 }
 
-void shade_indirect(const GBuffer& g, const VplSoA& v, const VplShading& s, Image& out, const Renderer* r,
-                    const uint8_t* mask, Counters* c) {
-  if (out.width != g.width || out.height != g.height || out.channels != 3) out.resize(g.width, g.height, 3);
+void shade_indirect(const GBuffer& g, const VplSoA& v, const VplShading& s, Image& out,
+                    const Renderer* r, const uint8_t* mask, Counters* c) {
+  if (out.width != g.width || out.height != g.height || out.channels != 3)
+    out.resize(g.width, g.height, 3);
   std::atomic<uint64_t> shaded{0}, rays{0};
   const int tile = std::max(1, s.tile);
-  tbb::parallel_for(tbb::blocked_range2d<int>(0, g.height, tile, 0, g.width, tile), [&](const tbb::blocked_range2d<int>& b) {
-    uint64_t ns = 0, nr = 0;
-    for (int y = b.rows().begin(); y < b.rows().end(); ++y)
-      for (int x = b.cols().begin(); x < b.cols().end(); ++x) {
-        const size_t i = size_t(y) * size_t(g.width) + size_t(x);
-        float* o = out.at(x, y);
-        if (!g.hit(i) || (mask && !mask[i])) {
-          o[0] = o[1] = o[2] = 0.f;
-          continue;
-        }
-        ++ns;
-        glm::vec3 L = shade_vpls_point(v, g.position[i], g.normal[i], g.albedo[i], s, r, 1.f, &nr);
-        o[0] = L.x;
-        o[1] = L.y;
-        o[2] = L.z;
-      }
-    shaded += ns;
-    rays += nr;
-  });
+  tbb::parallel_for(tbb::blocked_range2d<int>(0, g.height, tile, 0, g.width, tile),
+                    [&](const tbb::blocked_range2d<int>& b) {
+                      uint64_t ns = 0, nr = 0;
+                      for (int y = b.rows().begin(); y < b.rows().end(); ++y)
+                        for (int x = b.cols().begin(); x < b.cols().end(); ++x) {
+                          const size_t i = size_t(y) * size_t(g.width) + size_t(x);
+                          float* o = out.at(x, y);
+                          if (!g.hit(i) || (mask && !mask[i])) {
+                            o[0] = o[1] = o[2] = 0.f;
+                            continue;
+                          }
+                          ++ns;
+                          glm::vec3 L = shade_vpls_point(v, g.position[i], g.normal[i], g.albedo[i],
+                                                         s, r, 1.f, &nr);
+                          o[0] = L.x;
+                          o[1] = L.y;
+                          o[2] = L.z;
+                        }
+                      shaded += ns;
+                      rays += nr;
+                    });
   if (c) {
     c->add("shaded_samples", double(shaded.load()));
     c->add("shaded_sample_vpls", double(shaded.load()) * double(v.size()));

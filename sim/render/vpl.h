@@ -26,8 +26,8 @@ struct VPL {
   glm::vec3 position{0.f};
   glm::vec3 normal{0, 1, 0};
   glm::vec3 flux{0.f};
-  int light = -1;     // source light
-  int texel = -1;     // RSM texel index
+  int light = -1;  // source light
+  int texel = -1;  // RSM texel index
 };
 
 // Appends one VPL per RSM texel that hit a surface with non-zero flux.
@@ -46,24 +46,25 @@ VplSoA make_soa(const std::vector<VPL>& vpls, const std::vector<uint32_t>& idx,
 VplSoA make_soa(const std::vector<VPL>& vpls);
 
 struct VplShading {
-  float min_dist = 0.01f;   // world units; d is clamped to at least this (singularity guard)
-  bool visibility = false;  // exact shadow rays VPL -> receiver (Renderer::occluded)
-  float ray_offset = 1e-3f; // shadow-ray end points are pushed this far along their normals
+  float min_dist = 0.01f;    // world units; d is clamped to at least this (singularity guard)
+  bool visibility = false;   // exact shadow rays VPL -> receiver (Renderer::occluded)
+  float ray_offset = 1e-3f;  // shadow-ray end points are pushed this far along their normals
   int tile = 32;
 };
 
 // Indirect light at one receiver (position p, unit normal n facing the viewer, albedo a),
 // summed over all VPLs of v and scaled by `scale` (interleaved sampling uses one SoA per
 // group). `r` is needed only when s.visibility; `rays` (optional) counts shadow rays.
-glm::vec3 shade_vpls_point(const VplSoA& v, const glm::vec3& p, const glm::vec3& n, const glm::vec3& a,
-                           const VplShading& s, const Renderer* r = nullptr, float scale = 1.f,
-                           uint64_t* rays = nullptr);
+glm::vec3 shade_vpls_point(const VplSoA& v, const glm::vec3& p, const glm::vec3& n,
+                           const glm::vec3& a, const VplShading& s, const Renderer* r = nullptr,
+                           float scale = 1.f, uint64_t* rays = nullptr);
 
 // Indirect light of every G-buffer sample (needs kPosition|kNormal|kAlbedo) into `out`
 // (W x H x 3, linear; misses get 0). mask (optional): shade only where mask[i] != 0 (others 0).
 // Counters: shaded_samples (+= samples shaded), shaded_sample_vpls (+= samples * VPLs),
 // vpl_shadow_rays.
 void shade_indirect(const GBuffer& g, const VplSoA& v, const VplShading& s, Image& out,
-                    const Renderer* r = nullptr, const uint8_t* mask = nullptr, Counters* c = nullptr);
+                    const Renderer* r = nullptr, const uint8_t* mask = nullptr,
+                    Counters* c = nullptr);
 
 }  // namespace fovsim

@@ -70,9 +70,8 @@ void add_spin_keys(std::vector<Keyframe>& keys, double duration, double period,
 
 AtriumTess atrium_tess(int c) {
   static const AtriumTess t[kAtriumMaxComplexity] = {
-      {8, 1, 8, 1, 1, 6, 4.f},        {12, 2, 12, 2, 1, 8, 2.f},
-      {24, 4, 24, 3, 2, 12, 1.f},     {40, 8, 40, 5, 3, 16, 0.5f},
-      {72, 20, 72, 9, 5, 28, 0.35f},  {128, 48, 128, 16, 8, 48, 0.25f},
+      {8, 1, 8, 1, 1, 6, 4.f},     {12, 2, 12, 2, 1, 8, 2.f},     {24, 4, 24, 3, 2, 12, 1.f},
+      {40, 8, 40, 5, 3, 16, 0.5f}, {72, 20, 72, 9, 5, 28, 0.35f}, {128, 48, 128, 16, 8, 48, 0.25f},
   };
   c = std::clamp(c, 1, kAtriumMaxComplexity);
   return t[c - 1];
@@ -120,12 +119,12 @@ Scene make_atrium(Params& p) {
                                          {0.35f, 0.30f, 0.28f}, 8.f * ks, 90.f, 0.3f, 48.f));
   const int m_stone = add_material(s, mat("arch_stone", TexKind::Noise, {0.85f, 0.82f, 0.74f},
                                           {0.45f, 0.42f, 0.38f}, 3.f * ks, 0.f));
-  const int m_spandrel = add_material(s, mat("spandrel_grating", TexKind::Grating,
-                                             {0.82f, 0.76f, 0.64f}, {0.35f, 0.30f, 0.26f},
-                                             2.5f * ks, 60.f));
-  const int m_intrados = add_material(s, mat("intrados_checker", TexKind::Checker,
-                                             {0.80f, 0.30f, 0.22f}, {0.90f, 0.86f, 0.78f},
-                                             4.f * ks, 0.f));
+  const int m_spandrel =
+      add_material(s, mat("spandrel_grating", TexKind::Grating, {0.82f, 0.76f, 0.64f},
+                          {0.35f, 0.30f, 0.26f}, 2.5f * ks, 60.f));
+  const int m_intrados =
+      add_material(s, mat("intrados_checker", TexKind::Checker, {0.80f, 0.30f, 0.22f},
+                          {0.90f, 0.86f, 0.78f}, 4.f * ks, 0.f));
   const int m_slab = add_material(s, mat("cornice_stripes", TexKind::Stripes, {0.88f, 0.86f, 0.80f},
                                          {0.40f, 0.36f, 0.32f}, 6.f * ks, -30.f));
   const int m_ceil = add_material(s, mat("ceiling_coffers", TexKind::Checker, {0.70f, 0.66f, 0.58f},
@@ -134,14 +133,14 @@ Scene make_atrium(Params& p) {
                                         {0.60f, 0.62f, 0.66f}, 8.f * ks, 30.f, 0.5f, 96.f));
   const int m_ped = add_material(s, mat("pedestal_radial", TexKind::Radial, {0.90f, 0.88f, 0.80f},
                                         {0.15f, 0.14f, 0.20f}, 6.f * ks, 0.f));
-  const int m_sculpt = add_material(s, mat("sculpture_bronze", TexKind::Checker,
-                                           {0.75f, 0.50f, 0.20f}, {0.20f, 0.12f, 0.05f},
-                                           3.f * ks, 30.f, 0.6f, 128.f));
+  const int m_sculpt =
+      add_material(s, mat("sculpture_bronze", TexKind::Checker, {0.75f, 0.50f, 0.20f},
+                          {0.20f, 0.12f, 0.05f}, 3.f * ks, 30.f, 0.6f, 128.f));
 
   // Hall extents (metres). The viewer stands near z = 2 looking down -z.
   const float X = 9.f, Z0 = -24.f, Z1 = 3.f, H = 11.f;
   const float kGap = 1e-3f;  // 1 mm between touching parts (no coplanar overlaps)
-  const float xa = 5.f;  // arcade column line at x = +-xa
+  const float xa = 5.f;      // arcade column line at x = +-xa
   const float bay = 3.f, z_first = 1.5f;
   const int bays = 8;
   auto cells = [&](float len) { return std::max(1, int(std::ceil(len / ts.grid_cell))); };
@@ -149,7 +148,8 @@ Scene make_atrium(Params& p) {
   {  // floor, walls, ceiling with a skylight
     Mesh m;
     MeshBuilder b(m);
-    b.grid({-X, 0, Z1}, {2 * X, 0, 0}, {0, 0, Z0 - Z1}, cells(2 * X), cells(Z1 - Z0), m_floor, true);
+    b.grid({-X, 0, Z1}, {2 * X, 0, 0}, {0, 0, Z0 - Z1}, cells(2 * X), cells(Z1 - Z0), m_floor,
+           true);
     add_object(s, std::move(m), "floor");
   }
   {
@@ -211,8 +211,8 @@ Scene make_atrium(Params& p) {
         cb.box(base + glm::vec3(-pl, S.col_h - 0.25f, -pl), base + glm::vec3(pl, S.col_h, pl),
                m_stone);
       }
-      add_object(s, std::move(cols), std::string(side ? "right" : "left") + "_columns_" +
-                                         std::to_string(st));
+      add_object(s, std::move(cols),
+                 std::string(side ? "right" : "left") + "_columns_" + std::to_string(st));
       Mesh arches;
       MeshBuilder ab(arches);
       const float r = 0.5f * bay - S.col_r;
@@ -226,18 +226,19 @@ Scene make_atrium(Params& p) {
       // kGap short of the walls and the ceiling (no coplanar faces; see the ceiling above).
       float lo = std::min(xin, sgn * (X - kGap)), hi = std::max(xin, sgn * (X - kGap));
       float slab_top = st ? H - kGap : S.y_top + 0.3f;
-      ab.box({lo, S.y_top, Z0 + kGap}, {hi, slab_top, Z1 - kGap}, m_slab, std::max(ts.grid_cell, 0.5f));
-      add_object(s, std::move(arches), std::string(side ? "right" : "left") + "_arcade_" +
-                                           std::to_string(st));
+      ab.box({lo, S.y_top, Z0 + kGap}, {hi, slab_top, Z1 - kGap}, m_slab,
+             std::max(ts.grid_cell, 0.5f));
+      add_object(s, std::move(arches),
+                 std::string(side ? "right" : "left") + "_arcade_" + std::to_string(st));
     }
     // Balustrade along the gallery edge, between the upper columns.
     Mesh bal;
     MeshBuilder bb(bal);
     const float yb = storeys[1].y0;
-    std::vector<glm::vec2> prof = {{0.055f, 0.f},   {0.055f, 0.06f}, {0.04f, 0.08f},
-                                   {0.035f, 0.2f},  {0.06f, 0.32f},  {0.075f, 0.42f},
-                                   {0.06f, 0.52f},  {0.035f, 0.62f}, {0.03f, 0.68f},
-                                   {0.05f, 0.72f},  {0.055f, 0.78f}, {0.055f, 0.8f}};
+    std::vector<glm::vec2> prof = {{0.055f, 0.f},  {0.055f, 0.06f}, {0.04f, 0.08f},
+                                   {0.035f, 0.2f}, {0.06f, 0.32f},  {0.075f, 0.42f},
+                                   {0.06f, 0.52f}, {0.035f, 0.62f}, {0.03f, 0.68f},
+                                   {0.05f, 0.72f}, {0.055f, 0.78f}, {0.055f, 0.8f}};
     for (int k = 0; k < bays; ++k) {
       float z1 = z_first - bay * float(k) - storeys[1].col_r - 0.15f;
       float z0 = z_first - bay * float(k + 1) + storeys[1].col_r + 0.15f;
@@ -354,11 +355,16 @@ Scene make_patterns(Params& p) {
   Scene s;
   s.name = "patterns";
   TexKind k = TexKind::Stripes;
-  if (pattern == "checker") k = TexKind::Checker;
-  else if (pattern == "grating") k = TexKind::Grating;
-  else if (pattern == "bricks") k = TexKind::Bricks;
-  else if (pattern == "noise") k = TexKind::Noise;
-  else if (pattern == "radial") k = TexKind::Radial;
+  if (pattern == "checker")
+    k = TexKind::Checker;
+  else if (pattern == "grating")
+    k = TexKind::Grating;
+  else if (pattern == "bricks")
+    k = TexKind::Bricks;
+  else if (pattern == "noise")
+    k = TexKind::Noise;
+  else if (pattern == "radial")
+    k = TexKind::Radial;
   float c = float(contrast);
   glm::vec3 hi(0.5f + 0.45f * c), lo(0.5f - 0.45f * c);
   Material m = mat("pattern_" + pattern, k, hi, lo, float(freq), float(angle), 0.f, 1.f);
@@ -395,9 +401,12 @@ Scene make_cornell(Params& p) {
 
   Scene s;
   s.name = "cornell";
-  const int m_white = add_material(s, mat("white", TexKind::Constant, glm::vec3(0.73f), {}, 1, 0, 0.02f));
-  const int m_red = add_material(s, mat("red", TexKind::Constant, {0.63f, 0.065f, 0.05f}, {}, 1, 0, 0.02f));
-  const int m_green = add_material(s, mat("green", TexKind::Constant, {0.14f, 0.45f, 0.09f}, {}, 1, 0, 0.02f));
+  const int m_white =
+      add_material(s, mat("white", TexKind::Constant, glm::vec3(0.73f), {}, 1, 0, 0.02f));
+  const int m_red =
+      add_material(s, mat("red", TexKind::Constant, {0.63f, 0.065f, 0.05f}, {}, 1, 0, 0.02f));
+  const int m_green =
+      add_material(s, mat("green", TexKind::Constant, {0.14f, 0.45f, 0.09f}, {}, 1, 0, 0.02f));
   int m_box = m_white;
   if (textured)
     m_box = add_material(s, mat("box_checker", TexKind::Checker, glm::vec3(0.75f), glm::vec3(0.2f),
@@ -411,9 +420,9 @@ Scene make_cornell(Params& p) {
   {
     Mesh m;
     MeshBuilder b(m);
-    b.grid({-1, 0, 0}, {2, 0, 0}, {0, 0, -2}, n(2), n(2), m_white, true);   // floor
-    b.grid({-1, 2, -2}, {2, 0, 0}, {0, 0, 2}, n(2), n(2), m_white, true);   // ceiling
-    b.grid({-1, 0, -2}, {2, 0, 0}, {0, 2, 0}, n(2), n(2), m_white);         // back
+    b.grid({-1, 0, 0}, {2, 0, 0}, {0, 0, -2}, n(2), n(2), m_white, true);  // floor
+    b.grid({-1, 2, -2}, {2, 0, 0}, {0, 0, 2}, n(2), n(2), m_white, true);  // ceiling
+    b.grid({-1, 0, -2}, {2, 0, 0}, {0, 2, 0}, n(2), n(2), m_white);        // back
     add_object(s, std::move(m), "white_walls");
   }
   {
@@ -465,10 +474,14 @@ Scene make_cornell(Params& p) {
 Scene make_scene(Params& p, const std::string& models_dir) {
   const std::string type = p.string("type", {"atrium", "patterns", "cornell", "file"});
   Scene s;
-  if (type == "atrium") s = make_atrium(p);
-  else if (type == "patterns") s = make_patterns(p);
-  else if (type == "cornell") s = make_cornell(p);
-  else s = load_file_scene(p, models_dir);
+  if (type == "atrium")
+    s = make_atrium(p);
+  else if (type == "patterns")
+    s = make_patterns(p);
+  else if (type == "cornell")
+    s = make_cornell(p);
+  else
+    s = load_file_scene(p, models_dir);
   s.build_submodels(500);
   return s;
 }

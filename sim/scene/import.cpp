@@ -2,11 +2,10 @@
 // (through OpenImageIO, linearised from sRGB), normals and uvs.
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
-
-#include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <assimp/Importer.hpp>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -130,7 +129,8 @@ struct Loader {
         m.shininess = std::min(shin, 512.f);
       }
       float opacity = 1.f;
-      if (am->Get(AI_MATKEY_OPACITY, opacity) == AI_SUCCESS && opacity < 0.999f) m.transparent = true;
+      if (am->Get(AI_MATKEY_OPACITY, opacity) == AI_SUCCESS && opacity < 0.999f)
+        m.transparent = true;
       aiString tex;
       if (am->GetTexture(aiTextureType_BASE_COLOR, 0, &tex) == AI_SUCCESS ||
           am->GetTexture(aiTextureType_DIFFUSE, 0, &tex) == AI_SUCCESS) {
@@ -210,7 +210,8 @@ Scene load_file_scene(Params& p, const std::string& models_dir) {
   const double exposure = p.number("exposure", 1.0, Range::above(0, 1e6));
   p.ignore("comment");
   if (tr.size() != 3) p.fail("translate", "expected 3 numbers [x, y, z]");
-  if (rot.size() != 3) p.fail("rotate_deg", "expected 3 numbers [x, y, z] (degrees, applied x, y, z)");
+  if (rot.size() != 3)
+    p.fail("rotate_deg", "expected 3 numbers [x, y, z] (degrees, applied x, y, z)");
   if (!eye.empty() && eye.size() != 3) p.fail("default_eye", "expected 3 numbers [x, y, z]");
 
   // Relative paths: next to the config file first, then under models/scenes/.
@@ -220,8 +221,7 @@ Scene load_file_scene(Params& p, const std::string& models_dir) {
     fs::path a = base / rel, b = fs::path(models_dir) / "scenes" / rel;
     path = fs::exists(a) ? a : (fs::exists(b) ? b : a);
   }
-  if (!fs::exists(path))
-    throw Error(p.where("path"), "scene file not found: " + path.string());
+  if (!fs::exists(path)) throw Error(p.where("path"), "scene file not found: " + path.string());
 
   Assimp::Importer imp;
   const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
@@ -270,8 +270,10 @@ Scene load_file_scene(Params& p, const std::string& models_dir) {
       for (const aiNode* k = n; k; k = k->mParent) acc = to_glm(k->mTransformation) * acc;
       xf = root * acc;
     }
-    glm::vec3 pos = glm::vec3(xf * glm::vec4(al->mPosition.x, al->mPosition.y, al->mPosition.z, 1.f));
-    glm::vec3 dir = glm::vec3(xf * glm::vec4(al->mDirection.x, al->mDirection.y, al->mDirection.z, 0.f));
+    glm::vec3 pos =
+        glm::vec3(xf * glm::vec4(al->mPosition.x, al->mPosition.y, al->mPosition.z, 1.f));
+    glm::vec3 dir =
+        glm::vec3(xf * glm::vec4(al->mDirection.x, al->mDirection.y, al->mDirection.z, 0.f));
     if (glm::length(dir) < 1e-6f) dir = {0, -1, 0};
     glm::vec3 col(al->mColorDiffuse.r, al->mColorDiffuse.g, al->mColorDiffuse.b);
     float mx = std::max(col.x, std::max(col.y, col.z));

@@ -49,12 +49,12 @@ void MeshBuilder::box(const glm::vec3& lo, const glm::vec3& hi, int mat, float c
   auto cells = [&](float len) { return std::max(1, int(std::ceil(len / cell - 1e-4f))); };
   glm::vec3 X(e.x, 0, 0), Y(0, e.y, 0), Z(0, 0, e.z);
   // cross(du, dv) points outward for each face.
-  grid(lo, Z, Y, cells(e.z), cells(e.y), mat);                      // -x
-  grid(lo + X, Y, Z, cells(e.y), cells(e.z), mat);                  // +x
-  grid(lo, X, Z, cells(e.x), cells(e.z), mat);                      // -y
-  grid(lo + Y, Z, X, cells(e.z), cells(e.x), mat);                  // +y
-  grid(lo, Y, X, cells(e.y), cells(e.x), mat);                      // -z
-  grid(lo + Z, X, Y, cells(e.x), cells(e.y), mat);                  // +z
+  grid(lo, Z, Y, cells(e.z), cells(e.y), mat);      // -x
+  grid(lo + X, Y, Z, cells(e.y), cells(e.z), mat);  // +x
+  grid(lo, X, Z, cells(e.x), cells(e.z), mat);      // -y
+  grid(lo + Y, Z, X, cells(e.z), cells(e.x), mat);  // +y
+  grid(lo, Y, X, cells(e.y), cells(e.x), mat);      // -z
+  grid(lo + Z, X, Y, cells(e.x), cells(e.y), mat);  // +z
 }
 
 void MeshBuilder::cylinder(const glm::vec3& base, float radius, float height, int facets, int segs,
@@ -75,7 +75,10 @@ void MeshBuilder::cylinder(const glm::vec3& base, float radius, float height, in
       }
       for (int i = 0; i < facets; ++i) {
         uint32_t a = first + uint32_t(i), b = first + uint32_t((i + 1) % facets);
-        if (top) tri(ci, b, a, mat); else tri(ci, a, b, mat);
+        if (top)
+          tri(ci, b, a, mat);
+        else
+          tri(ci, a, b, mat);
       }
     }
   }
@@ -89,7 +92,8 @@ void MeshBuilder::lathe(const glm::vec3& base, const std::vector<glm::vec2>& pro
   std::vector<float> vlen(size_t(np), 0.f);
   float rmean = 0.f;
   for (int j = 0; j < np; ++j) {
-    if (j) vlen[size_t(j)] = vlen[size_t(j - 1)] + glm::length(prof[size_t(j)] - prof[size_t(j - 1)]);
+    if (j)
+      vlen[size_t(j)] = vlen[size_t(j - 1)] + glm::length(prof[size_t(j)] - prof[size_t(j - 1)]);
     rmean += prof[size_t(j)].x / float(np);
   }
   const uint32_t first = uint32_t(m_.positions.size());
@@ -99,7 +103,8 @@ void MeshBuilder::lathe(const glm::vec3& base, const std::vector<glm::vec2>& pro
     for (int i = 0; i <= facets; ++i) {
       float a = float(2.0 * kPi) * float(i) / float(facets);
       float c = std::cos(a), s = std::sin(a);
-      glm::vec3 p = base + glm::vec3(c * prof[size_t(j)].x, prof[size_t(j)].y, s * prof[size_t(j)].x);
+      glm::vec3 p =
+          base + glm::vec3(c * prof[size_t(j)].x, prof[size_t(j)].y, s * prof[size_t(j)].x);
       glm::vec3 n = glm::normalize(glm::vec3(c * n2.x, n2.y, s * n2.x));
       vert(p, n, {a * rmean, vlen[size_t(j)]});
     }
@@ -143,8 +148,9 @@ void MeshBuilder::arch_bay(float x0, float depth, float z0, float z1, float y_sp
   th.push_back(tc);
   th.push_back(float(kPi) - tc);
   std::sort(th.begin(), th.end(), [](float a, float b) { return a > b; });
-  th.erase(std::unique(th.begin(), th.end(), [](float a, float b) { return std::abs(a - b) < 1e-6f; }),
-           th.end());
+  th.erase(
+      std::unique(th.begin(), th.end(), [](float a, float b) { return std::abs(a - b) < 1e-6f; }),
+      th.end());
   auto outer = [&](float a) {
     float c = std::cos(a), s = std::sin(a);
     float t = 1e30f;

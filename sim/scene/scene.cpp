@@ -2,9 +2,8 @@
 #include "sim/scene/scene.h"
 
 #include <algorithm>
-#include <numeric>
-
 #include <glm/gtc/matrix_transform.hpp>
+#include <numeric>
 
 namespace fovsim {
 
@@ -28,8 +27,8 @@ glm::mat4 Object::transform_at(double t) const {
   glm::vec3 tr = glm::mix(a->translation, b->translation, w);
   glm::quat q = glm::slerp(a->rotation, b->rotation, w);
   glm::vec3 s = glm::mix(a->scale, b->scale, w);
-  glm::mat4 m = glm::translate(glm::mat4(1.f), tr) * glm::mat4_cast(q) *
-                glm::scale(glm::mat4(1.f), s);
+  glm::mat4 m =
+      glm::translate(glm::mat4(1.f), tr) * glm::mat4_cast(q) * glm::scale(glm::mat4(1.f), s);
   // Keys animate relative to the static transform (which places the object's pivot).
   return transform * m;
 }
@@ -151,11 +150,15 @@ void Scene::build_submodels(uint32_t max_faces) {
 
 namespace {
 
-inline float fractf(float x) { return x - std::floor(x); }
+inline float fractf(float x) {
+  return x - std::floor(x);
+}
 
 // {cos, sin} of the grating's per-orientation phase 0.7 * o.
-constexpr float kGratingPhase[4][2] = {
-    {1.f, 0.f}, {0.76484219f, 0.64421769f}, {0.16996714f, 0.98544973f}, {-0.50484610f, 0.86320937f}};
+constexpr float kGratingPhase[4][2] = {{1.f, 0.f},
+                                       {0.76484219f, 0.64421769f},
+                                       {0.16996714f, 0.98544973f},
+                                       {-0.50484610f, 0.86320937f}};
 
 inline uint32_t hash2(int32_t x, int32_t y) {
   uint32_t h = uint32_t(x) * 0x8da6b343u ^ uint32_t(y) * 0xd8163841u;
@@ -176,7 +179,6 @@ inline float value_noise(glm::vec2 p) {
   float c = float(hash2(ix, iy + 1)) * k, d = float(hash2(ix + 1, iy + 1)) * k;
   return (a + (b - a) * tx) * (1.f - ty) + (c + (d - c) * tx) * ty;
 }
-
 
 glm::vec3 sample_image(const TextureImage& img, glm::vec2 uv) {
   if (img.width <= 0 || img.height <= 0 || img.texels.empty()) return glm::vec3(1.f);
@@ -201,7 +203,8 @@ glm::vec3 eval_albedo(const Scene& scene, const Material& m, glm::vec2 uv) {
 glm::vec3 eval_albedo(const Scene& scene, const Material& m, glm::vec2 uv, float ca, float sa) {
   auto rot = [ca, sa](glm::vec2 p) { return glm::vec2(ca * p.x - sa * p.y, sa * p.x + ca * p.y); };
   switch (m.tex) {
-    case TexKind::Constant: return m.base_color;
+    case TexKind::Constant:
+      return m.base_color;
     case TexKind::Checker: {
       glm::vec2 p = rot(uv) * m.scale;
       int32_t c = int32_t(std::floor(p.x)) + int32_t(std::floor(p.y));
@@ -271,11 +274,16 @@ glm::vec3 eval_albedo(const Scene& scene, const Material& m, glm::vec2 uv, float
 namespace fovsim {
 
 Json SceneFeatures::to_json() const {
-  return Json{{"shadows", shadows},         {"dynamic_objects", dynamic_objects},
-              {"moving_lights", moving_lights}, {"transparency", transparency},
-              {"indirect", indirect},       {"textures", textures},
-              {"triangles", triangles},     {"submodels", submodels},
-              {"lights", lights},           {"shadowed_lights", shadowed_lights}};
+  return Json{{"shadows", shadows},
+              {"dynamic_objects", dynamic_objects},
+              {"moving_lights", moving_lights},
+              {"transparency", transparency},
+              {"indirect", indirect},
+              {"textures", textures},
+              {"triangles", triangles},
+              {"submodels", submodels},
+              {"lights", lights},
+              {"shadowed_lights", shadowed_lights}};
 }
 
 SceneFeatures SceneFeatures::from_json(const Json& j) {

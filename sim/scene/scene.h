@@ -12,14 +12,14 @@ namespace fovsim {
 
 // Procedural textures: detail at several orientations and frequencies, where foveation error lives.
 enum class TexKind : uint8_t {
-  Constant,   // base_color
-  Checker,    // two colours, `scale` cells per uv unit, rotated by `angle`
-  Stripes,    // square-wave stripes, frequency `scale`, orientation `angle`
-  Grating,    // sum of sinusoids at 3 octaves from `scale`, 4 orientations starting at `angle`
-  Bricks,     // brick pattern with mortar lines
-  Noise,      // value-noise fBm (deterministic hash)
-  Radial,     // RMFR rotating-patterns (seed 003 §6.1): spokes + rings, rotated by `angle`
-  Image       // texture loaded from a file (assimp import), `image` index into Scene::images
+  Constant,  // base_color
+  Checker,   // two colours, `scale` cells per uv unit, rotated by `angle`
+  Stripes,   // square-wave stripes, frequency `scale`, orientation `angle`
+  Grating,   // sum of sinusoids at 3 octaves from `scale`, 4 orientations starting at `angle`
+  Bricks,    // brick pattern with mortar lines
+  Noise,     // value-noise fBm (deterministic hash)
+  Radial,    // RMFR rotating-patterns (seed 003 §6.1): spokes + rings, rotated by `angle`
+  Image      // texture loaded from a file (assimp import), `image` index into Scene::images
 };
 
 struct Material {
@@ -27,10 +27,10 @@ struct Material {
   glm::vec3 base_color{0.7f};
   glm::vec3 color2{0.1f};
   TexKind tex = TexKind::Constant;
-  float scale = 8.f;   // texture frequency (cycles per uv unit)
-  float angle = 0.f;   // radians
-  float specular = 0.04f;   // Blinn-Phong ks
-  float shininess = 32.f;   // Blinn-Phong exponent
+  float scale = 8.f;       // texture frequency (cycles per uv unit)
+  float angle = 0.f;       // radians
+  float specular = 0.04f;  // Blinn-Phong ks
+  float shininess = 32.f;  // Blinn-Phong exponent
   glm::vec3 emission{0.f};
   bool transparent = false;
   int image = -1;
@@ -47,7 +47,7 @@ struct Mesh {
   std::vector<glm::vec3> normals;    // per vertex, may be empty (then faceted)
   std::vector<glm::vec2> uvs;        // per vertex, may be empty
   std::vector<glm::uvec3> triangles;
-  std::vector<int> tri_material;     // per triangle material index (empty -> `material`)
+  std::vector<int> tri_material;  // per triangle material index (empty -> `material`)
   int material = 0;
 };
 
@@ -61,8 +61,8 @@ struct Keyframe {
 struct Object {  // an instance of a mesh
   std::string name;
   int mesh = 0;
-  glm::mat4 transform{1.f};     // static transform (world-from-object)
-  std::vector<Keyframe> keys;   // non-empty -> dynamic; interpolated (lerp/slerp), clamped at ends
+  glm::mat4 transform{1.f};    // static transform (world-from-object)
+  std::vector<Keyframe> keys;  // non-empty -> dynamic; interpolated (lerp/slerp), clamped at ends
   bool dynamic() const { return !keys.empty(); }
   glm::mat4 transform_at(double t) const;
 };
@@ -70,7 +70,7 @@ struct Object {  // an instance of a mesh
 struct SubModel {  // <= ~500 faces of one object, for culling (seed 002 §6.1)
   int object = 0;
   uint32_t first_tri = 0, tri_count = 0;  // range in the mesh's triangle list (after reordering)
-  AABB bounds;                             // object space
+  AABB bounds;                            // object space
 };
 
 struct Light {
@@ -78,10 +78,10 @@ struct Light {
   glm::vec3 position{0.f};
   glm::vec3 direction{0, -1, 0};  // for directional and spot: direction light travels
   glm::vec3 color{1.f};
-  float intensity = 1.f;          // W/sr-like scale (point/spot), irradiance (directional)
+  float intensity = 1.f;  // W/sr-like scale (point/spot), irradiance (directional)
   float spot_inner_deg = 20.f, spot_outer_deg = 30.f;
   bool shadows = true;
-  std::vector<Keyframe> keys;     // non-empty -> moving light
+  std::vector<Keyframe> keys;  // non-empty -> moving light
   bool moving() const { return !keys.empty(); }
 };
 
@@ -107,7 +107,7 @@ struct Scene {
   glm::vec3 ambient{0.03f};
   glm::vec3 background{0.02f, 0.02f, 0.03f};
   bool wants_indirect = false;
-  double exposure = 1.0;   // suggested tone-mapping exposure
+  double exposure = 1.0;  // suggested tone-mapping exposure
   // Suggested default viewpoint for traces without head positions (e.g. synthetic fixate).
   glm::vec3 default_eye{0, 1.6f, 0};
 

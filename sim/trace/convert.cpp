@@ -12,12 +12,14 @@ glm::dquat AxisMap::rot(const glm::dmat3& R) const {
 static glm::dvec3 signed_axis(const Json& v, const std::string& where) {
   std::string s = v.is_string() ? v.get<std::string>() : "";
   if (s.size() == 1) s = "+" + s;
-  if (s.size() == 2 && (s[0] == '+' || s[0] == '-') && (s[1] == 'x' || s[1] == 'y' || s[1] == 'z')) {
+  if (s.size() == 2 && (s[0] == '+' || s[0] == '-') &&
+      (s[1] == 'x' || s[1] == 'y' || s[1] == 'z')) {
     glm::dvec3 a(0.0);
     a[s[1] - 'x'] = s[0] == '-' ? -1.0 : 1.0;
     return a;
   }
-  throw Error(where, "expected a signed source axis such as \"+x\" or \"-z\", got " + describe_json(v));
+  throw Error(where,
+              "expected a signed source axis such as \"+x\" or \"-z\", got " + describe_json(v));
 }
 
 AxisMap axis_map_from(const Json& j, const std::string& where) {
@@ -38,17 +40,20 @@ AxisMap axis_map_from(const Json& j, const std::string& where) {
       a.M = M;
       return a;
     }
-    throw Error(where, "unknown coordinate convention \"" + n + "\" (allowed: fovsim, opengl, unity, unreal, or an "
-                       "object {\"x\": \"+x\", \"y\": \"+y\", \"z\": \"-z\"})");
+    throw Error(where, "unknown coordinate convention \"" + n +
+                           "\" (allowed: fovsim, opengl, unity, unreal, or an "
+                           "object {\"x\": \"+x\", \"y\": \"+y\", \"z\": \"-z\"})");
   }
-  if (!j.is_object()) throw Error(where, "expected a convention name or an axis object, got " + describe_json(j));
+  if (!j.is_object())
+    throw Error(where, "expected a convention name or an axis object, got " + describe_json(j));
   for (auto it = j.begin(); it != j.end(); ++it)
     if (it.key() != "x" && it.key() != "y" && it.key() != "z")
       throw Error(where + "." + it.key(), "unknown key (expected x, y, z)");
   glm::dmat3 M(0.0);
   for (int r = 0; r < 3; ++r) {
     std::string k(1, char('x' + r));
-    if (!j.contains(k)) throw Error(where + "." + k, "missing: which signed source axis is fovsim " + k + "?");
+    if (!j.contains(k))
+      throw Error(where + "." + k, "missing: which signed source axis is fovsim " + k + "?");
     glm::dvec3 s = signed_axis(j[k], where + "." + k);
     for (int c = 0; c < 3; ++c) M[c][r] = s[c];  // row r of M = source axis
   }
@@ -62,9 +67,12 @@ static glm::dmat3 axis_rot(char axis, double a) {
   double c = std::cos(a), s = std::sin(a);
   // glm matrices are column-major: m[col][row].
   switch (axis) {
-    case 'X': return glm::dmat3(1, 0, 0, 0, c, s, 0, -s, c);
-    case 'Y': return glm::dmat3(c, 0, -s, 0, 1, 0, s, 0, c);
-    default: return glm::dmat3(c, s, 0, -s, c, 0, 0, 0, 1);
+    case 'X':
+      return glm::dmat3(1, 0, 0, 0, c, s, 0, -s, c);
+    case 'Y':
+      return glm::dmat3(c, 0, -s, 0, 1, 0, s, 0, c);
+    default:
+      return glm::dmat3(c, s, 0, -s, c, 0, 0, 0, 1);
   }
 }
 

@@ -15,8 +15,8 @@ void IssueLog::add(const std::string& action, const std::string& kind, const std
 std::vector<std::string> IssueLog::lines(const std::string& policy_name) const {
   std::vector<std::string> out;
   for (auto& g : groups_)
-    out.push_back(std::to_string(g.count) + (g.count == 1 ? " sample " : " samples ") + g.action + " (" + g.kind +
-                  ", " + policy_name + "); first: " + g.first);
+    out.push_back(std::to_string(g.count) + (g.count == 1 ? " sample " : " samples ") + g.action +
+                  " (" + g.kind + ", " + policy_name + "); first: " + g.first);
   return out;
 }
 

@@ -34,7 +34,8 @@ double resampled_count(const Trace& trace, double hz, double t_end) {
 }
 
 Trace resample(const Trace& trace, double hz, double t_end) {
-  if (!(hz > 0) || !std::isfinite(hz)) throw Error("resample", "rate must be > 0 Hz, got " + std::to_string(hz));
+  if (!(hz > 0) || !std::isfinite(hz))
+    throw Error("resample", "rate must be > 0 Hz, got " + std::to_string(hz));
   Trace out;
   out.source = trace.source;
   out.warnings = trace.warnings;

@@ -30,8 +30,8 @@ struct TraceStats {
   std::vector<std::string> warnings;
 };
 
-constexpr double kPlausibleSpeedP99 = 700;   // deg/s
-constexpr double kPlausibleEccP95 = 35;      // deg
+constexpr double kPlausibleSpeedP99 = 700;  // deg/s
+constexpr double kPlausibleEccP95 = 35;     // deg
 
 TraceStats trace_stats(const Trace& tr);
 // Multi-line human-readable summary.

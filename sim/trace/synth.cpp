@@ -26,8 +26,8 @@
 namespace fovsim {
 
 const std::vector<std::string>& synth_scenarios() {
-  static const std::vector<std::string> s = {"fixate", "free-viewing", "reading", "pursuit", "walk-through",
-                                             "head-sweep"};
+  static const std::vector<std::string> s = {"fixate",  "free-viewing", "reading",
+                                             "pursuit", "walk-through", "head-sweep"};
   return s;
 }
 
@@ -41,15 +41,20 @@ dvec3 dir_from(double az_deg, double el_deg) {
   double a = deg2rad(az_deg), e = deg2rad(el_deg);
   return {-std::sin(a) * std::cos(e), std::sin(e), -std::cos(a) * std::cos(e)};
 }
-double az_of(const dvec3& w) { return rad2deg(std::atan2(-w.x, -w.z)); }
-double el_of(const dvec3& w) { return rad2deg(std::asin(std::clamp(w.y, -1.0, 1.0))); }
+double az_of(const dvec3& w) {
+  return rad2deg(std::atan2(-w.x, -w.z));
+}
+double el_of(const dvec3& w) {
+  return rad2deg(std::asin(std::clamp(w.y, -1.0, 1.0)));
+}
 double wrap180(double a) {
   a = std::fmod(a + 180.0, 360.0);
   if (a < 0) a += 360.0;
   return a - 180.0;
 }
 dquat head_quat(double yaw, double pitch, double roll) {
-  return glm::angleAxis(deg2rad(yaw), dvec3(0, 1, 0)) * glm::angleAxis(deg2rad(pitch), dvec3(1, 0, 0)) *
+  return glm::angleAxis(deg2rad(yaw), dvec3(0, 1, 0)) *
+         glm::angleAxis(deg2rad(pitch), dvec3(1, 0, 0)) *
          glm::angleAxis(deg2rad(roll), dvec3(0, 0, 1));
 }
 double min_jerk(double u) {
@@ -140,7 +145,8 @@ class Simulator {
     lim_h_ = std::min(m.eye_range_deg, d.fov_h_deg / 2 - m.fov_margin_deg);
     lim_v_ = std::min(m.eye_range_deg, d.fov_v_deg / 2 - m.fov_margin_deg);
     if (lim_h_ < 1 || lim_v_ < 1)
-      throw Error("synthetic trace", "display FOV " + std::to_string(d.fov_h_deg) + "x" + std::to_string(d.fov_v_deg) +
+      throw Error("synthetic trace", "display FOV " + std::to_string(d.fov_h_deg) + "x" +
+                                         std::to_string(d.fov_v_deg) +
                                          " deg minus fov_margin_deg leaves no room for gaze");
     const auto& sc = synth_scenarios();
     if (std::find(sc.begin(), sc.end(), o.scenario) == sc.end())
@@ -191,9 +197,10 @@ class Simulator {
       s.valid = !(t_ >= blink_t0_ && t_ < blink_t1_);
       tr.samples.push_back(s);
       if (dbg) {
-        dbg->phase.push_back(state_ == Sac ? SynthDebug::Saccade
-                                           : (scen_ == "pursuit" && pursuing_ ? SynthDebug::Pursuit
-                                                                              : SynthDebug::Fixation));
+        dbg->phase.push_back(
+            state_ == Sac
+                ? SynthDebug::Saccade
+                : (scen_ == "pursuit" && pursuing_ ? SynthDebug::Pursuit : SynthDebug::Fixation));
         dbg->gaze_world.push_back(G_);
         dbg->target_world.push_back(scen_ == "pursuit" ? T_ : fix_target_);
         dbg->blink.push_back(s.valid ? 0 : 1);
@@ -263,11 +270,13 @@ class Simulator {
   bool eye_ok(const dvec3& w, double extra = 0) const {
     dvec3 e = glm::conjugate(H_) * w;
     if (!(e.z < 0)) return false;
-    double h = rad2deg(std::atan2(std::fabs(e.x), -e.z)), v = rad2deg(std::atan2(std::fabs(e.y), -e.z));
+    double h = rad2deg(std::atan2(std::fabs(e.x), -e.z)),
+           v = rad2deg(std::atan2(std::fabs(e.y), -e.z));
     double ecc = rad2deg(angle_between(e, dvec3(0, 0, -1)));
     return h <= lim_h_ + extra && v <= lim_v_ + extra && ecc <= m_.eye_range_deg + extra;
   }
-  bool in_fov(const dvec3& w) const {  // display FOV only (transient limit during head-assisted shifts)
+  bool in_fov(
+      const dvec3& w) const {  // display FOV only (transient limit during head-assisted shifts)
     dvec3 e = glm::conjugate(H_) * w;
     if (!(e.z < 0)) return false;
     return rad2deg(std::atan2(std::fabs(e.x), -e.z)) <= d_.fov_h_deg / 2 - m_.fov_margin_deg &&
@@ -279,13 +288,17 @@ class Simulator {
     state_ = Fix;
     fix_target_ = G_;
     fix_H_ = H_;
-    double dur = dur_s >= 0 ? dur_s : gamma_sample(rng_, fix_mean_, fix_sd_, m_.fix_min_ms, m_.fix_max_ms) * 1e-3;
+    double dur = dur_s >= 0
+                     ? dur_s
+                     : gamma_sample(rng_, fix_mean_, fix_sd_, m_.fix_min_ms, m_.fix_max_ms) * 1e-3;
     fix_end_ = t_ + dur;
     // Blink during this fixation with probability 1 - exp(-rate * duration) (Poisson).
     if (blink_rate_ > 0 && t_ >= blink_t1_) {
       double p = 1 - std::exp(-blink_rate_ / 60.0 * dur);
       if (rng_.uniform() < p) {
-        double bd = gamma_sample(rng_, m_.blink_mean_ms, 0.3 * m_.blink_mean_ms, m_.blink_min_ms, m_.blink_max_ms) * 1e-3;
+        double bd = gamma_sample(rng_, m_.blink_mean_ms, 0.3 * m_.blink_mean_ms, m_.blink_min_ms,
+                                 m_.blink_max_ms) *
+                    1e-3;
         blink_t0_ = t_ + rng_.uniform() * dur;
         blink_t1_ = blink_t0_ + bd;
       }
@@ -373,7 +386,8 @@ class Simulator {
       G_ = glm::normalize(r * G_);
     }
     double err = rad2deg(angle_between(G_, T_));
-    if (err > m_.pursuit_catchup_deg && t_ - last_sac_end_ > 0.1) start_saccade(predict_target(err));
+    if (err > m_.pursuit_catchup_deg && t_ - last_sac_end_ > 0.1)
+      start_saccade(predict_target(err));
   }
   // Catch-up saccade lands where the target will be at the saccade's end.
   dvec3 predict_target(double amp) {
@@ -395,7 +409,8 @@ class Simulator {
   }
   dvec3 fixate_target() {
     for (int tries = 0; tries < 50; ++tries) {
-      double A = std::max(0.05, -m_.fixate.microsaccade_mean_deg * std::log(std::max(rng_.uniform(), 1e-12)));
+      double A = std::max(
+          0.05, -m_.fixate.microsaccade_mean_deg * std::log(std::max(rng_.uniform(), 1e-12)));
       dvec3 c = rotate_towards(G_, A, rng_.uniform(0, 360));
       if (rad2deg(angle_between(c, center_)) <= m_.fixate.radius_deg && eye_ok(c)) return c;
     }
@@ -430,8 +445,9 @@ class Simulator {
       dvec3 c = rotate_towards(G_, A, phi);
       double az_rel = wrap180(az_of(c) - yb0), el_rel = el_of(c) - (pb0 + elev);
       if (std::fabs(az_rel) > roi_h / 2 || std::fabs(el_rel) > roi_v / 2) continue;
-      bool ok = eye_ok(c) || (head_assist_ && in_fov(c) &&
-                              rad2deg(angle_between(H_ * dvec3(0, 0, -1), c)) > m_.head_eye_only_range_deg);
+      bool ok = eye_ok(c) ||
+                (head_assist_ && in_fov(c) &&
+                 rad2deg(angle_between(H_ * dvec3(0, 0, -1), c)) > m_.head_eye_only_range_deg);
       if (!ok) continue;
       return c;
     }
@@ -449,7 +465,8 @@ class Simulator {
       read_line_ = (read_line_ + 1) % int(r.lines);
       read_x_ = left + r.return_undershoot_deg * rng_.uniform();
     } else if (rng_.uniform() < r.regression_prob) {
-      read_x_ = std::max(left, read_x_ - std::max(0.3, 0.6 * r.saccade_mean_deg + 0.3 * r.saccade_sd_deg * rng_.normal()));
+      read_x_ = std::max(left, read_x_ - std::max(0.3, 0.6 * r.saccade_mean_deg +
+                                                           0.3 * r.saccade_sd_deg * rng_.normal()));
     } else {
       read_x_ += std::max(0.3, r.saccade_mean_deg + r.saccade_sd_deg * rng_.normal());
       read_x_ = std::min(read_x_, right);
@@ -557,7 +574,8 @@ Trace synthesize(const EyeModel& m, const SynthOptions& o, const Display& d) {
     if (m.noise_deg > 0) {
       glm::dvec3 right = glm::normalize(glm::cross(v, glm::dvec3(0, 1, 0)));
       glm::dvec3 up = glm::cross(right, v);
-      v = glm::normalize(v + std::tan(deg2rad(m.noise_deg * nx)) * right + std::tan(deg2rad(m.noise_deg * ny)) * up);
+      v = glm::normalize(v + std::tan(deg2rad(m.noise_deg * nx)) * right +
+                         std::tan(deg2rad(m.noise_deg * ny)) * up);
     }
     if (!gaze_inside_fov(d, v)) {
       double u = 0.5, w = 0.5;

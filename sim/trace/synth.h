@@ -19,13 +19,14 @@ struct EyeModel {
   // Saccades: main sequence D = intercept + slope*A; Vpeak = vmax (1 - exp(-A/c)).
   double sac_intercept_ms = 21, sac_slope_ms_per_deg = 2.2, sac_vmax_deg_s = 600, sac_c_deg = 10;
   // Free-viewing amplitude: gamma(mean, sd) clipped to [min, max]; horizontal bias in [0,1].
-  double amp_mean_deg = 8, amp_sd_deg = 6, amp_min_deg = 0.5, amp_max_deg = 40, horizontal_bias = 0.5;
+  double amp_mean_deg = 8, amp_sd_deg = 6, amp_min_deg = 0.5, amp_max_deg = 40,
+         horizontal_bias = 0.5;
   // Eye-in-head limits: beyond `eye_range_deg` a quick phase / head movement recentres the eye;
   // gaze is kept `fov_margin_deg` inside the display's FOV.
   double eye_range_deg = 35, fov_margin_deg = 2;
   // Head-assisted gaze shifts: beyond eye_only_range the head contributes slope*(A - range).
-  double head_eye_only_range_deg = 20, head_slope = 0.7, head_latency_ms = 20, head_dur_base_ms = 150,
-         head_dur_slope_ms_per_deg = 5;
+  double head_eye_only_range_deg = 20, head_slope = 0.7, head_latency_ms = 20,
+         head_dur_base_ms = 150, head_dur_slope_ms_per_deg = 5;
   double vor_gain = 1.0;
   // Smooth pursuit.
   double pursuit_gain = 0.9, pursuit_catchup_deg = 1.5, pursuit_latency_ms = 130;
@@ -42,15 +43,17 @@ struct EyeModel {
     double roi_h_deg = 60, roi_v_deg = 25, elevation_deg = -5;
   } free_viewing;
   struct Reading {
-    double line_width_deg = 30, line_spacing_deg = 1.5, lines = 10, saccade_mean_deg = 2.0, saccade_sd_deg = 0.6,
-           regression_prob = 0.1, fix_mean_ms = 225, fix_sd_ms = 80, blink_rate_per_min = 5, return_undershoot_deg = 1.5;
+    double line_width_deg = 30, line_spacing_deg = 1.5, lines = 10, saccade_mean_deg = 2.0,
+           saccade_sd_deg = 0.6, regression_prob = 0.1, fix_mean_ms = 225, fix_sd_ms = 80,
+           blink_rate_per_min = 5, return_undershoot_deg = 1.5;
   } reading;
   struct Pursuit {
     double speed_min_deg_s = 5, speed_max_deg_s = 20, range_h_deg = 20, range_v_deg = 10;
   } pursuit;
   struct Walk {
-    double speed_m_s = 1.3, eye_height_m = 1.6, step_hz = 1.9, bob_m = 0.02, sway_m = 0.015, yaw_amp_deg = 25,
-           yaw_hz = 0.08, pitch_amp_deg = 5, pitch_hz = 0.13, roi_h_deg = 60, roi_v_deg = 25, elevation_deg = -8;
+    double speed_m_s = 1.3, eye_height_m = 1.6, step_hz = 1.9, bob_m = 0.02, sway_m = 0.015,
+           yaw_amp_deg = 25, yaw_hz = 0.08, pitch_amp_deg = 5, pitch_hz = 0.13, roi_h_deg = 60,
+           roi_v_deg = 25, elevation_deg = -8;
   } walk;
   struct Sweep {
     double amplitude_deg = 45, peak_speed_deg_s = 150, pause_s = 0.8;
@@ -79,14 +82,15 @@ struct SynthDebug {
 };
 
 // Noise-free, latency-free trace at the internal rate (1 kHz by default).
-Trace synth_internal(const EyeModel& m, const SynthOptions& o, const Display& d, SynthDebug* dbg = nullptr);
+Trace synth_internal(const EyeModel& m, const SynthOptions& o, const Display& d,
+                     SynthDebug* dbg = nullptr);
 // The trace a tracker would report: internal trace resampled to o.rate_hz, then latency,
 // Gaussian noise and blink hold applied; gaze clamped into the display FOV.
 Trace synthesize(const EyeModel& m, const SynthOptions& o, const Display& d);
 
 // Eye model = built-in defaults overridden by `overrides` (an object, or a string naming a
 // JSON file relative to base_dir). Errors name the file / JSON path of the offending key.
-EyeModel load_eye_model(const Json& overrides, const std::string& where_file, const std::string& where_path,
-                        const std::string& base_dir);
+EyeModel load_eye_model(const Json& overrides, const std::string& where_file,
+                        const std::string& where_path, const std::string& base_dir);
 
 }  // namespace fovsim

@@ -51,12 +51,14 @@ std::vector<Field> fields(EyeModel& m) {
       {"blink", "max_ms", &m.blink_max_ms, Range::above(0, 5000)},
       {"tracker", "noise_deg", &m.noise_deg, deg(10)},
       {"scenarios/fixate", "radius_deg", &m.fixate.radius_deg, Range::above(0, 20)},
-      {"scenarios/fixate", "microsaccade_mean_deg", &m.fixate.microsaccade_mean_deg, Range::above(0, 5)},
+      {"scenarios/fixate", "microsaccade_mean_deg", &m.fixate.microsaccade_mean_deg,
+       Range::above(0, 5)},
       {"scenarios/fixate", "head_sway_deg", &m.fixate.head_sway_deg, deg(30)},
       {"scenarios/fixate", "head_sway_hz", &m.fixate.head_sway_hz, Range::closed(0, 10)},
       {"scenarios/free-viewing", "roi_h_deg", &m.free_viewing.roi_h_deg, Range::above(0, 360)},
       {"scenarios/free-viewing", "roi_v_deg", &m.free_viewing.roi_v_deg, Range::above(0, 180)},
-      {"scenarios/free-viewing", "elevation_deg", &m.free_viewing.elevation_deg, Range::closed(-45, 45)},
+      {"scenarios/free-viewing", "elevation_deg", &m.free_viewing.elevation_deg,
+       Range::closed(-45, 45)},
       {"scenarios/reading", "line_width_deg", &m.reading.line_width_deg, Range::above(0, 80)},
       {"scenarios/reading", "line_spacing_deg", &m.reading.line_spacing_deg, Range::above(0, 10)},
       {"scenarios/reading", "lines", &m.reading.lines, Range::closed(1, 60)},
@@ -65,7 +67,8 @@ std::vector<Field> fields(EyeModel& m) {
       {"scenarios/reading", "regression_prob", &m.reading.regression_prob, unit},
       {"scenarios/reading", "fixation_mean_ms", &m.reading.fix_mean_ms, Range::closed(20, 10000)},
       {"scenarios/reading", "fixation_sd_ms", &m.reading.fix_sd_ms, Range::above(0, 10000)},
-      {"scenarios/reading", "blink_rate_per_min", &m.reading.blink_rate_per_min, Range::closed(0, 120)},
+      {"scenarios/reading", "blink_rate_per_min", &m.reading.blink_rate_per_min,
+       Range::closed(0, 120)},
       {"scenarios/reading", "return_undershoot_deg", &m.reading.return_undershoot_deg, deg(20)},
       {"scenarios/pursuit", "speed_min_deg_s", &m.pursuit.speed_min_deg_s, Range::above(0, 200)},
       {"scenarios/pursuit", "speed_max_deg_s", &m.pursuit.speed_max_deg_s, Range::above(0, 200)},
@@ -84,7 +87,8 @@ std::vector<Field> fields(EyeModel& m) {
       {"scenarios/walk-through", "roi_v_deg", &m.walk.roi_v_deg, Range::above(0, 180)},
       {"scenarios/walk-through", "elevation_deg", &m.walk.elevation_deg, Range::closed(-45, 45)},
       {"scenarios/head-sweep", "amplitude_deg", &m.sweep.amplitude_deg, Range::above(0, 90)},
-      {"scenarios/head-sweep", "peak_speed_deg_s", &m.sweep.peak_speed_deg_s, Range::above(0, 1000)},
+      {"scenarios/head-sweep", "peak_speed_deg_s", &m.sweep.peak_speed_deg_s,
+       Range::above(0, 1000)},
       {"scenarios/head-sweep", "pause_s", &m.sweep.pause_s, Range::closed(0, 10)},
   };
   (void)pos;
@@ -114,14 +118,16 @@ EyeModel EyeModel::from_params(Params& p) {
   }
   Params tr = p.child("tracker");
   m.latency_samples = tr.integer("latency_samples", m.latency_samples, Range::closed(0, 1000));
-  auto check = [&](bool ok, const std::string& sec, const std::string& key, const std::string& msg) {
+  auto check = [&](bool ok, const std::string& sec, const std::string& key,
+                   const std::string& msg) {
     if (!ok) p.fail(sec + "." + key, msg);
   };
   check(m.fix_min_ms <= m.fix_max_ms, "fixation", "min_ms", "must not exceed fixation.max_ms");
-  check(m.amp_min_deg <= m.amp_max_deg, "saccade", "amplitude_min_deg", "must not exceed amplitude_max_deg");
+  check(m.amp_min_deg <= m.amp_max_deg, "saccade", "amplitude_min_deg",
+        "must not exceed amplitude_max_deg");
   check(m.blink_min_ms <= m.blink_max_ms, "blink", "min_ms", "must not exceed blink.max_ms");
-  check(m.pursuit.speed_min_deg_s <= m.pursuit.speed_max_deg_s, "scenarios.pursuit", "speed_min_deg_s",
-        "must not exceed speed_max_deg_s");
+  check(m.pursuit.speed_min_deg_s <= m.pursuit.speed_max_deg_s, "scenarios.pursuit",
+        "speed_min_deg_s", "must not exceed speed_max_deg_s");
   return m;
 }
 
@@ -129,16 +135,17 @@ Json EyeModel::to_json() const {
   EyeModel m = *this;
   Json j = Json::object();
   for (auto& f : fields(m)) {
-    Json::json_pointer ptr(std::string(f.section).empty() ? "/" + std::string(f.key)
-                                                            : "/" + std::string(f.section) + "/" + f.key);
+    Json::json_pointer ptr(std::string(f.section).empty()
+                               ? "/" + std::string(f.key)
+                               : "/" + std::string(f.section) + "/" + f.key);
     j[ptr] = *f.v;
   }
   j["tracker"]["latency_samples"] = latency_samples;
   return j;
 }
 
-EyeModel load_eye_model(const Json& overrides, const std::string& where_file, const std::string& where_path,
-                        const std::string& base_dir) {
+EyeModel load_eye_model(const Json& overrides, const std::string& where_file,
+                        const std::string& where_path, const std::string& base_dir) {
   Json doc = EyeModel().to_json();
   std::string file = where_file, path = where_path;
   Json patch;
@@ -154,8 +161,9 @@ EyeModel load_eye_model(const Json& overrides, const std::string& where_file, co
   } else if (overrides.is_object()) {
     patch = overrides;
   } else {
-    throw Error(where_file.empty() ? where_path : where_file + ": " + where_path,
-                "expected a JSON object of overrides or a file name, got " + describe_json(overrides));
+    throw Error(
+        where_file.empty() ? where_path : where_file + ": " + where_path,
+        "expected a JSON object of overrides or a file name, got " + describe_json(overrides));
   }
   if (!patch.is_object()) throw Error(file, "expected a JSON object, got " + describe_json(patch));
   doc.merge_patch(patch);

@@ -11,11 +11,11 @@
 namespace fovsim {
 
 struct TraceSample {
-  double t = 0;                         // seconds, strictly increasing
-  glm::dvec3 head_pos{0.0};             // metres, world
-  glm::dquat head_rot{1, 0, 0, 0};      // world-from-head, unit
-  glm::dvec3 gaze_dir{0, 0, -1};        // unit, head space (-Z forward)
-  bool valid = true;                    // false during blinks / tracking loss
+  double t = 0;                     // seconds, strictly increasing
+  glm::dvec3 head_pos{0.0};         // metres, world
+  glm::dquat head_rot{1, 0, 0, 0};  // world-from-head, unit
+  glm::dvec3 gaze_dir{0, 0, -1};    // unit, head space (-Z forward)
+  bool valid = true;                // false during blinks / tracking loss
 };
 
 struct Trace {
@@ -39,7 +39,8 @@ struct TraceReadOptions {
 // point (columns gaze_u, gaze_v) is converted with `display`. Rows with valid=0 may carry no
 // (or any) gaze: the last valid gaze is used. Problems handled by skip/hold are listed in
 // Trace::warnings (traces/README.md).
-Trace read_trace_csv(const std::string& path, const Display& display, const TraceReadOptions& opt = {});
+Trace read_trace_csv(const std::string& path, const Display& display,
+                     const TraceReadOptions& opt = {});
 void write_trace_csv(const std::string& path, const Trace& trace);
 
 // Resamples to `hz` from the first sample: lerp positions, slerp orientations, normalized lerp of

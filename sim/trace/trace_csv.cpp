@@ -20,7 +20,8 @@ bool gaze_inside_fov(const Display& display, const glm::dvec3& dir) {
 
 namespace {
 
-const char* kCols[] = {"t", "px", "py", "pz", "qw", "qx", "qy", "qz", "gx", "gy", "gz", "gaze_u", "gaze_v", "valid"};
+const char* kCols[] = {"t",  "px", "py", "pz", "qw",     "qx",     "qy",
+                       "qz", "gx", "gy", "gz", "gaze_u", "gaze_v", "valid"};
 enum Col { T, PX, PY, PZ, QW, QX, QY, QZ, GX, GY, GZ, GU, GV, VALID, NCOL };
 
 // Which part of a sample a problem touches: a time/row problem cannot be held.
@@ -33,15 +34,17 @@ struct Problem {
 };
 
 const char* policy_name(BadSamplePolicy p) {
-  return p == BadSamplePolicy::Fail ? "on_bad_sample=fail" : p == BadSamplePolicy::Skip ? "on_bad_sample=skip"
-                                                                                         : "on_bad_sample=hold";
+  return p == BadSamplePolicy::Fail   ? "on_bad_sample=fail"
+         : p == BadSamplePolicy::Skip ? "on_bad_sample=skip"
+                                      : "on_bad_sample=hold";
 }
 
 }  // namespace
 
 Trace read_trace_csv(const std::string& path, const Display& display, const TraceReadOptions& opt) {
   std::vector<CsvRow> rows = read_csv_rows(path, ',', '#');
-  if (rows.empty()) throw Error(path, "empty trace file: expected a header row (see traces/README.md)");
+  if (rows.empty())
+    throw Error(path, "empty trace file: expected a header row (see traces/README.md)");
   const CsvRow& head = rows[0];
   int idx[NCOL];
   for (int& i : idx) i = -1;
@@ -52,23 +55,28 @@ Trace read_trace_csv(const std::string& path, const Display& display, const Trac
       if (name == kCols[k]) c = k;
     auto loc = file_location(path, head.line, head.fields[f].col);
     if (c < 0)
-      throw Error(loc, "unknown column \"" + printable(name) +
-                           "\" (canonical columns: t,px,py,pz,qw,qx,qy,qz, gx,gy,gz or gaze_u,gaze_v, optional "
-                           "valid; see traces/README.md)");
+      throw Error(
+          loc,
+          "unknown column \"" + printable(name) +
+              "\" (canonical columns: t,px,py,pz,qw,qx,qy,qz, gx,gy,gz or gaze_u,gaze_v, optional "
+              "valid; see traces/README.md)");
     if (idx[c] >= 0) throw Error(loc, "duplicate column \"" + printable(name) + "\"");
     idx[c] = int(f);
   }
   auto header_loc = file_location(path, head.line);
   for (int k = T; k <= QZ; ++k)
-    if (idx[k] < 0) throw Error(header_loc, std::string("missing column \"") + kCols[k] + "\" in the header");
+    if (idx[k] < 0)
+      throw Error(header_loc, std::string("missing column \"") + kCols[k] + "\" in the header");
   bool dir_gaze = idx[GX] >= 0 || idx[GY] >= 0 || idx[GZ] >= 0;
   bool scr_gaze = idx[GU] >= 0 || idx[GV] >= 0;
   if (dir_gaze && scr_gaze)
     throw Error(header_loc, "gaze given both as gx,gy,gz and as gaze_u,gaze_v: keep exactly one");
   if (!dir_gaze && !scr_gaze)
-    throw Error(header_loc, "missing gaze columns: give gx,gy,gz (head-space direction) or gaze_u,gaze_v");
+    throw Error(header_loc,
+                "missing gaze columns: give gx,gy,gz (head-space direction) or gaze_u,gaze_v");
   for (int k : dir_gaze ? std::vector<int>{GX, GY, GZ} : std::vector<int>{GU, GV})
-    if (idx[k] < 0) throw Error(header_loc, std::string("missing column \"") + kCols[k] + "\" in the header");
+    if (idx[k] < 0)
+      throw Error(header_loc, std::string("missing column \"") + kCols[k] + "\" in the header");
 
   Trace tr;
   tr.source = path;
@@ -84,9 +92,9 @@ Trace read_trace_csv(const std::string& path, const Display& display, const Trac
     const CsvRow& row = rows[r];
     if (row.fields.size() != ncols) {
       int col = row.fields.size() > ncols ? row.fields[ncols].col : row.fields.back().col;
-      throw Error(file_location(path, row.line, col),
-                  "expected " + std::to_string(ncols) + " fields as in the header, got " +
-                      std::to_string(row.fields.size()));
+      throw Error(file_location(path, row.line, col), "expected " + std::to_string(ncols) +
+                                                          " fields as in the header, got " +
+                                                          std::to_string(row.fields.size()));
     }
     std::vector<Problem> probs;
     double v[NCOL] = {};
@@ -96,7 +104,8 @@ Trace read_trace_csv(const std::string& path, const Display& display, const Trac
       if (idx[k] >= 0) ok[k] = parse_number(row.fields[idx[k]].text, v[k], why[k]);
     auto col_of = [&](int k) { return row.fields[idx[k]].col; };
     auto bad_number = [&](int k, Part part) {
-      probs.push_back({part, col_of(k), why[k].rfind("empty", 0) == 0 ? "empty field" : "bad number",
+      probs.push_back({part, col_of(k),
+                       why[k].rfind("empty", 0) == 0 ? "empty field" : "bad number",
                        std::string("column \"") + kCols[k] + "\": " + why[k]});
     };
     TraceSample s;
@@ -105,8 +114,9 @@ Trace read_trace_csv(const std::string& path, const Display& display, const Trac
       bad_number(T, Part::Row);
     } else if (!(v[T] > last_t)) {
       probs.push_back({Part::Row, col_of(T), "non-monotonic time",
-                       "time not strictly increasing: t=" + printable(row.fields[idx[T]].text) + " after t=" +
-                           std::to_string(last_t) + " (line " + std::to_string(last_t_line) + ")"});
+                       "time not strictly increasing: t=" + printable(row.fields[idx[T]].text) +
+                           " after t=" + std::to_string(last_t) + " (line " +
+                           std::to_string(last_t_line) + ")"});
     }
     s.t = v[T];
     // Validity flag.
@@ -133,7 +143,8 @@ Trace read_trace_csv(const std::string& path, const Display& display, const Trac
       double n = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
       if (std::fabs(n - 1.0) > opt.quat_tolerance) {
         char buf[160];
-        std::snprintf(buf, sizeof buf, "quaternion (qw,qx,qy,qz) has norm %.6g, not unit within %.3g", n,
+        std::snprintf(buf, sizeof buf,
+                      "quaternion (qw,qx,qy,qz) has norm %.6g, not unit within %.3g", n,
                       opt.quat_tolerance);
         probs.push_back({Part::Pose, col_of(QW), "non-unit quaternion", buf});
       } else {
@@ -147,7 +158,8 @@ Trace read_trace_csv(const std::string& path, const Display& display, const Trac
     if (dir_gaze) {
       for (int k : {GX, GY, GZ})
         if (!ok[k]) {
-          gprobs.push_back({Part::Gaze, col_of(k), why[k] == "empty field" ? "empty field" : "bad number",
+          gprobs.push_back({Part::Gaze, col_of(k),
+                            why[k] == "empty field" ? "empty field" : "bad number",
                             std::string("column \"") + kCols[k] + "\": " + why[k]});
           gaze_ok = false;
         }
@@ -156,7 +168,8 @@ Trace read_trace_csv(const std::string& path, const Display& display, const Trac
         double n = glm::length(g);
         if (std::fabs(n - 1.0) > opt.quat_tolerance) {
           char buf[160];
-          std::snprintf(buf, sizeof buf, "gaze direction (gx,gy,gz) has length %.6g, not unit within %.3g", n,
+          std::snprintf(buf, sizeof buf,
+                        "gaze direction (gx,gy,gz) has length %.6g, not unit within %.3g", n,
                         opt.quat_tolerance);
           gprobs.push_back({Part::Gaze, col_of(GX), "non-unit gaze", buf});
           gaze_ok = false;
@@ -167,14 +180,16 @@ Trace read_trace_csv(const std::string& path, const Display& display, const Trac
     } else {
       for (int k : {GU, GV})
         if (!ok[k]) {
-          gprobs.push_back({Part::Gaze, col_of(k), why[k] == "empty field" ? "empty field" : "bad number",
+          gprobs.push_back({Part::Gaze, col_of(k),
+                            why[k] == "empty field" ? "empty field" : "bad number",
                             std::string("column \"") + kCols[k] + "\": " + why[k]});
           gaze_ok = false;
         }
       if (gaze_ok) {
         if (v[GU] < 0 || v[GU] > 1 || v[GV] < 0 || v[GV] > 1) {
           char buf[160];
-          std::snprintf(buf, sizeof buf, "gaze outside the display FOV: screen point (%.4g, %.4g) not in [0,1]^2",
+          std::snprintf(buf, sizeof buf,
+                        "gaze outside the display FOV: screen point (%.4g, %.4g) not in [0,1]^2",
                         v[GU], v[GV]);
           gprobs.push_back({Part::Gaze, col_of(GU), "gaze outside the display FOV", buf});
           gaze_ok = false;
@@ -189,11 +204,14 @@ Trace read_trace_csv(const std::string& path, const Display& display, const Trac
       char buf[200];
       if (front)
         std::snprintf(buf, sizeof buf,
-                      "gaze outside the display FOV (%s %.1fx%.1f deg): screen point (%.3f, %.3f) not in [0,1]^2",
+                      "gaze outside the display FOV (%s %.1fx%.1f deg): screen point (%.3f, %.3f) "
+                      "not in [0,1]^2",
                       display.name.c_str(), display.fov_h_deg, display.fov_v_deg, u, w);
       else
-        std::snprintf(buf, sizeof buf, "gaze outside the display FOV: direction points behind the eye (gz >= 0)");
-      gprobs.push_back({Part::Gaze, col_of(dir_gaze ? GX : GU), "gaze outside the display FOV", buf});
+        std::snprintf(buf, sizeof buf,
+                      "gaze outside the display FOV: direction points behind the eye (gz >= 0)");
+      gprobs.push_back(
+          {Part::Gaze, col_of(dir_gaze ? GX : GU), "gaze outside the display FOV", buf});
       gaze_ok = false;
     }
     if (s.valid) {
@@ -207,11 +225,13 @@ Trace read_trace_csv(const std::string& path, const Display& display, const Trac
       const Problem& p = probs.front();
       std::string where = file_location(path, row.line, p.col);
       if (opt.on_bad == BadSamplePolicy::Fail)
-        throw Error(where, p.msg + " (set the trace's on_bad_sample to skip or hold to continue past it)");
+        throw Error(where,
+                    p.msg + " (set the trace's on_bad_sample to skip or hold to continue past it)");
       bool can_hold = opt.on_bad == BadSamplePolicy::Hold && have_last;
       for (auto& q : probs) can_hold = can_hold && q.part != Part::Row;
       if (!can_hold) {
-        log.add(opt.on_bad == BadSamplePolicy::Hold ? "skipped (cannot hold)" : "skipped", p.kind, where, p.msg);
+        log.add(opt.on_bad == BadSamplePolicy::Hold ? "skipped (cannot hold)" : "skipped", p.kind,
+                where, p.msg);
         continue;
       }
       for (auto& q : probs) {
@@ -241,9 +261,10 @@ void write_trace_csv(const std::string& path, const Trace& trace) {
   std::string out = "t,px,py,pz,qw,qx,qy,qz,gx,gy,gz,valid\n";
   char buf[512];
   for (const TraceSample& s : trace.samples) {
-    std::snprintf(buf, sizeof buf, "%.9f,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d\n", s.t + 0.0, s.head_pos.x + 0.0,
-                  s.head_pos.y + 0.0, s.head_pos.z + 0.0, s.head_rot.w + 0.0, s.head_rot.x + 0.0, s.head_rot.y + 0.0,
-                  s.head_rot.z + 0.0, s.gaze_dir.x + 0.0, s.gaze_dir.y + 0.0, s.gaze_dir.z + 0.0, s.valid ? 1 : 0);
+    std::snprintf(buf, sizeof buf, "%.9f,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d\n",
+                  s.t + 0.0, s.head_pos.x + 0.0, s.head_pos.y + 0.0, s.head_pos.z + 0.0,
+                  s.head_rot.w + 0.0, s.head_rot.x + 0.0, s.head_rot.y + 0.0, s.head_rot.z + 0.0,
+                  s.gaze_dir.x + 0.0, s.gaze_dir.y + 0.0, s.gaze_dir.z + 0.0, s.valid ? 1 : 0);
     out += buf;
   }
   write_file_atomic(path, out);

@@ -31,10 +31,13 @@ inline CmdResult run_cmd(const std::string& cmd) {
   return r;
 }
 
-inline std::string fovsim_bin() { return FOVSIM_BINARY; }
+inline std::string fovsim_bin() {
+  return FOVSIM_BINARY;
+}
 
 inline std::string temp_dir(const std::string& name) {
-  auto d = std::filesystem::temp_directory_path() / ("fovsim_test_" + name + "_" + std::to_string(::getpid()));
+  auto d = std::filesystem::temp_directory_path() /
+           ("fovsim_test_" + name + "_" + std::to_string(::getpid()));
   std::filesystem::remove_all(d);
   std::filesystem::create_directories(d);
   return d.string();
@@ -68,11 +71,13 @@ inline std::vector<std::string> split_csv_line(const std::string& line) {
   std::string cur;
   bool q = false;
   for (char c : line) {
-    if (c == '"') q = !q;
+    if (c == '"')
+      q = !q;
     else if (c == ',' && !q) {
       out.push_back(cur);
       cur.clear();
-    } else cur += c;
+    } else
+      cur += c;
   }
   out.push_back(cur);
   return out;

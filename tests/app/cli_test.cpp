@@ -17,7 +17,8 @@ std::string base_config(const std::string& dir) {
   "display": "htc_vive_pro_eye",
   "render": {"scale": 0.05},
   "scene": {"type": "atrium", "complexity": 1},
-  "trace": {"file": ")" + std::string(FOVSIM_SOURCE_DIR) + R"(/tests/golden/golden_trace.csv"},
+  "trace": {"file": ")" +
+         std::string(FOVSIM_SOURCE_DIR) + R"(/tests/golden/golden_trace.csv"},
   "frames": {"count": 2},
   "methods": [{"method": "full"}],
   "outputs": {"print_summary": false}
@@ -29,7 +30,8 @@ struct Case {
   std::vector<std::string> overrides = {};
 };
 
-CmdResult run_config(const std::string& dir, const std::string& cfg, const std::vector<std::string>& ov = {}) {
+CmdResult run_config(const std::string& dir, const std::string& cfg,
+                     const std::vector<std::string>& ov = {}) {
   write_text(dir + "/c.json", cfg);
   std::string cmd = fovsim_bin() + " run " + dir + "/c.json --out " + dir + "/out";
   for (auto& o : ov) cmd += " '" + o + "'";
@@ -64,15 +66,24 @@ TEST(Cli, BadInputIsOneLineExit2) {
     return s.replace(p, from.size(), to);
   };
   std::vector<Case> cases = {
-      {"malformed", replace("\"frames\": {\"count\": 2},", "\"frames\": {\"count\": 2,,"), "c.json:7:25: malformed JSON"},
-      {"unknown key", replace("\"render\": {\"scale\": 0.05}", "\"render\": {\"scale\": 0.05, \"scael\": 1}"),
+      {"malformed", replace("\"frames\": {\"count\": 2},", "\"frames\": {\"count\": 2,,"),
+       "c.json:7:25: malformed JSON"},
+      {"unknown key",
+       replace("\"render\": {\"scale\": 0.05}", "\"render\": {\"scale\": 0.05, \"scael\": 1}"),
        "render.scael: unknown key"},
-      {"wrong type", replace("{\"count\": 2}", "{\"count\": \"two\"}"), "frames.count: expected an integer"},
-      {"out of range", replace("\"scale\": 0.05", "\"scale\": -1"), "render.scale: value -1 is out of range"},
-      {"unknown method", replace("\"method\": \"full\"", "\"method\": \"fool\""), "unknown method \"fool\""},
-      {"missing scene file", replace("{\"type\": \"atrium\", \"complexity\": 1}", "{\"type\": \"file\", \"path\": \"/nonexistent/x.gltf\"}"),
+      {"wrong type", replace("{\"count\": 2}", "{\"count\": \"two\"}"),
+       "frames.count: expected an integer"},
+      {"out of range", replace("\"scale\": 0.05", "\"scale\": -1"),
+       "render.scale: value -1 is out of range"},
+      {"unknown method", replace("\"method\": \"full\"", "\"method\": \"fool\""),
+       "unknown method \"fool\""},
+      {"missing scene file",
+       replace("{\"type\": \"atrium\", \"complexity\": 1}",
+               "{\"type\": \"file\", \"path\": \"/nonexistent/x.gltf\"}"),
        "/nonexistent/x.gltf"},
-      {"unreadable trace", replace("/tests/golden/golden_trace.csv", "/tests/golden/no_such_trace.csv"), "no_such_trace.csv"},
+      {"unreadable trace",
+       replace("/tests/golden/golden_trace.csv", "/tests/golden/no_such_trace.csv"),
+       "no_such_trace.csv"},
       {"override type", good, "methods[0].label"},
   };
   cases.back().overrides = {"methods[0].label=3"};
@@ -94,7 +105,8 @@ TEST(Cli, TooShortTraceIsReported) {
   auto r = run_config(dir, base_config(dir), {"frames.count=500"});
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.output.find("frames.count: trace is too short"), std::string::npos) << r.output;
-  auto ok = run_config(dir, base_config(dir), {"frames.count=500", "frames.on_short_trace=\"truncate\""});
+  auto ok =
+      run_config(dir, base_config(dir), {"frames.count=500", "frames.on_short_trace=\"truncate\""});
   EXPECT_EQ(ok.code, 0) << ok.output;
 }
 
@@ -102,17 +114,18 @@ TEST(Cli, RunWritesCompleteOutputs) {
   std::string dir = temp_dir("outputs");
   auto r = run_config(dir, base_config(dir), {"outputs.image_frames=[0]"});
   ASSERT_EQ(r.code, 0) << r.output;
-  for (const char* f : {"manifest.json", "frames.csv", "summary.csv", "summary.json", "images/frame_0/reference.png",
-                        "images/frame_0/full.png", "images/frame_0/full_error.png"})
+  for (const char* f :
+       {"manifest.json", "frames.csv", "summary.csv", "summary.json",
+        "images/frame_0/reference.png", "images/frame_0/full.png", "images/frame_0/full_error.png"})
     EXPECT_TRUE(std::filesystem::exists(dir + "/out/" + f)) << f;
   std::string man = read_text(dir + "/out/manifest.json");
   EXPECT_NE(man.find("\"status\": \"complete\""), std::string::npos);
   EXPECT_NE(man.find("\"git_commit\""), std::string::npos);
   EXPECT_NE(man.find("\"resolved_config\""), std::string::npos);
   Csv c = read_csv(dir + "/out/frames.csv");
-  for (const char* col : {"config_id", "method", "frame", "t", "gaze_x", "gaze_y", "shaded_samples", "shaded_fraction",
-                          "prims_submitted", "prims_culled", "est_ms_total", "psnr", "ssim", "fpsnr", "rmse_fovea",
-                          "rmse_periphery", "sim_ms"})
+  for (const char* col : {"config_id", "method", "frame", "t", "gaze_x", "gaze_y", "shaded_samples",
+                          "shaded_fraction", "prims_submitted", "prims_culled", "est_ms_total",
+                          "psnr", "ssim", "fpsnr", "rmse_fovea", "rmse_periphery", "sim_ms"})
     EXPECT_GE(c.col(col), 0) << col;
   ASSERT_EQ(c.rows.size(), 2u);
   // The full method is the reference: shaded fraction 1, SSIM 1.

@@ -15,7 +15,8 @@ std::string generated_section(const std::string& rel) {
   const std::string s = ss.str();
   auto b = s.find(fovsim::kMethodDocsBegin);
   auto e = s.find(fovsim::kMethodDocsEnd);
-  if (b == std::string::npos || e == std::string::npos || e < b) return "<markers missing in " + rel + ">";
+  if (b == std::string::npos || e == std::string::npos || e < b)
+    return "<markers missing in " + rel + ">";
   b = s.find('\n', b) + 1;
   return s.substr(b, e - b);
 }

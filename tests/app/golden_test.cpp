@@ -20,12 +20,15 @@ void check_golden(const std::string& config, const std::string& golden) {
   ASSERT_EQ(r.code, 0) << r.output;
   std::string gpath = std::string(FOVSIM_SOURCE_DIR) + "/" + golden;
   if (g_update_golden) {
-    std::filesystem::copy_file(dir + "/frames.csv", gpath, std::filesystem::copy_options::overwrite_existing);
+    std::filesystem::copy_file(dir + "/frames.csv", gpath,
+                               std::filesystem::copy_options::overwrite_existing);
     GTEST_SKIP() << "golden updated: " << gpath;
   }
-  ASSERT_TRUE(std::filesystem::exists(gpath)) << "missing golden " << gpath << " (run with --update-golden)";
+  ASSERT_TRUE(std::filesystem::exists(gpath))
+      << "missing golden " << gpath << " (run with --update-golden)";
   Csv got = read_csv(dir + "/frames.csv"), want = read_csv(gpath);
-  ASSERT_EQ(got.header, want.header) << "column set changed: a breaking change of results/README.md";
+  ASSERT_EQ(got.header, want.header)
+      << "column set changed: a breaking change of results/README.md";
   ASSERT_EQ(got.rows.size(), want.rows.size());
   for (size_t i = 0; i < got.rows.size(); ++i)
     for (size_t k = 0; k < got.header.size(); ++k) {
@@ -43,15 +46,17 @@ void check_golden(const std::string& config, const std::string& golden) {
       if (std::isnan(vb) || std::isinf(vb)) {
         EXPECT_EQ(a, b) << "row " << i << " column " << col;
       } else {
-        EXPECT_LE(std::fabs(va - vb), 1e-6 + 1e-4 * std::fabs(vb)) << "row " << i << " column " << col << ": " << a
-                                                                   << " vs golden " << b;
+        EXPECT_LE(std::fabs(va - vb), 1e-6 + 1e-4 * std::fabs(vb))
+            << "row " << i << " column " << col << ": " << a << " vs golden " << b;
       }
     }
 }
 
 }  // namespace
 
-TEST(Golden, FullMethodShortTrace) { check_golden("tests/golden/full_small.json", "tests/golden/full_small.frames.csv"); }
+TEST(Golden, FullMethodShortTrace) {
+  check_golden("tests/golden/full_small.json", "tests/golden/full_small.frames.csv");
+}
 
 TEST(Golden, EveryMethodShortTrace) {
   check_golden("tests/golden/methods_small.json", "tests/golden/methods_small.frames.csv");

@@ -24,14 +24,17 @@ TEST(PredictResults, ReproducesRunAndScalesWithDisplay) {
     for (auto& e : j)
       if (e["config_id"] == row[size_t(c_id)]) {
         found = true;
-        EXPECT_NEAR(e["est_ms_total"].get<double>(), std::stod(row[size_t(c_ms)]), 1e-6) << row[size_t(c_id)];
+        EXPECT_NEAR(e["est_ms_total"].get<double>(), std::stod(row[size_t(c_ms)]), 1e-6)
+            << row[size_t(c_id)];
       }
     EXPECT_TRUE(found) << row[size_t(c_id)];
   }
-  auto big = run_cmd(fovsim_bin() + " predict --results " + dir + "/run --gpu gtx1080 --display uhd_3840x2160 --json");
+  auto big = run_cmd(fovsim_bin() + " predict --results " + dir +
+                     "/run --gpu gtx1080 --display uhd_3840x2160 --json");
   ASSERT_EQ(big.code, 0) << big.output;
   auto jb = nlohmann::json::parse(big.output);
-  for (size_t i = 0; i < j.size(); ++i) EXPECT_GT(jb[i]["est_ms_total"].get<double>(), j[i]["est_ms_total"].get<double>());
+  for (size_t i = 0; i < j.size(); ++i)
+    EXPECT_GT(jb[i]["est_ms_total"].get<double>(), j[i]["est_ms_total"].get<double>());
   auto bad = run_cmd(fovsim_bin() + " predict --results " + dir + "/nope --gpu gtx1080");
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.output.find("nope/manifest.json"), std::string::npos) << bad.output;

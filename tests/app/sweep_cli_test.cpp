@@ -22,11 +22,13 @@ std::string sweep_config(const std::string& sigmas) {
   "display": "htc_vive_pro_eye",
   "render": {"scale": 0.05},
   "scene": {"type": "atrium", "complexity": 1},
-  "trace": {"file": ")" + std::string(FOVSIM_SOURCE_DIR) + R"(/tests/golden/golden_trace.csv"},
+  "trace": {"file": ")" +
+         std::string(FOVSIM_SOURCE_DIR) + R"(/tests/golden/golden_trace.csv"},
   "frames": {"count": 3},
   "methods": [{"method": "kfr"}, {"method": "rmfr"}],
   "outputs": {"print_summary": false},
-  "sweep": {"axes": [{"grid": {"methods[kfr].sigma": )" + sigmas + R"(}},
+  "sweep": {"axes": [{"grid": {"methods[kfr].sigma": )" +
+         sigmas + R"(}},
                      {"zip": {"methods[rmfr].fx": [0.2, 0.4], "methods[rmfr].fy": [0.3, 0.5]}}],
             "objectives": [{"minimize": "shaded_fraction"}, {"maximize": "fpsnr"}]}
 })";
@@ -65,7 +67,8 @@ TEST(SweepCli, ExpandListsCellsInOrder) {
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("0 0000-"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("5 0005-"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("methods[kfr].sigma=2.6 methods[rmfr].fx=0.4 methods[rmfr].fy=0.5"), std::string::npos);
+  EXPECT_NE(r.output.find("methods[kfr].sigma=2.6 methods[rmfr].fx=0.4 methods[rmfr].fy=0.5"),
+            std::string::npos);
   EXPECT_NE(r.output.find("6 cells"), std::string::npos);
   auto again = run_cmd(fovsim_bin() + " sweep expand " + dir + "/s.json");
   EXPECT_EQ(again.output, r.output);
@@ -75,8 +78,10 @@ TEST(SweepCli, ExpandListsCellsInOrder) {
   write_text(dir + "/bad.json", bad);
   auto b = run_cmd(fovsim_bin() + " sweep " + dir + "/bad.json");
   EXPECT_EQ(b.code, 2);
-  EXPECT_NE(b.output.find("sweep.axes[0].grid.methods[kfr].sigam: unknown parameter \"sigam\" for method \"kfr\""),
-            std::string::npos)
+  EXPECT_NE(
+      b.output.find(
+          "sweep.axes[0].grid.methods[kfr].sigam: unknown parameter \"sigam\" for method \"kfr\""),
+      std::string::npos)
       << b.output;
 }
 
@@ -86,15 +91,16 @@ TEST(SweepCli, ResumeAfterSigkillAndShardsMergeEqual) {
   const int cells = 6;
 
   // Reference: one uninterrupted run.
-  auto full = run_cmd(fovsim_bin() + " sweep " + dir + "/s.json --out " + dir + "/full --no-plots -q");
+  auto full =
+      run_cmd(fovsim_bin() + " sweep " + dir + "/s.json --out " + dir + "/full --no-plots -q");
   ASSERT_EQ(full.code, 0) << full.output;
   auto want = deterministic_rows(dir + "/full/summary.csv");
   ASSERT_EQ(want.size(), size_t(1 + cells * 2));
 
   // Killed mid-sweep: one cell per reference pass so cells complete one by one.
   std::string out = dir + "/killed";
-  std::string cmd = "cd '" FOVSIM_SOURCE_DIR "' && exec " + fovsim_bin() + " sweep " + dir + "/s.json --out " + out +
-                    " --batch 1 -j 1 --no-plots -q";
+  std::string cmd = "cd '" FOVSIM_SOURCE_DIR "' && exec " + fovsim_bin() + " sweep " + dir +
+                    "/s.json --out " + out + " --batch 1 -j 1 --no-plots -q";
   pid_t pid = fork();
   ASSERT_GE(pid, 0);
   if (pid == 0) {
@@ -102,7 +108,8 @@ TEST(SweepCli, ResumeAfterSigkillAndShardsMergeEqual) {
     _exit(127);
   }
   auto t0 = std::chrono::steady_clock::now();
-  while (count_complete(out) < 2 && std::chrono::steady_clock::now() - t0 < std::chrono::seconds(60))
+  while (count_complete(out) < 2 &&
+         std::chrono::steady_clock::now() - t0 < std::chrono::seconds(60))
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   kill(pid, SIGKILL);
   int st = 0;
@@ -114,17 +121,19 @@ TEST(SweepCli, ResumeAfterSigkillAndShardsMergeEqual) {
 
   auto resumed = run_cmd(fovsim_bin() + " sweep " + dir + "/s.json --out " + out + " --no-plots");
   ASSERT_EQ(resumed.code, 0) << resumed.output;
-  EXPECT_NE(resumed.output.find(std::to_string(done_at_kill) + " already complete (skipped)"), std::string::npos)
+  EXPECT_NE(resumed.output.find(std::to_string(done_at_kill) + " already complete (skipped)"),
+            std::string::npos)
       << resumed.output;
   auto got = deterministic_rows(out + "/summary.csv");
   EXPECT_EQ(got, want);  // no missing, duplicated or corrupt rows
   std::set<std::string> ids;
-  for (size_t i = 1; i < got.size(); ++i) EXPECT_TRUE(ids.insert(got[i].substr(0, got[i].find(','))).second);
+  for (size_t i = 1; i < got.size(); ++i)
+    EXPECT_TRUE(ids.insert(got[i].substr(0, got[i].find(','))).second);
 
   // Shards in separate folders, merged: equal to the unsharded run.
   for (int s = 0; s < 2; ++s) {
-    auto r = run_cmd(fovsim_bin() + " sweep " + dir + "/s.json --out " + dir + "/shard" + std::to_string(s) +
-                     " --shard " + std::to_string(s) + "/2 --no-plots -q");
+    auto r = run_cmd(fovsim_bin() + " sweep " + dir + "/s.json --out " + dir + "/shard" +
+                     std::to_string(s) + " --shard " + std::to_string(s) + "/2 --no-plots -q");
     ASSERT_EQ(r.code, 0) << r.output;
   }
   EXPECT_FALSE(fs::exists(dir + "/shard0/summary.csv"));
@@ -137,8 +146,8 @@ TEST(SweepCli, ResumeAfterSigkillAndShardsMergeEqual) {
   EXPECT_TRUE(fs::exists(dir + "/shard0/pareto.csv"));
 
   // Slurm's array variables select the shard when --shard is absent.
-  auto sl = run_cmd("SLURM_ARRAY_TASK_ID=1 SLURM_ARRAY_TASK_COUNT=3 " + fovsim_bin() + " sweep " + dir +
-                    "/s.json --out " + dir + "/slurm --no-plots");
+  auto sl = run_cmd("SLURM_ARRAY_TASK_ID=1 SLURM_ARRAY_TASK_COUNT=3 " + fovsim_bin() + " sweep " +
+                    dir + "/s.json --out " + dir + "/slurm --no-plots");
   EXPECT_NE(sl.output.find("shard 1/3 holds 2"), std::string::npos) << sl.output;
 
   // A changed config: the changed cells get new hashes and are recomputed, the others reused.
@@ -152,5 +161,7 @@ TEST(SweepCli, ResumeAfterSigkillAndShardsMergeEqual) {
   int sc = c.col("sigma");
   ASSERT_GE(sc, 0);
   for (auto& r : c.rows)
-    if (r[size_t(c.col("label"))] == "kfr") EXPECT_NE(r[size_t(sc)], "2");
+    if (r[size_t(c.col("label"))] == "kfr") {
+      EXPECT_NE(r[size_t(sc)], "2");
+    }
 }

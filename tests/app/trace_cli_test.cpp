@@ -7,9 +7,13 @@ using namespace fovsim_test;
 
 TEST(TraceCli, SynthValidateStatsRoundTrip) {
   std::string dir = temp_dir("trace_cli");
-  auto s = run_cmd(fovsim_bin() + " trace synth --scenario free-viewing --seed 7 --duration 1.5 -o " + dir + "/a.csv");
+  auto s =
+      run_cmd(fovsim_bin() + " trace synth --scenario free-viewing --seed 7 --duration 1.5 -o " +
+              dir + "/a.csv");
   ASSERT_EQ(s.code, 0) << s.output;
-  auto s2 = run_cmd(fovsim_bin() + " trace synth --scenario free-viewing --seed 7 --duration 1.5 -o " + dir + "/b.csv");
+  auto s2 =
+      run_cmd(fovsim_bin() + " trace synth --scenario free-viewing --seed 7 --duration 1.5 -o " +
+              dir + "/b.csv");
   ASSERT_EQ(s2.code, 0) << s2.output;
   EXPECT_EQ(read_text(dir + "/a.csv"), read_text(dir + "/b.csv"));  // seeded, reproducible
   Csv c = read_csv(dir + "/a.csv");
@@ -30,8 +34,8 @@ TEST(TraceCli, MalformedTraceNamesLineAndColumn) {
   auto v = run_cmd(fovsim_bin() + " trace validate " + dir + "/bad.csv");
   EXPECT_EQ(v.code, 2) << v.output;
   EXPECT_NE(v.output.find("bad.csv:3:"), std::string::npos) << v.output;
-  auto m = run_cmd(fovsim_bin() + " trace import " + dir + "/bad.csv --map " + dir + "/missing_map.json -o " + dir +
-                   "/o.csv");
+  auto m = run_cmd(fovsim_bin() + " trace import " + dir + "/bad.csv --map " + dir +
+                   "/missing_map.json -o " + dir + "/o.csv");
   EXPECT_EQ(m.code, 2) << m.output;
   EXPECT_NE(m.output.find("missing_map.json"), std::string::npos) << m.output;
   EXPECT_FALSE(std::filesystem::exists(dir + "/o.csv"));

@@ -1,7 +1,8 @@
+#include "sim/core/params.h"
+
 #include <gtest/gtest.h>
 
 #include "sim/core/error.h"
-#include "sim/core/params.h"
 
 using namespace fovsim;
 
@@ -24,7 +25,9 @@ TEST(Params, UnknownKeyNamesPath) {
     p.finish();
     FAIL() << "expected an error";
   } catch (const Error& e) {
-    EXPECT_EQ(std::string(e.what()), "cfg.json: methods[0].sigmma: unknown key \"sigmma\" (not a parameter here; check spelling)");
+    EXPECT_EQ(std::string(e.what()),
+              "cfg.json: methods[0].sigmma: unknown key \"sigmma\" (not a parameter here; check "
+              "spelling)");
   }
 }
 
@@ -35,7 +38,10 @@ TEST(Params, WrongTypeAndRange) {
         try {
           p.number("sigma", 1.0, Range::at_least(1));
         } catch (const Error& e) {
-          EXPECT_NE(std::string(e.what()).find("c.json: sigma: expected a number in [1, inf], got a string \"big\""), std::string::npos) << e.what();
+          EXPECT_NE(std::string(e.what()).find(
+                        "c.json: sigma: expected a number in [1, inf], got a string \"big\""),
+                    std::string::npos)
+              << e.what();
           throw;
         }
       },

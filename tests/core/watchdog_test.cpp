@@ -1,13 +1,13 @@
 // The watchdog reports a step that runs far longer than its slot's previous steps, once,
 // naming the step; quick steps never trigger it; a disabled watchdog starts no thread.
+#include "sim/core/watchdog.h"
+
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <chrono>
 #include <mutex>
 #include <thread>
-
-#include "sim/core/watchdog.h"
 
 using namespace fovsim;
 
@@ -42,7 +42,7 @@ TEST(Watchdog, LimitFromMedianOfPreviousSteps) {
     w.end(0);
   }
   EXPECT_DOUBLE_EQ(w.limit_s(0), 0.5);  // max(min_s, 10 x ~0 s)
-  EXPECT_DOUBLE_EQ(w.limit_s(1), 30);  // 60 x 0.5 s   // slots are independent
+  EXPECT_DOUBLE_EQ(w.limit_s(1), 30);   // 60 x 0.5 s   // slots are independent
 }
 
 TEST(Watchdog, ReportsAStuckStepOnceNamingIt) {
@@ -51,13 +51,15 @@ TEST(Watchdog, ReportsAStuckStepOnceNamingIt) {
     Watchdog w(1, WatchdogLimits{0.2, 10, 1});
     w.begin(0, "frame 7, method \"twfr\"");
     // Wait (bounded) until the watchdog fires; the assertion is on the report, not a time.
-    for (int i = 0; i < 400 && count() == 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(25));
+    for (int i = 0; i < 400 && count() == 0; ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(25));
     std::this_thread::sleep_for(std::chrono::milliseconds(300));  // it must not repeat
     w.end(0);
   }
   std::lock_guard<std::mutex> l(cap().m);
   ASSERT_EQ(cap().msgs.size(), 1u);
-  EXPECT_NE(cap().msgs[0].find("frame 7, method \"twfr\" has run for"), std::string::npos) << cap().msgs[0];
+  EXPECT_NE(cap().msgs[0].find("frame 7, method \"twfr\" has run for"), std::string::npos)
+      << cap().msgs[0];
   EXPECT_NE(cap().msgs[0].find("--watchdog"), std::string::npos);
 }
 

@@ -1,5 +1,7 @@
 // Calibration invariants (issue 7 item 6): the committed profiles reproduce the seeds'
 // tables within the residuals stored with them; KFR shading scales with 1/sigma^2.
+#include "sim/cost/calibration.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -7,7 +9,6 @@
 
 #include "sim/core/error.h"
 #include "sim/cost/analytic.h"
-#include "sim/cost/calibration.h"
 #include "sim/cost/nnls.h"
 #include "sim/cost/passes.h"
 #include "sim/cost/validate.h"

@@ -1,11 +1,12 @@
 // Cost model invariants (issue 7): passes that do not exist cost nothing, every pass is
 // non-decreasing in each counter, predictions stay finite, errors name their location.
+#include "sim/cost/cost_model.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "sim/core/error.h"
-#include "sim/cost/cost_model.h"
 #include "sim/cost/gpu_profile.h"
 #include "sim/cost/passes.h"
 #include "sim/cost/workload.h"

@@ -1,14 +1,18 @@
+#include "sim/display/display.h"
+
 #include <gtest/gtest.h>
 
 #include "sim/core/error.h"
-#include "sim/display/display.h"
 
 using namespace fovsim;
 
-static Display vive() { return Display::load("htc_vive_pro_eye", std::string(FOVSIM_SOURCE_DIR) + "/models"); }
+static Display vive() {
+  return Display::load("htc_vive_pro_eye", std::string(FOVSIM_SOURCE_DIR) + "/models");
+}
 
 TEST(Display, LoadsAllModels) {
-  for (const char* n : {"htc_vive_pro_eye", "fove_1280x1440", "fove_2560x1440", "desktop_1920x1080", "uhd_3840x2160"}) {
+  for (const char* n : {"htc_vive_pro_eye", "fove_1280x1440", "fove_2560x1440", "desktop_1920x1080",
+                        "uhd_3840x2160"}) {
     Display d = Display::load(n, std::string(FOVSIM_SOURCE_DIR) + "/models");
     EXPECT_EQ(d.name, n);
     EXPECT_GT(d.ppd_center(), 5.0);

@@ -27,8 +27,13 @@ ResultTable points(const std::vector<std::tuple<std::string, std::string, double
 TEST(Pareto, ConstructedFront) {
   // (ms, quality): front = rows 0, 2, 4 (and the duplicate 5 of 4); 1 and 3 are dominated;
   // 6 has NaN quality (dominated by anything finite and as fast or faster).
-  auto t = points({{"g", "a", 1.0, 20}, {"g", "a", 2.0, 19}, {"g", "b", 2.0, 30}, {"g", "b", 3.0, 29},
-                   {"g", "c", 5.0, 40}, {"g", "c", 5.0, 40}, {"g", "c", 6.0, NAN}});
+  auto t = points({{"g", "a", 1.0, 20},
+                   {"g", "a", 2.0, 19},
+                   {"g", "b", 2.0, 30},
+                   {"g", "b", 3.0, 29},
+                   {"g", "c", 5.0, 40},
+                   {"g", "c", 5.0, 40},
+                   {"g", "c", 6.0, NAN}});
   std::vector<Objective> obj = {{"est_ms_total", false}, {"fpsnr", true}};
   EXPECT_EQ(pareto_front(t, obj, {"gpu"}), (std::vector<size_t>{0, 2, 4, 5}));
   EXPECT_TRUE(dominates({1, 30}, {2, 30}, obj));
@@ -44,8 +49,11 @@ TEST(Pareto, GroupsAreSeparateFronts) {
 }
 
 TEST(Pareto, IsoBudgetPicksBestQualityWithinBudget) {
-  auto t = points({{"g", "kfr", 1.0, 20}, {"g", "kfr", 2.0, 25}, {"g", "kfr", 3.0, 40},
-                   {"g", "rmfr", 1.5, 22}, {"g", "rmfr", 2.5, 30}});
+  auto t = points({{"g", "kfr", 1.0, 20},
+                   {"g", "kfr", 2.0, 25},
+                   {"g", "kfr", 3.0, 40},
+                   {"g", "rmfr", 1.5, 22},
+                   {"g", "rmfr", 2.5, 30}});
   IsoBudgetSpec s;
   s.column = "est_ms_total";
   s.budgets = {2.0, 2.5};

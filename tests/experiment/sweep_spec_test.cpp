@@ -1,11 +1,12 @@
 // Sweep expansion: order and counts of every block kind, determinism of cell ids, and bad
 // specs failing with the JSON path of the offending axis.
+#include "sim/experiment/sweep_spec.h"
+
 #include <gtest/gtest.h>
 
 #include <set>
 
 #include "sim/core/error.h"
-#include "sim/experiment/sweep_spec.h"
 
 using namespace fovsim;
 
@@ -16,7 +17,8 @@ LoadedConfig cfg_of(const std::string& sweep_json) {
   c.file = "s.json";
   c.doc = Json::parse(R"({"name": "t", "render": {"scale": 0.1},
     "methods": [{"method": "full"}, {"method": "full", "label": "kfr"}],
-    "sweep": )" + sweep_json + "}");
+    "sweep": )" + sweep_json +
+                      "}");
   return c;
 }
 
@@ -52,11 +54,13 @@ TEST(SweepSpec, RangeValuesAreTidyAndInclusive) {
 }
 
 TEST(SweepSpec, GridIsCartesianFirstAxisSlowest) {
-  auto p = expand_sweep(cfg_of(R"({"grid": [{"methods[kfr].sigma": [1, 2, 3]}, {"render.scale": [0.1, 0.2]}]})"));
+  auto p = expand_sweep(
+      cfg_of(R"({"grid": [{"methods[kfr].sigma": [1, 2, 3]}, {"render.scale": [0.1, 0.2]}]})"));
   ASSERT_EQ(p.cells.size(), 6u);
   std::vector<std::pair<double, double>> got;
   for (auto& c : p.cells) got.push_back({num(c, "methods[kfr].sigma"), num(c, "render.scale")});
-  std::vector<std::pair<double, double>> want = {{1, .1}, {1, .2}, {2, .1}, {2, .2}, {3, .1}, {3, .2}};
+  std::vector<std::pair<double, double>> want = {{1, .1}, {1, .2}, {2, .1},
+                                                 {2, .2}, {3, .1}, {3, .2}};
   EXPECT_EQ(got, want);
   // The method-scoped path lands in the labelled entry.
   EXPECT_EQ(p.cells[4].doc["methods"][1]["sigma"], 3);
@@ -70,7 +74,8 @@ TEST(SweepSpec, ZipAdvancesTogetherAndAxesMultiply) {
       {"list": [{"render.scale": 0.1}, {"render.scale": 0.2, "seed": 7}]},
       {"zip": {"methods[0].fx": [0.1, 0.2, 0.3], "methods[0].fy": {"from": 0.5, "to": 0.7, "step": 0.1}}}]})"));
   ASSERT_EQ(p.cells.size(), 6u);
-  for (auto& c : p.cells) EXPECT_NEAR(num(c, "methods[0].fy") - num(c, "methods[0].fx"), 0.4, 1e-12);
+  for (auto& c : p.cells)
+    EXPECT_NEAR(num(c, "methods[0].fy") - num(c, "methods[0].fx"), 0.4, 1e-12);
   EXPECT_EQ(p.cells[3].doc["seed"], 7);
   EXPECT_EQ(num(p.cells[3], "methods[0].fx"), 0.1);
   EXPECT_EQ(num(p.cells[2], "render.scale"), 0.1);
@@ -132,22 +137,30 @@ TEST(SweepSpec, BadSpecsNameTheJsonPath) {
   };
   std::vector<Case> cases = {
       {R"({"grid": {"methods[0].sigma": []}})", "s.json: sweep.grid.methods[0].sigma: empty axis"},
-      {R"({"grid": {"methods[0].sigma": {"from": 2, "to": 1, "step": 0.5}}})", "sweep.grid.methods[0].sigma.step"},
+      {R"({"grid": {"methods[0].sigma": {"from": 2, "to": 1, "step": 0.5}}})",
+       "sweep.grid.methods[0].sigma.step"},
       {R"({"zip": {"methods[0].fx": [1, 2, 3], "methods[0].fy": [1, 2]}})",
-       "s.json: sweep.zip: zip axes must have equal lengths: \"methods[0].fx\" has 3 values, \"methods[0].fy\" has 2"},
+       "s.json: sweep.zip: zip axes must have equal lengths: \"methods[0].fx\" has 3 values, "
+       "\"methods[0].fy\" has 2"},
       {R"({"grid": {"methods[0].sigmaa": [1, 2]}})",
        "s.json: sweep.grid.methods[0].sigmaa: unknown parameter \"sigmaa\" for method \"full\""},
       {R"({"axes": [{"grid": {"render.scale": [0.1]}}, {"grid": {"methods[kfr].alpha": [1]}}]})",
        "sweep.axes[1].grid.methods[kfr].alpha: unknown parameter \"alpha\" for method \"full\""},
-      {R"({"grid": {"methods[rmfr].fx": [1]}})", "sweep.grid.methods[rmfr].fx: no entry of \"methods\" has label \"rmfr\""},
+      {R"({"grid": {"methods[rmfr].fx": [1]}})",
+       "sweep.grid.methods[rmfr].fx: no entry of \"methods\" has label \"rmfr\""},
       {R"({"grid": {"methods[5].fx": [1]}})", "has no element [5]"},
       {R"({"grdi": {"render.scale": [1]}})", "sweep.grdi: unknown key"},
-      {R"({"random": {"count": 3, "axes": {"render.scale": {"from": 1, "to": 1}}}})", "sweep.random.axes.render.scale: empty axis"},
-      {R"({"lhs": {"count": 0, "axes": {"render.scale": {"from": 0, "to": 1}}}})", "sweep.lhs.count"},
-      {R"({"grid": {"render.scale": {"from": 0, "to": 1}}})", "exactly one of \"step\" or \"count\""},
+      {R"({"random": {"count": 3, "axes": {"render.scale": {"from": 1, "to": 1}}}})",
+       "sweep.random.axes.render.scale: empty axis"},
+      {R"({"lhs": {"count": 0, "axes": {"render.scale": {"from": 0, "to": 1}}}})",
+       "sweep.lhs.count"},
+      {R"({"grid": {"render.scale": {"from": 0, "to": 1}}})",
+       "exactly one of \"step\" or \"count\""},
       {R"({"grid": {"render.scale": [1]}, "zip": {"seed": [1]}})", "several under \"axes\""},
-      {R"({"list": [{"render.scale": 1}], "objectives": [{"minimise": "x"}]})", "sweep.objectives[0]"},
-      {R"({"axes": [{"grid": {"render.scale": [1]}}, {"grid": {"render.scale": [2]}}]})", "set by two axes"},
+      {R"({"list": [{"render.scale": 1}], "objectives": [{"minimise": "x"}]})",
+       "sweep.objectives[0]"},
+      {R"({"axes": [{"grid": {"render.scale": [1]}}, {"grid": {"render.scale": [2]}}]})",
+       "set by two axes"},
       {R"({"grid": {"methods[0].method": ["nope"]}})", "unknown method \"nope\""},
   };
   for (auto& c : cases) {

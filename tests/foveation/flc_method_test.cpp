@@ -50,7 +50,8 @@ struct Fixture {
 
 double max_abs_diff(const Image& a, const Image& b) {
   double m = 0;
-  for (size_t i = 0; i < a.data.size(); ++i) m = std::max(m, double(std::fabs(a.data[i] - b.data[i])));
+  for (size_t i = 0; i < a.data.size(); ++i)
+    m = std::max(m, double(std::fabs(a.data[i] - b.data[i])));
   return m;
 }
 
@@ -85,7 +86,8 @@ TEST(FlcMethod, BudgetCoveringAllVplsEqualsGroundTruth) {
   EXPECT_EQ(max_abs_diff(o.image, *o.reference), 0.0);
   // Indirect light is really there: the ground truth is brighter than the direct reference.
   double ind = 0;
-  for (size_t i = 0; i < o.image.data.size(); ++i) ind += o.reference->data[i] - f.fd.reference.data[i];
+  for (size_t i = 0; i < o.image.data.size(); ++i)
+    ind += o.reference->data[i] - f.fd.reference.data[i];
   EXPECT_GT(ind / double(o.image.data.size()), 1e-3);
   EXPECT_NEAR(o.counters.get("flc_tau"), 1.0, 1e-9);
 }
@@ -103,15 +105,18 @@ TEST(FlcMethod, FovealErrorFallsWithBudget) {
   std::vector<double> r[3];
   for (int b = 0; b < 3; ++b)
     for (int seed = 1; seed <= n; ++seed)
-      r[b].push_back(f.run(Json{{"rsm_size", 24}, {"vpl_budget", budgets[b]}, {"samples", 128}, {"seed", seed}})
-                         .counters.get("flc_rmse_fovea"));
+      r[b].push_back(
+          f.run(
+               Json{{"rsm_size", 24}, {"vpl_budget", budgets[b]}, {"samples", 128}, {"seed", seed}})
+              .counters.get("flc_rmse_fovea"));
   for (int b = 0; b < 2; ++b) {
     double m = 0, m2 = 0;
     auto d = [&](int k) { return std::log(r[b][size_t(k)] / r[b + 1][size_t(k)]); };
     for (int k = 0; k < n; ++k) m += d(k) / n;
     for (int k = 0; k < n; ++k) m2 += std::pow(d(k) - m, 2) / (n - 1);
     const double t = m / std::sqrt(m2 / n);
-    std::printf("budget %d -> %d: mean log RMSE ratio %.3g, paired t = %.2f\n", budgets[b], budgets[b + 1], m, t);
+    std::printf("budget %d -> %d: mean log RMSE ratio %.3g, paired t = %.2f\n", budgets[b],
+                budgets[b + 1], m, t);
     EXPECT_GT(t, 3.0) << "budget " << budgets[b] << " -> " << budgets[b + 1];
   }
 }
@@ -120,7 +125,10 @@ TEST(FlcMethod, TauAboveOneWithGazeOnAWall) {
   Fixture& f = cornell();
   double tau = 0;
   for (int seed = 1; seed <= 3; ++seed) {
-    FrameOutput o = f.run(Json{{"rsm_size", 24}, {"vpl_budget", 64}, {"samples", 128}, {"seed", seed},
+    FrameOutput o = f.run(Json{{"rsm_size", 24},
+                               {"vpl_budget", 64},
+                               {"samples", 128},
+                               {"seed", seed},
                                {"w_periphery", 0.25}});
     tau += o.counters.get("flc_tau") / 3;
   }
@@ -136,7 +144,11 @@ TEST(FlcMethod, ExtremesStayFinite) {
   EXPECT_TRUE(all_finite(*z.reference));
   // Zero importance map (delta = 0 after a first frame -> p_b = 0), tiny clamp, every mode.
   for (const char* vis : {"none", "blso", "exact"}) {
-    Params p(Json{{"rsm_size", 8}, {"vpl_budget", 10}, {"delta", 0.0}, {"visibility", vis}, {"min_dist", 1e-9}});
+    Params p(Json{{"rsm_size", 8},
+                  {"vpl_budget", 10},
+                  {"delta", 0.0},
+                  {"visibility", vis},
+                  {"min_dist", 1e-9}});
     auto m = make_method("flc", p);
     FrameContext ctx = f.fd.context(f.scene, *f.renderer, f.display, true);
     for (int k = 0; k < 2; ++k) {
@@ -150,7 +162,8 @@ TEST(FlcMethod, ExtremesStayFinite) {
     }
   }
   // Log-polar with interleaving: fewer shaded samples, finite.
-  FrameOutput lp = f.run(Json{{"rsm_size", 8}, {"log_polar", true}, {"lp_sigma", 2.0}, {"interleave", 2}});
+  FrameOutput lp =
+      f.run(Json{{"rsm_size", 8}, {"log_polar", true}, {"lp_sigma", 2.0}, {"interleave", 2}});
   EXPECT_TRUE(all_finite(lp.image));
   EXPECT_LT(lp.counters.get("shaded_samples"), 0.5 * f.display.width * f.display.height);
 }

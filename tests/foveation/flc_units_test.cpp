@@ -60,8 +60,8 @@ TEST(FlcSampling, ChainsFavourHighImportance) {
     return double(left) / ns;
   };
   const double f1 = frac_left(1), f8 = frac_left(8);
-  EXPECT_NEAR(f1, 0.5, 0.05);     // M = 1: plain Halton, uniform
-  EXPECT_GT(f8, 0.98);            // 1 - 0.5^8 = 0.996
+  EXPECT_NEAR(f1, 0.5, 0.05);  // M = 1: plain Halton, uniform
+  EXPECT_GT(f8, 0.98);         // 1 - 0.5^8 = 0.996
   // Graded map: selected pixels have a higher mean importance than the map.
   Image G(64, 64, 1);
   for (int y = 0; y < 64; ++y)
@@ -96,7 +96,8 @@ TEST(FlcImportance, AcuityFollowsEqs3To6) {
   // Just outside: h = 1 + s (m - e).
   const double d = 0.5 * half_diag;
   const double m = std::atan(p.fovea_frac * tan_half), e = std::atan(0.5 * tan_half);
-  EXPECT_NEAR(flc_acuity(d, half_diag, tan_half, p), std::clamp(1.0 + 2.25 * (m - e), 0.2, 1.0), 1e-12);
+  EXPECT_NEAR(flc_acuity(d, half_diag, tan_half, p), std::clamp(1.0 + 2.25 * (m - e), 0.2, 1.0),
+              1e-12);
   double prev = 1.0;
   for (double r = 0; r < 2000; r += 7) {
     double a = flc_acuity(r, half_diag, tan_half, p);
@@ -111,8 +112,10 @@ TEST(FlcImportance, AcuityFollowsEqs3To6) {
 TEST(FlcImportance, ColourDifferenceEq7) {
   const float a[3] = {0.5f, 0.5f, 0.5f}, red[3] = {1.f, 0.f, 0.f}, black[3] = {0.f, 0.f, 0.f};
   EXPECT_EQ(flc_color_difference(a, a), 0.0);
-  EXPECT_NEAR(flc_color_difference(red, black), std::sqrt(3.0 * 256.0 * 256.0), 1e-9);  // (2 + 1) * 256^2
-  EXPECT_NEAR(flc_color_difference(black, red), std::sqrt(1.0 * 256.0 * 256.0), 1e-9);  // (2 - 1) * 256^2
+  EXPECT_NEAR(flc_color_difference(red, black), std::sqrt(3.0 * 256.0 * 256.0),
+              1e-9);  // (2 + 1) * 256^2
+  EXPECT_NEAR(flc_color_difference(black, red), std::sqrt(1.0 * 256.0 * 256.0),
+              1e-9);  // (2 - 1) * 256^2
 }
 
 TEST(FlcImportance, MapCombinesPartsByEq9) {
@@ -132,10 +135,10 @@ TEST(FlcImportance, MapCombinesPartsByEq9) {
   p.fovea_frac = 1e-6;
   FlcImportanceMaps m;
   flc_importance_map(g, color, nullptr, glm::dvec2(-1000, -1000), 1.0, nullptr, p, m, true);
-  EXPECT_EQ(m.importance.at(31, 0)[0], 0.f);             // miss
-  EXPECT_FLOAT_EQ(m.importance.at(15, 8)[0], 1.f);        // silhouette, p_b = 1 without history
+  EXPECT_EQ(m.importance.at(31, 0)[0], 0.f);        // miss
+  EXPECT_FLOAT_EQ(m.importance.at(15, 8)[0], 1.f);  // silhouette, p_b = 1 without history
   EXPECT_FLOAT_EQ(m.importance.at(16, 8)[0], 1.f);
-  EXPECT_FLOAT_EQ(m.importance.at(5, 8)[0], 0.2f);        // acuity floor
+  EXPECT_FLOAT_EQ(m.importance.at(5, 8)[0], 0.2f);  // acuity floor
   EXPECT_FLOAT_EQ(m.silhouette.at(5, 8)[0], 0.f);
   // History brightness: p_b = min(1, delta * b).
   Image hist(32, 16, 1, 0.01f);

@@ -115,7 +115,8 @@ TEST(MappingFastPath, VariableGaussianBitIdenticalToPerPixelLoop) {
 TEST(MappingFastPath, IpowMatchesPow) {
   for (int n = 1; n <= 16; ++n)
     for (double x : {0.0, 1e-3, 0.1, 0.37, 0.5, 0.999, 1.0})
-      EXPECT_NEAR(ipow(x, n), std::pow(x, double(n)), 4e-16 * std::max(1.0, std::pow(x, double(n)))) << n;
+      EXPECT_NEAR(ipow(x, n), std::pow(x, double(n)), 4e-16 * std::max(1.0, std::pow(x, double(n))))
+          << n;
 }
 
 TEST(MappingFastPath, LpGatherAndReconstructMatchTheMaps) {
@@ -168,7 +169,8 @@ TEST(MappingFastPath, LpGatherAndReconstructMatchTheMaps) {
           for (int x = 0; x < W; ++x) {
             const glm::dvec2 uv = m.forward(x + 0.5, y + 0.5);
             const glm::vec3 c = bilinear(lpimg, uv.x, uv.y, true);
-            for (int ch = 0; ch < 3; ++ch) worst = std::max(worst, double(std::abs(out.at(x, y)[ch] - c[ch])));
+            for (int ch = 0; ch < 3; ++ch)
+              worst = std::max(worst, double(std::abs(out.at(x, y)[ch] - c[ch])));
           }
         EXPECT_LT(worst, 2e-6) << "alpha " << alpha;
       }
@@ -235,8 +237,9 @@ TEST(MappingFastPath, AngleMatchesAtan2) {
     s = s * 1664525u + 1013904223u;
     return double(s >> 8) / double(1u << 24) * 2.0 - 1.0;
   };
-  std::vector<std::pair<double, double>> pts = {{0, 1}, {0, -1}, {1, 0}, {-1, 0}, {1, 1}, {-1, -1},
-                                                {1e-300, -1}, {-1e-300, -1}, {3, 1e-17}, {0, 0}};
+  std::vector<std::pair<double, double>> pts = {{0, 1},     {0, -1},  {1, 0},       {-1, 0},
+                                                {1, 1},     {-1, -1}, {1e-300, -1}, {-1e-300, -1},
+                                                {3, 1e-17}, {0, 0}};
   for (int i = 0; i < 200000; ++i) {
     const double sc = std::pow(10.0, 4 * rnd());
     pts.push_back({rnd() * sc, rnd()});

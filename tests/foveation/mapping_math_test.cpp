@@ -20,9 +20,18 @@ const double kAlphas[] = {0.25, 0.5, 1.0, 4.0, 8.0, 16.0};
 const double kFs[] = {1e-9, 0.05, 0.38, 1.0, 1e9};
 // Gaze: exact centre, a pixel centre, the four edges, the four corners, outside.
 std::vector<glm::dvec2> gazes() {
-  return {{kW * 0.5, kH * 0.5}, {30.5, 20.5}, {0, kH * 0.5}, {kW, kH * 0.5}, {kW * 0.5, 0},
-          {kW * 0.5, kH},       {0, 0},       {kW, 0},       {0, kH},        {kW, kH},
-          {-50, 30},            {kW + 1e6, -1e6}};
+  return {{kW * 0.5, kH * 0.5},
+          {30.5, 20.5},
+          {0, kH * 0.5},
+          {kW, kH * 0.5},
+          {kW * 0.5, 0},
+          {kW * 0.5, kH},
+          {0, 0},
+          {kW, 0},
+          {0, kH},
+          {kW, kH},
+          {-50, 30},
+          {kW + 1e6, -1e6}};
 }
 }  // namespace
 

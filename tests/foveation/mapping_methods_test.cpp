@@ -65,13 +65,15 @@ struct World {
   }
   // Writes an image to $FOVSIM_TEST_DUMP/<name>.png when that variable is set (debugging aid).
   void dump(const std::string& name, const Image& lin) const {
-    if (const char* dir = std::getenv("FOVSIM_TEST_DUMP")) write_image(std::string(dir) + "/" + name + ".png", display(lin));
+    if (const char* dir = std::getenv("FOVSIM_TEST_DUMP"))
+      write_image(std::string(dir) + "/" + name + ".png", display(lin));
   }
 };
 
 double psnr(const Image& a, const Image& b) {
   double se = 0;
-  for (size_t i = 0; i < a.data.size(); ++i) se += double(a.data[i] - b.data[i]) * (a.data[i] - b.data[i]);
+  for (size_t i = 0; i < a.data.size(); ++i)
+    se += double(a.data[i] - b.data[i]) * (a.data[i] - b.data[i]);
   double mse = se / double(a.data.size());
   return mse <= 0 ? 200.0 : 10.0 * std::log10(1.0 / mse);
 }
@@ -116,22 +118,33 @@ void expect_sane(const FrameOutput& out, int W, int H, const std::string& what) 
   ASSERT_EQ(out.image.height, H) << what;
   for (float v : out.image.data) ASSERT_TRUE(std::isfinite(v)) << what;
   const double total = double(W) * H;
-  for (const char* k : {"shaded_samples", "gbuffer_samples", "buffer_pixels_used", "fullres_pixels"}) {
+  for (const char* k :
+       {"shaded_samples", "gbuffer_samples", "buffer_pixels_used", "fullres_pixels"}) {
     ASSERT_TRUE(out.counters.has(k)) << what << " " << k;
     double v = out.counters.get(k);
     ASSERT_TRUE(std::isfinite(v)) << what;
     ASSERT_GE(v, 0) << what << " " << k;
     ASSERT_LE(v, total) << what << " " << k;
   }
-  ASSERT_LE(out.counters.get("buffer_pixels_used"), out.counters.get("buffer_pixels_allocated")) << what;
+  ASSERT_LE(out.counters.get("buffer_pixels_used"), out.counters.get("buffer_pixels_allocated"))
+      << what;
   ASSERT_TRUE(std::isfinite(out.counters.get("filter_taps"))) << what;
 }
 
 const int kW = 96, kH = 80;
 std::vector<glm::dvec2> gazes() {
-  return {{kW * 0.5, kH * 0.5}, {30.5, 20.5}, {0, kH * 0.5}, {kW, kH * 0.5}, {kW * 0.5, 0},
-          {kW * 0.5, kH},       {0, 0},       {kW, 0},       {0, kH},        {kW, kH},
-          {-50, 30},            {kW + 1e6, -1e6}};
+  return {{kW * 0.5, kH * 0.5},
+          {30.5, 20.5},
+          {0, kH * 0.5},
+          {kW, kH * 0.5},
+          {kW * 0.5, 0},
+          {kW * 0.5, kH},
+          {0, 0},
+          {kW, 0},
+          {0, kH},
+          {kW, kH},
+          {-50, 30},
+          {kW + 1e6, -1e6}};
 }
 // Grating (3 octaves from `frequency` cycles per metre on a plane 1 m away): resolvable at 96 px.
 const Json kPatterns = {{"type", "patterns"}, {"pattern", "grating"}, {"frequency", 1.5}};
@@ -164,11 +177,14 @@ TEST(MappingExtremes, RmfrSigmaFxFyGazeGrid) {
         for (double fy : fs) {
           if (sg != 1.0 && sg != 2.6 && sg != 32.0 && (fx != 0.38 || fy != 0.38)) continue;
           char what[160];
-          std::snprintf(what, sizeof what, "rmfr sigma=%g fx=%g fy=%g gaze=(%g,%g)", sg, fx, fy, g.x, g.y);
+          std::snprintf(what, sizeof what, "rmfr sigma=%g fx=%g fy=%g gaze=(%g,%g)", sg, fx, fy,
+                        g.x, g.y);
           auto out = w.run("rmfr", {{"sigma", sg}, {"fx", fx}, {"fy", fy}});
           expect_sane(out, kW, kH, what);
           // RMFR fills its whole buffer.
-          ASSERT_EQ(out.counters.get("buffer_pixels_used"), out.counters.get("buffer_pixels_allocated")) << what;
+          ASSERT_EQ(out.counters.get("buffer_pixels_used"),
+                    out.counters.get("buffer_pixels_allocated"))
+              << what;
         }
   }
 }
@@ -194,12 +210,14 @@ TEST(MappingIdentity, SigmaOneReproducesReference) {
   World w(kPatterns, kW, kH);
   w.set_gaze({30.5, 20.5});
   const Image ref = w.display(w.fd.reference);
-  auto p_rmfr = psnr(w.display(w.run("rmfr", {{"sigma", 1.0}, {"fx", 1e9}, {"fy", 1e9}}).image), ref);
+  auto p_rmfr =
+      psnr(w.display(w.run("rmfr", {{"sigma", 1.0}, {"fx", 1e9}, {"fy", 1e9}}).image), ref);
   EXPECT_GE(p_rmfr, 100.0);
   EXPECT_GE(psnr(w.display(w.run("hyperbolic", {{"s2", 1.0}, {"s3", 1.0}}).image), ref), 100.0);
   EXPECT_GE(psnr(w.display(w.run("linear", {{"p_min", 1.0}}).image), ref), 100.0);
   EXPECT_GE(psnr(w.display(w.run("fvrs", {{"r1", 180.0}, {"r2", 180.0}}).image), ref), 100.0);
-  auto kfr = w.run("kfr", {{"sigma", 1.0}, {"alpha", 1.0}, {"internal_aa", false}, {"post_aa", false}});
+  auto kfr =
+      w.run("kfr", {{"sigma", 1.0}, {"alpha", 1.0}, {"internal_aa", false}, {"post_aa", false}});
   double p_kfr = psnr(w.display(kfr.image), ref);
   w.dump("identity_ref", w.fd.reference);
   w.dump("identity_kfr", kfr.image);
@@ -234,7 +252,8 @@ TEST(MappingTrends, ShadedSamplesFallAsInverseSigmaSquared) {
     double a = w.run(m, {{"sigma", 1.3}}).counters.get("shaded_samples");
     double b = w.run(m, {{"sigma", 2.6}}).counters.get("shaded_samples");
     double c = w.run(m, {{"sigma", 5.2}}).counters.get("shaded_samples");
-    std::printf("[1/sigma^2] %s shaded 1.3: %.0f 2.6: %.0f 5.2: %.0f ratios %.3f %.3f\n", m, a, b, c, a / b, b / c);
+    std::printf("[1/sigma^2] %s shaded 1.3: %.0f 2.6: %.0f 5.2: %.0f ratios %.3f %.3f\n", m, a, b,
+                c, a / b, b / c);
     EXPECT_NEAR(a / b, 4.0, 0.15) << m;
     EXPECT_NEAR(b / c, 4.0, 0.2) << m;
   }
@@ -246,14 +265,16 @@ TEST(MappingTrends, RmfrBeatsKfrOnRotatingPatterns) {
   double sum_k = 0, sum_r = 0;
   int n = 0;
   for (double ang = 0; ang <= 180; ang += 30) {
-    World w({{"type", "patterns"}, {"pattern", "stripes"}, {"frequency", 8.0}, {"angle", ang}}, 192, 160);
+    World w({{"type", "patterns"}, {"pattern", "stripes"}, {"frequency", 8.0}, {"angle", ang}}, 192,
+            160);
     w.set_gaze({96, 80});
     const Image ref = w.display(w.fd.reference);
     sum_k += fpsnr(w.display(w.run("kfr", {{"sigma", 2.6}, {"alpha", 4.0}}).image), ref, w);
     sum_r += fpsnr(w.display(w.run("rmfr", {{"sigma", 2.6}}).image), ref, w);
     ++n;
   }
-  std::printf("[fig12] mean FPSNR over %d angles: rmfr %.2f dB, kfr %.2f dB\n", n, sum_r / n, sum_k / n);
+  std::printf("[fig12] mean FPSNR over %d angles: rmfr %.2f dB, kfr %.2f dB\n", n, sum_r / n,
+              sum_k / n);
   EXPECT_GT(sum_r / n, sum_k / n);
 }
 
@@ -265,7 +286,8 @@ TEST(MappingTrends, KfrPeripheralErrorFallsWithAlpha) {
   const Image ref = w.display(w.fd.reference);
   double prev = 1e9, first = 0, last = 0;
   for (double a : {1.0, 2.0, 3.0, 4.0}) {
-    double e = rmse_periphery(w.display(w.run("kfr", {{"sigma", 1.8}, {"alpha", a}}).image), ref, w, 5.0);
+    double e =
+        rmse_periphery(w.display(w.run("kfr", {{"sigma", 1.8}, {"alpha", a}}).image), ref, w, 5.0);
     std::printf("[fig1.17] kfr sigma=1.8 alpha=%g peripheral RMSE %.5f\n", a, e);
     EXPECT_LE(e, prev * 1.01) << "alpha=" << a;
     if (a == 1.0) first = e;
@@ -310,7 +332,8 @@ TEST(MappingMethods, DebugBuffersAndDeterminism) {
 TEST(RmfrAuto, AxisPreferenceFollowsEdgeOrientation) {
   double fx[2], fy[2];
   for (int k = 0; k < 2; ++k) {
-    World w({{"type", "patterns"}, {"pattern", "stripes"}, {"frequency", 8.0}, {"angle", 90.0 * k}}, 192, 160);
+    World w({{"type", "patterns"}, {"pattern", "stripes"}, {"frequency", 8.0}, {"angle", 90.0 * k}},
+            192, 160);
     w.set_gaze({96, 80});
     Params p(Json{{"sigma", 2.6}, {"adapt", 1.0}}, "t");
     auto m = make_method("rmfr_auto", p);
@@ -346,7 +369,8 @@ TEST(RmfrAuto, BeatsFixedRmfrOnRotatingPatterns) {
   double sum_a = 0, sum_r = 0;
   int n = 0;
   for (double ang = 0; ang <= 180; ang += 30) {
-    World w({{"type", "patterns"}, {"pattern", "stripes"}, {"frequency", 8.0}, {"angle", ang}}, 192, 160);
+    World w({{"type", "patterns"}, {"pattern", "stripes"}, {"frequency", 8.0}, {"angle", ang}}, 192,
+            160);
     w.set_gaze({96, 80});
     const Image ref = w.display(w.fd.reference);
     Params p(Json{{"sigma", 2.6}}, "t");
@@ -362,6 +386,7 @@ TEST(RmfrAuto, BeatsFixedRmfrOnRotatingPatterns) {
     sum_r += fpsnr(w.display(w.run("rmfr", {{"sigma", 2.6}}).image), ref, w);
     ++n;
   }
-  std::printf("[rmfr_auto] mean FPSNR over %d angles: rmfr_auto %.2f dB, rmfr %.2f dB\n", n, sum_a / n, sum_r / n);
+  std::printf("[rmfr_auto] mean FPSNR over %d angles: rmfr_auto %.2f dB, rmfr %.2f dB\n", n,
+              sum_a / n, sum_r / n);
   EXPECT_GT(sum_a / n, sum_r / n);
 }

@@ -54,7 +54,8 @@ TEST(MethodDecl, ParsedDefaultsEqualDeclaredDefaults) {
         }
     }
   }
-  EXPECT_GE(checked, 15);  // sigma, alpha, fx, fy, r1, r2, s1..s3, p_min, epsilon, A, D, vpl_budget, ...
+  EXPECT_GE(checked,
+            15);  // sigma, alpha, fx, fy, r1, r2, s1..s3, p_min, epsilon, A, D, vpl_budget, ...
 }
 
 TEST(MethodDecl, UndeclaredKeyIsAnErrorNamingIt) {

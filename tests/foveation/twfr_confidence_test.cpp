@@ -1,10 +1,11 @@
 // Confidence function, redraw map (seed 002 §5.2, §7) and OR-mipmap queries (§6.1).
+#include "sim/foveation/twfr_confidence.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "sim/core/rng.h"
-#include "sim/foveation/twfr_confidence.h"
 
 using namespace fovsim;
 using namespace fovsim::twfr;
@@ -147,7 +148,8 @@ TEST(TwfrOrMip, AnyMatchesBruteForce) {
       int x1 = x0 + int(r.below(uint32_t(W))), y1 = y0 + int(r.below(uint32_t(H)));
       bool brute = false;
       for (int y = std::max(y0, 0); y <= std::min(y1, H - 1); ++y)
-        for (int x = std::max(x0, 0); x <= std::min(x1, W - 1); ++x) brute = brute || map[size_t(y) * W + x];
+        for (int x = std::max(x0, 0); x <= std::min(x1, W - 1); ++x)
+          brute = brute || map[size_t(y) * W + x];
       bool got = mip.any(x0, y0, x1, y1);
       // The query is conservative (coarse texels may include neighbours) but never misses.
       if (brute) {

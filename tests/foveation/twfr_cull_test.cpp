@@ -1,8 +1,9 @@
 // Screen rectangles of sub-model AABBs and foveation culling (seed 002 §6.1).
+#include "sim/foveation/twfr_cull.h"
+
 #include <gtest/gtest.h>
 
 #include "sim/core/rng.h"
-#include "sim/foveation/twfr_cull.h"
 
 using namespace fovsim;
 using namespace fovsim::twfr;
@@ -14,7 +15,8 @@ Camera test_camera(int w = 96, int h = 80) {
   d.height = h;
   d.fov_h_deg = 90;
   d.fov_v_deg = 80;
-  glm::dquat rot = glm::angleAxis(0.3, glm::dvec3(0, 1, 0)) * glm::angleAxis(-0.1, glm::dvec3(1, 0, 0));
+  glm::dquat rot =
+      glm::angleAxis(0.3, glm::dvec3(0, 1, 0)) * glm::angleAxis(-0.1, glm::dvec3(1, 0, 0));
   return Camera::from_pose(d, glm::dvec3(0.5, 1.6, 2.0), rot);
 }
 AABB box(glm::vec3 lo, glm::vec3 hi) {
@@ -31,7 +33,8 @@ TEST(TwfrCull, RectangleContainsEveryVisiblePointOfTheBox) {
   int rects = 0;
   for (int t = 0; t < 200; ++t) {
     glm::vec3 c(float(r.uniform(-6, 6)), float(r.uniform(-2, 5)), float(r.uniform(-8, 4)));
-    glm::vec3 e(float(r.uniform(0.01, 1.5)), float(r.uniform(0.01, 1.5)), float(r.uniform(0.01, 1.5)));
+    glm::vec3 e(float(r.uniform(0.01, 1.5)), float(r.uniform(0.01, 1.5)),
+                float(r.uniform(0.01, 1.5)));
     AABB b = box(c - e, c + e);
     int x0, y0, x1, y1;
     RectKind k = screen_rect(cam, b, x0, y0, x1, y1);
@@ -60,7 +63,8 @@ TEST(TwfrCull, BehindAndStraddlingBoxes) {
   EXPECT_EQ(screen_rect(cam, box({-1, -1, -1}, {1, 1, 1}), x0, y0, x1, y1), RectKind::FullScreen);
   EXPECT_EQ(screen_rect(cam, AABB{}, x0, y0, x1, y1), RectKind::Offscreen);
   // A small box straight ahead covers the centre.
-  EXPECT_EQ(screen_rect(cam, box({-0.1f, -0.1f, -5.f}, {0.1f, 0.1f, -4.f}), x0, y0, x1, y1), RectKind::Rect);
+  EXPECT_EQ(screen_rect(cam, box({-0.1f, -0.1f, -5.f}, {0.1f, 0.1f, -4.f}), x0, y0, x1, y1),
+            RectKind::Rect);
   EXPECT_LE(x0, 32);
   EXPECT_GE(x1, 31);
 }
@@ -78,14 +82,15 @@ TEST(TwfrCull, CulledOnlyWhenNoMarkedPixelUnderTheRectangle) {
   OrMip mip;
   mip.build(map, 64, 64);
   std::vector<AABB> boxes = {
-      box({-0.2f, -0.2f, -5.f}, {0.2f, 0.2f, -4.f}),   // centre: culled
-      box({-5.f, 4.f, -5.2f}, {-4.5f, 4.6f, -5.f}),    // top-left corner: drawn
-      box({-1.f, -1.f, 2.f}, {1.f, 1.f, 3.f}),         // behind: offscreen
+      box({-0.2f, -0.2f, -5.f}, {0.2f, 0.2f, -4.f}),  // centre: culled
+      box({-5.f, 4.f, -5.2f}, {-4.5f, 4.6f, -5.f}),   // top-left corner: drawn
+      box({-1.f, -1.f, 2.f}, {1.f, 1.f, 3.f}),        // behind: offscreen
   };
   std::vector<double> tris = {100, 200, 300};
   std::vector<uint8_t> culled;
-  CullStats st = cull_submodels(cam, mip, boxes.size(), [&](size_t s) { return boxes[s]; },
-                                [&](size_t s) { return tris[s]; }, culled);
+  CullStats st = cull_submodels(
+      cam, mip, boxes.size(), [&](size_t s) { return boxes[s]; }, [&](size_t s) { return tris[s]; },
+      culled);
   EXPECT_EQ(culled[0], 1);
   EXPECT_EQ(culled[1], 0);
   EXPECT_EQ(culled[2], 1);

@@ -26,7 +26,8 @@ Display test_display() {
 }
 
 Scene atrium(bool dynamic = false, bool moving_light = false) {
-  Params p(Json{{"type", "atrium"}, {"complexity", 1}, {"dynamic", dynamic}, {"moving_light", moving_light}});
+  Params p(Json{
+      {"type", "atrium"}, {"complexity", 1}, {"dynamic", dynamic}, {"moving_light", moving_light}});
   return make_scene(p, "");
 }
 
@@ -49,7 +50,8 @@ struct Driver {
                  glm::angleAxis(glm::radians(pitch_deg), glm::dvec3(1, 0, 0));
     s.gaze_dir = glm::normalize(gaze);
     renderer.set_time(s.t);
-    prepare_frame(renderer, display, s, frame, method.required_channels(), prev ? &*prev : nullptr, fd);
+    prepare_frame(renderer, display, s, frame, method.required_channels(), prev ? &*prev : nullptr,
+                  fd);
     FrameContext ctx = fd.context(scene, renderer, display, debug);
     FrameOutput out;
     method.render(ctx, out);
@@ -130,9 +132,9 @@ TEST(TwfrMethod, EpsilonZeroRedrawsOnlyFoveaAndUncovered) {
     }
     EXPECT_GT(fovea, 0u);
     EXPECT_EQ(o.counters.get("pixels_redrawn"), double(count_nonzero(rm)));
-    EXPECT_EQ(o.counters.get("pixels_redrawn"),
-              o.counters.get("fovea_pixels") + o.counters.get("uncovered_pixels") +
-                  o.counters.get("redraw_confidence_pixels"));
+    EXPECT_EQ(o.counters.get("pixels_redrawn"), o.counters.get("fovea_pixels") +
+                                                    o.counters.get("uncovered_pixels") +
+                                                    o.counters.get("redraw_confidence_pixels"));
     expect_sane(o, d.pixels(), d.method);
   }
 }
@@ -146,7 +148,8 @@ TEST(TwfrMethod, RedrawnFractionNonDecreasingInEpsilon) {
     p.conf.epsilon = eps;
     Driver d(s, p);
     d.step(0);
-    FrameOutput o = d.step(4.0, {0.3, -0.1, -1}, glm::dvec3(0.1, 0, -0.1));  // same state for every eps
+    FrameOutput o =
+        d.step(4.0, {0.3, -0.1, -1}, glm::dvec3(0.1, 0, -0.1));  // same state for every eps
     const auto& rm = d.method.redraw_map();
     double cnt = o.counters.get("pixels_redrawn");
     EXPECT_GE(cnt, prev_count) << "eps " << eps;
@@ -203,12 +206,14 @@ TEST(TwfrMethod, CullsSubModelsBehindConfidentPixelsOnly) {
     visible.insert(g.submodel[i]);
     if (rm[i]) marked.insert(g.submodel[i]);
   }
-  for (int32_t sm : marked) EXPECT_EQ(culled[size_t(sm)], 0) << "sub-model over a marked pixel was culled";
+  for (int32_t sm : marked)
+    EXPECT_EQ(culled[size_t(sm)], 0) << "sub-model over a marked pixel was culled";
   size_t culled_visible = 0;
   for (int32_t sm : visible) culled_visible += culled[size_t(sm)];
   EXPECT_GT(culled_visible, 0u) << "no visible sub-model wholly behind confident pixels was culled";
   EXPECT_GT(o.counters.get("prims_foveation_culled"), 0.0);
-  EXPECT_EQ(o.counters.get("prims_submitted") + o.counters.get("prims_culled"), double(s.triangle_count()));
+  EXPECT_EQ(o.counters.get("prims_submitted") + o.counters.get("prims_culled"),
+            double(s.triangle_count()));
   // Every marked pixel was shaded (nothing marked lies on a culled sub-model).
   for (size_t i = 0; i < rm.size(); ++i) ASSERT_EQ(rm[i] != 0, d.method.shade_mask()[i] != 0);
   expect_sane(o, d.pixels(), d.method);
@@ -225,7 +230,8 @@ TEST(TwfrMethod, DynamicPixelsRedrawnWithinFramesImpliedByD) {
     FrameOutput o = d.step(0, {0.6, 0.3, -1});
     dyn_seen += o.counters.get("dynamic_pixels");
     for (const Sample& smp : d.method.samples()) {
-      if (smp.kind != kSurface || smp.object < 0 || !s.objects[size_t(smp.object)].dynamic()) continue;
+      if (smp.kind != kSurface || smp.object < 0 || !s.objects[size_t(smp.object)].dynamic())
+        continue;
       ASSERT_LT(int(smp.age), tmax) << "a dynamic pixel survived " << smp.age << " frames";
     }
     expect_sane(o, d.pixels(), d.method);
@@ -241,12 +247,12 @@ TEST(TwfrMethod, ExtremesStayFinite) {
     double yaw_step;
   };
   std::vector<Case> cases = {
-      {10, 10, {0, 0, -1}, 2},       // phi_F == phi_0
-      {0, 30, {0, 0, -1}, 2},        // phi_F = 0
-      {10, 30, {5, 0, -1}, 2},       // gaze outside the screen
-      {10, 30, {0, 0, 1}, 2},        // gaze behind the eye
-      {10, 30, {0.1, 0, -1}, 35},    // very fast head sweep
-      {180, 180, {0, 0, -1}, 2},     // everything foveal
+      {10, 10, {0, 0, -1}, 2},     // phi_F == phi_0
+      {0, 30, {0, 0, -1}, 2},      // phi_F = 0
+      {10, 30, {5, 0, -1}, 2},     // gaze outside the screen
+      {10, 30, {0, 0, 1}, 2},      // gaze behind the eye
+      {10, 30, {0.1, 0, -1}, 35},  // very fast head sweep
+      {180, 180, {0, 0, -1}, 2},   // everything foveal
   };
   for (const Case& c : cases) {
     TwfrParams p;
@@ -287,7 +293,8 @@ TEST(TwfrMethod, ResetRedrawsEverythingAndRunsAreThreadIndependent) {
   std::vector<Image> a, b;
   for (int pass = 0; pass < 2; ++pass) {
     std::unique_ptr<tbb::global_control> gc;
-    if (pass == 1) gc = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, 1);
+    if (pass == 1)
+      gc = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, 1);
     Driver d(s);
     for (int f = 0; f < 4; ++f) {
       FrameOutput o = d.step(2.5 * f, {0.2, -0.1, -1}, glm::dvec3(0.03 * f, 0, 0));
@@ -344,5 +351,6 @@ TEST(TwfrMethod, DebugImages) {
     names.insert(n);
     EXPECT_EQ(im.pixels(), d.pixels());
   }
-  for (const char* n : {"redraw", "confidence", "holes", "reprojected"}) EXPECT_TRUE(names.count(n)) << n;
+  for (const char* n : {"redraw", "confidence", "holes", "reprojected"})
+    EXPECT_TRUE(names.count(n)) << n;
 }

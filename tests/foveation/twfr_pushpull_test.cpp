@@ -1,10 +1,11 @@
 // Push-pull hole filling (seed 002 §5.1) and contrast confidence (§5.2).
+#include "sim/foveation/twfr_pushpull.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 
 #include "sim/core/rng.h"
-#include "sim/foveation/twfr_pushpull.h"
 
 using namespace fovsim;
 using namespace fovsim::twfr;
@@ -74,7 +75,8 @@ TEST(TwfrPushPull, MipLevelGrowsWithHoleSize) {
 }
 
 TEST(TwfrPushPull, ContrastConfidenceFromChildrenLuminanceRange) {
-  // 2x2 image: one hole, one bright pixel, two black ones -> level-1 texel c_c = 1 - 0.5 (Lmax - Lmin).
+  // 2x2 image: one hole, one bright pixel, two black ones -> level-1 texel c_c = 1 - 0.5 (Lmax -
+  // Lmin).
   Image im(2, 2, 3, 0.f);
   std::vector<uint8_t> valid = {0, 1, 1, 1}, level;
   std::vector<float> cc;

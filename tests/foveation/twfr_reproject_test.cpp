@@ -1,8 +1,8 @@
 // Forward reprojection with depth-tested splats (seed 002 §4, §7).
+#include "sim/foveation/twfr_reproject.h"
+
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
-
-#include "sim/foveation/twfr_reproject.h"
 
 using namespace fovsim;
 using namespace fovsim::twfr;
@@ -111,7 +111,8 @@ TEST(TwfrReproject, SkyAndDynamicObjectsMoveCorrectly) {
   Display d = small_display();
   Camera prev_cam = Camera::from_pose(d, glm::dvec3(0), glm::dquat(1, 0, 0, 0));
   // New view rotated by 5 degrees about +Y: a sky direction lands where the new camera sees it.
-  Camera cam = Camera::from_pose(d, glm::dvec3(0), glm::angleAxis(glm::radians(5.0), glm::dvec3(0, 1, 0)));
+  Camera cam =
+      Camera::from_pose(d, glm::dvec3(0), glm::angleAxis(glm::radians(5.0), glm::dvec3(0, 1, 0)));
   const size_t n = size_t(d.width) * size_t(d.height);
   Image prev(d.width, d.height, 3, 0.f);
   std::vector<Sample> s(n);
@@ -125,7 +126,8 @@ TEST(TwfrReproject, SkyAndDynamicObjectsMoveCorrectly) {
   s[src_dyn].object = 1;
   s[src_dyn].pos = glm::vec3(prev_cam.dir_world(10.5, 10.5) * 4.0);
   prev.data[3 * src_dyn] = 2.f;
-  std::vector<glm::mat4> motion = {glm::mat4(1.f), glm::translate(glm::mat4(1.f), glm::vec3(0.5f, 0, 0))};
+  std::vector<glm::mat4> motion = {glm::mat4(1.f),
+                                   glm::translate(glm::mat4(1.f), glm::vec3(0.5f, 0, 0))};
   std::vector<uint8_t> dyn = {0, 1};
   std::vector<float> ecc(n, 50.f);
   ReprojectInput in;

@@ -27,7 +27,8 @@ TEST(MetricsFpsnr, LocalPpdMatchesCameraPpdAt) {
       double px = fx * cam.width + 0.5, py = fy * cam.height + 0.5;
       EXPECT_NEAR(local_ppd(cam, px, py) / cam.ppd_at(px, py), 1.0, 1e-5) << fx << "," << fy;
     }
-  EXPECT_GT(local_ppd(cam, 0.5, 0.5), local_ppd(cam, cam.width / 2.0, cam.height / 2.0));  // rectilinear
+  EXPECT_GT(local_ppd(cam, 0.5, 0.5),
+            local_ppd(cam, cam.width / 2.0, cam.height / 2.0));  // rectilinear
 }
 
 TEST(MetricsFpsnr, EqualsPsnrWhenWeightIsConstant) {
@@ -125,7 +126,7 @@ TEST(MetricsRegions, FoveaPeripheryAndBands) {
   EXPECT_NEAR(m.get("rmse_ecc_0_5"), 0.1, 1e-6);
   EXPECT_NEAR(m.get("rmse_ecc_5_10"), 0.2, 1e-6);
   EXPECT_NEAR(m.get("rmse_ecc_10_20"), 0.3, 1e-6);
-  EXPECT_NEAR(m.get("rmse_ecc_20_50"), 0.3, 1e-6);  // columns 20..39
+  EXPECT_NEAR(m.get("rmse_ecc_20_50"), 0.3, 1e-6);   // columns 20..39
   EXPECT_TRUE(std::isnan(m.get("rmse_ecc_50_60")));  // no pixel there
   EXPECT_FALSE(m.has("psnr"));
   EXPECT_FALSE(m.has("temporal_error"));

@@ -55,7 +55,8 @@ TEST(MetricsTemporal, StaticErrorIsZeroFlickerIsItsAmplitude) {
   }
   // A size change behaves like a reset.
   Image small(W / 2, H, 3, 0.5f);
-  EXPECT_TRUE(std::isnan(temporal_error(small, small, std::vector<float>(small.pixels(), 30.f), 5.0, st)));
+  EXPECT_TRUE(
+      std::isnan(temporal_error(small, small, std::vector<float>(small.pixels(), 30.f), 5.0, st)));
 }
 
 TEST(MetricsCompute, ColumnsInOrderAndConsistentWithStandaloneFunctions) {
@@ -68,10 +69,11 @@ TEST(MetricsCompute, ColumnsInOrderAndConsistentWithStandaloneFunctions) {
   Counters m = compute_metrics(cfg, test, ref, cam, ecc, &st);
   std::vector<std::string> names;
   for (auto& kv : m.items()) names.push_back(kv.first);
-  std::vector<std::string> want{"psnr", "ssim", "fpsnr", "rmse_fovea", "rmse_periphery", "rmse_ecc_0_5",
-                                "rmse_ecc_5_10", "rmse_ecc_10_20", "rmse_ecc_20_30", "rmse_ecc_30_60",
-                                "flip", "flip_ecc_0_5", "flip_ecc_5_10", "flip_ecc_10_20", "flip_ecc_20_30",
-                                "flip_ecc_30_60", "temporal_error"};
+  std::vector<std::string> want{
+      "psnr",           "ssim",          "fpsnr",          "rmse_fovea",     "rmse_periphery",
+      "rmse_ecc_0_5",   "rmse_ecc_5_10", "rmse_ecc_10_20", "rmse_ecc_20_30", "rmse_ecc_30_60",
+      "flip",           "flip_ecc_0_5",  "flip_ecc_5_10",  "flip_ecc_10_20", "flip_ecc_20_30",
+      "flip_ecc_30_60", "temporal_error"};
   EXPECT_EQ(names, want);
   EXPECT_DOUBLE_EQ(m.get("psnr"), psnr(test, ref));
   EXPECT_DOUBLE_EQ(m.get("ssim"), ssim(test, ref));
@@ -121,8 +123,10 @@ TEST(MetricsCompute, FlipBandsAreMeansOfTheMapOverTheirPixels) {
   EXPECT_EQ(n.get("flip"), m.get("flip"));
   // The scratch's prepared reference is reused, and replaced when the reference changes.
   Image test2 = testutil::pattern(W, H, 3, 53, 0.4), ref2 = testutil::pattern(W, H, 3, 54);
-  EXPECT_EQ(compute_metrics(cfg, test2, ref, cam, ecc, nullptr, &sc).get("flip"), flip(ref, test2, flip_ppd(cam)));
-  EXPECT_EQ(compute_metrics(cfg, test2, ref2, cam, ecc, nullptr, &sc).get("flip"), flip(ref2, test2, flip_ppd(cam)));
+  EXPECT_EQ(compute_metrics(cfg, test2, ref, cam, ecc, nullptr, &sc).get("flip"),
+            flip(ref, test2, flip_ppd(cam)));
+  EXPECT_EQ(compute_metrics(cfg, test2, ref2, cam, ecc, nullptr, &sc).get("flip"),
+            flip(ref2, test2, flip_ppd(cam)));
   EXPECT_EQ(compute_metrics(cfg, test, ref, cam, ecc, nullptr, &sc).get("flip"), m.get("flip"));
 }
 
@@ -132,7 +136,8 @@ TEST(MetricsConfigTest, DefaultsAndOverrides) {
   EXPECT_TRUE(d.psnr && d.ssim && d.fpsnr && d.regions && d.temporal && d.flip);
   EXPECT_EQ(d.fovea_deg, 5.0);
   EXPECT_EQ(d.band_edges_deg, (std::vector<double>{0, 5, 10, 20, 30, 60}));
-  Params p(Json::parse(R"({"ssim": false, "fovea_deg": 2.5, "band_edges_deg": [0, 2.5, 90]})"), "run.json", "metrics");
+  Params p(Json::parse(R"({"ssim": false, "fovea_deg": 2.5, "band_edges_deg": [0, 2.5, 90]})"),
+           "run.json", "metrics");
   MetricsConfig c = MetricsConfig::from_params(p);
   p.finish();
   EXPECT_FALSE(c.ssim);
@@ -155,14 +160,18 @@ static std::string error_of(const char* json) {
 }
 
 TEST(MetricsConfigTest, InvalidValuesNameTheKey) {
-  EXPECT_NE(error_of(R"({"band_edges_deg": [0, 10, 10]})").find("metrics.band_edges_deg[2]"), std::string::npos);
-  EXPECT_NE(error_of(R"({"band_edges_deg": [0, 10, 5]})").find("strictly increasing"), std::string::npos);
+  EXPECT_NE(error_of(R"({"band_edges_deg": [0, 10, 10]})").find("metrics.band_edges_deg[2]"),
+            std::string::npos);
+  EXPECT_NE(error_of(R"({"band_edges_deg": [0, 10, 5]})").find("strictly increasing"),
+            std::string::npos);
   EXPECT_NE(error_of(R"({"band_edges_deg": [5]})").find("at least 2 edges"), std::string::npos);
-  EXPECT_NE(error_of(R"({"band_edges_deg": [0, 200]})").find("band_edges_deg[1]"), std::string::npos);
+  EXPECT_NE(error_of(R"({"band_edges_deg": [0, 200]})").find("band_edges_deg[1]"),
+            std::string::npos);
   EXPECT_NE(error_of(R"({"fovea_deg": 0})").find("metrics.fovea_deg"), std::string::npos);
   EXPECT_NE(error_of(R"({"ssim": "yes"})").find("metrics.ssim"), std::string::npos);
   EXPECT_NE(error_of(R"({"flip": 1})").find("metrics.flip"), std::string::npos);
-  EXPECT_NE(error_of(R"({"psnrr": true})").find("psnrr"), std::string::npos);  // typo caught by finish()
+  EXPECT_NE(error_of(R"({"psnrr": true})").find("psnrr"),
+            std::string::npos);  // typo caught by finish()
   EXPECT_EQ(error_of(R"({"fovea_deg": 3})"), "");
 }
 

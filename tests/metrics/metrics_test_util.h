@@ -16,7 +16,8 @@ inline Image pattern(int w, int h, int c, uint64_t seed, double noise = 0.1) {
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
       for (int k = 0; k < c; ++k) {
-        double v = 0.5 + 0.3 * std::sin(x / (3.0 + k) + y / 5.0) * std::cos(y / 7.0) + noise * (rng.uniform() - 0.5);
+        double v = 0.5 + 0.3 * std::sin(x / (3.0 + k) + y / 5.0) * std::cos(y / 7.0) +
+                   noise * (rng.uniform() - 0.5);
         im.at(x, y)[k] = float(v < 0 ? 0 : (v > 1 ? 1 : v));
       }
   return im;

@@ -236,7 +236,7 @@ TEST(Render, ShadowedPointIsDarker) {
   Mesh m;
   MeshBuilder b(m);
   b.grid({-10, 0, 10}, {20, 0, 0}, {0, 0, -20}, 2, 2, mi, true);  // floor y = 0, facing up
-  b.box({-0.5f, 1.f, -3.5f}, {0.5f, 1.2f, -2.5f}, mi);             // a slab floating above it
+  b.box({-0.5f, 1.f, -3.5f}, {0.5f, 1.2f, -2.5f}, mi);            // a slab floating above it
   add_mesh_object(s, std::move(m));
   s.ambient = glm::vec3(0.05f);
   Light l;
@@ -360,8 +360,7 @@ TEST(Render, DeterministicAcrossRunsAndThreadCounts) {
   render(2, g2, i2);
   render(1, g3, i3);
   auto same_bits = [](const auto& a, const auto& b) {
-    return a.size() == b.size() &&
-           std::memcmp(a.data(), b.data(), a.size() * sizeof(a[0])) == 0;
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(a[0])) == 0;
   };
   for (const GBuffer* o : {&g2, &g3}) {
     EXPECT_TRUE(same_bits(g1.depth, o->depth));
@@ -480,11 +479,15 @@ template <class F>
 void with_embree_isa(const std::string& isa, F f) {
   const char* old = std::getenv("FOVSIM_EMBREE_ISA");
   const std::string saved = old ? old : "";
-  if (isa.empty()) ::unsetenv("FOVSIM_EMBREE_ISA");
-  else ::setenv("FOVSIM_EMBREE_ISA", isa.c_str(), 1);
+  if (isa.empty())
+    ::unsetenv("FOVSIM_EMBREE_ISA");
+  else
+    ::setenv("FOVSIM_EMBREE_ISA", isa.c_str(), 1);
   f();
-  if (old) ::setenv("FOVSIM_EMBREE_ISA", saved.c_str(), 1);
-  else ::unsetenv("FOVSIM_EMBREE_ISA");
+  if (old)
+    ::setenv("FOVSIM_EMBREE_ISA", saved.c_str(), 1);
+  else
+    ::unsetenv("FOVSIM_EMBREE_ISA");
 }
 }  // namespace
 
@@ -558,7 +561,8 @@ TEST(Render, EmbreeIsaFromEnvironment) {
       ADD_FAILURE() << "no error";
     } catch (const Error& e) {
       EXPECT_EQ(e.where(), "FOVSIM_EMBREE_ISA");
-      EXPECT_NE(std::string(e.what()).find("allowed: native, sse2, sse4.2, avx, avx2, avx512"), std::string::npos);
+      EXPECT_NE(std::string(e.what()).find("allowed: native, sse2, sse4.2, avx, avx2, avx512"),
+                std::string::npos);
     }
   });
   with_embree_isa("native", [] { EXPECT_EQ(embree_forced_isa(), ""); });

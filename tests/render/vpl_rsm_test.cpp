@@ -76,7 +76,10 @@ TEST(Rsm, ProjectInvertsTexelRays) {
         ASSERT_TRUE(rsm.project(o + 0.7f * d, t, depth));
         EXPECT_EQ(int(t.x), x);
         EXPECT_EQ(int(t.y), y);
-        EXPECT_NEAR(depth, type == Light::Type::Directional ? glm::dot(o + 0.7f * d - rsm.origin, rsm.axis) : 0.7f, 1e-4f);
+        EXPECT_NEAR(
+            depth,
+            type == Light::Type::Directional ? glm::dot(o + 0.7f * d - rsm.origin, rsm.axis) : 0.7f,
+            1e-4f);
       }
   }
   RSM spot;
@@ -138,5 +141,6 @@ TEST(Vpl, SinglePairMatchesFormulaAndClampKeepsFinite) {
   VplSoA w = make_soa({v}, {0}, {2.5f});
   glm::vec3 L2 = shade_vpls_point(w, glm::vec3(0, 2, 0), glm::vec3(0, -1, 0), a, sh);
   EXPECT_NEAR(L2.x, 2.5f * L.x, 1e-6);
-  EXPECT_EQ(shade_vpls_point(VplSoA(), glm::vec3(0, 2, 0), glm::vec3(0, -1, 0), a, sh), glm::vec3(0.f));
+  EXPECT_EQ(shade_vpls_point(VplSoA(), glm::vec3(0, 2, 0), glm::vec3(0, -1, 0), a, sh),
+            glm::vec3(0.f));
 }

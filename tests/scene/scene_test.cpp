@@ -1,3 +1,5 @@
+#include "sim/scene/scene.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -6,7 +8,6 @@
 
 #include "sim/core/error.h"
 #include "sim/scene/builtin.h"
-#include "sim/scene/scene.h"
 
 using namespace fovsim;
 

@@ -20,7 +20,7 @@ TEST(Import, UnityEulerOnKnownAngles) {
   const glm::dvec3 fwd(0, 0, -1), right(1, 0, 0), up(0, 1, 0);
   double s30 = 0.5, c30 = std::sqrt(3.0) / 2;
   expect_vec(unity_euler_to_fovsim(0, 0, 0) * fwd, fwd);
-  expect_vec(unity_euler_to_fovsim(0, 90, 0) * fwd, right);          // yaw right
+  expect_vec(unity_euler_to_fovsim(0, 90, 0) * fwd, right);            // yaw right
   expect_vec(unity_euler_to_fovsim(30, 0, 0) * fwd, {0, -s30, -c30});  // pitch down
   expect_vec(unity_euler_to_fovsim(0, 0, 30) * right, {c30, s30, 0});  // roll: right side up
   expect_vec(unity_euler_to_fovsim(30, 90, 0) * fwd, {c30, -s30, 0});  // pitch then yaw
@@ -44,9 +44,13 @@ TEST(Import, AxisMaps) {
   expect_vec(ue.vec({0, 0, 1}), {0, 1, 0});   // UE up
   AxisMap custom = axis_map_from(Json{{"x", "+y"}, {"y", "+z"}, {"z", "-x"}}, "m");
   EXPECT_EQ(custom.M, ue.M);
-  expect_error([] { axis_map_from(Json{{"x", "+y"}, {"y", "+y"}, {"z", "-x"}}, "map.json: coordinates"); },
-               {"map.json: coordinates", "distinct"});
-  expect_error([] { axis_map_from(Json("blender"), "map.json: coordinates"); }, {"unknown coordinate convention"});
+  expect_error(
+      [] {
+        axis_map_from(Json{{"x", "+y"}, {"y", "+y"}, {"z", "-x"}}, "map.json: coordinates");
+      },
+      {"map.json: coordinates", "distinct"});
+  expect_error([] { axis_map_from(Json("blender"), "map.json: coordinates"); },
+               {"unknown coordinate convention"});
 }
 
 static const char* kMap = R"({
@@ -82,11 +86,13 @@ TEST(Import, EpochTimeUnitsEulerPerEyeAndBlinks) {
 }
 
 TEST(Import, ScreenAndWorldPointGaze) {
-  std::string map = write_tmp("m.json", R"({"delimiter": "semicolon", "header": false, "coordinates": "fovsim",
+  std::string map =
+      write_tmp("m.json", R"({"delimiter": "semicolon", "header": false, "coordinates": "fovsim",
     "time": {"column": 1, "unit": "ms"}, "head_position": {"constant": [0, 1.5, 0]},
     "head_orientation": {"type": "quaternion", "columns": [2, 3, 4, 5], "order": "xyzw"},
     "gaze": {"type": "point", "columns": [6, 7, 8], "unit": "m"}})");
-  std::string rec = write_tmp("r.csv", "0;0;0;0;1;0;1.5;-2\n5;0;0.7071067812;0;0.7071067812;-2;1.5;0\n");
+  std::string rec =
+      write_tmp("r.csv", "0;0;0;0;1;0;1.5;-2\n5;0;0.7071067812;0;0.7071067812;-2;1.5;0\n");
   Trace tr = import_trace(rec, map, vive());
   ASSERT_EQ(tr.samples.size(), 2u);
   EXPECT_NEAR(tr.samples[1].t, 0.005, 1e-12);
@@ -94,19 +100,22 @@ TEST(Import, ScreenAndWorldPointGaze) {
   // Head yawed 90 deg left looks down -X; the point at x=-2 is straight ahead.
   expect_vec(tr.samples[1].gaze_dir, {0, 0, -1}, 1e-8);
 
-  std::string map2 = write_tmp("s.json", R"({"delimiter": "comma", "header": true, "coordinates": "fovsim",
+  std::string map2 =
+      write_tmp("s.json", R"({"delimiter": "comma", "header": true, "coordinates": "fovsim",
     "time": {"column": "t", "unit": "s"}, "head_position": {"constant": [0, 0, 0]},
     "head_orientation": {"constant": [1, 0, 0, 0]},
     "gaze": {"type": "screen", "columns": ["u", "v"], "origin": "bottom-left"}})");
   std::string rec2 = write_tmp("s.csv", "t,u,v\n0,0.5,0.5\n0.1,1,1\n");
   Trace t2 = import_trace(rec2, map2, vive());
-  expect_vec(t2.samples[1].gaze_dir, gaze_dir_from_screen(vive(), 1, 0));  // bottom-left origin: v=1 is the top
+  expect_vec(t2.samples[1].gaze_dir,
+             gaze_dir_from_screen(vive(), 1, 0));  // bottom-left origin: v=1 is the top
 }
 
 // Map errors name the map file and JSON path.
 TEST(Import, MalformedMapsGiveClearErrors) {
   std::string rec = write_tmp("rec.tsv", kRec);
-  auto bad_map = [&](const std::string& name, const std::string& text, std::initializer_list<std::string> needles) {
+  auto bad_map = [&](const std::string& name, const std::string& text,
+                     std::initializer_list<std::string> needles) {
     std::string map = write_tmp(name, text);
     return expect_error([&] { import_trace(rec, map, vive()); }, needles);
   };
@@ -115,15 +124,22 @@ TEST(Import, MalformedMapsGiveClearErrors) {
     j[Json::json_pointer(key)] = v;
     return j.dump();
   };
-  bad_map("syntax.json", "{\"delimiter\": \"tab\",\n \"header\": tru }", {"syntax.json:2:", "malformed JSON"});
-  bad_map("unknown.json", patched("/gaze/colour", "x"), {"unknown.json: gaze.colour", "unknown key"});
-  bad_map("delim.json", patched("/delimiter", "pipe"), {"delim.json: delimiter", "allowed: comma, tab, semicolon, space"});
-  bad_map("col.json", patched("/time/column", "timestamp"), {"col.json: time.column", "\"timestamp\" is not in the header", "rec.tsv"});
-  bad_map("order.json", patched("/head_orientation/order", "ZXQ"), {"order.json: head_orientation.order", "three of X, Y, Z"});
-  bad_map("unit.json", patched("/time/unit", "minutes"), {"unit.json: time.unit", "allowed: s, ms, us, ns, 100ns"});
+  bad_map("syntax.json", "{\"delimiter\": \"tab\",\n \"header\": tru }",
+          {"syntax.json:2:", "malformed JSON"});
+  bad_map("unknown.json", patched("/gaze/colour", "x"),
+          {"unknown.json: gaze.colour", "unknown key"});
+  bad_map("delim.json", patched("/delimiter", "pipe"),
+          {"delim.json: delimiter", "allowed: comma, tab, semicolon, space"});
+  bad_map("col.json", patched("/time/column", "timestamp"),
+          {"col.json: time.column", "\"timestamp\" is not in the header", "rec.tsv"});
+  bad_map("order.json", patched("/head_orientation/order", "ZXQ"),
+          {"order.json: head_orientation.order", "three of X, Y, Z"});
+  bad_map("unit.json", patched("/time/unit", "minutes"),
+          {"unit.json: time.unit", "allowed: s, ms, us, ns, 100ns"});
   bad_map("ncols.json", patched("/head_position/columns", Json::array({"hx", "hy"})),
           {"ncols.json: head_position.columns", "array of 3 columns"});
-  bad_map("idx.json", patched("/gaze/left/1", 99), {"idx.json: gaze.left[1]", "column index 99 is outside 1..14"});
+  bad_map("idx.json", patched("/gaze/left/1", 99),
+          {"idx.json: gaze.left[1]", "column index 99 is outside 1..14"});
   Json nocoord = Json::parse(kMap);
   nocoord.erase("coordinates");
   bad_map("nocoord.json", nocoord.dump(), {"nocoord.json: coordinates", "required"});
@@ -135,25 +151,33 @@ TEST(Import, MalformedMapsGiveClearErrors) {
 TEST(Import, MalformedRecordingsNameLines) {
   std::string map = write_tmp("map.json", kMap);
   std::string body = kRec;
-  auto rec_err = [&](const std::string& name, const std::string& text, std::initializer_list<std::string> needles) {
+  auto rec_err = [&](const std::string& name, const std::string& text,
+                     std::initializer_list<std::string> needles) {
     std::string rec = write_tmp(name, text);
     return expect_error([&] { import_trace(rec, map, vive()); }, needles);
   };
   std::string head = body.substr(0, body.find('\n') + 1);
-  rec_err("short.tsv", head + "638000000000000000\t0\t160\n", {"short.tsv:2:", "expected 14 fields as in the header, got 3"});
-  rec_err("long.tsv", head + "638000000000000000\t0\t160\t0\t0\t90\t0\t0.1\t0\t1\t-0.1\t0\t1\t0\textra\n",
+  rec_err("short.tsv", head + "638000000000000000\t0\t160\n",
+          {"short.tsv:2:", "expected 14 fields as in the header, got 3"});
+  rec_err("long.tsv",
+          head + "638000000000000000\t0\t160\t0\t0\t90\t0\t0.1\t0\t1\t-0.1\t0\t1\t0\textra\n",
           {"long.tsv:2:", "got 15"});
   rec_err("num.tsv", head + "638000000000000000\t0\tabc\t0\t0\t90\t0\t0.1\t0\t1\t-0.1\t0\t1\t0\n",
           {"num.tsv:2:", "column \"hy\": not a number: \"abc\""});
-  rec_err("mono.tsv", head + "5\t0\t160\t0\t0\t0\t0\t0\t0\t1\t0\t0\t1\t0\n4\t0\t160\t0\t0\t0\t0\t0\t0\t1\t0\t0\t1\t0\n",
+  rec_err("mono.tsv",
+          head +
+              "5\t0\t160\t0\t0\t0\t0\t0\t0\t1\t0\t0\t1\t0\n4\t0\t160\t0\t0\t0\t0\t0\t0\t1\t0\t0\t1"
+              "\t0\n",
           {"mono.tsv:3:1", "time not strictly increasing"});
-  rec_err("behind.tsv", head + "5\t0\t160\t0\t0\t0\t0\t0\t0\t-1\t0\t0\t-1\t0\n", {"behind.tsv:2:", "behind the eye"});
+  rec_err("behind.tsv", head + "5\t0\t160\t0\t0\t0\t0\t0\t0\t-1\t0\t0\t-1\t0\n",
+          {"behind.tsv:2:", "behind the eye"});
   // on_bad_row = skip drops such rows and reports each kind with its first line.
   Json j = Json::parse(kMap);
   j["on_bad_row"] = "skip";
   std::string map2 = write_tmp("skip.json", j.dump());
-  std::string rec = write_tmp("mixed.tsv", body + "638000000000333333\t0\t160\n" +
-                                               "638000000000444444\t0\tabc\t0\t0\t90\t0\t0.1\t0\t1\t-0.1\t0\t1\t0\n");
+  std::string rec = write_tmp(
+      "mixed.tsv", body + "638000000000333333\t0\t160\n" +
+                       "638000000000444444\t0\tabc\t0\t0\t90\t0\t0.1\t0\t1\t-0.1\t0\t1\t0\n");
   ImportReport rep;
   Trace tr = import_trace(rec, map2, vive(), &rep);
   EXPECT_EQ(tr.samples.size(), 3u);
@@ -165,7 +189,8 @@ TEST(Import, MalformedRecordingsNameLines) {
 
 // The real Pico Neo 3 Pro recording (not committed): skip when absent.
 TEST(Import, PicoNeo3ProRecording) {
-  std::string rec = std::string(FOVSIM_SOURCE_DIR) + "/../shared/data/traces/pico_neo3_pro_boxing.tsv";
+  std::string rec =
+      std::string(FOVSIM_SOURCE_DIR) + "/../shared/data/traces/pico_neo3_pro_boxing.tsv";
   if (!file_exists(rec)) GTEST_SKIP() << "recording not present: " << rec;
   ImportReport rep;
   Trace tr = import_trace(rec, src("traces/maps/pico_neo3_pro.json"), vive(), &rep);
@@ -201,5 +226,6 @@ TEST(Import, EulerSignsFlipAnAxis) {
   expect_vec(tr.samples[0].head_rot * glm::dvec3(0, 0, -1), {-1, 0, 0});  // yaw 90 now turns left
   j["head_orientation"]["signs"] = Json::array({1, 2, 1});
   std::string bad = write_tmp("bad.json", j.dump());
-  expect_error([&] { import_trace(rec, bad, vive()); }, {"bad.json: head_orientation.signs", "1 or -1"});
+  expect_error([&] { import_trace(rec, bad, vive()); },
+               {"bad.json: head_orientation.signs", "1 or -1"});
 }

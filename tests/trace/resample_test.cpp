@@ -39,8 +39,8 @@ TEST(Resample, GridUnitQuaternionsAndSlerp) {
   for (size_t k = 0; k < out.samples.size(); ++k) {
     const auto& s = out.samples[k];
     EXPECT_NEAR(s.t, 1.0 + k / 90.0, 1e-12);
-    double qn = std::sqrt(s.head_rot.w * s.head_rot.w + s.head_rot.x * s.head_rot.x + s.head_rot.y * s.head_rot.y +
-                          s.head_rot.z * s.head_rot.z);
+    double qn = std::sqrt(s.head_rot.w * s.head_rot.w + s.head_rot.x * s.head_rot.x +
+                          s.head_rot.y * s.head_rot.y + s.head_rot.z * s.head_rot.z);
     EXPECT_NEAR(qn, 1.0, 1e-12);
     EXPECT_NEAR(glm::length(s.gaze_dir), 1.0, 1e-12);
     // Slerp of a constant-rate yaw gives the exact yaw at t: 3 deg * 120 Hz * (t - 1).

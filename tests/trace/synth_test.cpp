@@ -1,10 +1,11 @@
+#include "sim/trace/synth.h"
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 
 #include "sim/core/files.h"
 #include "sim/trace/stats.h"
-#include "sim/trace/synth.h"
 #include "test_util.h"
 
 using namespace fovsim;
@@ -43,7 +44,9 @@ std::vector<Saccade> detect(const Trace& tr, double thr_deg_s) {
   return out;
 }
 
-EyeModel model(const Json& overrides) { return load_eye_model(overrides, "test", "params", ""); }
+EyeModel model(const Json& overrides) {
+  return load_eye_model(overrides, "test", "params", "");
+}
 
 SynthOptions opts(const std::string& scenario, double dur, uint64_t seed = 7) {
   SynthOptions o;
@@ -71,20 +74,33 @@ TEST(Synth, DefaultJsonEqualsBuiltInDefaults) {
 }
 
 TEST(Synth, ParameterErrorsNameThePath) {
-  expect_error([] { load_eye_model(Json{{"saccade", {{"vmaxx", 500}}}}, "run.json", "trace.synthetic.params", ""); },
-               {"run.json: trace.synthetic.params.saccade.vmaxx", "unknown key"});
-  expect_error([] { load_eye_model(Json{{"saccade", {{"vmax_deg_s", 5}}}}, "run.json", "trace.synthetic.params", ""); },
-               {"trace.synthetic.params.saccade.vmax_deg_s", "out of range [50, 2000]"});
-  expect_error([] { load_eye_model(Json{{"fixation", {{"min_ms", 900}, {"max_ms", 500}}}}, "r.json", "p", ""); },
-               {"fixation.min_ms", "must not exceed"});
-  expect_error([] { load_eye_model(Json("no_such_file.json"), "r.json", "trace.synthetic.params", "/tmp"); },
-               {"r.json: trace.synthetic.params", "not found"});
+  expect_error(
+      [] {
+        load_eye_model(Json{{"saccade", {{"vmaxx", 500}}}}, "run.json", "trace.synthetic.params",
+                       "");
+      },
+      {"run.json: trace.synthetic.params.saccade.vmaxx", "unknown key"});
+  expect_error(
+      [] {
+        load_eye_model(Json{{"saccade", {{"vmax_deg_s", 5}}}}, "run.json", "trace.synthetic.params",
+                       "");
+      },
+      {"trace.synthetic.params.saccade.vmax_deg_s", "out of range [50, 2000]"});
+  expect_error(
+      [] {
+        load_eye_model(Json{{"fixation", {{"min_ms", 900}, {"max_ms", 500}}}}, "r.json", "p", "");
+      },
+      {"fixation.min_ms", "must not exceed"});
+  expect_error(
+      [] { load_eye_model(Json("no_such_file.json"), "r.json", "trace.synthetic.params", "/tmp"); },
+      {"r.json: trace.synthetic.params", "not found"});
   EXPECT_THROW(synth_internal(EyeModel(), opts("dancing", 1), vive()), Error);
 }
 
 // Main sequence (DESIGN §3): duration = 21 ms + 2.2 ms/deg; Vpeak = Vmax (1 - exp(-A/C)).
 TEST(Synth, SaccadesFollowTheMainSequence) {
-  EyeModel m = model(Json{{"head", {{"eye_only_range_deg", 90}}}});  // head still: eye-in-head = gaze
+  EyeModel m =
+      model(Json{{"head", {{"eye_only_range_deg", 90}}}});  // head still: eye-in-head = gaze
   Trace tr = synth_internal(m, opts("free-viewing", 60), vive());
   auto sac = detect(tr, 5.0);
   std::vector<double> A, D;
@@ -96,7 +112,8 @@ TEST(Synth, SaccadesFollowTheMainSequence) {
       EXPECT_NEAR(s.peak_deg_s, vp, 0.1 * vp) << "A=" << s.amp_deg;
     }
   ASSERT_GT(A.size(), 80u);
-  double ma = std::accumulate(A.begin(), A.end(), 0.0) / A.size(), md = std::accumulate(D.begin(), D.end(), 0.0) / D.size();
+  double ma = std::accumulate(A.begin(), A.end(), 0.0) / A.size(),
+         md = std::accumulate(D.begin(), D.end(), 0.0) / D.size();
   double sxy = 0, sxx = 0;
   for (size_t i = 0; i < A.size(); ++i) {
     sxy += (A[i] - ma) * (D[i] - md);
@@ -118,7 +135,8 @@ TEST(Synth, FixationDurationsInRange) {
   auto sac = detect(tr, 5.0);
   ASSERT_GT(sac.size(), 100u);
   std::vector<double> fix;
-  for (size_t i = 1; i < sac.size(); ++i) fix.push_back((tr.samples[sac[i].on].t - tr.samples[sac[i - 1].off].t) * 1e3);
+  for (size_t i = 1; i < sac.size(); ++i)
+    fix.push_back((tr.samples[sac[i].on].t - tr.samples[sac[i - 1].off].t) * 1e3);
   double mean = std::accumulate(fix.begin(), fix.end(), 0.0) / fix.size();
   EXPECT_GT(mean, 240.0);
   EXPECT_LT(mean, 310.0);
@@ -170,9 +188,11 @@ TEST(Synth, VorKeepsGazeInWorldSteady) {
         worst = std::max(worst, rad2deg(angle_between(w0, w)));
       }
       glm::dquat d = glm::conjugate(tr.samples[start].head_rot) * tr.samples[i - 1].head_rot;
-      max_head_turn = std::max(max_head_turn, rad2deg(2 * std::acos(std::min(1.0, std::fabs(d.w)))));
+      max_head_turn =
+          std::max(max_head_turn, rad2deg(2 * std::acos(std::min(1.0, std::fabs(d.w)))));
     }
-    if (i < dbg.phase.size() && dbg.phase[i] == SynthDebug::Fixation && dbg.phase[i - 1] != SynthDebug::Fixation)
+    if (i < dbg.phase.size() && dbg.phase[i] == SynthDebug::Fixation &&
+        dbg.phase[i - 1] != SynthDebug::Fixation)
       start = i;
   }
   EXPECT_GT(max_head_turn, 10.0);  // the head really turned during some fixation
@@ -232,7 +252,8 @@ TEST(Synth, BlinksAreInvalidAndBounded) {
 TEST(Synth, LatencyShiftsGazeBySamples) {
   EyeModel a = model(Json{{"tracker", {{"noise_deg", 0}}}});
   EyeModel b = model(Json{{"tracker", {{"noise_deg", 0}, {"latency_samples", 3}}}});
-  Trace ta = synthesize(a, opts("pursuit", 3), vive()), tb = synthesize(b, opts("pursuit", 3), vive());
+  Trace ta = synthesize(a, opts("pursuit", 3), vive()),
+        tb = synthesize(b, opts("pursuit", 3), vive());
   ASSERT_EQ(ta.samples.size(), tb.samples.size());
   for (size_t i = 3; i < ta.samples.size(); ++i) {
     if (ta.samples[i - 3].valid) {

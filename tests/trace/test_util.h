@@ -12,8 +12,12 @@
 
 namespace fovsim::test {
 
-inline std::string src(const std::string& rel) { return std::string(FOVSIM_SOURCE_DIR) + "/" + rel; }
-inline Display vive() { return Display::load("htc_vive_pro_eye", src("models")); }
+inline std::string src(const std::string& rel) {
+  return std::string(FOVSIM_SOURCE_DIR) + "/" + rel;
+}
+inline Display vive() {
+  return Display::load("htc_vive_pro_eye", src("models"));
+}
 
 // A per-test temporary directory.
 inline std::string tmpdir() {
@@ -31,12 +35,14 @@ inline std::string write_tmp(const std::string& name, const std::string& content
 }
 
 // Runs f, expects fovsim::Error whose text contains every needle; returns the message.
-inline std::string expect_error(const std::function<void()>& f, std::initializer_list<std::string> needles) {
+inline std::string expect_error(const std::function<void()>& f,
+                                std::initializer_list<std::string> needles) {
   try {
     f();
   } catch (const Error& e) {
     std::string w = e.what();
-    for (auto& n : needles) EXPECT_NE(w.find(n), std::string::npos) << "missing \"" << n << "\" in: " << w;
+    for (auto& n : needles)
+      EXPECT_NE(w.find(n), std::string::npos) << "missing \"" << n << "\" in: " << w;
     return w;
   }
   ADD_FAILURE() << "expected fovsim::Error";
