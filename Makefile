@@ -5,7 +5,7 @@ JOBS  ?= $(shell nproc)
 CMAKE_FLAGS ?=
 PY := /usr/bin/python3
 
-DEB_PKGS := cmake g++ make pkg-config git libembree-dev libglm-dev libopenimageio-dev \
+DEB_PKGS := cmake g++ make pkg-config git clang-format libembree-dev libglm-dev libopenimageio-dev \
             nlohmann-json3-dev libtbb-dev libgtest-dev libcli11-dev libassimp-dev \
             libbenchmark-dev python3-matplotlib python3-numpy pybind11-dev python3-dev
 # Optional extras: skimage for the live SSIM cross-check, assimp-testmodels for import tests.
@@ -63,7 +63,7 @@ bench-report: deps-bench build
 	bench/report.sh $(BUILD)
 
 format:
-	clang-format -i $$(git ls-files 'sim/*.cpp' 'sim/*.h' 'tests/*.cpp' 'bench/*.cpp')
+	clang-format -i $$(git ls-files 'sim/*.cpp' 'sim/*.h' 'tests/*.cpp' 'tests/*.h' 'bench/*.cpp' 'python/*.cpp')
 
 clean:
 	rm -rf $(BUILD)
