@@ -1,5 +1,6 @@
 #include "sim/core/params.h"
 
+#include <cctype>
 #include <cmath>
 #include <sstream>
 
@@ -413,9 +414,40 @@ void apply_override(Json& doc, const std::string& assignment) {
       if (close == std::string::npos) throw Error(W, "missing ']'");
       std::string idx = key.substr(j + 1, close - j - 1);
       long n = 0;
-      if (!parse_integer(idx, 0, 1000000000L, n)) throw Error(W, "bad array index \"" + idx + "\"");
-      if (!node->is_array() || size_t(n) >= node->size())
-        throw Error(W, "\"" + walked + "\" has no element [" + idx + "]");
+      // A label starts with a letter or '_'; anything else is parsed as an index.
+      const bool label =
+          !idx.empty() && (std::isalpha(static_cast<unsigned char>(idx[0])) || idx[0] == '_');
+      if (!label) {
+        if (!parse_integer(idx, 0, 1000000000L, n))
+          throw Error(W, "bad array index \"" + idx + "\"");
+        if (!node->is_array() || size_t(n) >= node->size())
+          throw Error(W, "\"" + walked + "\" has no element [" + idx + "]");
+      } else {
+        // Label form, as in sweep axes (methods[kfr].sigma): the element whose "label" (or,
+        // without a label, "method") is idx; none or several is an error listing the labels.
+        if (!node->is_array()) throw Error(W, "\"" + walked + "\" is not an array");
+        long found = -1, count = 0;
+        std::string names;
+        for (size_t k = 0; k < node->size(); ++k) {
+          const Json& e = (*node)[k];
+          if (!e.is_object()) continue;
+          const Json* l =
+              e.contains("label") ? &e["label"] : (e.contains("method") ? &e["method"] : nullptr);
+          if (!l || !l->is_string()) continue;
+          names += (names.empty() ? "" : ", ") + l->get<std::string>();
+          if (l->get<std::string>() == idx) {
+            found = long(k);
+            ++count;
+          }
+        }
+        if (count == 0)
+          throw Error(W, "no entry of \"" + walked + "\" has label \"" + idx +
+                             "\" (labels: " + names + ")");
+        if (count > 1)
+          throw Error(W, std::to_string(count) + " entries of \"" + walked + "\" match \"" + idx +
+                             "\"; give them labels");
+        n = found;
+      }
       node = &(*node)[size_t(n)];
       walked += "[" + idx + "]";
       i = close + 1;

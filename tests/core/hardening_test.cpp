@@ -231,3 +231,24 @@ TEST(Hardening, CommandLineValues) {
             }).find("--param kfr.alpha:1:65: JSON nested deeper than 64 levels"),
             std::string::npos);
 }
+
+// Label paths work in overrides as in sweep axes: methods[kfr].sigma.
+TEST(Override, MethodLabelPaths) {
+  Json doc = Json::parse(
+      R"({"methods": [{"method": "full"}, {"method": "kfr"}, {"method": "rmfr", "label": "r2"}]})");
+  apply_override(doc, "methods[kfr].sigma=2.2");
+  EXPECT_EQ(doc["methods"][1]["sigma"], 2.2);
+  apply_override(doc, "methods[r2].fx=0.3");
+  EXPECT_EQ(doc["methods"][2]["fx"], 0.3);
+  try {
+    apply_override(doc, "methods[twfr].epsilon=0.1");
+    ADD_FAILURE();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(
+                  "no entry of \"methods\" has label \"twfr\" (labels: full, kfr, r2)"),
+              std::string::npos)
+        << e.what();
+  }
+  Json two = Json::parse(R"({"methods": [{"method": "kfr"}, {"method": "kfr"}]})");
+  EXPECT_THROW(apply_override(two, "methods[kfr].sigma=2"), Error);
+}
