@@ -30,12 +30,10 @@ double fvrs_shaded_fraction(const Display& d, double gu, double gv, double r1, d
 namespace {
 // Keys that only `predict`/`budget`/calibration understand (assumptions replacing a rendered
 // measurement), per cost family (method_list.h); every other key is the method's own.
-std::vector<std::string> analytic_keys(CostFamily f, bool whole_buffer) {
+std::vector<std::string> analytic_keys(CostFamily f) {
   switch (f) {
-    case CostFamily::Mapping:
-      return whole_buffer ? std::vector<std::string>{"filter_taps_per_pixel"}
-                          : std::vector<std::string>{"shaded_fraction", "gaze_u", "gaze_v",
-                                                     "filter_taps_per_pixel"};
+    case CostFamily::Mapping:  // shaded_fraction / gaze: baselines only (see below)
+      return {"shaded_fraction", "gaze_u", "gaze_v", "filter_taps_per_pixel"};
     case CostFamily::Fvrs:
       return {"shaded_fraction", "gaze_u", "gaze_v"};
     case CostFamily::Twfr:
@@ -58,12 +56,6 @@ bool shades_whole_buffer(const std::string& kind) {
   return kind == "kfr" || kind == "rmfr";
 }
 
-std::string mapping_kind(const std::string& method, const std::string& where) {
-  // The declared sampling geometry of the method at its defaults.
-  Params p(Json::object(), where, "");
-  auto m = make_method(method, p);
-  return m->mapping_spec() ? m->mapping_spec()->method : std::string();
-}
 }  // namespace
 
 Counters analytic_counters(const std::string& method, const Json& params, const Workload& w,
@@ -72,16 +64,18 @@ Counters analytic_counters(const std::string& method, const Json& params, const 
   const Json all = params.is_null() ? Json::object() : params;
   if (!all.is_object()) throw Error(where, "method parameters must be an object");
   const CostFamily fam = cost_family(method);
-  const std::string kind = fam == CostFamily::Mapping ? mapping_kind(method, where) : std::string();
   // Split: analytic-only keys here; the rest goes through the method's own parser (the one
-  // `run` uses: same keys, defaults and ranges; unknown or mistyped keys are errors).
+  // `run` uses: same keys, defaults and ranges; unknown or mistyped keys are errors). An
+  // analytic key the method does not use (kfr:shaded_fraction) stays unread and is reported
+  // by p.finish() below.
   Json own = Json::object(), extra = Json::object();
-  const std::vector<std::string> ak = analytic_keys(fam, shades_whole_buffer(kind));
+  const std::vector<std::string> ak = analytic_keys(fam);
   for (auto it = all.begin(); it != all.end(); ++it)
     (std::find(ak.begin(), ak.end(), it.key()) != ak.end() ? extra : own)[it.key()] = it.value();
   Params mp(own, where, "");
   const std::unique_ptr<FoveationMethod> inst = make_method(method, mp);
   const std::vector<std::pair<std::string, double>> cols = inst->param_columns();
+  const std::string kind = inst->mapping_spec() ? inst->mapping_spec()->method : std::string();
   Params p(extra, where, "");
   const double P = double(std::max(0, d.width)) * double(std::max(0, d.height));
   Counters c;

@@ -202,11 +202,6 @@ struct Shared {
   }
 };
 
-// Scene features as recorded in manifest.json (what `fovsim predict --results` re-costs with).
-Json scene_features_json(const SceneFeatures& f) {
-  return f.to_json();
-}
-
 // One cell: its methods, metrics, GPU profiles, outputs and accumulated rows.
 struct Cell {
   const CellJob* job = nullptr;
@@ -507,7 +502,7 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
              {"scene",
               {{"name", sh.scene->name},
                {"triangles", sh.scene->triangle_count()},
-               {"features", scene_features_json(sh.scene->features())}}},
+               {"features", sh.scene->features().to_json()}}},
              {"trace", {{"source", sh.trace.source}, {"samples", sh.trace.samples.size()}}},
              {"frames", {{"start", sh.start}, {"count", sh.count}, {"stride", sh.stride}}},
              {"machine", machine_info()},

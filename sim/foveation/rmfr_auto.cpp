@@ -15,6 +15,7 @@
 #include <cmath>
 #include <map>
 
+#include "sim/core/math.h"
 #include "sim/foveation/mapping_spec.h"
 #include "sim/foveation/methods.h"
 
@@ -65,15 +66,15 @@ class RmfrAutoMethod final : public FoveationMethod {
     const Image& im = prev_;
     if (im.width < 3 || im.height < 3 || !ctx.eccentricity) return;
     double ex = 0, ey = 0;
-    auto luma = [&](int x, int y) {
+    auto lum = [&](int x, int y) {
       const float* c = im.at(x, y);
-      return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+      return double(luma(c[0], c[1], c[2]));
     };
     for (int y = 1; y + 1 < im.height; y += 2)
       for (int x = 1; x + 1 < im.width; x += 2) {
         if ((*ctx.eccentricity)[size_t(y) * size_t(im.width) + size_t(x)] < p_.periphery_deg)
           continue;
-        const double gx = luma(x + 1, y) - luma(x - 1, y), gy = luma(x, y + 1) - luma(x, y - 1);
+        const double gx = lum(x + 1, y) - lum(x - 1, y), gy = lum(x, y + 1) - lum(x, y - 1);
         ex += gx * gx;
         ey += gy * gy;
       }

@@ -22,6 +22,13 @@ run() {  # run LABEL ENV... -- CMD...
   local label=$1; shift
   local envs=()
   while [ "$1" != "--" ]; do envs+=("$1"); shift; done; shift
+  # A filter that selects no test would "pass" without testing anything: count first.
+  local n
+  n=$(env "${envs[@]}" "$@" --gtest_list_tests 2> /dev/null | grep -c '^  ')
+  if [ "$n" -eq 0 ]; then
+    failed=$((failed + 1)); failures="$failures $label"
+    echo "FAILED: $label selects no test ($*)"; return
+  fi
   if env "${envs[@]}" timeout "$per_test_timeout" "$@" > /tmp/fovsim_isa_$$.log 2>&1; then
     passed=$((passed + 1))
   else
