@@ -1,17 +1,29 @@
-// pybind11 module `_fovsim`: run a config, run a sweep, and an evaluation hook for outside
-// (ask/tell) optimisers, on the same library as the CLI. Wrapped by python/fovsim/engine.py;
-// docs/python.md. Library errors (fovsim::Error: location + message) become FovsimError.
+// pybind11 module `_fovsim`: run a config, run a sweep, an evaluation hook for outside
+// optimisers, the ask/tell searcher of `fovsim search` (sim/experiment/search.h), and the cost
+// model's per-frame estimate (what `fovsim predict` / `fovsim budget` compute) and re-costing
+// of a finished run, on the same library as the CLI. Kept thin: tables and derived columns
+// are built in python/fovsim (engine.py, cost.py); docs/python.md. Library errors
+// (fovsim::Error: location + message) become FovsimError.
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <map>
 #include <string>
 #include <vector>
 
 #include "sim/core/error.h"
+#include "sim/cost/analytic.h"
+#include "sim/cost/cost_model.h"
+#include "sim/cost/gpu_profile.h"
+#include "sim/cost/passes.h"
+#include "sim/cost/workload.h"
 #include "sim/experiment/config.h"
+#include "sim/experiment/recost.h"
 #include "sim/experiment/runner.h"
+#include "sim/experiment/search.h"
 #include "sim/experiment/sweep_runner.h"
 #include "sim/experiment/sweep_spec.h"
+#include "sim/foveation/factory.h"
 
 namespace py = pybind11;
 using namespace fovsim;
@@ -130,6 +142,197 @@ class Evaluator {
   int count_ = 0;
 };
 
+// JSON text -> Python object through the json module (params, nested dicts).
+py::object from_json(const Json& j) {
+  return py::module_::import("json").attr("loads")(j.dump());
+}
+
+// One frame estimate of the analytic cost model: `fovsim predict`'s per-method row (without the
+// speedup column) and, with budget_ms > 0, `fovsim budget`'s verdict. `scale` multiplies a
+// resource's throughput (shading, geometry, raster, memory, fixed) as `budget --shading` etc.
+py::dict estimate_py(const std::string& gpu, const std::string& workload, const std::string& method,
+                     const std::string& display, int width, int height, int eyes,
+                     const std::map<std::string, double>& scale, double budget_ms,
+                     const std::string& models_in) {
+  const std::string models = models_in.empty() ? default_models_dir() : models_in;
+  MethodArg m = parse_method_arg(method, "method");
+  if (!is_cost_method(m.name))
+    throw Error("method " + method, "no cost model for method \"" + m.name + "\"");
+  Workload w = Workload::load(workload, models);
+  Display d = Display::load(display, models);
+  if (width) d.width = width;
+  if (height) d.height = height;
+  if (eyes) d.eyes = eyes;
+  GpuProfile g = GpuProfile::load(gpu, models);
+  for (auto& [k, f] : scale) {
+    bool known = false;
+    for (Resource r : {Resource::Geometry, Resource::Raster, Resource::Shading, Resource::Memory,
+                       Resource::Fixed})
+      if (k == resource_name(r)) g = g.scaled(r, f), known = true;
+    if (!known)
+      throw Error("scale." + k, "unknown resource (shading, geometry, raster, memory, fixed)");
+  }
+  Counters c = analytic_counters(m.name, m.params, w, d, "method " + m.text);
+  CostInputs in;
+  in.method = m.name;
+  in.counters = &c;
+  in.display = d;
+  in.workload = &w;
+  FrameCost fc = estimate_frame(g, in);
+  py::dict r;
+  r["gpu"] = g.name;
+  r["calibrated"] = g.calibrated;
+  r["model"] = model_name(g.model);
+  r["method"] = m.name;
+  r["method_text"] = m.text;
+  r["params"] = from_json(m.params);
+  r["workload"] = w.name;
+  r["display"] = d.name;
+  r["width"] = d.width;
+  r["height"] = d.height;
+  r["eyes"] = d.eyes;
+  r["display_budget_ms"] = d.frame_budget_ms();
+  r["est_ms_total"] = fc.total_ms;
+  if (fc.interval_level > 0) {
+    r["est_ms_total_lo"] = fc.total_lo_ms;
+    r["est_ms_total_hi"] = fc.total_hi_ms;
+    r["interval_level"] = fc.interval_level;
+  }
+  py::dict passes;
+  for (auto& p : fc.passes) passes[py::str(p.pass)] = p.ms;
+  r["passes"] = passes;
+  r["resource_ms"] = fc.resource_ms;
+  r["missing_counters"] = fc.missing_counters;
+  if (budget_ms > 0) r["verdict"] = std::string(budget_verdict(fc, budget_ms));
+  return r;
+}
+
+// `fovsim predict --results DIR`: a finished run's measured counters re-costed (recost.h).
+py::list recost_py(const std::string& results, const std::vector<std::string>& gpus,
+                   const std::string& display, int width, int height, int eyes,
+                   const std::string& workload, const std::string& models) {
+  RecostOptions o;
+  o.results = results;
+  o.models = models.empty() ? default_models_dir() : models;
+  o.gpus = gpus;
+  o.display = display;
+  o.width = width;
+  o.height = height;
+  o.eyes = eyes;
+  o.workload = workload;
+  RecostResult res;
+  {
+    py::gil_scoped_release nogil;
+    res = recost_results(o);
+  }
+  py::list out;
+  for (auto& x : res.rows) {
+    py::dict r;
+    r["gpu"] = x.gpu;
+    r["config_id"] = x.config_id;
+    r["method"] = x.method;
+    r["frames"] = x.frames;
+    r["display"] = res.display.name;
+    r["width"] = res.display.width;
+    r["height"] = res.display.height;
+    r["eyes"] = res.display.eyes;
+    r["workload"] = res.workload;
+    r["est_ms_total"] = x.total_ms;
+    if (x.level > 0) {
+      r["est_ms_total_lo"] = x.lo_ms;
+      r["est_ms_total_hi"] = x.hi_ms;
+      r["interval_level"] = x.level;
+    }
+    py::dict passes;
+    for (auto& [k, v] : x.pass_ms) passes[py::str(k)] = v;
+    r["passes"] = passes;
+    out.append(r);
+  }
+  return out;
+}
+
+// Ask/tell over the search space of `fovsim search` (sweep.search in a config, or given here
+// as the same JSON): the Searcher of sim/experiment/search.h proposes, the caller evaluates.
+// `search_json` (may be empty: the config's own sweep.search) is validated by expand_sweep, so
+// errors read as for `fovsim search`.
+class AskTell {
+ public:
+  AskTell(const std::string& config, const std::vector<std::string>& overrides,
+          const std::string& search_json)
+      : spec_(load_spec(config, overrides, search_json)),
+        searcher_(spec_.space, spec_.objective.maximize, spec_.seed, spec_.batch) {}
+
+  std::vector<std::vector<double>> ask() { return searcher_.ask(); }
+  void tell(const std::vector<std::vector<double>>& xs, const std::vector<double>& scores,
+            const std::vector<double>& violations) {
+    if (xs.size() != scores.size() || xs.size() != violations.size())
+      throw Error("AskTell.tell", "points, scores and violations differ in length");
+    std::vector<SearchEval> ev(xs.size());
+    for (size_t i = 0; i < xs.size(); ++i) ev[i] = {xs[i], scores[i], violations[i]};
+    searcher_.tell(ev);
+  }
+  py::dict spec() const {
+    py::dict d;
+    py::list dims;
+    for (auto& s : spec_.space) {
+      py::dict x;
+      x["path"] = s.path;
+      x["lo"] = s.lo;
+      x["hi"] = s.hi;
+      x["step"] = s.step;
+      x["log"] = s.log;
+      x["integer"] = s.integer;
+      dims.append(x);
+    }
+    d["space"] = dims;
+    d["objective"] = spec_.objective.column;
+    d["maximize"] = spec_.objective.maximize;
+    d["constraint_column"] = spec_.constraint_column;
+    d["constraint_max"] = spec_.constraint_max;
+    d["label"] = spec_.select_label;
+    d["evaluations"] = spec_.evaluations;
+    d["batch"] = spec_.batch;
+    d["seed"] = spec_.seed;
+    return d;
+  }
+  py::object best() const {
+    if (!searcher_.has_best()) return py::none();
+    const SearchEval& b = searcher_.best();
+    py::dict d;
+    d["x"] = b.x;
+    d["score"] = b.score;
+    d["violation"] = b.violation;
+    return d;
+  }
+  size_t told() const { return searcher_.history().size(); }
+  double step() const { return searcher_.step(); }
+
+ private:
+  static SearchSpec load_spec(const std::string& config, const std::vector<std::string>& overrides,
+                              const std::string& search_json) {
+    LoadedConfig cfg = load_config(config, overrides);
+    if (!search_json.empty()) {
+      Json s;
+      try {
+        s = Json::parse(search_json);
+      } catch (const std::exception& e) {
+        throw Error("AskTell(search=...)", std::string("not JSON: ") + e.what());
+      }
+      if (!cfg.doc.contains("sweep") || !cfg.doc["sweep"].is_object())
+        cfg.doc["sweep"] = Json::object();
+      cfg.doc["sweep"]["search"] = s;
+    }
+    SweepPlan plan = expand_sweep(cfg);
+    if (!plan.search.enabled())
+      throw Error(config + ": sweep.search",
+                  "no search space (give space=... or a config with sweep.search, "
+                  "docs/sweeps.md)");
+    return plan.search;
+  }
+  SearchSpec spec_;
+  Searcher searcher_;
+};
+
 }  // namespace
 
 PYBIND11_MODULE(_fovsim, m) {
@@ -150,6 +353,24 @@ PYBIND11_MODULE(_fovsim, m) {
   m.def("sweep", &sweep_py, py::arg("config"), py::arg("overrides") = std::vector<std::string>{},
         py::arg("out") = "", py::arg("threads") = 0, py::arg("models") = "",
         "Runs a sweep config (like `fovsim sweep`, resumable); returns a report dict");
+  m.def("estimate", &estimate_py, py::arg("gpu"), py::arg("workload"), py::arg("method"),
+        py::arg("display") = "htc_vive_pro_eye", py::arg("width") = 0, py::arg("height") = 0,
+        py::arg("eyes") = 0, py::arg("scale") = std::map<std::string, double>{},
+        py::arg("budget_ms") = 0.0, py::arg("models") = "",
+        "One frame estimate of the analytic cost model (fovsim predict / budget)");
+  m.def("recost", &recost_py, py::arg("results"), py::arg("gpus"), py::arg("display") = "",
+        py::arg("width") = 0, py::arg("height") = 0, py::arg("eyes") = 0, py::arg("workload") = "",
+        py::arg("models") = "",
+        "A finished run's counters re-costed for other GPUs/displays (fovsim predict --results)");
+  py::class_<AskTell>(m, "AskTell")
+      .def(py::init<std::string, std::vector<std::string>, std::string>(), py::arg("config"),
+           py::arg("overrides") = std::vector<std::string>{}, py::arg("search") = "")
+      .def("ask", &AskTell::ask, "Next batch of points (real units, one value per dimension)")
+      .def("tell", &AskTell::tell, py::arg("points"), py::arg("scores"), py::arg("violations"))
+      .def_property_readonly("spec", &AskTell::spec)
+      .def_property_readonly("best", &AskTell::best)
+      .def_property_readonly("told", &AskTell::told)
+      .def_property_readonly("step", &AskTell::step);
   py::class_<Evaluator>(m, "Evaluator")
       .def(py::init<std::string, std::vector<std::string>, std::string, int, std::string>(),
            py::arg("config"), py::arg("overrides") = std::vector<std::string>{},

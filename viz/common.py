@@ -94,8 +94,84 @@ def pareto_front(points):
     return front
 
 
+# One colour per method, the same in every plot of every script (run, sweep, latency, video):
+# the methods of sim/foveation/method_list.h in a fixed order on tab10, then the rest of tab20
+# for methods not listed here (in order of first use, stable within a process).
+METHOD_COLORS = {
+    "full": "#000000",
+    "kfr": "#1f77b4",
+    "rmfr": "#ff7f0e",
+    "hyperbolic": "#2ca02c",
+    "linear": "#d62728",
+    "fvrs": "#9467bd",
+    "twfr": "#8c564b",
+    "flc": "#e377c2",
+    "rmfr_auto": "#bcbd22",
+    "reference": "#7f7f7f",
+}
+_EXTRA = ["#17becf", "#aec7e8", "#ffbb78", "#98df8a", "#ff9896", "#c5b0d5", "#c49c94", "#f7b6d2", "#dbdb8d",
+          "#9edae5"]
+_extra_used = {}
+
+
+def method_color(method):
+    """Colour of a method (factory name; a label `kfr_s2` or `kfr@gpu` falls back to its
+    method prefix when the row's method is unknown)."""
+    m = (method or "").strip()
+    if m in METHOD_COLORS:
+        return METHOD_COLORS[m]
+    for sep in ("@", ":", " "):
+        base = m.split(sep)[0]
+        if base in METHOD_COLORS:
+            return METHOD_COLORS[base]
+    if m not in _extra_used:
+        _extra_used[m] = _EXTRA[len(_extra_used) % len(_EXTRA)]
+    return _extra_used[m]
+
+
+LINESTYLES = ["-", "--", ":", "-."]
+MARKERS = ["o", "s", "^", "D", "v", "P", "X", "*", "<", ">", "h"]
+
+
+def variant_styles(keys_methods):
+    """{key: (colour, linestyle, marker)} for configurations given as [(key, method)] in order:
+    the colour is the method's (method_color); the 2nd, 3rd, ... configuration of the same
+    method gets the next line style and marker, so configurations stay apart."""
+    out, count = {}, {}
+    for key, meth in keys_methods:
+        if key in out:
+            continue
+        k = count.get(meth, 0)
+        count[meth] = k + 1
+        out[key] = (method_color(meth), LINESTYLES[k % len(LINESTYLES)], MARKERS[k % len(MARKERS)])
+    return out
+
+
+UNITS = {"est_ms_total": "estimated frame time [ms]", "fpsnr": "FPSNR [dB]", "psnr": "PSNR [dB]",
+         "ssim": "SSIM [0–1]", "flip": "LDR-FLIP [0–1, lower is better]",
+         "shaded_fraction": "shaded fraction [of W·H]", "shaded_samples": "shaded samples [samples]",
+         "temporal_error": "temporal error [RMSE]", "rmse_fovea": "RMSE in the fovea [0–1]",
+         "rmse_periphery": "RMSE in the periphery [0–1]", "latency_ms": "end-to-end latency [ms]",
+         "gaze_error_deg": "gaze error [deg]", "budget_ms": "frame budget [ms]"}
+
+
+def metric_label(col):
+    """Axis label of a results column with its unit (results/README.md), e.g. "FPSNR [dB]"."""
+    if col in UNITS:
+        return UNITS[col]
+    if col.startswith("est_ms_"):
+        return f"estimated time of pass {col[len('est_ms_'):]} [ms]"
+    if col.startswith("rmse_ecc_"):
+        return f"RMSE in band {col[len('rmse_ecc_'):].replace('_', '–').replace('p', '.')}° [0–1]"
+    if col.startswith("flip_ecc_"):
+        return f"LDR-FLIP in band {col[len('flip_ecc_'):].replace('_', '–').replace('p', '.')}° [0–1]"
+    if col.startswith("rmse_"):
+        return f"{col} [RMSE, 0–1]"
+    return col
+
+
 def config_color(i):
-    """Colour of the i-th configuration (order of first appearance), shared by every plot."""
+    """Deprecated: colour by position. Use method_color (one palette keyed by method)."""
     return f"C{i % 10}"
 
 
@@ -111,6 +187,51 @@ def dedup_legend(ax, **kw):
         ls.append(lab)
     if hs:
         ax.legend(hs, ls, **kw)
+
+
+def draw_quality_vs_budget(ax, entries, metric, budget=None):
+    """Quality vs. budget on `ax`: entries = [(method, name, mean cost [ms], mean quality)].
+    For a budget B on the x axis, each method's step line is the best quality among its
+    configurations whose cost <= B (starts at its cheapest configuration); the black line is the
+    best over all methods. Non-finite entries (fpsnr inf for `full`) are named, not drawn.
+    Returns the names not drawn."""
+    higher = metric not in ("flip", "temporal_error") and not metric.startswith("rmse")
+    ok = [e for e in entries if math.isfinite(e[2]) and math.isfinite(e[3])]
+    bad = [e[1] for e in entries if e not in ok]
+    if not ok:
+        ax.text(0.5, 0.5, "no finite values", transform=ax.transAxes, ha="center")
+        return bad
+    xmax = max([e[2] for e in ok] + ([budget] if budget else [])) * 1.15
+    xmin = min(e[2] for e in ok) * 0.85
+
+    def staircase(es):
+        es = sorted(es, key=lambda e: e[2])
+        xs, ys, best = [], [], None
+        for e in es:
+            if best is None or (e[3] > best if higher else e[3] < best):
+                best = e[3]
+                xs.append(e[2])
+                ys.append(best)
+        return xs + [xmax], ys + [ys[-1]]
+
+    methods = list(dict.fromkeys(e[0] for e in ok))
+    for meth in methods:
+        xs, ys = staircase([e for e in ok if e[0] == meth])
+        ax.step(xs, ys, where="post", color=method_color(meth), lw=1.4, label=meth)
+        ax.plot(xs[:-1], ys, "o", color=method_color(meth), ms=4)
+    xs, ys = staircase(ok)
+    ax.step(xs, ys, where="post", color="k", lw=2.5, alpha=0.25, label="best of all methods", zorder=1)
+    if budget:
+        ax.axvline(budget, color="red", ls="--", lw=1, label=f"display budget {budget:.2f} ms")
+    ax.set_xlim(xmin, xmax)
+    ax.set_xlabel("frame budget B [ms] (configurations with mean estimated frame time ≤ B)", fontsize=8)
+    ax.set_ylabel(f"best mean {metric_label(metric)}")
+    ax.set_title(metric + (" (higher is better)" if higher else " (lower is better)"), fontsize=9)
+    ax.grid(alpha=0.3)
+    if bad:
+        ax.text(0.01, 0.01, "not drawn (no finite mean, e.g. fpsnr = inf when exact): " + ", ".join(bad[:4]) +
+                (" …" if len(bad) > 4 else ""), transform=ax.transAxes, fontsize=7, color="0.3")
+    return bad
 
 
 def clamp_box(cx, cy, half, w, h):

@@ -34,16 +34,20 @@ def plot_latency(sweep_dir, out, metric="rmse_fovea", margin=0.10, report=print)
     meta = common.read_json(os.path.join(sweep_dir, "sweep_summary.json")) or {}
     others = [a for a in meta.get("axes", []) if a in cols and not (a.startswith("latency.") and a.endswith("_ms"))]
     higher_is_better = metric.endswith("psnr") or metric == "ssim"
-    by = {}
+    by, meth = {}, {}
     for r in rows:
         key = " ".join([r.get("label", r.get("method", "?"))] + [f"{a}={r[a]}" for a in others])
         by.setdefault(key, []).append((to_float(r["latency_ms"]), to_float(r[metric]), to_float(r.get(metric + "_ci95"))))
+        meth.setdefault(key, r.get("method") or r.get("label", "?"))
+    styles = common.variant_styles([(k, meth[k]) for k in sorted(by)])  # colour per method
     fig, ax = plt.subplots(figsize=(6.5, 4))
     lines = [f"line,latency_ms,{metric},{metric}_ci95,degraded"]
     for key, pts in sorted(by.items()):
         pts.sort()
         e = [0 if math.isnan(p[2]) else p[2] for p in pts]
-        ax.errorbar([p[0] for p in pts], [p[1] for p in pts], yerr=e, marker="o", capsize=3, label=key)
+        col, ls, mk = styles[key]
+        ax.errorbar([p[0] for p in pts], [p[1] for p in pts], yerr=e, marker=mk, ls=ls, color=col, capsize=3,
+                    label=key)
         base, first = pts[0][1], None
         for xi, yi, ei in pts:
             diff = (base - yi) if higher_is_better else (yi - base)
@@ -54,8 +58,8 @@ def plot_latency(sweep_dir, out, metric="rmse_fovea", margin=0.10, report=print)
             lines.append(f"{key},{xi:.6g},{yi:.6g},{ei:.6g},{deg}")
         report(f"{key}: {metric} {'drops' if higher_is_better else 'rises'} by more than {100 * margin:.0f}% at "
                + (f"{first:.0f} ms" if first is not None else "no swept latency"))
-    ax.set_xlabel("end-to-end latency (ms)")
-    ax.set_ylabel(metric + " (95% interval)")
+    ax.set_xlabel("end-to-end latency [ms]")
+    ax.set_ylabel(common.metric_label(metric) + " (95% interval)")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     name = f"latency_{metric}.png"

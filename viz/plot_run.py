@@ -7,21 +7,26 @@ Reads results/<name>/frames.csv, summary.csv and manifest.json (column names:
 results/README.md) and writes PNGs plus an index.html to results/<name>/plots/ (or DIR):
   timeline.png          est_ms_total per frame and config, with the frame-budget line
                         (1000 / display.refresh_hz from manifest.json)
-  quality_vs_cost.png   mean fpsnr / psnr / ssim vs mean est_ms_total per config, one marker
-                        per method, Pareto front (lower cost, higher quality) drawn; error
-                        bars: the 95% intervals `<col>_ci95` of summary.csv (both axes)
+  quality_vs_cost.png   mean fpsnr / psnr / ssim vs mean est_ms_total per config, Pareto
+                        front (lower cost, higher quality) drawn; error bars: the 95% intervals
+                        `<col>_ci95` of summary.csv (both axes)
+  quality_vs_budget.png best mean fpsnr / ssim attainable within a frame budget B, per method
+                        and over all methods, with the display's budget
   shaded_fraction.png   mean shaded_fraction per config, with its 95% interval
   paired.png            paired.csv: per headline metric, the mean difference of every pair
                         of configs with its 95% interval (filled: the interval excludes 0)
   gaze.png              gaze path on the screen (pixels, row 0 on top)
-  quality_timeline.png  fpsnr / psnr / ssim / flip per frame and config (one colour per config
-                        in every plot and panel; configs with no finite value are named, not drawn)
+  quality_timeline.png  fpsnr / psnr / ssim / flip per frame and config (configs with no finite
+                        value, e.g. full's psnr = inf, are named in the panel, not drawn)
   passes.png            mean est_ms_<pass> stacked per config, est_ms_total with its interval
   eccentricity.png      mean rmse_ecc_<a>_<b> / flip_ecc_<a>_<b> per band and config (95% intervals)
   strip_<frame>.png     for images/frame_<n>/: reference and every config side by side, gaze
                         marked, insets at the gaze and in the periphery, error colour bar
+  run.mp4               the saved frames side by side with the gaze (viz/make_video.py; needs
+                        ffmpeg and two or more outputs.image_frames, else skipped with the reason)
   index.html            summary table (means ± 95% half-width), the plots, and images/frame_<n>/
-Intervals that are undefined (nan: fewer frames than the estimator's minimum) are not drawn.
+Colours: one per method in every plot (common.method_color); several configurations of one
+method differ by line style and marker. Intervals that are undefined (nan: fewer frames than the estimator's minimum) are not drawn.
 A plot whose columns are missing is skipped with a message (and listed in index.html).
 Means use finite values only (psnr is inf for identical images, temporal_error nan on the
 first frame). Exit status: 0, or 2 when the directory has neither frames.csv nor summary.csv.
@@ -36,7 +41,6 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import common  # noqa: E402
 from common import finite_mean, log, plt, to_float  # noqa: E402
 
-MARKERS = ["o", "s", "^", "D", "v", "P", "X", "*", "<", ">", "h"]
 MAX_LEGEND = 14
 
 
@@ -105,19 +109,23 @@ class Run:
                 out.append(m)
         return out
 
+    def _styles(self):
+        if getattr(self, "_sty", None) is None:
+            self._sty = common.variant_styles([(c, self.method(c)) for c in self.configs])
+        return self._sty
+
     def style(self, cid):
-        """(marker, colour) of a configuration: marker per method, colour per configuration,
-        the same in every plot of the run."""
-        ms = self.methods()
-        i = ms.index(self.method(cid))
-        return MARKERS[i % len(MARKERS)], self.color(cid)
+        """(marker, colour) of a configuration: colour per method (common.method_color, the same
+        in every plot and script), marker per configuration of that method."""
+        col, _, mk = self._styles()[cid]
+        return mk, col
 
     def color(self, cid):
-        return common.config_color(self.configs.index(cid))
+        return self._styles()[cid][0]
 
     def linestyle(self, cid):
-        # Beyond the 10 tab10 colours the line style tells configurations apart.
-        return ["-", "--", ":", "-."][(self.configs.index(cid) // 10) % 4]
+        # Several configurations of one method share its colour; the line style tells them apart.
+        return self._styles()[cid][1]
 
 
 def need(run, *cols):
@@ -197,17 +205,36 @@ def plot_quality_vs_cost(run, out):
             note = ""
         if b is not None:
             ax.axvline(b, color="red", ls=":", lw=1, label="budget")
-        ax.set_xlabel("mean est_ms_total [ms]" + note, fontsize=9)
-        ax.set_ylabel(f"mean {m}" + (" [dB]" if m != "ssim" else " [0–1]"))
+        ax.set_xlabel("mean estimated frame time [ms]" + note, fontsize=9)
+        ax.set_ylabel("mean " + common.metric_label(m))
         ax.set_title(f"{m} vs. frame time")
         ax.grid(alpha=0.3)
-        if len(run.configs) <= MAX_LEGEND:
-            ax.legend(fontsize=7, loc="best")
+    if len(run.configs) <= MAX_LEGEND:  # one legend for the figure (every panel has the same entries)
+        common.dedup_legend(axes[0, -1], fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0))
     skipped = [m for m in ("fpsnr", "psnr") if m not in metrics]
     if skipped:
         log("quality_vs_cost: no column " + ", ".join(skipped) + " (panel left out)")
     common.save(fig, os.path.join(out, "quality_vs_cost.png"))
     return "quality_vs_cost.png"
+
+
+def plot_quality_vs_budget(run, out):
+    """Best mean quality attainable within a frame budget B (x), per method and over all
+    methods: a configuration counts once its mean est_ms_total <= B (common.draw_quality_vs_budget)."""
+    if not run.mean_available("est_ms_total"):
+        raise Skip("no est_ms_total column")
+    metrics = [m for m in ("fpsnr", "ssim") if run.mean_available(m)]
+    if not metrics:
+        raise Skip("no fpsnr or ssim column")
+    b = common.budget_ms(run.manifest, run.summary)
+    fig, axes = plt.subplots(1, len(metrics), figsize=(6 * len(metrics), 4.5), squeeze=False)
+    for ax, m in zip(axes[0], metrics):
+        entries = [(run.method(c), c, run.mean(c, "est_ms_total"), run.mean(c, m)) for c in run.configs]
+        common.draw_quality_vs_budget(ax, entries, m, b)
+    common.dedup_legend(axes[0, -1], fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0))
+    fig.suptitle("Quality vs. frame budget (best configuration of each method that fits)", fontsize=10)
+    common.save(fig, os.path.join(out, "quality_vs_budget.png"))
+    return "quality_vs_budget.png"
 
 
 def plot_shaded_fraction(run, out):
@@ -456,9 +483,20 @@ def plot_strips(run, out):
     return made
 
 
+def plot_video(run, out):
+    """run.mp4 of the saved frames (viz/make_video.py) when ffmpeg is present and two or more
+    frames were saved; otherwise skipped with the reason."""
+    import make_video  # noqa: E402  (viz/make_video.py)
+    try:
+        return make_video.make_video(run.dir, out, report=log)
+    except make_video.NoVideo as e:
+        raise Skip(str(e))
+
+
 PLOTS = [
     ("Estimated frame time per frame", plot_timeline),
     ("Quality vs. cost", plot_quality_vs_cost),
+    ("Quality vs. frame budget", plot_quality_vs_budget),
     ("Shaded fraction per configuration", plot_shaded_fraction),
     ("Gaze path", plot_gaze),
     ("Quality per frame", plot_quality_timeline),
@@ -466,6 +504,7 @@ PLOTS = [
     ("Estimated time per pass", plot_passes),
     ("Error vs. eccentricity", plot_eccentricity),
     ("Methods side by side", plot_strips),
+    ("Video of the saved frames", plot_video),
 ]
 
 
@@ -537,7 +576,12 @@ def write_index(run, out, made, skipped):
     if made:
         parts.append("<ul>" + "".join(f"<li><a href='#{f}'>{html.escape(t)}</a></li>" for t, f in made) + "</ul>")
     for title, f in made:
-        parts.append(f"<h2 id='{f}'>{html.escape(title)}</h2><a href='{f}'><img src='{f}' alt='{html.escape(title)}'></a>")
+        if f.endswith(".mp4"):
+            parts.append(f"<h2 id='{f}'>{html.escape(title)}</h2><video src='{f}' controls loop "
+                         f"style='max-width:100%'></video><p><a href='{f}'>{f}</a></p>")
+        else:
+            parts.append(f"<h2 id='{f}'>{html.escape(title)}</h2><a href='{f}'><img src='{f}' "
+                         f"alt='{html.escape(title)}'></a>")
     parts += image_sections(run, out)
     if skipped:
         parts.append("<h2>Skipped</h2><ul>")

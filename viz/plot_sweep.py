@@ -30,18 +30,8 @@ MAX_STRIP_CONFIGS = 6  # strips show at most this many Pareto rows per cell fram
 
 
 def axis_label(col):
-    """Column name with its unit (results/README.md)."""
-    units = {"est_ms_total": "estimated frame time [ms]", "fpsnr": "FPSNR [dB]", "psnr": "PSNR [dB]",
-             "ssim": "SSIM [0–1]", "flip": "LDR-FLIP [0–1]", "shaded_fraction": "shaded fraction [of W·H]",
-             "shaded_samples": "shaded samples", "temporal_error": "temporal error [RMSE]"}
-    if col in units:
-        name = units[col].split(" [")[0].lower().replace(" ", "_").replace("-", "")
-        return units[col] if name in (col, col.replace("_", "")) else f"{units[col]} ({col})"
-    if col.startswith("est_ms_"):
-        return f"{col} [ms]"
-    if col.startswith("rmse_"):
-        return f"{col} [RMSE, display-encoded]"
-    return col
+    """Column name with its unit (results/README.md), shared with every viz script."""
+    return common.metric_label(col)
 
 
 class Skip(Exception):
@@ -68,9 +58,11 @@ class Sweep:
         return out
 
     def color(self, label):
-        """One colour per method label, the same in every plot of the sweep."""
-        labs = self.labels()
-        return common.config_color(labs.index(label)) if label in labs else "0.5"
+        """The colour of the label's method (common.method_color): the same in every plot and script."""
+        for r in self.rows:
+            if r.get("label") == label:
+                return common.method_color(r.get("method") or label)
+        return common.method_color(label)
 
     def axes_cols(self):
         """Summary columns of the swept axes (named by their path, docs/sweeps.md)."""
@@ -168,6 +160,33 @@ def plot_pareto(sw, out):
     common.dedup_legend(ax, fontsize=7)
     common.save(fig, os.path.join(out, "pareto.png"))
     return ["pareto.png"]
+
+
+def plot_quality_vs_budget(sw, out):
+    """Best quality attainable within a frame budget B per method (distinct rows; one GPU at a
+    time when several are costed)."""
+    if "est_ms_total" not in sw.cols:
+        raise Skip("summary.csv has no est_ms_total")
+    metrics = [m for m in ("fpsnr", "ssim") if m in sw.cols]
+    if not metrics:
+        raise Skip("summary.csv has no fpsnr or ssim")
+    rows, _ = sw.distinct()
+    gpus = list(dict.fromkeys(r.get("gpu", "") for r in rows))
+    made = []
+    for g in gpus:
+        rs = [r for r in rows if r.get("gpu", "") == g]
+        fig, axes = plt.subplots(1, len(metrics), figsize=(6 * len(metrics), 4.5), squeeze=False)
+        for ax, m in zip(axes[0], metrics):
+            entries = [(r.get("method") or r.get("label"), f"{r.get('label')} {sw.params_text(r)}".strip(),
+                        sw.num(r, "est_ms_total"), sw.num(r, m)) for r in rs]
+            common.draw_quality_vs_budget(ax, entries, m, sw.budget())
+        common.dedup_legend(axes[0, -1], fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0))
+        fig.suptitle(f"{sw.meta.get('name', '')}: quality vs. frame budget" + (f" on {g}" if g else "") +
+                     f" ({len(rs)} distinct configurations)", fontsize=10)
+        f = "quality_vs_budget.png" if len(gpus) == 1 else f"quality_vs_budget_{g}.png"
+        common.save(fig, os.path.join(out, f))
+        made.append(f)
+    return made
 
 
 def plot_heatmaps(sw, out):
@@ -366,19 +385,24 @@ def plot_latency(sw, out):
         raise Skip(str(e))
 
 
-PLOTS = [("Pareto front", plot_pareto), ("Heat maps", plot_heatmaps), ("Timelines with budget and gaze speed",
+PLOTS = [("Pareto front", plot_pareto), ("Quality vs. frame budget", plot_quality_vs_budget), ("Heat maps", plot_heatmaps), ("Timelines with budget and gaze speed",
                                                                          plot_timelines),
          ("Error vs. eccentricity", plot_profiles), ("Image strips with zoomed insets", plot_strips),
          ("Foveal quality vs latency", plot_latency)]
 
 
-def csv_table(path, limit=60, first=()):
-    """HTML table: the `first` columns (keys, axes, objectives), then the others up to 24."""
+def csv_table(path, limit=60, first=(), all_columns=False):
+    """HTML table: the `first` columns (keys, axes, objectives), then the others (up to 24 in
+    all unless all_columns; wall-clock timing columns left out). limit=None: every row."""
     cols, rows = common.read_csv(path)
     if not cols:
         return ""
     lead = [c for c in first if c in cols]
-    keep = (lead + [c for c in cols if c not in TIMING and c not in lead])[:max(24, len(lead))]
+    keep = lead + [c for c in cols if c not in TIMING and c not in lead]
+    if not all_columns:
+        keep = keep[:max(24, len(lead))]
+    if limit is None:
+        limit = len(rows)
     h = ["<table border=1 cellspacing=0 cellpadding=2 style='font-size:11px'><tr>"]
     h += [f"<th>{html.escape(c)}</th>" for c in keep] + ["</tr>"]
     for r in rows[:limit]:
@@ -408,7 +432,10 @@ def write_index(sw, out, made, skipped):
             lead = ["config_id", "label", "gpu"] + sw.axes_cols()
             for o, _ in sw.objectives():
                 lead += [o, o + "_ci95"]
-            p.append(f"<h2>{t}</h2>" + csv_table(os.path.join(sw.dir, t), first=lead + ["pareto"]))
+            full = t == "pareto.csv"  # the whole Pareto table: every row and column
+            p.append(f"<h2>{t}</h2><div style='overflow-x:auto'>" +
+                     csv_table(os.path.join(sw.dir, t), limit=None if full else 60, first=lead + ["pareto"],
+                               all_columns=full) + "</div>")
     for t, f in made:
         p.append(f"<h3 id='{f}'>{html.escape(t)}: {f}</h3><a href='{f}'><img src='{f}'></a>")
     if skipped:
