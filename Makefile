@@ -8,8 +8,10 @@ PY := /usr/bin/python3
 DEB_PKGS := cmake g++ make pkg-config git clang-format libembree-dev libglm-dev libopenimageio-dev \
             nlohmann-json3-dev libtbb-dev libgtest-dev libcli11-dev libassimp-dev \
             libbenchmark-dev python3-matplotlib python3-numpy pybind11-dev python3-dev
-# Optional extras: skimage for the live SSIM cross-check, assimp-testmodels for import tests.
-DEB_OPT  := python3-skimage assimp-testmodels
+# Optional extras: skimage for the live SSIM cross-check, assimp-testmodels for import tests,
+# pandas for DataFrames from python/fovsim (numpy fallback). Not installed: ffmpeg (run videos,
+# viz/make_video.py; skipped with a message without it).
+DEB_OPT  := python3-skimage assimp-testmodels python3-pandas
 
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 

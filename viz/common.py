@@ -218,7 +218,7 @@ def draw_quality_vs_budget(ax, entries, metric, budget=None):
     for meth in methods:
         xs, ys = staircase([e for e in ok if e[0] == meth])
         ax.step(xs, ys, where="post", color=method_color(meth), lw=1.4, label=meth)
-        ax.plot(xs[:-1], ys, "o", color=method_color(meth), ms=4)
+        ax.plot(xs[:-1], ys[:-1], "o", color=method_color(meth), ms=4)
     xs, ys = staircase(ok)
     ax.step(xs, ys, where="post", color="k", lw=2.5, alpha=0.25, label="best of all methods", zorder=1)
     if budget:

@@ -619,6 +619,11 @@ def main(argv=None):
             skipped.append((title, f"failed: {e!r}"))
             log(f"failed '{title}': {e!r}")
     write_index(run, out, made, skipped)
+    if not a.out:  # the run folder's own index.html opens the report
+        common.write_text_atomic(os.path.join(a.results_dir, "index.html"),
+                                 "<!DOCTYPE html><html><head><meta charset='utf-8'>"
+                                 "<meta http-equiv='refresh' content='0; url=plots/index.html'></head>"
+                                 "<body><a href='plots/index.html'>plots/index.html</a></body></html>\n")
     log(f"wrote {os.path.join(out, 'index.html')} ({len(made)} plots, {len(skipped)} skipped)")
     return 0
 

@@ -1,10 +1,11 @@
-"""fovsim results in Python (pure Python + numpy; Debian python3-numpy).
+"""fovsim in Python: results (numpy; pandas when installed), and through the compiled module
+run/sweep/predict/budget and an ask/tell search.
 
     import sys; sys.path.insert(0, "<repo>/python")
     import fovsim
     run = fovsim.load_run("results/quickstart")      # dict: frames, summary, paired, manifest
-    tidy = fovsim.long_format(run["frames"], ["config_id", "method", "frame"],
-                              ["psnr", "fpsnr", "ssim", "est_ms_total"])
+    df = fovsim.tidy(run)          # pandas: one row per frame x configuration x metric,
+                                   # parameters (sigma, alpha, ...) as columns
 
 Column names and units: results/README.md; docs/python.md has a worked example.
 """
@@ -14,15 +15,19 @@ from .results import (  # noqa: F401
     load_sweep,
     long_format,
     numeric_columns,
+    parameter_columns,
     select,
+    tidy,
     to_dataframe,
 )
 
-from .engine import Evaluator, overrides_list, run, sweep  # noqa: F401,E402  (compiled part loaded on first use)
+from .engine import AskTell, Evaluator, overrides_list, run, sweep  # noqa: F401,E402  (compiled part loaded on first use)
+from .cost import budget, predict  # noqa: F401,E402
 
-__all__ = ["load_csv", "load_run", "load_sweep", "long_format", "numeric_columns", "select", "to_dataframe",
-           "run", "sweep",
-           "Evaluator", "overrides_list", "FovsimError"]
+__all__ = ["load_csv", "load_run", "load_sweep", "long_format", "numeric_columns", "parameter_columns", "select",
+           "tidy", "to_dataframe",
+           "run", "sweep", "predict", "budget",
+           "AskTell", "Evaluator", "overrides_list", "FovsimError"]
 
 
 def __getattr__(name):

@@ -9,6 +9,7 @@ written as JSON, like the CLI's key.path=value) or as a list of "key.path=value"
 import glob
 import importlib
 import json
+import math
 import os
 import sys
 
@@ -80,6 +81,125 @@ class Evaluator:
     @property
     def evaluations(self):
         return self._ev.evaluations
+
+
+
+def _score(rows, objective, label, constraint, cmax):
+    """(score, violation) of one evaluation's summary rows, as `fovsim search` scores them
+    (sim/experiment/search_runner.cpp): the row labelled `label` (else the first); a missing or
+    non-finite objective is nan; a missing constraint value counts as infinitely violated."""
+    row = None
+    for r in rows:
+        if not label or r.get("label") == label:
+            row = r
+            break
+    if row is None:
+        raise KeyError(f"no summary row labelled {label!r} (labels: {', '.join(str(r.get('label')) for r in rows)})")
+    v = row.get(objective, math.nan)
+    score = float(v) if isinstance(v, (int, float)) and math.isfinite(v) else math.nan
+    if not constraint:
+        return score, 0.0
+    c = row.get(constraint, math.nan)
+    if not (isinstance(c, (int, float)) and math.isfinite(c)):
+        return score, math.inf
+    return score, max(0.0, float(c) - cmax)
+
+
+class AskTell:
+    """Ask/tell search for an outside loop or optimiser, on the searcher of `fovsim search`
+    (sim/experiment/search.h: a seeded Latin-hypercube batch, then a batched compass search).
+
+        opt = fovsim.AskTell("configs/quickstart.json",
+                             space={"methods[kfr].sigma": {"from": 1.2, "to": 3.0, "step": 0.1}},
+                             maximize="fpsnr", subject_to={"shaded_fraction": {"max": 0.35}},
+                             label="kfr", batch=4, out="results/asktell")
+        for x in opt.ask():                 # x: {"methods[kfr].sigma": 1.6}
+            opt.tell(x, opt.evaluate(x))    # or opt.tell(x, score=..., violation=...)
+        opt.best                            # {"x": {...}, "score": ..., "violation": ...}
+
+    `space` etc. take the JSON of a config's `sweep.search` block (docs/sweeps.md) and are
+    validated like it; with none given the config's own `sweep.search` is used (its sweep axes
+    are not expanded: pick a context with overrides). `evaluate(x)` runs the config with the
+    point's overrides (like Evaluator, into <out>/eval_<n>/) and returns its summary rows; a
+    result from anywhere else can be told as a score instead."""
+
+    def __init__(self, config, space=None, maximize=None, minimize=None, subject_to=None, label=None,
+                 batch=None, seed=None, overrides=None, out="results/asktell", threads=0, models=""):
+        search = {}
+        if space is not None:
+            search["space"] = space
+        for k, v in (("maximize", maximize), ("minimize", minimize), ("subject_to", subject_to),
+                     ("label", label), ("batch", batch), ("seed", seed)):
+            if v is not None:
+                search[k] = v
+        if search and "space" not in search:
+            raise ValueError("AskTell: give space= with the other search keys (or none: the config's sweep.search)")
+        if space is not None and maximize is None and minimize is None:
+            raise ValueError("AskTell: give maximize='column' or minimize='column'")
+        self._config = os.fspath(config)
+        self._overrides = overrides_list(overrides)
+        self._at = _module().AskTell(self._config, self._overrides, json.dumps(search) if search else "")
+        self.spec = self._at.spec
+        self._paths = [d["path"] for d in self.spec["space"]]
+        self._out = os.fspath(out)
+        self._threads, self._models = threads, models
+        self._ev = None
+        self.history = []  # [(x dict, score, violation)] in tell order
+
+    def _vec(self, x):
+        if isinstance(x, dict):
+            missing = [p for p in self._paths if p not in x]
+            if missing:
+                raise KeyError(f"point lacks {', '.join(missing)}")
+            return [float(x[p]) for p in self._paths]
+        return [float(v) for v in x]
+
+    def _dict(self, v):
+        return {p: (int(round(a)) if d["integer"] else a) for p, a, d in zip(self._paths, v, self.spec["space"])}
+
+    def ask(self):
+        """The next batch of points as dicts {path: value}; [] when the search has converged
+        (its step is below every dimension's resolution)."""
+        return [self._dict(v) for v in self._at.ask()]
+
+    def evaluate(self, x):
+        """Runs the config with the point's overrides; returns its summary rows (list of dicts)."""
+        if self._ev is None:
+            self._ev = Evaluator(self._config, self._overrides, self._out, self._threads, self._models)
+        return self._ev.evaluate([x])[0]
+
+    def tell(self, x, result=None, score=None, violation=0.0):
+        """Reports a point's result: `result` the summary rows of its run (scored like `fovsim
+        search`: spec's objective, label and constraint), or `score` (and `violation` >= 0, 0 =
+        feasible) computed elsewhere. Returns (score, violation)."""
+        if result is not None:
+            score, violation = _score(result, self.spec["objective"], self.spec["label"],
+                                      self.spec["constraint_column"], self.spec["constraint_max"])
+        elif score is None:
+            raise ValueError("tell: give the run's summary rows or a score")
+        self._at.tell([self._vec(x)], [float(score)], [float(violation)])
+        self.history.append((dict(x) if isinstance(x, dict) else self._dict(self._vec(x)), score, violation))
+        return score, violation
+
+    def run(self, evaluations=None):
+        """The whole loop here (ask, evaluate, tell) until `evaluations` (default: the spec's)
+        points are told or the search converges; returns best."""
+        n = evaluations or self.spec["evaluations"]
+        while len(self.history) < n:
+            xs = self.ask()
+            if not xs:
+                break
+            for x in xs[:n - len(self.history)]:
+                self.tell(x, self.evaluate(x))
+        return self.best
+
+    @property
+    def best(self):
+        """{"x": {path: value}, "score", "violation"} of the best point told (feasible first), or None."""
+        b = self._at.best
+        if b is None:
+            return None
+        return {"x": self._dict(b["x"]), "score": b["score"], "violation": b["violation"]}
 
 
 def __getattr__(name):

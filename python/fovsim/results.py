@@ -65,10 +65,19 @@ def _load_json(path):
         return json.load(f)
 
 
-def load_run(directory):
+def _frames_of(res, keys, as_frame):
+    if as_frame:
+        for k in keys:
+            if res[k] is not None:
+                res[k] = to_dataframe(res[k])
+    return res
+
+
+def load_run(directory, as_frame=False):
     """Loads a `fovsim run` folder: {"frames", "summary", "paired"} as structured arrays (None
-    when the file is absent), "manifest" as a dict (None when absent), "dir" the folder.
-    Raises FileNotFoundError when the folder has neither frames.csv nor summary.csv."""
+    when the file is absent), "manifest" as a dict (None when absent), "dir" the folder. With
+    as_frame=True the tables are pandas DataFrames (needs pandas). Raises FileNotFoundError when
+    the folder has neither frames.csv nor summary.csv."""
     d = os.fspath(directory)
     res = {
         "dir": d,
@@ -79,13 +88,14 @@ def load_run(directory):
     }
     if res["frames"] is None and res["summary"] is None:
         raise FileNotFoundError(f"{d}: no frames.csv or summary.csv (not a fovsim run folder)")
-    return res
+    return _frames_of(res, ("frames", "summary", "paired"), as_frame)
 
 
-def load_sweep(directory, cells=False):
+def load_sweep(directory, cells=False, as_frame=False):
     """Loads a `fovsim sweep` folder: {"summary", "pareto"} as structured arrays, "sweep" (the
     expanded sweep.json) as a dict, "dir"; with cells=True also "cells": {cell_id: load_run(...)}
-    for every complete cell under runs/. Raises FileNotFoundError without summary.csv."""
+    for every complete cell under runs/; as_frame=True gives DataFrames. Raises
+    FileNotFoundError without summary.csv."""
     d = os.fspath(directory)
     summary = load_csv(os.path.join(d, "summary.csv"))
     if summary is None:
@@ -103,8 +113,8 @@ def load_sweep(directory, cells=False):
             for name in sorted(os.listdir(runs)):
                 cd = os.path.join(runs, name)
                 if os.path.exists(os.path.join(cd, "cell.json")):
-                    res["cells"][name] = load_run(cd)
-    return res
+                    res["cells"][name] = load_run(cd, as_frame=as_frame)
+    return _frames_of(res, ("summary", "pareto"), as_frame)
 
 
 def numeric_columns(arr, exclude=()):
@@ -162,3 +172,62 @@ def to_dataframe(arr):
         raise ImportError("fovsim.to_dataframe needs pandas (apt-get install python3-pandas); "
                           "the structured arrays work without it") from e
     return pd.DataFrame(arr)
+
+
+# Columns that identify a row of frames.csv / summary.csv (results/README.md "Keys", "Per frame").
+KEY_COLUMNS = ("config_id", "method", "label", "gpu", "frame", "t")
+# Per-frame columns that are not metrics: gaze, validity, latency bookkeeping.
+CONTEXT_COLUMNS = ("gaze_x", "gaze_y", "gaze_valid", "phase", "gaze_est_x", "gaze_est_y")
+# Wall-clock columns: differ run to run (results/README.md); left out of the tidy form.
+WALL_CLOCK = ("ref_ms", "sim_ms")
+
+
+def parameter_columns(run):
+    """Method parameter columns of a loaded run (sigma, alpha, fx, ...): the keys of the resolved
+    config's method entries (manifest.json) that are columns of frames.csv."""
+    arr = run["frames"] if run.get("frames") is not None else run.get("summary")
+    names = set(arr.dtype.names) if arr is not None else set()
+    man = run.get("manifest") or {}
+    methods = ((man.get("resolved_config") or man.get("config") or {}).get("methods")) or []
+    out = []
+    for m in methods:
+        if not isinstance(m, dict):
+            continue
+        for k, v in m.items():
+            if k in ("method", "label") or isinstance(v, (dict, list)) or k not in names or k in out:
+                continue
+            out.append(k)
+    return out
+
+
+def tidy(run, metrics=None, drop_nan=True, as_frame=True):
+    """Tidy (long) form of a run's frames.csv: one row per frame × configuration × metric, with
+    the keys (config_id, method, label, gpu, frame, t), the method parameters (sigma, alpha, …;
+    nan where a method lacks one) and the gaze as columns, then `metric` and `value`.
+
+    `run` is load_run's dict or a run folder. `metrics` defaults to every numeric column that is
+    not a key, parameter, gaze or wall-clock column (est_ms_*, psnr, fpsnr, ssim, counters, …).
+    With drop_nan a metric a method does not fill (nan) gives no row; inf is kept (psnr of an
+    exact image). Returns a pandas DataFrame when pandas is installed and as_frame, else a
+    numpy structured array with the same columns."""
+    if not isinstance(run, dict):
+        run = load_run(run)
+    elif run.get("frames") is not None and not isinstance(run["frames"], np.ndarray):
+        run = load_run(run["dir"])  # loaded with as_frame=True: read the arrays again
+    fr = run["frames"]
+    if fr is None:
+        raise FileNotFoundError(f"{run.get('dir')}: no frames.csv")
+    names = fr.dtype.names
+    params = parameter_columns(run)
+    ids = [c for c in KEY_COLUMNS if c in names] + params + [c for c in CONTEXT_COLUMNS if c in names]
+    if metrics is None:
+        skip = set(ids) | set(WALL_CLOCK)
+        metrics = [c for c in numeric_columns(fr) if c not in skip]
+    arr = long_format(fr, ids, metrics, drop_nan=drop_nan)
+    if as_frame:
+        try:
+            import pandas as pd
+        except ImportError:
+            return arr
+        return pd.DataFrame(arr)
+    return arr

@@ -3,6 +3,7 @@
 (PythonViz); exits 77 (skipped) when matplotlib or numpy is missing."""
 import math
 import os
+import shutil
 import sys
 import tempfile
 import unittest
@@ -17,6 +18,7 @@ except ImportError as e:
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(REPO, "viz"))
 import common  # noqa: E402
+import make_video  # noqa: E402
 import plot_run  # noqa: E402
 import plot_sweep  # noqa: E402
 
@@ -100,6 +102,109 @@ class RunPlots(unittest.TestCase):
         self.assertEqual(plot_run.pass_columns(run), ["est_ms_gbuffer", "est_ms_lighting"])
         self.assertEqual(plot_run.plot_passes(run, self.d), "passes.png")
         self.assertTrue(os.path.exists(os.path.join(self.d, "passes.png")))
+
+
+SWEEP_SUMMARY = """config_id,cell_id,label,method,gpu,methods[kfr].sigma,sigma,frames,est_ms_total,est_ms_total_ci95,fpsnr,fpsnr_ci95,ssim,shaded_fraction,rmse_ecc_0_5,rmse_ecc_5_10,pareto,extra_col_a,extra_col_b,extra_col_c
+0-a:full,0-a,full,full,gtx1080,,,2,10,0.1,inf,nan,1,1,0,0,0,1,2,3
+0-a:kfr,0-a,kfr,kfr,gtx1080,1.2,1.2,2,6,0.1,30,0.5,0.9,0.5,0.01,0.02,1,1,2,3
+1-b:full,1-b,full,full,gtx1080,,,2,10,0.1,inf,nan,1,1,0,0,0,1,2,3
+1-b:kfr,1-b,kfr,kfr,gtx1080,2.4,2.4,2,4,0.1,25,0.5,0.8,0.25,0.01,0.04,1,1,2,3
+"""
+
+
+def make_sweep(d):
+    write(os.path.join(d, "summary.csv"), SWEEP_SUMMARY)
+    lines = SWEEP_SUMMARY.strip().split("\n")
+    write(os.path.join(d, "pareto.csv"), "\n".join([lines[0]] + [x for x in lines[1:] if ",1,1,2,3" in x]) + "\n")
+    write(os.path.join(d, "sweep_summary.json"),
+          '{"name": "tiny", "cells": 2, "axes": ["methods[kfr].sigma"], '
+          '"objectives": [{"minimize": "est_ms_total"}, {"maximize": "fpsnr"}]}')
+
+
+class Palette(unittest.TestCase):
+    def test_one_colour_per_method_everywhere(self):
+        self.assertEqual(common.method_color("kfr"), common.method_color("kfr"))
+        self.assertNotEqual(common.method_color("kfr"), common.method_color("rmfr"))
+        self.assertEqual(common.method_color("kfr@gtx1080"), common.method_color("kfr"))
+        st = common.variant_styles([("kfr_a", "kfr"), ("kfr_b", "kfr"), ("rmfr", "rmfr")])
+        self.assertEqual(st["kfr_a"][0], st["kfr_b"][0])  # same method, same colour
+        self.assertNotEqual(st["kfr_a"][1], st["kfr_b"][1])  # told apart by line style
+        with tempfile.TemporaryDirectory() as d:
+            write(os.path.join(d, "frames.csv"), "\n".join(FRAMES) + "\n")
+            run = plot_run.Run(d)
+            self.assertEqual(run.color("kfr"), common.method_color("kfr"))
+            make_sweep(d)
+            sw = plot_sweep.Sweep(d)
+            self.assertEqual(sw.color("kfr"), common.method_color("kfr"))
+
+    def test_units_on_labels(self):
+        self.assertIn("[dB]", common.metric_label("fpsnr"))
+        self.assertIn("[ms]", common.metric_label("est_ms_total"))
+        self.assertIn("[ms]", common.metric_label("est_ms_gbuffer"))
+        self.assertIn("5–10°", common.metric_label("rmse_ecc_5_10"))
+
+
+class RunFiles(unittest.TestCase):
+    """plot_run.py on a tiny run folder produces every plot its columns allow."""
+
+    def test_all_plots(self):
+        import matplotlib.pyplot as plt
+        with tempfile.TemporaryDirectory() as d:
+            write(os.path.join(d, "frames.csv"), "\n".join(FRAMES) + "\n")
+            write(os.path.join(d, "summary.csv"), SUMMARY)
+            write(os.path.join(d, "manifest.json"),
+                  '{"display": {"width": 200, "height": 160, "refresh_hz": 90}}')
+            for f in (0, 2):
+                fd = os.path.join(d, "images", f"frame_{f}")
+                os.makedirs(fd)
+                for name, v in (("reference", 1.0), ("kfr", 0.5), ("rmfr", 0.2)):
+                    plt.imsave(os.path.join(fd, name + ".png"), np.full((40, 50, 3), v))
+            self.assertEqual(plot_run.main([d]), 0)
+            out = os.path.join(d, "plots")
+            for f in ("timeline.png", "quality_vs_cost.png", "quality_vs_budget.png", "quality_timeline.png",
+                      "shaded_fraction.png", "gaze.png", "strip_0.png", "strip_2.png", "index.html"):
+                self.assertTrue(os.path.exists(os.path.join(out, f)), f)
+            with open(os.path.join(out, "index.html")) as fh:
+                page = fh.read()
+            self.assertIn("quality_vs_budget.png", page)
+            if shutil.which("ffmpeg"):
+                self.assertTrue(os.path.exists(os.path.join(out, "run.mp4")))
+                self.assertIn("<video", page)
+            else:
+                self.assertIn("ffmpeg not found", page)
+
+    def test_video_skipped_without_ffmpeg_or_frames(self):
+        with tempfile.TemporaryDirectory() as d:
+            write(os.path.join(d, "frames.csv"), "\n".join(FRAMES) + "\n")
+            orig = make_video.shutil.which
+            make_video.shutil.which = lambda name: None
+            try:
+                with self.assertRaisesRegex(make_video.NoVideo, "ffmpeg not found"):
+                    make_video.make_video(d, d)
+            finally:
+                make_video.shutil.which = orig
+            if shutil.which("ffmpeg"):
+                with self.assertRaisesRegex(make_video.NoVideo, "0 saved frame"):
+                    make_video.make_video(d, d)
+
+
+class SweepFiles(unittest.TestCase):
+    def test_pareto_budget_and_index(self):
+        with tempfile.TemporaryDirectory() as d:
+            make_sweep(d)
+            self.assertEqual(plot_sweep.main([d]), 0)
+            out = os.path.join(d, "plots")
+            for f in ("pareto.png", "quality_vs_budget.png", "eccentricity_profiles.png", "index.html"):
+                self.assertTrue(os.path.exists(os.path.join(out, f)), f)
+            sw = plot_sweep.Sweep(d)
+            rows, dups = sw.distinct()
+            self.assertEqual(dups, 1)  # the unswept `full` of cell 1-b is not repeated
+            self.assertEqual(sw.params_text(rows[1]), "sigma=1.2")
+            with open(os.path.join(out, "index.html")) as fh:
+                page = fh.read()
+            pareto_part = page[page.index("<h2>pareto.csv</h2>"):]
+            for col in ("est_ms_total", "fpsnr", "extra_col_c"):  # every column of the Pareto table
+                self.assertIn(f"<th>{col}</th>", pareto_part[:pareto_part.index("</table>")])
 
 
 class Geometry(unittest.TestCase):

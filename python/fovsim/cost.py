@@ -1,0 +1,101 @@
+"""The cost model from Python: `predict` and `budget` (what `fovsim predict` and `fovsim budget`
+print, docs/cost_model.md), on the compiled module's `estimate` and `recost` (python/bindings.cpp).
+
+    fovsim.predict(gpu="gtx1080", workload="atrium", methods=["full", "kfr:sigma=1.8"])
+    fovsim.budget(gpu="gtx1080", workload="atrium", hz=90, scale={"shading": 2})
+    fovsim.predict(results="results/quickstart", gpu=["rtx2080ti"])   # re-cost a finished run
+
+Each returns a table: a pandas DataFrame when pandas is installed, else a list of dicts (one
+per GPU × method), with the CLI's `--json` keys (est_ms_total, est_ms_<pass>, intervals,
+speedup_vs_full; budget: verdict, headroom_ms, factor_<resource>, factor_all).
+"""
+import math
+
+from .engine import _module
+
+RESOURCES = ("shading", "geometry", "raster", "memory", "fixed")
+DEFAULT_BUDGET_METHODS = ["full", "kfr", "rmfr", "hyperbolic", "linear", "fvrs", "twfr"]
+
+
+def _table(rows, as_frame):
+    if not as_frame:
+        return rows
+    try:
+        import pandas as pd
+    except ImportError:
+        return rows
+    return pd.DataFrame(rows)
+
+
+def _list(x):
+    if x is None:
+        return []
+    return [x] if isinstance(x, str) else list(x)
+
+
+def _flat(e):
+    """An estimate dict with passes as est_ms_<pass> columns."""
+    r = {k: v for k, v in e.items() if k not in ("passes", "resource_ms")}
+    for p, ms in e.get("passes", {}).items():
+        r["est_ms_" + p] = ms
+    for k, ms in e.get("resource_ms", {}).items():
+        r["resource_ms_" + k] = ms
+    return r
+
+
+def predict(gpu, workload=None, methods=None, display=None, width=0, height=0, eyes=0,
+            results=None, models="", as_frame=True):
+    """Per-frame estimates of `methods` ("kfr", "kfr:sigma=1.8,alpha=4", ...; default ["full"])
+    on each GPU profile for a workload and display (default htc_vive_pro_eye), with
+    speedup_vs_full — `fovsim predict`.
+    With results=DIR: the run's measured counters re-costed (`fovsim predict --results`;
+    display/workload default to the run's; methods are the run's configurations)."""
+    m = _module()
+    gpus = _list(gpu)
+    if not gpus:
+        raise ValueError("predict: give at least one gpu")
+    if results is not None:
+        rows = m.recost(str(results), gpus, display or "", width, height, eyes, workload or "", models)
+        return _table([_flat(r) for r in rows], as_frame)
+    if not workload:
+        raise ValueError("predict: workload is required (the scene's triangles, lights and shading cost decide "
+                         "every estimate; models/workloads/)")
+    display = display or "htc_vive_pro_eye"  # the CLI's default
+    rows = []
+    for g in gpus:
+        full = m.estimate(g, workload, "full", display, width, height, eyes, {}, 0.0, models)["est_ms_total"]
+        for meth in _list(methods) or ["full"]:
+            e = _flat(m.estimate(g, workload, meth, display, width, height, eyes, {}, 0.0, models))
+            e["speedup_vs_full"] = full / e["est_ms_total"] if e["est_ms_total"] > 0 else 0.0
+            rows.append(e)
+    return _table(rows, as_frame)
+
+
+def budget(gpu, workload, methods=None, hz=90.0, budget_ms=0.0, scale=None, display="htc_vive_pro_eye",
+           width=0, height=0, eyes=0, models="", as_frame=True):
+    """Does each method fit a frame budget (1000/hz, or budget_ms) on each GPU, optionally with
+    resources' throughput scaled (scale={"shading": 2.0, ...}) — `fovsim budget`. Per row:
+    verdict ("fits" / "does not fit" / "uncertain" at the interval's confidence), headroom_ms,
+    factor_<resource> (throughput factor that resource alone needs to fit; inf: cannot) and
+    factor_all (uniform factor on everything but fixed overheads)."""
+    m = _module()
+    b = budget_ms if budget_ms and budget_ms > 0 else 1000.0 / hz
+    scale = dict(scale or {})
+    rows = []
+    for g in _list(gpu):
+        for meth in _list(methods) or DEFAULT_BUDGET_METHODS:
+            e = m.estimate(g, workload, meth, display, width, height, eyes, scale, b, models)
+            t = e["est_ms_total"]
+            r = _flat(e)
+            r.update(budget_ms=b, fits=t <= b, headroom_ms=b - t, headroom=(b - t) / b if b > 0 else 0.0)
+            res = e.get("resource_ms", {})
+            # Same factors as `fovsim budget` (sim/app/cmd_cost.cpp): part / (budget - rest).
+            for rn in RESOURCES:
+                part = res.get(rn, 0.0)
+                room = b - (t - part)
+                r["factor_" + rn] = (0.0 if t <= b else math.inf) if part <= 0 else (part / room if room > 0
+                                                                                     else math.inf)
+            fixed = res.get("fixed", 0.0)
+            r["factor_all"] = (t - fixed) / (b - fixed) if b - fixed > 0 else math.inf
+            rows.append(r)
+    return _table(rows, as_frame)

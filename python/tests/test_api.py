@@ -1,0 +1,218 @@
+#!/usr/bin/python3
+"""Tests of the Python API beyond run/sweep (issue 18 item 1): predict/budget against the CLI's
+`--json`, the AskTell search, the tidy form with parameter columns, and the example
+python/examples/asktell_kfr.py. Run by ctest (PythonApi) with FOVSIM_PYTHON_EXT=<build>/python;
+exits 77 (skipped) when numpy or the compiled module is missing. Tiny configs: seconds."""
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+try:
+    import fovsim  # noqa: E402
+    from fovsim import engine  # noqa: E402
+
+    engine._module()
+except ImportError as e:
+    print(f"skipped: {e}")
+    sys.exit(77)
+
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+EXT = os.environ.get("FOVSIM_PYTHON_EXT", os.path.join(REPO, "build", "python"))
+CLI = os.path.join(os.path.dirname(os.path.abspath(EXT)), "fovsim")
+CONFIG = {
+    "name": "py_api_test",
+    "display": "htc_vive_pro_eye",
+    "render": {"scale": 0.05},
+    "scene": {"type": "atrium", "complexity": 1},
+    "trace": {"file": os.path.join(REPO, "tests/golden/golden_trace.csv")},
+    "frames": {"count": 2},
+    "methods": [{"method": "full"}, {"method": "kfr", "sigma": 1.8}],
+    "outputs": {"print_summary": False},
+}
+
+
+def cli_json(args):
+    p = subprocess.run([CLI] + args + ["--json"], capture_output=True, text=True, cwd=REPO)
+    if p.returncode != 0:
+        raise AssertionError(p.stderr)
+    return json.loads(p.stdout)
+
+
+def close(a, b):
+    if isinstance(a, str) or isinstance(b, str):
+        return str(a) == str(b) or (str(b) == "inf" and math.isinf(float(a)))
+    return math.isclose(a, b, rel_tol=1e-12, abs_tol=1e-12)
+
+
+class CostTest(unittest.TestCase):
+    @unittest.skipUnless(os.path.exists(CLI), "no fovsim binary beside the module")
+    def test_predict_matches_cli(self):
+        py = fovsim.predict(gpu=["gtx1080", "rtx2080ti"], workload="kfr_bistro", methods=["full", "kfr:sigma=2"],
+                            as_frame=False)
+        cli = cli_json(["predict", "--gpu", "gtx1080,rtx2080ti", "--workload", "kfr_bistro", "-m", "full", "-m",
+                        "kfr:sigma=2"])
+        self.assertEqual(len(py), len(cli))
+        for p, c in zip(py, cli):
+            self.assertEqual((p["gpu"], p["method"]), (c["gpu"], c["method"]))
+            for k, v in c.items():
+                if k.startswith("est_ms_") or k in ("speedup_vs_full", "interval_level"):
+                    self.assertTrue(close(p[k], v), (k, p[k], v))
+
+    @unittest.skipUnless(os.path.exists(CLI), "no fovsim binary beside the module")
+    def test_budget_matches_cli(self):
+        py = fovsim.budget(gpu="gtx1080", workload="twfr_sponza", methods=["full", "kfr", "twfr"], hz=120,
+                           scale={"shading": 2}, as_frame=False)
+        cli = cli_json(["budget", "--gpu", "gtx1080", "--workload", "twfr_sponza", "-m", "full", "-m", "kfr", "-m",
+                        "twfr", "--hz", "120", "--shading", "2"])
+        self.assertEqual(len(py), 3)
+        for p, c in zip(py, cli):
+            for k in ("est_ms_total", "budget_ms", "headroom_ms", "verdict", "fits", "factor_shading",
+                      "factor_geometry", "factor_fixed", "factor_all"):
+                self.assertTrue(close(p[k], c[k]), (k, p[k], c[k]))
+
+    def test_errors(self):
+        with self.assertRaises(fovsim.FovsimError) as cm:
+            fovsim.predict(gpu="gtx1080", workload="kfr_bistro", methods=["kfr:sigmaa=2"])
+        self.assertIn("sigmaa", str(cm.exception))
+        with self.assertRaises(fovsim.FovsimError) as cm:
+            fovsim.budget(gpu="gtx1080", workload="kfr_bistro", methods=["full"], scale={"shadin": 2})
+        self.assertIn("shadin", str(cm.exception))
+        with self.assertRaises(ValueError):
+            fovsim.predict(gpu="gtx1080", methods=["full"])  # a workload is required
+
+    def test_dataframe_when_pandas(self):
+        try:
+            import pandas  # noqa: F401
+        except ImportError:
+            self.skipTest("no pandas")
+        df = fovsim.predict(gpu="gtx1080", workload="kfr_bistro", methods=["full", "kfr"])
+        self.assertEqual(list(df["method"]), ["full", "kfr"])
+        self.assertIn("est_ms_gbuffer", df.columns)
+
+
+class RunBased(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory()
+        cls.d = cls.tmp.name
+        cls.cfg = os.path.join(cls.d, "c.json")
+        with open(cls.cfg, "w") as f:
+            json.dump(CONFIG, f)
+        cls.run = fovsim.run(cls.cfg, out=os.path.join(cls.d, "run"), threads=0)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
+    def test_tidy_has_parameters_as_columns(self):
+        t = fovsim.tidy(self.run["out_dir"], as_frame=False)
+        names = t.dtype.names
+        for c in ("config_id", "method", "frame", "sigma", "alpha", "metric", "value"):
+            self.assertIn(c, names)
+        self.assertNotIn("sim_ms", set(t["metric"]))  # wall clock left out
+        kfr = t[(t["config_id"] == "kfr") & (t["metric"] == "est_ms_total")]
+        self.assertEqual(len(kfr), 2)  # one row per frame
+        self.assertTrue((kfr["sigma"] == 1.8).all())
+        full = t[t["config_id"] == "full"]
+        self.assertTrue(all(math.isnan(v) for v in full["sigma"]))  # full has no sigma
+        self.assertIn("psnr", set(full["metric"]))  # inf kept
+        run = fovsim.load_run(self.run["out_dir"])
+        self.assertEqual(fovsim.parameter_columns(run)[:1], ["sigma"])
+
+    def test_tidy_dataframe_and_load_as_frame(self):
+        try:
+            import pandas as pd
+        except ImportError:
+            self.skipTest("no pandas")
+        df = fovsim.tidy(self.run["out_dir"])
+        self.assertIsInstance(df, pd.DataFrame)
+        kfr = df[(df.config_id == "kfr") & (df.metric == "est_ms_total")]["value"].mean()
+        summ = fovsim.load_run(self.run["out_dir"], as_frame=True)["summary"]
+        self.assertIsInstance(summ, pd.DataFrame)
+        self.assertAlmostEqual(kfr, float(summ[summ.config_id == "kfr"]["est_ms_total"].iloc[0]), places=9)
+
+    def test_predict_from_results(self):
+        rows = fovsim.predict(results=self.run["out_dir"], gpu="rtx2080ti", as_frame=False)
+        self.assertEqual([r["config_id"] for r in rows], ["full", "kfr"])
+        self.assertLess(rows[1]["est_ms_total"], rows[0]["est_ms_total"])
+
+
+class AskTellTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory()
+        cls.d = cls.tmp.name
+        cls.cfg = os.path.join(cls.d, "c.json")
+        with open(cls.cfg, "w") as f:
+            json.dump(dict(CONFIG, methods=[{"method": "kfr"}]), f)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
+    def space(self):
+        return {"methods[kfr].sigma": {"from": 1.2, "to": 3.0, "step": 0.1}}
+
+    def test_ask_tell_with_outside_scores(self):
+        # Outside objective: a parabola with its peak at sigma = 2.0; the searcher finds it.
+        opt = fovsim.AskTell(self.cfg, space=self.space(), maximize="fpsnr", batch=4, seed=3)
+        self.assertEqual(opt.spec["space"][0]["path"], "methods[kfr].sigma")
+        for _ in range(12):
+            xs = opt.ask()
+            if not xs:
+                break
+            for x in xs:
+                self.assertTrue(1.2 - 1e-9 <= x["methods[kfr].sigma"] <= 3.0 + 1e-9)
+                opt.tell(x, score=-(x["methods[kfr].sigma"] - 2.0) ** 2)
+        self.assertAlmostEqual(opt.best["x"]["methods[kfr].sigma"], 2.0, places=6)
+        # Same seed, same asks (deterministic).
+        a = fovsim.AskTell(self.cfg, space=self.space(), maximize="fpsnr", batch=4, seed=3).ask()
+        b = fovsim.AskTell(self.cfg, space=self.space(), maximize="fpsnr", batch=4, seed=3).ask()
+        self.assertEqual(a, b)
+
+    def test_evaluate_and_constraint(self):
+        opt = fovsim.AskTell(self.cfg, space=self.space(), maximize="fpsnr",
+                             subject_to={"shaded_fraction": {"max": 0.0}}, label="kfr", batch=2,
+                             out=os.path.join(self.d, "at"))
+        x = opt.ask()[0]
+        rows = opt.evaluate(x)
+        self.assertEqual(rows[0]["sigma"], x["methods[kfr].sigma"])
+        score, viol = opt.tell(x, rows)
+        self.assertEqual(score, rows[0]["fpsnr"])
+        self.assertAlmostEqual(viol, rows[0]["shaded_fraction"])  # every point violates max 0
+        self.assertTrue(os.path.exists(os.path.join(self.d, "at", "eval_0", "summary.csv")))
+
+    def test_errors(self):
+        with self.assertRaises(fovsim.FovsimError) as cm:
+            fovsim.AskTell(self.cfg, space={"methods[kfr].sigma": [1, 2]}, maximize="fpsnr")
+        self.assertIn("range", str(cm.exception))
+        with self.assertRaises(fovsim.FovsimError):
+            fovsim.AskTell(self.cfg)  # no sweep.search in the config, no space given
+        with self.assertRaises(ValueError):
+            fovsim.AskTell(self.cfg, space=self.space())  # no objective
+
+
+class ExampleScript(unittest.TestCase):
+    def test_asktell_example(self):
+        with tempfile.TemporaryDirectory() as d:
+            cfg = os.path.join(d, "c.json")
+            with open(cfg, "w") as f:
+                json.dump(CONFIG, f)
+            env = dict(os.environ)
+            p = subprocess.run(["/usr/bin/python3", os.path.join(REPO, "python", "examples", "asktell_kfr.py"), cfg,
+                                "--evaluations", "3", "--out", os.path.join(d, "out")],
+                               capture_output=True, text=True, env=env, cwd=REPO)
+            self.assertEqual(p.returncode, 0, p.stdout + p.stderr)
+            self.assertIn("best sigma", p.stdout)
+            self.assertIn("mean fpsnr", p.stdout)
+            self.assertIn("gtx1080", p.stdout)
+            self.assertTrue(os.path.exists(os.path.join(d, "out", "eval_2", "frames.csv")))
+
+
+if __name__ == "__main__":
+    unittest.main()
