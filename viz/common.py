@@ -256,29 +256,40 @@ def strip_geometry(w, h, gx, gy):
     return fov, per
 
 
-def draw_strip(cols, gx, gy, title):
+def draw_strip(cols, gx, gy, title, colors=None):
     """Side-by-side strip: cols = [(name, image, error image or None)], the first usually the
-    reference. Row 1: images with the gaze (red +), a green box at the gaze and an orange box in
-    the periphery (both inside the image); rows 2-3: those boxes zoomed; row 4 (when any error
-    image): the error maps with a colour bar (|luma error|, turbo 0–0.25). Returns the figure."""
-    from matplotlib import cm, colors
+    reference. Row 1: images with the gaze (red +; a gaze off the screen is drawn at the edge as
+    a red x and said in the title), a green box at the gaze and an orange box in the periphery
+    (both inside the image); rows 2-3: those boxes zoomed (the gaze marked in the first); row 4
+    (when any error image): the error maps with a colour bar (|luma error|, turbo 0–0.25).
+    `colors` {name: colour} colours the column titles (the method's colour). Returns the figure."""
+    from matplotlib import cm, colors as mcolors
 
     h, w = cols[0][1].shape[:2]
     (fx0, fy0, fx1, fy1), (px0, py0, px1, py1) = strip_geometry(w, h, gx, gy)
+    off = not (0 <= gx < w and 0 <= gy < h)
+    mx, my = min(max(gx, 0), w - 1), min(max(gy, 0), h - 1)
     has_err = any(c[2] is not None for c in cols)
     nrow = 4 if has_err else 3
     fig, axes = plt.subplots(nrow, len(cols), figsize=(3.2 * len(cols), 3.0 * nrow), squeeze=False)
     for k, (name, im, err) in enumerate(cols):
         a = axes[0][k]
         a.imshow(im)
-        a.add_patch(plt.Rectangle((fx0, fy0), fx1 - fx0, fy1 - fy0, fill=False, ec="lime", lw=1.2))
-        a.add_patch(plt.Rectangle((px0, py0), px1 - px0, py1 - py0, fill=False, ec="orange", lw=1.2))
-        a.plot([gx], [gy], marker="+", color="red", ms=10, mew=1.5)
-        a.set_title(name, fontsize=8)
-        axes[1][k].imshow(im[fy0:fy1, fx0:fx1], interpolation="nearest")
-        axes[1][k].set_title("at the gaze (green)", fontsize=7)
+        a.add_patch(plt.Rectangle((fx0 - 0.5, fy0 - 0.5), fx1 - fx0, fy1 - fy0, fill=False, ec="lime", lw=1.2))
+        a.add_patch(plt.Rectangle((px0 - 0.5, py0 - 0.5), px1 - px0, py1 - py0, fill=False, ec="orange", lw=1.2))
+        a.plot([mx], [my], marker="x" if off else "+", color="red", ms=10, mew=1.5)
+        a.set_xlim(-0.5, w - 0.5)  # the image, nothing around it
+        a.set_ylim(h - 0.5, -0.5)
+        a.set_title(name, fontsize=8, color=(colors or {}).get(name, "k"))
+        z = axes[1][k]
+        z.imshow(im[fy0:fy1, fx0:fx1], interpolation="nearest")
+        if not off:
+            z.plot([gx - fx0], [gy - fy0], marker="+", color="red", ms=12, mew=1.5)
+            z.set_xlim(-0.5, fx1 - fx0 - 0.5)
+            z.set_ylim(fy1 - fy0 - 0.5, -0.5)
+        z.set_title("at the gaze (green box)", fontsize=7)
         axes[2][k].imshow(im[py0:py1, px0:px1], interpolation="nearest")
-        axes[2][k].set_title("periphery (orange)", fontsize=7)
+        axes[2][k].set_title("periphery (orange box)", fontsize=7)
         if has_err:
             if err is not None:
                 axes[3][k].imshow(err)
@@ -288,10 +299,10 @@ def draw_strip(cols, gx, gy, title):
             a.set_xticks([])
             a.set_yticks([])
     if has_err:  # colour bar in the reference's (empty) error slot, so columns stay aligned
-        sm = cm.ScalarMappable(norm=colors.Normalize(0, 0.25), cmap="turbo")
+        sm = cm.ScalarMappable(norm=mcolors.Normalize(0, 0.25), cmap="turbo")
         cax = axes[3][0].inset_axes([0.45, 0.05, 0.1, 0.9])
         fig.colorbar(sm, cax=cax, label="|luma error| (display-encoded)")
-    fig.suptitle(title, fontsize=10)
+    fig.suptitle(title + (" (gaze off the screen: x at the nearest edge)" if off else ""), fontsize=10)
     return fig
 
 

@@ -227,7 +227,7 @@ def plot_quality_vs_budget(run, out):
     if not metrics:
         raise Skip("no fpsnr or ssim column")
     b = common.budget_ms(run.manifest, run.summary)
-    fig, axes = plt.subplots(1, len(metrics), figsize=(6 * len(metrics), 4.5), squeeze=False)
+    fig, axes = plt.subplots(1, len(metrics), figsize=(6 * len(metrics), 4.5), squeeze=False, sharex=True)
     for ax, m in zip(axes[0], metrics):
         entries = [(run.method(c), c, run.mean(c, "est_ms_total"), run.mean(c, m)) for c in run.configs]
         common.draw_quality_vs_budget(ax, entries, m, b)
@@ -402,6 +402,8 @@ def plot_passes(run, out):
     ax.set_xticks(range(len(cfgs)))
     ax.set_xticklabels(cfgs, rotation=45 if len(cfgs) > 4 else 0, ha="right" if len(cfgs) > 4 else "center",
                        fontsize=8)
+    for lbl, c in zip(ax.get_xticklabels(), cfgs):
+        lbl.set_color(run.color(c))  # the method's colour, as in every plot
     ax.set_ylabel("mean estimated GPU time [ms]")
     ax.set_title("Estimated frame time per pass (stacked; docs/cost_model.md)")
     ax.grid(axis="y", alpha=0.3)
@@ -435,7 +437,8 @@ def plot_eccentricity(run, out):
         ax.set_ylabel("RMSE [display-encoded, 0–1]" if fam == "rmse_ecc_" else "LDR-FLIP [0–1]")
         ax.set_title(("RMSE" if fam == "rmse_ecc_" else "LDR-FLIP") + " vs. eccentricity (95% intervals)")
         ax.grid(alpha=0.3)
-    legend(axes[0, -1], len(run.configs))
+    if len(run.configs) <= MAX_LEGEND:  # one legend, outside the data
+        common.dedup_legend(axes[0, -1], fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0))
     common.save(fig, os.path.join(out, "eccentricity.png"))
     return "eccentricity.png"
 
@@ -476,7 +479,8 @@ def plot_strips(run, out):
         if len(shown) > 8:
             title += f" (8 of {len(shown)} configurations shown)"
         f = f"strip_{frame}.png"
-        common.save(common.draw_strip(cols, gx, gy, title), os.path.join(out, f))
+        colors = {run.by_config[c][0].get("label") or c: run.color(c) for c in run.configs}
+        common.save(common.draw_strip(cols, gx, gy, title, colors), os.path.join(out, f))
         made.append(f)
     if not made:
         raise Skip("images/ has no frame_<n>/reference.png")
@@ -488,7 +492,7 @@ def plot_video(run, out):
     frames were saved; otherwise skipped with the reason."""
     import make_video  # noqa: E402  (viz/make_video.py)
     try:
-        return make_video.make_video(run.dir, out, report=log)
+        return make_video.make_video(run.dir, out, report=lambda m: None)  # main() logs the file
     except make_video.NoVideo as e:
         raise Skip(str(e))
 

@@ -96,6 +96,17 @@ class Sweep:
             keep.append(r)
         return keep, len(self.rows) - len(keep)
 
+    def row_name(self, r):
+        """"kfr sigma=1.8" (label and its swept parameters), plus @gpu when several are costed."""
+        gpus = {x.get("gpu", "") for x in self.rows}
+        g = f" @{r.get('gpu')}" if len(gpus) > 1 else ""
+        return f"{r.get('label')} {self.params_text(r)}".strip() + g
+
+    def row_styles(self, rows):
+        """{row_name: (colour, linestyle, marker)}: the method's colour, line style and marker per
+        configuration of that method (common.variant_styles)."""
+        return common.variant_styles([(self.row_name(r), r.get("method") or r.get("label")) for r in rows])
+
     def objectives(self):
         obj = []
         for o in self.meta.get("objectives", []):
@@ -175,7 +186,7 @@ def plot_quality_vs_budget(sw, out):
     made = []
     for g in gpus:
         rs = [r for r in rows if r.get("gpu", "") == g]
-        fig, axes = plt.subplots(1, len(metrics), figsize=(6 * len(metrics), 4.5), squeeze=False)
+        fig, axes = plt.subplots(1, len(metrics), figsize=(6 * len(metrics), 4.5), squeeze=False, sharex=True)
         for ax, m in zip(axes[0], metrics):
             entries = [(r.get("method") or r.get("label"), f"{r.get('label')} {sw.params_text(r)}".strip(),
                         sw.num(r, "est_ms_total"), sw.num(r, m)) for r in rs]
@@ -267,13 +278,15 @@ def plot_timelines(sw, out):
         raise Skip("no rows")
     fig, ax = plt.subplots(figsize=(10, 4.8))
     gaze = None
+    sty = sw.row_styles(sel)
     for r in sel:
         fr = [x for x in cell_frames(sw, r.get("cell_id", "")) if x.get("label") == r.get("label")
               and x.get("gpu") == r.get("gpu")]
         if not fr:
             continue
+        col, ls, _ = sty[sw.row_name(r)]
         ax.plot([to_float(x["frame"]) for x in fr], [to_float(x["est_ms_total"]) for x in fr], lw=1,
-                color=sw.color(r.get("label")), label=f"{r.get('label')} {sw.params_text(r)}".strip())
+                color=col, ls=ls, label=sw.row_name(r))
         if gaze is None:
             gaze = fr
     b = sw.budget()
@@ -309,11 +322,13 @@ def plot_profiles(sw, out):
         return 0.5 * (float(a) + float(b))
 
     fig, ax = plt.subplots(figsize=(8, 4.5))
-    for r in selected(sw):
+    sel = selected(sw)
+    sty = sw.row_styles(sel)
+    for r in sel:
         err = [sw.num(r, c + "_ci95") for c in bands]
-        ax.errorbar([mid(c) for c in bands], [sw.num(r, c) for c in bands], marker="o", lw=1, capsize=2,
-                    yerr=[e if math.isfinite(e) else 0 for e in err], color=sw.color(r.get("label")),
-                    label=f"{r.get('label')} {sw.params_text(r)}".strip())
+        col, ls, mk = sty[sw.row_name(r)]
+        ax.errorbar([mid(c) for c in bands], [sw.num(r, c) for c in bands], marker=mk, lw=1, capsize=2, ls=ls,
+                    yerr=[e if math.isfinite(e) else 0 for e in err], color=col, label=sw.row_name(r))
     ax.set_xlabel("eccentricity [deg] (band centre)")
     ax.set_ylabel("RMSE [display-encoded, 0–1]")
     ax.set_title("Error vs. eccentricity of the Pareto configurations (error bars: 95% interval)")
@@ -367,7 +382,9 @@ def plot_strips(sw, out):
             title = f"cell {cid}, frame {frame}: gaze +"
             if len(rows) > len(shown):
                 title += f" ({len(shown)} of {len(rows)} configurations shown)"
-            fig = common.draw_strip(cols, gx, gy, title)
+            colors = {c[0]: sw.color(r.get("label")) for c, r in zip(cols[1:], [r for r in shown if os.path.exists(
+                os.path.join(fdir, r.get("label", "") + ".png"))])}
+            fig = common.draw_strip(cols, gx, gy, title, colors)
             f = f"strip_{cid}_{frame}.png"
             common.save(fig, os.path.join(out, f))
             made.append(f)

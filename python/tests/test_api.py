@@ -68,7 +68,7 @@ class CostTest(unittest.TestCase):
         py = fovsim.budget(gpu="gtx1080", workload="twfr_sponza", methods=["full", "kfr", "twfr"], hz=120,
                            scale={"shading": 2}, as_frame=False)
         cli = cli_json(["budget", "--gpu", "gtx1080", "--workload", "twfr_sponza", "-m", "full", "-m", "kfr", "-m",
-                        "twfr", "--hz", "120", "--shading", "2"])
+                        "twfr", "--hz", "120", "--scale-shading", "2"])
         self.assertEqual(len(py), 3)
         for p, c in zip(py, cli):
             for k in ("est_ms_total", "budget_ms", "headroom_ms", "verdict", "fits", "factor_shading",
@@ -103,14 +103,14 @@ class RunBased(unittest.TestCase):
         cls.cfg = os.path.join(cls.d, "c.json")
         with open(cls.cfg, "w") as f:
             json.dump(CONFIG, f)
-        cls.run = fovsim.run(cls.cfg, out=os.path.join(cls.d, "run"), threads=0)
+        cls.res = fovsim.run(cls.cfg, out=os.path.join(cls.d, "run"), threads=0)
 
     @classmethod
     def tearDownClass(cls):
         cls.tmp.cleanup()
 
     def test_tidy_has_parameters_as_columns(self):
-        t = fovsim.tidy(self.run["out_dir"], as_frame=False)
+        t = fovsim.tidy(self.res["out_dir"], as_frame=False)
         names = t.dtype.names
         for c in ("config_id", "method", "frame", "sigma", "alpha", "metric", "value"):
             self.assertIn(c, names)
@@ -121,23 +121,23 @@ class RunBased(unittest.TestCase):
         full = t[t["config_id"] == "full"]
         self.assertTrue(all(math.isnan(v) for v in full["sigma"]))  # full has no sigma
         self.assertIn("psnr", set(full["metric"]))  # inf kept
-        run = fovsim.load_run(self.run["out_dir"])
-        self.assertEqual(fovsim.parameter_columns(run)[:1], ["sigma"])
+        run = fovsim.load_run(self.res["out_dir"])
+        self.assertIn("sigma", fovsim.parameter_columns(run))
 
     def test_tidy_dataframe_and_load_as_frame(self):
         try:
             import pandas as pd
         except ImportError:
             self.skipTest("no pandas")
-        df = fovsim.tidy(self.run["out_dir"])
+        df = fovsim.tidy(self.res["out_dir"])
         self.assertIsInstance(df, pd.DataFrame)
         kfr = df[(df.config_id == "kfr") & (df.metric == "est_ms_total")]["value"].mean()
-        summ = fovsim.load_run(self.run["out_dir"], as_frame=True)["summary"]
+        summ = fovsim.load_run(self.res["out_dir"], as_frame=True)["summary"]
         self.assertIsInstance(summ, pd.DataFrame)
         self.assertAlmostEqual(kfr, float(summ[summ.config_id == "kfr"]["est_ms_total"].iloc[0]), places=9)
 
     def test_predict_from_results(self):
-        rows = fovsim.predict(results=self.run["out_dir"], gpu="rtx2080ti", as_frame=False)
+        rows = fovsim.predict(results=self.res["out_dir"], gpu="rtx2080ti", as_frame=False)
         self.assertEqual([r["config_id"] for r in rows], ["full", "kfr"])
         self.assertLess(rows[1]["est_ms_total"], rows[0]["est_ms_total"])
 
