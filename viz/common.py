@@ -245,14 +245,41 @@ def clamp_box(cx, cy, half, w, h):
     return x0, y0, x0 + size, y0 + size
 
 
-def strip_geometry(w, h, gx, gy):
+def strip_geometry(w, h, gx, gy, ref=None):
     """Inset boxes (x0, y0, x1, y1), clamped inside the w×h image: one centred on the gaze, one
-    in the periphery (the candidate point farthest from the gaze: left/right middle)."""
+    in the periphery. Without `ref` the periphery box is the candidate (edge middles, corners)
+    farthest from the gaze; with the reference image, the candidate with the most detail (mean
+    absolute luma gradient: texture and edges, where foveation error shows) among those whose box does not overlap the gaze box
+    and lies at least a third of the image from the gaze (else the farthest)."""
     half = max(8, min(w, h) // 6)
     fov = clamp_box(gx, gy, half, w, h)
-    cands = [(w * 0.12, h * 0.5), (w * 0.88, h * 0.5), (w * 0.5, h * 0.12), (w * 0.5, h * 0.88)]
-    px, py = max(cands, key=lambda c: (c[0] - gx) ** 2 + (c[1] - gy) ** 2)
-    per = clamp_box(px, py, half, w, h)
+    cands = [(w * 0.12, h * 0.5), (w * 0.88, h * 0.5), (w * 0.5, h * 0.12), (w * 0.5, h * 0.88),
+             (w * 0.15, h * 0.15), (w * 0.85, h * 0.15), (w * 0.15, h * 0.85), (w * 0.85, h * 0.85)]
+
+    def dist2(c):
+        return (c[0] - gx) ** 2 + (c[1] - gy) ** 2
+
+    far = max(cands, key=dist2)
+    best = far
+    if ref is not None:
+        import numpy as np
+
+        lum = np.asarray(ref, dtype=float)
+        lum = lum[..., :3].mean(axis=2) if lum.ndim == 3 else lum
+
+        def overlaps(b):
+            return not (b[2] <= fov[0] or b[0] >= fov[2] or b[3] <= fov[1] or b[1] >= fov[3])
+
+        ok = []
+        for c in cands:
+            b = clamp_box(c[0], c[1], half, w, h)
+            if not overlaps(b) and dist2(c) >= (min(w, h) / 3.0) ** 2:
+                patch = lum[b[1]:b[3], b[0]:b[2]]
+                detail = float(np.abs(np.diff(patch, axis=0)).mean() + np.abs(np.diff(patch, axis=1)).mean())
+                ok.append((detail, -dist2(c), c))
+        if ok:
+            best = max(ok)[2]
+    per = clamp_box(best[0], best[1], half, w, h)
     return fov, per
 
 
@@ -266,7 +293,7 @@ def draw_strip(cols, gx, gy, title, colors=None):
     from matplotlib import cm, colors as mcolors
 
     h, w = cols[0][1].shape[:2]
-    (fx0, fy0, fx1, fy1), (px0, py0, px1, py1) = strip_geometry(w, h, gx, gy)
+    (fx0, fy0, fx1, fy1), (px0, py0, px1, py1) = strip_geometry(w, h, gx, gy, cols[0][1])
     off = not (0 <= gx < w and 0 <= gy < h)
     mx, my = min(max(gx, 0), w - 1), min(max(gy, 0), h - 1)
     has_err = any(c[2] is not None for c in cols)

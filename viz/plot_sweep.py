@@ -146,7 +146,7 @@ def plot_pareto(sw, out):
     for r in labelled:
         x, y = sw.num(r, cx), sw.num(r, cy)
         if math.isfinite(x) and math.isfinite(y):
-            txt = sw.params_text(r) or r.get("label", "")
+            txt = sw.row_name(r)  # label and its swept parameters
             ax.annotate(txt, (x, y), fontsize=7, xytext=(4, 3), textcoords="offset points", color="0.2")
     if front:
         front.sort(key=lambda r: sw.num(r, cx))
@@ -227,9 +227,10 @@ def plot_heatmaps(sw, out):
                 grid = np.where(cnt > 0, grid / np.maximum(cnt, 1), np.nan)  # mean over other axes
                 im = ax.imshow(grid, origin="lower", aspect="auto", cmap="viridis" if m in ("fpsnr", "ssim") else "magma")
                 ax.set_xticks(range(len(xs)))
-                ax.set_xticklabels([f"{x:g}" for x in xs], fontsize=7, rotation=45)
+                ax.set_xticklabels([f"{x:g}" for x in xs], fontsize=9 if len(xs) <= 8 else 7,
+                                   rotation=0 if len(xs) <= 8 else 45)
                 ax.set_yticks(range(len(ys)))
-                ax.set_yticklabels([f"{y:g}" for y in ys], fontsize=7)
+                ax.set_yticklabels([f"{y:g}" for y in ys], fontsize=9 if len(ys) <= 12 else 7)
                 ax.set_xlabel(px)
                 ax.set_ylabel(py)
                 ax.set_title(axis_label(m), fontsize=9)
@@ -369,7 +370,7 @@ def plot_strips(sw, out):
                 if os.path.exists(img):
                     err = os.path.join(fdir, lab + "_error.png")
                     star = " (Pareto)" if r.get("pareto") == "1" else ""
-                    cols.append((f"{lab} {sw.params_text(r)}{star}".strip(), plt.imread(img),
+                    cols.append((" ".join(x for x in (lab, sw.params_text(r), star.strip()) if x), plt.imread(img),
                                  plt.imread(err) if os.path.exists(err) else None))
             if len(cols) < 2:
                 continue
