@@ -304,7 +304,9 @@ def plot_timelines(sw, out):
         gy = np.array([to_float(x["gaze_y"]) for x in gaze])
         sp = np.hypot(np.diff(gx), np.diff(gy)) * dpp / np.maximum(np.diff(t), 1e-9)
         ax2 = ax.twinx()
-        ax2.plot([to_float(x["frame"]) for x in gaze[1:]], sp, color="0.5", lw=0.8, ls=":", label="gaze speed")
+        (gl,) = ax2.plot([to_float(x["frame"]) for x in gaze[1:]], sp, color="0.5", lw=0.8, ls=":",
+                         label="gaze speed (right axis)")
+        ax.plot([], [], color="0.5", lw=0.8, ls=":", label=gl.get_label())  # in the one legend
         ax2.set_ylabel("gaze speed [deg/s]" if deg_per_px(sw) else "gaze speed [px/s]", color="0.4")
     common.dedup_legend(ax, fontsize=7, loc="upper left")
     ax.set_title("Per-frame estimated time of the Pareto configurations, with gaze speed")
