@@ -34,10 +34,10 @@ void register_run(CLI::App& app, Action& action) {
   c->add_option("--models", a->models,
                 "Models directory (default: $FOVSIM_MODELS, ./models, or the source tree's)");
   c->add_flag("-q,--quiet", a->quiet, "Do not print the summary table");
-  c->add_flag(
-      "--no-plots", a->no_plots,
-      "Do not run viz/plot_run.py at the end (plots and index.html in <out>/plots/; skipped with a "
-      "message when /usr/bin/python3 has no matplotlib)");
+  c->add_flag("--no-plots,!--plots", a->no_plots,
+              "--no-plots: do not run viz/plot_run.py at the end; --plots (the default): plots, "
+              "run.mp4 (with ffmpeg) and index.html in <out>/plots/, skipped with a message when "
+              "/usr/bin/python3 has no matplotlib");
   c->add_option("--watchdog", a->watchdog_s,
                 "Seconds: stop with an error naming the frame and method when one method's frame "
                 "runs longer than\n"

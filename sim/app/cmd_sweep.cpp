@@ -70,7 +70,8 @@ void register_sweep(CLI::App& app, Action& action) {
       ->check(CLI::Range(0, 1000000));
   c->add_flag("--bench", a->bench,
               "Print the timing report (references vs. cells' own work) and write bench.json");
-  c->add_flag("--no-plots", a->no_plots, "Do not run viz/plot_sweep.py at the end");
+  c->add_flag("--no-plots,!--plots", a->no_plots,
+              "--no-plots: do not run viz/plot_sweep.py at the end; --plots: the default");
   c->add_flag("-q,--quiet", a->quiet, "Print only errors");
   c->add_option("--watchdog", a->watchdog_s,
                 "Seconds: stop with an error naming the frame and method when one method's frame "

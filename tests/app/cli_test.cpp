@@ -54,6 +54,7 @@ TEST(Cli, HelpExplainsOptions) {
   EXPECT_EQ(rr.code, 0);
   EXPECT_NE(rr.output.find("--out"), std::string::npos);
   EXPECT_NE(rr.output.find("key.path=value"), std::string::npos);
+  EXPECT_NE(rr.output.find("--plots"), std::string::npos);  // default on; --no-plots skips
 }
 
 TEST(Cli, BadInputIsOneLineExit2) {
