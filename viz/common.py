@@ -190,7 +190,8 @@ def dedup_legend(ax, **kw):
 
 
 def draw_quality_vs_budget(ax, entries, metric, budget=None):
-    """Quality vs. budget on `ax`: entries = [(method, name, mean cost [ms], mean quality)].
+    """Quality vs. budget on `ax`: entries = [(method, name, mean cost [ms], mean quality[,
+    95% half-width of the quality])]; the half-widths (when finite) are error bars on the steps.
     For a budget B on the x axis, each method's step line is the best quality among its
     configurations whose cost <= B (starts at its cheapest configuration); the black line is the
     best over all methods. Non-finite entries (fpsnr inf for `full`) are named, not drawn.
@@ -201,24 +202,29 @@ def draw_quality_vs_budget(ax, entries, metric, budget=None):
     if not ok:
         ax.text(0.5, 0.5, "no finite values", transform=ax.transAxes, ha="center")
         return bad
-    xmax = max([e[2] for e in ok] + ([budget] if budget else [])) * 1.15
-    xmin = min(e[2] for e in ok) * 0.85
+    costs = [e[2] for e in entries if math.isfinite(e[2])]  # every configuration, same x range in every panel
+    xmax = max(costs + ([budget] if budget else [])) * 1.15
+    xmin = min(costs + ([budget] if budget else [])) * 0.95
 
-    def staircase(es):
+    def staircase(es, with_ci=False):
         es = sorted(es, key=lambda e: e[2])
-        xs, ys, best = [], [], None
+        xs, ys, cis, best = [], [], [], None
         for e in es:
             if best is None or (e[3] > best if higher else e[3] < best):
                 best = e[3]
                 xs.append(e[2])
                 ys.append(best)
+                ci = e[4] if len(e) > 4 else math.nan
+                cis.append(ci if math.isfinite(ci) else 0.0)
+        if with_ci:
+            return xs + [xmax], ys + [ys[-1]], cis
         return xs + [xmax], ys + [ys[-1]]
 
     methods = list(dict.fromkeys(e[0] for e in ok))
     for meth in methods:
-        xs, ys = staircase([e for e in ok if e[0] == meth])
+        xs, ys, cis = staircase([e for e in ok if e[0] == meth], with_ci=True)
         ax.step(xs, ys, where="post", color=method_color(meth), lw=1.4, label=meth)
-        ax.plot(xs[:-1], ys[:-1], "o", color=method_color(meth), ms=4)
+        ax.errorbar(xs[:-1], ys[:-1], yerr=cis, fmt="o", color=method_color(meth), ms=4, capsize=2, lw=1)
     xs, ys = staircase(ok)
     ax.step(xs, ys, where="post", color="k", lw=2.5, alpha=0.25, label="best of all methods", zorder=1)
     if budget:

@@ -11,7 +11,7 @@ results/README.md) and writes PNGs plus an index.html to results/<name>/plots/ (
                         front (lower cost, higher quality) drawn; error bars: the 95% intervals
                         `<col>_ci95` of summary.csv (both axes)
   quality_vs_budget.png best mean fpsnr / ssim attainable within a frame budget B, per method
-                        and over all methods, with the display's budget
+                        (95% intervals) and over all methods, with the display's budget
   shaded_fraction.png   mean shaded_fraction per config, with its 95% interval
   paired.png            paired.csv: per headline metric, the mean difference of every pair
                         of configs with its 95% interval (filled: the interval excludes 0)
@@ -229,7 +229,8 @@ def plot_quality_vs_budget(run, out):
     b = common.budget_ms(run.manifest, run.summary)
     fig, axes = plt.subplots(1, len(metrics), figsize=(6 * len(metrics), 4.5), squeeze=False, sharex=True)
     for ax, m in zip(axes[0], metrics):
-        entries = [(run.method(c), c, run.mean(c, "est_ms_total"), run.mean(c, m)) for c in run.configs]
+        entries = [(run.method(c), c, run.mean(c, "est_ms_total"), run.mean(c, m), run.ci(c, m))
+                   for c in run.configs]
         common.draw_quality_vs_budget(ax, entries, m, b)
     common.dedup_legend(axes[0, -1], fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0))
     fig.suptitle("Quality vs. frame budget (best configuration of each method that fits)", fontsize=10)

@@ -189,7 +189,7 @@ def plot_quality_vs_budget(sw, out):
         fig, axes = plt.subplots(1, len(metrics), figsize=(6 * len(metrics), 4.5), squeeze=False, sharex=True)
         for ax, m in zip(axes[0], metrics):
             entries = [(r.get("method") or r.get("label"), f"{r.get('label')} {sw.params_text(r)}".strip(),
-                        sw.num(r, "est_ms_total"), sw.num(r, m)) for r in rs]
+                        sw.num(r, "est_ms_total"), sw.num(r, m), sw.num(r, m + "_ci95")) for r in rs]
             common.draw_quality_vs_budget(ax, entries, m, sw.budget())
         common.dedup_legend(axes[0, -1], fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0))
         fig.suptitle(f"{sw.meta.get('name', '')}: quality vs. frame budget" + (f" on {g}" if g else "") +
