@@ -245,15 +245,19 @@ def plot_shaded_fraction(run, out):
     fig, ax = plt.subplots(figsize=(max(5, 0.45 * len(run.configs) + 2), 4.5))
     colors = [run.style(c)[1] for c in run.configs]
     errs = [run.ci(c, "shaded_fraction") for c in run.configs]
-    ax.bar(range(len(vals)), [v if math.isfinite(v) else 0 for v in vals], color=colors,
-           yerr=[e if math.isfinite(e) else 0 for e in errs], capsize=3, ecolor="k")
+    bars = ax.bar(range(len(vals)), [v if math.isfinite(v) else 0 for v in vals], color=colors,
+                  yerr=[e if math.isfinite(e) else 0 for e in errs], capsize=3, ecolor="k")
+    for b, c in zip(bars, run.configs):  # the 2nd, 3rd ... configuration of a method: hatched
+        if run.linestyle(c) != "-":
+            b.set_hatch({"--": "//", ":": "..", "-.": "xx"}[run.linestyle(c)])
+            b.set_edgecolor("white")
     for i, v in enumerate(vals):
         ax.text(i, (v if math.isfinite(v) else 0) + 0.01, f"{v:.3f}" if math.isfinite(v) else "n/a",
                 ha="center", fontsize=7)
     ax.set_xticks(range(len(vals)))
     ax.set_xticklabels(run.configs, rotation=45 if len(vals) > 4 else 0, ha="right" if len(vals) > 4 else "center",
                        fontsize=8)
-    ax.set_ylabel("mean shaded_fraction (of W·H)")
+    ax.set_ylabel("mean shaded fraction [of W·H]")
     ax.set_ylim(0, max([1.05] + [v + 0.08 for v in vals if math.isfinite(v)]))
     ax.set_title("Shaded samples per configuration (error bars: 95% interval)")
     ax.grid(axis="y", alpha=0.3)
