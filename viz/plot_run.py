@@ -349,10 +349,17 @@ def plot_paired(run, out):
     for r in run.paired:
         if r.get("metric") not in metrics:
             metrics.append(r.get("metric"))
-    fig, axes = plt.subplots(1, len(metrics), figsize=(4.2 * len(metrics), 0.28 * len(run.paired) / len(metrics) + 2),
-                             squeeze=False)
+    pairs = []
+    for r in run.paired:
+        p = (r.get("config_a"), r.get("config_b"))
+        if p not in pairs:
+            pairs.append(p)
+    # One row per pair, the same rows in every panel (shared y): its labels only on the left.
+    fig, axes = plt.subplots(1, len(metrics), figsize=(3.4 * len(metrics) + 1.5, 0.28 * len(pairs) + 2),
+                             squeeze=False, sharey=True)
     for ax, m in zip(axes[0], metrics):
-        rows = [r for r in run.paired if r.get("metric") == m]
+        by = {(r.get("config_a"), r.get("config_b")): r for r in run.paired if r.get("metric") == m}
+        rows = [by.get(p, {}) for p in pairs]
         for i, r in enumerate(rows):
             d, h = to_float(r.get("diff")), to_float(r.get("diff_ci95"))
             if not math.isfinite(d):
@@ -361,12 +368,14 @@ def plot_paired(run, out):
             ax.errorbar([d], [i], xerr=[h] if math.isfinite(h) else None, fmt="o", ms=4, capsize=2,
                         color="C0" if filled else "0.5", mfc="C0" if filled else "white")
         ax.axvline(0, color="k", lw=0.8)
-        ax.set_yticks(range(len(rows)))
-        ax.set_yticklabels([f"{r.get('config_a')} − {r.get('config_b')}" for r in rows], fontsize=6)
-        ax.invert_yaxis()
         ax.set_title(m, fontsize=9)
+        ax.set_xlabel("difference A − B, " + common.metric_label(m), fontsize=8)
         ax.grid(axis="x", alpha=0.3)
-    fig.suptitle("Paired differences (same frames, same gaze), 95% intervals", fontsize=10)
+    axes[0, 0].set_yticks(range(len(pairs)))
+    axes[0, 0].set_yticklabels([f"{a} − {b}" for a, b in pairs], fontsize=7)
+    axes[0, 0].set_ylim(len(pairs) - 0.5, -0.5)
+    fig.suptitle("Paired differences A − B (same frames, same gaze), 95% intervals; filled: the interval "
+                 "excludes 0; not drawn: non-finite (psnr of full is inf)", fontsize=9)
     common.save(fig, os.path.join(out, "paired.png"))
     return "paired.png"
 
