@@ -189,6 +189,16 @@ def dedup_legend(ax, **kw):
         ax.legend(hs, ls, **kw)
 
 
+def plain_log_x(ax):
+    """Log-scaled x axis with plain tick labels (10, 20, 50 ms; not 2×10¹)."""
+    from matplotlib import ticker
+
+    ax.set_xscale("log")
+    ax.xaxis.set_major_locator(ticker.LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
+    ax.xaxis.set_major_formatter(ticker.FuncFormatter(lambda v, _: f"{v:g}"))
+    ax.xaxis.set_minor_formatter(ticker.NullFormatter())
+
+
 def draw_quality_vs_budget(ax, entries, metric, budget=None):
     """Quality vs. budget on `ax`: entries = [(method, name, mean cost [ms], mean quality[,
     95% half-width of the quality])]; the half-widths (when finite) are error bars on the steps.
@@ -230,7 +240,11 @@ def draw_quality_vs_budget(ax, entries, metric, budget=None):
     if budget:
         ax.axvline(budget, color="red", ls="--", lw=1, label=f"display budget {budget:.2f} ms")
     ax.set_xlim(xmin, xmax)
-    ax.set_xlabel("frame budget B [ms] (configurations with mean estimated frame time ≤ B)", fontsize=8)
+    logx = xmax > 4 * xmin  # a wide range (flc's indirect light next to the others): log scale
+    if logx:
+        plain_log_x(ax)
+    ax.set_xlabel("frame budget B [ms" + (", log scale" if logx else "") +
+                  "] (configurations with mean estimated frame time ≤ B)", fontsize=8)
     ax.set_ylabel(f"best mean {metric_label(metric)}")
     ax.set_title(metric + (" (higher is better)" if higher else " (lower is better)"), fontsize=9)
     ax.grid(alpha=0.3)

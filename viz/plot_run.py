@@ -205,7 +205,11 @@ def plot_quality_vs_cost(run, out):
             note = ""
         if b is not None:
             ax.axvline(b, color="red", ls=":", lw=1, label="budget")
-        ax.set_xlabel("mean estimated frame time [ms]" + note, fontsize=9)
+        xs = [x for x, y in pts if math.isfinite(x) and x > 0]
+        logx = xs and max(xs) > 4 * min(xs)  # e.g. flc's indirect light next to the others
+        if logx:
+            common.plain_log_x(ax)
+        ax.set_xlabel("mean estimated frame time [ms]" + (", log scale" if logx else "") + note, fontsize=9)
         ax.set_ylabel("mean " + common.metric_label(m))
         ax.set_title(f"{m} vs. frame time")
         ax.grid(alpha=0.3)
