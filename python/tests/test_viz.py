@@ -224,6 +224,22 @@ class Geometry(unittest.TestCase):
         fov, per = plot_sweep.strip_geometry(200, 120, 10, 60)
         self.assertGreater(per[2], 100)
 
+    def test_periphery_inset_at_the_detail(self):
+        ref = np.zeros((120, 200, 3))
+        ref[90:120, 0:40] = np.indices((30, 40)).sum(axis=0)[..., None] % 2  # checkerboard bottom-left
+        fov, per = common.strip_geometry(200, 120, 100, 60, ref)
+        self.assertLess(per[0], 40)
+        self.assertGreater(per[3], 90)
+
+    def test_strip_with_gaze_off_screen_stays_on_image(self):
+        im = np.full((60, 80, 3), 0.5)
+        fig = common.draw_strip([("reference", im, None), ("kfr", im, None)], -30, 200, "t", {"kfr": "#1f77b4"})
+        ax = fig.axes[0]
+        self.assertEqual(ax.get_xlim(), (-0.5, 79.5))
+        self.assertEqual(ax.get_ylim(), (59.5, -0.5))
+        self.assertIn("off the screen", fig._suptitle.get_text())
+        self.assertEqual(fig.axes[1].title.get_color(), "#1f77b4")
+
 
 if __name__ == "__main__":
     unittest.main()
