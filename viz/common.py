@@ -269,8 +269,9 @@ def strip_geometry(w, h, gx, gy, ref=None):
     """Inset boxes (x0, y0, x1, y1), clamped inside the w×h image: one centred on the gaze, one
     in the periphery. Without `ref` the periphery box is the candidate (edge middles, corners)
     farthest from the gaze; with the reference image, the candidate with the most detail (mean
-    absolute luma gradient: texture and edges, where foveation error shows) among those whose box does not overlap the gaze box
-    and lies at least a third of the image from the gaze (else the farthest)."""
+    absolute luma gradient: texture and edges, where foveation error shows) among those whose
+    box does not overlap the gaze box and lies at least a third of the image from the gaze
+    (else the farthest)."""
     half = max(8, min(w, h) // 6)
     fov = clamp_box(gx, gy, half, w, h)
     cands = [(w * 0.12, h * 0.5), (w * 0.88, h * 0.5), (w * 0.5, h * 0.12), (w * 0.5, h * 0.88),

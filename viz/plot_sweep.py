@@ -405,9 +405,12 @@ def plot_latency(sw, out):
         raise Skip(str(e))
 
 
-PLOTS = [("Pareto front", plot_pareto), ("Quality vs. frame budget", plot_quality_vs_budget), ("Heat maps", plot_heatmaps), ("Timelines with budget and gaze speed",
-                                                                         plot_timelines),
-         ("Error vs. eccentricity", plot_profiles), ("Image strips with zoomed insets", plot_strips),
+PLOTS = [("Pareto front", plot_pareto),
+         ("Quality vs. frame budget", plot_quality_vs_budget),
+         ("Heat maps", plot_heatmaps),
+         ("Timelines with budget and gaze speed", plot_timelines),
+         ("Error vs. eccentricity", plot_profiles),
+         ("Image strips with zoomed insets", plot_strips),
          ("Foveal quality vs latency", plot_latency)]
 
 
