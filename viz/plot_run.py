@@ -284,7 +284,7 @@ def plot_gaze(run, out):
     ax.plot([xs[i] for i in ok], [ys[i] for i in ok], color="0.7", lw=0.8, zorder=1)
     sc = ax.scatter([xs[i] for i in ok], [ys[i] for i in ok], c=[ts[i] for i in ok], cmap="viridis", s=8, zorder=2)
     if ok:
-        fig.colorbar(sc, ax=ax, label=tcol, shrink=0.8)
+        fig.colorbar(sc, ax=ax, label="t [s]" if tcol == "t" else "frame [index]", shrink=0.8)
     if bad:
         ax.scatter([xs[i] for i in bad], [ys[i] for i in bad], marker="x", color="red", s=12, label="gaze_valid = 0")
         ax.legend(fontsize=7)
