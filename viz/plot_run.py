@@ -579,8 +579,30 @@ def image_sections(run, out):
                          f"<figcaption>{html.escape(f)}</figcaption></figure>")
         parts.append("</div>")
     if parts:
-        parts.insert(0, "<h2 id='images'>Images (error maps: |luma error| turbo 0–0.25, FLIP magma 0–1)</h2>")
+        head = ["<h2 id='images'>Images (error maps: |luma error| turbo 0–0.25, FLIP magma 0–1)</h2>"]
+        try:
+            bar = colorbar_legend(out)
+            head.append(f"<p><img src='{bar}' alt='colour bars of the error maps' style='max-width:520px;border:0'></p>")
+        except Exception as e:  # the legend is a help, never a reason to lose the page
+            log(f"colour bar legend not drawn: {e!r}")
+        parts = head + parts
     return parts
+
+
+def colorbar_legend(out):
+    """error_colorbars.png: the colour bars of the error maps that images/frame_<n>/ holds
+    (|luma error| turbo 0–0.25, LDR-FLIP magma 0–1; results/README.md), shown above them."""
+    from matplotlib import cm, colors
+
+    fig, axes = plt.subplots(2, 1, figsize=(5.2, 1.3))
+    for ax, (cmap, hi, label) in zip(axes, (("turbo", 0.25, "<label>_error.png: |luma error| (display-encoded)"),
+                                            ("magma", 1.0, "<label>_flip.png: LDR-FLIP error"))):
+        fig.colorbar(cm.ScalarMappable(norm=colors.Normalize(0, hi), cmap=cmap), cax=ax, orientation="horizontal")
+        ax.set_title(label, fontsize=8)
+        ax.tick_params(labelsize=7)
+    fig.subplots_adjust(hspace=1.6)
+    common.save(fig, os.path.join(out, "error_colorbars.png"))
+    return "error_colorbars.png"
 
 
 def write_index(run, out, made, skipped):

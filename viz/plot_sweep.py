@@ -38,6 +38,14 @@ class Skip(Exception):
     pass
 
 
+NOTES = []  # caps and other things a reader should know, printed and listed in index.html
+
+
+def note(msg):
+    log(msg)
+    NOTES.append(msg)
+
+
 class Sweep:
     def __init__(self, d):
         self.dir = d
@@ -351,7 +359,7 @@ def plot_strips(sw, out):
     made = []
     cells = list(dict.fromkeys(r.get("cell_id", "") for r in selected(sw, 16)))  # cells of the front
     if len(cells) > 4:
-        log(f"strips: {len(cells)} cells hold front configurations; strips drawn for the first 4")
+        note(f"strips: {len(cells)} cells hold front configurations; strips drawn for the first 4")
     for cid in cells[:4]:
         # every method of the cell side by side (Pareto rows first), at most MAX_STRIP_CONFIGS
         rows = [r for r in sw.rows if r.get("cell_id", "") == cid]
@@ -461,6 +469,8 @@ def write_index(sw, out, made, skipped):
                                all_columns=full) + "</div>")
     for t, f in made:
         p.append(f"<h3 id='{f}'>{html.escape(t)}: {f}</h3><a href='{f}'><img src='{f}'></a>")
+    if NOTES:
+        p.append("<h2>Notes</h2><ul>" + "".join(f"<li>{html.escape(n)}</li>" for n in NOTES) + "</ul>")
     if skipped:
         p.append("<h2>Skipped</h2><ul>" + "".join(f"<li>{html.escape(t)}: {html.escape(r)}</li>" for t, r in skipped)
                  + "</ul>")
