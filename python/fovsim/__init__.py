@@ -18,6 +18,7 @@ from .results import (  # noqa: F401
     parameter_columns,
     select,
     tidy,
+    tidy_sweep,
     to_dataframe,
 )
 
@@ -25,7 +26,7 @@ from .engine import AskTell, Evaluator, overrides_list, run, sweep  # noqa: F401
 from .cost import budget, predict  # noqa: F401,E402
 
 __all__ = ["load_csv", "load_run", "load_sweep", "long_format", "numeric_columns", "parameter_columns", "select",
-           "tidy", "to_dataframe",
+           "tidy", "tidy_sweep", "to_dataframe",
            "run", "sweep", "predict", "budget",
            "AskTell", "Evaluator", "overrides_list", "FovsimError"]
 

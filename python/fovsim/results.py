@@ -231,3 +231,52 @@ def tidy(run, metrics=None, drop_nan=True, as_frame=True):
             return arr
         return pd.DataFrame(arr)
     return arr
+
+
+def tidy_sweep(directory, metrics=None, drop_nan=True, as_frame=True):
+    """Tidy (long) form of a sweep's summary.csv: one row per cell × configuration × metric with
+    the keys (config_id, cell_id, method, label, gpu), the swept axes (columns named by their
+    path, e.g. `methods[kfr].sigma`), the method parameters and `frames` as columns, then
+    `metric`, `value` (the mean over the cell's frames) and `ci95` (its 95% half-width from
+    `<metric>_ci95`; nan when absent). `metrics` defaults to every numeric column that is not a
+    key, axis, parameter, half-width, pareto flag or wall-clock column. DataFrame with pandas."""
+    d = os.fspath(directory)
+    sw = load_sweep(d)
+    s = sw["summary"]
+    names = s.dtype.names
+    meta = _load_json(os.path.join(d, "sweep_summary.json")) or {}
+    axes = [a for a in meta.get("axes", []) if a in names]
+    params = []
+    runs = os.path.join(d, "runs")
+    if os.path.isdir(runs):
+        for name in sorted(os.listdir(runs)):
+            man = _load_json(os.path.join(runs, name, "manifest.json"))
+            if man:
+                params = [p for p in parameter_columns({"summary": s, "manifest": man}) if p not in axes]
+                break
+    keys = [c for c in ("config_id", "cell_id", "cell", "method", "label", "gpu") if c in names]
+    ids = keys + axes + params + (["frames"] if "frames" in names else [])
+    if metrics is None:
+        skip = set(ids) | set(WALL_CLOCK) | {"pareto"}
+        metrics = [c for c in numeric_columns(s) if c not in skip and not c.endswith("_ci95")]
+    arr = long_format(s, ids, metrics, drop_nan=drop_nan)
+    ci = np.full(len(arr), np.nan)
+    # long_format stacks metric blocks in `metrics` order, each keeping the rows it did not drop.
+    pos = 0
+    for m in metrics:
+        keep = ~np.isnan(s[m]) if drop_nan else np.ones(len(s), dtype=bool)
+        n = int(keep.sum())
+        if m + "_ci95" in names and s.dtype[m + "_ci95"].kind == "f":
+            ci[pos:pos + n] = s[m + "_ci95"][keep]
+        pos += n
+    out = np.empty(len(arr), dtype=arr.dtype.descr + [("ci95", "f8")])
+    for n in arr.dtype.names:
+        out[n] = arr[n]
+    out["ci95"] = ci
+    if as_frame:
+        try:
+            import pandas as pd
+        except ImportError:
+            return out
+        return pd.DataFrame(out)
+    return out

@@ -118,5 +118,30 @@ class LoaderTest(unittest.TestCase):
         self.assertIsNone(s["sweep"])
 
 
+class TidySweepTest(unittest.TestCase):
+    def test_one_row_per_cell_config_metric_with_axes_and_ci(self):
+        with tempfile.TemporaryDirectory() as d:
+            with open(os.path.join(d, "summary.csv"), "w") as f:
+                f.write("config_id,cell_id,method,label,gpu,methods[kfr].sigma,frames,est_ms_total,"
+                        "est_ms_total_ci95,fpsnr,fpsnr_ci95,pareto,sim_ms\n"
+                        "full,0-a,full,full,g,1.4,20,10,0.1,inf,nan,1,5\n"
+                        "kfr,0-a,kfr,kfr,g,1.4,20,6,0.2,,,0,5\n"
+                        "kfr,1-b,kfr,kfr,g,2.4,20,4,0.3,25,0.5,1,5\n")
+            with open(os.path.join(d, "sweep_summary.json"), "w") as f:
+                json.dump({"axes": ["methods[kfr].sigma"]}, f)
+            t = fovsim.tidy_sweep(d, as_frame=False)
+            self.assertEqual(set(t["metric"]), {"est_ms_total", "fpsnr"})  # no _ci95, pareto, sim_ms
+            self.assertIn("methods[kfr].sigma", t.dtype.names)
+            est = t[t["metric"] == "est_ms_total"]
+            self.assertEqual(list(est["value"]), [10, 6, 4])
+            self.assertEqual(list(est["ci95"]), [0.1, 0.2, 0.3])
+            fp = t[t["metric"] == "fpsnr"]  # the kfr row of cell 0-a has no fpsnr: no row
+            self.assertEqual(list(fp["cell_id"]), ["0-a", "1-b"])
+            self.assertTrue(math.isinf(fp["value"][0]))
+            self.assertTrue(math.isnan(fp["ci95"][0]))
+            self.assertEqual(fp["ci95"][1], 0.5)
+            self.assertEqual(fp["methods[kfr].sigma"][1], 2.4)
+
+
 if __name__ == "__main__":
     unittest.main()
