@@ -22,12 +22,12 @@ from .results import (  # noqa: F401
     to_dataframe,
 )
 
-from .engine import AskTell, Evaluator, overrides_list, run, sweep  # noqa: F401,E402  (compiled part loaded on first use)
+from .engine import AskTell, Evaluator, make_plots, overrides_list, run, sweep  # noqa: F401,E402  (compiled part loaded on first use)
 from .cost import budget, predict  # noqa: F401,E402
 
 __all__ = ["load_csv", "load_run", "load_sweep", "long_format", "numeric_columns", "parameter_columns", "select",
            "tidy", "tidy_sweep", "to_dataframe",
-           "run", "sweep", "predict", "budget",
+           "run", "sweep", "make_plots", "predict", "budget",
            "AskTell", "Evaluator", "overrides_list", "FovsimError"]
 
 

@@ -49,17 +49,39 @@ def overrides_list(overrides):
     return [str(o) for o in overrides]
 
 
-def run(config, overrides=None, out="", threads=0, models=""):
+def make_plots(directory, sweep=False, quiet=True):
+    """Runs viz/plot_run.py (or plot_sweep.py) on a result folder, as `fovsim run` does at its
+    end: plots, index.html (and run.mp4 when ffmpeg is present) in <directory>/plots/. Returns
+    the path of that index.html. Raises RuntimeError when the script fails (e.g. no matplotlib)."""
+    import subprocess
+
+    script = os.path.join(_REPO, "viz", "plot_sweep.py" if sweep else "plot_run.py")
+    p = subprocess.run([sys.executable, script, os.fspath(directory)], capture_output=True, text=True)
+    if p.returncode != 0:
+        raise RuntimeError(f"{script} failed (exit {p.returncode}): {(p.stderr or p.stdout).strip()[-500:]}")
+    if not quiet:
+        print(p.stdout, end="")
+    return os.path.join(os.fspath(directory), "plots", "index.html")
+
+
+def run(config, overrides=None, out="", threads=0, models="", plots=False):
     """Runs one config like `fovsim run` (same outputs under `out`, default results/<name>).
-    Returns {"out_dir", "summary": [dict per configuration], "frame_rows"}. Errors in the
-    config raise FovsimError with the JSON path and the allowed range."""
-    return _module().run(os.fspath(config), overrides_list(overrides), os.fspath(out), threads, models)
+    Returns {"out_dir", "summary": [dict per configuration], "frame_rows"} (and "index" with
+    plots=True: the plots are made as `fovsim run` makes them, make_plots). Errors in the config
+    raise FovsimError with the JSON path and the allowed range."""
+    r = _module().run(os.fspath(config), overrides_list(overrides), os.fspath(out), threads, models)
+    if plots:
+        r["index"] = make_plots(r["out_dir"])
+    return r
 
 
-def sweep(config, overrides=None, out="", threads=0, models=""):
+def sweep(config, overrides=None, out="", threads=0, models="", plots=False):
     """Runs a sweep config like `fovsim sweep` (resumable). Returns a report dict; load the
-    results with fovsim.load_sweep(report["out_dir"])."""
-    return _module().sweep(os.fspath(config), overrides_list(overrides), os.fspath(out), threads, models)
+    results with fovsim.load_sweep(report["out_dir"]). plots=True: viz/plot_sweep.py too."""
+    r = _module().sweep(os.fspath(config), overrides_list(overrides), os.fspath(out), threads, models)
+    if plots and r.get("complete"):
+        r["index"] = make_plots(r["out_dir"], sweep=True)
+    return r
 
 
 class Evaluator:

@@ -136,6 +136,15 @@ class RunBased(unittest.TestCase):
         self.assertIsInstance(summ, pd.DataFrame)
         self.assertAlmostEqual(kfr, float(summ[summ.config_id == "kfr"]["est_ms_total"].iloc[0]), places=9)
 
+    def test_plots_from_python(self):
+        try:
+            import matplotlib  # noqa: F401
+        except ImportError:
+            self.skipTest("no matplotlib")
+        idx = fovsim.make_plots(self.res["out_dir"])
+        self.assertTrue(os.path.exists(idx))
+        self.assertTrue(os.path.exists(os.path.join(self.res["out_dir"], "plots", "quality_vs_budget.png")))
+
     def test_predict_from_results(self):
         rows = fovsim.predict(results=self.res["out_dir"], gpu="rtx2080ti", as_frame=False)
         self.assertEqual([r["config_id"] for r in rows], ["full", "kfr"])
