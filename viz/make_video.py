@@ -69,9 +69,10 @@ def compose(frame, fdir, labels, gaze, disp_w, path, capped_note):
     ims = [plt.imread(c[2]) for c in cols]
     h, w = ims[0].shape[:2]
     n = len(cols)
-    ncol = min(n, 3)
+    ncol = min(n, 3) if n <= 6 or n == 9 else 4  # few empty slots
     nrow = int(math.ceil(n / ncol))
-    fig, axes = plt.subplots(nrow, ncol, figsize=(3.6 * ncol, 3.6 * nrow * h / w + 0.5), squeeze=False)
+    fig, axes = plt.subplots(nrow, ncol, figsize=(3.2 * ncol, (3.2 * h / w + 0.3) * nrow + 0.4), squeeze=False,
+                             layout="constrained")  # same size every frame (H.264)
     gx, gy = gaze.get(frame, (math.nan, math.nan))
     sc = w / float(disp_w) if disp_w else 1.0
     for k, ax in enumerate(axes.flat):
