@@ -392,24 +392,31 @@ def pass_columns(run):
 
 def plot_passes(run, out):
     """Stacked mean estimated time per pass and configuration (summary.csv), with the total
-    and its 95% interval as a black marker."""
+    and its 95% interval as a black marker (left), and each pass's share of the frame (right:
+    readable when one configuration, e.g. flc, costs far more than the others)."""
     if not run.summary:
         raise Skip("no summary.csv")
     passes = pass_columns(run)
     if not passes:
         raise Skip("summary.csv has no est_ms_<pass> columns")
     cfgs = run.configs
-    fig, ax = plt.subplots(figsize=(max(6, 0.7 * len(cfgs) + 3), 4.8))
-    bottom = [0.0] * len(cfgs)
+    w = max(5, 0.6 * len(cfgs) + 2.5)
+    fig, (ax, axp) = plt.subplots(1, 2, figsize=(2 * w + 2, 4.8))
     cmap = plt.get_cmap("tab20")
+    table = []
     for k, pcol in enumerate(passes):
         vals = [run.mean(c, pcol) for c in cfgs]
         vals = [v if math.isfinite(v) else 0.0 for v in vals]
-        if not any(vals):
-            continue
-        ax.bar(range(len(cfgs)), vals, bottom=bottom, color=cmap(k % 20), label=pcol[len("est_ms_"):],
-               edgecolor="white", lw=0.5)
-        bottom = [b + v for b, v in zip(bottom, vals)]
+        if any(vals):
+            table.append((pcol[len("est_ms_"):], cmap(k % 20), vals))
+    sums = [sum(t[2][i] for t in table) for i in range(len(cfgs))]
+    bottom, bottom_p = [0.0] * len(cfgs), [0.0] * len(cfgs)
+    for name, col, vals in table:
+        ax.bar(range(len(cfgs)), vals, bottom=bottom, color=col, label=name, edgecolor="white", lw=0.5)
+        share = [100 * v / t if t > 0 else 0 for v, t in zip(vals, sums)]
+        axp.bar(range(len(cfgs)), share, bottom=bottom_p, color=col, edgecolor="white", lw=0.5)
+        bottom = [x + v for x, v in zip(bottom, vals)]
+        bottom_p = [x + v for x, v in zip(bottom_p, share)]
     tot = [run.mean(c, "est_ms_total") for c in cfgs]
     err = [run.ci(c, "est_ms_total") for c in cfgs]
     ax.errorbar(range(len(cfgs)), tot, yerr=[e if math.isfinite(e) else 0 for e in err], fmt="_", color="k",
@@ -417,15 +424,20 @@ def plot_passes(run, out):
     b = common.budget_ms(run.manifest, run.summary)
     if b is not None:
         ax.axhline(b, color="red", ls="--", lw=1, label=f"budget {b:.2f} ms")
-    ax.set_xticks(range(len(cfgs)))
-    ax.set_xticklabels(cfgs, rotation=45 if len(cfgs) > 4 else 0, ha="right" if len(cfgs) > 4 else "center",
-                       fontsize=8)
-    for lbl, c in zip(ax.get_xticklabels(), cfgs):
-        lbl.set_color(run.color(c))  # the method's colour, as in every plot
+    for a in (ax, axp):
+        a.set_xticks(range(len(cfgs)))
+        a.set_xticklabels(cfgs, rotation=45 if len(cfgs) > 4 else 0, ha="right" if len(cfgs) > 4 else "center",
+                          fontsize=8)
+        for lbl, c in zip(a.get_xticklabels(), cfgs):
+            lbl.set_color(run.color(c))  # the method's colour, as in every plot
+        a.grid(axis="y", alpha=0.3)
     ax.set_ylabel("mean estimated GPU time [ms]")
-    ax.set_title("Estimated frame time per pass (stacked; docs/cost_model.md)")
-    ax.grid(axis="y", alpha=0.3)
-    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    ax.set_title("Estimated frame time per pass (stacked)", fontsize=10)
+    axp.set_ylabel("share of the estimated frame time [%]")
+    axp.set_ylim(0, 100)
+    axp.set_title("Share of each pass", fontsize=10)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(2.25, 1.0))  # one legend, right of both panels
+    fig.suptitle("Cost model per pass (docs/cost_model.md)", fontsize=10)
     common.save(fig, os.path.join(out, "passes.png"))
     return "passes.png"
 
