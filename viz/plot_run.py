@@ -326,8 +326,9 @@ def plot_quality_timeline(run, out):
             pts = [(a, b) for a, b in zip(x, y) if math.isfinite(b)]
             col = run.color(cid)
             if pts:
-                (h,) = ax.plot([p[0] for p in pts], [p[1] for p in pts], lw=1, color=col, ls=run.linestyle(cid),
-                               label=cid)
+                full = run.method(cid) == "full"  # the reference pipeline on top (it often sits at ssim 1)
+                (h,) = ax.plot([p[0] for p in pts], [p[1] for p in pts], lw=1.4 if full else 1, color=col,
+                               ls=":" if full else run.linestyle(cid), label=cid, zorder=5 if full else 2)
                 handles.setdefault(cid, h)
             else:
                 not_drawn.setdefault(m, []).append(cid)
