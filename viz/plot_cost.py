@@ -15,6 +15,7 @@ from common import plt, read_csv, to_float
 KIND_STYLE = {"predicted": ("^", 0.9), "total": ("s", 0.9)}
 GPU_COLORS = {"gtx980": "tab:orange", "gtx1080": "tab:blue", "rtx2070": "tab:green",
               "rtx2080ti": "tab:red"}
+TABLE_COLORS = {"kfr": "tab:blue", "rmfr": "tab:orange", "twfr": "tab:green", "flc": "tab:red"}
 
 
 def panel(ax, rows, calib, title, colour_by):
@@ -30,7 +31,7 @@ def panel(ax, rows, calib, title, colour_by):
         if not (x > 0 and y > 0):
             continue
         key = r[colour_by]
-        c = GPU_COLORS.get(key, None) if colour_by == "gpu" else None
+        c = (GPU_COLORS if colour_by == "gpu" else TABLE_COLORS).get(key, None)
         m, a = KIND_STYLE.get(r["kind"], ("o", 0.6))
         ylo, yhi = to_float(r["model_lo_ms"]), to_float(r["model_hi_ms"])
         if math.isfinite(ylo) and math.isfinite(yhi):
@@ -78,8 +79,9 @@ def main():
         axes[0][k].axis("off")
     for k in range(len(passes), (nrows - 1) * ncols):
         axes[1 + k // ncols][k % ncols].axis("off")
-    fig.suptitle("fovsim validate-cost: held-out predictions vs. published times, per GPU (top) and per pass")
-    fig.tight_layout()
+    fig.suptitle("fovsim validate-cost: held-out predictions vs. published times with 80% intervals, "
+                 "per GPU (top row) and per pass")
+    fig.tight_layout(rect=(0, 0, 1, 0.98))
     fig.savefig(sys.argv[2], dpi=100)
 
 

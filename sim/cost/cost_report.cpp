@@ -34,8 +34,9 @@ std::string csv_quote(const std::string& s) {
 
 const char* kIntervalMethod =
     "empirical 10%/90% quantiles of published/model over the held-out rows of fovsim "
-    "validate-cost's leave-one-seed/GPU/scene-out refits: per pass where the pass has enough "
-    "single-pass rows (passes), else pooled; a total combines its passes' intervals";
+    "validate-cost's leave-one-seed/GPU/scene-out refits: per pass (passes) where the pass has "
+    "at least 5 single-pass rows, shrunk toward the pooled quantiles with weight n/(n+8) in log "
+    "space, else pooled; a total combines its passes' intervals in quadrature";
 
 }  // namespace
 
@@ -201,8 +202,9 @@ ValidationOutputs run_validation(const std::string& models, double level) {
   txt << "); the seeds' multi-resolution figures (KFR thesis Table 4.2, TWFR Fig. 10) are "
          "withheld and only predicted below\n\n";
   txt << "== " << pct << "% interval factors (x model ms) of model " << model_name(v.model)
-      << " per pass (rows: held-out single-pass rows; fewer than " << kMinPassIntervalRows
-      << ": pooled)\n";
+      << " per pass (rows: held-out single-pass rows, shrunk toward the pooled factors with weight "
+         "n/(n+"
+      << kPassIntervalPrior << "); fewer than " << kMinPassIntervalRows << " rows: pooled)\n";
   for (auto& p : known_passes()) {
     const IntervalFactors f = iv_all.for_pass(p);
     const bool own = iv_all.passes.count(p) > 0;

@@ -46,8 +46,10 @@ struct IntervalFactors {
 // Prediction interval (issue 14): multiplicative factors from the empirical quantiles of
 // published / model over held-out rows (leave-one-seed/GPU/scene-out experiments of
 // `fovsim validate-cost`). lo_factor <= 1 <= hi_factor. `passes` holds the factors of the
-// passes with at least kMinPassIntervalRows held-out rows of their own; every other pass takes
-// the pooled factors. A frame's total combines its passes' intervals (combine_pass_intervals).
+// passes with at least kMinPassIntervalRows held-out single-pass rows of their own, partially
+// pooled: log factor = (n log q_pass + kPassIntervalPrior log q_pooled) / (n + kPassIntervalPrior);
+// every other pass takes the pooled factors. A frame's total combines its passes' intervals
+// (combine_pass_intervals).
 struct PredictionInterval {
   double level = 0;                     // 0: none known
   double lo_factor = 1, hi_factor = 1;  // pooled over every held-out row
@@ -56,9 +58,10 @@ struct PredictionInterval {
   std::string method;  // how the factors were made (profile documentation)
   IntervalFactors for_pass(const std::string& pass) const;
 };
-// A pass needs this many held-out rows of its own before its quantiles replace the pooled ones
-// (a 10%/90% quantile from fewer rows is mostly noise).
-constexpr int kMinPassIntervalRows = 8;
+// A 10%/90% quantile from fewer rows is noise: such passes take the pooled factors.
+constexpr int kMinPassIntervalRows = 5;
+// Weight of the pooled quantiles, in rows, when a pass's own quantiles are shrunk toward them.
+constexpr double kPassIntervalPrior = 8;
 
 // The total's interval from its passes' intervals [lo_p, hi_p] around ms_p (issue 14): the
 // half-widths below and above add in quadrature, i.e. pass errors are treated as independent

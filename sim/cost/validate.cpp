@@ -251,10 +251,18 @@ PredictionInterval interval_from_rows(const std::vector<ValidationRow>& rows, do
   iv.n = int(q.size());
   iv.lo_factor = std::min(1.0, quantile(q, (1 - level) / 2));
   iv.hi_factor = std::max(1.0, quantile(q, (1 + level) / 2));
-  for (auto& [pass, v] : per_pass)
-    if (int(v.size()) >= kMinPassIntervalRows)
-      iv.passes[pass] = {std::min(1.0, quantile(v, (1 - level) / 2)),
-                         std::max(1.0, quantile(v, (1 + level) / 2)), int(v.size())};
+  // Partial pooling (gpu_profile.h): a pass's quantiles shrink toward the pooled ones in log
+  // space with weight n / (n + kPassIntervalPrior).
+  for (auto& [pass, v] : per_pass) {
+    const int n = int(v.size());
+    if (n < kMinPassIntervalRows) continue;
+    const double a = n / (n + kPassIntervalPrior);
+    auto shrink = [&](double own, double pooled) {
+      return std::exp(a * std::log(own) + (1 - a) * std::log(pooled));
+    };
+    iv.passes[pass] = {shrink(std::min(1.0, quantile(v, (1 - level) / 2)), iv.lo_factor),
+                       shrink(std::max(1.0, quantile(v, (1 + level) / 2)), iv.hi_factor), n};
+  }
   return iv;
 }
 

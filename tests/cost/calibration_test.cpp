@@ -199,4 +199,15 @@ TEST(CostModelV2, ValidationComparesModelsAndIntervalsCover) {
   EXPECT_LT(r.leaveout_worst, s[CostModelKind::Linear].leaveout_worst);
   EXPECT_GE(r.coverage, 0.70);  // issue 14: coverage of the 80% intervals in [70%, 90%]
   EXPECT_LE(r.coverage, 0.90);
+  // Held-out frame totals are scored too (their interval combines the passes'); it is
+  // conservative (docs/cost_model.md), so only a floor is asserted.
+  EXPECT_GT(r.total_coverage_n, 10);
+  EXPECT_GE(r.total_coverage, 0.70);
+  // Per-pass factors exist for the passes with enough held-out rows and bracket 1.
+  EXPECT_GT(r.interval.passes.size(), 3u);
+  for (auto& [pass, f] : r.interval.passes) {
+    EXPECT_GE(f.n, kMinPassIntervalRows) << pass;
+    EXPECT_LE(f.lo_factor, 1.0) << pass;
+    EXPECT_GE(f.hi_factor, 1.0) << pass;
+  }
 }
