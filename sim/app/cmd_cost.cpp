@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <iostream>
 #include <memory>
 
@@ -95,12 +94,7 @@ void add_target_options(CLI::App* c, Target& t, const std::string& default_metho
 Workload target_workload(const Target& t, const std::string& models) {
   if (t.workload.empty()) {
     std::string av;
-    std::error_code ec;
-    std::vector<std::string> names;
-    for (auto& e : std::filesystem::directory_iterator(models + "/workloads", ec))
-      if (e.path().extension() == ".json") names.push_back(e.path().stem().string());
-    std::sort(names.begin(), names.end());
-    for (auto& n : names)
+    for (auto& n : Workload::available(models))
       if (n != "generic") av += (av.empty() ? "" : ", ") + n;
     throw Error("--workload",
                 "required (the scene's triangles, lights and shading cost decide every estimate; "
@@ -119,13 +113,7 @@ Display target_display(const Target& t, const std::string& models) {
 }
 
 FrameCost cost_for(const GpuProfile& g, const MethodSpec& m, const Workload& w, const Display& d) {
-  Counters c = analytic_counters(m.name, m.params, w, d, "--method " + m.text);
-  CostInputs in;
-  in.method = m.name;
-  in.counters = &c;
-  in.display = d;
-  in.workload = &w;
-  return estimate_frame(g, in);
+  return analytic_frame(g, m.name, m.params, w, d, "--method " + m.text);
 }
 
 void print_table(const std::vector<std::vector<std::string>>& rows) {
@@ -376,11 +364,11 @@ int do_budget(const BudgetArgs& a) {
       if (iv) {
         j["est_ms_total_lo"] = fc.total_lo_ms, j["est_ms_total_hi"] = fc.total_hi_ms;
         j["interval_level"] = fc.interval_level;
-        for (auto& pc : fc.passes) {
-          j["est_ms_" + pc.pass] = pc.ms;
-          j["est_ms_" + pc.pass + "_lo"] = pc.lo_ms;
-          j["est_ms_" + pc.pass + "_hi"] = pc.hi_ms;
-        }
+      }
+      for (auto& pc : fc.passes) {
+        j["est_ms_" + pc.pass] = pc.ms;
+        if (iv)
+          j["est_ms_" + pc.pass + "_lo"] = pc.lo_ms, j["est_ms_" + pc.pass + "_hi"] = pc.hi_ms;
       }
       const BudgetFactors bf = budget_factors(fc, budget);
       for (auto& rn : budget_resources()) {

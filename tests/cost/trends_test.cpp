@@ -22,7 +22,8 @@ struct Target {
   int width = 0, height = 0, eyes = 0;
 };
 
-// What `fovsim predict --gpu G --workload W --display D --width --height --eyes -m M` prints.
+// What `fovsim predict --gpu G --workload W --display D --width --height --eyes -m M` prints
+// (the app calls analytic_frame for every method).
 FrameCost predict(const Target& s, const std::string& method, const Json& params = Json::object()) {
   GpuProfile g = GpuProfile::load(s.gpu, kModels);
   Workload wk = Workload::load(s.workload, kModels);
@@ -30,13 +31,7 @@ FrameCost predict(const Target& s, const std::string& method, const Json& params
   if (s.width) d.width = s.width;
   if (s.height) d.height = s.height;
   if (s.eyes) d.eyes = s.eyes;
-  Counters c = analytic_counters(method, params, wk, d, "test");
-  CostInputs in;
-  in.method = method;
-  in.counters = &c;
-  in.display = d;
-  in.workload = &wk;
-  return estimate_frame(g, in);
+  return analytic_frame(g, method, params, wk, d, "test");
 }
 
 double speedup(const Target& s, const std::string& method, const Json& params = Json::object()) {
