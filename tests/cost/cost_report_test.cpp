@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 
 #include "sim/core/error.h"
@@ -150,4 +151,40 @@ TEST(CostReport, DryRunCalibrationReportsEveryEntry) {
   for (auto& [pass, pc] : c.passes)
     for (auto& [term, v] : pc.terms)
       EXPECT_NEAR(g.coef(pass, term), v, 1e-9 * std::max(1.0, std::fabs(v))) << pass << "." << term;
+}
+
+// validate-cost's outputs (report, CSV with each row's passes and interval) and the plot script
+// on them (skipped without /usr/bin/python3 + matplotlib).
+TEST(CostReport, ValidationOutputsAndPlot) {
+  const ValidationOutputs v = run_validation(kModels);
+  ASSERT_EQ(v.ranked.size(), 2u);
+  EXPECT_LE(v.ranked[0].leaveout_mean, v.ranked[1].leaveout_mean);  // ranked by held-out error
+  for (const char* s : {"leave-one-resolution-out: not possible", "per-pass coverage",
+                        "total coverage", "kfr_table4_2_3840x2160 kfr_raymarch",
+                        "twfr_fig10_8k_3840x1440 twfr_sponza", "== cross-predictions"})
+    EXPECT_NE(v.report_txt.find(s), std::string::npos) << s;
+  EXPECT_EQ(v.validate_csv.rfind("experiment,id,table,gpu,workload,config,row,passes,kind,", 0),
+            0u);
+  int totals = 0, intervals = 0;
+  for (auto& r : v.report.rows) {
+    totals += r.kind == "total";
+    if (r.kind == "predicted") {
+      double lo = 0, hi = 0;
+      row_interval(v.ranked[0].interval, r.parts, &lo, &hi);
+      intervals += lo <= r.model_ms && r.model_ms <= hi && !r.parts.empty();
+    }
+  }
+  EXPECT_GT(totals, 10);
+  EXPECT_EQ(intervals, v.ranked[0].leaveout_n);
+  const std::string dir = ::testing::TempDir() + "fovsim_validate_cost";
+  write_validation(v, dir);
+  for (const char* f : {"report.txt", "validate_cost.csv", "cross_predictions.csv"})
+    EXPECT_TRUE(file_exists(dir + "/" + f)) << f;
+  if (std::system("/usr/bin/python3 -c 'import matplotlib' >/dev/null 2>&1") != 0)
+    GTEST_SKIP() << "no /usr/bin/python3 with matplotlib: plot not checked";
+  const std::string cmd = "/usr/bin/python3 '" + std::string(FOVSIM_SOURCE_DIR) +
+                          "/viz/plot_cost.py' '" + dir + "/validate_cost.csv' '" + dir +
+                          "/validate_cost.png' >/dev/null 2>&1";
+  EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  EXPECT_TRUE(file_exists(dir + "/validate_cost.png"));
 }
