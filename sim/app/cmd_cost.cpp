@@ -3,24 +3,23 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <memory>
-#include <sstream>
 
 #include "sim/app/commands.h"
 #include "sim/core/error.h"
 #include "sim/core/files.h"
 #include "sim/cost/analytic.h"
+#include "sim/cost/budget.h"
 #include "sim/cost/calibration.h"
 #include "sim/cost/cost_model.h"
+#include "sim/cost/cost_report.h"
 #include "sim/cost/gpu_profile.h"
 #include "sim/cost/passes.h"
 #include "sim/cost/validate.h"
 #include "sim/cost/workload.h"
 #include "sim/experiment/config.h"
+#include "sim/experiment/plots.h"
 #include "sim/experiment/recost.h"
 #include "sim/foveation/factory.h"
 
@@ -36,25 +35,6 @@ std::string fmt(const char* f, double v) {
   char b[64];
   std::snprintf(b, sizeof b, f, v);
   return b;
-}
-
-std::string pad(const std::string& s, size_t w) {
-  return s.size() >= w ? s : s + std::string(w - s.size(), ' ');
-}
-
-std::vector<std::string> split(const std::string& s, char sep) {
-  std::vector<std::string> out;
-  std::string cur;
-  for (char ch : s) {
-    if (ch == sep) {
-      if (!cur.empty()) out.push_back(cur);
-      cur.clear();
-    } else {
-      cur += ch;
-    }
-  }
-  if (!cur.empty()) out.push_back(cur);
-  return out;
 }
 
 struct MethodSpec {
@@ -114,12 +94,7 @@ void add_target_options(CLI::App* c, Target& t, const std::string& default_metho
 Workload target_workload(const Target& t, const std::string& models) {
   if (t.workload.empty()) {
     std::string av;
-    std::error_code ec;
-    std::vector<std::string> names;
-    for (auto& e : std::filesystem::directory_iterator(models + "/workloads", ec))
-      if (e.path().extension() == ".json") names.push_back(e.path().stem().string());
-    std::sort(names.begin(), names.end());
-    for (auto& n : names)
+    for (auto& n : Workload::available(models))
       if (n != "generic") av += (av.empty() ? "" : ", ") + n;
     throw Error("--workload",
                 "required (the scene's triangles, lights and shading cost decide every estimate; "
@@ -138,13 +113,7 @@ Display target_display(const Target& t, const std::string& models) {
 }
 
 FrameCost cost_for(const GpuProfile& g, const MethodSpec& m, const Workload& w, const Display& d) {
-  Counters c = analytic_counters(m.name, m.params, w, d, "--method " + m.text);
-  CostInputs in;
-  in.method = m.name;
-  in.counters = &c;
-  in.display = d;
-  in.workload = &w;
-  return estimate_frame(g, in);
+  return analytic_frame(g, m.name, m.params, w, d, "--method " + m.text);
 }
 
 void print_table(const std::vector<std::vector<std::string>>& rows) {
@@ -173,111 +142,35 @@ struct CalibrateArgs {
 };
 
 int do_calibrate(const CalibrateArgs& a) {
-  const std::string models = models_or_default(a.models);
-  CalData data = load_calibration(models);
-  FitOptions opt;
-  for (auto& t : split(a.tables, ',')) opt.tables.insert(t);
-  opt.model = a.model == "linear" ? CostModelKind::Linear : CostModelKind::Roofline;
-  CostFit fit = fit_cost_model(data, opt);
-  std::vector<std::vector<std::string>> rows = {
-      {"table", "gpu", "workload", "config", "row", "use", "published_ms", "model_ms", "rel_err"}};
-  std::map<std::string, std::vector<std::pair<const CalEntry*, double>>> by_gpu;
-  double sum = 0;
-  int n = 0;
-  for (auto& t : data.tables)
-    for (auto& e : t.entries) {
-      double ms = predict_entry(fit, data, e);
-      by_gpu[e.gpu].push_back({&e, ms});
-      double re = e.published_ms > 0 ? (ms - e.published_ms) / e.published_ms : 0;
-      if (e.fit) sum += std::fabs(re), ++n;
-      rows.push_back({t.id, e.gpu, e.workload, e.config, e.row, e.fit ? "fit" : "check",
-                      fmt("%.3f", e.published_ms), fmt("%.3f", ms), fmt("%+.1f%%", 100 * re)});
-    }
+  CalibrateOptions o;
+  o.models = models_or_default(a.models);
+  o.tables = parse_id_list(a.tables, "--tables");
+  o.model = a.model == "linear" ? CostModelKind::Linear : CostModelKind::Roofline;
+  o.write = !a.dry_run;
+  const CalibrationRun run = run_calibration(o);
   if (!a.quiet) {
+    std::vector<std::vector<std::string>> rows = {{"table", "gpu", "workload", "config", "row",
+                                                   "use", "published_ms", "model_ms", "rel_err"}};
+    for (auto& r : run.rows)
+      rows.push_back({r.entry.table, r.entry.gpu, r.entry.workload, r.entry.config, r.entry.row,
+                      r.entry.fit ? "fit" : "check", fmt("%.3f", r.entry.published_ms),
+                      fmt("%.3f", r.model_ms), fmt("%+.1f%%", 100 * r.rel_err)});
     print_table(rows);
-    std::cout << "\nfitted rows: " << n
-              << ", mean |relative error|: " << fmt("%.1f%%", 100 * (n ? sum / n : 0)) << "\n";
+    std::cout << "\nfitted rows: " << run.fitted_n
+              << ", mean |relative error|: " << fmt("%.1f%%", 100 * run.fitted_mean_abs_err)
+              << "\n";
     std::cout << "\nworkload shading costs (effective FP32 operations per shaded sample and light "
                  "/ VPL):\n";
-    for (auto& wl : fit.fitted_workloads) {
-      const Workload& w = fit.workloads.at(wl);
+    for (auto& wl : run.fit.fitted_workloads) {
+      const Workload& w = run.fit.workloads.at(wl);
       std::string p = fitted_param(w);
       std::cout << "  " << wl << "." << p << " = "
                 << fmt("%.1f", p == "vpl_flops" ? w.vpl_flops : w.shading_flops) << "\n";
     }
     std::cout << "\nshared work per counter unit (theta; coefficient = theta / spec rate of its "
                  "resource):\n";
-    for (auto& [k, v] : fit.theta) std::cout << "  " << k << " = " << fmt("%.6g", v) << "\n";
-  }
-  if (a.dry_run) return 0;
-  // Prediction interval from the leave-out experiments of this model (docs/cost_model.md).
-  const PredictionInterval iv = interval_from_rows(validate_cost(data, fit, opt).rows, 0.8);
-  for (auto& [gpu, se] : data.specs) {
-    GpuProfile g = profile_from_fit(fit, gpu, data);
-    nlohmann::ordered_json j;
-    j["name"] = gpu;
-    j["description"] = se.description;
-    j["calibrated"] = by_gpu.count(gpu) > 0;
-    j["model"] = model_name(fit.model);
-    if (iv.level > 0)
-      j["interval"] = {
-          {"level", iv.level},
-          {"lo_factor", iv.lo_factor},
-          {"hi_factor", iv.hi_factor},
-          {"n", iv.n},
-          {"method",
-           "empirical 10%/90% quantiles of published/model over the held-out per-pass rows of "
-           "fovsim validate-cost's leave-one-seed/GPU/scene-out refits, applied to the total"}};
-    j["spec"] = {{"fp32_gflops", se.spec.fp32_gflops},
-                 {"mem_gbps", se.spec.mem_gbps},
-                 {"fill_gpix", se.spec.fill_gpix},
-                 {"tri_gtris", se.spec.tri_gtris},
-                 {"boost_mhz", se.spec.boost_mhz},
-                 {"l2_mb", se.spec.l2_mb},
-                 {"source", se.spec.source}};
-    nlohmann::ordered_json ps = nlohmann::ordered_json::object();
-    for (auto& pass : known_passes()) {
-      auto& pc = g.passes.at(pass);
-      nlohmann::ordered_json tj = nlohmann::ordered_json::object();
-      for (auto& [k, v] : pc.terms) tj[k] = v;
-      ps[pass] = {{"overhead_ms", pc.overhead_ms}, {"terms", tj}};
-    }
-    j["passes"] = ps;
-    nlohmann::ordered_json cal;
-    cal["comment"] =
-        std::string(
-            "Written by `fovsim calibrate`: NNLS on relative error over the tables below; ") +
-        (by_gpu.count(gpu)
-             ? "residuals are this GPU's entries."
-             : "no table used this GPU: coefficients transferred through spec-sheet ratios only.");
-    nlohmann::ordered_json tabs = nlohmann::ordered_json::array();
-    for (auto& t : data.tables)
-      if (opt.tables.empty() || opt.tables.count(t.id)) tabs.push_back(t.id + ": " + t.source);
-    cal["tables"] = tabs;
-    nlohmann::ordered_json res = nlohmann::ordered_json::array();
-    for (auto& [e, ms] : by_gpu[gpu])
-      res.push_back(
-          {{"id", e->id},
-           {"fitted", e->fit},
-           {"published_ms", e->published_ms},
-           {"model_ms", ms},
-           {"rel_err", e->published_ms > 0 ? (ms - e->published_ms) / e->published_ms : 0.0}});
-    cal["residuals"] = res;
-    j["calibration"] = cal;
-    std::string file = models + "/gpus/" + gpu + ".json";
-    write_file_atomic(file, j.dump(2) + "\n");
-    if (!a.quiet) std::cout << "wrote " << file << "\n";
-  }
-  for (auto& wl : fit.fitted_workloads) {
-    std::string file = models + "/workloads/" + wl + ".json";
-    auto j = nlohmann::ordered_json::parse(read_file(file));
-    const Workload& w = fit.workloads.at(wl);
-    std::string p = fitted_param(w);
-    j[p] = p == "vpl_flops" ? w.vpl_flops : w.shading_flops;
-    j["tri_cost"] = w.tri_cost;
-    j["fitted_by"] = "fovsim calibrate: " + p + ", tri_cost";
-    write_file_atomic(file, j.dump(2) + "\n");
-    if (!a.quiet) std::cout << "wrote " << file << " (" << p << ")\n";
+    for (auto& [k, v] : run.fit.theta) std::cout << "  " << k << " = " << fmt("%.6g", v) << "\n";
+    for (auto& f : run.written) std::cout << "wrote " << f << "\n";
   }
   return 0;
 }
@@ -384,7 +277,13 @@ int do_predict(const PredictArgs& a) {
         j["interval_level"] = fc.interval_level;
       }
       j["model"] = model_name(g.model);
-      for (auto& p : fc.passes) j["est_ms_" + p.pass] = p.ms;
+      for (auto& p : fc.passes) {
+        j["est_ms_" + p.pass] = p.ms;
+        if (fc.interval_level > 0) {
+          j["est_ms_" + p.pass + "_lo"] = p.lo_ms;
+          j["est_ms_" + p.pass + "_hi"] = p.hi_ms;
+        }
+      }
       j["speedup_vs_full"] = fc.total_ms > 0 ? full_total / fc.total_ms : 0.0;
       if (!fc.missing_counters.empty()) j["missing_counters"] = fc.missing_counters;
       out.push_back(j);
@@ -429,18 +328,17 @@ int do_budget(const BudgetArgs& a) {
   std::vector<std::string> mlist = a.t.methods;
   if (mlist.empty())
     mlist = {"full", "kfr", "rmfr", "hyperbolic", "linear", "fvrs", "twfr"};  // run defaults
-  const char* res_names[] = {"shading", "geometry", "raster", "memory", "fixed"};
   std::vector<std::vector<std::string>> rows = {
       {"gpu", "method", "total_ms", "interval_ms", "budget_ms", "fits", "headroom_ms", "headroom",
        "x_shading", "x_geometry", "x_raster", "x_memory", "x_fixed", "x_all"}};
   nlohmann::ordered_json out = nlohmann::ordered_json::array();
+  WhatIf wi;
+  wi.shading = a.s_shading, wi.geometry = a.s_geometry, wi.raster = a.s_raster;
+  wi.memory = a.s_memory, wi.fixed = a.s_fixed;
+  auto factor_text = [](double f) { return std::isfinite(f) ? fmt("%.2f", f) : "inf"; };
+  auto factor_json = [](double f) { return std::isfinite(f) ? Json(f) : Json("inf"); };
   for (auto& gname : a.t.gpus) {
-    GpuProfile g = GpuProfile::load(gname, models)
-                       .scaled(Resource::Shading, a.s_shading)
-                       .scaled(Resource::Geometry, a.s_geometry)
-                       .scaled(Resource::Raster, a.s_raster)
-                       .scaled(Resource::Memory, a.s_memory)
-                       .scaled(Resource::Fixed, a.s_fixed);
+    GpuProfile g = apply_what_if(GpuProfile::load(gname, models), wi);
     for (auto& ms : mlist) {
       MethodSpec m = parse_method(ms);
       FrameCost fc = cost_for(g, m, w, d);
@@ -463,21 +361,22 @@ int do_budget(const BudgetArgs& a) {
                                   {"fits", T <= budget},
                                   {"verdict", verdict},
                                   {"headroom_ms", budget - T}};
-      if (iv)
-        j["est_ms_total_lo"] = fc.total_lo_ms, j["est_ms_total_hi"] = fc.total_hi_ms,
+      if (iv) {
+        j["est_ms_total_lo"] = fc.total_lo_ms, j["est_ms_total_hi"] = fc.total_hi_ms;
         j["interval_level"] = fc.interval_level;
-      // Factor a resource's throughput needs (alone) so the frame fits: part / (budget - rest).
-      for (const char* rn : res_names) {
-        double part = fc.resource_ms.count(rn) ? fc.resource_ms.at(rn) : 0;
-        double room = budget - (T - part);
-        double f = part <= 0 ? (T <= budget ? 0 : INFINITY) : (room > 0 ? part / room : INFINITY);
-        r.push_back(std::isfinite(f) ? fmt("%.2f", f) : "inf");
-        j[std::string("factor_") + rn] = std::isfinite(f) ? Json(f) : Json("inf");
       }
-      double fixed = fc.resource_ms.count("fixed") ? fc.resource_ms.at("fixed") : 0;
-      double fa = (budget - fixed) > 0 ? (T - fixed) / (budget - fixed) : INFINITY;
-      r.push_back(std::isfinite(fa) ? fmt("%.2f", fa) : "inf");
-      j["factor_all"] = std::isfinite(fa) ? Json(fa) : Json("inf");
+      for (auto& pc : fc.passes) {
+        j["est_ms_" + pc.pass] = pc.ms;
+        if (iv)
+          j["est_ms_" + pc.pass + "_lo"] = pc.lo_ms, j["est_ms_" + pc.pass + "_hi"] = pc.hi_ms;
+      }
+      const BudgetFactors bf = budget_factors(fc, budget);
+      for (auto& rn : budget_resources()) {
+        r.push_back(factor_text(bf.x.at(rn)));
+        j["factor_" + rn] = factor_json(bf.x.at(rn));
+      }
+      r.push_back(factor_text(bf.x_all));
+      j["factor_all"] = factor_json(bf.x_all);
       rows.push_back(r);
       out.push_back(j);
     }
@@ -507,120 +406,18 @@ struct ValidateArgs {
 };
 
 int do_validate(const ValidateArgs& a) {
-  const std::string models = models_or_default(a.models);
-  CalData data = load_calibration(models);
-  FitOptions opt;  // the default model (roofline) is the detailed report below
-  CostFit fit = fit_cost_model(data, opt);
-  ValidationReport rep = validate_cost(data, fit, opt);
-  std::vector<ModelSummary> sums;
-  for (CostModelKind k : {CostModelKind::Roofline, CostModelKind::Linear}) {
-    FitOptions o = opt;
-    o.model = k;
-    if (k == opt.model) {
-      sums.push_back(summarize_model(rep, k, 0.8));
-    } else {
-      CostFit f = fit_cost_model(data, o);
-      sums.push_back(summarize_model(validate_cost(data, f, o), k, 0.8));
-    }
-  }
-  std::sort(sums.begin(), sums.end(), [](const ModelSummary& x, const ModelSummary& y) {
-    return x.leaveout_mean < y.leaveout_mean;
-  });
-  std::ostringstream txt, csv;
-  // model_lo_ms/model_hi_ms: the 80% interval; on cross-prediction rows the nested one (built
-  // without the row's table), on the others the interval the profiles carry.
-  const PredictionInterval iv_all = interval_from_rows(rep.rows, 0.8);
-  std::map<std::string, PredictionInterval> iv_nested;
-  for (auto& t : data.tables) iv_nested[t.id] = interval_from_rows(rep.rows, 0.8, t.id);
-  csv << "experiment,id,table,gpu,workload,config,row,kind,published_ms,model_ms,rel_err,model_lo_"
-         "ms,model_hi_ms\n";
-  for (auto& r : rep.rows) {
-    const PredictionInterval& iv =
-        r.experiment.rfind("cross:", 0) == 0 ? iv_nested[r.table] : iv_all;
-    csv << '"' << r.experiment << "\"," << '"' << r.id << "\"," << r.table << ',' << r.gpu << ','
-        << r.workload << ',' << r.config << ",\"" << r.row << "\"," << r.kind << ','
-        << r.published_ms << ',' << r.model_ms << ','
-        << (r.published_ms > 0 ? std::to_string(r.rel_err()) : "") << ','
-        << r.model_ms * iv.lo_factor << ',' << r.model_ms * iv.hi_factor << "\n";
-  }
-  txt << "fovsim validate-cost: predicted vs. published per-pass times (ms)\n\n";
-  txt << "== models ranked by held-out (leave-one-seed = leave-one-GPU, leave-one-scene) mean |rel "
-         "err|\n"
-      << "   (no calibration table gives several resolutions: no leave-one-resolution-out "
-         "experiment)\n";
-  txt << pad("model", 10) << pad("fitted mean/worst", 20) << pad("held-out mean/worst", 22)
-      << pad("80% interval (x model)", 24) << "nested coverage\n";
-  for (auto& m : sums)
-    txt << pad(model_name(m.model), 10)
-        << pad(fmt("%.1f%%", 100 * m.fitted_mean) + fmt(" / %.1f%%", 100 * m.fitted_worst), 20)
-        << pad(fmt("%.1f%%", 100 * m.leaveout_mean) + fmt(" / %.1f%%", 100 * m.leaveout_worst) +
-                   " (" + std::to_string(m.leaveout_n) + ")",
-               22)
-        << pad(fmt("[%.2f, ", m.interval.lo_factor) + fmt("%.2f]", m.interval.hi_factor), 24)
-        << fmt("%.0f%%", 100 * m.coverage) << " of " << m.coverage_n << "\n";
-  txt << "nested coverage: each target table's held-out rows against the interval built from the "
-         "other tables'\n\n";
-  txt << "detailed report below: model " << model_name(opt.model) << "\n\n";
-  txt << "== calibration entries (all tables fitted together; 'check' rows are totals, not "
-         "fitted)\n";
-  double se[2] = {0, 0};
-  int ne[2] = {0, 0};
-  for (auto& r : rep.rows) {
-    if (r.experiment != "calibration") continue;
-    int k = r.kind == "fitted" ? 0 : 1;
-    se[k] += std::fabs(r.rel_err()), ne[k]++;
-    txt << pad(r.id, 62) << " " << pad(r.kind, 9) << fmt(" %8.3f", r.published_ms)
-        << fmt(" %8.3f", r.model_ms) << fmt(" %+7.1f%%", 100 * r.rel_err()) << "\n";
-  }
-  txt << "mean |rel err|: fitted " << fmt("%.1f%%", ne[0] ? 100 * se[0] / ne[0] : 0) << " ("
-      << ne[0] << " rows), check " << fmt("%.1f%%", ne[1] ? 100 * se[1] / ne[1] : 0) << " ("
-      << ne[1] << " rows)\n\n";
-  txt << "== withheld figures (published values withheld from the seeds: predictions only)\n";
-  std::map<std::string, std::vector<const ValidationRow*>> wh;
-  for (auto& r : rep.rows)
-    if (r.experiment == "withheld") wh[r.id + " " + r.workload].push_back(&r);
-  for (auto& [k, v] : wh) {
-    txt << pad(k, 52);
-    for (auto* r : v) txt << " " << r->config << fmt(" %.2f ms", r->model_ms);
-    if (v.size() == 2 && v[1]->model_ms > 0)
-      txt << fmt("  speedup %.2fx", v[0]->model_ms / v[1]->model_ms);
-    txt << "\n";
-  }
-  txt << "\n== cross-predictions (target's shading and triangle costs refit from its baseline "
-         "lighting and G-buffer rows only)\n";
-  std::ostringstream ccsv;
-  ccsv << "name,fit_on,target,possible,n,mean_abs_rel_err,speedup_published,speedup_model\n";
-  for (auto& c : rep.cross) {
-    ccsv << '"' << c.name << "\",\"" << c.fit_on << "\"," << c.target << ',' << c.possible << ','
-         << c.n << ',' << c.mean_abs_rel_err << ',' << c.speedup_published << ',' << c.speedup_model
-         << "\n";
-    txt << pad(c.name, 48);
-    if (!c.possible) {
-      txt << " not predictable (" << c.why << ")\n";
-      continue;
-    }
-    txt << " rows " << c.n << ", mean |rel err| " << fmt("%.1f%%", 100 * c.mean_abs_rel_err);
-    if (c.speedup_published > 0)
-      txt << ", speedup published " << fmt("%.2fx", c.speedup_published) << " model "
-          << fmt("%.2fx", c.speedup_model);
-    if (!c.why.empty()) txt << " [rows skipped, " << c.why << "]";
-    txt << "\n";
-  }
-  make_dirs(a.out);
-  write_file_atomic(a.out + "/validate_cost.csv", csv.str());
-  write_file_atomic(a.out + "/cross_predictions.csv", ccsv.str());
-  write_file_atomic(a.out + "/report.txt", txt.str());
-  std::cout << txt.str() << "\nwrote " << a.out
+  const ValidationOutputs v = run_validation(models_or_default(a.models));
+  write_validation(v, a.out);
+  std::cout << v.report_txt << "\nwrote " << a.out
             << "/{report.txt,validate_cost.csv,cross_predictions.csv}\n";
   if (!a.no_plot) {
-    std::string script = models + "/../viz/plot_cost.py";
-    std::string cmd = "/usr/bin/python3 '" + script + "' '" + a.out + "/validate_cost.csv' '" +
-                      a.out + "/validate_cost.png'";
-    int rc = std::system(cmd.c_str());
-    if (rc != 0)
-      std::cerr << "fovsim: warning: plot failed (" << cmd << ")\n";
-    else
+    // One way of launching viz scripts (sim/experiment/plots.h): a missing matplotlib skips.
+    const PlotOutcome po = run_plot_script(
+        "plot_cost.py", {a.out + "/validate_cost.csv", a.out + "/validate_cost.png"}, false);
+    if (po.status == PlotOutcome::Status::Made)
       std::cout << "wrote " << a.out << "/validate_cost.png\n";
+    else if (!po.message.empty())
+      std::cerr << "fovsim: " << po.message << "\n";
   }
   return 0;
 }

@@ -150,4 +150,15 @@ Counters analytic_counters(const std::string& method, const Json& params, const 
   return c;
 }
 
+FrameCost analytic_frame(const GpuProfile& gpu, const std::string& method, const Json& params,
+                         const Workload& w, const Display& d, const std::string& where) {
+  const Counters c = analytic_counters(method, params, w, d, where);
+  CostInputs in;
+  in.method = method;
+  in.counters = &c;
+  in.display = d;
+  in.workload = &w;
+  return estimate_frame(gpu, in);
+}
+
 }  // namespace fovsim

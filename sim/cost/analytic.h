@@ -22,6 +22,8 @@
 
 #include "sim/core/counters.h"
 #include "sim/core/params.h"
+#include "sim/cost/cost_model.h"
+#include "sim/cost/gpu_profile.h"
 #include "sim/cost/workload.h"
 #include "sim/display/display.h"
 
@@ -30,6 +32,11 @@ namespace fovsim {
 // Counters per eye at the display's resolution (pixel_scale = 1). `where` prefixes errors.
 Counters analytic_counters(const std::string& method, const Json& params, const Workload& w,
                            const Display& d, const std::string& where = "params");
+
+// What `fovsim predict` and `budget` compute for one method: its analytic counters on this
+// workload and display, costed with `gpu` (estimate_frame, pixel_scale 1).
+FrameCost analytic_frame(const GpuProfile& gpu, const std::string& method, const Json& params,
+                         const Workload& w, const Display& d, const std::string& where = "params");
 
 // Fraction of the screen's pixels shaded by fVRS rates (1, 1/4, 1/16 by eccentricity band),
 // through the real projection (DESIGN §3) on a grid of at most 256x256 points.

@@ -131,7 +131,22 @@ CalData load_calibration(const std::string& models_dir) {
       (void)k++;
       t.entries.push_back(ce);
     }
-    p.ignore("withheld");
+    // Withheld figures (predicted only); `workloads` (optional) names scenes of the figure that
+    // no table row uses (e.g. KFR's ray-marching scene), default: the table's workloads.
+    if (p.has("withheld"))
+      for (Params w : p.children("withheld")) {
+        w.string("id");
+        w.ignore("what");
+        if (w.has("display")) w.raw("display");
+        if (w.has("params")) w.raw("params");
+        w.raw("configs");
+        if (w.has("workloads"))
+          for (auto& v : w.raw("workloads")) {
+            const std::string wl = v.get<std::string>();
+            if (!d.workloads.count(wl)) d.workloads[wl] = Workload::load(wl, models_dir);
+          }
+        w.finish();
+      }
     p.finish();
     d.tables.push_back(t);
   }

@@ -58,13 +58,22 @@ FrameCost estimate_frame(const GpuProfile& gpu, const CostInputs& in) {
       }
     }
     if (!std::isfinite(ms)) ms = HUGE_VAL;  // overflow on absurd inputs stays ordered
-    fc.passes.push_back({pw.pass, ms});
+    PassCost pc{pw.pass, ms, ms, ms};
+    if (gpu.interval.level > 0) {  // this pass's held-out error quantiles (docs/cost_model.md)
+      const IntervalFactors f = gpu.interval.for_pass(pw.pass);
+      pc.lo_ms = ms * f.lo_factor;
+      pc.hi_ms = ms * f.hi_factor;
+    }
+    fc.passes.push_back(pc);
     fc.total_ms += ms;
   }
+  fc.total_lo_ms = fc.total_hi_ms = fc.total_ms;
   if (gpu.interval.level > 0) {
     fc.interval_level = gpu.interval.level;
-    fc.total_lo_ms = fc.total_ms * gpu.interval.lo_factor;
-    fc.total_hi_ms = fc.total_ms * gpu.interval.hi_factor;
+    std::vector<PassSpan> parts;
+    for (auto& pc : fc.passes) parts.push_back({pc.ms, pc.lo_ms, pc.hi_ms});
+    combine_pass_intervals(parts, &fc.total_lo_ms, &fc.total_hi_ms);
+    if (!std::isfinite(fc.total_ms)) fc.total_lo_ms = fc.total_hi_ms = HUGE_VAL;
   }
   return fc;
 }

@@ -16,12 +16,15 @@ namespace fovsim {
 struct PassCost {
   std::string pass;  // column suffix: est_ms_<pass>
   double ms = 0;
+  // Prediction interval of this pass (est_ms_<pass>_lo/_hi; equal to ms without an interval).
+  double lo_ms = 0, hi_ms = 0;
 };
 
 struct FrameCost {
   std::vector<PassCost> passes;
   double total_ms = 0;
-  // Prediction interval on total_ms (issue 14; interval_level 0: the profile has none).
+  // Prediction interval on total_ms (issue 14; interval_level 0: the profile has none),
+  // combined from the passes' intervals (combine_pass_intervals, gpu_profile.h).
   double interval_level = 0, total_lo_ms = 0, total_hi_ms = 0;
   // Counters the passes read that the method did not fill (charged as 0, DESIGN §6 note).
   std::vector<std::string> missing_counters;

@@ -99,12 +99,30 @@ GpuProfile GpuProfile::from_json(const Json& j, const std::string& file) {
   if (p.has("interval")) {
     Params iv = p.child("interval");
     g.interval.level = iv.number("level", Range::above(0, 1));
-    g.interval.lo_factor = iv.number("lo_factor", Range::above(0));
-    g.interval.hi_factor = iv.number("hi_factor", Range::above(0));
-    g.interval.n = iv.integer("n", 0, Range::at_least(0));
-    iv.ignore("method");
-    if (g.interval.lo_factor > g.interval.hi_factor)
-      iv.fail("hi_factor", "must be >= lo_factor (" + std::to_string(g.interval.lo_factor) + ")");
+    auto factors = [](Params& f, IntervalFactors& out) {
+      out.lo_factor = f.number("lo_factor", Range::above(0));
+      out.hi_factor = f.number("hi_factor", Range::above(0));
+      out.n = f.integer("n", 0, Range::at_least(0));
+      if (out.lo_factor > out.hi_factor)
+        f.fail("hi_factor", "must be >= lo_factor (" + std::to_string(out.lo_factor) + ")");
+    };
+    IntervalFactors pooled;
+    factors(iv, pooled);
+    g.interval.lo_factor = pooled.lo_factor;
+    g.interval.hi_factor = pooled.hi_factor;
+    g.interval.n = pooled.n;
+    g.interval.method = iv.string("method", "");
+    if (iv.has("passes")) {
+      Params ps = iv.child("passes");
+      if (!ps.json().is_object())
+        ps.fail("", "must be an object pass -> {lo_factor, hi_factor, n}");
+      for (auto it = ps.json().begin(); it != ps.json().end(); ++it) {
+        if (!is_known_pass(it.key())) ps.fail(it.key(), "unknown pass '" + it.key() + "'");
+        Params f = ps.child(it.key());
+        factors(f, g.interval.passes[it.key()]);
+        f.finish();
+      }
+    }
     iv.finish();
   }
   {
@@ -141,16 +159,17 @@ GpuProfile GpuProfile::from_json(const Json& j, const std::string& file) {
   }
   if (p.has("calibration")) {
     Params cal = p.child("calibration");
-    cal.ignore("comment");
+    g.calibration_comment = cal.string("comment", "");
     cal.ignore("fit");
-    cal.ignore("tables");
+    if (cal.has("tables"))
+      for (auto& t : cal.raw("tables")) g.calibration_tables.push_back(t.get<std::string>());
     for (Params r : cal.children("residuals")) {
       CalibrationResidual cr;
       cr.id = r.string("id");
       cr.published_ms = r.number("published_ms");
       cr.model_ms = r.number("model_ms");
       cr.rel_err = r.number("rel_err");
-      r.ignore("fitted");
+      cr.fitted = r.boolean("fitted", true);
       g.residuals.push_back(cr);
     }
   }
@@ -165,11 +184,21 @@ Json GpuProfile::to_json() const {
   j["description"] = description;
   j["calibrated"] = calibrated;
   j["model"] = model_name(model);
-  if (interval.level > 0)
-    j["interval"] = {{"level", interval.level},
-                     {"lo_factor", interval.lo_factor},
-                     {"hi_factor", interval.hi_factor},
-                     {"n", interval.n}};
+  j.erase("interval");
+  if (interval.level > 0) {
+    Json iv = {{"level", interval.level},
+               {"lo_factor", interval.lo_factor},
+               {"hi_factor", interval.hi_factor},
+               {"n", interval.n}};
+    if (!interval.method.empty()) iv["method"] = interval.method;
+    if (!interval.passes.empty()) {
+      Json ps = Json::object();
+      for (auto& [pass, f] : interval.passes)
+        ps[pass] = {{"lo_factor", f.lo_factor}, {"hi_factor", f.hi_factor}, {"n", f.n}};
+      iv["passes"] = ps;
+    }
+    j["interval"] = iv;
+  }
   j["spec"] = {{"fp32_gflops", spec.fp32_gflops},
                {"mem_gbps", spec.mem_gbps},
                {"fill_gpix", spec.fill_gpix},
@@ -184,7 +213,79 @@ Json GpuProfile::to_json() const {
     ps[pass] = {{"overhead_ms", pc.overhead_ms}, {"terms", t}};
   }
   j["passes"] = ps;
+  if (!residuals.empty() || !calibration_tables.empty() || !calibration_comment.empty()) {
+    Json cal = Json::object();
+    if (!calibration_comment.empty()) cal["comment"] = calibration_comment;
+    cal["tables"] = calibration_tables;
+    Json res = Json::array();
+    for (auto& r : residuals)
+      res.push_back({{"id", r.id},
+                     {"fitted", r.fitted},
+                     {"published_ms", r.published_ms},
+                     {"model_ms", r.model_ms},
+                     {"rel_err", r.rel_err}});
+    cal["residuals"] = res;
+    j["calibration"] = cal;
+  }
   return j;
+}
+
+std::string GpuProfile::to_file_text() const {
+  const Json j = to_json();
+  nlohmann::ordered_json o;
+  for (const char* k : {"name", "description", "calibrated", "model", "interval", "spec"})
+    if (j.contains(k)) o[k] = j.at(k);
+  if (o.contains("interval")) {  // level, factors, n, method, passes (as documented)
+    nlohmann::ordered_json iv;
+    for (const char* k : {"level", "lo_factor", "hi_factor", "n", "method", "passes"})
+      if (j.at("interval").contains(k)) iv[k] = j.at("interval").at(k);
+    o["interval"] = iv;
+  }
+  if (o.contains("spec")) {
+    nlohmann::ordered_json sp;
+    for (const char* k :
+         {"fp32_gflops", "mem_gbps", "fill_gpix", "tri_gtris", "boost_mhz", "l2_mb", "source"})
+      if (j.at("spec").contains(k)) sp[k] = j.at("spec").at(k);
+    o["spec"] = sp;
+  }
+  nlohmann::ordered_json ps = nlohmann::ordered_json::object();
+  for (const std::string& pass : known_passes())
+    if (j.at("passes").contains(pass)) ps[pass] = j.at("passes").at(pass);
+  o["passes"] = ps;
+  for (auto it = j.begin(); it != j.end(); ++it)  // calibration and any other key, after
+    if (!o.contains(it.key())) o[it.key()] = it.value();
+  if (o.contains("calibration")) {
+    nlohmann::ordered_json cal;
+    for (const char* k : {"comment", "tables", "residuals"})
+      if (j.at("calibration").contains(k)) cal[k] = j.at("calibration").at(k);
+    nlohmann::ordered_json res = nlohmann::ordered_json::array();
+    for (auto& r : j.at("calibration").value("residuals", Json::array())) {
+      nlohmann::ordered_json x;
+      for (const char* k : {"id", "fitted", "published_ms", "model_ms", "rel_err"})
+        if (r.contains(k)) x[k] = r.at(k);
+      res.push_back(x);
+    }
+    cal["residuals"] = res;
+    o["calibration"] = cal;
+  }
+  return o.dump(2) + "\n";
+}
+
+IntervalFactors PredictionInterval::for_pass(const std::string& pass) const {
+  auto it = passes.find(pass);
+  if (it != passes.end()) return it->second;
+  return {lo_factor, hi_factor, n};
+}
+
+void combine_pass_intervals(const std::vector<PassSpan>& parts, double* lo_ms, double* hi_ms) {
+  double total = 0, below = 0, above = 0;
+  for (auto& p : parts) {
+    total += p.ms;
+    below += (p.ms - p.lo_ms) * (p.ms - p.lo_ms);
+    above += (p.hi_ms - p.ms) * (p.hi_ms - p.ms);
+  }
+  *lo_ms = std::max(0.0, total - std::sqrt(below));
+  *hi_ms = total + std::sqrt(above);
 }
 
 GpuProfile GpuProfile::scaled(Resource r, double factor) const {

@@ -37,14 +37,39 @@ struct GpuSpec {
 enum class CostModelKind { Linear, Roofline };
 const char* model_name(CostModelKind k);
 
-// Prediction interval (issue 14): multiplicative factors on a frame total from the empirical
-// quantiles of held-out relative errors (leave-one-seed/scene/GPU/resolution-out experiments
-// of `fovsim validate-cost`). lo_factor <= 1 <= hi_factor when the model is unbiased.
-struct PredictionInterval {
-  double level = 0;  // 0: none known
+// Multiplicative interval factors of one pass (or of every pass pooled).
+struct IntervalFactors {
   double lo_factor = 1, hi_factor = 1;
   int n = 0;  // held-out rows the quantiles came from
 };
+
+// Prediction interval (issue 14): multiplicative factors from the empirical quantiles of
+// published / model over held-out rows (leave-one-seed/GPU/scene-out experiments of
+// `fovsim validate-cost`). lo_factor <= 1 <= hi_factor. `passes` holds the factors of the
+// passes with at least kMinPassIntervalRows held-out single-pass rows of their own, partially
+// pooled: log factor = (n log q_pass + kPassIntervalPrior log q_pooled) / (n + kPassIntervalPrior);
+// every other pass takes the pooled factors. A frame's total combines its passes' intervals
+// (combine_pass_intervals).
+struct PredictionInterval {
+  double level = 0;                     // 0: none known
+  double lo_factor = 1, hi_factor = 1;  // pooled over every held-out row
+  int n = 0;
+  std::map<std::string, IntervalFactors> passes;
+  std::string method;  // how the factors were made (profile documentation)
+  IntervalFactors for_pass(const std::string& pass) const;
+};
+// A 10%/90% quantile from fewer rows is noise: such passes take the pooled factors.
+constexpr int kMinPassIntervalRows = 5;
+// Weight of the pooled quantiles, in rows, when a pass's own quantiles are shrunk toward them.
+constexpr double kPassIntervalPrior = 8;
+
+// The total's interval from its passes' intervals [lo_p, hi_p] around ms_p (issue 14): the
+// half-widths below and above add in quadrature, i.e. pass errors are treated as independent
+// (docs/cost_model.md "Prediction intervals" gives the measured coverage of this choice).
+struct PassSpan {
+  double ms = 0, lo_ms = 0, hi_ms = 0;
+};
+void combine_pass_intervals(const std::vector<PassSpan>& parts, double* lo_ms, double* hi_ms);
 
 // Working-set effect (issue 14): the fraction of a pass's reads that miss an L2 of `l2_mb`
 // when the pass gathers from a `working_set_bytes` buffer at data-dependent positions (hits
@@ -60,7 +85,8 @@ struct PassCoef {
 };
 
 struct CalibrationResidual {
-  std::string id;  // calibration entry id
+  std::string id;      // calibration entry id
+  bool fitted = true;  // false: a check row (compared, not fitted)
   double published_ms = 0, model_ms = 0, rel_err = 0;
 };
 
@@ -71,6 +97,8 @@ struct GpuProfile {
   GpuSpec spec;
   std::map<std::string, PassCoef> passes;
   std::vector<CalibrationResidual> residuals;
+  std::vector<std::string> calibration_tables;  // "id: source" of the tables fitted
+  std::string calibration_comment;
   bool calibrated = false;  // false: coefficients transferred from the fit through spec ratios only
   CostModelKind model = CostModelKind::Linear;  // key `model`: "linear" (default) | "roofline"
   PredictionInterval interval;                  // key `interval` (optional)
@@ -79,7 +107,10 @@ struct GpuProfile {
   // models_dir/gpus/NAME.json. Throws fovsim::Error naming the file and JSON path.
   static GpuProfile load(const std::string& name_or_path, const std::string& models_dir);
   static GpuProfile from_json(const Json& j, const std::string& file);
+  // The whole profile document (the file `fovsim calibrate` writes; from_json reads it back).
   Json to_json() const;
+  // to_json() as file text: keys in the documented order, passes in pipeline order.
+  std::string to_file_text() const;
   // Lists profile names found in models_dir/gpus.
   static std::vector<std::string> available(const std::string& models_dir);
 

@@ -12,20 +12,34 @@ namespace fovsim {
 
 namespace {
 
+// The entry's modelled ms and the ms of each pass it sums (every pass of the frame for a total).
+double predict_parts(const CostFit& fit, const CalData& data, const CalEntry& e,
+                     std::vector<PassCost>* parts) {
+  FrameCost fc;
+  const double ms =
+      entry_ms(profile_from_fit(fit, e.gpu, data), entry_workload(fit, data, e), e, &fc);
+  parts->clear();
+  for (auto& pc : fc.passes)
+    if (e.passes.empty() || std::find(e.passes.begin(), e.passes.end(), pc.pass) != e.passes.end())
+      parts->push_back({pc.pass, pc.ms, pc.ms, pc.ms});
+  return ms;
+}
+
 // Sum of a config's modelled frame (all passes) for a table/workload.
 double config_total(const CostFit& fit, const CalData& data, const CalTable& t,
                     const std::string& workload, const std::string& config, const Json& disp_over,
-                    const Json& params_over) {
+                    const Json& params_over, std::vector<PassCost>* parts) {
   for (auto& e : t.entries) {
-    if (e.workload != workload || e.config != config) continue;
-    CalEntry c = e;
+    if (e.config != config) continue;
+    CalEntry c = e;  // the config's first entry; the workload may be one without table rows
+    c.workload = workload;
     c.passes.clear();
     if (disp_over.is_object()) {
       if (disp_over.contains("width")) c.display.width = disp_over.at("width").get<int>();
       if (disp_over.contains("height")) c.display.height = disp_over.at("height").get<int>();
     }
     if (params_over.is_object() && !c.baseline) c.params.merge_patch(params_over);
-    return predict_entry(fit, data, c);
+    return predict_parts(fit, data, c, parts);
   }
   throw Error(t.file, "no entry for config '" + config + "' and workload '" + workload + "'");
 }
@@ -44,11 +58,10 @@ ValidationReport validate_cost(const CalData& data, const CostFit& fit, const Fi
   // 1. Calibration entries with the full fit.
   for (auto& t : data.tables)
     for (auto& e : t.entries) {
-      ValidationRow r{"calibration",  e.id,
-                      t.id,           e.gpu,
-                      e.workload,     e.config,
-                      e.row,          e.fit ? "fitted" : "check",
-                      e.published_ms, predict_entry(fit, data, e)};
+      ValidationRow r{"calibration",  e.id,     t.id,  e.gpu,
+                      e.workload,     e.config, e.row, e.fit ? "fitted" : "check",
+                      e.published_ms, 0.0,      {}};
+      r.model_ms = predict_parts(fit, data, e, &r.parts);
       rep.rows.push_back(r);
     }
   // 2. Withheld figures: predictions only (the seeds' copies withhold the published values).
@@ -58,13 +71,20 @@ ValidationReport validate_cost(const CalData& data, const CostFit& fit, const Fi
       std::string id = w.at("id").get<std::string>();
       Json disp = w.value("display", Json::object());
       Json params = w.value("params", Json::object());
-      std::set<std::string> wls;
-      for (auto& e : t.entries) wls.insert(e.workload);
+      std::vector<std::string> wls;  // the figure's scenes, else the table's (sorted)
+      if (w.contains("workloads")) {
+        for (auto& v : w.at("workloads")) wls.push_back(v.get<std::string>());
+      } else {
+        std::set<std::string> ts;
+        for (auto& e : t.entries) ts.insert(e.workload);
+        wls.assign(ts.begin(), ts.end());
+      }
       for (auto& wl : wls)
         for (auto& cfg : w.at("configs")) {
           std::string c = cfg.get<std::string>();
-          double ms = config_total(fit, data, t, wl, c, disp, params);
-          rep.rows.push_back({"withheld", id, t.id, t.gpu, wl, c, "total", "withheld", -1, ms});
+          ValidationRow r{"withheld", id, t.id, t.gpu, wl, c, "total", "withheld", -1, 0.0, {}};
+          r.model_ms = config_total(fit, data, t, wl, c, disp, params, &r.parts);
+          rep.rows.push_back(r);
         }
     }
   }
@@ -154,15 +174,27 @@ ValidationReport validate_cost(const CalData& data, const CostFit& fit, const Fi
     const std::string wl0 = *wls.begin();
     for (auto& e : target->entries) {
       if (!(u.target_workload.empty() || e.workload == u.target_workload)) continue;
+      ValidationRow r{"cross:" + u.name, e.id,     target->id, e.gpu,
+                      e.workload,        e.config, e.row,      "unseen",
+                      e.published_ms,    0.0,      {}};
       if (!row_seen(e)) {
-        rep.rows.push_back({"cross:" + u.name, e.id, target->id, e.gpu, e.workload, e.config, e.row,
-                            "unseen", e.published_ms, 0.0});
+        // A frame total whose passes the refit all saw is a held-out total: scored for the
+        // coverage of the combined interval, not for the per-pass error statistics.
+        if (e.passes.empty()) {
+          std::vector<PassCost> parts;
+          const double ms = predict_parts(f, data, e, &parts);
+          bool all_seen = !parts.empty();
+          for (auto& pc : parts) all_seen &= f.seen_passes.count(pc.pass) > 0;
+          if (all_seen) r.kind = "total", r.model_ms = ms, r.parts = parts;
+        }
+        rep.rows.push_back(r);
         continue;
       }
-      double ms = predict_entry(f, data, e);
+      double ms = predict_parts(f, data, e, &r.parts);
       std::string kind = refit_ids.count(e.id) ? "refit" : "predicted";
-      rep.rows.push_back({"cross:" + u.name, e.id, target->id, e.gpu, e.workload, e.config, e.row,
-                          kind, e.published_ms, ms});
+      r.kind = kind;
+      r.model_ms = ms;
+      rep.rows.push_back(r);
       if (e.workload == wl0) pub_cfg[e.config] += e.published_ms, mod_cfg[e.config] += ms;
       if (kind == "predicted" && e.published_ms > 0) {
         sum += std::fabs(ms - e.published_ms) / e.published_ms;
@@ -207,15 +239,41 @@ double quantile(std::vector<double> v, double q) {
 PredictionInterval interval_from_rows(const std::vector<ValidationRow>& rows, double level,
                                       const std::string& exclude_table) {
   std::vector<double> q;
+  std::map<std::string, std::vector<double>> per_pass;
   for (auto& r : rows)
-    if (held_out(r) && r.table != exclude_table) q.push_back(r.published_ms / r.model_ms);
+    if (held_out(r) && r.table != exclude_table) {
+      q.push_back(r.published_ms / r.model_ms);
+      if (r.parts.size() == 1) per_pass[r.parts[0].pass].push_back(r.published_ms / r.model_ms);
+    }
   PredictionInterval iv;
   if (q.empty()) return iv;
   iv.level = level;
   iv.n = int(q.size());
   iv.lo_factor = std::min(1.0, quantile(q, (1 - level) / 2));
   iv.hi_factor = std::max(1.0, quantile(q, (1 + level) / 2));
+  // Partial pooling (gpu_profile.h): a pass's quantiles shrink toward the pooled ones in log
+  // space with weight n / (n + kPassIntervalPrior).
+  for (auto& [pass, v] : per_pass) {
+    const int n = int(v.size());
+    if (n < kMinPassIntervalRows) continue;
+    const double a = n / (n + kPassIntervalPrior);
+    auto shrink = [&](double own, double pooled) {
+      return std::exp(a * std::log(own) + (1 - a) * std::log(pooled));
+    };
+    iv.passes[pass] = {shrink(std::min(1.0, quantile(v, (1 - level) / 2)), iv.lo_factor),
+                       shrink(std::max(1.0, quantile(v, (1 + level) / 2)), iv.hi_factor), n};
+  }
   return iv;
+}
+
+void row_interval(const PredictionInterval& iv, const std::vector<PassCost>& parts, double* lo_ms,
+                  double* hi_ms) {
+  std::vector<PassSpan> spans;
+  for (auto& pc : parts) {
+    const IntervalFactors f = iv.for_pass(pc.pass);
+    spans.push_back({pc.ms, pc.ms * f.lo_factor, pc.ms * f.hi_factor});
+  }
+  combine_pass_intervals(spans, lo_ms, hi_ms);
 }
 
 ModelSummary summarize_model(const ValidationReport& rep, CostModelKind model, double level) {
@@ -230,23 +288,33 @@ ModelSummary summarize_model(const ValidationReport& rep, CostModelKind model, d
     } else if (held_out(r)) {
       sl += e, ++s.leaveout_n, s.leaveout_worst = std::max(s.leaveout_worst, e);
       tables.insert(r.table);
+    } else if (r.kind == "total" && r.published_ms > 0) {
+      tables.insert(r.table);
     }
   }
   s.fitted_mean = s.fitted_n ? sf / s.fitted_n : 0;
   s.leaveout_mean = s.leaveout_n ? sl / s.leaveout_n : 0;
   s.interval = interval_from_rows(rep.rows, level);
-  int in = 0;
+  int in = 0, in_total = 0;
   for (auto& t : tables) {
     PredictionInterval iv = interval_from_rows(rep.rows, level, t);
     if (iv.level <= 0) continue;
-    for (auto& r : rep.rows)
-      if (held_out(r) && r.table == t) {
-        double q = r.published_ms / r.model_ms;
-        in += q >= iv.lo_factor && q <= iv.hi_factor;
-        ++s.coverage_n;
+    for (auto& r : rep.rows) {
+      if (r.table != t) continue;
+      const bool total = r.kind == "total" && r.published_ms > 0;
+      if (!held_out(r) && !total) continue;
+      double lo = 0, hi = 0;
+      row_interval(iv, r.parts, &lo, &hi);
+      const bool inside = r.published_ms >= lo && r.published_ms <= hi;
+      if (total) {
+        in_total += inside, ++s.total_coverage_n;
+      } else {
+        in += inside, ++s.coverage_n;
       }
+    }
   }
   s.coverage = s.coverage_n ? double(in) / s.coverage_n : 0;
+  s.total_coverage = s.total_coverage_n ? double(in_total) / s.total_coverage_n : 0;
   return s;
 }
 

@@ -1,6 +1,9 @@
 // Workload descriptors (models/workloads/*.json); keys in docs/cost_model.md.
 #include "sim/cost/workload.h"
 
+#include <algorithm>
+#include <filesystem>
+
 #include "sim/core/error.h"
 #include "sim/core/files.h"
 
@@ -56,6 +59,15 @@ Workload Workload::load(const std::string& name_or_path, const std::string& mode
   Workload w = from_params(p);
   p.finish();
   return w;
+}
+
+std::vector<std::string> Workload::available(const std::string& models_dir) {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (auto& e : std::filesystem::directory_iterator(models_dir + "/workloads", ec))
+    if (e.path().extension() == ".json") names.push_back(e.path().stem().string());
+  std::sort(names.begin(), names.end());
+  return names;
 }
 
 Json Workload::to_json() const {

@@ -4,6 +4,7 @@
 // Keys are documented in docs/cost_model.md.
 #pragma once
 #include <string>
+#include <vector>
 
 #include "sim/core/params.h"
 #include "sim/scene/scene.h"
@@ -66,6 +67,8 @@ struct Workload {
   static Workload from_params(Params& p);
   // models_dir/workloads/NAME.json or a path.
   static Workload load(const std::string& name_or_path, const std::string& models_dir);
+  // Workload names in models_dir/workloads (sorted).
+  static std::vector<std::string> available(const std::string& models_dir);
   Json to_json() const;
 };
 

@@ -415,7 +415,13 @@ struct Cell {
           row.set("est_ms_total_lo", cost.total_lo_ms);
           row.set("est_ms_total_hi", cost.total_hi_ms);
         }
-        for (auto& pc : cost.passes) row.set("est_ms_" + pc.pass, pc.ms);
+        for (auto& pc : cost.passes) {
+          row.set("est_ms_" + pc.pass, pc.ms);
+          if (cost.interval_level > 0) {  // per-pass interval (docs/cost_model.md)
+            row.set("est_ms_" + pc.pass + "_lo", pc.lo_ms);
+            row.set("est_ms_" + pc.pass + "_hi", pc.hi_ms);
+          }
+        }
         for (auto& [mn, mv] : metrics.items()) row.set(mn, mv);
         row.set("ref_ms", ref_ms);
         row.set("sim_ms", sim_ms);

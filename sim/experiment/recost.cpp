@@ -110,10 +110,14 @@ RecostResult recost_results(const RecostOptions& o) {
     for (RecostRow& r : acc[gi]) {
       r.total_ms /= r.frames;
       for (auto& kv : r.pass_ms) kv.second /= r.frames;
-      const PredictionInterval& iv = gpus[gi].interval;  // multiplicative: applies to the mean
+      const PredictionInterval& iv = gpus[gi].interval;  // per pass multiplicative: on the means
       if (iv.level > 0) {
-        r.lo_ms = r.total_ms * iv.lo_factor;
-        r.hi_ms = r.total_ms * iv.hi_factor;
+        std::vector<PassSpan> parts;
+        for (auto& [pass, ms] : r.pass_ms) {
+          const IntervalFactors f = iv.for_pass(pass);
+          parts.push_back({ms, ms * f.lo_factor, ms * f.hi_factor});
+        }
+        combine_pass_intervals(parts, &r.lo_ms, &r.hi_ms);
         r.level = iv.level;
       }
       res.rows.push_back(std::move(r));

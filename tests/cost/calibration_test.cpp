@@ -153,29 +153,8 @@ double speedup(const GpuProfile& g, const std::string& wl, const std::string& me
 }
 }  // namespace
 
-// Seed 002 §8.4 "Render Resolution" (Fig. 10): TWFR's overall speedup diminishes at higher
-// per-eye resolution because reprojection scales almost linearly with the pixel count.
-TEST(CostModelV2, TwfrSpeedupFallsWithResolution) {
-  GpuProfile g = GpuProfile::load("rtx2070", kModels);
-  for (const char* wl : {"twfr_bistro", "twfr_san_miguel"}) {
-    double vive = speedup(g, wl, "twfr", Json::object(), 1440, 1600, 2, "fove_1280x1440");
-    double k8 = speedup(g, wl, "twfr", Json::object(), 3840, 1440, 2, "fove_1280x1440");
-    EXPECT_GT(vive, 1.0) << wl;
-    EXPECT_GT(vive, k8 * 1.005) << wl << ": 1440x1600 " << vive << " vs 3840x1440 " << k8;
-  }
-}
-
-// Seed 004 ch. 4: KFR's speedup rises with sigma (fewer shaded samples, 1/sigma^2).
-TEST(CostModelV2, KfrSpeedupRisesWithSigma) {
-  GpuProfile g = GpuProfile::load("gtx1080", kModels);
-  double prev = 0;
-  for (double s : {1.2, 1.8, 2.4}) {
-    double sp =
-        speedup(g, "kfr_bistro", "kfr", Json{{"sigma", s}}, 2560, 1440, 1, "desktop_1920x1080");
-    EXPECT_GT(sp, prev) << "sigma " << s;
-    prev = sp;
-  }
-}
+// The seeds' stated trends (TWFR speedup vs resolution, KFR speedup vs sigma, ...) are in
+// trends_test.cpp.
 
 // Seed 004 §4.0.2: the ray-marching scene is shading-bound, so KFR's speedup approaches
 // sigma^2 (~3.2 at sigma 1.8) at every resolution; the workload is a documented prior.
@@ -220,4 +199,15 @@ TEST(CostModelV2, ValidationComparesModelsAndIntervalsCover) {
   EXPECT_LT(r.leaveout_worst, s[CostModelKind::Linear].leaveout_worst);
   EXPECT_GE(r.coverage, 0.70);  // issue 14: coverage of the 80% intervals in [70%, 90%]
   EXPECT_LE(r.coverage, 0.90);
+  // Held-out frame totals are scored too (their interval combines the passes'); it is
+  // conservative (docs/cost_model.md), so only a floor is asserted.
+  EXPECT_GT(r.total_coverage_n, 10);
+  EXPECT_GE(r.total_coverage, 0.70);
+  // Per-pass factors exist for the passes with enough held-out rows and bracket 1.
+  EXPECT_GT(r.interval.passes.size(), 3u);
+  for (auto& [pass, f] : r.interval.passes) {
+    EXPECT_GE(f.n, kMinPassIntervalRows) << pass;
+    EXPECT_LE(f.lo_factor, 1.0) << pass;
+    EXPECT_GE(f.hi_factor, 1.0) << pass;
+  }
 }

@@ -1,0 +1,279 @@
+// `fovsim calibrate` / `fovsim validate-cost` orchestration (see cost_report.h).
+#include "sim/cost/cost_report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <sstream>
+
+#include "sim/core/error.h"
+#include "sim/core/files.h"
+#include "sim/cost/passes.h"
+#include "sim/trace/csv_table.h"
+
+namespace fovsim {
+
+namespace {
+
+std::string fmt(const char* f, double v) {
+  char b[64];
+  std::snprintf(b, sizeof b, f, v);
+  return b;
+}
+
+std::string pad(const std::string& s, size_t w) {
+  return s.size() >= w ? s : s + std::string(w - s.size(), ' ');
+}
+
+std::string csv_quote(const std::string& s) {
+  std::string o = "\"";
+  for (char c : s) o += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return o + "\"";
+}
+
+const char* kIntervalMethod =
+    "empirical 10%/90% quantiles of published/model over the held-out rows of fovsim "
+    "validate-cost's leave-one-seed/GPU/scene-out refits: per pass (passes) where the pass has "
+    "at least 5 single-pass rows, shrunk toward the pooled quantiles with weight n/(n+8) in log "
+    "space, else pooled; a total combines its passes' intervals in quadrature";
+
+}  // namespace
+
+std::set<std::string> parse_id_list(const std::string& text, const std::string& where) {
+  std::set<std::string> out;
+  for (const CsvField& f : split_csv_line(text, ',', where, 1))
+    if (!f.text.empty()) out.insert(f.text);
+  return out;
+}
+
+GpuProfile calibrated_profile(const CostFit& fit, const CalData& data, const std::string& gpu,
+                              const PredictionInterval& iv, const std::set<std::string>& tables) {
+  GpuProfile g = profile_from_fit(fit, gpu, data);
+  g.interval = iv;
+  if (iv.level > 0) g.interval.method = kIntervalMethod;
+  for (auto& t : data.tables) {
+    if (!tables.empty() && !tables.count(t.id)) continue;
+    g.calibration_tables.push_back(t.id + ": " + t.source);
+    if (t.gpu != gpu) continue;
+    g.calibrated = true;
+    for (auto& e : t.entries) {
+      const double ms = predict_entry(fit, data, e);
+      g.residuals.push_back({e.id, e.fit, e.published_ms, ms,
+                             e.published_ms > 0 ? (ms - e.published_ms) / e.published_ms : 0.0});
+    }
+  }
+  g.calibration_comment =
+      std::string("Written by `fovsim calibrate`: NNLS on relative error over the tables below; ") +
+      (g.calibrated
+           ? "residuals are this GPU's entries."
+           : "no table used this GPU: coefficients transferred through spec-sheet ratios only.");
+  return g;
+}
+
+CalibrationRun run_calibration(const CalibrateOptions& o) {
+  CalibrationRun run;
+  run.data = load_calibration(o.models);
+  run.opt.tables = o.tables;
+  run.opt.model = o.model;
+  for (auto& t : o.tables) {
+    bool known = false;
+    for (auto& ct : run.data.tables) known |= ct.id == t;
+    if (!known) throw Error("--tables", "unknown calibration table '" + t + "'");
+  }
+  run.fit = fit_cost_model(run.data, run.opt);
+  double sum = 0;
+  for (auto& t : run.data.tables)
+    for (auto& e : t.entries) {
+      const double ms = predict_entry(run.fit, run.data, e);
+      const double re = e.published_ms > 0 ? (ms - e.published_ms) / e.published_ms : 0;
+      if (e.fit && (o.tables.empty() || o.tables.count(t.id))) sum += std::fabs(re), ++run.fitted_n;
+      run.rows.push_back({e, ms, re});
+    }
+  run.fitted_mean_abs_err = run.fitted_n ? sum / run.fitted_n : 0;
+  if (!o.write) return run;
+  // Prediction interval from the leave-out experiments of this model (docs/cost_model.md).
+  run.interval = interval_from_rows(validate_cost(run.data, run.fit, run.opt).rows, 0.8);
+  for (auto& [gpu, se] : run.data.specs) {
+    (void)se;
+    run.profiles.push_back(calibrated_profile(run.fit, run.data, gpu, run.interval, o.tables));
+    const std::string file = o.models + "/gpus/" + gpu + ".json";
+    write_file_atomic(file, run.profiles.back().to_file_text());
+    run.written.push_back(file);
+  }
+  // Fitted workload costs go into the workload files, which keep their authors' layout.
+  for (auto& wl : run.fit.fitted_workloads) {
+    const std::string file = o.models + "/workloads/" + wl + ".json";
+    auto j = nlohmann::ordered_json::parse(read_file(file));
+    const Workload& w = run.fit.workloads.at(wl);
+    const std::string p = fitted_param(w);
+    j[p] = p == "vpl_flops" ? w.vpl_flops : w.shading_flops;
+    j["tri_cost"] = w.tri_cost;
+    j["fitted_by"] = "fovsim calibrate: " + p + ", tri_cost";
+    write_file_atomic(file, j.dump(2) + "\n");
+    run.written.push_back(file);
+  }
+  return run;
+}
+
+ValidationOutputs run_validation(const std::string& models, double level) {
+  ValidationOutputs v;
+  CalData data = load_calibration(models);
+  FitOptions opt;  // the default model (roofline) is the detailed report
+  v.model = opt.model;
+  CostFit fit = fit_cost_model(data, opt);
+  v.report = validate_cost(data, fit, opt);
+  for (CostModelKind k : {CostModelKind::Roofline, CostModelKind::Linear}) {
+    if (k == opt.model) {
+      v.ranked.push_back(summarize_model(v.report, k, level));
+    } else {
+      FitOptions o = opt;
+      o.model = k;
+      CostFit f = fit_cost_model(data, o);
+      v.ranked.push_back(summarize_model(validate_cost(data, f, o), k, level));
+    }
+  }
+  std::stable_sort(v.ranked.begin(), v.ranked.end(),
+                   [](const ModelSummary& x, const ModelSummary& y) {
+                     return x.leaveout_mean < y.leaveout_mean;
+                   });
+  const ValidationReport& rep = v.report;
+  // model_lo_ms/model_hi_ms: the interval; on cross-prediction rows the nested one (built
+  // without the row's table), on the others the interval the profiles carry.
+  const PredictionInterval iv_all = interval_from_rows(rep.rows, level);
+  std::map<std::string, PredictionInterval> iv_nested;
+  for (auto& t : data.tables) iv_nested[t.id] = interval_from_rows(rep.rows, level, t.id);
+  std::ostringstream txt, csv, ccsv;
+  csv << "experiment,id,table,gpu,workload,config,row,passes,kind,published_ms,model_ms,rel_err,"
+         "model_lo_ms,model_hi_ms\n";
+  for (auto& r : rep.rows) {
+    const bool cross = r.experiment.rfind("cross:", 0) == 0;
+    const PredictionInterval& iv = cross ? iv_nested[r.table] : iv_all;
+    std::string passes;
+    for (auto& pc : r.parts) passes += (passes.empty() ? "" : "+") + pc.pass;
+    csv << csv_quote(r.experiment) << ',' << csv_quote(r.id) << ',' << r.table << ',' << r.gpu
+        << ',' << r.workload << ',' << r.config << ',' << csv_quote(r.row) << ',' << passes << ','
+        << r.kind << ',' << r.published_ms << ',' << r.model_ms << ','
+        << (r.published_ms > 0 ? std::to_string(r.rel_err()) : "") << ',';
+    if (r.parts.empty()) {
+      csv << ",\n";
+    } else {
+      double lo = 0, hi = 0;
+      row_interval(iv, r.parts, &lo, &hi);
+      csv << lo << ',' << hi << "\n";
+    }
+  }
+  const int pct = int(std::lround(100 * level));
+  txt << "fovsim validate-cost: predicted vs. published per-pass times (ms)\n\n";
+  txt << "== models ranked by held-out mean |rel err| (leave-one-seed-out = leave-one-GPU-out, "
+         "leave-one-scene-out), not by the fitted error\n";
+  txt << pad("model", 10) << pad("fitted mean/worst", 20) << pad("held-out mean/worst (n)", 28)
+      << pad("pooled " + std::to_string(pct) + "% interval", 22) << pad("per-pass coverage", 20)
+      << "total coverage\n";
+  for (auto& m : v.ranked)
+    txt << pad(model_name(m.model), 10)
+        << pad(fmt("%.1f%%", 100 * m.fitted_mean) + fmt(" / %.1f%%", 100 * m.fitted_worst), 20)
+        << pad(fmt("%.1f%%", 100 * m.leaveout_mean) + fmt(" / %.1f%%", 100 * m.leaveout_worst) +
+                   " (" + std::to_string(m.leaveout_n) + ")",
+               28)
+        << pad(fmt("[%.2f, ", m.interval.lo_factor) + fmt("%.2f] x model", m.interval.hi_factor),
+               22)
+        << pad(fmt("%.0f%%", 100 * m.coverage) + " of " + std::to_string(m.coverage_n), 20)
+        << fmt("%.0f%%", 100 * m.total_coverage) << " of " << m.total_coverage_n << "\n";
+  txt << "coverage (nested): each target table's held-out rows against the intervals built from "
+         "the other tables' held-out rows;\n"
+         "  per-pass: held-out per-pass rows; total: held-out frame totals whose passes the refit "
+         "all saw (interval combined from the passes')\n";
+  // Leave-one-resolution-out needs one configuration at several resolutions in a table.
+  txt << "leave-one-resolution-out: not possible, every calibration table gives one resolution (";
+  {
+    std::string sep;
+    for (auto& t : data.tables) {
+      std::set<std::string> res;
+      for (auto& e : t.entries)
+        res.insert(std::to_string(e.display.width) + "x" + std::to_string(e.display.height) +
+                   (e.display.eyes > 1 ? " x" + std::to_string(e.display.eyes) + " eyes" : ""));
+      std::string r;
+      for (auto& x : res) r += (r.empty() ? "" : ", ") + x;
+      txt << sep << t.id << " " << r;
+      sep = "; ";
+    }
+  }
+  txt << "); the seeds' multi-resolution figures (KFR thesis Table 4.2, TWFR Fig. 10) are "
+         "withheld and only predicted below\n\n";
+  txt << "== " << pct << "% interval factors (x model ms) of model " << model_name(v.model)
+      << " per pass (rows: held-out single-pass rows, shrunk toward the pooled factors with weight "
+         "n/(n+"
+      << kPassIntervalPrior << "); fewer than " << kMinPassIntervalRows << " rows: pooled)\n";
+  for (auto& p : known_passes()) {
+    const IntervalFactors f = iv_all.for_pass(p);
+    const bool own = iv_all.passes.count(p) > 0;
+    txt << "  " << pad(p, 14) << fmt("[%.2f, ", f.lo_factor) << fmt("%.2f]", f.hi_factor)
+        << (own ? "  " + std::to_string(f.n) + " rows" : "  pooled") << "\n";
+  }
+  txt << "\ndetailed report below: model " << model_name(v.model) << "\n\n";
+  txt << "== calibration entries (all tables fitted together; 'check' rows are totals, not "
+         "fitted)\n";
+  double se[2] = {0, 0};
+  int ne[2] = {0, 0};
+  for (auto& r : rep.rows) {
+    if (r.experiment != "calibration") continue;
+    int k = r.kind == "fitted" ? 0 : 1;
+    se[k] += std::fabs(r.rel_err()), ne[k]++;
+    txt << pad(r.id, 62) << " " << pad(r.kind, 9) << fmt(" %8.3f", r.published_ms)
+        << fmt(" %8.3f", r.model_ms) << fmt(" %+7.1f%%", 100 * r.rel_err()) << "\n";
+  }
+  txt << "mean |rel err|: fitted " << fmt("%.1f%%", ne[0] ? 100 * se[0] / ne[0] : 0) << " ("
+      << ne[0] << " rows), check " << fmt("%.1f%%", ne[1] ? 100 * se[1] / ne[1] : 0) << " ("
+      << ne[1] << " rows)\n\n";
+  txt << "== withheld figures (published values withheld from the seeds: predictions only; "
+         "total ms with its "
+      << pct << "% interval)\n";
+  std::map<std::string, std::vector<const ValidationRow*>> wh;
+  for (auto& r : rep.rows)
+    if (r.experiment == "withheld") wh[r.id + " " + r.workload].push_back(&r);
+  for (auto& [k, rows] : wh) {
+    txt << pad(k, 52);
+    for (auto* r : rows) {
+      double lo = 0, hi = 0;
+      row_interval(iv_all, r->parts, &lo, &hi);
+      txt << " " << r->config << fmt(" %.2f ms", r->model_ms) << fmt(" [%.2f, ", lo)
+          << fmt("%.2f]", hi);
+    }
+    if (rows.size() == 2 && rows[1]->model_ms > 0)
+      txt << fmt("  speedup %.2fx", rows[0]->model_ms / rows[1]->model_ms);
+    txt << "\n";
+  }
+  txt << "\n== cross-predictions (target's shading and triangle costs refit from its baseline "
+         "lighting and G-buffer rows only)\n";
+  ccsv << "name,fit_on,target,possible,n,mean_abs_rel_err,speedup_published,speedup_model\n";
+  for (auto& c : rep.cross) {
+    ccsv << csv_quote(c.name) << ',' << csv_quote(c.fit_on) << ',' << c.target << ',' << c.possible
+         << ',' << c.n << ',' << c.mean_abs_rel_err << ',' << c.speedup_published << ','
+         << c.speedup_model << "\n";
+    txt << pad(c.name, 48);
+    if (!c.possible) {
+      txt << " not predictable (" << c.why << ")\n";
+      continue;
+    }
+    txt << " rows " << c.n << ", mean |rel err| " << fmt("%.1f%%", 100 * c.mean_abs_rel_err);
+    if (c.speedup_published > 0)
+      txt << ", speedup published " << fmt("%.2fx", c.speedup_published) << " model "
+          << fmt("%.2fx", c.speedup_model);
+    if (!c.why.empty()) txt << " [rows skipped, " << c.why << "]";
+    txt << "\n";
+  }
+  v.report_txt = txt.str();
+  v.validate_csv = csv.str();
+  v.cross_csv = ccsv.str();
+  return v;
+}
+
+void write_validation(const ValidationOutputs& v, const std::string& dir) {
+  make_dirs(dir);
+  write_file_atomic(dir + "/validate_cost.csv", v.validate_csv);
+  write_file_atomic(dir + "/cross_predictions.csv", v.cross_csv);
+  write_file_atomic(dir + "/report.txt", v.report_txt);
+}
+
+}  // namespace fovsim
