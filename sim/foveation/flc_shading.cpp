@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "sim/core/math.h"
+#include "sim/foveation/lighting.h"
 
 namespace fovsim {
 
@@ -75,7 +76,7 @@ void flc_shade_cartesian(const GBuffer& g, const std::vector<VplSoA>& groups, in
         }
         const VplSoA& grp = groups[size_t(x % n) + size_t(n) * size_t(y % n)];
         glm::vec3 L =
-            shade_vpls_point(grp, g.position[i], g.normal[i], g.albedo[i], s, r, 1.f, &nr);
+            shade_vpls(grp, g.position[i], g.normal[i], g.albedo[i], s, r, 1.f, &nr);
         ++ns;
         np += grp.size();
         o[0] = L.x;
@@ -131,7 +132,7 @@ void flc_shade_logpolar(const GBuffer& g, const glm::dvec2& gaze_px, double sigm
       if (!g.hit(i)) continue;
       valid[size_t(v) * size_t(w) + size_t(u)] = 1;
       const VplSoA& grp = groups[size_t(u % n) + size_t(n) * size_t(v % n)];
-      glm::vec3 Lo = shade_vpls_point(grp, g.position[i], g.normal[i], g.albedo[i], s, r, 1.f, &nr);
+      glm::vec3 Lo = shade_vpls(grp, g.position[i], g.normal[i], g.albedo[i], s, r, 1.f, &nr);
       ++ns;
       np += grp.size();
       o[0] = Lo.x;
@@ -177,7 +178,7 @@ void flc_shade_logpolar(const GBuffer& g, const glm::dvec2& gaze_px, double sigm
       }
       glm::vec3 Lo(0.f);
       for (const VplSoA& grp : groups) {
-        Lo += shade_vpls_point(grp, g.position[i], g.normal[i], g.albedo[i], s, r, inv_g, &nr);
+        Lo += shade_vpls(grp, g.position[i], g.normal[i], g.albedo[i], s, r, inv_g, &nr);
         np += grp.size();
       }
       ++nf;
