@@ -32,7 +32,8 @@ std::unique_ptr<FoveationMethod> make_method(const std::string& name, Params& p)
         if (m->own_lighting())
           p.fail("lighting", "method \"" + name +
                                  "\" has its own lighting; use {\"method\": \"full\", "
-                                 "\"lighting\": {\"method\": \"" + name + "\"}} instead");
+                                 "\"lighting\": {\"method\": \"" +
+                                 name + "\"}} instead");
         Params lp = p.child("lighting");
         m->set_lighting(make_lighting(lp));
       } else if (!m->lighting()) {

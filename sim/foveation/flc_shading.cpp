@@ -75,8 +75,7 @@ void flc_shade_cartesian(const GBuffer& g, const std::vector<VplSoA>& groups, in
           continue;
         }
         const VplSoA& grp = groups[size_t(x % n) + size_t(n) * size_t(y % n)];
-        glm::vec3 L =
-            shade_vpls(grp, g.position[i], g.normal[i], g.albedo[i], s, r, 1.f, &nr);
+        glm::vec3 L = shade_vpls(grp, g.position[i], g.normal[i], g.albedo[i], s, r, 1.f, &nr);
         ++ns;
         np += grp.size();
         o[0] = L.x;

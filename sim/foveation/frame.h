@@ -29,8 +29,8 @@ struct FrameData {
 };
 
 // Renders the shared data of one frame (with the scene's VPLs and their indirect light in the
-// reference when the scene wants indirect light). `prev` is the previous frame's camera (or nullptr).
-// The renderer's time must already be set to s.t.
+// reference when the scene wants indirect light). `prev` is the previous frame's camera (or
+// nullptr). The renderer's time must already be set to s.t.
 void prepare_frame(const Renderer& r, const Display& d, const TraceSample& s, int frame,
                    uint32_t channels, const Camera* prev, FrameData& out);
 

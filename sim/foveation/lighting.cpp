@@ -64,8 +64,8 @@ void build_frame_vpls(const Renderer& r, FrameVpls& out, Counters* c) {
 
 namespace {
 inline glm::vec3 shade_with(VplSumFn fn, const VplSoA& v, const glm::vec3& p, const glm::vec3& n,
-                            const glm::vec3& a, const VplShading& s, const Renderer* r,
-                            float scale, uint64_t* rays) {
+                            const glm::vec3& a, const VplShading& s, const Renderer* r, float scale,
+                            uint64_t* rays) {
   if ((s.visibility && r) || v.size() == 0) return shade_vpls_point(v, p, n, a, s, r, scale, rays);
   const float q[6] = {p.x, p.y, p.z, n.x, n.y, n.z};
   float rgb[3];
@@ -86,21 +86,22 @@ void add_indirect(const GBuffer& g, const VplSoA& v, const VplShading& s, const 
   std::atomic<uint64_t> shaded{0}, rays{0};
   const size_t N = g.size();
   const VplSumFn fn = vpl_sum_fn();
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, N, 1024), [&](const tbb::blocked_range<size_t>& b) {
-    uint64_t ns = 0, nr = 0;
-    for (size_t i = b.begin(); i < b.end(); ++i) {
-      if (!g.hit(i) || (mask && !mask[i])) continue;
-      const glm::vec3 L =
-          shade_with(fn, v, g.position[i], g.normal[i], g.albedo[i], s, r, 1.f, &nr);
-      float* o = &col.data[i * 3];
-      o[0] += L.x;
-      o[1] += L.y;
-      o[2] += L.z;
-      ++ns;
-    }
-    shaded += ns;
-    rays += nr;
-  });
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, N, 1024), [&](const tbb::blocked_range<size_t>& b) {
+        uint64_t ns = 0, nr = 0;
+        for (size_t i = b.begin(); i < b.end(); ++i) {
+          if (!g.hit(i) || (mask && !mask[i])) continue;
+          const glm::vec3 L =
+              shade_with(fn, v, g.position[i], g.normal[i], g.albedo[i], s, r, 1.f, &nr);
+          float* o = &col.data[i * 3];
+          o[0] += L.x;
+          o[1] += L.y;
+          o[2] += L.z;
+          ++ns;
+        }
+        shaded += ns;
+        rays += nr;
+      });
   if (c) {
     c->add("shaded_sample_vpls", double(shaded.load()) * double(v.size()));
     if (s.visibility) c->add("vpl_shadow_rays", double(rays.load()));
@@ -148,7 +149,7 @@ const std::vector<ParamInfo>& lighting_all_vpls_params() {
 }
 
 // Defined in lighting_flc.cpp / lighting_fir.cpp.
-#define FOVSIM_LIGHTING(name, summary)                               \
+#define FOVSIM_LIGHTING(name, summary)                                 \
   std::unique_ptr<LightingStrategy> create_lighting_##name(Params& p); \
   const std::vector<ParamInfo>& lighting_##name##_params();
 #include "sim/foveation/lighting_list.h"
@@ -156,7 +157,8 @@ const std::vector<ParamInfo>& lighting_all_vpls_params() {
 
 const std::vector<LightingEntry>& lighting_table() {
   static const std::vector<LightingEntry> t = {
-#define FOVSIM_LIGHTING(name, summary) {#name, summary, create_lighting_##name, lighting_##name##_params},
+#define FOVSIM_LIGHTING(name, summary) \
+  {#name, summary, create_lighting_##name, lighting_##name##_params},
 #include "sim/foveation/lighting_list.h"
 #undef FOVSIM_LIGHTING
   };

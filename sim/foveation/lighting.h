@@ -35,9 +35,9 @@ struct ParamInfo;     // method.h
 struct FrameVpls {
   std::vector<RSM> rsms;  // one per light (BLSO reads them)
   std::vector<VPL> vpls;
-  VplSoA all;             // every VPL, weight 1
-  VplShading shading;     // scene settings in world units
-  float scene_diag = 1.f; // world units
+  VplSoA all;              // every VPL, weight 1
+  VplShading shading;      // scene settings in world units
+  float scene_diag = 1.f;  // world units
 };
 
 // Renders the RSMs of every light and their VPLs (FLC paper §3, S-1/S-2) with the scene's

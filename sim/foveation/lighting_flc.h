@@ -51,7 +51,7 @@ class FlcLighting final : public LightingStrategy {
 
  private:
   FlcLightingSettings s_;
-  Image history_;  // eq. 8 b(p), 1 channel
+  Image history_;              // eq. 8 b(p), 1 channel
   Image color_, ind_, ind_d_;  // scratch, reused every frame
   FlcImportanceMaps maps_;
   CullResult kept_;

@@ -5,10 +5,11 @@
 FOVSIM_LIGHTING(all_vpls,
                 "every VPL at every shaded sample: tile-based deferred shading, the ground truth "
                 "of Yang et al., \"Foveated light culling\" §7")
-FOVSIM_LIGHTING(flc,
-                "foveated light culling (Yang et al., \"Foveated light culling\" §4-§5): importance "
-                "map, quasi-MH shading points, eq. 14 contributions with BLSO visibility, "
-                "stochastic culling to a VPL budget")
+FOVSIM_LIGHTING(
+    flc,
+    "foveated light culling (Yang et al., \"Foveated light culling\" §4-§5): importance "
+    "map, quasi-MH shading points, eq. 14 contributions with BLSO visibility, "
+    "stochastic culling to a VPL budget")
 FOVSIM_LIGHTING(fir,
                 "foveated instant radiosity as the FLC paper describes it (§1, §7): importance "
                 "from visibility and position relative to the fovea only, VPL intensity ignored, "

@@ -100,9 +100,9 @@ struct SceneFeatures {  // decides which passes exist (DESIGN §6: model only wh
 // instant radiosity as in Yang et al., "Foveated light culling", §3). One VPL set per frame,
 // shared by the reference and every method (models/scenes/README.md, key `vpl`).
 struct VplSettings {
-  int rsm_size = 64;          // RSM texels per edge per light (FLC paper §7: 64x64)
-  double min_dist = 0.01;     // distance clamp against the 1/d^2 singularity, / scene diagonal
-  bool shadow_rays = false;   // exact VPL -> receiver visibility in shading (beyond the paper)
+  int rsm_size = 64;         // RSM texels per edge per light (FLC paper §7: 64x64)
+  double min_dist = 0.01;    // distance clamp against the 1/d^2 singularity, / scene diagonal
+  bool shadow_rays = false;  // exact VPL -> receiver visibility in shading (beyond the paper)
 };
 
 struct Scene {

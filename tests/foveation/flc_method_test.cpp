@@ -113,10 +113,8 @@ TEST(FlcMethod, FovealErrorFallsWithBudget) {
   std::vector<double> r[3];
   for (int b = 0; b < 3; ++b)
     for (int seed = 1; seed <= n; ++seed)
-      r[b].push_back(
-          f.run(
-               Json{{"vpl_budget", budgets[b]}, {"samples", 128}, {"seed", seed}})
-              .counters.get("flc_rmse_fovea"));
+      r[b].push_back(f.run(Json{{"vpl_budget", budgets[b]}, {"samples", 128}, {"seed", seed}})
+                         .counters.get("flc_rmse_fovea"));
   for (int b = 0; b < 2; ++b) {
     double m = 0, m2 = 0;
     auto d = [&](int k) { return std::log(r[b][size_t(k)] / r[b + 1][size_t(k)]); };
@@ -133,10 +131,8 @@ TEST(FlcMethod, TauAboveOneWithGazeOnAWall) {
   Fixture& f = cornell(24);
   double tau = 0;
   for (int seed = 1; seed <= 3; ++seed) {
-    FrameOutput o = f.run(Json{{"vpl_budget", 64},
-                               {"samples", 128},
-                               {"seed", seed},
-                               {"w_periphery", 0.25}});
+    FrameOutput o =
+        f.run(Json{{"vpl_budget", 64}, {"samples", 128}, {"seed", seed}, {"w_periphery", 0.25}});
     tau += o.counters.get("flc_tau") / 3;
   }
   EXPECT_GT(tau, 1.0);
@@ -166,8 +162,7 @@ TEST(FlcMethod, ExtremesStayFinite) {
     }
   }
   // Log-polar with interleaving: fewer shaded samples, finite.
-  FrameOutput lp =
-      f.run(Json{{"log_polar", true}, {"lp_sigma", 2.0}, {"interleave", 2}});
+  FrameOutput lp = f.run(Json{{"log_polar", true}, {"lp_sigma", 2.0}, {"interleave", 2}});
   EXPECT_TRUE(all_finite(lp.image));
   EXPECT_LT(lp.counters.get("shaded_samples"), 0.5 * f.display.width * f.display.height);
 }
