@@ -10,7 +10,9 @@
 #include <map>
 #include <string>
 
+#include "sim/core/error.h"
 #include "sim/experiment/runner.h"
+#include "sim/experiment/sweep_spec.h"
 
 using namespace fovsim;
 
@@ -82,5 +84,25 @@ TEST(LightingRows, NoIndirectNoLightingColumnsOrPasses) {
     for (const char* k : {"vpls_kept", "rsm_texels", "shaded_sample_vpls", "est_ms_rsm",
                           "est_ms_importance", "est_ms_light_culling", "vpl_budget"})
       EXPECT_TRUE(std::isnan(row.get(k, NAN))) << k;
+  }
+}
+
+TEST(LightingRows, LightingKeysAreSweepAxes) {
+  LoadedConfig c;
+  c.file = "s.json";
+  c.doc = Json::parse(R"({"name": "t", "scene": {"type": "cornell"},
+    "methods": [{"method": "kfr", "lighting": {"method": "flc"}}],
+    "sweep": {"grid": {"methods[kfr].lighting.vpl_budget": [16, 64]}}})");
+  SweepPlan p = expand_sweep(c);
+  ASSERT_EQ(p.cells.size(), 2u);
+  EXPECT_NO_THROW(validate_cells(p));
+  EXPECT_EQ(p.cells[1].doc["methods"][0]["lighting"]["vpl_budget"], 64);
+  // A typo in a lighting axis is an error naming the path, never a silent default.
+  c.doc["sweep"]["grid"] = Json{{"methods[kfr].lighting.vpl_budgte", Json::array({16})}};
+  try {
+    validate_cells(expand_sweep(c));
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("lighting.vpl_budgte"), std::string::npos) << e.what();
   }
 }
