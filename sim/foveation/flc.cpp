@@ -98,9 +98,9 @@ class FlcMethod final : public FoveationMethod {
     Image lp_dbg;
     if (s_.log_polar)
       flc_shade_logpolar(g, ctx.gaze_px, s_.lp_sigma, groups, n, sh, ctx.renderer, indirect_, &c,
-                         ctx.want_debug ? &lp_dbg : nullptr);
+                         ctx.want_debug ? &lp_dbg : nullptr, &scratch_);
     else
-      flc_shade_cartesian(g, groups, n, sh, ctx.renderer, indirect_, &c);
+      flc_shade_cartesian(g, groups, n, sh, ctx.renderer, indirect_, &c, &scratch_);
     auto t1 = Clock::now();
     times_.shading = ms_between(t0, t1);
     const Image& direct = *ctx.direct;
@@ -136,6 +136,7 @@ class FlcMethod final : public FoveationMethod {
   FlcShadeSettings s_;
   FlcLighting* flc_ = nullptr;  // owned by lighting_
   Image indirect_, od_, gd_;    // scratch, reused every frame
+  FlcShadeScratch scratch_;
   FlcStageTimes times_;
 };
 
