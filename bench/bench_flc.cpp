@@ -1,14 +1,19 @@
 // FLC per-frame CPU time split by stage, like the seed's Table 2 (Google Benchmark; not a test).
 //   BM_FlcFrame/<budget>/<visibility>: one FLC frame at 1024x1024 (seed §7) on the Cornell box,
-//     64x64 RSM, gaze on the red wall; the ground truth is cached (rendered before timing), so
-//     the Time column is FLC's own frame time. Counters: ms per stage (rsm_ms, importance_ms,
-//     sampling_ms, contribution_ms, culling_ms, shading_ms, compose_ms), vpls_total, vpls_kept.
-//     visibility: 0 none, 1 blso, 2 exact.
-//   BM_FlcGroundTruth: shading with all VPLs (the seed's TBDS role) at 1024x1024.
+//     64x64 RSM, gaze on the red wall; the RSMs, VPLs and ground truth are the shared frame data
+//     (rendered before timing), so the Time column is FLC's own frame time. Counters: ms per
+//     stage (importance_ms, sampling_ms, contribution_ms, culling_ms, shading_ms, compose_ms),
+//     vpls_total, vpls_kept. visibility: 0 none, 1 blso, 2 exact.
+//   BM_VplShading/<path>: indirect light of every pixel from all VPLs (the reference's TBDS
+//     pass) on ONE thread; counter ns_per_pair = ns per shaded sample x VPL. path 0: the scalar
+//     loop (shade_vpls_point, sim/render/vpl.cpp, the code before issue 19 item 4), 1: the SIMD
+//     loop on the generic (SSE2) path, 2: on the AVX2 path (lighting.cpp, vpl_kernels.inc). All
+//     three give the same bits (tests/foveation/lighting_test.cpp).
 // Environment: FLC_BENCH_SIZE (default 1024) changes the resolution; FLC_BENCH_IMAGES=DIR writes
 // the FLC image, the ground truth and the importance map of the first BM_FlcFrame run.
 // Run: build/bench_flc [--benchmark_filter=...]
 #include <benchmark/benchmark.h>
+#include <tbb/task_arena.h>
 
 #include <cstdlib>
 #include <memory>
@@ -16,6 +21,7 @@
 #include "sim/foveation/factory.h"
 #include "sim/foveation/flc.h"
 #include "sim/foveation/frame.h"
+#include "sim/foveation/simd_kernels.h"
 
 using namespace fovsim;
 
@@ -39,7 +45,7 @@ Fixture& cornell() {
   static std::unique_ptr<Fixture> f;
   if (!f) {
     f = std::make_unique<Fixture>();
-    Params p(Json{{"type", "cornell"}});
+    Params p(Json{{"type", "cornell"}, {"vpl", {{"rsm_size", 64}}}});
     f->scene = make_scene(p, std::string(FOVSIM_SOURCE_DIR) + "/models");
     f->renderer = std::make_unique<Renderer>(f->scene, RenderSettings{});
     f->display.width = f->display.height = bench_size();
@@ -62,7 +68,7 @@ void write_debug(const FrameOutput& o, const ToneMap& tm) {
   Image d;
   tm.apply(o.image, d);
   write_image(std::string(dir) + "/flc.png", d);
-  tm.apply(*o.reference, d);
+  tm.apply(cornell().fd.reference, d);
   write_image(std::string(dir) + "/ground_truth.png", d);
   for (auto& [name, img] : o.debug) write_image(std::string(dir) + "/flc_" + name + ".png", img);
 }
@@ -75,26 +81,24 @@ void BM_FlcFrame(benchmark::State& st) {
   FrameContext ctx =
       f.fd.context(f.scene, *f.renderer, f.display, std::getenv("FLC_BENCH_IMAGES") != nullptr);
   {
-    FrameOutput warm;  // fills the ground-truth cache outside the timed loop
-    m->render(ctx, warm);
+    FrameOutput warm;
+    render_with_lighting(*m, ctx, warm);
     write_debug(warm, f.tm);
   }
   FlcStageTimes acc;
   FrameOutput out;
   for (auto _ : st) {
     out = FrameOutput();
-    m->render(ctx, out);
+    render_with_lighting(*m, ctx, out);
     const FlcStageTimes& t = *flc_stage_times(*m);
-    acc.rsm += t.rsm;
     acc.importance += t.importance;
     acc.sampling += t.sampling;
     acc.contribution += t.contribution;
     acc.culling += t.culling;
     acc.shading += t.shading;
-    acc.compose += t.compose + t.ground_truth;
+    acc.compose += t.compose;
   }
   const double n = double(st.iterations());
-  st.counters["rsm_ms"] = acc.rsm / n;
   st.counters["importance_ms"] = acc.importance / n;
   st.counters["sampling_ms"] = acc.sampling / n;
   st.counters["contribution_ms"] = acc.contribution / n;
@@ -115,21 +119,45 @@ BENCHMARK(BM_FlcFrame)
     ->UseRealTime()
     ->Iterations(2);
 
-void BM_FlcGroundTruth(benchmark::State& st) {
+void BM_VplShading(benchmark::State& st) {
   Fixture& f = cornell();
-  Params p(Json{{"vpl_budget", 0}});
-  auto m = make_method("flc", p);
-  FrameContext ctx = f.fd.context(f.scene, *f.renderer, f.display, false);
-  double gt = 0;
-  for (auto _ : st) {
-    flc_clear_ground_truth_cache();
-    FrameOutput out;
-    m->render(ctx, out);
-    gt += flc_stage_times(*m)->ground_truth;
+  const GBuffer& g = f.fd.gbuffer;
+  const FrameVpls& fv = f.fd.vpls;
+  const int path = int(st.range(0));
+  if (path == 2 && simd_paths_available().size() < 2) {
+    st.SkipWithError("no AVX2 on this CPU");
+    return;
   }
-  st.counters["ground_truth_ms"] = gt / double(st.iterations());
+  const SimdPath saved = simd_path();
+  set_simd_path(path == 2 ? SimdPath::Avx2 : SimdPath::Generic);
+  Image col(g.width, g.height, 3);
+  double hits = 0;
+  for (size_t i = 0; i < g.size(); ++i) hits += g.hit(i) ? 1 : 0;
+  tbb::task_arena one(1);
+  for (auto _ : st) {
+    one.execute([&] {
+      if (path == 0) {
+        for (size_t i = 0; i < g.size(); ++i) {
+          if (!g.hit(i)) continue;
+          const glm::vec3 L = shade_vpls_point(fv.all, g.position[i], g.normal[i], g.albedo[i],
+                                               fv.shading, nullptr);
+          col.data[3 * i] += L.x;
+        }
+      } else {
+        add_indirect(g, fv.all, fv.shading, nullptr, nullptr, col);
+      }
+    });
+    benchmark::DoNotOptimize(col.data.data());
+  }
+  set_simd_path(saved);
+  st.counters["vpls"] = double(fv.all.size());
+  st.counters["samples"] = hits;
+  st.counters["ns_per_pair"] = benchmark::Counter(
+      hits * double(fv.all.size()) * 1e-9,
+      benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
-BENCHMARK(BM_FlcGroundTruth)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+// CPU time (one thread): the counter is ns of CPU per pair, robust to a loaded machine.
+BENCHMARK(BM_VplShading)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -58,6 +58,12 @@ void register_methods(CLI::App& app, Action& action) {
         for (const ParamInfo& p : e.params())
           std::printf("    %-24s %-7s default %-8s %s\n", p.name, p.type, p.def, p.range);
       }
+      std::printf("\nlighting strategies (a method's \"lighting\": {\"method\": ...} block):\n");
+      for (const auto& e : lighting_table()) {
+        std::printf("%-11s %s\n", e.name, e.summary);
+        for (const ParamInfo& p : e.params())
+          std::printf("    %-24s %-7s default %-8s %s\n", p.name, p.type, p.def, p.range);
+      }
       return 0;
     };
   });

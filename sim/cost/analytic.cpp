@@ -74,7 +74,9 @@ Counters analytic_counters(const std::string& method, const Json& params, const 
     (std::find(ak.begin(), ak.end(), it.key()) != ak.end() ? extra : own)[it.key()] = it.value();
   Params mp(own, where, "");
   const std::unique_ptr<FoveationMethod> inst = make_method(method, mp);
-  const std::vector<std::pair<std::string, double>> cols = inst->param_columns();
+  std::vector<std::pair<std::string, double>> cols = inst->param_columns();
+  if (inst->lighting())  // the lighting strategy's columns (flc: vpl_budget)
+    for (auto& c : inst->lighting()->param_columns()) cols.push_back(c);
   const std::string kind = inst->mapping_spec() ? inst->mapping_spec()->method : std::string();
   Params p(extra, where, "");
   const double P = double(std::max(0, d.width)) * double(std::max(0, d.height));

@@ -159,11 +159,20 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
   const double shadowed = fin(w.nshadowed(f));
   const CostFamily fam = cost_family(m);
   const bool twfr = fam == CostFamily::Twfr, flc = fam == CostFamily::Flc;
+  // Lighting passes (DESIGN §5 lighting axis): a scene with indirect light charges every method
+  // for its RSMs and the VPL shading of its samples; the importance / contribution / culling
+  // passes exist when the method's lighting strategy has them (its counters say so; the `flc`
+  // method always). A scene without indirect light has none of them.
+  const bool vpl = f.indirect || flc;
+  const bool has_importance = flc || c.has("importance_samples");
+  const bool has_culling = flc || c.has("contribution_evals");
 
   // Shaded samples per eye at the real resolution. `full` shades every pixel by definition.
   const double S = fam == CostFamily::Full
                        ? (c.has("shaded_samples") ? c.get("shaded_samples") * scale : P)
-                       : need_px("shaded_samples", 0);
+                       : (flc && c.has("direct_shaded_samples")
+                              ? need_px("direct_shaded_samples", P)  // FLC: direct at every pixel
+                              : need_px("shaded_samples", 0));
 
   std::vector<PassWork> out;
   auto add = [&](const char* pass, std::vector<Term> terms) {
@@ -179,7 +188,7 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
     add("shadow",
         {{"shadow_tris", Resource::Geometry, T * shadowed},
          {"shadow_texels", Resource::Raster, w.shadow_map_res * w.shadow_map_res * shadowed}});
-  if (flc) {  // reflective shadow maps, one per light (seed 001 §3, S-2)
+  if (vpl) {  // reflective shadow maps, one per light (seed 001 §3, S-2)
     double texels = need("rsm_texels", w.rsm_res * w.rsm_res * std::max(1.0, lights));
     add("rsm", {{"tris", Resource::Geometry, T * std::max(1.0, lights)},
                 {"texels", Resource::Raster, texels}});
@@ -200,10 +209,13 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
                     {"gbuffer_bytes", Resource::Memory, written * w.gbuffer_bytes * eyes}});
   }
   if (w.pipeline.skybox) add("skybox", {{"pixels", Resource::Raster, P * eyes}});
-  if (flc) {  // importance map (eqs. 3-9) + quasi-MH sampling (Alg. 1)
+  if (vpl && has_importance) {  // importance map (eqs. 3-9) + quasi-MH sampling (Alg. 1)
     double ns = need("importance_samples", 0);
     add("importance", {{"pixels", Resource::Memory, P * eyes},
                        {"samples", Resource::Shading, ns * w.chain_length * eyes}});
+  }
+  if (vpl && has_culling) {  // per-VPL importance (FLC: eq. 14 with BLSO) + culling
+    double ns = c.has("importance_samples") ? c.get("importance_samples") : 0;
     double vt = need("vpls_total", 0);
     double evals = c.has("contribution_evals") ? c.get("contribution_evals") : vt * ns;
     if (!c.has("contribution_evals")) note("contribution_evals");
@@ -215,7 +227,7 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
     const double fwd = fam == CostFamily::Fvrs ? std::max(1.0, w.overdraw) : 1.0;
     std::vector<Term> t = {
         {"shade_flops", Resource::Shading, S * fwd * lights * w.shading_flops * eyes}};
-    if (flc) {
+    if (vpl) {  // indirect light: shaded samples x VPLs used (all of them for all_vpls)
       double vf = w.vpl_flops >= 0 ? w.vpl_flops : w.shading_flops;
       t.push_back({"vpl_flops", Resource::Shading, need_px("shaded_sample_vpls", 0) * vf * eyes});
     }

@@ -219,7 +219,7 @@ struct Cell {
   std::set<std::string> flags_seen;
   ResultTable frames;
   double cell_ms = 0;
-  Image out_display, override_display;  // per-cell scratch, reused every frame
+  Image out_display;  // per-cell scratch, reused every frame
   MetricsScratch metrics_scratch;
   LatencyConfig latency;  // issue 17 (docs/latency.md)
   std::set<std::string> metric_names;
@@ -341,19 +341,18 @@ struct Cell {
       if (watchdog)
         watchdog->begin(watchdog_slot, "frame " + std::to_string(fi) + ", method \"" + m.method +
                                            "\" (label \"" + m.label + "\")");
-      m.impl->render(ctx, fo);
+      render_with_lighting(*m.impl, ctx, fo);  // the method + its lighting strategy (lighting.h)
       if (watchdog) watchdog->end(watchdog_slot);
+      // The frame's RSMs are shared work every method of a scene with indirect light needs.
+      if (fd.has_vpls && fd.counters.has("rsm_texels"))
+        fo.counters.set("rsm_texels", fd.counters.get("rsm_texels"));
       double sim_ms = ms_since(m0);
       const Image& lin = fo.image_is_reference ? fd.reference : fo.image;
       if (lin.width != sh.sim_display.width || lin.height != sh.sim_display.height ||
           lin.channels != 3)
         throw Error("method " + m.label, "produced an image of the wrong size");
       sh.tonemap.apply(lin, out_display);
-      const Image* refd = &ref_display;
-      if (fo.reference) {
-        sh.tonemap.apply(*fo.reference, override_display);
-        refd = &override_display;
-      }
+      const Image* refd = &ref_display;  // every row against the same reference
       Counters metrics = compute_metrics(mcfg, out_display, *refd, fd.camera, fd.eccentricity,
                                          &m.temporal, &metrics_scratch);
       for (auto& f : fo.flags) flags_seen.insert(m.label + ":" + f);
@@ -367,8 +366,6 @@ struct Cell {
         if (mcfg.flip)
           write_image(img_dir + "/" + safe_file_name(m.stem + "_flip") + ".png",
                       flip_colormap(metrics_scratch.flip_map));
-        if (fo.reference)
-          write_images(img_dir, m.stem + "_reference", override_display, &*fo.reference, io);
         for (auto& [dname, dimg] : fo.debug)
           write_image(img_dir + "/" + safe_file_name(m.stem + "_" + dname) + ".png", dimg);
       }
@@ -389,6 +386,10 @@ struct Cell {
         row.set_text("label", m.label);
         row.set_text("gpu", gpu.name);
         for (auto& [pn, pv] : m.impl->param_columns()) row.set(pn, pv);
+        if (fd.has_vpls && m.impl->lighting()) {  // lighting strategy columns (results/README.md)
+          row.set_text("lighting", m.impl->lighting()->name());
+          for (auto& [pn, pv] : m.impl->lighting()->param_columns()) row.set(pn, pv);
+        }
         row.set("frame", fi);
         row.set("t", s.t);
         row.set("gaze_x", fd.gaze_px.x / sh.scale);  // pixels of the real display
@@ -435,6 +436,7 @@ struct Cell {
   void reset_temporal() {
     for (auto& m : methods) {
       m.impl->reset();
+      if (m.impl->lighting()) m.impl->lighting()->reset();
       m.temporal.reset();
       m.prev_est_ms = NAN;
     }
@@ -580,7 +582,9 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
   const bool sampled = !opt.targets.empty();
   bool temporal = false;
   for (auto& c : cells)
-    for (auto& m : c->methods) temporal = temporal || m.impl->temporal();
+    for (auto& m : c->methods)
+      temporal = temporal || m.impl->temporal() ||
+                 (sh.scene->wants_indirect && m.impl->lighting() && m.impl->lighting()->temporal());
   const bool shuffled = sampled && !temporal;
   const int unit = sampled ? kTargetUnitFrames : std::max(sh.count, 1);
   const int units = (sh.count + unit - 1) / unit;

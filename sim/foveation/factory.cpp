@@ -28,6 +28,17 @@ std::unique_ptr<FoveationMethod> make_method(const std::string& name, Params& p)
   for (auto& e : method_table()) {
     if (name == e.name) {
       auto m = e.create(p);
+      if (p.has("lighting")) {
+        if (m->own_lighting())
+          p.fail("lighting", "method \"" + name +
+                                 "\" has its own lighting; use {\"method\": \"full\", "
+                                 "\"lighting\": {\"method\": \"" +
+                                 name + "\"}} instead");
+        Params lp = p.child("lighting");
+        m->set_lighting(make_lighting(lp));
+      } else if (!m->lighting()) {
+        m->set_lighting(default_lighting());
+      }
       p.finish();
       return m;
     }
@@ -37,6 +48,11 @@ std::unique_ptr<FoveationMethod> make_method(const std::string& name, Params& p)
 }
 
 std::string methods_markdown() {
+  return methods_only_markdown() + "### Lighting strategies (`lighting` block)\n\n" +
+         lighting_markdown();
+}
+
+std::string methods_only_markdown() {
   auto cell = [](const char* s) {
     std::string r;
     for (const char* c = s; *c; ++c) r += (*c == '|') ? std::string("\\|") : std::string(1, *c);

@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "sim/core/math.h"
+#include "sim/foveation/lighting.h"
 
 namespace fovsim {
 
@@ -23,10 +24,13 @@ std::vector<VplSoA> flc_interleave_groups(const std::vector<VPL>& vpls,
   return groups;
 }
 
-void flc_gauss3(Image& img, const std::vector<uint8_t>& valid, bool wrap_y) {
+void flc_gauss3(Image& img, const std::vector<uint8_t>& valid, bool wrap_y, Image* scratch) {
   const int W = img.width, H = img.height, C = img.channels;
   if (W == 0 || H == 0) return;
-  Image src = img;  // the filter needs the unfiltered neighbours
+  Image local;
+  Image& src = scratch ? *scratch : local;  // the filter needs the unfiltered neighbours
+  if (src.width != W || src.height != H || src.channels != C) src.resize(W, H, C);
+  std::copy(img.data.begin(), img.data.end(), src.data.begin());
   static const float k1[3] = {1.f, 2.f, 1.f};
   tbb::parallel_for(0, H, [&](int y) {
     for (int x = 0; x < W; ++x) {
@@ -58,7 +62,8 @@ void flc_gauss3(Image& img, const std::vector<uint8_t>& valid, bool wrap_y) {
 }
 
 void flc_shade_cartesian(const GBuffer& g, const std::vector<VplSoA>& groups, int n,
-                         const VplShading& s, const Renderer* r, Image& out, Counters* c) {
+                         const VplShading& s, const Renderer* r, Image& out, Counters* c,
+                         FlcShadeScratch* scratch) {
   n = std::max(1, n);
   if (out.width != g.width || out.height != g.height || out.channels != 3)
     out.resize(g.width, g.height, 3);
@@ -74,8 +79,7 @@ void flc_shade_cartesian(const GBuffer& g, const std::vector<VplSoA>& groups, in
           continue;
         }
         const VplSoA& grp = groups[size_t(x % n) + size_t(n) * size_t(y % n)];
-        glm::vec3 L =
-            shade_vpls_point(grp, g.position[i], g.normal[i], g.albedo[i], s, r, 1.f, &nr);
+        glm::vec3 L = shade_vpls(grp, g.position[i], g.normal[i], g.albedo[i], s, r, 1.f, &nr);
         ++ns;
         np += grp.size();
         o[0] = L.x;
@@ -87,9 +91,11 @@ void flc_shade_cartesian(const GBuffer& g, const std::vector<VplSoA>& groups, in
     rays += nr;
   });
   if (n > 1) {
-    std::vector<uint8_t> valid(g.size());
+    std::vector<uint8_t> local;
+    std::vector<uint8_t>& valid = scratch ? scratch->valid : local;
+    valid.resize(g.size());
     for (size_t i = 0; i < g.size(); ++i) valid[i] = g.hit(i) ? 1 : 0;
-    flc_gauss3(out, valid, false);
+    flc_gauss3(out, valid, false, scratch ? &scratch->filter_src : nullptr);
   }
   if (c) {
     c->add("shaded_samples", double(shaded.load()));
@@ -100,7 +106,8 @@ void flc_shade_cartesian(const GBuffer& g, const std::vector<VplSoA>& groups, in
 
 void flc_shade_logpolar(const GBuffer& g, const glm::dvec2& gaze_px, double sigma,
                         const std::vector<VplSoA>& groups, int n, const VplShading& s,
-                        const Renderer* r, Image& out, Counters* c, Image* lp_debug) {
+                        const Renderer* r, Image& out, Counters* c, Image* lp_debug,
+                        FlcShadeScratch* scratch) {
   n = std::max(1, n);
   sigma = std::max(1.0, sigma);
   const int W = g.width, H = g.height;
@@ -114,8 +121,12 @@ void flc_shade_logpolar(const GBuffer& g, const glm::dvec2& gaze_px, double sigm
   }
   const double L = std::log(std::max(maxd, 2.0));
   const double two_pi = 2.0 * kPi;
-  Image lp(w, h, 3);
-  std::vector<uint8_t> valid(size_t(w) * size_t(h), 0);
+  Image lp_local;
+  std::vector<uint8_t> valid_local;
+  Image& lp = scratch ? scratch->lp : lp_local;
+  std::vector<uint8_t>& valid = scratch ? scratch->lp_valid : valid_local;
+  if (lp.width != w || lp.height != h || lp.channels != 3) lp.resize(w, h, 3);
+  valid.assign(size_t(w) * size_t(h), 0);  // every texel's o[] is written below
   std::atomic<uint64_t> shaded{0}, pairs{0}, rays{0};
   // Backward transform: each LP texel fetches the G-buffer sample it maps to, then is shaded.
   tbb::parallel_for(0, h, [&](int v) {
@@ -131,7 +142,7 @@ void flc_shade_logpolar(const GBuffer& g, const glm::dvec2& gaze_px, double sigm
       if (!g.hit(i)) continue;
       valid[size_t(v) * size_t(w) + size_t(u)] = 1;
       const VplSoA& grp = groups[size_t(u % n) + size_t(n) * size_t(v % n)];
-      glm::vec3 Lo = shade_vpls_point(grp, g.position[i], g.normal[i], g.albedo[i], s, r, 1.f, &nr);
+      glm::vec3 Lo = shade_vpls(grp, g.position[i], g.normal[i], g.albedo[i], s, r, 1.f, &nr);
       ++ns;
       np += grp.size();
       o[0] = Lo.x;
@@ -142,7 +153,7 @@ void flc_shade_logpolar(const GBuffer& g, const glm::dvec2& gaze_px, double sigm
     pairs += np;
     rays += nr;
   });
-  if (n > 1) flc_gauss3(lp, valid, true);
+  if (n > 1) flc_gauss3(lp, valid, true, scratch ? &scratch->filter_src : nullptr);
   // Full VPL set for the rare pixels with no valid LP neighbour (weights / n^2 undo the groups).
   const float inv_g = 1.f / float(n * n);
   std::atomic<uint64_t> fallback{0};
@@ -177,7 +188,7 @@ void flc_shade_logpolar(const GBuffer& g, const glm::dvec2& gaze_px, double sigm
       }
       glm::vec3 Lo(0.f);
       for (const VplSoA& grp : groups) {
-        Lo += shade_vpls_point(grp, g.position[i], g.normal[i], g.albedo[i], s, r, inv_g, &nr);
+        Lo += shade_vpls(grp, g.position[i], g.normal[i], g.albedo[i], s, r, inv_g, &nr);
         np += grp.size();
       }
       ++nf;
@@ -196,7 +207,7 @@ void flc_shade_logpolar(const GBuffer& g, const glm::dvec2& gaze_px, double sigm
     c->add("lp_fallback_samples", double(fallback.load()));
     if (s.visibility) c->add("vpl_shadow_rays", double(rays.load()));
   }
-  if (lp_debug) *lp_debug = std::move(lp);
+  if (lp_debug) *lp_debug = lp;  // a copy: lp may be the reused scratch
 }
 
 }  // namespace fovsim

@@ -15,6 +15,13 @@ namespace fovsim {
 
 class Renderer;
 
+// Buffers the shading passes reuse from frame to frame (no per-frame full-frame allocation);
+// optional: without it the passes allocate their own.
+struct FlcShadeScratch {
+  Image filter_src, lp;
+  std::vector<uint8_t> valid, lp_valid;
+};
+
 // Splits the weighted VPL subset into n*n interleaved groups (VPL k -> group k mod n^2), each
 // VPL's weight multiplied by n^2 so every group is an unbiased estimate of the whole set.
 std::vector<VplSoA> flc_interleave_groups(const std::vector<VPL>& vpls,
@@ -23,13 +30,15 @@ std::vector<VplSoA> flc_interleave_groups(const std::vector<VPL>& vpls,
 
 // 3x3 Gaussian ([1 2 1]^2 / 16) over the samples with valid[i] != 0, renormalised over the
 // valid neighbours (misses neither contribute nor receive). `wrap_y`: rows wrap (log-polar angle).
-void flc_gauss3(Image& img, const std::vector<uint8_t>& valid, bool wrap_y);
+void flc_gauss3(Image& img, const std::vector<uint8_t>& valid, bool wrap_y,
+                Image* scratch = nullptr);
 
 // Indirect light of every G-buffer sample with interleaved groups (pixel (x, y) uses group
 // (x mod n) + n (y mod n)); for n > 1 the 3x3 Gaussian follows. Misses get 0.
 // Counters: shaded_samples, shaded_sample_vpls, vpl_shadow_rays.
 void flc_shade_cartesian(const GBuffer& g, const std::vector<VplSoA>& groups, int n,
-                         const VplShading& s, const Renderer* r, Image& out, Counters* c);
+                         const VplShading& s, const Renderer* r, Image& out, Counters* c,
+                         FlcShadeScratch* scratch = nullptr);
 
 // Same in log-polar space around the gaze (sigma >= 1): each LP texel takes the G-buffer
 // sample of the pixel it maps back to, is shaded there, then the buffer is mapped to the
@@ -37,6 +46,7 @@ void flc_shade_cartesian(const GBuffer& g, const std::vector<VplSoA>& groups, in
 // `lp_debug` (optional) receives the LP buffer.
 void flc_shade_logpolar(const GBuffer& g, const glm::dvec2& gaze_px, double sigma,
                         const std::vector<VplSoA>& groups, int n, const VplShading& s,
-                        const Renderer* r, Image& out, Counters* c, Image* lp_debug = nullptr);
+                        const Renderer* r, Image& out, Counters* c, Image* lp_debug = nullptr,
+                        FlcShadeScratch* scratch = nullptr);
 
 }  // namespace fovsim

@@ -1,5 +1,7 @@
 #include "sim/foveation/frame.h"
 
+#include <algorithm>
+
 namespace fovsim {
 
 glm::dvec2 gaze_pixel(const Camera& cam, const glm::dvec3& gaze_dir) {
@@ -26,7 +28,20 @@ void prepare_frame(const Renderer& r, const Display& d, const TraceSample& s, in
   out.gaze_px = gaze_pixel(out.camera, out.gaze_dir);
   out.counters.clear();
   r.trace_gbuffer(out.camera, channels | kShadingChannels, out.gbuffer, &out.counters, prev);
-  r.shade(out.gbuffer, out.camera.position, out.reference, nullptr, &out.counters);
+  out.has_vpls = r.scene().wants_indirect;
+  if (!out.has_vpls) {
+    r.shade(out.gbuffer, out.camera.position, out.reference, nullptr, &out.counters);
+  } else {
+    // One VPL set per frame; reference = direct + indirect from all VPLs (the FLC paper's
+    // TBDS ground truth, §7), added by the same loop the methods' strategies use.
+    r.shade(out.gbuffer, out.camera.position, out.direct, nullptr, &out.counters);
+    build_frame_vpls(r, out.vpls, &out.counters);
+    out.counters.set("vpls_total", double(out.vpls.vpls.size()));
+    out.reference.resize(out.direct.width, out.direct.height, 3);
+    std::copy(out.direct.data.begin(), out.direct.data.end(), out.reference.data.begin());
+    add_indirect(out.gbuffer, out.vpls.all, out.vpls.shading, &r, nullptr, out.reference,
+                 &out.counters);
+  }
   out.eccentricity = eccentricity_map(out.camera, out.gaze_dir);
 }
 
@@ -45,6 +60,8 @@ FrameContext FrameData::context(const Scene& scene, const Renderer& r, const Dis
   c.gaze_valid = gaze_valid;
   c.gbuffer = &gbuffer;
   c.reference = &reference;
+  c.direct = has_vpls ? &direct : &reference;
+  c.vpls = has_vpls ? &vpls : nullptr;
   c.eccentricity = &eccentricity;
   c.want_debug = debug;
   return c;

@@ -18,15 +18,19 @@ struct FrameData {
   glm::dvec2 gaze_px{0, 0};
   bool gaze_valid = true;
   GBuffer gbuffer;                  // channels: kShadingChannels | what the methods asked for
-  Image reference;                  // linear RGB
+  Image reference;                  // linear RGB: direct + indirect from all VPLs (if any)
+  Image direct;                     // direct light only; filled only when has_vpls
+  bool has_vpls = false;            // the scene wants indirect light (Scene::wants_indirect)
+  FrameVpls vpls;                   // the frame's VPL set (lighting.h), when has_vpls
   std::vector<float> eccentricity;  // degrees, W*H
   Counters counters;                // rays etc. of the reference pass
 
   FrameContext context(const Scene& scene, const Renderer& r, const Display& d, bool debug) const;
 };
 
-// Renders the shared data of one frame. `prev` is the previous frame's camera (or nullptr).
-// The renderer's time must already be set to s.t.
+// Renders the shared data of one frame (with the scene's VPLs and their indirect light in the
+// reference when the scene wants indirect light). `prev` is the previous frame's camera (or
+// nullptr). The renderer's time must already be set to s.t.
 void prepare_frame(const Renderer& r, const Display& d, const TraceSample& s, int frame,
                    uint32_t channels, const Camera* prev, FrameData& out);
 

@@ -85,6 +85,8 @@ double shade_buffer(const FrameContext& ctx, const GBuffer& g, Image& col,
                     const std::vector<uint8_t>* used, FrameOutput& out) {
   Counters c;
   ctx.renderer->shade(g, ctx.camera->position, col, used ? used->data() : nullptr, &c);
+  // The scene's indirect light with the method's lighting strategy, at the same samples.
+  if (ctx.lighting) ctx.lighting->shade(ctx, g, used ? used->data() : nullptr, col, c);
   double n = 0;
   if (used) {
     for (uint8_t b : *used) n += b;

@@ -13,6 +13,7 @@
 #include "sim/core/image.h"
 #include "sim/core/params.h"
 #include "sim/display/display.h"
+#include "sim/foveation/lighting.h"
 #include "sim/render/gbuffer.h"
 #include "sim/render/renderer.h"
 #include "sim/scene/scene.h"
@@ -36,7 +37,12 @@ struct FrameContext {
   glm::dvec2 gaze_px{0, 0};             // pixels; may lie outside the screen
   bool gaze_valid = true;
   const GBuffer* gbuffer = nullptr;  // full-res primary-ray G-buffer (channels = union of needs)
-  const Image* reference = nullptr;  // full-res linear shading of `gbuffer`
+  const Image* reference = nullptr;  // full-res linear shading of `gbuffer` (direct + indirect)
+  const Image* direct = nullptr;     // its direct light only (== reference without indirect)
+  const FrameVpls* vpls = nullptr;   // the frame's VPLs; nullptr when the scene has no indirect
+  // The method's lighting strategy for this frame (set by the engine when `vpls` is set):
+  // methods add its indirect light at their samples (shade_buffer does).
+  const LightingStrategy* lighting = nullptr;
   const std::vector<float>* eccentricity = nullptr;  // degrees per pixel, W*H
   bool want_debug = false;                           // fill FrameOutput::debug
 };
@@ -46,7 +52,6 @@ struct FrameOutput {
   bool image_is_reference = false;  // set instead of copying ctx.reference into image
   Counters counters;                // see results/README.md for names
   std::vector<std::pair<std::string, Image>> debug;  // name -> image (RGB or 1-channel)
-  std::optional<Image> reference;  // when the method's ground truth differs (FLC: all VPLs)
   std::vector<std::string> flags;  // limitations hit this frame (e.g. "moving_lights")
 };
 
@@ -63,6 +68,16 @@ class FoveationMethod {
   // The sampling geometry of image-mapping methods and baselines (density, analytic
   // counters); nullptr for the others.
   virtual const MappingSpec* mapping_spec() const { return nullptr; }
+
+  // Lighting strategy (lighting.h): the config's `lighting` block, all_vpls by default. Used
+  // only when the scene has indirect light.
+  LightingStrategy* lighting() const { return lighting_.get(); }
+  void set_lighting(std::unique_ptr<LightingStrategy> l) { lighting_ = std::move(l); }
+  // True when the method brings its own strategy (flc): a `lighting` block is then an error.
+  virtual bool own_lighting() const { return false; }
+
+ protected:
+  std::unique_ptr<LightingStrategy> lighting_;
 };
 
 // Descriptor of one parameter (the table at the top of each method file).

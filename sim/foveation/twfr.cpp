@@ -227,6 +227,7 @@ void TwfrMethod::render(const FrameContext& ctx, FrameOutput& out) {
   if (ctx.want_debug) reprojected = color_;
   c.set("shaded_samples", 0);
   rdr.shade(g, cam.position, color_, mask_.data(), &c);
+  if (ctx.lighting) ctx.lighting->shade(ctx, g, mask_.data(), color_, c);  // the scene's indirect
   // Redrawn pixels carry their exact world position (or sky direction) into the next frame;
   // hole-filled pixels carry none (§4).
   size_t shaded = tbb::parallel_reduce(

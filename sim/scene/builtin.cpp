@@ -482,6 +482,16 @@ Scene make_scene(Params& p, const std::string& models_dir) {
     s = make_cornell(p);
   else
     s = load_file_scene(p, models_dir);
+  // Common key `vpl`: how the frame's VPL set is generated (only for scenes with indirect light,
+  // so a scene without it has no VPL pass anywhere).
+  if (p.has("vpl")) {
+    if (!s.wants_indirect)
+      p.fail("vpl", "this scene has no indirect light (atrium: set \"indirect\": true)");
+    Params vp = p.child("vpl");
+    s.vpl.rsm_size = vp.integer("rsm_size", 64, Range::closed(1, 1024));
+    s.vpl.min_dist = vp.number("min_dist", 0.01, Range::above(0, 1));
+    s.vpl.shadow_rays = vp.boolean("shadow_rays", false);
+  }
   s.build_submodels(500);
   return s;
 }

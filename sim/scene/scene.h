@@ -96,6 +96,15 @@ struct SceneFeatures {  // decides which passes exist (DESIGN §6: model only wh
   static SceneFeatures from_json(const Json& j);
 };
 
+// Scene-level settings of the one-bounce indirect light (VPLs from reflective shadow maps,
+// instant radiosity as in Yang et al., "Foveated light culling", §3). One VPL set per frame,
+// shared by the reference and every method (models/scenes/README.md, key `vpl`).
+struct VplSettings {
+  int rsm_size = 64;         // RSM texels per edge per light (FLC paper §7: 64x64)
+  double min_dist = 0.01;    // distance clamp against the 1/d^2 singularity, / scene diagonal
+  bool shadow_rays = false;  // exact VPL -> receiver visibility in shading (beyond the paper)
+};
+
 struct Scene {
   std::string name;
   std::vector<Mesh> meshes;
@@ -107,6 +116,7 @@ struct Scene {
   glm::vec3 ambient{0.03f};
   glm::vec3 background{0.02f, 0.02f, 0.03f};
   bool wants_indirect = false;
+  VplSettings vpl;        // used when wants_indirect
   double exposure = 1.0;  // suggested tone-mapping exposure
   // Suggested default viewpoint for traces without head positions (e.g. synthetic fixate).
   glm::vec3 default_eye{0, 1.6f, 0};

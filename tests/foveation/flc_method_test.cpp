@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <memory>
 
 #include "sim/core/error.h"
@@ -22,8 +23,11 @@ struct Fixture {
   Display display;
   FrameData fd;
 
-  explicit Fixture(double light_intensity = 1.6, int size = 48) {
-    Params sp(Json{{"type", "cornell"}, {"light_intensity", light_intensity}});
+  explicit Fixture(double light_intensity = 1.6, int size = 48, int rsm = 16,
+                   double min_dist = 0.01) {
+    Params sp(Json{{"type", "cornell"},
+                   {"light_intensity", light_intensity},
+                   {"vpl", {{"rsm_size", rsm}, {"min_dist", min_dist}}}});
     scene = make_scene(sp, "");
     renderer = std::make_unique<Renderer>(scene, RenderSettings{});
     display.width = size;
@@ -43,7 +47,7 @@ struct Fixture {
     FrameContext ctx = fd.context(scene, *renderer, display, false);
     ctx.frame = frame;
     FrameOutput out;
-    m->render(ctx, out);
+    render_with_lighting(*m, ctx, out);
     return out;
   }
 };
@@ -61,9 +65,12 @@ bool all_finite(const Image& a) {
   return true;
 }
 
-Fixture& cornell() {
-  static Fixture f;
-  return f;
+// One fixture per RSM size (the VPL set is the scene's, scene.vpl.rsm_size).
+Fixture& cornell(int rsm = 16) {
+  static std::map<int, std::unique_ptr<Fixture>> f;
+  auto& p = f[rsm];
+  if (!p) p = std::make_unique<Fixture>(1.6, 48, rsm);
+  return *p;
 }
 
 }  // namespace
@@ -78,16 +85,17 @@ TEST(FlcMethod, GazeLandsOnTheRedWall) {
 }
 
 TEST(FlcMethod, BudgetCoveringAllVplsEqualsGroundTruth) {
-  Fixture& f = cornell();
-  FrameOutput o = f.run(Json{{"rsm_size", 16}, {"vpl_budget", 100000}});
-  ASSERT_TRUE(o.reference.has_value());
+  Fixture& f = cornell(16);
+  FrameOutput o = f.run(Json{{"vpl_budget", 100000}});
   EXPECT_GT(o.counters.get("vpls_total"), 100.0);
   EXPECT_EQ(o.counters.get("vpls_kept"), o.counters.get("vpls_total"));
-  EXPECT_EQ(max_abs_diff(o.image, *o.reference), 0.0);
-  // Indirect light is really there: the ground truth is brighter than the direct reference.
+  // Every VPL with weight 1 is exactly the shared reference (all VPLs, TBDS): same loop, same
+  // direct + indirect sum.
+  EXPECT_EQ(max_abs_diff(o.image, f.fd.reference), 0.0);
+  // Indirect light is really there: the reference is brighter than the direct light.
   double ind = 0;
   for (size_t i = 0; i < o.image.data.size(); ++i)
-    ind += o.reference->data[i] - f.fd.reference.data[i];
+    ind += f.fd.reference.data[i] - f.fd.direct.data[i];
   EXPECT_GT(ind / double(o.image.data.size()), 1e-3);
   EXPECT_NEAR(o.counters.get("flc_tau"), 1.0, 1e-9);
 }
@@ -99,16 +107,14 @@ TEST(FlcMethod, BudgetCoveringAllVplsEqualsGroundTruth) {
 // 5.95 and 11.05, i.e. a margin of 2x and 3.7x over the threshold; results are also identical
 // on every Embree ISA path, so the margin is the same on any x86-64 CPU.
 TEST(FlcMethod, FovealErrorFallsWithBudget) {
-  Fixture& f = cornell();
+  Fixture& f = cornell(24);
   const int budgets[3] = {4, 32, 256};
   const int n = 24;
   std::vector<double> r[3];
   for (int b = 0; b < 3; ++b)
     for (int seed = 1; seed <= n; ++seed)
-      r[b].push_back(
-          f.run(
-               Json{{"rsm_size", 24}, {"vpl_budget", budgets[b]}, {"samples", 128}, {"seed", seed}})
-              .counters.get("flc_rmse_fovea"));
+      r[b].push_back(f.run(Json{{"vpl_budget", budgets[b]}, {"samples", 128}, {"seed", seed}})
+                         .counters.get("flc_rmse_fovea"));
   for (int b = 0; b < 2; ++b) {
     double m = 0, m2 = 0;
     auto d = [&](int k) { return std::log(r[b][size_t(k)] / r[b + 1][size_t(k)]); };
@@ -122,39 +128,33 @@ TEST(FlcMethod, FovealErrorFallsWithBudget) {
 }
 
 TEST(FlcMethod, TauAboveOneWithGazeOnAWall) {
-  Fixture& f = cornell();
+  Fixture& f = cornell(24);
   double tau = 0;
   for (int seed = 1; seed <= 3; ++seed) {
-    FrameOutput o = f.run(Json{{"rsm_size", 24},
-                               {"vpl_budget", 64},
-                               {"samples", 128},
-                               {"seed", seed},
-                               {"w_periphery", 0.25}});
+    FrameOutput o =
+        f.run(Json{{"vpl_budget", 64}, {"samples", 128}, {"seed", seed}, {"w_periphery", 0.25}});
     tau += o.counters.get("flc_tau") / 3;
   }
   EXPECT_GT(tau, 1.0);
 }
 
 TEST(FlcMethod, ExtremesStayFinite) {
-  Fixture& f = cornell();
+  Fixture& f = cornell(8);
   // Budget 0: only direct light.
-  FrameOutput z = f.run(Json{{"rsm_size", 8}, {"vpl_budget", 0}});
+  FrameOutput z = f.run(Json{{"vpl_budget", 0}});
   EXPECT_EQ(z.counters.get("vpls_kept"), 0.0);
-  EXPECT_EQ(max_abs_diff(z.image, f.fd.reference), 0.0);
-  EXPECT_TRUE(all_finite(*z.reference));
+  EXPECT_EQ(max_abs_diff(z.image, f.fd.direct), 0.0);
+  EXPECT_TRUE(all_finite(f.fd.reference));
   // Zero importance map (delta = 0 after a first frame -> p_b = 0), tiny clamp, every mode.
+  Fixture tiny(1.6, 32, 8, 1e-9);
   for (const char* vis : {"none", "blso", "exact"}) {
-    Params p(Json{{"rsm_size", 8},
-                  {"vpl_budget", 10},
-                  {"delta", 0.0},
-                  {"visibility", vis},
-                  {"min_dist", 1e-9}});
+    Params p(Json{{"vpl_budget", 10}, {"delta", 0.0}, {"visibility", vis}});
     auto m = make_method("flc", p);
-    FrameContext ctx = f.fd.context(f.scene, *f.renderer, f.display, true);
+    FrameContext ctx = tiny.fd.context(tiny.scene, *tiny.renderer, tiny.display, true);
     for (int k = 0; k < 2; ++k) {
       FrameOutput o;
       ctx.frame = k;
-      m->render(ctx, o);
+      render_with_lighting(*m, ctx, o);
       EXPECT_TRUE(all_finite(o.image)) << vis;
       EXPECT_LE(o.counters.get("vpls_kept"), 10.0);
       EXPECT_TRUE(std::isfinite(o.counters.get("flc_tau")));
@@ -162,30 +162,29 @@ TEST(FlcMethod, ExtremesStayFinite) {
     }
   }
   // Log-polar with interleaving: fewer shaded samples, finite.
-  FrameOutput lp =
-      f.run(Json{{"rsm_size", 8}, {"log_polar", true}, {"lp_sigma", 2.0}, {"interleave", 2}});
+  FrameOutput lp = f.run(Json{{"log_polar", true}, {"lp_sigma", 2.0}, {"interleave", 2}});
   EXPECT_TRUE(all_finite(lp.image));
   EXPECT_LT(lp.counters.get("shaded_samples"), 0.5 * f.display.width * f.display.height);
 }
 
 TEST(FlcMethod, NoVplsWhenTheLightIsOff) {
-  Fixture dark(0.0, 16);
-  FrameOutput o = dark.run(Json{{"rsm_size", 8}});
+  Fixture dark(0.0, 16, 8);
+  FrameOutput o = dark.run(Json::object());
   EXPECT_EQ(o.counters.get("vpls_total"), 0.0);
   EXPECT_EQ(o.counters.get("vpls_kept"), 0.0);
   EXPECT_TRUE(all_finite(o.image));
-  EXPECT_EQ(max_abs_diff(o.image, *o.reference), 0.0);
+  EXPECT_EQ(max_abs_diff(o.image, dark.fd.reference), 0.0);
 }
 
 TEST(FlcMethod, DeterministicAcrossThreadCounts) {
   Fixture& f = cornell();
-  const Json p{{"rsm_size", 16}, {"vpl_budget", 50}, {"samples", 64}, {"seed", 9}};
+  const Json p{{"vpl_budget", 50}, {"samples", 64}, {"seed", 9}};
   FrameOutput a, b;
   tbb::task_arena(1).execute([&] { a = f.run(p); });
   tbb::task_arena(2).execute([&] { b = f.run(p); });
   EXPECT_EQ(max_abs_diff(a.image, b.image), 0.0);
   EXPECT_EQ(a.counters.get("vpls_kept"), b.counters.get("vpls_kept"));
-  FrameOutput c = f.run(Json{{"rsm_size", 16}, {"vpl_budget", 50}, {"samples", 64}, {"seed", 10}});
+  FrameOutput c = f.run(Json{{"vpl_budget", 50}, {"samples", 64}, {"seed", 10}});
   EXPECT_GT(max_abs_diff(a.image, c.image), 0.0);
 }
 
@@ -201,4 +200,12 @@ TEST(FlcMethod, ParameterErrorsNameTheKey) {
   EXPECT_THROW(make_method("flc", p2), Error);
   Params p3(Json{{"vpl_budgte", 10}}, "cfg.json", "methods[0]");
   EXPECT_THROW(make_method("flc", p3), Error);
+  // VPL generation moved to the scene: the old key says where it went.
+  Params p4(Json{{"rsm_size", 16}}, "cfg.json", "methods[0]");
+  try {
+    make_method("flc", p4);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("scene.vpl.rsm_size"), std::string::npos) << e.what();
+  }
 }

@@ -1,0 +1,209 @@
+// Lighting strategies (sim/foveation/lighting.h): the frame's VPL set is shared, all_vpls at
+// full sampling is the reference exactly, fir/flc keep at most their budget, the SIMD VPL loop
+// gives the scalar loop's bits on every path, bad `lighting` keys name their JSON path, and a
+// scene without indirect light has no VPLs at all.
+#include <gtest/gtest.h>
+#include <tbb/task_arena.h>
+
+#include <cmath>
+#include <memory>
+#include <string>
+
+#include "sim/core/error.h"
+#include "sim/foveation/factory.h"
+#include "sim/foveation/frame.h"
+#include "sim/foveation/simd_kernels.h"
+
+using namespace fovsim;
+
+namespace {
+
+struct World {
+  Scene scene;
+  std::unique_ptr<Renderer> renderer;
+  Display display;
+  FrameData fd;
+  explicit World(const Json& scene_json, int size = 40) {
+    Params sp(scene_json);
+    scene = make_scene(sp, "");
+    renderer = std::make_unique<Renderer>(scene, RenderSettings{});
+    display.width = display.height = size;
+    display.fov_h_deg = display.fov_v_deg = 60;
+    TraceSample s;
+    s.head_pos = glm::dvec3(0, 1, 2.2);
+    s.gaze_dir = glm::normalize(glm::dvec3(-0.3, 0.0, -1.0));
+    renderer->set_time(0);
+    prepare_frame(*renderer, display, s, 0, kShadingChannels, nullptr, fd);
+  }
+  FrameOutput run(const std::string& method, const Json& params, int frame = 0) {
+    Params p(params, "cfg.json", "methods[0]");
+    auto m = make_method(method, p);
+    FrameContext ctx = fd.context(scene, *renderer, display, false);
+    ctx.frame = frame;
+    FrameOutput out;
+    render_with_lighting(*m, ctx, out);
+    return out;
+  }
+  const Image& image(const FrameOutput& o) const {
+    return o.image_is_reference ? fd.reference : o.image;
+  }
+};
+
+World& cornell() {
+  static World w(Json{{"type", "cornell"}, {"vpl", {{"rsm_size", 12}}}});
+  return w;
+}
+
+double max_abs_diff(const Image& a, const Image& b) {
+  double m = 0;
+  for (size_t i = 0; i < a.data.size(); ++i)
+    m = std::max(m, double(std::fabs(a.data[i] - b.data[i])));
+  return m;
+}
+
+std::string error_of(const std::string& method, const Json& j) {
+  try {
+    Params p(j, "cfg.json", "methods[1]");
+    make_method(method, p);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(Lighting, FrameHasOneVplSetAndTheReferenceIncludesIt) {
+  World& w = cornell();
+  ASSERT_TRUE(w.fd.has_vpls);
+  EXPECT_GT(w.fd.vpls.vpls.size(), 50u);
+  EXPECT_EQ(w.fd.vpls.all.size(), w.fd.vpls.vpls.size());
+  EXPECT_GT(w.fd.counters.get("rsm_texels"), 0.0);
+  double ind = 0;
+  for (size_t i = 0; i < w.fd.reference.data.size(); ++i)
+    ind += w.fd.reference.data[i] - w.fd.direct.data[i];
+  EXPECT_GT(ind, 0.0);
+}
+
+TEST(Lighting, AllVplsAtFullSamplingIsTheReferenceExactly) {
+  World& w = cornell();
+  FrameOutput f = w.run("full", Json{{"lighting", {{"method", "all_vpls"}}}});
+  EXPECT_EQ(max_abs_diff(w.image(f), w.fd.reference), 0.0);
+  EXPECT_EQ(f.counters.get("vpls_kept"), double(w.fd.vpls.vpls.size()));
+  // The strategy's own loop over the full G-buffer gives the same bits (no shortcut).
+  FrameContext ctx = w.fd.context(w.scene, *w.renderer, w.display, false);
+  auto L = default_lighting();
+  Counters c;
+  L->begin_frame(ctx, c);
+  Image col = w.fd.direct;
+  L->shade(ctx, w.fd.gbuffer, nullptr, col, c);
+  EXPECT_EQ(max_abs_diff(col, w.fd.reference), 0.0);
+  EXPECT_GT(c.get("shaded_sample_vpls"), 0.0);
+}
+
+TEST(Lighting, SamplingMethodsShadeTheIndirectLight) {
+  World& w = cornell();
+  // KFR with all VPLs adds the indirect light at its samples: the mean indirect light of its
+  // image (image - direct) is near the reference's (without it the ratio would be ~0).
+  FrameOutput k = w.run("kfr", Json{{"sigma", 1.5}});
+  EXPECT_GT(k.counters.get("shaded_sample_vpls"), 0.0);
+  EXPECT_EQ(k.counters.get("vpls_kept"), double(w.fd.vpls.vpls.size()));
+  double ind_k = 0, ind_ref = 0;
+  for (size_t i = 0; i < k.image.data.size(); ++i) {
+    ind_k += k.image.data[i] - w.fd.direct.data[i];
+    ind_ref += w.fd.reference.data[i] - w.fd.direct.data[i];
+  }
+  EXPECT_GT(ind_ref, 0.0);
+  EXPECT_NEAR(ind_k / ind_ref, 1.0, 0.5);  // 0 without the indirect light; measured 1.24
+}
+
+TEST(Lighting, FirAndFlcKeepAtMostTheirBudget) {
+  World& w = cornell();
+  const double n = double(w.fd.vpls.vpls.size());
+  for (const char* strat : {"fir", "flc"})
+    for (int budget : {0, 1, 7, 40, 1000000}) {
+      FrameOutput o = w.run("kfr", Json{{"lighting", {{"method", strat}, {"vpl_budget", budget}}}});
+      EXPECT_LE(o.counters.get("vpls_kept"), std::min(double(budget), n)) << strat << budget;
+      EXPECT_EQ(o.counters.get("vpls_total"), n);
+      for (float v : o.image.data) ASSERT_TRUE(std::isfinite(v));
+      if (budget >= n) {
+        EXPECT_EQ(o.counters.get("vpls_kept"), n);
+      }
+    }
+  // FIR has no importance map (only per-VPL importance and culling); FLC has both.
+  FrameOutput fir = w.run("full", Json{{"lighting", {{"method", "fir"}, {"vpl_budget", 16}}}});
+  EXPECT_FALSE(fir.counters.has("importance_samples"));
+  EXPECT_TRUE(fir.counters.has("contribution_evals"));
+}
+
+TEST(Lighting, DeterministicAcrossThreadCounts) {
+  World& w = cornell();
+  for (const char* strat : {"fir", "flc", "all_vpls"}) {
+    const Json p{{"lighting", {{"method", strat}, {"vpl_budget", 30}}}};
+    const Json q = std::string(strat) == "all_vpls" ? Json{{"lighting", {{"method", strat}}}} : p;
+    FrameOutput a, b;
+    tbb::task_arena(1).execute([&] { a = w.run("rmfr", q); });
+    tbb::task_arena(2).execute([&] { b = w.run("rmfr", q); });
+    EXPECT_EQ(max_abs_diff(a.image, b.image), 0.0) << strat;
+  }
+}
+
+TEST(Lighting, SimdVplLoopMatchesTheScalarLoopOnEveryPath) {
+  World& w = cornell();
+  const FrameVpls& fv = w.fd.vpls;
+  const SimdPath saved = simd_path();
+  for (SimdPath path : simd_paths_available()) {
+    set_simd_path(path);
+    for (size_t i = 0; i < w.fd.gbuffer.size(); i += 7) {
+      if (!w.fd.gbuffer.hit(i)) continue;
+      const GBuffer& g = w.fd.gbuffer;
+      // Every remainder length of the 8-lane loop.
+      for (size_t m : {size_t(0), size_t(1), size_t(7), size_t(8), size_t(13), fv.all.size()}) {
+        VplSoA sub;
+        for (size_t k = 0; k < std::min(m, fv.vpls.size()); ++k) sub.push(fv.vpls[k], 1.f);
+        const glm::vec3 a =
+            shade_vpls(sub, g.position[i], g.normal[i], g.albedo[i], fv.shading, nullptr);
+        const glm::vec3 b =
+            shade_vpls_point(sub, g.position[i], g.normal[i], g.albedo[i], fv.shading, nullptr);
+        ASSERT_EQ(a.x, b.x) << simd_path_name(path) << " m=" << m;
+        ASSERT_EQ(a.y, b.y);
+        ASSERT_EQ(a.z, b.z);
+      }
+    }
+  }
+  set_simd_path(saved);
+}
+
+TEST(Lighting, BadLightingKeysNameTheJsonPath) {
+  std::string e = error_of("kfr", Json{{"lighting", {{"method", "flc"}, {"vpl_budgte", 1}}}});
+  EXPECT_NE(e.find("methods[1].lighting.vpl_budgte"), std::string::npos) << e;
+  e = error_of("kfr", Json{{"lighting", {{"method", "tbds"}}}});
+  EXPECT_NE(e.find("methods[1].lighting.method"), std::string::npos) << e;
+  EXPECT_NE(e.find("all_vpls, flc, fir"), std::string::npos) << e;
+  e = error_of("kfr", Json{{"lighting", {{"method", "fir"}, {"vpl_budget", -3}}}});
+  EXPECT_NE(e.find("methods[1].lighting.vpl_budget"), std::string::npos) << e;
+  e = error_of("kfr", Json{{"lighting", "flc"}});
+  EXPECT_NE(e.find("methods[1].lighting"), std::string::npos) << e;
+  // The flc method brings its own lighting.
+  e = error_of("flc", Json{{"lighting", {{"method", "fir"}}}});
+  EXPECT_NE(e.find("methods[1].lighting"), std::string::npos) << e;
+}
+
+TEST(Lighting, SceneWithoutIndirectHasNoVplPass) {
+  World w(Json{{"type", "atrium"}, {"complexity", 1}}, 24);
+  EXPECT_FALSE(w.fd.has_vpls);
+  EXPECT_FALSE(w.fd.counters.has("rsm_texels"));
+  EXPECT_TRUE(w.fd.vpls.vpls.empty());
+  FrameOutput o = w.run("kfr", Json{{"lighting", {{"method", "flc"}, {"vpl_budget", 8}}}});
+  for (const char* k : {"vpls_total", "vpls_kept", "shaded_sample_vpls", "rsm_texels",
+                        "importance_samples", "contribution_evals"})
+    EXPECT_FALSE(o.counters.has(k)) << k;
+  // `vpl` settings on a scene without indirect light are an error naming the key.
+  try {
+    Params sp(Json{{"type", "atrium"}, {"vpl", {{"rsm_size", 8}}}}, "cfg.json", "scene");
+    make_scene(sp, "");
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("scene.vpl"), std::string::npos) << e.what();
+  }
+}
