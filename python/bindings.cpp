@@ -13,6 +13,7 @@
 
 #include "sim/core/error.h"
 #include "sim/cost/analytic.h"
+#include "sim/cost/budget.h"
 #include "sim/cost/cost_model.h"
 #include "sim/cost/gpu_profile.h"
 #include "sim/cost/passes.h"
@@ -172,13 +173,7 @@ py::dict estimate_py(const std::string& gpu, const std::string& workload, const 
     if (!known)
       throw Error("scale." + k, "unknown resource (shading, geometry, raster, memory, fixed)");
   }
-  Counters c = analytic_counters(m.name, m.params, w, d, "method " + m.text);
-  CostInputs in;
-  in.method = m.name;
-  in.counters = &c;
-  in.display = d;
-  in.workload = &w;
-  FrameCost fc = estimate_frame(g, in);
+  const FrameCost fc = analytic_frame(g, m.name, m.params, w, d, "method " + m.text);
   py::dict r;
   r["gpu"] = g.name;
   r["calibrated"] = g.calibrated;
@@ -198,12 +193,23 @@ py::dict estimate_py(const std::string& gpu, const std::string& workload, const 
     r["est_ms_total_hi"] = fc.total_hi_ms;
     r["interval_level"] = fc.interval_level;
   }
-  py::dict passes;
-  for (auto& p : fc.passes) passes[py::str(p.pass)] = p.ms;
+  py::dict passes, pass_lo, pass_hi;
+  for (auto& p : fc.passes) {
+    passes[py::str(p.pass)] = p.ms;
+    pass_lo[py::str(p.pass)] = p.lo_ms;
+    pass_hi[py::str(p.pass)] = p.hi_ms;
+  }
   r["passes"] = passes;
+  if (fc.interval_level > 0) r["passes_lo"] = pass_lo, r["passes_hi"] = pass_hi;
   r["resource_ms"] = fc.resource_ms;
   r["missing_counters"] = fc.missing_counters;
-  if (budget_ms > 0) r["verdict"] = std::string(budget_verdict(fc, budget_ms));
+  if (budget_ms > 0) {
+    // The same verdict and factors as `fovsim budget` (sim/cost/budget.h), not a copy.
+    r["verdict"] = std::string(budget_verdict(fc, budget_ms));
+    const BudgetFactors bf = budget_factors(fc, budget_ms);
+    for (auto& [res, x] : bf.x) r[py::str("factor_" + res)] = x;
+    r["factor_all"] = bf.x_all;
+  }
   return r;
 }
 

@@ -9,8 +9,6 @@ Each returns a table: a pandas DataFrame when pandas is installed, else a list o
 per GPU × method), with the CLI's `--json` keys (est_ms_total, est_ms_<pass>, intervals,
 speedup_vs_full; budget: verdict, headroom_ms, factor_<resource>, factor_all).
 """
-import math
-
 from .engine import _module
 
 RESOURCES = ("shading", "geometry", "raster", "memory", "fixed")
@@ -35,9 +33,12 @@ def _list(x):
 
 def _flat(e):
     """An estimate dict with passes as est_ms_<pass> columns."""
-    r = {k: v for k, v in e.items() if k not in ("passes", "resource_ms")}
+    r = {k: v for k, v in e.items() if k not in ("passes", "passes_lo", "passes_hi", "resource_ms")}
     for p, ms in e.get("passes", {}).items():
         r["est_ms_" + p] = ms
+        if "passes_lo" in e:
+            r["est_ms_" + p + "_lo"] = e["passes_lo"][p]
+            r["est_ms_" + p + "_hi"] = e["passes_hi"][p]
     for k, ms in e.get("resource_ms", {}).items():
         r["resource_ms_" + k] = ms
     return r
@@ -88,14 +89,5 @@ def budget(gpu, workload, methods=None, hz=90.0, budget_ms=0.0, scale=None, disp
             t = e["est_ms_total"]
             r = _flat(e)
             r.update(budget_ms=b, fits=t <= b, headroom_ms=b - t, headroom=(b - t) / b if b > 0 else 0.0)
-            res = e.get("resource_ms", {})
-            # Same factors as `fovsim budget` (sim/app/cmd_cost.cpp): part / (budget - rest).
-            for rn in RESOURCES:
-                part = res.get(rn, 0.0)
-                room = b - (t - part)
-                r["factor_" + rn] = (0.0 if t <= b else math.inf) if part <= 0 else (part / room if room > 0
-                                                                                     else math.inf)
-            fixed = res.get("fixed", 0.0)
-            r["factor_all"] = (t - fixed) / (b - fixed) if b - fixed > 0 else math.inf
             rows.append(r)
     return _table(rows, as_frame)
