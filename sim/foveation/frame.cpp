@@ -26,7 +26,7 @@ void prepare_frame(const Renderer& r, const Display& d, const TraceSample& s, in
   out.gaze_px = gaze_pixel(out.camera, out.gaze_dir);
   out.counters.clear();
   r.trace_gbuffer(out.camera, channels | kShadingChannels, out.gbuffer, &out.counters, prev);
-  r.shade(out.gbuffer, out.camera.position, out.reference, nullptr, &out.counters);
+  r.render_reference(out.camera, out.gbuffer, out.reference, &out.counters);  // render.spp
   out.eccentricity = eccentricity_map(out.camera, out.gaze_dir);
 }
 

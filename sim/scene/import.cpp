@@ -105,6 +105,7 @@ struct Loader {
     }
     int idx = -1;
     if (ok) {
+      img.build_mips();  // filtered lookups (texture.cpp)
       s->images.push_back(std::move(img));
       idx = int(s->images.size() - 1);
     }
