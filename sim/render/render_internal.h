@@ -54,6 +54,13 @@ struct RenderState {
     std::vector<int32_t> tri_sub;  // primitive -> sub-model index
   };
   std::vector<Obj> objs;
+  // Geometry user data (Embree filters): the object, and where the renderer's state is.
+  struct GeomUser {
+    const RenderState* I = nullptr;
+    const Scene* scene = nullptr;
+    int object = -1;
+  };
+  std::vector<GeomUser> geom_user;  // per object; sized before any geometry is attached
   std::vector<LightNow> lights;
   std::vector<glm::vec2> mat_cs;  // cos, sin of each material's texture angle
   float scene_scale = 1.f;        // for ray offsets
@@ -79,6 +86,12 @@ struct Renderer::Impl : RenderState {};
 
 // Embree filter for shadow rays (render_shade.cpp); set on every geometry by renderer.cpp.
 void occlusion_filter(const RTCFilterFunctionNArguments* args);
+// Embree intersect filter of geometries with cut-out materials (render_trace.cpp): rejects hits
+// whose material alpha is below its cutoff, so primary rays, RSM rays and shadow rays
+// (occlusion_filter asks the same) all see through the cut-out parts.
+void alpha_filter(const RTCFilterFunctionNArguments* args);
+bool alpha_rejects(const RenderState& I, const Scene& scene, int obj, uint32_t prim, float u,
+                   float v);
 
 inline int hit_object(const RenderState& I, const RTCHit& h) {
   if (h.geomID == RTC_INVALID_GEOMETRY_ID) return -1;

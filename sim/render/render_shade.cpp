@@ -9,7 +9,7 @@ namespace fovsim {
 
 void occlusion_filter(const RTCFilterFunctionNArguments* args) {
   const auto* oc = reinterpret_cast<const OcclusionContext*>(args->context);
-  const int obj = int(reinterpret_cast<size_t>(args->geometryUserPtr));
+  const int obj = static_cast<const RenderState::GeomUser*>(args->geometryUserPtr)->object;
   for (unsigned i = 0; i < args->N; ++i) {
     if (args->valid[i] != -1) continue;
     const unsigned id = RTCRayN_id(args->ray, args->N, i);
@@ -17,7 +17,9 @@ void occlusion_filter(const RTCFilterFunctionNArguments* args) {
     float t = RTCRayN_tfar(args->ray, args->N, i), u = RTCHitN_u(args->hit, args->N, i),
           v = RTCHitN_v(args->hit, args->N, i);
     refine_hit(*oc->I, *oc->scene, obj, prim, oc->org[id], oc->dir[id], t, u, v);
-    if (!(t >= oc->tnear[id] && t <= oc->tfar[id])) args->valid[i] = 0;
+    if (!(t >= oc->tnear[id] && t <= oc->tfar[id]) ||
+        alpha_rejects(*oc->I, *oc->scene, obj, prim, u, v))
+      args->valid[i] = 0;
   }
 }
 

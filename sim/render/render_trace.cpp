@@ -20,6 +20,38 @@ inline float cone_width(const Camera& cam, float spacing, double cos_axis) {
   return float(double(spacing) * std::sqrt(dx * dy) * cos_axis * std::sqrt(cos_axis));
 }
 
+bool alpha_rejects(const RenderState& I, const Scene& scene, int obj, uint32_t prim, float u,
+                   float v) {
+  const Mesh& m = scene.meshes[size_t(scene.objects[size_t(obj)].mesh)];
+  const int mi = m.tri_material.empty() ? m.material : m.tri_material[prim];
+  const Material& mt = scene.materials[size_t(mi)];
+  if (!mt.cutout()) return false;
+  glm::vec2 uv(0.f);
+  if (!m.uvs.empty()) {
+    const glm::uvec3 tri = m.triangles[prim];
+    uv = (1.f - u - v) * m.uvs[tri.x] + u * m.uvs[tri.y] + v * m.uvs[tri.z];
+  }
+  (void)I;
+  return material_alpha(scene, mt, uv) < mt.alpha_cutoff;
+}
+
+void alpha_filter(const RTCFilterFunctionNArguments* args) {
+  const auto* gu = static_cast<const RenderState::GeomUser*>(args->geometryUserPtr);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    const uint32_t prim = RTCHitN_primID(args->hit, args->N, i);
+    const glm::vec3 org(RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
+                        RTCRayN_org_z(args->ray, args->N, i));
+    const glm::vec3 dir(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
+                        RTCRayN_dir_z(args->ray, args->N, i));
+    float t = RTCRayN_tfar(args->ray, args->N, i), u = RTCHitN_u(args->hit, args->N, i),
+          v = RTCHitN_v(args->hit, args->N, i);
+    // The portable barycentrics (as the G-buffer uses), so the cut-out edge is ISA-free.
+    refine_hit(*gu->I, *gu->scene, gu->object, prim, org, dir, t, u, v);
+    if (alpha_rejects(*gu->I, *gu->scene, gu->object, prim, u, v)) args->valid[i] = 0;
+  }
+}
+
 struct SampleWriter {
   const Scene& scene;
   const RenderState& I;
@@ -56,6 +88,33 @@ struct SampleWriter {
     }
     const float fw = t * cone / std::sqrt(cosn) * density;
     return std::isfinite(fw) ? fw : 0.f;
+  }
+
+  // Tangent-space normal map (glTF: texel * 2 - 1, +x along +u, +y towards decreasing v,
+  // i.e. up in the image), frame from the triangle's uv gradients, Gram-Schmidt against the
+  // interpolated normal n (already facing the viewer); the result is bent to face it too.
+  glm::vec3 normal_mapped(const RenderState::Obj& ob, const Mesh& m, const glm::uvec3& tri,
+                          const glm::vec3& n, glm::vec2 uv, float fw, const Material& mt) const {
+    const glm::vec3 &p0 = ob.pos[tri.x], &p1 = ob.pos[tri.y], &p2 = ob.pos[tri.z];
+    const glm::vec2 d1 = m.uvs[tri.y] - m.uvs[tri.x], d2 = m.uvs[tri.z] - m.uvs[tri.x];
+    const float det = d1.x * d2.y - d1.y * d2.x;
+    if (!(std::fabs(det) > 1e-20f)) return n;
+    glm::vec3 T = ((p1 - p0) * d2.y - (p2 - p0) * d1.y) / det;  // dP/du
+    glm::vec3 B = ((p2 - p0) * d1.x - (p1 - p0) * d2.x) / det;  // dP/dv
+    if (ob.dynamic) {
+      T = glm::mat3(ob.xf) * T;
+      B = glm::mat3(ob.xf) * B;
+    }
+    T -= n * glm::dot(n, T);
+    const float lt = glm::length(T);
+    if (!(lt > 0.f)) return n;
+    T /= lt;
+    glm::vec3 Bn = glm::cross(n, T);
+    if (glm::dot(Bn, B) > 0.f) Bn = -Bn;  // +y of the map points along -dP/dv
+    const glm::vec3 t = sample_image(scene.images[size_t(mt.normal_image)], uv, fw) * 2.f - 1.f;
+    glm::vec3 r = T * (t.x * mt.normal_scale) + Bn * (t.y * mt.normal_scale) + n * t.z;
+    const float lr = glm::length(r);
+    return lr > 0.f && std::isfinite(lr) ? r / lr : n;
   }
 
   void miss(GBuffer& g, size_t i) const {
@@ -97,7 +156,7 @@ struct SampleWriter {
     const int mat = m.tri_material.empty() ? m.material : m.tri_material[prim];
     if (ch & kMaterial) g.material[i] = mat;
     const float bw = 1.f - bu - bv;
-    const bool need_uv = (ch & (kUV | kAlbedo | kFootprint)) != 0;
+    const bool need_uv = (ch & (kUV | kAlbedo | kFootprint | kNormal)) != 0;  // normal maps
     glm::vec3 ng(0.f);
     if ((ch & kNormal) || need_uv) {
       const glm::vec3 &p0 = ob.pos[tri.x], &p1 = ob.pos[tri.y], &p2 = ob.pos[tri.z];
@@ -146,6 +205,9 @@ struct SampleWriter {
         l = glm::length(n);
       }
       n = l > 0.f ? n / l : -dir;
+      const Material& mt = scene.materials[size_t(mat)];
+      if (mt.normal_image >= 0 && size_t(mt.normal_image) < scene.images.size() && !m.uvs.empty())
+        n = normal_mapped(ob, m, tri, n, uv, fw, mt);
       // Interpolated normals can still point away from the eye near silhouettes: bend them
       // just past the view-perpendicular so every normal faces the viewer.
       const float nv = glm::dot(n, dir);

@@ -36,12 +36,15 @@ RenderSettings RenderSettings::from_params(Params& p) {
 namespace {
 
 // Shared vertex buffers need 16 readable bytes past the last vertex (Embree SIMD loads).
-// The geometry's user data is its object index (for occlusion_filter).
+// The geometry's user data is its GeomUser (object index, state; for the filters).
 void attach_mesh(RTCDevice dev, RTCScene sc, const std::vector<glm::vec3>& pos, const Mesh& m,
-                 size_t object, unsigned* geom_id) {
+                 const Scene& scene, RenderState::GeomUser* user, unsigned* geom_id) {
   RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
-  rtcSetGeometryUserData(g, reinterpret_cast<void*>(object));
+  rtcSetGeometryUserData(g, user);
   rtcSetGeometryOccludedFilterFunction(g, occlusion_filter);
+  bool cutout = scene.materials[size_t(m.material)].cutout();
+  for (int mi : m.tri_material) cutout = cutout || scene.materials[size_t(mi)].cutout();
+  if (cutout) rtcSetGeometryIntersectFilterFunction(g, alpha_filter);
   rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, pos.data(), 0,
                              sizeof(glm::vec3), pos.size() - 1);
   rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, m.triangles.data(), 0,
@@ -88,6 +91,8 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
   for (const Material& m : scene.materials)
     I.mat_cs.emplace_back(std::cos(m.angle), std::sin(m.angle));
   I.objs.resize(scene.objects.size());
+  I.geom_user.resize(scene.objects.size());
+  for (size_t oi = 0; oi < scene.objects.size(); ++oi) I.geom_user[oi] = {&I, &scene, int(oi)};
   I.dyn_geom.assign(scene.objects.size(), RTC_INVALID_GEOMETRY_ID);
   AABB world;
   // Sub-model lookup per primitive.
@@ -126,14 +131,14 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
     if (m.triangles.empty()) continue;
     if (!ob.dynamic) {
       unsigned gid;
-      attach_mesh(I.device, I.static_scene, ob.pos, m, oi, &gid);
+      attach_mesh(I.device, I.static_scene, ob.pos, m, scene, &I.geom_user[oi], &gid);
       if (I.static_geom_object.size() <= gid) I.static_geom_object.resize(gid + 1, -1);
       I.static_geom_object[gid] = int(oi);
     } else {
       RTCScene child = rtcNewScene(I.device);
       rtcSetSceneBuildQuality(child, RTC_BUILD_QUALITY_HIGH);
       unsigned gid;
-      attach_mesh(I.device, child, ob.pos, m, oi, &gid);
+      attach_mesh(I.device, child, ob.pos, m, scene, &I.geom_user[oi], &gid);
       rtcCommitScene(child);
       I.child_scenes.push_back(child);
       RTCGeometry inst = rtcNewGeometry(I.device, RTC_GEOMETRY_TYPE_INSTANCE);

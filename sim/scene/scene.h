@@ -32,8 +32,16 @@ struct Material {
   float specular = 0.04f;  // Blinn-Phong ks
   float shininess = 32.f;  // Blinn-Phong exponent
   glm::vec3 emission{0.f};
-  bool transparent = false;
+  bool transparent = false;  // alpha-blended (flagged: methods' limits, DESIGN §5)
   int image = -1;
+  // Imported materials (sim/scene/import.cpp): cut-out (glTF alphaMode MASK): a surface point
+  // whose alpha = `alpha` x texture alpha is below alpha_cutoff is not there (rays pass it);
+  // alpha_cutoff < 0 = opaque. Normal map (tangent space, linear texels, glTF convention).
+  float alpha = 1.f;
+  float alpha_cutoff = -1.f;
+  int normal_image = -1;
+  float normal_scale = 1.f;
+  bool cutout() const { return alpha_cutoff >= 0.f; }
 };
 
 struct MipLevel {
@@ -141,6 +149,9 @@ float mip_level(const TextureImage& img, float fw);
 // [x - w/2, x + w/2] (exact; w ~ 0 -> point value); and a pulse train (1 on [k, k + a))
 // likewise. Building blocks of the filtered procedural textures (tested on their own).
 float box_square(float x, float w);
+// Alpha of a cut-out material at uv (alpha x the base-colour texture's alpha, bilinear at
+// level 0: the cut-out edge is decided per ray, not filtered).
+float material_alpha(const Scene& scene, const Material& m, glm::vec2 uv);
 float box_pulse(float x, float w, float a);
 
 // The explicit scene factory: "type" is one of atrium, patterns, cornell, file.

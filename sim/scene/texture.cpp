@@ -146,6 +146,27 @@ glm::vec3 sample_image(const TextureImage& img, glm::vec2 uv, float fw) {
   return glm::mix(level(k0), level(k0 + 1), t);
 }
 
+float material_alpha(const Scene& scene, const Material& m, glm::vec2 uv) {
+  float a = m.alpha;
+  if (m.image >= 0 && size_t(m.image) < scene.images.size()) {
+    const TextureImage& img = scene.images[size_t(m.image)];
+    if (!img.alpha.empty() && img.width > 0 && img.height > 0) {
+      // Bilinear on the alpha channel (same wrap and orientation as the colour lookup).
+      float x = fractf(uv.x) * float(img.width) - 0.5f, y = fractf(uv.y) * float(img.height) - 0.5f;
+      float fx = std::floor(x), fy = std::floor(y), tx = x - fx, ty = y - fy;
+      auto wrap = [](int i, int n) { return ((i % n) + n) % n; };
+      int x0 = wrap(int(fx), img.width), x1 = wrap(int(fx) + 1, img.width);
+      int y0 = wrap(int(fy), img.height), y1 = wrap(int(fy) + 1, img.height);
+      auto A = [&](int xi, int yi) {
+        return img.alpha[size_t(yi) * size_t(img.width) + size_t(xi)];
+      };
+      a *= (A(x0, y0) * (1 - tx) + A(x1, y0) * tx) * (1 - ty) +
+           (A(x0, y1) * (1 - tx) + A(x1, y1) * tx) * ty;
+    }
+  }
+  return a;
+}
+
 // ---- evaluation --------------------------------------------------------------------------------
 
 glm::vec3 eval_albedo(const Scene& scene, const Material& m, glm::vec2 uv) {
