@@ -17,6 +17,10 @@
 
 namespace fovsim {
 
+// render.spp's default in configs (RenderSettings::from_params), chosen by the convergence
+// study; a default-constructed RenderSettings (library use, unit tests) renders 1 spp.
+constexpr int kDefaultReferenceSpp = 16;
+
 struct RenderSettings {
   bool shadows = true;  // shadow rays for lights with shadows=true
   int tile = 32;        // tile edge in pixels for TBB
