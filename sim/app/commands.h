@@ -20,4 +20,6 @@ void register_density(CLI::App& app, Action& action);  // fovsim density
 void register_info(CLI::App& app, Action& action);     // fovsim info
 void register_methods(CLI::App& app, Action& action);  // fovsim methods
 void register_compare(CLI::App& app, Action& action);  // fovsim compare REF TEST
+// fovsim converge CONFIG
+void register_converge(CLI::App& app, Action& action);
 }  // namespace fovsim::app

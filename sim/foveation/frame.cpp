@@ -29,18 +29,28 @@ void prepare_frame(const Renderer& r, const Display& d, const TraceSample& s, in
   out.counters.clear();
   r.trace_gbuffer(out.camera, channels | kShadingChannels, out.gbuffer, &out.counters, prev);
   out.has_vpls = r.scene().wants_indirect;
-  if (!out.has_vpls) {
+  const bool supersampled = r.settings().spp > 1;
+  if (!out.has_vpls && !supersampled) {
     r.shade(out.gbuffer, out.camera.position, out.reference, nullptr, &out.counters);
   } else {
-    // One VPL set per frame; reference = direct + indirect from all VPLs (the FLC paper's
-    // TBDS ground truth, §7), added by the same loop the methods' strategies use.
+    // `direct`: one sample per pixel centre, what every full-sampling method starts from.
     r.shade(out.gbuffer, out.camera.position, out.direct, nullptr, &out.counters);
-    build_frame_vpls(r, out.vpls, &out.counters);
-    out.counters.set("vpls_total", double(out.vpls.vpls.size()));
-    out.reference.resize(out.direct.width, out.direct.height, 3);
-    std::copy(out.direct.data.begin(), out.direct.data.end(), out.reference.data.begin());
-    add_indirect(out.gbuffer, out.vpls.all, out.vpls.shading, &r, nullptr, out.reference,
-                 &out.counters);
+    if (supersampled) {
+      r.render_reference(out.camera, out.gbuffer, out.reference, &out.counters);  // render.spp
+    } else {
+      out.reference.resize(out.direct.width, out.direct.height, 3);
+      std::copy(out.direct.data.begin(), out.direct.data.end(), out.reference.data.begin());
+    }
+    if (out.has_vpls) {
+      // One VPL set per frame; reference = direct + indirect from all VPLs (the FLC paper's
+      // TBDS ground truth, §7), added by the same loop the methods' strategies use. The
+      // indirect term is evaluated at pixel centres, not per sub-sample: one-bounce light from
+      // VPLs is smooth, and 16x the VPL shading would dominate the run (docs/metrics.md).
+      build_frame_vpls(r, out.vpls, &out.counters);
+      out.counters.set("vpls_total", double(out.vpls.vpls.size()));
+      add_indirect(out.gbuffer, out.vpls.all, out.vpls.shading, &r, nullptr, out.reference,
+                   &out.counters);
+    }
   }
   out.eccentricity = eccentricity_map(out.camera, out.gaze_dir);
 }
@@ -60,7 +70,7 @@ FrameContext FrameData::context(const Scene& scene, const Renderer& r, const Dis
   c.gaze_valid = gaze_valid;
   c.gbuffer = &gbuffer;
   c.reference = &reference;
-  c.direct = has_vpls ? &direct : &reference;
+  c.direct = direct.data.empty() ? &reference : &direct;  // 1 spp, direct light only
   c.vpls = has_vpls ? &vpls : nullptr;
   c.eccentricity = &eccentricity;
   c.want_debug = debug;

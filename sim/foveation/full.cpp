@@ -1,6 +1,8 @@
-// `full`: full-resolution deferred shading, the reference pipeline (for cost). With the
-// default lighting (all_vpls, the FLC paper's TBDS) it *is* the shared reference; with another
-// strategy it shades the strategy's VPLs at every pixel on top of the shared direct light.
+// `full`: full-resolution deferred shading, the reference pipeline (for cost). At render.spp 1
+// with the default lighting (all_vpls, the FLC paper's TBDS) it *is* the shared reference;
+// otherwise it is one sample per pixel centre (the shared 1-spp direct light) plus its
+// strategy's VPLs at every pixel, so its difference to a supersampled reference is the
+// aliasing any 1-sample-per-pixel pipeline keeps (docs/metrics.md).
 //
 // Parameters: the declaration full_params() at the end of this file (name, type, default,
 // range, seed section, meaning); docs/methods.md and configs/README.md are generated from it.
@@ -20,7 +22,8 @@ class FullMethod final : public FoveationMethod {
     out.counters.set("shaded_samples", n);
     out.counters.set("gbuffer_samples", n);
     out.counters.set("fullres_pixels", n);
-    if (!ctx.lighting || !ctx.vpls || ctx.lighting->uses_all_vpls()) {
+    const bool all = !ctx.lighting || !ctx.vpls || ctx.lighting->uses_all_vpls();
+    if (all && ctx.renderer->settings().spp <= 1) {
       // The shared reference *is* full-resolution shading: reuse it, no copy, no second shade.
       out.image_is_reference = true;
       if (ctx.vpls) {
@@ -32,7 +35,8 @@ class FullMethod final : public FoveationMethod {
     }
     out.image.resize(ctx.direct->width, ctx.direct->height, 3);
     std::copy(ctx.direct->data.begin(), ctx.direct->data.end(), out.image.data.begin());
-    ctx.lighting->shade(ctx, *ctx.gbuffer, nullptr, out.image, out.counters);
+    if (ctx.vpls && ctx.lighting)
+      ctx.lighting->shade(ctx, *ctx.gbuffer, nullptr, out.image, out.counters);
   }
 };
 

@@ -9,42 +9,14 @@
 #include <cmath>
 
 #include "sim/core/math.h"
+#include "sim/render/tonemap.h"
 
 namespace fovsim {
 namespace twfr {
 
-namespace {
-// sRGB encoding of [0, 1] tabulated (4096 intervals, linear interpolation; error < 1e-4 except
-// near 0, where the linear segment is computed exactly): no pow per pixel.
-struct SrgbTable {
-  static constexpr int kN = 4096;
-  float v[kN + 1];
-  SrgbTable() {
-    for (int i = 0; i <= kN; ++i) {
-      float t = float(i) / float(kN);
-      v[i] = t <= 0.0031308f ? 12.92f * t : 1.055f * std::pow(t, 1.f / 2.4f) - 0.055f;
-    }
-  }
-  float operator()(float t) const {
-    if (t <= 0.0031308f) return 12.92f * std::max(t, 0.f);
-    float x = std::min(t, 1.f) * float(kN);
-    int i = std::min(int(x), kN - 1);
-    float f = x - float(i);
-    return v[i] + f * (v[i + 1] - v[i]);
-  }
-};
-const SrgbTable& srgb_table() {
-  static const SrgbTable t;
-  return t;
-}
-}  // namespace
-
 float display_luminance(const float* rgb, float exposure) {
-  float x = std::max(0.f, luma(rgb[0], rgb[1], rgb[2]) * exposure);
-  if (!std::isfinite(x)) x = 1e6f;
-  // ACES filmic approximation (Narkowicz 2015), then sRGB encoding.
-  float t = (x * (2.51f * x + 0.03f)) / (x * (2.43f * x + 0.59f) + 0.14f);
-  return srgb_table()(clamp01(t));
+  // The renderer's display encoding (ACES filmic, Narkowicz 2015, then sRGB; tonemap.h).
+  return display_encode<ToneCurve::Aces>(luma(rgb[0], rgb[1], rgb[2]) * exposure);
 }
 
 namespace {

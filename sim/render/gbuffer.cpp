@@ -27,6 +27,7 @@ void GBuffer::resize(int w, int h, uint32_t ch) {
   fit(submodel, has(kSubModel));
   fit(motion, has(kMotion));
   fit(uv, has(kUV));
+  fit(footprint, has(kFootprint));
 }
 
 void GBuffer::copy_sample(const GBuffer& src, size_t s, size_t d) {
@@ -40,6 +41,7 @@ void GBuffer::copy_sample(const GBuffer& src, size_t s, size_t d) {
   if (both & kSubModel) submodel[d] = src.submodel[s];
   if (both & kMotion) motion[d] = src.motion[s];
   if (both & kUV) uv[d] = src.uv[s];
+  if (both & kFootprint) footprint[d] = src.footprint[s];
 }
 
 void GBuffer::clear_sample(size_t i) {
@@ -52,6 +54,7 @@ void GBuffer::clear_sample(size_t i) {
   if (channels & kSubModel) submodel[i] = -1;
   if (channels & kMotion) motion[i] = glm::vec2(0.f);
   if (channels & kUV) uv[i] = glm::vec2(0.f);
+  if (channels & kFootprint) footprint[i] = 0.f;
 }
 
 }  // namespace fovsim

@@ -18,6 +18,7 @@ enum Channel : uint32_t {
   kSubModel = 1u << 6,  // sub-model index, -1 on a miss
   kMotion = 1u << 7,    // screen motion (pixels) from the previous frame's camera+objects
   kUV = 1u << 8,
+  kFootprint = 1u << 9,  // texture filter width at the sample (uv units; see render_trace.cpp)
 };
 // Channels the shader needs (Renderer::shade).
 constexpr uint32_t kShadingChannels = kDepth | kPosition | kNormal | kAlbedo | kMaterial;
@@ -25,7 +26,7 @@ constexpr uint32_t kShadingChannels = kDepth | kPosition | kNormal | kAlbedo | k
 struct GBuffer {
   int width = 0, height = 0;
   uint32_t channels = 0;
-  std::vector<float> depth;
+  std::vector<float> depth, footprint;
   std::vector<glm::vec3> position, normal, albedo;
   std::vector<int32_t> material, object_id, submodel;
   std::vector<glm::vec2> motion, uv;

@@ -12,22 +12,28 @@
 #include "sim/core/params.h"
 #include "sim/display/display.h"
 #include "sim/render/gbuffer.h"
+#include "sim/render/tonemap.h"  // ToneMap (kept reachable from here)
 #include "sim/scene/scene.h"
 
 namespace fovsim {
 
+// render.spp's default in configs (RenderSettings::from_params), chosen by the convergence
+// study; a default-constructed RenderSettings (library use, unit tests) renders 1 spp.
+constexpr int kDefaultReferenceSpp = 16;
+
 struct RenderSettings {
   bool shadows = true;  // shadow rays for lights with shadows=true
   int tile = 32;        // tile edge in pixels for TBB
+  // Samples per pixel of the shared reference (render.spp, a perfect square: n x n stratified
+  // jittered sub-pixel samples, box reconstruction filter over the pixel). Methods are not
+  // supersampled: they shade their own samples once each.
+  int spp = 1;
   static RenderSettings from_params(Params& p);
 };
 
-struct ToneMap {
-  double exposure = 1.0;  // linear scale before the curve
-  enum class Curve { Reinhard, Aces, Clamp } curve = Curve::Aces;
-  // Linear HDR RGB -> display-encoded sRGB in [0,1] (what metrics are computed on).
-  void apply(const Image& linear, Image& display) const;
-};
+// Sub-pixel position of stratum s (of n x n) of pixel (x, y): the stratum's cell, jittered by
+// a fixed hash; in [0, 1)^2 (render_reference).
+glm::vec2 stratified_offset(int x, int y, int s, int n);
 
 class Renderer {
  public:
@@ -50,8 +56,17 @@ class Renderer {
   void trace_gbuffer(const Camera& cam, uint32_t channels, GBuffer& out, Counters* c = nullptr,
                      const Camera* prev = nullptr) const;
   // Primary rays through arbitrary screen points (pixels); out is resized to (n x 1).
+  // `spacing`: distance between neighbouring points in pixels (their texture footprint).
   void trace_points(const Camera& cam, const std::vector<glm::vec2>& pts, uint32_t channels,
-                    GBuffer& out, Counters* c = nullptr) const;
+                    GBuffer& out, Counters* c = nullptr, float spacing = 1.f) const;
+  // The shared reference image (linear RGB, W x H) of a frame whose pixel-centre G-buffer g1
+  // (kShadingChannels) was traced with trace_gbuffer: settings().spp == 1 shades g1; otherwise
+  // n x n stratified samples per pixel (jittered inside each stratum by a fixed hash of pixel
+  // and stratum, footprint 1/n pixel), each shaded once, averaged with a box filter in linear
+  // light (tone mapping comes after). Counters: primary_rays, shaded_samples, shadow_rays.
+  void render_reference(const Camera& cam, const GBuffer& g1, Image& out,
+                        Counters* c = nullptr) const;
+  const RenderSettings& settings() const { return settings_; }
   // Direct lighting of every sample of g (which must have kShadingChannels); misses get the
   // background. mask (size g.size(), optional): shade only where mask[i] != 0, leave others.
   // `out` is resized to g.width x g.height x 3 if its size differs. Linear RGB.

@@ -2,9 +2,11 @@
 // (through OpenImageIO, linearised from sRGB), normals and uvs.
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
+#include <assimp/GltfMaterial.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <algorithm>
 #include <assimp/Importer.hpp>
 #include <cmath>
 #include <filesystem>
@@ -23,7 +25,22 @@ float srgb_to_linear(float c) {
   return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
 }
 
-bool load_image_file(const std::string& path, TextureImage& out) {
+// Colour textures are sRGB-encoded (linearised here); data textures (normal maps) are not.
+// An alpha channel (RGBA, or grey + alpha) is kept, linear, for cut-out materials.
+void fill_texels(const float* px, int nc, bool srgb, TextureImage& out) {
+  const size_t n = out.texels.size();
+  const bool has_alpha = nc == 4 || nc == 2;
+  if (has_alpha) out.alpha.resize(n);
+  auto lin = [srgb](float c) { return srgb ? srgb_to_linear(c) : c; };
+  for (size_t i = 0; i < n; ++i) {
+    const float* p = &px[i * size_t(nc)];
+    glm::vec3 c = nc >= 3 ? glm::vec3(p[0], p[1], p[2]) : glm::vec3(p[0]);
+    out.texels[i] = {lin(c.x), lin(c.y), lin(c.z)};
+    if (has_alpha) out.alpha[i] = p[nc - 1];
+  }
+}
+
+bool load_image_file(const std::string& path, bool srgb, TextureImage& out) {
   auto in = OIIO::ImageInput::open(path);
   if (!in) return false;
   const OIIO::ImageSpec& spec = in->spec();
@@ -35,15 +52,11 @@ bool load_image_file(const std::string& path, TextureImage& out) {
   out.width = spec.width;
   out.height = spec.height;
   out.texels.resize(size_t(spec.width) * size_t(spec.height));
-  for (size_t i = 0; i < out.texels.size(); ++i) {
-    const float* p = &px[i * size_t(nc)];
-    glm::vec3 c = nc >= 3 ? glm::vec3(p[0], p[1], p[2]) : glm::vec3(p[0]);
-    out.texels[i] = {srgb_to_linear(c.x), srgb_to_linear(c.y), srgb_to_linear(c.z)};
-  }
+  fill_texels(px.data(), nc, srgb, out);
   return true;
 }
 
-bool load_image_memory(const aiTexture* t, TextureImage& out) {
+bool load_image_memory(const aiTexture* t, bool srgb, TextureImage& out) {
   if (t->mHeight == 0) {  // compressed (png/jpg) bytes in memory
     OIIO::Filesystem::IOMemReader mem(t->pcData, t->mWidth);
     void* ptr = &mem;
@@ -61,21 +74,21 @@ bool load_image_memory(const aiTexture* t, TextureImage& out) {
     out.width = spec.width;
     out.height = spec.height;
     out.texels.resize(size_t(spec.width) * size_t(spec.height));
-    for (size_t i = 0; i < out.texels.size(); ++i) {
-      const float* p = &px[i * size_t(nc)];
-      glm::vec3 c = nc >= 3 ? glm::vec3(p[0], p[1], p[2]) : glm::vec3(p[0]);
-      out.texels[i] = {srgb_to_linear(c.x), srgb_to_linear(c.y), srgb_to_linear(c.z)};
-    }
+    fill_texels(px.data(), nc, srgb, out);
     return true;
   }
   out.width = int(t->mWidth);
   out.height = int(t->mHeight);
   out.texels.resize(size_t(t->mWidth) * size_t(t->mHeight));
+  std::vector<float> px(out.texels.size() * 4);
   for (size_t i = 0; i < out.texels.size(); ++i) {
     const aiTexel& x = t->pcData[i];
-    out.texels[i] = {srgb_to_linear(x.r / 255.f), srgb_to_linear(x.g / 255.f),
-                     srgb_to_linear(x.b / 255.f)};
+    px[4 * i] = x.r / 255.f;
+    px[4 * i + 1] = x.g / 255.f;
+    px[4 * i + 2] = x.b / 255.f;
+    px[4 * i + 3] = x.a / 255.f;
   }
+  fill_texels(px.data(), 4, srgb, out);
   return true;
 }
 
@@ -92,23 +105,25 @@ struct Loader {
   std::map<std::string, int> image_index;
   std::vector<int> mesh_map;  // assimp mesh -> Scene mesh
 
-  int image(const std::string& ref) {
-    auto it = image_index.find(ref);
+  int image(const std::string& ref, bool srgb = true) {
+    const std::string key = ref + (srgb ? "" : "#linear");
+    auto it = image_index.find(key);
     if (it != image_index.end()) return it->second;
     TextureImage img;
     bool ok = false;
     if (const aiTexture* emb = ai->GetEmbeddedTexture(ref.c_str())) {
-      ok = load_image_memory(emb, img);
+      ok = load_image_memory(emb, srgb, img);
     } else {
       fs::path p = fs::path(ref).is_absolute() ? fs::path(ref) : fs::path(dir) / ref;
-      ok = load_image_file(p.string(), img);
+      ok = load_image_file(p.string(), srgb, img);
     }
     int idx = -1;
     if (ok) {
+      img.build_mips();  // filtered lookups (texture.cpp)
       s->images.push_back(std::move(img));
       idx = int(s->images.size() - 1);
     }
-    image_index[ref] = idx;  // a missing texture falls back to the base colour
+    image_index[key] = idx;  // a missing texture falls back to the base colour
     return idx;
   }
 
@@ -118,7 +133,7 @@ struct Loader {
       Material m;
       aiString name;
       if (am->Get(AI_MATKEY_NAME, name) == AI_SUCCESS) m.name = name.C_Str();
-      aiColor4D c;
+      aiColor4D c(1.f, 1.f, 1.f, 1.f);
       if (am->Get(AI_MATKEY_BASE_COLOR, c) == AI_SUCCESS ||
           am->Get(AI_MATKEY_COLOR_DIFFUSE, c) == AI_SUCCESS)
         m.base_color = {c.r, c.g, c.b};
@@ -128,9 +143,41 @@ struct Loader {
       if (am->Get(AI_MATKEY_SHININESS, shin) == AI_SUCCESS && shin > 1.f) {
         m.shininess = std::min(shin, 512.f);
       }
+      // glTF alphaMode: MASK = cut-out at alphaCutoff (rays pass where alpha < cutoff), BLEND =
+      // transparent (flagged, not blended), OPAQUE ignores alpha.
+      aiString alpha_mode;
+      const bool has_mode = am->Get(AI_MATKEY_GLTF_ALPHAMODE, alpha_mode) == AI_SUCCESS;
+      const std::string mode = has_mode ? alpha_mode.C_Str() : "";
       float opacity = 1.f;
-      if (am->Get(AI_MATKEY_OPACITY, opacity) == AI_SUCCESS && opacity < 0.999f)
+      const bool has_opacity = am->Get(AI_MATKEY_OPACITY, opacity) == AI_SUCCESS;
+      if (mode == "MASK") {
+        float cutoff = 0.5f;
+        am->Get(AI_MATKEY_GLTF_ALPHACUTOFF, cutoff);
+        m.alpha_cutoff = std::clamp(cutoff, 0.f, 1.f);
+        m.alpha = has_opacity ? opacity : c.a;
+      } else if (mode == "BLEND" || (!has_mode && has_opacity && opacity < 0.999f)) {
         m.transparent = true;
+      }
+      // Metallic-roughness (glTF PBR) mapped to Lambert + Blinn-Phong: diffuse albedo
+      // base x (1 - metallic); ks = F0 = mix(0.04, luma(base), metallic); Blinn-Phong exponent
+      // 2 / a^2 - 2 with a = roughness^2 (the Beckmann/Phong correspondence, Walter et al. 2007),
+      // in [1, 512]. Files without these keys keep the defaults (ks 0.04, exponent 32 or
+      // the file's shininess).
+      float metallic = 0.f, roughness = -1.f;
+      const bool has_metal = am->Get(AI_MATKEY_METALLIC_FACTOR, metallic) == AI_SUCCESS;
+      const bool has_rough = am->Get(AI_MATKEY_ROUGHNESS_FACTOR, roughness) == AI_SUCCESS;
+      if (has_metal || has_rough) {
+        metallic = std::clamp(metallic, 0.f, 1.f);
+        const float lum =
+            0.2126f * m.base_color.x + 0.7152f * m.base_color.y + 0.0722f * m.base_color.z;
+        m.specular = 0.04f + (lum - 0.04f) * metallic;
+        m.base_color *= 1.f - metallic;
+        if (has_rough) {
+          const float a =
+              std::max(1e-3f, std::clamp(roughness, 0.f, 1.f) * std::clamp(roughness, 0.f, 1.f));
+          m.shininess = std::clamp(2.f / (a * a) - 2.f, 1.f, 512.f);
+        }
+      }
       aiString tex;
       if (am->GetTexture(aiTextureType_BASE_COLOR, 0, &tex) == AI_SUCCESS ||
           am->GetTexture(aiTextureType_DIFFUSE, 0, &tex) == AI_SUCCESS) {
@@ -138,6 +185,24 @@ struct Loader {
         if (idx >= 0) {
           m.tex = TexKind::Image;
           m.image = idx;
+        }
+      }
+      aiString ntex;
+      if (am->GetTexture(aiTextureType_NORMALS, 0, &ntex) == AI_SUCCESS) {
+        m.normal_image = image(ntex.C_Str(), false);
+        float ns = 1.f;
+        if (am->Get(AI_MATKEY_GLTF_TEXTURE_SCALE(aiTextureType_NORMALS, 0), ns) == AI_SUCCESS)
+          m.normal_scale = ns;
+      }
+      // Emissive texture: the shading model has one emission colour per material, so the
+      // texture enters as its mean (factor x mean texel); the factor alone otherwise.
+      aiString etex;
+      if (am->GetTexture(aiTextureType_EMISSIVE, 0, &etex) == AI_SUCCESS) {
+        const int ei = image(etex.C_Str());
+        if (ei >= 0 && !s->images[size_t(ei)].texels.empty()) {
+          glm::vec3 mean(0.f);
+          for (const glm::vec3& t : s->images[size_t(ei)].texels) mean += t;
+          m.emission *= mean / float(s->images[size_t(ei)].texels.size());
         }
       }
       s->materials.push_back(m);

@@ -32,13 +32,29 @@ struct Material {
   float specular = 0.04f;  // Blinn-Phong ks
   float shininess = 32.f;  // Blinn-Phong exponent
   glm::vec3 emission{0.f};
-  bool transparent = false;
+  bool transparent = false;  // alpha-blended (flagged: methods' limits, DESIGN §5)
   int image = -1;
+  // Imported materials (sim/scene/import.cpp): cut-out (glTF alphaMode MASK): a surface point
+  // whose alpha = `alpha` x texture alpha is below alpha_cutoff is not there (rays pass it);
+  // alpha_cutoff < 0 = opaque. Normal map (tangent space, linear texels, glTF convention).
+  float alpha = 1.f;
+  float alpha_cutoff = -1.f;
+  int normal_image = -1;
+  float normal_scale = 1.f;
+  bool cutout() const { return alpha_cutoff >= 0.f; }
+};
+
+struct MipLevel {
+  int width = 0, height = 0;
+  std::vector<glm::vec3> texels;
 };
 
 struct TextureImage {  // linear RGB float, for imported textures
   int width = 0, height = 0;
   std::vector<glm::vec3> texels;
+  std::vector<float> alpha;    // per texel, empty when opaque (alpha-masked materials)
+  std::vector<MipLevel> mips;  // levels 1.. (2x2 box), from build_mips() at load
+  void build_mips();
 };
 
 struct Mesh {
@@ -128,11 +144,25 @@ struct Scene {
   void build_submodels(uint32_t max_faces = 500);
 };
 
-// Texture evaluation without virtual calls (a switch per sample).
+// Texture evaluation without virtual calls (a switch per sample), point-sampled.
 glm::vec3 eval_albedo(const Scene& scene, const Material& m, glm::vec2 uv);
-// The same with cos/sin of m.angle precomputed (the renderer's per-pixel path).
-glm::vec3 eval_albedo(const Scene& scene, const Material& m, glm::vec2 uv, float cos_a,
-                      float sin_a);
+// The same with cos/sin of m.angle precomputed (the renderer's per-sample path), averaged over
+// an isotropic box footprint of width `fw` uv units (0 = point sample). sim/scene/texture.cpp
+// documents each texture's filter.
+glm::vec3 eval_albedo(const Scene& scene, const Material& m, glm::vec2 uv, float cos_a, float sin_a,
+                      float fw = 0.f);
+// Image lookup: bilinear at mip level mip_level(img, fw), trilinear between levels.
+glm::vec3 sample_image(const TextureImage& img, glm::vec2 uv, float fw = 0.f);
+// log2 of the footprint in texels, clamped to [0, mips.size()] (0 without mips).
+float mip_level(const TextureImage& img, float fw);
+// The square wave s(x) (+1 on [0, 1), -1 on [1, 2), period 2) box-filtered over
+// [x - w/2, x + w/2] (exact; w ~ 0 -> point value); and a pulse train (1 on [k, k + a))
+// likewise. Building blocks of the filtered procedural textures (tested on their own).
+float box_square(float x, float w);
+// Alpha of a cut-out material at uv (alpha x the base-colour texture's alpha, bilinear at
+// level 0: the cut-out edge is decided per ray, not filtered).
+float material_alpha(const Scene& scene, const Material& m, glm::vec2 uv);
+float box_pulse(float x, float w, float a);
 
 // The explicit scene factory: "type" is one of atrium, patterns, cornell, file.
 // See models/scenes/README.md for every key. Throws fovsim::Error with the JSON path.

@@ -15,7 +15,7 @@ std::string base_config(const std::string& dir) {
   return R"({
   "name": "cli_test",
   "display": "htc_vive_pro_eye",
-  "render": {"scale": 0.05},
+  "render": {"scale": 0.05, "spp": 1},
   "scene": {"type": "atrium", "complexity": 1},
   "trace": {"file": ")" +
          std::string(FOVSIM_SOURCE_DIR) + R"(/tests/golden/golden_trace.csv"},
@@ -70,7 +70,8 @@ TEST(Cli, BadInputIsOneLineExit2) {
       {"malformed", replace("\"frames\": {\"count\": 2},", "\"frames\": {\"count\": 2,,"),
        "c.json:7:25: malformed JSON"},
       {"unknown key",
-       replace("\"render\": {\"scale\": 0.05}", "\"render\": {\"scale\": 0.05, \"scael\": 1}"),
+       replace("\"render\": {\"scale\": 0.05, \"spp\": 1}",
+               "\"render\": {\"scale\": 0.05, \"scael\": 1}"),
        "render.scael: unknown key"},
       {"wrong type", replace("{\"count\": 2}", "{\"count\": \"two\"}"),
        "frames.count: expected an integer"},
@@ -158,7 +159,7 @@ TEST(Cli, RunWritesIntervalsAndPairedDifferences) {
   std::string cfg = R"({
   "name": "ci_test",
   "display": "htc_vive_pro_eye",
-  "render": {"scale": 0.04},
+  "render": {"scale": 0.04, "spp": 1},
   "scene": {"type": "atrium", "complexity": 1},
   "trace": {"synthetic": {"scenario": "walk-through", "seed": 2, "duration": 0.4}},
   "frames": {"count": 24},

@@ -14,7 +14,7 @@ namespace {
 
 std::string cfg_for(const std::string& trace, int count, const std::string& methods,
                     const std::string& latency) {
-  return R"({"name": "lat", "display": "htc_vive_pro_eye", "render": {"scale": 0.08},
+  return R"({"name": "lat", "display": "htc_vive_pro_eye", "render": {"scale": 0.08, "spp": 1},
     "scene": {"type": "atrium", "complexity": 1},
     "trace": {"file": ")" +
          trace + R"("}, "frames": {"count": )" + std::to_string(count) + R"(},

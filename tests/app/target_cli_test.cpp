@@ -16,7 +16,7 @@ std::string config(const std::string& methods) {
   return R"({
   "name": "target_test",
   "display": "htc_vive_pro_eye",
-  "render": {"scale": 0.04},
+  "render": {"scale": 0.04, "spp": 1},
   "scene": {"type": "atrium", "complexity": 1},
   "trace": {"synthetic": {"scenario": "walk-through", "seed": 2, "duration": 3.4}},
   "frames": {"count": 300},

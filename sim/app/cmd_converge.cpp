@@ -1,0 +1,45 @@
+// `fovsim converge CONFIG [--spp 1,4,16,64] [--out DIR] [key.path=value ...]`
+#include <cstdio>
+#include <memory>
+
+#include "sim/app/commands.h"
+#include "sim/experiment/convergence.h"
+
+namespace fovsim::app {
+
+void register_converge(CLI::App& app, Action& action) {
+  struct Args {
+    std::string config, out = "results/convergence", models;
+    std::vector<std::string> overrides;
+    std::vector<int> spps{1, 4, 16, 64};
+    int threads = 0;
+  };
+  auto a = std::make_shared<Args>();
+  CLI::App* c = app.add_subcommand(
+      "converge",
+      "Reference convergence study: every method against references of increasing render.spp; "
+      "picks the default spp (docs/metrics.md)");
+  c->add_option("config", a->config, "Run config (JSON), e.g. configs/convergence.json")
+      ->required();
+  c->add_option("overrides", a->overrides, "Overrides key.path=value applied to every level");
+  c->add_option("--spp", a->spps, "Increasing perfect squares (default 1,4,16,64)")->delimiter(',');
+  c->add_option("-o,--out", a->out, "Output directory (default results/convergence)");
+  c->add_option("-j,--threads", a->threads, "Worker threads (default: all cores)")
+      ->check(CLI::Range(0, 4096));
+  c->add_option("--models", a->models, "Models directory");
+  c->callback([a, &action]() {
+    action = [a]() {
+      ConvergenceOptions o;
+      o.spps = a->spps;
+      o.out_dir = a->out;
+      o.models_dir = a->models;
+      o.threads = a->threads;
+      ConvergenceResult r = run_convergence(a->config, a->overrides, o);
+      std::printf("%s", r.markdown().c_str());
+      std::printf("written: %s/convergence.md, convergence.csv\n", a->out.c_str());
+      return 0;
+    };
+  });
+}
+
+}  // namespace fovsim::app

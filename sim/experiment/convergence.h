@@ -1,0 +1,49 @@
+// Reference convergence study (DESIGN §4, docs/metrics.md "Reference convergence"): every
+// method of a config measured against references of increasing render.spp. The default spp is
+// the lowest level from which every method's means move by less than a tolerance to the next
+// level (PSNR/FPSNR 0.1 dB, FLIP 0.005) and the ranking of the methods no longer changes.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace fovsim {
+
+struct ConvergenceOptions {
+  std::vector<int> spps{1, 4, 16, 64};  // increasing perfect squares
+  std::string out_dir;                  // per-level runs in <out>/spp_<n>/, tables at the top
+  std::string models_dir;
+  int threads = 0;
+  double tol_db = 0.1;      // PSNR, FPSNR
+  double tol_flip = 0.005;  // FLIP mean
+};
+
+// The metrics of the study: name, higher is better, tolerance kind (0: dB, 1: FLIP, -1: none).
+struct ConvergenceMetric {
+  const char* name;
+  bool higher_better;
+  int tol_kind;
+};
+const std::vector<ConvergenceMetric>& convergence_metrics();  // psnr, fpsnr, ssim, flip
+
+struct ConvergenceResult {
+  std::vector<int> spps;
+  std::vector<std::string> labels;  // method labels, config order
+  // value[level][label][metric] (per-config means from summary.csv; nan when absent)
+  std::vector<std::vector<std::vector<double>>> value;
+  std::vector<double> ref_seconds;  // wall time of each level's run
+  std::vector<bool> level_ok;       // level i meets the criterion (last level: false)
+  int chosen_spp = 0;               // lowest level meeting it; 0 = none
+  std::string markdown() const;     // the table for docs/metrics.md
+  std::string csv() const;
+};
+
+// Decides level_ok and chosen_spp from `value` (no rendering; tested on its own).
+void evaluate_convergence(ConvergenceResult& r, const ConvergenceOptions& opt);
+
+// Runs CONFIG (with overrides) once per spp level (render.spp=<n>) and evaluates.
+// Writes <out>/convergence.csv and <out>/convergence.md.
+ConvergenceResult run_convergence(const std::string& config,
+                                  const std::vector<std::string>& overrides,
+                                  const ConvergenceOptions& opt);
+
+}  // namespace fovsim

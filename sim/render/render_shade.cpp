@@ -1,0 +1,285 @@
+// Shading (DESIGN §4): ambient + emission, Lambert + Blinn-Phong per light, shadow rays as
+// rtcOccluded16 packets with a portable occlusion decision (occlusion_filter). Deterministic
+// per sample: no sampling, the same bits at any thread count.
+#include <tbb/parallel_for.h>
+
+#include "sim/render/render_internal.h"
+
+namespace fovsim {
+
+void occlusion_filter(const RTCFilterFunctionNArguments* args) {
+  const auto* oc = reinterpret_cast<const OcclusionContext*>(args->context);
+  const int obj = static_cast<const RenderState::GeomUser*>(args->geometryUserPtr)->object;
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    const unsigned id = RTCRayN_id(args->ray, args->N, i);
+    const uint32_t prim = RTCHitN_primID(args->hit, args->N, i);
+    float t = RTCRayN_tfar(args->ray, args->N, i), u = RTCHitN_u(args->hit, args->N, i),
+          v = RTCHitN_v(args->hit, args->N, i);
+    refine_hit(*oc->I, *oc->scene, obj, prim, oc->org[id], oc->dir[id], t, u, v);
+    if (!(t >= oc->tnear[id] && t <= oc->tfar[id]) ||
+        alpha_rejects(*oc->I, *oc->scene, obj, prim, u, v))
+      args->valid[i] = 0;
+  }
+}
+
+namespace {
+
+inline float smooth01(float e0, float e1, float x) {
+  if (e1 <= e0) return x >= e1 ? 1.f : 0.f;
+  float t = clamp01((x - e0) / (e1 - e0));
+  return t * t * (3.f - 2.f * t);
+}
+
+inline bool occluded_ray(const Scene& scene, const RenderState& I, const glm::vec3& o,
+                         const glm::vec3& d, float tnear, float tfar) {
+  OcclusionContext oc;
+  rtcInitIntersectContext(&oc.ctx);
+  oc.I = &I;
+  oc.scene = &scene;
+  oc.org[0] = o;
+  oc.dir[0] = d;
+  oc.tnear[0] = tnear;
+  oc.tfar[0] = tfar;
+  const float slack = occlusion_slack(I);
+  RTCRay r;
+  r.org_x = o.x;
+  r.org_y = o.y;
+  r.org_z = o.z;
+  r.tnear = std::max(0.f, tnear - slack);
+  r.dir_x = d.x;
+  r.dir_y = d.y;
+  r.dir_z = d.z;
+  r.time = 0.f;
+  r.tfar = tfar + slack;
+  r.mask = 0xffffffffu;
+  r.id = 0;
+  r.flags = 0;
+  rtcOccluded1(I.top, &oc.ctx, &r);
+  return r.tfar < 0.f;  // Embree sets tfar = -inf when blocked
+}
+
+}  // namespace
+
+// One light's unshadowed contribution to a sample: Lambert (albedo * cos * E) + Blinn-Phong
+// (ks * (n.h)^s * cos * E). Returns 0 if the light does not reach the sample, 1 if it does
+// without a shadow test, 2 if a shadow ray (O + s L, s in [0, tfar]) decides.
+struct SurfacePoint {
+  glm::vec3 P, N, A, V, O;
+  const Material* m;
+};
+
+inline int light_term(const LightNow& l, const SurfacePoint& sp, bool shadows, float eps,
+                      glm::vec3& contrib, glm::vec3& L, float& tfar) {
+  glm::vec3 E;
+  float dist = kInf;
+  if (l.type == Light::Type::Directional) {
+    L = -l.dir;
+    E = l.radiance;
+  } else {
+    glm::vec3 d = l.pos - sp.P;
+    float r2 = glm::dot(d, d);
+    if (!(r2 > 0.f)) return 0;
+    dist = std::sqrt(r2);
+    L = d / dist;
+    E = l.radiance / r2;
+    if (l.type == Light::Type::Spot) {
+      float f = smooth01(l.cos_outer, l.cos_inner, glm::dot(-L, l.dir));
+      if (f <= 0.f) return 0;
+      E *= f;
+    }
+  }
+  const float ndl = glm::dot(sp.N, L);
+  if (ndl <= 0.f) return 0;
+  glm::vec3 brdf = sp.A;
+  if (sp.m && sp.m->specular > 0.f) {
+    glm::vec3 H = glm::normalize(L + sp.V);
+    float ndh = std::max(0.f, glm::dot(sp.N, H));
+    brdf += glm::vec3(sp.m->specular * std::pow(ndh, sp.m->shininess));
+  }
+  contrib = brdf * E * ndl;
+  if (!(shadows && l.shadows)) return 1;
+  tfar = std::isinf(dist) ? kInf : std::max(0.f, dist - 2.f * eps);
+  return 2;
+}
+
+// Ambient + emission, and the surface frame for the lights. False on a miss.
+inline bool surface(const Scene& scene, const RenderState& I, const GBuffer& g, size_t i,
+                    const glm::vec3& eye, SurfacePoint& sp, glm::vec3& base) {
+  if (!g.hit(i)) {
+    base = scene.background;
+    return false;
+  }
+  sp.P = g.position[i];
+  sp.N = g.normal[i];
+  sp.A = g.albedo[i];
+  const int mi = g.material[i];
+  sp.m = (mi >= 0 && size_t(mi) < scene.materials.size()) ? &scene.materials[size_t(mi)] : nullptr;
+  base = scene.ambient * sp.A;
+  if (sp.m) base += sp.m->emission;
+  sp.V = glm::normalize(eye - sp.P);
+  sp.O = sp.P + sp.N * (2e-4f * I.scene_scale);
+  return true;
+}
+
+// Direct lighting of one sample with single shadow rays (deterministic: no sampling).
+static glm::vec3 shade_one(const Scene& scene, const RenderState& I, bool shadows, const GBuffer& g,
+                           size_t i, const glm::vec3& eye, uint64_t* shadow_rays) {
+  SurfacePoint sp;
+  glm::vec3 col;
+  if (!surface(scene, I, g, i, eye, sp, col)) return col;
+  const float eps = 2e-4f * I.scene_scale;
+  for (const LightNow& l : I.lights) {
+    glm::vec3 contrib, L;
+    float tfar = kInf;
+    int k = light_term(l, sp, shadows, eps, contrib, L, tfar);
+    if (k == 0) continue;
+    if (k == 2) {
+      if (shadow_rays) ++*shadow_rays;
+      if (occluded_ray(scene, I, sp.O, L, 0.f, tfar)) continue;
+    }
+    col += contrib;
+  }
+  return col;
+}
+
+// The same for up to 16 samples at once, with one rtcOccluded16 packet per light (shadow
+// rays from neighbouring samples towards one light are coherent). Accumulates in the same
+// order as shade_one, so both give the same bits.
+static void shade_block(const Scene& scene, const RenderState& I, bool shadows, const GBuffer& g,
+                        const size_t* idx, int n, const glm::vec3& eye, Image& out,
+                        uint64_t& shadow_rays, std::vector<glm::vec3>& contrib,
+                        std::vector<uint8_t>& state) {
+  const size_t nl = I.lights.size();
+  contrib.resize(16 * nl);
+  state.resize(16 * nl);
+  SurfacePoint sp[16];
+  glm::vec3 col[16];
+  bool hit[16];
+  const float eps = 2e-4f * I.scene_scale;
+  for (int k = 0; k < n; ++k) hit[k] = surface(scene, I, g, idx[k], eye, sp[k], col[k]);
+  alignas(64) RTCRay16 ray;
+  alignas(64) int valid[16];
+  OcclusionContext oc;
+  oc.I = &I;
+  oc.scene = &scene;
+  const float slack = occlusion_slack(I);
+  for (size_t li = 0; li < nl; ++li) {
+    const LightNow& l = I.lights[li];
+    int tests = 0;
+    for (int k = 0; k < 16; ++k) {
+      uint8_t st = 0;
+      glm::vec3 L(0.f, 1.f, 0.f);
+      float tfar = kInf;
+      if (k < n && hit[k])
+        st = uint8_t(light_term(l, sp[k], shadows, eps, contrib[size_t(k) * nl + li], L, tfar));
+      state[size_t(k) * nl + li] = st;
+      // Inactive lanes get a harmless ray too (Debian's Embree asserts on all lanes' fields).
+      const glm::vec3 o = (k < n && hit[k]) ? sp[k].O : glm::vec3(0.f);
+      ray.org_x[k] = o.x;
+      ray.org_y[k] = o.y;
+      ray.org_z[k] = o.z;
+      ray.dir_x[k] = L.x;
+      ray.dir_y[k] = L.y;
+      ray.dir_z[k] = L.z;
+      ray.tnear[k] = 0.f;
+      ray.tfar[k] = st == 2 ? tfar + slack : kInf;
+      oc.org[k] = o;
+      oc.dir[k] = L;
+      oc.tnear[k] = 0.f;
+      oc.tfar[k] = st == 2 ? tfar : kInf;
+      ray.time[k] = 0.f;
+      ray.mask[k] = 0xffffffffu;
+      ray.id[k] = unsigned(k);
+      ray.flags[k] = 0;
+      valid[k] = st == 2 ? -1 : 0;
+      tests += st == 2;
+    }
+    if (tests == 0) continue;
+    shadow_rays += uint64_t(tests);
+    rtcInitIntersectContext(&oc.ctx);
+    oc.ctx.flags = I.packet_flags;
+    rtcOccluded16(valid, I.top, &oc.ctx, &ray);
+    for (int k = 0; k < n; ++k)
+      if (state[size_t(k) * nl + li] == 2 && ray.tfar[k] < 0.f) state[size_t(k) * nl + li] = 0;
+  }
+  for (int k = 0; k < n; ++k) {
+    glm::vec3 c = col[k];
+    if (hit[k])
+      for (size_t li = 0; li < nl; ++li)
+        if (state[size_t(k) * nl + li]) c += contrib[size_t(k) * nl + li];
+    float* o = &out.data[idx[k] * 3];
+    o[0] = c.x;
+    o[1] = c.y;
+    o[2] = c.z;
+  }
+}
+
+glm::vec3 Renderer::shade_sample(const GBuffer& g, size_t i, const glm::vec3& eye) const {
+  uint64_t n = 0;
+  glm::vec3 c = shade_one(scene_, *impl_, settings_.shadows, g, i, eye, &n);
+  rays_ += n;
+  return c;
+}
+
+void Renderer::shade(const GBuffer& g, const glm::dvec3& eye_d, Image& out, const uint8_t* mask,
+                     Counters* c) const {
+  if (!g.has(kShadingChannels))
+    throw Error("renderer",
+                "shade() needs a G-buffer with depth, position, normal, albedo, material");
+  if (out.width != g.width || out.height != g.height || out.channels != 3)
+    out.resize(g.width, g.height, 3);
+  const glm::vec3 eye(eye_d);
+  const size_t n = g.size();
+  const size_t B = 4096;
+  const size_t nb = (n + B - 1) / B;
+  std::vector<uint64_t> shadow(nb, 0), shaded(nb, 0);
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, nb, 1),
+      [&](const tbb::blocked_range<size_t>& r) {
+        std::vector<glm::vec3> contrib;
+        std::vector<uint8_t> state;
+        size_t idx[16];
+        for (size_t b = r.begin(); b != r.end(); ++b) {
+          uint64_t sr = 0, ss = 0;
+          int k = 0;
+          for (size_t i = b * B, e = std::min(n, i + B); i < e; ++i) {
+            if (mask && !mask[i]) continue;
+            idx[k++] = i;
+            ++ss;
+            if (k == 16) {
+              shade_block(scene_, *impl_, settings_.shadows, g, idx, k, eye, out, sr, contrib,
+                          state);
+              k = 0;
+            }
+          }
+          if (k)
+            shade_block(scene_, *impl_, settings_.shadows, g, idx, k, eye, out, sr, contrib, state);
+          shadow[b] = sr;
+          shaded[b] = ss;
+        }
+      },
+      tbb::simple_partitioner());
+  uint64_t sr = 0, ss = 0;
+  for (size_t b = 0; b < nb; ++b) {
+    sr += shadow[b];
+    ss += shaded[b];
+  }
+  rays_ += sr;
+  if (c) {
+    c->add("shaded_samples", double(ss));
+    c->add("shadow_rays", double(sr));
+  }
+}
+
+bool Renderer::occluded(const glm::vec3& from, const glm::vec3& to) const {
+  glm::vec3 d = to - from;
+  float dist = glm::length(d);
+  if (!(dist > 0.f)) return false;
+  const float eps = 1e-4f * impl_->scene_scale;
+  rays_ += 1;
+  if (dist <= 2.f * eps) return false;
+  return occluded_ray(scene_, *impl_, from, d / dist, eps, dist - eps);
+}
+
+}  // namespace fovsim
