@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 
 #include "sim/foveation/mapping.h"
@@ -161,7 +162,7 @@ TEST(MappingFastPath, LpGatherAndReconstructMatchTheMaps) {
         // Reconstruct: against forward() + bilinear() per pixel.
         const Image lpimg = noise_image(w, h, 3u);
         Image out(1, 1, 3);
-        lp_reconstruct(lpimg, m, W, H, out);
+        lp_reconstruct_exact(lpimg, m, W, H, out);
         ASSERT_EQ(out.width, W);
         ASSERT_EQ(out.height, H);
         double worst = 0;
@@ -179,8 +180,8 @@ TEST(MappingFastPath, LpGatherAndReconstructMatchTheMaps) {
   set_simd_path(simd_paths_available().back());
 }
 
-// lp_reconstruct's loop before its split (log inside the bilinear loop, std::floor), kept as
-// the bit-exact reference of the split loop with the truncation floor.
+// lp_reconstruct_exact's loop before its split (log inside the bilinear loop, std::floor),
+// kept as the bit-exact reference of the split loop with the truncation floor.
 void lp_reconstruct_ref(const Image& lp, const LogPolarMap& map, int W, int H, Image& out) {
   out = Image(W, H, 3);
   const double inv_L = 1.0 / map.L, w = map.w, h = map.h, gx = map.gx, gy = map.gy;
@@ -222,7 +223,7 @@ TEST(MappingFastPath, LpReconstructBitIdenticalToUnsplitLoop) {
           LogPolarMap::make(W, H, reduced_size(W, 1.8), reduced_size(H, 1.8), g, k);
       const Image lp = noise_image(int(m.w), int(m.h), 11u);
       Image got, want;
-      lp_reconstruct(lp, m, W, H, got);
+      lp_reconstruct_exact(lp, m, W, H, got);
       lp_reconstruct_ref(lp, m, W, H, want);
       ASSERT_EQ(got.data.size(), want.data.size());
       EXPECT_EQ(std::memcmp(got.data.data(), want.data.data(), got.data.size() * sizeof(float)), 0)
@@ -271,6 +272,74 @@ TEST(MappingFastPath, AngleRowBitIdenticalToScalar) {
           EXPECT_EQ(v[i], ref) << "gx " << gx << " dy " << dy << " i " << i;
         }
       }
+  }
+  set_simd_path(simd_paths_available().back());
+}
+
+// The float inverse map (lp_reconstruct: simd_lp_uv_row + simd_bilinear_wrap_row) gives the
+// same bits on every SIMD path, its LP coordinates stay within 2e-3 LP pixels of the double
+// map (LogPolarMap::forward), and its pixels within the bound stated in mapping.h of
+// lp_reconstruct_exact: (|du| + |dv|) x the largest neighbour difference (<= 1 for this noise)
+// + 1e-6.
+TEST(MappingFastPath, LpReconstructFloatWithinBound) {
+  struct Case {
+    int W, H;
+    double alpha;
+    glm::dvec2 g;
+  };
+  const std::vector<Case> cases = {{1440, 1600, 4.0, {700.3, 812.9}},  // HTC Vive Pro Eye size
+                                   {97, 71, 4.0, {48.5, 35.5}},
+                                   {97, 71, 2.0, {3.2, 69.9}},
+                                   {97, 71, 2.5, {-15, 20}},
+                                   {64, 48, 4.0, {32.0, 24.0}}};  // gaze on a pixel corner
+  std::vector<Image> first;
+  for (SimdPath path : simd_paths_available()) {
+    set_simd_path(path);
+    SCOPED_TRACE(simd_path_name(path));
+    for (size_t ci = 0; ci < cases.size(); ++ci) {
+      const Case& c = cases[ci];
+      KernelFn k;
+      k.alpha = c.alpha;
+      const LogPolarMap m =
+          LogPolarMap::make(c.W, c.H, reduced_size(c.W, 1.8), reduced_size(c.H, 1.8), c.g, k);
+      // LP coordinates against the double map.
+      std::vector<float> dxs(static_cast<size_t>(c.W)), u(dxs.size()), v(dxs.size());
+      for (int x = 0; x < c.W; ++x) dxs[size_t(x)] = float((x + 0.5) - m.gx);
+      double du = 0, dv = 0;
+      for (int y = 0; y < c.H; y += (c.H > 200 ? 7 : 1)) {
+        simd_lp_uv_row(u.data(), v.data(), dxs.data(), c.W, float((y + 0.5) - m.gy),
+                       float(0.5 / m.L), float(m.w), float(m.h / (2.0 * kPi)), float(m.h),
+                       c.alpha == 4.0);
+        for (int x = 0; x < c.W; ++x) {
+          const glm::dvec2 e = m.forward(x + 0.5, y + 0.5);
+          ASSERT_GE(v[size_t(x)], 0.f);
+          ASSERT_LT(v[size_t(x)], float(m.h));
+          if (c.alpha == 4.0) du = std::max(du, std::abs(double(u[size_t(x)]) - e.x));
+          const double d = std::abs(double(v[size_t(x)]) - e.y);
+          dv = std::max(dv, std::min(d, m.h - d));  // the angle axis wraps
+        }
+      }
+      EXPECT_LT(du, 2e-3) << ci;
+      EXPECT_LT(dv, 2e-3) << ci;
+      const Image lp = noise_image(int(m.w), int(m.h), 5u + uint32_t(ci));
+      Image got(1, 1, 3), want;
+      lp_reconstruct(lp, m, c.W, c.H, got);
+      lp_reconstruct_exact(lp, m, c.W, c.H, want);
+      ASSERT_EQ(got.data.size(), want.data.size());
+      double worst = 0;
+      for (size_t i = 0; i < got.data.size(); ++i)
+        worst = std::max(worst, double(std::abs(got.data[i] - want.data[i])));
+      EXPECT_LT(worst, 4e-3 + 1e-6) << ci;  // (2e-3 + 2e-3) x neighbour difference <= 1
+      std::printf("[ %s ] %dx%d alpha %g: max |du| %.2e, |dv| %.2e LP px; max |pixel diff| %.2e\n",
+                  simd_path_name(path), c.W, c.H, c.alpha, du, dv, worst);
+      if (path == simd_paths_available().front()) {
+        first.push_back(got);
+      } else {
+        EXPECT_EQ(
+            std::memcmp(got.data.data(), first[ci].data.data(), got.data.size() * sizeof(float)), 0)
+            << "case " << ci << " differs between SIMD paths";
+      }
+    }
   }
   set_simd_path(simd_paths_available().back());
 }
