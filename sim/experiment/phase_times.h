@@ -50,14 +50,22 @@ class PhaseTimes {
     return to;
   }
   void merge(const PhaseTimes& o) {
-    for (auto& [k, v] : o.acc_) {
-      PhaseClock& a = acc_[k];
-      a.wall_ms += v.wall_ms;
-      a.cpu_ms += v.cpu_ms;
-      a.main_cpu_ms += v.main_cpu_ms;
-    }
+    for (auto& [k, v] : o.acc_) add(k, v);
   }
   const std::map<std::string, PhaseClock>& items() const { return acc_; }
+  // Serial CPU work of a phase from its frame-loop thread CPU `main` and process CPU `cpu` at
+  // `threads` > 1 (header comment), clamped to [0, cpu]; 0 at one thread.
+  static double serial_cpu_ms(int threads, double main, double cpu) {
+    if (threads <= 1) return 0.0;
+    return std::clamp((threads * main - cpu) / (threads - 1), 0.0, std::max(cpu, 0.0));
+  }
+  // Adds a measured phase directly (tests; merging timings taken elsewhere).
+  void add(const std::string& name, const PhaseClock& d) {
+    PhaseClock& a = acc_[name];
+    a.wall_ms += d.wall_ms;
+    a.cpu_ms += d.cpu_ms;
+    a.main_cpu_ms += d.main_cpu_ms;
+  }
   // {"threads", "phases": {name: {wall_ms, cpu_ms, main_cpu_ms, serial_cpu_ms}}, "wall_ms",
   //  "cpu_ms", "serial_cpu_ms", "serial_fraction"} (serial_* only for threads > 1).
   Json to_json(int threads) const {
@@ -68,8 +76,7 @@ class PhaseTimes {
       wall += v.wall_ms;
       cpu += v.cpu_ms;
       if (threads > 1) {
-        const double s = std::clamp((threads * v.main_cpu_ms - v.cpu_ms) / (threads - 1), 0.0,
-                                    std::max(v.cpu_ms, 0.0));
+        const double s = serial_cpu_ms(threads, v.main_cpu_ms, v.cpu_ms);
         o["serial_cpu_ms"] = s;
         serial += s;
       }

@@ -4,6 +4,7 @@
 // the maps to a few ulp (sqrt for hypot, x^4 by squaring); lp_reconstruct bit for bit against
 // its loop before the log/bilinear split.
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <cmath>
 #include <cstdio>
@@ -342,4 +343,93 @@ TEST(MappingFastPath, LpReconstructFloatWithinBound) {
     }
   }
   set_simd_path(simd_paths_available().back());
+}
+
+// push_pull_fill (the linear baseline's hole fill) before it ran rows in parallel with a
+// per-thread pyramid: the serial loop, kept as the bit-exact reference.
+double push_pull_fill_ref(Image& img, const std::vector<uint8_t>& valid) {
+  struct Level {
+    int w, h;
+    std::vector<glm::vec4> p;
+  };
+  std::vector<Level> lv;
+  lv.push_back({img.width, img.height, std::vector<glm::vec4>(img.pixels())});
+  for (size_t i = 0; i < img.pixels(); ++i) {
+    const float* s = &img.data[i * size_t(img.channels)];
+    lv[0].p[i] = valid[i] ? glm::vec4(s[0], s[1], s[2], 1.f) : glm::vec4(0.f);
+  }
+  double taps = 0;
+  while (lv.back().w > 1 || lv.back().h > 1) {
+    const Level& f = lv.back();
+    Level c{(f.w + 1) / 2, (f.h + 1) / 2, {}};
+    c.p.assign(size_t(c.w) * size_t(c.h), glm::vec4(0.f));
+    for (int y = 0; y < c.h; ++y)
+      for (int x = 0; x < c.w; ++x) {
+        glm::vec4 acc(0.f);
+        for (int dy = 0; dy < 2; ++dy)
+          for (int dx = 0; dx < 2; ++dx) {
+            int fx = std::min(2 * x + dx, f.w - 1), fy = std::min(2 * y + dy, f.h - 1);
+            acc += f.p[size_t(fy) * size_t(f.w) + size_t(fx)];
+          }
+        if (acc.a > 1.f) acc /= acc.a;
+        c.p[size_t(y) * size_t(c.w) + size_t(x)] = acc;
+      }
+    taps += 4.0 * double(c.w) * double(c.h);
+    lv.push_back(std::move(c));
+  }
+  for (size_t l = lv.size() - 1; l-- > 0;) {
+    Level& f = lv[l];
+    const Level& c = lv[l + 1];
+    for (int y = 0; y < f.h; ++y)
+      for (int x = 0; x < f.w; ++x) {
+        glm::vec4& q = f.p[size_t(y) * size_t(f.w) + size_t(x)];
+        if (q.a >= 1.f) continue;
+        double px = (x + 0.5) * 0.5 - 0.5, py = (y + 0.5) * 0.5 - 0.5;
+        int x0 = int(std::floor(px)), y0 = int(std::floor(py));
+        float tx = float(px - x0), ty = float(py - y0);
+        glm::vec4 acc(0.f);
+        for (int dy = 0; dy < 2; ++dy)
+          for (int dx = 0; dx < 2; ++dx) {
+            int cx = std::clamp(x0 + dx, 0, c.w - 1), cy = std::clamp(y0 + dy, 0, c.h - 1);
+            float wgt = (dx ? tx : 1 - tx) * (dy ? ty : 1 - ty);
+            const glm::vec4& s = c.p[size_t(cy) * size_t(c.w) + size_t(cx)];
+            if (s.a > 0.f) acc += wgt * glm::vec4(glm::vec3(s) / s.a, 1.f);
+          }
+        taps += 4;
+        if (acc.a > 0.f) {
+          glm::vec3 col = glm::vec3(acc) / acc.a;
+          q = glm::vec4(glm::vec3(q) + (1.f - q.a) * col, 1.f);
+        }
+      }
+  }
+  for (size_t i = 0; i < img.pixels(); ++i) {
+    if (valid[i]) continue;
+    float* d = &img.data[i * size_t(img.channels)];
+    const glm::vec4& q = lv[0].p[i];
+    glm::vec3 col = q.a > 0.f ? glm::vec3(q) / q.a : glm::vec3(0.f);
+    d[0] = col.x;
+    d[1] = col.y;
+    d[2] = col.z;
+  }
+  return taps;
+}
+
+TEST(MappingFastPath, PushPullFillParallelBitIdenticalToSerialLoop) {
+  // Sizes odd/even/degenerate; a smaller call after a larger one reuses the per-thread pyramid.
+  for (int threads : {1, 2})
+    for (auto wh : {std::pair<int, int>{97, 61}, {1, 1}, {2, 7}, {64, 64}, {5, 3}}) {
+      tbb::global_control gc(tbb::global_control::max_allowed_parallelism, size_t(threads));
+      const int w = wh.first, h = wh.second;
+      Image a = noise_image(w, h, 17u + uint32_t(w)), b = a;
+      std::vector<uint8_t> valid(a.pixels());
+      uint32_t s = 99u + uint32_t(h);
+      for (auto& v : valid) {
+        s = s * 1664525u + 1013904223u;
+        v = (s >> 29) == 0 ? 1 : 0;  // ~1/8 valid: many holes on every level
+      }
+      const double ta = push_pull_fill(a, valid), tb = push_pull_fill_ref(b, valid);
+      EXPECT_EQ(ta, tb) << w << "x" << h << " threads " << threads;
+      EXPECT_EQ(std::memcmp(a.data.data(), b.data.data(), a.data.size() * sizeof(float)), 0)
+          << w << "x" << h << " threads " << threads;
+    }
 }
