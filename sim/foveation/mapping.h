@@ -112,7 +112,7 @@ size_t gather_gbuffer_rows(const GBuffer& src, int w, int h, AtFn&& at, GBuffer&
   const size_t xmax = size_t(src.width - 1), ymax = size_t(src.height - 1);
   std::vector<size_t> row_n(size_t(std::max(h, 0)), 0);
   constexpr size_t kNone = ~size_t(0);
-  constexpr int kAhead = 32;
+  constexpr int kAhead = 128;
   parallel_rows(h, [&](int iv) {
     thread_local std::vector<size_t> idx;  // per-thread row scratch, reused (no per-row allocation)
     idx.resize(size_t(std::max(w, 0)) + kAhead);
