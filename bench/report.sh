@@ -4,9 +4,13 @@
 #   - G-buffer pass / Embree's rtcIntersect16 4x4 coherent packet rate (bench_render), atrium
 #     complexity 3 and 6; and / single-ray rtcIntersect1;
 #   - KFR forward (lp_gather) and inverse (lp_reconstruct) map time / cv::warpPolar's time
-#     (bench_methods; needs OpenCV, `make deps-bench`).
-# Usage: bench/report.sh BUILD_DIR [MIN_TIME_S]   (make bench-report). Not yet covered: the
-# sweep ratio, RSS and the 2-thread speed-up of `fovsim run` (issue 19 items 5 and 7).
+#     (bench_methods; needs OpenCV, `make deps-bench`);
+#   - `fovsim run configs/quickstart.json` at 1 and 2 threads: wall and CPU (user + sys) time,
+#     the 2-thread speed-up (wall), the serial fraction estimated from the 2-thread run's
+#     per-phase CPU times (manifest.json "phases", sim/experiment/phase_times.h) and the
+#     Amdahl speed-up it allows at 2 threads.
+# Usage: bench/report.sh BUILD_DIR [MIN_TIME_S]   (make bench-report). Not covered: peak RSS
+# (issue 19 measured it flat).
 set -euo pipefail
 B=${1:-build}
 T=${2:-2}
@@ -36,4 +40,36 @@ for p in ("forward", "inverse"):
     f, o = m.get("fovsim_" + p), m.get("opencv_" + p)
     if f and o:
         print(f"KFR {p} map / cv::warpPolar: {f:.1f} / {o:.1f} ms = {f/o:.2f} (target <= 1.0)")
+PY
+
+# fovsim run configs/quickstart.json at 1 and 2 threads (no plots, images as configured).
+for j in 1 2; do
+  python3 - "$B/fovsim" "$j" "$tmp/qs$j" > "$tmp/time$j.json" <<'PY'
+import json, resource, subprocess, sys, time
+exe, j, out = sys.argv[1], sys.argv[2], sys.argv[3]
+t0 = time.monotonic()
+subprocess.run([exe, "run", "configs/quickstart.json", "-o", out, "-j", j, "--no-plots"],
+               check=True, stdout=subprocess.DEVNULL)
+wall = time.monotonic() - t0
+ru = resource.getrusage(resource.RUSAGE_CHILDREN)
+print(json.dumps({"wall_s": wall, "cpu_s": ru.ru_utime + ru.ru_stime}))
+PY
+done
+python3 - "$tmp" "$B" <<'PY'
+import json, sys
+d, B = sys.argv[1], sys.argv[2]
+t = {j: json.load(open(f"{d}/time{j}.json")) for j in (1, 2)}
+ph = json.load(open(f"{d}/qs2/manifest.json")).get("phases", {})
+for j in (1, 2):
+    print(f"quickstart, {j} thread{'s' if j > 1 else ''}: wall {t[j]['wall_s']:.1f} s, "
+          f"CPU {t[j]['cpu_s']:.1f} s (user + sys)   [{B}/fovsim run configs/quickstart.json -j {j}]")
+print(f"quickstart 2-thread speed-up (wall 1 / wall 2): {t[1]['wall_s'] / t[2]['wall_s']:.2f} "
+      f"(target >= 1.8; wall times are only meaningful on an idle machine)")
+f = ph.get("serial_fraction")
+if f is not None:
+    print(f"quickstart serial fraction (2-thread run, per-phase CPU): {f:.3f} (target <= 0.05); "
+          f"Amdahl speed-up at 2 threads 1 / (f + (1 - f) / 2) = {1 / (f + (1 - f) / 2):.2f}")
+    for k, v in sorted(ph["phases"].items(), key=lambda kv: -kv[1]["cpu_ms"]):
+        print(f"  phase {k:10s} wall {v['wall_ms'] / 1e3:7.2f} s  CPU {v['cpu_ms'] / 1e3:7.2f} s  "
+              f"serial CPU {v.get('serial_cpu_ms', 0) / 1e3:6.2f} s")
 PY

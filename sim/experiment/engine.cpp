@@ -27,6 +27,7 @@
 #include "sim/experiment/config.h"
 #include "sim/experiment/intervals.h"
 #include "sim/experiment/latency.h"
+#include "sim/experiment/phase_times.h"
 #include "sim/experiment/runner.h"
 #include "sim/foveation/factory.h"
 #include "sim/foveation/frame.h"
@@ -84,6 +85,7 @@ struct MethodRun {
   std::string method;
   std::unique_ptr<FoveationMethod> impl;
   TemporalState temporal;
+  FrameOutput fo;            // reused every frame (its image keeps its storage)
   double prev_est_ms = NAN;  // latency.render_from_estimate: last frame's estimate (first GPU)
 };
 
@@ -219,6 +221,7 @@ struct Cell {
   std::set<std::string> flags_seen;
   ResultTable frames;
   double cell_ms = 0;
+  PhaseTimes phases;  // manifest "phases" (phase_times.h)
   Image out_display;  // per-cell scratch, reused every frame
   MetricsScratch metrics_scratch;
   LatencyConfig latency;  // issue 17 (docs/latency.md)
@@ -290,11 +293,13 @@ struct Cell {
   void process(const Shared& sh, const Renderer& renderer, const FrameData& fd,
                const Image& ref_display, int fi, double ref_ms, bool record = true) {
     auto c0 = Clock::now();
+    PhaseClock pc = PhaseClock::now();
     const TraceSample& s = sh.trace.samples[size_t(fi)];
     const SceneFeatures features = sh.scene->features();
     bool want_images = record && io.frames.count(fi) > 0;
     std::string img_dir = job->out_dir + "/images/frame_" + std::to_string(fi);
     if (want_images) write_images(img_dir, "reference", ref_display, &fd.reference, io);
+    pc = phases.lap("images", pc);
     FrameContext ctx = fd.context(*sh.scene, renderer, sh.sim_display, want_images && io.debug);
     // Latency what-if: methods see the gaze at t - latency, metrics keep fd's true gaze.
     const double period = 1.0 / sh.display.refresh_hz;
@@ -308,7 +313,11 @@ struct Cell {
 
     for (size_t mi = 0; mi < methods.size(); ++mi) {
       MethodRun& m = methods[mi];
-      FrameOutput fo;
+      FrameOutput& fo = m.fo;  // cleared; fo.image keeps its storage (no per-frame allocation)
+      fo.image_is_reference = false;
+      fo.counters.clear();
+      fo.debug.clear();
+      fo.flags.clear();
       double lat_ms = 0;
       if (latency.enabled) {
         double render_part = latency.render_ms;
@@ -347,17 +356,20 @@ struct Cell {
       if (fd.has_vpls && fd.counters.has("rsm_texels"))
         fo.counters.set("rsm_texels", fd.counters.get("rsm_texels"));
       double sim_ms = ms_since(m0);
+      pc = phases.lap("methods", pc);
       const Image& lin = fo.image_is_reference ? fd.reference : fo.image;
       if (lin.width != sh.sim_display.width || lin.height != sh.sim_display.height ||
           lin.channels != 3)
         throw Error("method " + m.label, "produced an image of the wrong size");
       sh.tonemap.apply(lin, out_display);
       const Image* refd = &ref_display;  // every row against the same reference
+      pc = phases.lap("tonemap", pc);
       Counters metrics = compute_metrics(mcfg, out_display, *refd, fd.camera, fd.eccentricity,
                                          &m.temporal, &metrics_scratch);
       for (auto& f : fo.flags) flags_seen.insert(m.label + ":" + f);
       if (latency.enabled)
         for (auto& kv : metrics.items()) metric_names.insert(kv.first);
+      pc = phases.lap("metrics", pc);
 
       if (want_images) {
         write_images(img_dir, m.stem, out_display, &lin, io);
@@ -369,6 +381,7 @@ struct Cell {
         for (auto& [dname, dimg] : fo.debug)
           write_image(img_dir + "/" + safe_file_name(m.stem + "_" + dname) + ".png", dimg);
       }
+      pc = phases.lap("images", pc);
 
       for (auto& gpu : gpus) {
         CostInputs ci;
@@ -428,6 +441,7 @@ struct Cell {
         row.set("sim_ms", sim_ms);
         if (record) frames.add(std::move(row));
       }
+      pc = phases.lap("cost_rows", pc);
     }
     cell_ms += ms_since(c0);
   }
@@ -448,6 +462,8 @@ struct Cell {
 std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const EngineOptions& opt,
                                   GroupStats* stats) {
   auto g0 = Clock::now();
+  PhaseTimes group_phases;  // setup, reference, outputs (shared by the cells)
+  PhaseClock gpc = PhaseClock::now();
   std::vector<CellResult> results;
   if (jobs.empty()) return results;
   const std::string key = reference_key(jobs.front().doc);
@@ -545,6 +561,7 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
     cells[i]->watchdog_slot = i + 1;
   }
   double setup_ms = ms_since(g0);
+  gpc = group_phases.lap("setup", gpc);
   FrameData fd;
   Image ref_display;
   std::optional<Camera> prev_cam;
@@ -556,12 +573,14 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
     int fi = sh.start + k * sh.stride;
     const TraceSample& s = sh.trace.samples[size_t(fi)];
     auto t0 = Clock::now();
+    PhaseClock rpc = PhaseClock::now();
     watchdog.begin(0, "frame " + std::to_string(fi) + ", reference rendering");
     renderer.set_time(s.t);
     prepare_frame(renderer, sh.sim_display, s, fi, channels, prev_cam ? &*prev_cam : nullptr, fd);
     watchdog.end(0);
     sh.tonemap.apply(fd.reference, ref_display);
     double ref_ms = ms_since(t0);
+    group_phases.lap("reference", rpc);
     ref_total += ref_ms;
     if (cells.size() == 1) {
       cells[0]->process(sh, renderer, fd, ref_display, fi, ref_ms, record);
@@ -615,6 +634,8 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
   progress.done();
 
   // ---- outputs (atomic; manifest "complete" last) ----
+  const int threads = opt.threads > 0 ? opt.threads : int(tbb::info::default_concurrency());
+  gpc = PhaseClock::now();
   for (auto& c : cells) {
     const std::string& out = c->job->out_dir;
     CellResult r;
@@ -659,6 +680,10 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
     c->manifest["status"] = "complete";
     c->manifest["end_time"] = iso_now();
     c->manifest["rays_traced"] = renderer.rays_traced();
+    PhaseTimes ph = group_phases;
+    ph.merge(c->phases);
+    ph.lap("outputs", gpc);  // this cell's output files so far (one cell: all of them)
+    c->manifest["phases"] = ph.to_json(threads);
     write_file_atomic(out + "/manifest.json", c->manifest.dump(2) + "\n");
     r.frames = std::move(c->frames);
     results.push_back(std::move(r));

@@ -1,5 +1,6 @@
 #include "sim/experiment/sweep_runner.h"
 
+#include <sys/resource.h>
 #include <tbb/global_control.h>
 
 #include <chrono>
@@ -22,6 +23,14 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 namespace {
+
+// User + system CPU time of this process (all threads), ms.
+double process_cpu_ms() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  auto ms = [](const timeval& t) { return double(t.tv_sec) * 1e3 + double(t.tv_usec) * 1e-3; };
+  return ms(u.ru_utime) + ms(u.ru_stime);
+}
 
 double ms_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
@@ -210,6 +219,7 @@ SweepPlan load_sweep_plan(const std::string& dir) {
 
 SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const SweepOptions& opt) {
   auto t0 = Clock::now();
+  const double cpu0 = process_cpu_ms();
   std::unique_ptr<tbb::global_control> threads;
   if (opt.threads > 0)
     threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
@@ -306,6 +316,7 @@ SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const Swee
     rep.complete = true;
   }
   rep.wall_ms = ms_since(t0);
+  rep.cpu_ms = process_cpu_ms() - cpu0;
   return rep;
 }
 

@@ -34,7 +34,10 @@ struct SweepReport {
   int groups = 0;            // distinct reference keys among cells run
   int reference_passes = 0;  // frame loops (groups x batches)
   int reference_frames = 0;  // references rendered
+  // Wall times of this call (wall_ms) and its parts: ref_ms, cell_ms and setup_ms are sums of
+  // per-group / per-cell wall times, which overlap when cells run in parallel.
   double wall_ms = 0, ref_ms = 0, cell_ms = 0, setup_ms = 0;
+  double cpu_ms = 0;      // CPU time (user + system) of the process during this call, all threads
   bool complete = false;  // every cell of the sweep is complete in out_dir (summary written)
 };
 

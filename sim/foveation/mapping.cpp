@@ -266,7 +266,7 @@ void lp_reconstruct_rows(const Image& lp, const LogPolarMap& map, int W, int H, 
 }
 }  // namespace
 
-void lp_reconstruct(const Image& lp, const LogPolarMap& map, int W, int H, Image& out) {
+void lp_reconstruct_exact(const Image& lp, const LogPolarMap& map, int W, int H, Image& out) {
   ensure_shape(out, W, H, 3);
   const KernelFn& k = map.k;
   // K(t) = t^alpha with integer alpha by squaring (default alpha = 4: (t^2)^2).
@@ -283,6 +283,38 @@ void lp_reconstruct(const Image& lp, const LogPolarMap& map, int W, int H, Image
   } else {
     lp_reconstruct_rows(lp, map, W, H, out, [k](double t) { return k.K(t); });
   }
+}
+
+void lp_reconstruct(const Image& lp, const LogPolarMap& map, int W, int H, Image& out) {
+  ensure_shape(out, W, H, 3);
+  if (W <= 0 || H <= 0) return;
+  const KernelFn k = map.k;
+  const bool pow4 = k.kind == KernelKind::Power && k.alpha == 4.0;
+  const bool int_alpha = k.kind == KernelKind::Power && k.alpha >= 1 && k.alpha <= 64 &&
+                         k.alpha == std::floor(k.alpha);
+  const int ia = int_alpha ? int(k.alpha) : 0;
+  // Per-frame terms in double, rounded once to float: dx per column, dy per row (so the only
+  // float rounding of the inputs is that of dx and dy themselves).
+  thread_local std::vector<float> dxs;
+  dxs.resize(size_t(W));
+  for (int x = 0; x < W; ++x) dxs[size_t(x)] = float((x + 0.5) - map.gx);
+  const float half_inv_L = float(0.5 / map.L), w = float(map.w), h = float(map.h);
+  const float v_per_rad = float(map.h / (2.0 * kPi));
+  const float* dx = dxs.data();
+  parallel_rows(H, [&, dx](int y) {
+    thread_local std::vector<float> urow, vrow;  // per-thread row scratch, reused
+    urow.resize(size_t(W));
+    vrow.resize(size_t(W));
+    const float dy = float((y + 0.5) - map.gy);
+    simd_lp_uv_row(urow.data(), vrow.data(), dx, W, dy, half_inv_L, w, v_per_rad, h, pow4);
+    if (!pow4)  // u holds t: apply K (double), then scale to the buffer
+      for (int x = 0; x < W; ++x) {
+        const double t = urow[size_t(x)];
+        urow[size_t(x)] = float((int_alpha ? ipow(t, ia) : k.K(t)) * map.w);
+      }
+    simd_bilinear_wrap_row(out.row(y), urow.data(), vrow.data(), W, lp.data.data(), lp.width,
+                           lp.height);
+  });
 }
 
 double gaussian3x3_from(Image& img, int x0, bool wrap_y, Image* scratch) {
@@ -417,23 +449,41 @@ double variable_gaussian(Image& img, const std::vector<uint8_t>& eta, int max_et
 
 double push_pull_fill(Image& img, const std::vector<uint8_t>& valid) {
   // Level 0: premultiplied colour + weight; pull halves the size until 1x1 (weights clamped
-  // to 1), push fills each level's deficit (1 - w) from the bilinear parent colour.
+  // to 1), push fills each level's deficit (1 - w) from the bilinear parent colour. Every
+  // pixel of a level is computed independently: rows run in parallel, the same bits at any
+  // thread count. The pyramid is per-thread scratch kept across calls (no per-frame
+  // allocation once the sizes are reached).
   struct Level {
-    int w, h;
+    int w = 0, h = 0;
     std::vector<glm::vec4> p;  // rgb premultiplied, a = weight
   };
-  std::vector<Level> lv;
-  lv.push_back({img.width, img.height, std::vector<glm::vec4>(img.pixels())});
-  for (size_t i = 0; i < img.pixels(); ++i) {
-    const float* s = &img.data[i * size_t(img.channels)];
-    lv[0].p[i] = valid[i] ? glm::vec4(s[0], s[1], s[2], 1.f) : glm::vec4(0.f);
+  thread_local std::vector<Level> lv;
+  size_t nl = 0;
+  auto next_level = [&](int w, int h) -> Level& {
+    if (lv.size() <= nl) lv.emplace_back();
+    Level& L = lv[nl++];
+    L.w = w;
+    L.h = h;
+    L.p.resize(size_t(w) * size_t(h));
+    return L;
+  };
+  {
+    Level& L0 = next_level(img.width, img.height);
+    const int C = img.channels, W0 = img.width;
+    parallel_rows(img.height, [&](int y) {
+      for (int x = 0; x < W0; ++x) {
+        const size_t i = size_t(y) * size_t(W0) + size_t(x);
+        const float* s = &img.data[i * size_t(C)];
+        L0.p[i] = valid[i] ? glm::vec4(s[0], s[1], s[2], 1.f) : glm::vec4(0.f);
+      }
+    });
   }
   double taps = 0;
-  while (lv.back().w > 1 || lv.back().h > 1) {
-    const Level& f = lv.back();
-    Level c{(f.w + 1) / 2, (f.h + 1) / 2, {}};
-    c.p.assign(size_t(c.w) * size_t(c.h), glm::vec4(0.f));
-    for (int y = 0; y < c.h; ++y)
+  while (lv[nl - 1].w > 1 || lv[nl - 1].h > 1) {
+    const int fw = lv[nl - 1].w, fh = lv[nl - 1].h;
+    Level& c = next_level((fw + 1) / 2, (fh + 1) / 2);
+    const Level& f = lv[nl - 2];
+    parallel_rows(c.h, [&](int y) {
       for (int x = 0; x < c.w; ++x) {
         glm::vec4 acc(0.f);
         for (int dy = 0; dy < 2; ++dy)
@@ -444,13 +494,16 @@ double push_pull_fill(Image& img, const std::vector<uint8_t>& valid) {
         if (acc.a > 1.f) acc /= acc.a;
         c.p[size_t(y) * size_t(c.w) + size_t(x)] = acc;
       }
+    });
     taps += 4.0 * double(c.w) * double(c.h);
-    lv.push_back(std::move(c));
   }
-  for (size_t l = lv.size() - 1; l-- > 0;) {
+  std::vector<double> row_taps;
+  for (size_t l = nl - 1; l-- > 0;) {
     Level& f = lv[l];
     const Level& c = lv[l + 1];
-    for (int y = 0; y < f.h; ++y)
+    row_taps.assign(size_t(f.h), 0.0);
+    parallel_rows(f.h, [&](int y) {
+      double t = 0;
       for (int x = 0; x < f.w; ++x) {
         glm::vec4& q = f.p[size_t(y) * size_t(f.w) + size_t(x)];
         if (q.a >= 1.f) continue;
@@ -466,22 +519,30 @@ double push_pull_fill(Image& img, const std::vector<uint8_t>& valid) {
             const glm::vec4& s = c.p[size_t(cy) * size_t(c.w) + size_t(cx)];
             if (s.a > 0.f) acc += wgt * glm::vec4(glm::vec3(s) / s.a, 1.f);
           }
-        taps += 4;
+        t += 4;
         if (acc.a > 0.f) {
           glm::vec3 col = glm::vec3(acc) / acc.a;
           q = glm::vec4(glm::vec3(q) + (1.f - q.a) * col, 1.f);
         }
       }
+      row_taps[size_t(y)] = t;
+    });
+    for (double t : row_taps) taps += t;
   }
-  for (size_t i = 0; i < img.pixels(); ++i) {
-    if (valid[i]) continue;
-    float* d = &img.data[i * size_t(img.channels)];
-    const glm::vec4& q = lv[0].p[i];
-    glm::vec3 col = q.a > 0.f ? glm::vec3(q) / q.a : glm::vec3(0.f);
-    d[0] = col.x;
-    d[1] = col.y;
-    d[2] = col.z;
-  }
+  const Level& L0 = lv[0];
+  const int C = img.channels, W0 = img.width;
+  parallel_rows(img.height, [&](int y) {
+    for (int x = 0; x < W0; ++x) {
+      const size_t i = size_t(y) * size_t(W0) + size_t(x);
+      if (valid[i]) continue;
+      float* d = &img.data[i * size_t(C)];
+      const glm::vec4& q = L0.p[i];
+      glm::vec3 col = q.a > 0.f ? glm::vec3(q) / q.a : glm::vec3(0.f);
+      d[0] = col.x;
+      d[1] = col.y;
+      d[2] = col.z;
+    }
+  });
   return taps;
 }
 

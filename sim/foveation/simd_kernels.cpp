@@ -1,6 +1,7 @@
 #include "sim/foveation/simd_kernels.h"
 
 #include <atomic>
+#include <cstdint>
 #include <cstdlib>
 
 #include "sim/core/error.h"
@@ -97,6 +98,25 @@ void simd_weighted_rows(float* o, const float* const* rows, const float* k, int 
   if (simd_path() == SimdPath::Avx2) return weighted_rows_avx2(o, rows, k, n, len);
 #endif
   weighted_rows_generic(o, rows, k, n, len);
+}
+
+void simd_lp_uv_row(float* u, float* v, const float* dxs, int n, float dy, float half_inv_L,
+                    float w, float v_per_rad, float h, bool pow4) {
+#if FOVSIM_HAVE_AVX2_PATH
+  if (simd_path() == SimdPath::Avx2)
+    return pow4 ? lp_uv_row_avx2<true>(u, v, dxs, n, dy, half_inv_L, w, v_per_rad, h)
+                : lp_uv_row_avx2<false>(u, v, dxs, n, dy, half_inv_L, w, v_per_rad, h);
+#endif
+  pow4 ? lp_uv_row_generic<true>(u, v, dxs, n, dy, half_inv_L, w, v_per_rad, h)
+       : lp_uv_row_generic<false>(u, v, dxs, n, dy, half_inv_L, w, v_per_rad, h);
+}
+
+void simd_bilinear_wrap_row(float* out, const float* u, const float* v, int n, const float* lp,
+                            int lw, int lh) {
+#if FOVSIM_HAVE_AVX2_PATH
+  if (simd_path() == SimdPath::Avx2) return bilinear_wrap_row_avx2(out, u, v, n, lp, lw, lh);
+#endif
+  bilinear_wrap_row_generic(out, u, v, n, lp, lw, lh);
 }
 
 }  // namespace fovsim

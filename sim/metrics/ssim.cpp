@@ -67,9 +67,14 @@ double ssim(const Image& a, const Image& b) {
 
   tbb::parallel_for(
       tbb::blocked_range<int>(y_lo, y_hi, kBlockRows), [&](const tbb::blocked_range<int>& range) {
-        std::vector<double> la(W), lb(W), prod(5 * size_t(W));
-        std::vector<double> hbuf;  // 5 planes x (rows + 2R) x Wv, horizontally filtered
-        std::vector<double> vrow(5 * size_t(Wv));
+        // Per-thread row scratch, kept across tasks and calls (no allocation per frame).
+        thread_local std::vector<double> la, lb, prod, vrow;
+        thread_local std::vector<double>
+            hbuf;  // 5 planes x (rows + 2R) x Wv, horizontally filtered
+        la.resize(size_t(W));
+        lb.resize(size_t(W));
+        prod.resize(5 * size_t(W));
+        vrow.resize(5 * size_t(Wv));
         for (int y0 = range.begin(); y0 < range.end(); y0 += kBlockRows) {
           const int y1 = std::min(range.end(), y0 + kBlockRows);
           const int nsrc = (y1 - y0) + 2 * R;

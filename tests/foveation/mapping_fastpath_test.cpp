@@ -4,8 +4,10 @@
 // the maps to a few ulp (sqrt for hypot, x^4 by squaring); lp_reconstruct bit for bit against
 // its loop before the log/bilinear split.
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 
 #include "sim/foveation/mapping.h"
@@ -161,7 +163,7 @@ TEST(MappingFastPath, LpGatherAndReconstructMatchTheMaps) {
         // Reconstruct: against forward() + bilinear() per pixel.
         const Image lpimg = noise_image(w, h, 3u);
         Image out(1, 1, 3);
-        lp_reconstruct(lpimg, m, W, H, out);
+        lp_reconstruct_exact(lpimg, m, W, H, out);
         ASSERT_EQ(out.width, W);
         ASSERT_EQ(out.height, H);
         double worst = 0;
@@ -179,8 +181,8 @@ TEST(MappingFastPath, LpGatherAndReconstructMatchTheMaps) {
   set_simd_path(simd_paths_available().back());
 }
 
-// lp_reconstruct's loop before its split (log inside the bilinear loop, std::floor), kept as
-// the bit-exact reference of the split loop with the truncation floor.
+// lp_reconstruct_exact's loop before its split (log inside the bilinear loop, std::floor),
+// kept as the bit-exact reference of the split loop with the truncation floor.
 void lp_reconstruct_ref(const Image& lp, const LogPolarMap& map, int W, int H, Image& out) {
   out = Image(W, H, 3);
   const double inv_L = 1.0 / map.L, w = map.w, h = map.h, gx = map.gx, gy = map.gy;
@@ -222,7 +224,7 @@ TEST(MappingFastPath, LpReconstructBitIdenticalToUnsplitLoop) {
           LogPolarMap::make(W, H, reduced_size(W, 1.8), reduced_size(H, 1.8), g, k);
       const Image lp = noise_image(int(m.w), int(m.h), 11u);
       Image got, want;
-      lp_reconstruct(lp, m, W, H, got);
+      lp_reconstruct_exact(lp, m, W, H, got);
       lp_reconstruct_ref(lp, m, W, H, want);
       ASSERT_EQ(got.data.size(), want.data.size());
       EXPECT_EQ(std::memcmp(got.data.data(), want.data.data(), got.data.size() * sizeof(float)), 0)
@@ -273,4 +275,161 @@ TEST(MappingFastPath, AngleRowBitIdenticalToScalar) {
       }
   }
   set_simd_path(simd_paths_available().back());
+}
+
+// The float inverse map (lp_reconstruct: simd_lp_uv_row + simd_bilinear_wrap_row) gives the
+// same bits on every SIMD path, its LP coordinates stay within 2e-3 LP pixels of the double
+// map (LogPolarMap::forward), and its pixels within the bound stated in mapping.h of
+// lp_reconstruct_exact: (|du| + |dv|) x the largest neighbour difference (<= 1 for this noise)
+// + 1e-6.
+TEST(MappingFastPath, LpReconstructFloatWithinBound) {
+  struct Case {
+    int W, H;
+    double alpha;
+    glm::dvec2 g;
+  };
+  const std::vector<Case> cases = {{1440, 1600, 4.0, {700.3, 812.9}},  // HTC Vive Pro Eye size
+                                   {97, 71, 4.0, {48.5, 35.5}},
+                                   {97, 71, 2.0, {3.2, 69.9}},
+                                   {97, 71, 2.5, {-15, 20}},
+                                   {64, 48, 4.0, {32.0, 24.0}}};  // gaze on a pixel corner
+  std::vector<Image> first;
+  for (SimdPath path : simd_paths_available()) {
+    set_simd_path(path);
+    SCOPED_TRACE(simd_path_name(path));
+    for (size_t ci = 0; ci < cases.size(); ++ci) {
+      const Case& c = cases[ci];
+      KernelFn k;
+      k.alpha = c.alpha;
+      const LogPolarMap m =
+          LogPolarMap::make(c.W, c.H, reduced_size(c.W, 1.8), reduced_size(c.H, 1.8), c.g, k);
+      // LP coordinates against the double map.
+      std::vector<float> dxs(static_cast<size_t>(c.W)), u(dxs.size()), v(dxs.size());
+      for (int x = 0; x < c.W; ++x) dxs[size_t(x)] = float((x + 0.5) - m.gx);
+      double du = 0, dv = 0;
+      for (int y = 0; y < c.H; y += (c.H > 200 ? 7 : 1)) {
+        simd_lp_uv_row(u.data(), v.data(), dxs.data(), c.W, float((y + 0.5) - m.gy),
+                       float(0.5 / m.L), float(m.w), float(m.h / (2.0 * kPi)), float(m.h),
+                       c.alpha == 4.0);
+        for (int x = 0; x < c.W; ++x) {
+          const glm::dvec2 e = m.forward(x + 0.5, y + 0.5);
+          ASSERT_GE(v[size_t(x)], 0.f);
+          ASSERT_LT(v[size_t(x)], float(m.h));
+          if (c.alpha == 4.0) du = std::max(du, std::abs(double(u[size_t(x)]) - e.x));
+          const double d = std::abs(double(v[size_t(x)]) - e.y);
+          dv = std::max(dv, std::min(d, m.h - d));  // the angle axis wraps
+        }
+      }
+      EXPECT_LT(du, 2e-3) << ci;
+      EXPECT_LT(dv, 2e-3) << ci;
+      const Image lp = noise_image(int(m.w), int(m.h), 5u + uint32_t(ci));
+      Image got(1, 1, 3), want;
+      lp_reconstruct(lp, m, c.W, c.H, got);
+      lp_reconstruct_exact(lp, m, c.W, c.H, want);
+      ASSERT_EQ(got.data.size(), want.data.size());
+      double worst = 0;
+      for (size_t i = 0; i < got.data.size(); ++i)
+        worst = std::max(worst, double(std::abs(got.data[i] - want.data[i])));
+      EXPECT_LT(worst, 4e-3 + 1e-6) << ci;  // (2e-3 + 2e-3) x neighbour difference <= 1
+      std::printf("[ %s ] %dx%d alpha %g: max |du| %.2e, |dv| %.2e LP px; max |pixel diff| %.2e\n",
+                  simd_path_name(path), c.W, c.H, c.alpha, du, dv, worst);
+      if (path == simd_paths_available().front()) {
+        first.push_back(got);
+      } else {
+        EXPECT_EQ(
+            std::memcmp(got.data.data(), first[ci].data.data(), got.data.size() * sizeof(float)), 0)
+            << "case " << ci << " differs between SIMD paths";
+      }
+    }
+  }
+  set_simd_path(simd_paths_available().back());
+}
+
+// push_pull_fill (the linear baseline's hole fill) before it ran rows in parallel with a
+// per-thread pyramid: the serial loop, kept as the bit-exact reference.
+double push_pull_fill_ref(Image& img, const std::vector<uint8_t>& valid) {
+  struct Level {
+    int w, h;
+    std::vector<glm::vec4> p;
+  };
+  std::vector<Level> lv;
+  lv.push_back({img.width, img.height, std::vector<glm::vec4>(img.pixels())});
+  for (size_t i = 0; i < img.pixels(); ++i) {
+    const float* s = &img.data[i * size_t(img.channels)];
+    lv[0].p[i] = valid[i] ? glm::vec4(s[0], s[1], s[2], 1.f) : glm::vec4(0.f);
+  }
+  double taps = 0;
+  while (lv.back().w > 1 || lv.back().h > 1) {
+    const Level& f = lv.back();
+    Level c{(f.w + 1) / 2, (f.h + 1) / 2, {}};
+    c.p.assign(size_t(c.w) * size_t(c.h), glm::vec4(0.f));
+    for (int y = 0; y < c.h; ++y)
+      for (int x = 0; x < c.w; ++x) {
+        glm::vec4 acc(0.f);
+        for (int dy = 0; dy < 2; ++dy)
+          for (int dx = 0; dx < 2; ++dx) {
+            int fx = std::min(2 * x + dx, f.w - 1), fy = std::min(2 * y + dy, f.h - 1);
+            acc += f.p[size_t(fy) * size_t(f.w) + size_t(fx)];
+          }
+        if (acc.a > 1.f) acc /= acc.a;
+        c.p[size_t(y) * size_t(c.w) + size_t(x)] = acc;
+      }
+    taps += 4.0 * double(c.w) * double(c.h);
+    lv.push_back(std::move(c));
+  }
+  for (size_t l = lv.size() - 1; l-- > 0;) {
+    Level& f = lv[l];
+    const Level& c = lv[l + 1];
+    for (int y = 0; y < f.h; ++y)
+      for (int x = 0; x < f.w; ++x) {
+        glm::vec4& q = f.p[size_t(y) * size_t(f.w) + size_t(x)];
+        if (q.a >= 1.f) continue;
+        double px = (x + 0.5) * 0.5 - 0.5, py = (y + 0.5) * 0.5 - 0.5;
+        int x0 = int(std::floor(px)), y0 = int(std::floor(py));
+        float tx = float(px - x0), ty = float(py - y0);
+        glm::vec4 acc(0.f);
+        for (int dy = 0; dy < 2; ++dy)
+          for (int dx = 0; dx < 2; ++dx) {
+            int cx = std::clamp(x0 + dx, 0, c.w - 1), cy = std::clamp(y0 + dy, 0, c.h - 1);
+            float wgt = (dx ? tx : 1 - tx) * (dy ? ty : 1 - ty);
+            const glm::vec4& s = c.p[size_t(cy) * size_t(c.w) + size_t(cx)];
+            if (s.a > 0.f) acc += wgt * glm::vec4(glm::vec3(s) / s.a, 1.f);
+          }
+        taps += 4;
+        if (acc.a > 0.f) {
+          glm::vec3 col = glm::vec3(acc) / acc.a;
+          q = glm::vec4(glm::vec3(q) + (1.f - q.a) * col, 1.f);
+        }
+      }
+  }
+  for (size_t i = 0; i < img.pixels(); ++i) {
+    if (valid[i]) continue;
+    float* d = &img.data[i * size_t(img.channels)];
+    const glm::vec4& q = lv[0].p[i];
+    glm::vec3 col = q.a > 0.f ? glm::vec3(q) / q.a : glm::vec3(0.f);
+    d[0] = col.x;
+    d[1] = col.y;
+    d[2] = col.z;
+  }
+  return taps;
+}
+
+TEST(MappingFastPath, PushPullFillParallelBitIdenticalToSerialLoop) {
+  // Sizes odd/even/degenerate; a smaller call after a larger one reuses the per-thread pyramid.
+  for (int threads : {1, 2})
+    for (auto wh : {std::pair<int, int>{97, 61}, {1, 1}, {2, 7}, {64, 64}, {5, 3}}) {
+      tbb::global_control gc(tbb::global_control::max_allowed_parallelism, size_t(threads));
+      const int w = wh.first, h = wh.second;
+      Image a = noise_image(w, h, 17u + uint32_t(w)), b = a;
+      std::vector<uint8_t> valid(a.pixels());
+      uint32_t s = 99u + uint32_t(h);
+      for (auto& v : valid) {
+        s = s * 1664525u + 1013904223u;
+        v = (s >> 29) == 0 ? 1 : 0;  // ~1/8 valid: many holes on every level
+      }
+      const double ta = push_pull_fill(a, valid), tb = push_pull_fill_ref(b, valid);
+      EXPECT_EQ(ta, tb) << w << "x" << h << " threads " << threads;
+      EXPECT_EQ(std::memcmp(a.data.data(), b.data.data(), a.data.size() * sizeof(float)), 0)
+          << w << "x" << h << " threads " << threads;
+    }
 }
