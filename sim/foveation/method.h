@@ -38,8 +38,9 @@ struct FrameContext {
   bool gaze_valid = true;
   const GBuffer* gbuffer = nullptr;  // full-res primary-ray G-buffer (channels = union of needs)
   const Image* reference = nullptr;  // full-res linear shading of `gbuffer` (direct + indirect)
-  const Image* direct = nullptr;     // its direct light only (== reference without indirect)
-  const FrameVpls* vpls = nullptr;   // the frame's VPLs; nullptr when the scene has no indirect
+  const Image* direct =
+      nullptr;  // direct light, 1 sample per pixel centre (== reference at spp 1 without indirect)
+  const FrameVpls* vpls = nullptr;  // the frame's VPLs; nullptr when the scene has no indirect
   // The method's lighting strategy for this frame (set by the engine when `vpls` is set):
   // methods add its indirect light at their samples (shade_buffer does).
   const LightingStrategy* lighting = nullptr;

@@ -18,12 +18,12 @@ using namespace fovsim;
 
 namespace {
 
-RunResult run(const Json& scene, const Json& methods, const std::string& name) {
+RunResult run(const Json& scene, const Json& methods, const std::string& name, int spp = 1) {
   LoadedConfig c;
   c.file = "lighting.json";
   c.doc = Json{{"name", name},
                {"display", "htc_vive_pro_eye"},
-               {"render", {{"scale", 0.04}}},
+               {"render", {{"scale", 0.04}, {"spp", spp}}},
                {"scene", scene},
                {"trace", {{"synthetic", {{"scenario", "fixate"}, {"seed", 2}, {"duration", 0.1}}}}},
                {"frames", {{"count", 2}}},
@@ -71,6 +71,21 @@ TEST(LightingRows, EveryRowAgainstTheSameReference) {
   EXPECT_GT(m["full"]->get("est_ms_rsm", 0), 0.0);
   EXPECT_GT(m["kfr"]->get("est_ms_rsm", 0), 0.0);
   EXPECT_GT(m["kfr"]->get("est_ms_light_culling", 0), 0.0);
+}
+
+// With a supersampled reference, `full` is one sample per pixel plus all VPLs: finite PSNR, and
+// FLC keeping every VPL renders exactly the same image (its difference is aliasing only).
+TEST(LightingRows, SupersampledReferenceFullAndFlcAllAgree) {
+  const Json scene{{"type", "cornell"}, {"vpl", {{"rsm_size", 8}}}};
+  const Json methods =
+      Json::array({Json{{"method", "full"}},
+                   Json{{"method", "flc"}, {"label", "flc_all"}, {"vpl_budget", 100000}}});
+  RunResult r = run(scene, methods, "rows_spp4", 4);
+  auto m = by_label(r);
+  ASSERT_EQ(m.size(), 2u);
+  const double full = m["full"]->get("psnr", NAN), all = m["flc_all"]->get("psnr", NAN);
+  EXPECT_TRUE(std::isfinite(full));
+  EXPECT_NEAR(full, all, 1e-9);
 }
 
 TEST(LightingRows, NoIndirectNoLightingColumnsOrPasses) {
