@@ -89,7 +89,9 @@ TEST(Fidelity, LadderHasARowPerRungMethodAndOutputAndTopErrorZero) {
     if (*row.text_of("rung") == "scale=0.02" && std::fabs(row.get("err", 0)) > 0) any = true;
   EXPECT_TRUE(any);
   for (auto& row : r.table.rows())
-    if (*row.text_of("rung") == "stride=2") EXPECT_EQ(row.get("frames", NAN), 12.0);
+    if (*row.text_of("rung") == "stride=2") {
+      EXPECT_EQ(row.get("frames", NAN), 12.0);
+    }
   // Every rung has a ranking verdict per output; outputs: files and code version.
   for (auto& j : r.json["rungs"]) {
     EXPECT_TRUE(j.contains("ranking_same_all_outputs")) << j.dump();
@@ -125,7 +127,7 @@ TEST(Fidelity, BadRungsAreOneLocatedLine) {
   EXPECT_EQ(err_of([] { parse_rungs("analytic;scale=0", "scale=0.5"); }),
             "--rungs scale=0: scale must be a number in (0, 4], got \"0\"");
   EXPECT_EQ(err_of([] { parse_rungs("analytic;stride=1.5", "scale=0.5"); }),
-            "--rungs stride=1.5: stride must be an integer in (0, 1e+06], got \"1.5\"");
+            "--rungs stride=1.5: stride must be an integer in (0, 1000000], got \"1.5\"");
   EXPECT_EQ(err_of([] { parse_rungs("analytic;;scale=0.25", "scale=0.5"); }),
             "--rungs \"\": empty rung (rungs are separated by ';', e.g. "
             "analytic;scale=0.25;stride=2)");
@@ -151,9 +153,8 @@ TEST(Fidelity, BadRungsAreOneLocatedLine) {
 }
 
 // Issue 13 item 4: `predict`'s analytic counters and frame times against a rendered run of the
-// same config, on every built-in scene. KFR and RMFR shade their whole reduced buffer, so their
-// shaded fraction is exact up to rounding at the tiny scale; the baselines' analytic fractions
-// assume the gaze at the screen centre.
+// same config, on every built-in scene. RMFR's shaded fraction is exact up to rounding, KFR's an
+// upper bound; the baselines' analytic fractions assume the gaze at the screen centre.
 TEST(Fidelity, AnalyticAgreesWithRenderedRunOnBuiltInScenes) {
   for (const char* scene : {R"({"type": "atrium", "complexity": 1})", R"({"type": "cornell"})",
                             R"({"type": "patterns", "pattern": "stripes"})"}) {
@@ -174,10 +175,19 @@ TEST(Fidelity, AnalyticAgreesWithRenderedRunOnBuiltInScenes) {
       if (o == "est_ms_total") {
         ++n;
         EXPECT_TRUE(std::isfinite(rel)) << scene << " " << m;
-        if (m == "full") EXPECT_LT(std::fabs(rel), 0.02) << scene;  // same counters
+        if (m == "full") {
+          EXPECT_LT(std::fabs(rel), 0.02) << scene;  // same counters
+        }
       }
-      if (o == "shaded_fraction" && (m == "kfr" || m == "rmfr" || m == "full"))
+      if (o == "shaded_fraction" && (m == "rmfr" || m == "full")) {
         EXPECT_LT(std::fabs(row.get("err", NAN)), 0.02) << scene << " " << m;
+      }
+      // KFR's analytic count is its whole (W/sigma) x (H/sigma) LP-buffer; the rendered run
+      // shades only LP texels that map onto the screen: an upper bound (docs/fidelity.md).
+      if (o == "shaded_fraction" && m == "kfr") {
+        EXPECT_GE(row.get("value", NAN), row.get("top", NAN)) << scene;
+        EXPECT_LT(row.get("err", NAN), 0.1) << scene;
+      }
     }
     EXPECT_EQ(n, 4) << scene;
   }
