@@ -255,6 +255,11 @@ ResultTable analytic_summary(const LoadedConfig& cfg, const std::string& models_
                                   ? doc["workload"].get<std::string>()
                                   : "generic",
                               models);
+  // analytic_counters sees only the workload: what it leaves to the scene (-1: triangles,
+  // lights) is resolved from this scene's features, as the cost model does for a rendered run.
+  if (w.triangles < 0) w.triangles = double(f.triangles);
+  if (w.lights < 0) w.lights = double(f.lights);
+  if (w.shadowed_lights < 0) w.shadowed_lights = double(f.shadowed_lights);
   std::vector<std::string> gnames;
   if (doc.contains("gpus") && doc["gpus"].is_array())
     for (auto& g : doc["gpus"]) gnames.push_back(g.get<std::string>());
@@ -529,7 +534,9 @@ FidelityResult run_fidelity(const LoadedConfig& cfg, const FidelityOptions& opt)
   for (auto& o : outs)
     if (o != "est_ms_total" && o != "est_ms_total_p95" && o != "shaded_fraction")
       md += " " + o + " err (max) |";
-  md += " ranking kept | within 0.2 dB, 2%, 1/4 time |\n|---|---:|---:|---:|---:|---:|---:|---:|";
+  md +=
+      " ranking kept | within 0.2 dB, 2% / and <= 1/4 wall / <= 1/4 CPU "
+      "|\n|---|---:|---:|---:|---:|---:|---:|---:|";
   for (auto& o : outs)
     if (o != "est_ms_total" && o != "est_ms_total_p95" && o != "shaded_fraction") md += "---:|";
   md += "---|---|\n";
@@ -546,12 +553,17 @@ FidelityResult run_fidelity(const LoadedConfig& cfg, const FidelityOptions& opt)
     }
     double ratio = top.wall_s > 0 ? d.wall_s / top.wall_s : NAN;
     double cpu_ratio = top.cpu_s > 0 ? d.cpu_s / top.cpu_s : NAN;
-    // Analytic: every counter it predicts too (issue 13 item 4), not only the headline outputs.
+    // Analytic (issue 13 item 4): also every pass estimate and the counters frames.csv holds
+    // at the display's resolution (shaded samples, primitives, VPLs). The other pixel counters
+    // of frames.csv are at the simulated resolution, so they are not compared.
     std::vector<std::string> o_here = outs;
     if (r.analytic) {
       o_here.clear();
       for (auto& c : d.summary.numeric_columns())
-        if (c != "frames" && present.count(c)) o_here.push_back(c);
+        if (present.count(c) && (std::find(outs.begin(), outs.end(), c) != outs.end() ||
+                                 c.rfind("est_ms_", 0) == 0 || c == "shaded_samples" ||
+                                 c == "prims_submitted" || c == "prims_culled" || c == "vpls_kept"))
+          o_here.push_back(c);
     }
     ResultTable cmp = compare_to_truth(r.name, d.summary, top.summary, o_here,
                                        r.analytic ? nullptr : &d.frames, &top.frames);
@@ -599,9 +611,13 @@ FidelityResult run_fidelity(const LoadedConfig& cfg, const FidelityOptions& opt)
       auto& m = rel ? max_rel : max_abs;
       return m.count(o) && m[o] <= lim;
     };
-    bool good = !r.top && within("psnr", 0.2, false) && within("fpsnr", 0.2, false) &&
-                within("est_ms_total", 0.02, true) && within("est_ms_total_p95", 0.02, true) &&
-                ratio <= 0.25;
+    const bool errors_ok = !r.top && within("psnr", 0.2, false) && within("fpsnr", 0.2, false) &&
+                           within("est_ms_total", 0.02, true) &&
+                           within("est_ms_total_p95", 0.02, true);
+    const bool good = errors_ok && ratio <= 0.25;
+    // On a machine shared with other jobs the wall-time ratio is noisy; CPU time is reported
+    // beside it (docs/fidelity.md).
+    const bool good_cpu = errors_ok && cpu_ratio <= 0.25;
     auto mx = [](std::map<std::string, double>& m, const std::string& o) {
       return m.count(o) ? m[o] : NAN;
     };
@@ -621,12 +637,15 @@ FidelityResult run_fidelity(const LoadedConfig& cfg, const FidelityOptions& opt)
     rj["outputs"] = errs;
     rj["ranking_same_all_outputs"] = rank_all;
     rj["ranking_resolved_swaps"] = swaps_all;
+    rj["within_0p2dB_2pct"] = errors_ok;
     rj["within_0p2dB_2pct_quarter_time"] = good;
+    rj["within_0p2dB_2pct_quarter_cpu"] = good_cpu;
     jr.push_back(rj);
-    if (good)
+    if (good || good_cpu)
       res.notes.push_back("rung " + r.name +
                           " keeps PSNR/FPSNR within 0.2 dB and frame time within 2% at " +
-                          fmt("%.3f", ratio) + " of the top rung's wall time");
+                          fmt("%.3f", ratio) + " of the top rung's wall time, " +
+                          fmt("%.3f", cpu_ratio) + " of its CPU time");
     md += "| " + r.name + (r.top ? " (top)" : "") + " | " + fmt("%.1f", d.wall_s) + " | " +
           fmt("%.3f", ratio) + " | " + fmt("%.1f", d.cpu_s) + " | " + fmt("%.3f", cpu_ratio) +
           " | " + fmt("%.2f", 100 * mx(max_rel, "est_ms_total")) + " | " +
@@ -637,15 +656,20 @@ FidelityResult run_fidelity(const LoadedConfig& cfg, const FidelityOptions& opt)
         md += " " + fmt(o == "psnr" || o == "fpsnr" ? "%.3f" : "%.4f", mx(max_abs, o)) + " |";
     md += std::string(" ") + (rank_all ? "yes" : "no") +
           (swaps_all ? " (" + std::to_string(swaps_all) + " resolved swaps)" : "") + " | " +
-          (r.top ? "-" : (good ? "yes" : "no")) + " |\n";
+          (r.top ? "-"
+                 : std::string(errors_ok ? "yes" : "no") + " / " + (good ? "yes" : "no") + " / " +
+                       (good_cpu ? "yes" : "no")) +
+          " |\n";
   }
   res.table = std::move(table);
   res.markdown = md;
-  if (std::none_of(jr.begin(), jr.end(),
-                   [](const Json& j) { return j.value("within_0p2dB_2pct_quarter_time", false); }))
+  if (std::none_of(jr.begin(), jr.end(), [](const Json& j) {
+        return j.value("within_0p2dB_2pct_quarter_time", false) ||
+               j.value("within_0p2dB_2pct_quarter_cpu", false);
+      }))
     res.notes.push_back(
         "no cheaper rung keeps PSNR/FPSNR within 0.2 dB and frame time within 2% at <= 1/4 of "
-        "the top rung's wall time");
+        "the top rung's wall or CPU time");
 
   Json rows = Json::array();
   for (auto& r : res.table.rows()) {
