@@ -56,6 +56,11 @@ def main():
     if not outputs:
         log("fidelity.csv has no rows")
         return 0
+    rung_order = []
+    for r in rows:
+        if r["rung"] not in rung_order:
+            rung_order.append(r["rung"])
+    colour = {rung: f"C{i % 10}" for i, rung in enumerate(rung_order)}  # same colour per rung
     n = len(outputs)
     ncol = min(n, 3)
     nrow = (n + ncol - 1) // ncol
@@ -70,7 +75,7 @@ def main():
             if not (math.isfinite(w) and w > 0):
                 continue
             yerr = [[0], [c]] if math.isfinite(c) and c > 0 else None
-            ax.errorbar([w], [y], yerr=yerr, fmt="o", capsize=3)
+            ax.errorbar([w], [y], yerr=yerr, fmt="o", capsize=3, color=colour[rung])
             ax.annotate(rung, (w, y), textcoords="offset points", xytext=(4, 4), fontsize=7)
         ax.set_xscale("log")
         ax.set_yscale("log")

@@ -436,6 +436,11 @@ FidelityResult run_fidelity(const LoadedConfig& cfg, const FidelityOptions& opt)
     for (auto& r : src.rows()) dst.add(r);
   };
 
+  // Every rung's overrides are applied once before anything runs: a bad path fails at once,
+  // not after the top rung's minutes. (Unknown keys are found when the rung's config is read.)
+  for (auto& r : rungs)
+    if (!r.analytic && r.skipped.empty()) (void)rung_cfg(r);
+
   struct Done {
     const FidelityRung* rung;
     double wall_s = NAN, cpu_s = NAN;
@@ -587,6 +592,7 @@ FidelityResult run_fidelity(const LoadedConfig& cfg, const FidelityOptions& opt)
                           ? NAN
                           : done[slot[ri]].summary.rows().front().get("frames", NAN));
       for (auto& [k, v] : row.num) x.set(k, v);
+      if (r.top) x.set("err_ci95", 0.0);  // the truth against itself: no uncertainty
       x.set("ranking_same", rank_same[o] ? 1 : 0);
       x.set("ranking_resolved_swaps", swaps[o]);
       double e = row.get("err", NAN), rel = row.get("err_rel", NAN);
