@@ -221,3 +221,27 @@ TEST(RankingTarget, ParsesAndSettlesOnlyWhenNeighboursSeparate) {
   EXPECT_FALSE(targets_met({parse_target("ranking:psnr")}, frames(0.0), &ach));
   EXPECT_FALSE(ach["ranking:psnr"]["pairs"][1]["settled"].get<bool>());
 }
+
+// A sweep config: every rung runs the whole sweep; rows per cell, methods ranked within a cell.
+TEST(Fidelity, SweepConfigGivesRowsPerCell) {
+  LoadedConfig c = tiny(R"({"type": "atrium", "complexity": 1})", 6);
+  c.doc["sweep"] = Json::parse(R"({"grid": {"methods[kfr].sigma": [1.5, 2.5]}})");
+  FidelityOptions o;
+  o.out_dir = tmp("sweep");
+  o.rungs = "analytic;stride=2";
+  o.top = "scale=0.03";
+  o.progress = false;
+  FidelityResult r = run_fidelity(c, o);
+  std::map<std::string, std::set<std::string>> ids;
+  for (auto& row : r.table.rows()) {
+    ids[*row.text_of("rung")].insert(*row.text_of("config_id"));
+    if (*row.text_of("rung") == "scale=0.03") {
+      EXPECT_EQ(row.get("err", NAN), 0.0);
+    }
+  }
+  for (const char* rung : {"analytic", "stride=2", "scale=0.03"}) {
+    EXPECT_EQ(ids[rung].size(), 8u) << rung;  // 2 cells x 4 methods
+    EXPECT_TRUE(ids[rung].count("0/kfr") && ids[rung].count("1/kfr")) << rung;
+  }
+  EXPECT_TRUE(file_exists(o.out_dir + "/rungs/2-scale_0.03/summary.csv"));
+}
