@@ -143,36 +143,57 @@ namespace {
 // it (descending, ties by id); every neighbour pair's paired interval must exclude 0.
 bool ranking_settled(const std::string& column, const std::vector<std::string>& order,
                      std::map<std::string, std::vector<const ResultRow*>>& rows, Json* rec) {
-  std::map<std::string, std::vector<std::pair<double, std::string>>> by_gpu;
+  // Per GPU: the configs with a finite value on some frame (an exact config is not ranked).
+  std::vector<std::string> gpus;
+  std::map<std::string, std::vector<std::string>> ids_of;
   std::map<std::string, std::map<double, double>> by_frame;
   for (auto& id : order) {
-    std::vector<double> v;
+    bool any = false;
     for (auto* r : rows[id]) {
       double x = r->get(column, NAN);
       by_frame[id][r->get("frame", NAN)] = x;
-      if (std::isfinite(x)) v.push_back(x);
+      any = any || std::isfinite(x);
     }
-    if (v.empty()) continue;  // exact (PSNR of `full`) or absent: not ranked
+    if (!any) continue;
     const std::string* g = rows[id].front()->text_of("gpu");
-    by_gpu[g ? *g : ""].push_back({batch_means_interval(v).mean, id});
+    std::string gpu = g ? *g : "";
+    if (!ids_of.count(gpu)) gpus.push_back(gpu);
+    ids_of[gpu].push_back(id);
   }
   bool met = true;
   Json ord = Json::object(), pairs = Json::array();
-  for (auto& [gpu, v] : by_gpu) {
+  for (auto& gpu : gpus) {
+    auto& ids = ids_of[gpu];
+    // The frames where every ranked config is finite, in evaluation order (so the batches of a
+    // --target run are random units): the order and the paired differences use the same frames.
+    std::vector<double> frames;
+    for (auto* r : rows[ids.front()]) {
+      double f = r->get("frame", NAN);
+      bool all = true;
+      for (auto& id : ids) {
+        auto it = by_frame[id].find(f);
+        all = all && it != by_frame[id].end() && std::isfinite(it->second);
+      }
+      if (all) frames.push_back(f);
+    }
+    std::vector<std::pair<double, std::string>> v;
+    for (auto& id : ids) {
+      double sum = 0;
+      for (double f : frames) sum += by_frame[id][f];
+      v.push_back({frames.empty() ? NAN : sum / double(frames.size()), id});
+    }
     std::sort(v.begin(), v.end(), [](auto& a, auto& b) {
       return a.first != b.first ? a.first > b.first : a.second < b.second;
     });
-    Json ids = Json::array();
-    for (auto& p : v) ids.push_back(p.second);
-    ord[gpu] = ids;
+    Json idj = Json::array();
+    for (auto& p : v) idj.push_back(p.second);
+    ord[gpu] = idj;
     for (size_t i = 0; i + 1 < v.size(); ++i) {
       const std::string &a = v[i].second, &b = v[i + 1].second;
       std::vector<double> d;
       bool all_zero = true;
-      for (auto& [f, x] : by_frame[a]) {
-        auto it = by_frame[b].find(f);
-        if (it == by_frame[b].end() || !std::isfinite(x) || !std::isfinite(it->second)) continue;
-        d.push_back(x - it->second);
+      for (double f : frames) {
+        d.push_back(by_frame[a][f] - by_frame[b][f]);
         all_zero = all_zero && d.back() == 0;
       }
       MeanInterval ci = batch_means_interval(d);
