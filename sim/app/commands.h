@@ -16,9 +16,11 @@ void register_sweeps(CLI::App& app,
                      Action& action);  // fovsim sweep | sweep expand | merge | search
 void register_trace(CLI::App& app,
                     Action& action);  // fovsim trace import | validate | stats | synth
-void register_density(CLI::App& app, Action& action);   // fovsim density
-void register_info(CLI::App& app, Action& action);      // fovsim info
-void register_methods(CLI::App& app, Action& action);   // fovsim methods
-void register_compare(CLI::App& app, Action& action);   // fovsim compare REF TEST
-void register_fidelity(CLI::App& app, Action& action);  // fovsim fidelity CONFIG
+void register_density(CLI::App& app, Action& action);  // fovsim density
+void register_info(CLI::App& app, Action& action);     // fovsim info
+void register_methods(CLI::App& app, Action& action);  // fovsim methods
+void register_compare(CLI::App& app, Action& action);  // fovsim compare REF TEST
+
+// fovsim fidelity CONFIG (docs/fidelity.md)
+void register_fidelity(CLI::App& app, Action& action);
 }  // namespace fovsim::app
