@@ -241,5 +241,28 @@ class Geometry(unittest.TestCase):
         self.assertEqual(fig.axes[1].title.get_color(), "#1f77b4")
 
 
+class FidelityPlot(unittest.TestCase):
+    def test_log_log_plot_of_a_ladder(self):
+        import plot_fidelity
+
+        head = ("rung,config_id,method,output,rung_index,wall_s,wall_ratio,cpu_s,cpu_ratio,"
+                "frames,top,value,err,err_rel,err_ci95,err_ci95_paired,ranking_same,"
+                "ranking_resolved_swaps")
+        lines = [head]
+        for i, (rung, wall, e) in enumerate([("analytic", 0.1, 0.3), ("scale=0.25", 10, 0.02),
+                                              ("scale=0.5", 40, 0.0)]):
+            for o in ["est_ms_total", "psnr"]:
+                ci = "nan" if rung == "analytic" else "0.1"
+                lines.append(f"{rung},kfr,kfr,{o},{i},{wall},{wall / 40},{wall},{wall / 40},"
+                             f"90,10,{10 + e},{e},{e / 10},{ci},nan,1,0")
+        with tempfile.TemporaryDirectory() as d:
+            write(os.path.join(d, "fidelity.csv"), "\n".join(lines) + "\n")
+            sys.argv = ["plot_fidelity.py", d]
+            self.assertEqual(plot_fidelity.main(), 0)
+            self.assertTrue(os.path.exists(os.path.join(d, "plots", "fidelity.png")))
+            sys.argv = ["plot_fidelity.py", os.path.join(d, "missing")]
+            self.assertEqual(plot_fidelity.main(), 2)
+
+
 if __name__ == "__main__":
     unittest.main()

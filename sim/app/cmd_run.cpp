@@ -45,7 +45,8 @@ void register_run(CLI::App& app, Action& action) {
                 "SECONDS); 0 disables")
       ->check(CLI::Range(0.0, 1e9));
   c->add_option("--target", a->targets,
-                "Stop early: COLUMN:VALUE[%|dB|ms] (repeatable, e.g. est_ms_total:1%); "
+                "Stop early: COLUMN:VALUE[%|dB|ms] or ranking[:COLUMN] (repeatable, e.g. "
+                "est_ms_total:1%); "
                 "frames are evaluated in a seeded random order of 10-frame units until "
                 "every config's 95% half-width is within target (docs/intervals.md)")
       ->expected(1)  // one spec per --target, so overrides after it stay overrides

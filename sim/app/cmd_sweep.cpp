@@ -9,6 +9,7 @@
 #include "sim/app/commands.h"
 #include "sim/core/error.h"
 #include "sim/core/files.h"
+#include "sim/experiment/intervals.h"
 #include "sim/experiment/plots.h"
 #include "sim/experiment/search_runner.h"
 #include "sim/experiment/sweep_runner.h"
@@ -24,11 +25,13 @@ struct SweepArgs {
   double watchdog_s = 60;
   bool bench = false, no_plots = false, quiet = false, json = false, allow_partial = false;
   std::vector<std::string> sources;
+  std::vector<std::string> targets;
 };
 
 std::string command_line(const std::string& cmd, const SweepArgs& a) {
   std::string s = "fovsim " + cmd + " " + a.config;
   for (auto& o : a.overrides) s += " " + o;
+  for (auto& t : a.targets) s += " --target " + t;
   return s;
 }
 
@@ -80,6 +83,13 @@ void register_sweep(CLI::App& app, Action& action) {
                 "max(SECONDS, 50x the median of its previous frames) (its first frame: 10x "
                 "SECONDS); 0 disables")
       ->check(CLI::Range(0.0, 1e9));
+  c->add_option("--target", a->targets,
+                "Stop each cell early: COLUMN:VALUE[%|dB|ms] or ranking[:COLUMN] (repeatable); "
+                "each cell's manifest records frames used and achieved half-widths "
+                "(docs/intervals.md)")
+      ->expected(1)
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
 
   auto e = std::make_shared<SweepArgs>();
   CLI::App* ex = c->add_subcommand(
@@ -114,6 +124,7 @@ void register_sweep(CLI::App& app, Action& action) {
     action = [a]() {
       if (a->config.empty())
         throw Error("fovsim sweep", "missing CONFIG (see fovsim sweep --help)");
+      for (auto& t : a->targets) (void)parse_target(t);  // a bad spec fails before any work
       LoadedConfig cfg = load_config(a->config, a->overrides);
       SweepPlan plan = expand_sweep(cfg);
       validate_cells(plan);
@@ -122,6 +133,7 @@ void register_sweep(CLI::App& app, Action& action) {
       opt.models_dir = a->models;
       opt.threads = a->threads;
       opt.batch = a->batch;
+      opt.targets = a->targets;
       opt.watchdog_s = a->watchdog_s;
       opt.command_line = command_line("sweep", *a);
       if (!a->shard.empty())

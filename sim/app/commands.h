@@ -22,4 +22,6 @@ void register_methods(CLI::App& app, Action& action);  // fovsim methods
 void register_compare(CLI::App& app, Action& action);  // fovsim compare REF TEST
 // fovsim converge CONFIG
 void register_converge(CLI::App& app, Action& action);
+// fovsim fidelity CONFIG (docs/fidelity.md)
+void register_fidelity(CLI::App& app, Action& action);
 }  // namespace fovsim::app

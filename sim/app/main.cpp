@@ -34,6 +34,7 @@ int main(int argc, char** argv) {
   fovsim::app::register_methods(app, action);
   fovsim::app::register_compare(app, action);
   fovsim::app::register_converge(app, action);
+  fovsim::app::register_fidelity(app, action);
 
   try {
     app.parse(argc, argv);

@@ -227,6 +227,10 @@ struct Cell {
   LatencyConfig latency;  // issue 17 (docs/latency.md)
   std::set<std::string> metric_names;
   std::vector<float> est_ecc;  // eccentricity around the estimated gaze, reused
+  // --target (intervals.h): each cell stops on its own once its targets hold, so its frames do
+  // not depend on the other cells of its group (sweep batches and shards give the same cell).
+  bool stopped = false, met = false;
+  int used = 0, warmup = 0;
 
   void parse(Params& root, const std::string& models, bool default_print) {
     name = root.string("name", fs::path(job->file).stem().string());
@@ -582,14 +586,20 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
     double ref_ms = ms_since(t0);
     group_phases.lap("reference", rpc);
     ref_total += ref_ms;
-    if (cells.size() == 1) {
-      cells[0]->process(sh, renderer, fd, ref_display, fi, ref_ms, record);
+    std::vector<Cell*> active;
+    for (auto& c : cells)
+      if (!c->stopped) {
+        active.push_back(c.get());
+        ++(record ? c->used : c->warmup);
+      }
+    if (active.size() == 1) {
+      active[0]->process(sh, renderer, fd, ref_display, fi, ref_ms, record);
     } else {
       // Cells are independent (own methods, state, scratch); each row list stays in order.
-      tbb::parallel_for(tbb::blocked_range<size_t>(0, cells.size(), 1),
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, active.size(), 1),
                         [&](const tbb::blocked_range<size_t>& r) {
                           for (size_t i = r.begin(); i != r.end(); ++i)
-                            cells[i]->process(sh, renderer, fd, ref_display, fi, ref_ms, record);
+                            active[i]->process(sh, renderer, fd, ref_display, fi, ref_ms, record);
                         });
     }
     prev_cam = fd.camera;
@@ -611,7 +621,6 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
   for (int u = 0; u < units; ++u) unit_order[size_t(u)] = u;
   if (shuffled) unit_order = sampling_order(units, sh.seed);
   int next_k = 0, used = 0, warmup = 0, units_done = 0;
-  bool met = false;
   for (int u : unit_order) {
     const int k0 = u * unit, k1 = std::min(sh.count, k0 + unit);
     if (k0 != next_k) {
@@ -626,9 +635,15 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
     next_k = k1;
     used += k1 - k0;
     if (sampled) {  // checked every unit: a target naming an absent column fails on the first
-      met = true;
-      for (auto& c : cells) met = targets_met(opt.targets, c->frames, nullptr) && met;
-      if (++units_done >= kTargetMinUnits && met) break;
+      ++units_done;
+      bool all = true;
+      for (auto& c : cells) {
+        if (c->stopped) continue;
+        c->met = targets_met(opt.targets, c->frames, nullptr);
+        if (units_done >= kTargetMinUnits && c->met) c->stopped = true;
+        all = all && c->stopped;
+      }
+      if (all) break;
     }
   }
   progress.done();
@@ -653,14 +668,14 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
       for (auto& t : opt.targets) specs.push_back(t.spec);
       targets_met(opt.targets, c->frames, &achieved);
       r.target = {{"targets", specs},
-                  {"met", met},
+                  {"met", c->met},
                   {"seed", sh.seed},
                   {"order", shuffled ? "random_units" : "trace"},
                   {"unit_frames", unit},
                   {"warmup_per_unit", kTargetWarmupFrames},
                   {"frames_available", sh.count},
-                  {"frames_used", used},
-                  {"warmup_frames", warmup},
+                  {"frames_used", c->used},
+                  {"warmup_frames", c->warmup},
                   {"achieved", achieved}};
       c->manifest["target"] = r.target;
     }

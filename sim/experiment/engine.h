@@ -33,7 +33,7 @@ struct EngineOptions {
   bool print_summary = true;  // default of outputs.print_summary
   int threads = 0;            // recorded in manifests (the caller sets TBB's limit)
   WatchdogLimits watchdog;    // a frame far slower than its neighbours is reported (watchdog.h)
-  std::vector<IntervalTarget> targets;  // --target: sampled order, stop when all hold
+  std::vector<IntervalTarget> targets;  // --target: sampled order; each cell stops when its hold
 };
 
 struct CellResult {

@@ -1,5 +1,6 @@
 #include "sim/experiment/intervals.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <map>
@@ -87,9 +88,19 @@ ResultTable paired_differences(const ResultTable& frames) {
 
 IntervalTarget parse_target(const std::string& spec) {
   const std::string where = "--target " + spec;
-  const std::string form = "expected COLUMN:VALUE[%|dB|ms], e.g. est_ms_total:1% or fpsnr:0.2dB";
+  const std::string form =
+      "expected COLUMN:VALUE[%|dB|ms] or ranking[:COLUMN], e.g. est_ms_total:1%, fpsnr:0.2dB or "
+      "ranking:psnr";
   IntervalTarget t;
   t.spec = spec;
+  if (spec == "ranking" || spec.rfind("ranking:", 0) == 0) {
+    t.ranking = true;
+    t.column = spec == "ranking" ? kDefaultRankingColumn : spec.substr(8);
+    if (t.column.empty()) throw Error(where, form);
+    if (!has_interval(t.column))
+      throw Error(where, "column \"" + t.column + "\" has no interval, so it cannot be ranked");
+    return t;
+  }
   size_t colon = spec.rfind(':');
   if (colon == std::string::npos || colon == 0 || colon + 1 >= spec.size())
     throw Error(where, form);
@@ -126,6 +137,87 @@ std::vector<int> sampling_order(int units, uint64_t seed) {
   return order;
 }
 
+namespace {
+
+// The ranking target (intervals.h): per GPU, configs with a finite mean of `column` sorted by
+// it (descending, ties by id); every neighbour pair's paired interval must exclude 0.
+bool ranking_settled(const std::string& column, const std::vector<std::string>& order,
+                     std::map<std::string, std::vector<const ResultRow*>>& rows, Json* rec) {
+  // Per GPU: the configs with a finite value on some frame (an exact config is not ranked).
+  std::vector<std::string> gpus;
+  std::map<std::string, std::vector<std::string>> ids_of;
+  std::map<std::string, std::map<double, double>> by_frame;
+  for (auto& id : order) {
+    bool any = false;
+    for (auto* r : rows[id]) {
+      double x = r->get(column, NAN);
+      by_frame[id][r->get("frame", NAN)] = x;
+      any = any || std::isfinite(x);
+    }
+    if (!any) continue;
+    const std::string* g = rows[id].front()->text_of("gpu");
+    std::string gpu = g ? *g : "";
+    if (!ids_of.count(gpu)) gpus.push_back(gpu);
+    ids_of[gpu].push_back(id);
+  }
+  bool met = true;
+  Json ord = Json::object(), pairs = Json::array();
+  for (auto& gpu : gpus) {
+    auto& ids = ids_of[gpu];
+    // The frames where every ranked config is finite, in evaluation order (so the batches of a
+    // --target run are random units): the order and the paired differences use the same frames.
+    std::vector<double> frames;
+    for (auto* r : rows[ids.front()]) {
+      double f = r->get("frame", NAN);
+      bool all = true;
+      for (auto& id : ids) {
+        auto it = by_frame[id].find(f);
+        all = all && it != by_frame[id].end() && std::isfinite(it->second);
+      }
+      if (all) frames.push_back(f);
+    }
+    std::vector<std::pair<double, std::string>> v;
+    for (auto& id : ids) {
+      double sum = 0;
+      for (double f : frames) sum += by_frame[id][f];
+      v.push_back({frames.empty() ? NAN : sum / double(frames.size()), id});
+    }
+    std::sort(v.begin(), v.end(), [](auto& a, auto& b) {
+      return a.first != b.first ? a.first > b.first : a.second < b.second;
+    });
+    Json idj = Json::array();
+    for (auto& p : v) idj.push_back(p.second);
+    ord[gpu] = idj;
+    for (size_t i = 0; i + 1 < v.size(); ++i) {
+      const std::string &a = v[i].second, &b = v[i + 1].second;
+      std::vector<double> d;
+      bool all_zero = true;
+      for (double f : frames) {
+        d.push_back(by_frame[a][f] - by_frame[b][f]);
+        all_zero = all_zero && d.back() == 0;
+      }
+      MeanInterval ci = batch_means_interval(d);
+      bool settled = (!d.empty() && all_zero && d.size() >= kCiMinSamples) ||
+                     (std::isfinite(ci.half_width) && (ci.lo() > 0 || ci.hi() < 0));
+      met = met && settled;
+      if (rec) {
+        auto num = [](double x) { return std::isfinite(x) ? Json(x) : Json(nullptr); };
+        pairs.push_back({{"a", a},
+                         {"b", b},
+                         {"gpu", gpu},
+                         {"diff", num(ci.mean)},
+                         {"ci95", num(ci.half_width)},
+                         {"frames", d.size()},
+                         {"settled", settled}});
+      }
+    }
+  }
+  if (rec) *rec = {{"met", met}, {"order", ord}, {"pairs", pairs}};
+  return met;
+}
+
+}  // namespace
+
 bool targets_met(const std::vector<IntervalTarget>& targets, const ResultTable& frames,
                  Json* achieved) {
   std::vector<std::string> order;
@@ -145,6 +237,13 @@ bool targets_met(const std::vector<IntervalTarget>& targets, const ResultTable& 
       throw Error("--target " + t.spec, "no column \"" + t.column +
                                             "\" in this run's frames (see results/README.md; is "
                                             "the metric enabled?)");
+    if (t.ranking) {
+      Json rec;
+      bool met = ranking_settled(t.column, order, rows, achieved ? &rec : nullptr);
+      all = all && met;
+      if (achieved) (*achieved)["ranking:" + t.column] = rec;
+      continue;
+    }
     for (auto& id : order) {
       std::vector<double> v;
       for (auto* r : rows[id]) {

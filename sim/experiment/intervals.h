@@ -36,10 +36,19 @@ struct IntervalTarget {
   std::string column;  // a frames.csv column with an interval (has_interval)
   double value = 0;
   bool relative = false;
+  // "ranking[:COLUMN]": the order of the configs by COLUMN is settled (docs/intervals.md):
+  // per GPU, configs with a finite mean sorted by it, and for every two neighbours in that
+  // order the paired 95% interval of their per-frame difference excludes 0 (or the difference
+  // is exactly 0 on every paired frame: a tie that no frame count resolves).
+  bool ranking = false;
 };
 
+// Column ranked by a bare "ranking" target.
+inline constexpr const char* kDefaultRankingColumn = "fpsnr";
+
 // Parses "<column>:<value>[%|dB|ms]" (value > 0, finite; dB and ms are read as absolute
-// values in the column's unit). Errors name the flag: "--target SPEC: ...".
+// values in the column's unit) or "ranking[:<column>]". Errors name the flag: "--target SPEC:
+// ...".
 IntervalTarget parse_target(const std::string& spec);
 
 // Sampling under --target (docs/intervals.md): the frame range is cut into units of
@@ -60,7 +69,9 @@ std::vector<int> sampling_order(int units, uint64_t seed);
 
 // True when every target holds for every config of `frames` (rows in evaluation order; a
 // config whose column has no finite value is exact, e.g. the PSNR of `full`, and passes).
-// `achieved` (if given) receives {config_id: {column: {"mean", "ci95", "target", "met"}}}.
+// `achieved` (if given) receives {config_id: {column: {"mean", "ci95", "target", "met"}}}, and
+// for a ranking target {"ranking:<column>": {"met", "order": {gpu: [config_id...]}, "pairs":
+// [{"a", "b", "gpu", "diff", "ci95", "frames", "settled"}]}}.
 // A column absent from every row is an error naming the flag.
 bool targets_met(const std::vector<IntervalTarget>& targets, const ResultTable& frames,
                  Json* achieved);

@@ -15,6 +15,7 @@
 #include "sim/core/files.h"
 #include "sim/core/version.h"
 #include "sim/experiment/engine.h"
+#include "sim/experiment/intervals.h"
 #include "sim/experiment/pareto.h"
 
 namespace fovsim {
@@ -81,7 +82,7 @@ void add_cell_rows(ResultTable& out, const SweepCell& c, const ResultTable& cell
 }
 
 void write_cell_json(const std::string& dir, const SweepCell& c, const ResultTable& summary,
-                     double cell_ms) {
+                     double cell_ms, const Json& target) {
   Json rows = Json::array();
   for (auto& r : summary.rows()) {
     Json t = Json::object(), n = Json::array();
@@ -91,6 +92,7 @@ void write_cell_json(const std::string& dir, const SweepCell& c, const ResultTab
   }
   Json j{{"status", "complete"},     {"index", c.index},   {"hash", c.hash},
          {"assign", assign_json(c)}, {"cell_ms", cell_ms}, {"summary", rows}};
+  if (target.is_object()) j["target"] = target;  // --target: frames used, achieved half-widths
   write_file_atomic(dir + "/cell.json", j.dump(1) + "\n");
 }
 
@@ -176,6 +178,20 @@ bool cell_complete(const std::string& dir, const std::string& hash) {
   }
 }
 
+// A complete cell counts for a rerun only when it ran with the same --target specs (none =
+// the whole frame range): a cell stopped early is not the full run's cell, and vice versa.
+static bool cell_targets_match(const std::string& dir, const std::vector<std::string>& specs) {
+  try {
+    Json j = parse_json_text(read_file(dir + "/cell.json"), dir + "/cell.json");
+    std::vector<std::string> had;
+    if (j.contains("target") && j["target"].contains("targets"))
+      had = j["target"]["targets"].get<std::vector<std::string>>();
+    return had == specs;
+  } catch (...) {
+    return false;
+  }
+}
+
 ResultTable read_cell_summary(const std::string& dir) {
   std::string p = dir + "/cell.json";
   ResultTable t;
@@ -251,7 +267,8 @@ SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const Swee
   std::vector<const SweepCell*> pending;
   for (int i = first; i < last; ++i) {
     const SweepCell& c = plan.cells[size_t(i)];
-    if (cell_complete(cell_dir(out, c), c.hash))
+    if (cell_complete(cell_dir(out, c), c.hash) &&
+        cell_targets_match(cell_dir(out, c), opt.targets))
       ++rep.cells_done_before;
     else
       pending.push_back(&c);
@@ -271,6 +288,7 @@ SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const Swee
   eo.print_summary = false;
   eo.threads = opt.threads;
   eo.watchdog.min_s = opt.watchdog_s;
+  for (auto& t : opt.targets) eo.targets.push_back(parse_target(t));  // per cell (engine.h)
   for (auto& k : order) {
     auto& cells = groups[k];
     size_t step = opt.batch > 0 ? size_t(opt.batch) : cells.size();
@@ -296,7 +314,7 @@ SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const Swee
       GroupStats gs;
       auto res = run_cells(jobs, eo, &gs);
       for (size_t i = 0; i < res.size(); ++i) {
-        write_cell_json(jobs[i].out_dir, *batch[i], res[i].summary, res[i].cell_ms);
+        write_cell_json(jobs[i].out_dir, *batch[i], res[i].summary, res[i].cell_ms, res[i].target);
         rep.cell_ms += res[i].cell_ms;
       }
       rep.cells_run += int(res.size());

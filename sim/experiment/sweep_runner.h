@@ -22,6 +22,9 @@ struct SweepOptions {
   int batch = 0;              // max cells per reference pass; 0 = every pending cell of a group
   std::string command_line;   // recorded in manifests
   double watchdog_s = 60;     // WatchdogLimits::min_s (0 disables; sim/core/watchdog.h)
+  // --target specs (sim/experiment/intervals.h): every cell stops on its own once its
+  // intervals hold; its manifest and cell.json record frames used and achieved half-widths.
+  std::vector<std::string> targets;
 };
 
 struct SweepReport {

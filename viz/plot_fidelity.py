@@ -1,0 +1,98 @@
+#!/usr/bin/python3
+"""Log-log plot of a fidelity ladder: error against simulation time (docs/fidelity.md).
+
+    /usr/bin/python3 viz/plot_fidelity.py results/<name>_fidelity [--out DIR]
+
+Reads fidelity.csv (one row per rung x config x output; `fovsim fidelity`) and writes
+<dir>/plots/fidelity.png: one panel per headline output, x = the rung's wall time (s),
+y = the largest |error| over the methods against the top rung (relative for frame times,
+absolute otherwise), one point per rung, labelled; error bars: the largest 95% half-width of
+the error (err_ci95) over the same methods. A rung with error 0 (the top rung) is drawn at the
+panel's floor. Exit status: 0, or 2 when fidelity.csv is missing.
+"""
+import argparse
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from common import log, plt, read_csv, to_float  # noqa: E402
+
+RELATIVE = {"est_ms_total", "est_ms_total_p95"}
+ORDER = ["est_ms_total", "est_ms_total_p95", "shaded_fraction", "psnr", "fpsnr", "ssim", "flip"]
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("dir")
+    ap.add_argument("--out")
+    a = ap.parse_args()
+    cols, rows = read_csv(os.path.join(a.dir, "fidelity.csv"))
+    if rows is None:
+        log(f"no fidelity.csv in {a.dir}")
+        return 2
+    out = a.out or os.path.join(a.dir, "plots")
+    os.makedirs(out, exist_ok=True)
+    outputs = [o for o in ORDER if any(r["output"] == o for r in rows)]
+    # Per output and rung: (wall_s, max |err|, max ci).
+    data = {}
+    for r in rows:
+        o = r["output"]
+        if o not in outputs:
+            continue
+        err = to_float(r["err_rel"] if o in RELATIVE else r["err"])
+        ci = to_float(r["err_ci95"])
+        if o in RELATIVE and math.isfinite(ci):
+            top = abs(to_float(r["top"]))
+            ci = ci / top if top > 0 else math.nan
+        key = (o, r["rung"])
+        w = to_float(r["wall_s"])
+        e0, c0 = data.get(key, (w, -1.0, math.nan))[1:]
+        if math.isfinite(err) and abs(err) > e0:
+            e0 = abs(err)
+        if math.isfinite(ci) and not (ci <= c0):
+            c0 = ci
+        data[key] = (w, e0, c0)
+    if not outputs:
+        log("fidelity.csv has no rows")
+        return 0
+    rung_order = []
+    for r in rows:
+        if r["rung"] not in rung_order:
+            rung_order.append(r["rung"])
+    colour = {rung: f"C{i % 10}" for i, rung in enumerate(rung_order)}  # same colour per rung
+    n = len(outputs)
+    ncol = min(n, 3)
+    nrow = (n + ncol - 1) // ncol
+    fig, axes = plt.subplots(nrow, ncol, figsize=(4.2 * ncol, 3.4 * nrow), squeeze=False)
+    for i, o in enumerate(outputs):
+        ax = axes[i // ncol][i % ncol]
+        pts = [(rung, *v) for (oo, rung), v in data.items() if oo == o and v[1] >= 0]
+        pos = [p[2] for p in pts if p[2] > 0]
+        floor = min(pos) / 10 if pos else 1e-6
+        for rung, w, e, c in pts:
+            y = e if e > 0 else floor
+            if not (math.isfinite(w) and w > 0):
+                continue
+            yerr = [[0], [c]] if math.isfinite(c) and c > 0 else None
+            ax.errorbar([w], [y], yerr=yerr, fmt="o", capsize=3, color=colour[rung])
+            ax.annotate(rung, (w, y), textcoords="offset points", xytext=(4, 4), fontsize=7)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("wall time of the rung (s)")
+        ax.set_ylabel(("max |relative error| " if o in RELATIVE else "max |error| ") + o)
+        ax.set_title(o, fontsize=9)
+        ax.grid(True, which="both", alpha=0.3)
+    for j in range(n, nrow * ncol):
+        axes[j // ncol][j % ncol].axis("off")
+    fig.suptitle("fidelity ladder: error vs simulation time (top rung = truth, at the floor)",
+                 fontsize=10)
+    fig.tight_layout()
+    path = os.path.join(out, "fidelity.png")
+    fig.savefig(path, dpi=110)
+    log(f"wrote {path}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
