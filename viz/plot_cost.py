@@ -5,6 +5,7 @@ their 80% prediction intervals (nested: built without the row's table), coloured
 (3) published/model per pass for the held-out rows against the interval band.
 Usage: plot_cost.py validate_cost.csv out.png"""
 import csv
+import os
 import sys
 
 import matplotlib
@@ -77,7 +78,10 @@ def main():
     ax.legend(fontsize=7, loc="lower right")
     ax.grid(True, which="both", alpha=0.2)
     fig.tight_layout()
-    fig.savefig(sys.argv[2], dpi=120)
+    out = sys.argv[2]  # temporary name, then rename, like every fovsim output
+    tmp = os.path.join(os.path.dirname(out) or ".", ".tmp.%d.%s" % (os.getpid(), os.path.basename(out)))
+    fig.savefig(tmp, dpi=120)
+    os.replace(tmp, out)
 
 
 if __name__ == "__main__":

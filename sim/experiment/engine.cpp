@@ -464,6 +464,7 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
             per_cell_keys().end())
           own.erase(it.key());
     Params root(own, job.file);
+    root.set_origins(job.origins);
     root.ignore("comment");
     root.ignore("description");
     auto cell = std::make_unique<Cell>();
