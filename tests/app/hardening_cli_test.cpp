@@ -230,7 +230,7 @@ TEST(Hardening, DensityPlotFindsVizBesideTheBinary) {
   // A stand-in script that records where it was found.
   write_text(dir + "/inst/viz/plot_density.py",
              "import sys\nopen(sys.argv[2], 'w').write('stand-in from inst/viz')\n");
-  auto r = run_cmd("cd " + dir + "/elsewhere && " + dir +
+  auto r = run_cmd("cd " + dir + "/elsewhere && FOVSIM_NO_PLOTS=0 " + dir +
                    "/inst/bin/fovsim density -m kfr --samples 16 --directions 4 --out d --plot");
   EXPECT_EQ(r.code, 0) << r.output;
   EXPECT_EQ(read_text(dir + "/elsewhere/d.png"), "stand-in from inst/viz") << r.output;

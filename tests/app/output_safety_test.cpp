@@ -92,13 +92,15 @@ double run_timed(const std::string& cmd) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// Starts `cmd`, kills it with SIGKILL after `delay_s` (if still running), reaps it.
-void kill_after(const std::string& cmd, double delay_s) {
+// Starts `cmd`, kills it with SIGKILL after `delay_s` (if still running), reaps it. Returns
+// true when the kill interrupted it (reported, never asserted: it depends on timing).
+bool kill_after(const std::string& cmd, double delay_s) {
   pid_t pid = spawn(cmd);
   std::this_thread::sleep_for(std::chrono::duration<double>(delay_s));
   kill(pid, SIGKILL);
   int st = 0;
   waitpid(pid, &st, 0);
+  return WIFSIGNALED(st);
 }
 
 std::vector<double> seeded_delays(int n, double span_s, unsigned seed) {
@@ -140,21 +142,22 @@ std::vector<std::string> deterministic_rows(const std::string& path) {
 
 TEST(OutputSafety, RunKilledAtRandomMomentsLeavesNoFalseCompleteFile) {
   std::string dir = temp_dir("safety_run");
-  write_text(dir + "/c.json", R"({"name": "safety", "render": {"scale": 0.08},
+  write_text(dir + "/c.json", R"({"name": "safety", "render": {"scale": 0.05},
   "scene": {"type": "atrium", "complexity": 1}, "trace": {"file": ")" +
-                                  kTrace + R"("}, "frames": {"count": 4},
+                                  kTrace + R"("}, "frames": {"count": 3},
   "methods": [{"method": "full"}, {"method": "kfr"}],
-  "outputs": {"print_summary": false, "image_frames": [0, 1, 2, 3]}})");
+  "outputs": {"print_summary": false, "image_frames": [0, 1, 2]}})");
   const std::string cmd = fovsim_bin() + " run " + dir + "/c.json --no-plots --out " + dir + "/o";
   const double t_full = run_timed(cmd);
   ASSERT_TRUE(incomplete_files(dir + "/o").empty());
   auto want = read_csv(dir + "/o/frames.csv").rows.size();
-  ASSERT_EQ(want, 8u);  // 4 frames x 2 methods
+  ASSERT_EQ(want, 6u);  // 3 frames x 2 methods
   fs::remove_all(dir + "/o");
 
   // Killed again and again into the same folder (a rerun over a killed run, as users do).
-  for (double d : seeded_delays(6, 1.2 * t_full, 20)) {
-    kill_after(cmd, d);
+  int interrupted = 0;
+  for (double d : seeded_delays(5, 1.2 * t_full, 20)) {
+    interrupted += kill_after(cmd, d);
     for (auto& b : incomplete_files(dir + "/o"))
       ADD_FAILURE() << "after a kill at " << d << " s: " << b;
     auto man = read_json(dir + "/o/manifest.json");
@@ -165,6 +168,7 @@ TEST(OutputSafety, RunKilledAtRandomMomentsLeavesNoFalseCompleteFile) {
       EXPECT_EQ(read_csv(dir + "/o/frames.csv").rows.size(), want);
     }
   }
+  std::printf("%d of 5 kills interrupted the run (uninterrupted: %.2f s)\n", interrupted, t_full);
   // Run to the end after the kills: complete, every row there.
   run_timed(cmd);
   EXPECT_EQ(read_json(dir + "/o/manifest.json").value("status", ""), "complete");
@@ -176,16 +180,16 @@ TEST(OutputSafety, MergeKilledAtRandomMomentsLosesNoFinishedCell) {
   std::string dir = temp_dir("safety_merge");
   write_text(dir + "/s.json", R"({"name": "safety_sweep", "render": {"scale": 0.05},
   "scene": {"type": "atrium", "complexity": 1}, "trace": {"file": ")" +
-                                  kTrace + R"("}, "frames": {"count": 2},
+                                  kTrace + R"("}, "frames": {"count": 1},
   "methods": [{"method": "kfr"}], "outputs": {"print_summary": false, "image_frames": [0]},
-  "sweep": {"axes": [{"grid": {"methods[kfr].sigma": [1.4, 1.8, 2.2, 2.6]}},
+  "sweep": {"axes": [{"grid": {"methods[kfr].sigma": [1.4, 2.2, 2.6]}},
                      {"grid": {"methods[kfr].alpha": [2, 4]}}]}})");
   for (int s = 0; s < 2; ++s)
     run_timed(fovsim_bin() + " sweep " + dir + "/s.json --no-plots -q --shard " +
               std::to_string(s) + "/2 --out " + dir + "/shard" + std::to_string(s));
   const auto own = complete_cells(dir + "/shard0");
-  ASSERT_EQ(own.size(), 4u);
-  ASSERT_EQ(complete_cells(dir + "/shard1").size(), 4u);
+  ASSERT_EQ(own.size(), 3u);
+  ASSERT_EQ(complete_cells(dir + "/shard1").size(), 3u);
 
   // Reference: an uninterrupted merge into a copy of shard 0.
   auto merge_into = [&](const std::string& out) {
@@ -194,19 +198,19 @@ TEST(OutputSafety, MergeKilledAtRandomMomentsLosesNoFinishedCell) {
   fs::copy(dir + "/shard0", dir + "/ref", fs::copy_options::recursive);
   const double t_merge = run_timed(merge_into(dir + "/ref"));
   auto want = deterministic_rows(dir + "/ref/summary.csv");
-  ASSERT_EQ(want.size(), 8u);
+  ASSERT_EQ(want.size(), 6u);
 
-  int i = 0;
-  for (double d : seeded_delays(6, 1.2 * t_merge, 21)) {
+  int i = 0, interrupted = 0;
+  for (double d : seeded_delays(4, 1.2 * t_merge, 21)) {
     std::string out = dir + "/m" + std::to_string(i++);
     fs::copy(dir + "/shard0", out, fs::copy_options::recursive);
-    kill_after(merge_into(out), d);
+    interrupted += kill_after(merge_into(out), d);
     for (auto& b : incomplete_files(out)) ADD_FAILURE() << "after a kill at " << d << " s: " << b;
     // Cells finished before the merge stay finished; copied cells are whole or absent.
     auto now = complete_cells(out);
     for (auto& id : own) EXPECT_TRUE(now.count(id)) << id << " lost after a kill at " << d << " s";
     if (fs::exists(out + "/summary.csv")) {
-      EXPECT_EQ(now.size(), 8u);  // a sweep summary only exists over every cell
+      EXPECT_EQ(now.size(), 6u);  // a sweep summary only exists over every cell
       EXPECT_EQ(deterministic_rows(out + "/summary.csv"), want);
     }
     // Merging again completes with the same rows.
@@ -214,4 +218,6 @@ TEST(OutputSafety, MergeKilledAtRandomMomentsLosesNoFinishedCell) {
     EXPECT_EQ(deterministic_rows(out + "/summary.csv"), want) << "killed at " << d << " s";
     EXPECT_TRUE(incomplete_files(out).empty());
   }
+  std::printf("%d of 4 kills interrupted the merge (uninterrupted: %.2f s)\n", interrupted,
+              t_merge);
 }
