@@ -259,7 +259,7 @@ TEST(Override, ErrorsNameTheCommandLine) {
   std::vector<std::pair<std::string, std::string>> origins;
   for (std::string ov : {"rendr.scale=1", "methods[kfr].sigma=-3"})
     origins.emplace_back(apply_override(doc, ov), ov);
-  EXPECT_EQ(origins[0].first, "rendr");  // the subtree the override created
+  EXPECT_EQ(origins[0].first, "rendr");             // the subtree the override created
   EXPECT_EQ(origins[1].first, "methods[0].sigma");  // labels resolve to indices
   Params p(doc, "configs/x.json");
   p.set_origins(origins);
