@@ -84,36 +84,43 @@ update-golden: build
 test-slurm: build
 	FOVSIM=$(CURDIR)/$(BUILD)/fovsim scripts/slurm/test_slurm.sh
 
-# ASan + UBSan build (FOVSIM_SANITIZE) in its own folder, running a stated subset: the core,
-# trace and experiment layers (parsers, params, sweep expansion, resampling, limits) and the
-# app's CLI tests of bad input (tests/app/hardening_cli_test.cpp, cli_test.cpp), which run
-# the sanitized fovsim binary. Any report fails the target (halt_on_error).
-SAN_BUILD ?= build-sanitize
+# One instrumented build (Debian's clang; ASan + UBSan + libFuzzer coverage on every fovsim
+# library, FOVSIM_FUZZ) in $(SAN_BUILD), shared by `make test-sanitize` and `make fuzz`, so CI
+# (.ci/run) compiles the libraries once for both; no benchmarks, no Python module.
+SAN_BUILD ?= build-san
+SAN_CONFIGURE = CXX=clang++ cmake -S . -B $(SAN_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DFOVSIM_FUZZ=ON -DFOVSIM_BUILD_BENCH=OFF -DFOVSIM_PYTHON=OFF $(CMAKE_FLAGS)
+
+# test-sanitize runs a stated subset of the suite (the whole suite under ASan would push CI
+# past its time budget): the core, trace and experiment layers (parsers, params, limits,
+# importer, resampling, sweep expansion; test_core, test_trace, test_experiment) and the app's
+# CLI tests of bad input (SAN_APP_FILTER), which run the sanitized fovsim
+# binary. It builds only those tests and fovsim_cli. Any report fails the target (halt_on_error).
 SAN_TESTS ?= test_core test_trace test_experiment
 SAN_APP_FILTER ?= Hardening.*:Cli.*
 SAN_ENV := ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
 .PHONY: test-sanitize
 test-sanitize: deps
-	cmake -S . -B $(SAN_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFOVSIM_SANITIZE=ON -DFOVSIM_BUILD_BENCH=OFF
+	$(SAN_CONFIGURE)
 	cmake --build $(SAN_BUILD) -j$(JOBS) --target fovsim_cli test_app $(SAN_TESTS)
 	@set -e; for t in $(SAN_TESTS); do echo "== $$t (ASan+UBSan)"; \
 	  $(SAN_ENV) FOVSIM_SOURCE_DIR=$(CURDIR) $(SAN_BUILD)/$$t; done
 	@echo "== test_app --gtest_filter='$(SAN_APP_FILTER)' (ASan+UBSan)"
 	$(SAN_ENV) FOVSIM_SOURCE_DIR=$(CURDIR) $(SAN_BUILD)/test_app --gtest_filter='$(SAN_APP_FILTER)'
 
-# libFuzzer targets (clang, ASan+UBSan) for the parsers, each run for FUZZ_SECONDS with its
-# committed seed corpus and dictionary (tests/fuzz/README.md). New corpus entries and crash
-# inputs stay under $(FUZZ_BUILD); a crash fails the target and becomes a regression test.
-FUZZ_BUILD ?= build-fuzz
-FUZZ_TARGETS ?= params trace_csv sweep
+# libFuzzer targets for the four parsers (configs/Params, canonical trace CSV, importer map +
+# recording, sweep specs), each run for FUZZ_SECONDS with its committed seed corpus and
+# dictionary (tests/fuzz/README.md). New corpus entries and crash inputs stay under
+# $(SAN_BUILD)/fuzz/; a crash fails the target and becomes a regression test.
+FUZZ_TARGETS ?= params trace_csv importer sweep
 FUZZ_SECONDS ?= 60
+FUZZ_OUT := $(SAN_BUILD)/fuzz
 .PHONY: fuzz
 fuzz: deps
-	CXX=clang++ cmake -S . -B $(FUZZ_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFOVSIM_FUZZ=ON \
-	  -DFOVSIM_BUILD_TESTS=OFF -DFOVSIM_BUILD_BENCH=OFF
-	cmake --build $(FUZZ_BUILD) -j$(JOBS) --target $(addprefix fuzz_,$(FUZZ_TARGETS))
+	$(SAN_CONFIGURE)
+	cmake --build $(SAN_BUILD) -j$(JOBS) --target $(addprefix fuzz_,$(FUZZ_TARGETS))
 	@set -e; for f in $(FUZZ_TARGETS); do echo "== fuzz_$$f for $(FUZZ_SECONDS) s"; \
-	  mkdir -p $(FUZZ_BUILD)/corpus/$$f $(FUZZ_BUILD)/crashes/$$f; \
-	  UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 $(FUZZ_BUILD)/fuzz_$$f -max_total_time=$(FUZZ_SECONDS) \
+	  mkdir -p $(FUZZ_OUT)/corpus/$$f $(FUZZ_OUT)/crashes/$$f; \
+	  UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 $(SAN_BUILD)/fuzz_$$f -max_total_time=$(FUZZ_SECONDS) \
 	    -timeout=10 -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 -dict=tests/fuzz/$$f.dict \
-	    -artifact_prefix=$(FUZZ_BUILD)/crashes/$$f/ $(FUZZ_BUILD)/corpus/$$f tests/fuzz/corpus/$$f; done
+	    -artifact_prefix=$(FUZZ_OUT)/crashes/$$f/ $(FUZZ_OUT)/corpus/$$f tests/fuzz/corpus/$$f; done

@@ -355,15 +355,15 @@ def draw_strip(cols, gx, gy, title, colors=None):
 
 
 def save(fig, path):
-    os.makedirs(os.path.dirname(path), exist_ok=True)
-    tmp = path + ".tmp.png"
+    os.makedirs(os.path.dirname(path) or ".", exist_ok=True)
+    tmp = os.path.join(os.path.dirname(path) or ".", ".tmp.%d.%s" % (os.getpid(), os.path.basename(path)))
     fig.savefig(tmp, dpi=110, bbox_inches="tight")
     plt.close(fig)
     os.replace(tmp, path)  # atomic, like every fovsim output
 
 
 def write_text_atomic(path, text):
-    tmp = path + ".tmp"
+    tmp = os.path.join(os.path.dirname(path) or ".", ".tmp.%d.%s" % (os.getpid(), os.path.basename(path)))
     with open(tmp, "w") as f:
         f.write(text)
     os.replace(tmp, path)

@@ -10,7 +10,7 @@ Usage: plot_cost.py validate_cost.csv out.png"""
 import math
 import sys
 
-from common import plt, read_csv, to_float
+from common import plt, read_csv, save, to_float
 
 KIND_STYLE = {"predicted": ("^", 0.9), "total": ("s", 0.9)}
 GPU_COLORS = {"gtx980": "tab:orange", "gtx1080": "tab:blue", "rtx2070": "tab:green",
@@ -82,7 +82,7 @@ def main():
     fig.suptitle("fovsim validate-cost: held-out predictions vs. published times with 80% intervals, "
                  "per GPU (top row) and per pass")
     fig.tight_layout(rect=(0, 0, 1, 0.98))
-    fig.savefig(sys.argv[2], dpi=100)
+    save(fig, sys.argv[2])  # temporary name, then rename, like every fovsim output
 
 
 if __name__ == "__main__":

@@ -38,7 +38,11 @@ def main():
     axes[0][0].set_ylabel("samples per pixel (capped at 1)")
     axes[0][-1].legend(fontsize=7, title="direction")
     fig.tight_layout()
-    fig.savefig(out, dpi=120)
+    # Temporary name, then rename, like every fovsim output: a killed plot never leaves a
+    # truncated PNG under its final name.
+    tmp = os.path.join(os.path.dirname(out) or ".", ".tmp.%d.%s" % (os.getpid(), os.path.basename(out)))
+    fig.savefig(tmp, dpi=120)
+    os.replace(tmp, out)
     print("wrote", out)
 
 

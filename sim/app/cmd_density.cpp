@@ -136,7 +136,7 @@ void register_density(CLI::App& app, Action& action) {
   c->add_option("--gaze-u", a->gaze_u, "Gaze x as a fraction of W")->capture_default_str();
   c->add_option("--gaze-v", a->gaze_v, "Gaze y as a fraction of H")->capture_default_str();
   c->add_option("--target", a->target,
-                "Iso-budget: shaded fraction every method is tuned to (seed 003 §5.1)")
+                "Iso-budget: shaded fraction every method is tuned to (Ye et al. 2022 §5.1)")
       ->check(CLI::Range(0.0, 1.0));
   c->add_option("--directions", a->directions, "Directions from the gaze")
       ->check(CLI::Range(1, 360))

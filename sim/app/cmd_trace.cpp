@@ -22,6 +22,7 @@ struct TraceArgs {
   bool guess = false;
   long long seed = 1;
   double duration = 10, rate = 0;
+  double max_gap = 1;
 };
 
 Display load_display(const TraceArgs& a) {
@@ -114,12 +115,17 @@ void register_trace(CLI::App& app, Action& action) {
                   "Bad-sample policy: fail (first problem is an error), skip or hold")
       ->check(CLI::IsMember({"fail", "skip", "hold"}))
       ->capture_default_str();
+  val->add_option("--max-gap", a->max_gap,
+                  "Seconds: flag intervals between samples longer than this (0: no check)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1e9));
   add_display_opts(val, *a);
   val->callback([a, &action] {
     action = [a] {
       Display d = load_display(*a);
       TraceReadOptions o;
       o.on_bad = policy(a->on_bad);
+      o.max_gap_s = a->max_gap > 0 ? a->max_gap : INFINITY;
       Trace tr = read_trace_csv(a->in, d, o);
       print_summary(tr, d);
       if (!tr.warnings.empty()) {

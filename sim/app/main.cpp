@@ -6,6 +6,7 @@
 
 #include "sim/app/commands.h"
 #include "sim/core/error.h"
+#include "sim/core/params.h"
 #include "sim/core/version.h"
 #include "sim/core/watchdog.h"
 
@@ -39,6 +40,27 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
+    // A mistyped command ("fovsim rn", "fovsim trace valdate") gets a suggestion.
+    CLI::App* cur = &app;
+    for (int i = 1; i < argc && argv[i][0] != '-'; ++i) {
+      std::vector<std::string> names;
+      CLI::App* next = nullptr;
+      for (CLI::App* s : cur->get_subcommands({})) {
+        names.push_back(s->get_name());
+        if (s->get_name() == argv[i]) next = s;
+      }
+      if (next) {
+        cur = next;
+        continue;
+      }
+      std::string best = fovsim::closest_name(argv[i], names);
+      if (!best.empty()) {
+        std::fprintf(stderr, "fovsim: error: unknown command '%s' (did you mean `%s`?)\n", argv[i],
+                     best.c_str());
+        return 2;
+      }
+      break;
+    }
     int rc = app.exit(e);
     return rc == 0 ? 0 : 2;
   }

@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -26,6 +27,34 @@ std::string file_location(const std::string& file, long line, long col) {
   std::string s = file + ":" + std::to_string(line);
   if (col > 0) s += ":" + std::to_string(col);
   return s;
+}
+
+std::string closest_name(const std::string& word, const std::vector<std::string>& names) {
+  // Optimal string alignment distance (Damerau-Levenshtein without repeated edits).
+  auto dist = [](const std::string& a, const std::string& b) {
+    std::vector<std::vector<size_t>> d(a.size() + 1, std::vector<size_t>(b.size() + 1));
+    for (size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+    for (size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+    for (size_t i = 1; i <= a.size(); ++i)
+      for (size_t j = 1; j <= b.size(); ++j) {
+        size_t c = a[i - 1] == b[j - 1] ? 0 : 1;
+        d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + c});
+        if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
+          d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+      }
+    return d[a.size()][b.size()];
+  };
+  if (word.size() > 64) return "";
+  std::string best;
+  size_t best_d = std::max<size_t>(1, word.size() / 2) + 1;
+  for (auto& n : names) {
+    size_t dd = dist(word, n.substr(0, 64));
+    if (dd < best_d) {
+      best_d = dd;
+      best = n;
+    }
+  }
+  return best;
 }
 
 std::string hex64(uint64_t v) {
@@ -52,19 +81,21 @@ void make_dirs(const std::string& path) {
   if (ec) throw Error(path, "cannot create directory: " + ec.message());
 }
 
-void write_file_atomic(const std::string& path, const std::string& content) {
+void write_atomic(const std::string& path, const std::function<void(const std::string&)>& write,
+                  const std::function<std::string(const std::string&)>& check) {
   fs::path p(path);
   if (p.has_parent_path()) make_dirs(p.parent_path().string());
-  std::string tmp = path + ".tmp." + std::to_string(::getpid());
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    if (!f) throw Error(path, "cannot open for writing");
-    f.write(content.data(), std::streamsize(content.size()));
-    f.flush();
-    if (!f) {
-      std::remove(tmp.c_str());
-      throw Error(path, "write failed (disk full?)");
-    }
+  // The real extension stays last (image writers pick the format from it).
+  std::string tmp =
+      (p.parent_path() / (".tmp." + std::to_string(::getpid()) + "." + p.filename().string()))
+          .string();
+  try {
+    write(tmp);
+    std::string why = check ? check(tmp) : std::string();
+    if (!why.empty()) throw Error(path, why + "; nothing written under this name");
+  } catch (...) {
+    std::remove(tmp.c_str());
+    throw;
   }
   std::error_code ec;
   fs::rename(tmp, path, ec);
@@ -72,6 +103,31 @@ void write_file_atomic(const std::string& path, const std::string& content) {
     std::remove(tmp.c_str());
     throw Error(path, "cannot rename temporary file: " + ec.message());
   }
+}
+
+bool is_temporary_name(const std::string& name) {
+  return name.rfind(".tmp.", 0) == 0 ||
+         (name.size() > 10 && name.compare(name.size() - 10, 10, ".merge-tmp") == 0);
+}
+
+void write_file_atomic(const std::string& path, const std::string& content) {
+  write_atomic(
+      path,
+      [&](const std::string& tmp) {
+        std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
+        if (!f) throw Error(path, "cannot open for writing");
+        f.write(content.data(), std::streamsize(content.size()));
+        f.close();
+        if (!f) throw Error(path, "write failed (disk full?)");
+      },
+      [&](const std::string& tmp) -> std::string {
+        std::error_code ec;
+        auto n = fs::file_size(tmp, ec);
+        if (ec || n != content.size())
+          return "write incomplete (" + std::to_string(ec ? 0 : n) + " of " +
+                 std::to_string(content.size()) + " bytes; disk full?)";
+        return "";
+      });
 }
 
 bool parse_integer(const std::string& s, long lo, long hi, long& out) {

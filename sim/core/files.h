@@ -2,12 +2,25 @@
 // half-written file that looks complete.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 
 namespace fovsim {
 
-// Write `content` to `path` atomically; creates parent directories. Throws fovsim::Error.
+// The one way fovsim writes an output file (CSV, JSON, images, manifests, plot inputs):
+// `write` fills a temporary file in the same folder (".tmp.<pid>.<name>", never the final
+// name), `check` (optional) returns "" when that file is complete or why it is not (a
+// short write on a full disk, a missing end marker), and only then is it renamed over
+// `path` (atomic on POSIX). On any failure the temporary is removed and nothing appears
+// under `path`: a process killed at any moment (SIGKILL) leaves either the old file, the
+// new one, or a temporary, never a truncated file under the final name. Creates parent
+// directories; throws fovsim::Error naming `path`.
+void write_atomic(const std::string& path, const std::function<void(const std::string& tmp)>& write,
+                  const std::function<std::string(const std::string& tmp)>& check = {});
+// True for the temporary names write_atomic (and sweep merge) use, which readers skip.
+bool is_temporary_name(const std::string& file_name);
+// write_atomic of a byte string; the check compares the written size.
 void write_file_atomic(const std::string& path, const std::string& content);
 // Read a whole file. Throws fovsim::Error("path", ...) if it cannot, if it is not a regular
 // file (a directory, /dev/zero, a FIFO) or if it is larger than max_input_bytes(): both are

@@ -50,53 +50,37 @@ bool looks_complete(const std::string& p, bool is_exr) {
 
 void write_image(const std::string& path, const Image& img) {
   if (img.empty()) throw Error(path, "refusing to write an empty image");
-  namespace fs = std::filesystem;
-  fs::path p(path);
-  if (p.has_parent_path()) make_dirs(p.parent_path().string());
-  std::string ext = p.extension().string();
-  // Keep the real extension on the temp file so OIIO picks the right format.
-  std::string tmp =
-      (p.parent_path() / (".tmp." + std::to_string(::getpid()) + "." + p.filename().string()))
-          .string();
+  std::string ext = std::filesystem::path(path).extension().string();
   bool is_exr = ext == ".exr";
-  auto out = OIIO::ImageOutput::create(tmp);
-  if (!out) throw Error(path, "unsupported image format \"" + ext + "\" (use .png or .exr)");
-  OIIO::ImageSpec spec(img.width, img.height, img.channels,
-                       is_exr ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
-  if (!out->open(tmp, spec)) {
-    std::string err = out->geterror();
-    std::remove(tmp.c_str());
-    throw Error(path, "cannot open image for writing: " + err);
-  }
-  bool ok;
-  if (is_exr) {
-    ok = out->write_image(OIIO::TypeDesc::FLOAT, img.data.data());
-  } else {
-    std::vector<unsigned char> bytes(img.data.size());
-    for (size_t i = 0; i < bytes.size(); ++i) {
-      float v = img.data[i];
-      v = std::isfinite(v) ? clamp01(v) : 0.f;
-      bytes[i] = static_cast<unsigned char>(std::lround(v * 255.f));
-    }
-    ok = out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
-  }
-  ok = out->close() && ok;
-  if (!ok) {
-    std::remove(tmp.c_str());
-    throw Error(path, "image write failed: " + out->geterror());
-  }
-  // Written to a temporary name, checked, then renamed: a full disk never leaves a
-  // truncated or empty image under its final name.
-  if (!looks_complete(tmp, is_exr)) {
-    std::remove(tmp.c_str());
-    throw Error(path, "image write incomplete (disk full?); nothing written under this name");
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    std::remove(tmp.c_str());
-    throw Error(path, "cannot rename temporary image: " + ec.message());
-  }
+  // Written to a temporary name, checked, then renamed (files.h write_atomic): a full disk
+  // never leaves a truncated or empty image under its final name.
+  write_atomic(
+      path,
+      [&](const std::string& tmp) {
+        auto out = OIIO::ImageOutput::create(tmp);
+        if (!out) throw Error(path, "unsupported image format \"" + ext + "\" (use .png or .exr)");
+        OIIO::ImageSpec spec(img.width, img.height, img.channels,
+                             is_exr ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
+        if (!out->open(tmp, spec))
+          throw Error(path, "cannot open image for writing: " + out->geterror());
+        bool ok;
+        if (is_exr) {
+          ok = out->write_image(OIIO::TypeDesc::FLOAT, img.data.data());
+        } else {
+          std::vector<unsigned char> bytes(img.data.size());
+          for (size_t i = 0; i < bytes.size(); ++i) {
+            float v = img.data[i];
+            v = std::isfinite(v) ? clamp01(v) : 0.f;
+            bytes[i] = static_cast<unsigned char>(std::lround(v * 255.f));
+          }
+          ok = out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
+        }
+        ok = out->close() && ok;
+        if (!ok) throw Error(path, "image write failed: " + out->geterror());
+      },
+      [&](const std::string& tmp) -> std::string {
+        return looks_complete(tmp, is_exr) ? "" : "image write incomplete (disk full?)";
+      });
 }
 
 Image read_image(const std::string& path) {

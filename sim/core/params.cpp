@@ -153,10 +153,24 @@ std::string Params::path_of(const std::string& key) const {
   return path_.empty() ? key : path_ + "." + key;
 }
 
-std::string Params::where(const std::string& key) const {
-  std::string p = path_of(key);
-  if (p.empty()) p = "(root)";
+void Params::set_origins(std::vector<std::pair<std::string, std::string>> origins) {
+  st_->origins = std::move(origins);
+}
+
+std::string Params::locate(const std::string& path) const {
+  // The last override at or above `path` set it (later overrides win, as when applied).
+  for (auto it = st_->origins.rbegin(); it != st_->origins.rend(); ++it) {
+    const std::string& o = it->first;
+    if (path.compare(0, o.size(), o) == 0 &&
+        (path.size() == o.size() || path[o.size()] == '.' || path[o.size()] == '['))
+      return "override '" + it->second + "': " + path;
+  }
+  std::string p = path.empty() ? "(root)" : path;
   return st_->file.empty() ? p : st_->file + ": " + p;
+}
+
+std::string Params::where(const std::string& key) const {
+  return locate(path_of(key));
 }
 
 void Params::fail(const std::string& key, const std::string& msg) const {
@@ -347,8 +361,8 @@ void Params::finish_rec(const Json& j, const Json::json_pointer& ptr,
       auto p = ptr / it.key();
       std::string sp = path.empty() ? it.key() : path + "." + it.key();
       if (!st_->used.count(p.to_string())) {
-        std::string loc = st_->file.empty() ? sp : st_->file + ": " + sp;
-        throw Error(loc, "unknown key \"" + it.key() + "\" (not a parameter here; check spelling)");
+        throw Error(locate(sp),
+                    "unknown key \"" + it.key() + "\" (not a parameter here; check spelling)");
       }
       finish_rec(it.value(), p, sp);
     }
@@ -382,17 +396,21 @@ Json parse_value_or_string(const std::string& text, const std::string& where) {
   }
 }
 
-void apply_override(Json& doc, const std::string& assignment) {
+std::string apply_override(Json& doc, const std::string& assignment) {
   auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
     throw Error("override \"" + assignment + "\"", "expected key.path=value");
   std::string key = assignment.substr(0, eq), val = assignment.substr(eq + 1);
-  const std::string W = "override " + key;
+  // Errors name the command-line text, not the config file it was applied to.
+  const std::string W = "override '" +
+                        (assignment.size() > 200 ? assignment.substr(0, 200) + "..." : assignment) +
+                        "'";
   Json value = parse_value_or_string(val, W);
   if (!doc.is_object()) throw Error(W, "the config is not a JSON object");
   Json* node = &doc;
   size_t i = 0;
   std::string walked;
+  std::string created;  // the first key this override adds (its whole subtree is new)
   bool any = false;
   while (i < key.size()) {
     size_t j = key.find_first_of(".[", i);
@@ -404,6 +422,7 @@ void apply_override(Json& doc, const std::string& assignment) {
       if (!node->is_object() && !node->is_null())
         throw Error(W, "\"" + walked + "\" is not an object");
       walked += (walked.empty() ? "" : ".") + part;
+      if (created.empty() && !(node->is_object() && node->contains(part))) created = walked;
       node = &(*node)[part];
       any = true;
     }
@@ -449,7 +468,7 @@ void apply_override(Json& doc, const std::string& assignment) {
         n = found;
       }
       node = &(*node)[size_t(n)];
-      walked += "[" + idx + "]";
+      walked += "[" + std::to_string(n) + "]";
       i = close + 1;
       if (i < key.size() && key[i] == '.') {
         ++i;
@@ -464,6 +483,7 @@ void apply_override(Json& doc, const std::string& assignment) {
   }
   if (!any) throw Error(W, "empty path (expected key.path=value, e.g. render.scale=0.5)");
   *node = value;
+  return created.empty() ? walked : created;
 }
 
 }  // namespace fovsim

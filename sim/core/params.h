@@ -79,13 +79,19 @@ class Params {
   const Json& resolved() const { return st_->resolved; }
   // Marks a key as consumed without reading it (e.g. documentation keys like "comment").
   void ignore(const std::string& key);
+  // Values that came from the command line: (JSON path as apply_override returns it, the
+  // override text). An error at or below such a path names "override 'TEXT'" instead of
+  // the config file, so a typo on the command line is not blamed on the file.
+  void set_origins(std::vector<std::pair<std::string, std::string>> origins);
 
  private:
   struct State {
     std::string file;
     Json resolved = Json::object();
     std::set<std::string> used;  // JSON pointers of keys that were read
+    std::vector<std::pair<std::string, std::string>> origins;  // see set_origins
   };
+  std::string locate(const std::string& path) const;  // "file: path" or "override '…': path"
   Params(Json j, std::shared_ptr<State> st, std::string path, Json::json_pointer ptr);
   const Json* find(const std::string& key) const;
   void mark(const std::string& key, const Json& value);
@@ -105,8 +111,15 @@ Json parse_value_or_string(const std::string& text, const std::string& where);
 
 // Applies a command-line override "a.b[2].c=value" to a JSON document. The value is parsed
 // as JSON when it is valid JSON (numbers, true/false, arrays, quoted strings), else taken as
-// a string. Intermediate objects are created; array indices must exist.
-void apply_override(Json& doc, const std::string& assignment);
+// a string. Intermediate objects are created; array indices must exist. Returns the JSON
+// path (numeric indices) of what it introduced: the first key it created ("rendr" for
+// "rendr.scale=1"), else the key it replaced ("methods[0].sigma" for "methods[kfr].sigma=2").
+std::string apply_override(Json& doc, const std::string& assignment);
+
+// The name in `names` closest to `word` by edit distance (insertions, deletions,
+// substitutions, transpositions), or "" when none is within max(1, |word| / 2) edits:
+// for "did you mean" hints ("rn" -> "run").
+std::string closest_name(const std::string& word, const std::vector<std::string>& names);
 
 // Describes a JSON value's type for error messages ("a number", "a string \"abc\"").
 std::string describe_json(const Json& v);

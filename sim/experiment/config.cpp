@@ -58,7 +58,7 @@ LoadedConfig load_config(const std::string& path, const std::vector<std::string>
   std::error_code ec;
   if (!fs::exists(path, ec)) throw Error(path, "config file not found");
   c.doc = load_with_bases(path, seen);
-  for (auto& o : overrides) apply_override(c.doc, o);
+  for (auto& o : overrides) c.overridden.emplace_back(apply_override(c.doc, o), o);
   return c;
 }
 

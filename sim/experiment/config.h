@@ -13,6 +13,8 @@ struct LoadedConfig {
   Json doc;              // merged document (base files applied, overrides applied)
   std::string file;      // path of the config given by the user
   std::string base_dir;  // directory of that file (for relative paths)
+  // (JSON path, override text) of each command-line override, for Params::set_origins.
+  std::vector<std::pair<std::string, std::string>> overridden;
 };
 
 // Loads CONFIG, applies "base" chains (cycle-checked) and then `overrides` in order.

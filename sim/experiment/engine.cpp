@@ -492,6 +492,7 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
             per_cell_keys().end())
           own.erase(it.key());
     Params root(own, job.file);
+    root.set_origins(job.origins);
     root.ignore("comment");
     root.ignore("description");
     auto cell = std::make_unique<Cell>();
@@ -547,11 +548,13 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
   for (auto& c : cells) {
     const std::string& out = c->job->out_dir;
     make_dirs(out);
+    // "running" replaces an old "complete" manifest before the old results go, so a kill in
+    // between never leaves a manifest that claims files that are gone.
+    write_file_atomic(out + "/manifest.json", c->manifest.dump(2) + "\n");
     for (const char* f : {"frames.csv", "summary.csv", "summary.json", "paired.csv"}) {
       std::error_code ec;
       fs::remove(fs::path(out) / f, ec);
     }
-    write_file_atomic(out + "/manifest.json", c->manifest.dump(2) + "\n");
   }
 
   // ---- frame loop: one reference per frame, shared by every cell ----

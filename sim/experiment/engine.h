@@ -26,6 +26,7 @@ struct CellJob {
   std::string out_dir;       // results folder of this cell
   std::string command_line;  // recorded in its manifest
   Json extra_manifest;       // merged into manifest.json (e.g. sweep cell index, hash)
+  std::vector<std::pair<std::string, std::string>> origins;  // command-line overrides (config.h)
 };
 
 struct EngineOptions {

@@ -25,6 +25,7 @@ RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt) {
   CellJob job;
   job.doc = cfg.doc;
   job.file = cfg.file;
+  job.origins = cfg.overridden;
   job.base_dir = cfg.base_dir;
   job.command_line = opt.command_line;
   std::string name = cfg.doc.contains("name") && cfg.doc["name"].is_string()

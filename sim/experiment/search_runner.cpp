@@ -72,6 +72,7 @@ SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const Sw
         CellJob j;
         j.doc = std::move(doc);
         j.file = cfg.file;
+        j.origins = cfg.overridden;
         j.base_dir = cfg.base_dir;
         j.out_dir = dir;
         j.command_line = opt.command_line;

@@ -157,9 +157,18 @@ bool shard_from_env(int& index, int& count) {
 }
 
 std::string find_viz_script(const std::string& name) {
-  if (file_exists("viz/" + name)) return "viz/" + name;
+  // Beside the running binary first (build/fovsim -> viz/, bin/fovsim -> share/fovsim/viz/),
+  // so a copied or installed fovsim run from any directory finds its own scripts.
+  std::error_code ec;
+  fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec)
+    for (const char* rel : {"../viz/", "../share/fovsim/viz/", "viz/"}) {
+      fs::path p = exe.parent_path() / (rel + name);
+      if (file_exists(p.string())) return p.lexically_normal().string();
+    }
   std::string src = std::string(FOVSIM_SOURCE_DIR) + "/viz/" + name;
-  return file_exists(src) ? src : "";
+  if (file_exists(src)) return src;
+  return file_exists("viz/" + name) ? "viz/" + name : "";
 }
 
 std::string sweep_out_dir(const SweepPlan& plan, const std::string& out_dir) {
@@ -300,6 +309,7 @@ SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const Swee
         CellJob j;
         j.doc = c->doc;
         j.file = cfg.file;
+        j.origins = cfg.overridden;
         j.base_dir = cfg.base_dir;
         j.out_dir = cell_dir(out, *c);
         j.command_line = opt.command_line;

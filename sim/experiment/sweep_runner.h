@@ -75,7 +75,8 @@ SweepPlan load_sweep_plan(const std::string& dir);
 // True when <cell_dir>/cell.json exists and records `hash`.
 bool cell_complete(const std::string& cell_dir, const std::string& hash);
 
-// Path of a viz/ script: ./viz/<name> if present, else the source tree's; "" if neither.
+// Path of a viz/ script, found from the running binary (../viz, ../share/fovsim/viz, viz
+// beside it), else in the source tree fovsim was built from, else ./viz; "" if none.
 std::string find_viz_script(const std::string& name);
 
 // Rows of a complete cell (typed: numbers stay numbers, text stays text).

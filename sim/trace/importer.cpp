@@ -542,6 +542,7 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
     }
     // Time (integers kept exact before rebasing, e.g. epoch nanoseconds).
     const CsvField& tf = row.fields[size_t(m.time.index)];
+    long long row_wrap = wrap_add;  // wrap_add + wrap_span when this row wraps the counter
     double t = 0;
     long long ti = 0;
     bool overflow = false;
@@ -562,16 +563,24 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
                        "-bit counter range of time.wrap_bits");
           continue;
         }
-        // A backward step of more than half the range is a wrap of the counter.
+        // A backward step of more than half the range is a wrap of the counter (counted when
+        // the row is kept, so a dropped row does not unwrap twice).
         if (have_t0 && ti < last_raw_int && last_raw_int - ti > wrap_span / 2) {
-          wrap_add += wrap_span;
-          ++rep.time_wraps;
+          // Exact integer arithmetic: unwrapping past the 64-bit range is an error, not UB.
+          if (__builtin_add_overflow(wrap_add, wrap_span, &row_wrap)) {
+            fail_row(tf.col, "bad time",
+                     "time value out of range: unwrapping " + tf.text + " (wrap " +
+                         std::to_string(rep.time_wraps + 1) + " of a " +
+                         std::to_string(m.wrap_bits) + "-bit counter) overflows a 64-bit integer");
+            continue;
+          }
         }
       }
       long long rel = 0, v = 0;
-      if (__builtin_add_overflow(ti, wrap_add, &v) || __builtin_sub_overflow(v, t0_int, &rel)) {
+      if (__builtin_add_overflow(ti, row_wrap, &v) || __builtin_sub_overflow(v, t0_int, &rel)) {
         fail_row(tf.col, "bad time",
-                 "time value " + tf.text + " minus the first time " + std::to_string(t0_int) +
+                 "time value out of range: " + tf.text + " minus the first time " +
+                     std::to_string(t0_int) +
                      " overflows a 64-bit integer: a corrupt or sentinel value?");
         continue;
       }
@@ -727,6 +736,8 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
     if (!valid) ++rep.invalid_rows;
     if (valid && one_eye) ++rep.one_eye_rows;
     if (is_int) last_raw_int = ti;
+    if (row_wrap != wrap_add) ++rep.time_wraps;
+    wrap_add = row_wrap;
     last_t = t;
     last_line = row.line;
     last_text = tf.text;

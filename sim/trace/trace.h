@@ -33,7 +33,16 @@ enum class BadSamplePolicy { Fail, Skip, Hold };
 struct TraceReadOptions {
   BadSamplePolicy on_bad = BadSamplePolicy::Fail;
   double quat_tolerance = 1e-3;  // | |q| - 1 | beyond this is an error
+  // Intervals between kept samples longer than this (seconds) are listed in
+  // Trace::warnings with the first location, count and longest (`trace validate --max-gap`);
+  // INFINITY checks nothing.
+  double max_gap_s = INFINITY;
 };
+
+// Largest |t| a trace may hold: 2^53 microseconds (~285 years). Up to there a double holds
+// every microsecond exactly and t in nanoseconds fits a 64-bit integer; beyond it a time is
+// an error ("time value out of range"), like a bad number.
+constexpr double kMaxTraceTimeS = 9007199254.740992;
 
 // Reads the canonical CSV. Errors name file:line:column. Gaze given as a normalized screen
 // point (columns gaze_u, gaze_v) is converted with `display`. Rows with valid=0 may carry no

@@ -1,5 +1,6 @@
 // Canonical trace CSV (DESIGN §3, traces/README.md): reading with validation and a
 // bad-sample policy, and writing.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -87,6 +88,9 @@ Trace read_trace_csv(const std::string& path, const Display& display, const Trac
   glm::dvec3 last_valid_gaze(0.0, 0.0, -1.0);  // gaze shown while valid=0
   double last_t = -INFINITY;
   long last_t_line = 0;
+  long gaps = 0;  // intervals longer than opt.max_gap_s
+  double longest_gap = 0;
+  std::string first_gap;
 
   for (size_t r = 1; r < rows.size(); ++r) {
     const CsvRow& row = rows[r];
@@ -112,6 +116,11 @@ Trace read_trace_csv(const std::string& path, const Display& display, const Trac
     // Time.
     if (!ok[T]) {
       bad_number(T, Part::Row);
+    } else if (!(std::fabs(v[T]) <= kMaxTraceTimeS)) {
+      probs.push_back({Part::Row, col_of(T), "time out of range",
+                       "time value out of range: t=" + printable(row.fields[idx[T]].text) +
+                           " is beyond +-9.007e9 s (2^53 us), where times are no longer exact "
+                           "to the microsecond and nanosecond integers overflow"});
     } else if (!(v[T] > last_t)) {
       probs.push_back({Part::Row, col_of(T), "non-monotonic time",
                        "time not strictly increasing: t=" + printable(row.fields[idx[T]].text) +
@@ -245,6 +254,16 @@ Trace read_trace_csv(const std::string& path, const Display& display, const Trac
       log.add("held", p.kind, where, p.msg);
     }
     if (s.valid) last_valid_gaze = s.gaze_dir;
+    if (have_last && s.t - last_t > opt.max_gap_s) {
+      ++gaps;
+      if (gaps == 1) {
+        char b[200];
+        std::snprintf(b, sizeof b, "t=%.9g after t=%.9g (line %ld): a gap of %.6g s", s.t, last_t,
+                      last_t_line, s.t - last_t);
+        first_gap = file_location(path, row.line, col_of(T)) + ": " + b;
+      }
+      longest_gap = std::max(longest_gap, s.t - last_t);
+    }
     last_t = s.t;
     last_t_line = row.line;
     last_good = s;
@@ -253,6 +272,12 @@ Trace read_trace_csv(const std::string& path, const Display& display, const Trac
   }
   if (tr.samples.empty()) throw Error(path, "trace has no usable samples");
   for (auto& l : log.lines(policy_name(opt.on_bad))) tr.warnings.push_back(path + ": " + l);
+  if (gaps > 0) {
+    char b[160];
+    std::snprintf(b, sizeof b, "%ld gap%s longer than max_gap %g s (longest %.6g s); first: ", gaps,
+                  gaps == 1 ? "" : "s", opt.max_gap_s, longest_gap);
+    tr.warnings.push_back(path + ": " + b + first_gap);
+  }
   return tr;
 }
 

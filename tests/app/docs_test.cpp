@@ -2,7 +2,9 @@
 // methods' declarations (`fovsim methods --markdown`); regenerate with `make docs`.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 
 #include "sim/foveation/factory.h"
@@ -26,4 +28,28 @@ TEST(Docs, MethodTablesMatchDeclarations) {
   const std::string want = "\n" + fovsim::methods_markdown();
   for (const char* f : {"docs/methods.md", "configs/README.md"})
     EXPECT_EQ(generated_section(f), want) << f << " differs from the declarations: run `make docs`";
+}
+
+// User-facing docs and --help name papers by author and year (README.md "References"), never
+// by internal handles a reader cannot resolve ("seed 003", "DESIGN §3", "issue 7").
+TEST(Docs, UserDocsCitePapersNotInternalHandles) {
+  const std::regex bad(R"(seed 00[0-9]|DESIGN §|\bissues? [0-9]+\b)");
+  std::vector<std::string> files{"README.md", "configs/README.md", "traces/README.md",
+                                 "results/README.md", "models/scenes/README.md"};
+  for (auto& e : std::filesystem::directory_iterator(std::string(FOVSIM_SOURCE_DIR) + "/docs"))
+    if (e.path().extension() == ".md") files.push_back("docs/" + e.path().filename().string());
+  for (auto& rel : files) {
+    std::ifstream f(std::string(FOVSIM_SOURCE_DIR) + "/" + rel);
+    std::string line;
+    for (int n = 1; std::getline(f, line); ++n)
+      EXPECT_FALSE(std::regex_search(line, bad)) << rel << ":" << n << ": " << line;
+  }
+  const std::string summary = fovsim::methods_markdown();
+  EXPECT_FALSE(std::regex_search(summary, bad)) << "fovsim methods --markdown cites a handle";
+  std::ifstream readme(std::string(FOVSIM_SOURCE_DIR) + "/README.md");
+  std::stringstream ss;
+  ss << readme.rdbuf();
+  EXPECT_NE(ss.str().find("## References"), std::string::npos);
+  for (const char* f : {"LICENSE", "CITATION.cff"})
+    EXPECT_TRUE(std::filesystem::exists(std::string(FOVSIM_SOURCE_DIR) + "/" + f)) << f;
 }

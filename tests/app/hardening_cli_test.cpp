@@ -57,7 +57,7 @@ TEST(Hardening, IssueTableInputsAreLocatedUserErrors) {
   expect_user_error(run_cmd(bin + " sweep expand " + dir + "/idx.json"),
                     "has no element [99999999999999999999999]");
 
-  expect_user_error(run_cmd(bin + " run configs/quickstart.json .=1"), "override .: empty key");
+  expect_user_error(run_cmd(bin + " run configs/quickstart.json .=1"), "override '.=1': empty key");
 
   write_text(dir + "/deep_sweep.json",
              "{\"sweep\": " + std::string(200000, '[') + std::string(200000, ']') + "}");
@@ -183,4 +183,55 @@ TEST(Hardening, SecondSweepOnTheSameOutIsRefused) {
   }
   auto r = run_cmd(fovsim_bin() + " sweep " + dir + "/s.json --out " + dir + "/out");
   EXPECT_EQ(r.code, 0) << r.output;
+}
+
+// Issue 18's small things as a user meets them.
+TEST(Hardening, MistypedCommandGetsASuggestion) {
+  expect_user_error(run_cmd(fovsim_bin() + " rn configs/quickstart.json"),
+                    "unknown command 'rn' (did you mean `run`?)");
+  expect_user_error(run_cmd(fovsim_bin() + " trace valdate x.csv"),
+                    "unknown command 'valdate' (did you mean `validate`?)");
+}
+
+TEST(Hardening, OverrideErrorsNameTheCommandLine) {
+  auto r = run_cmd(fovsim_bin() + " run configs/quickstart.json rendr.scale=1 --out " +
+                   temp_dir("harden_ov") + " --no-plots");
+  expect_user_error(r, "override 'rendr.scale=1': rendr: unknown key \"rendr\"");
+  EXPECT_EQ(r.output.find("quickstart.json"), std::string::npos) << r.output;
+  expect_user_error(run_cmd(fovsim_bin() + " run configs/quickstart.json render..scale=1"),
+                    "override 'render..scale=1': empty key");
+}
+
+TEST(Hardening, TraceValidateFlagsGaps) {
+  std::string dir = temp_dir("harden_gap");
+  write_text(dir + "/gap.csv",
+             "t,px,py,pz,qw,qx,qy,qz,gx,gy,gz\n0,0,0,0,1,0,0,0,0,0,-1\n"
+             "0.011,0,0,0,1,0,0,0,0,0,-1\n2.5,0,0,0,1,0,0,0,0,0,-1\n2.511,0,0,0,1,0,0,0,0,0,-1\n");
+  auto r = run_cmd(fovsim_bin() + " trace validate " + dir + "/gap.csv");
+  EXPECT_EQ(r.code, 1) << r.output;  // usable, with problems
+  EXPECT_NE(r.output.find("1 gap longer than max_gap 1 s"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("gap.csv:4:1"), std::string::npos) << r.output;
+  auto ok = run_cmd(fovsim_bin() + " trace validate " + dir + "/gap.csv --max-gap 3");
+  EXPECT_EQ(ok.code, 0) << ok.output;
+  EXPECT_NE(ok.output.find(": valid"), std::string::npos) << ok.output;
+}
+
+// density --plot from outside the repository finds viz/ beside the binary (a copied or
+// installed fovsim), not in the current directory.
+TEST(Hardening, DensityPlotFindsVizBesideTheBinary) {
+  if (run_cmd("/usr/bin/python3 -c 'import matplotlib'").code != 0)
+    GTEST_SKIP() << "no matplotlib for /usr/bin/python3";
+  std::string dir = temp_dir("harden_viz");
+  fs::create_directories(dir + "/inst/bin");
+  fs::create_directories(dir + "/inst/viz");
+  fs::create_directories(dir + "/elsewhere");
+  fs::copy_file(fovsim_bin(), dir + "/inst/bin/fovsim");
+  fs::permissions(dir + "/inst/bin/fovsim", fs::perms::owner_exec, fs::perm_options::add);
+  // A stand-in script that records where it was found.
+  write_text(dir + "/inst/viz/plot_density.py",
+             "import sys\nopen(sys.argv[2], 'w').write('stand-in from inst/viz')\n");
+  auto r = run_cmd("cd " + dir + "/elsewhere && FOVSIM_NO_PLOTS=0 " + dir +
+                   "/inst/bin/fovsim density -m kfr --samples 16 --directions 4 --out d --plot");
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(read_text(dir + "/elsewhere/d.png"), "stand-in from inst/viz") << r.output;
 }

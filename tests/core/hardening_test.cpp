@@ -85,7 +85,7 @@ TEST(Hardening, NestingDepthLimitCheckedBeforeParsing) {
 
 TEST(Hardening, OverridePathsAreValidated) {
   Json doc = Json::parse(R"({"render": {"scale": 1}, "methods": [{"sigma": 1}]})");
-  for (auto [ov, expect] : std::vector<std::pair<std::string, std::string>>{
+  for (const auto& tc : std::vector<std::pair<std::string, std::string>>{
            {".=1", "empty key"},
            {"render.=1", "trailing '.'"},
            {"render..scale=1", "empty key"},
@@ -97,6 +97,8 @@ TEST(Hardening, OverridePathsAreValidated) {
            {"render.scale=1e400", "bad value"},
            {"render.scale=" + std::string(100, '['), "nested deeper"},
        }) {
+    // Not a structured binding: clang 14 (the sanitizer build) cannot capture one.
+    const std::string &ov = tc.first, &expect = tc.second;
     Json d = doc;
     std::string e = error_of([&] { apply_override(d, ov); });
     EXPECT_EQ(e.rfind("override ", 0), 0u) << ov << " -> " << e;
@@ -251,4 +253,67 @@ TEST(Override, MethodLabelPaths) {
   }
   Json two = Json::parse(R"({"methods": [{"method": "kfr"}, {"method": "kfr"}]})");
   EXPECT_THROW(apply_override(two, "methods[kfr].sigma=2"), Error);
+}
+
+// Issue 18: an override's mistake names the command line, not the config file it lands in.
+TEST(Override, ErrorsNameTheCommandLine) {
+  Json doc = Json::parse(R"({"render": {"scale": 1}, "methods": [{"method": "kfr", "sigma": 1}]})");
+  std::vector<std::pair<std::string, std::string>> origins;
+  for (std::string ov : {"rendr.scale=1", "methods[kfr].sigma=-3"})
+    origins.emplace_back(apply_override(doc, ov), ov);
+  EXPECT_EQ(origins[0].first, "rendr");             // the subtree the override created
+  EXPECT_EQ(origins[1].first, "methods[0].sigma");  // labels resolve to indices
+  Params p(doc, "configs/x.json");
+  p.set_origins(origins);
+  (void)p.child("render").number("scale");
+  auto ms = p.children("methods");
+  EXPECT_EQ(error_of([&] {
+              (void)ms[0].number("sigma", 1.8, Range::at_least(1));
+            }).rfind("override 'methods[kfr].sigma=-3': methods[0].sigma: ", 0),
+            0u);
+  (void)ms[0].string("method");
+  ms[0].ignore("sigma");  // the failed read above did not mark it
+  EXPECT_EQ(error_of([&] { p.finish(); }),
+            "override 'rendr.scale=1': rendr: unknown key \"rendr\" (not a parameter here; check "
+            "spelling)");
+  // Keys the command line did not touch still name the file.
+  EXPECT_EQ(error_of([&] {
+              (void)p.child("render").string("scale");
+            }).rfind("configs/x.json: render.scale: ", 0),
+            0u);
+  // Bad override paths name the whole assignment; "render..scale" is rejected.
+  EXPECT_EQ(error_of([&] {
+              apply_override(doc, "render..scale=1");
+            }).rfind("override 'render..scale=1': empty key", 0),
+            0u);
+}
+
+TEST(Hardening, ClosestNameForDidYouMean) {
+  std::vector<std::string> cmds{"run", "sweep", "merge", "trace", "density", "predict"};
+  EXPECT_EQ(closest_name("rn", cmds), "run");
+  EXPECT_EQ(closest_name("swep", cmds), "sweep");
+  EXPECT_EQ(closest_name("mereg", cmds), "merge");  // transposition
+  EXPECT_EQ(closest_name("xyzzy", cmds), "");
+  EXPECT_EQ(closest_name("", cmds), "");
+  EXPECT_EQ(closest_name(std::string(1000, 'r'), cmds), "");
+}
+
+// One writer for every output (files.h write_atomic): a failed check or write leaves neither
+// the final name nor a temporary; an old file under the name is kept.
+TEST(Hardening, WriteAtomicChecksBeforeRenaming) {
+  std::string p = tmp("atomic/out.csv");
+  write_file_atomic(p, "a,b\n1,2\n");
+  EXPECT_EQ(read_file(p), "a,b\n1,2\n");
+  std::string e = error_of([&] {
+    write_atomic(
+        p, [](const std::string& t) { write(t, "a,b\n1,"); },
+        [](const std::string&) { return std::string("truncated"); });
+  });
+  EXPECT_EQ(e, p + ": truncated; nothing written under this name");
+  EXPECT_EQ(read_file(p), "a,b\n1,2\n");  // the previous complete file stays
+  for (auto& f : fs::directory_iterator(fs::path(p).parent_path()))
+    EXPECT_FALSE(is_temporary_name(f.path().filename().string())) << f.path();
+  EXPECT_TRUE(is_temporary_name(".tmp.123.frames.csv"));
+  EXPECT_TRUE(is_temporary_name("00003.merge-tmp"));
+  EXPECT_FALSE(is_temporary_name("frames.csv"));
 }

@@ -165,3 +165,38 @@ TEST(ImportBugs, CanonicalReaderSharesLineEndsAndQuoting) {
                                {"nul.csv:1:", "unknown column \"va\\x00lid\""});
   EXPECT_NE(w.find("canonical columns"), std::string::npos) << w;
 }
+
+// Issue 20: ±9e18 integer times are rebased and unwrapped in exact 64-bit arithmetic; what
+// does not fit is a located "time value out of range", never a signed overflow (UBSan) or a
+// false "not strictly increasing".
+TEST(ImportBugs, TimeOutOfRangeIsLocated) {
+  Json j = Json::parse(kSimpleMap);
+  j["time"]["unit"] = "ns";
+  j["time"]["wrap_bits"] = 62;
+  j["time"]["max_step_s"] = 1e300;
+  std::string map = write_tmp("wrap62.json", j.dump());
+  // 2^62 - 1, then a wrap (+2^62), again up to 2^63 - 1, then a second wrap past 2^63.
+  std::string f =
+      write_tmp("wrap62.csv", rows({"4611686018427387903", "0", "4611686018427387903", "0"}));
+  expect_error([&] { import_trace(f, map, vive()); },
+               {"wrap62.csv:5:1", "time value out of range", "overflows a 64-bit integer"});
+  // Under skip such rows are dropped and their wraps not counted (a dropped row never
+  // unwraps the counter): 1 wrap, 2 rows skipped, times exact.
+  j["on_bad_row"] = "skip";
+  std::string skip = write_tmp("wrap62s.json", j.dump());
+  ImportReport rep;
+  std::string g =
+      write_tmp("wrap62s.csv", rows({"4611686018427387903", "0", "4611686018427387903", "0", "1"}));
+  Trace tr = import_trace(g, skip, vive(), &rep);
+  ASSERT_EQ(tr.samples.size(), 3u);
+  EXPECT_EQ(rep.skipped_rows, 2);
+  EXPECT_EQ(rep.time_wraps, 1);
+  EXPECT_EQ(tr.samples[1].t, 1e-9);
+  // Without wrap_bits: the extremes of the 64-bit range, whose difference does not fit.
+  Json plain = Json::parse(kSimpleMap);
+  plain["time"]["unit"] = "ns";
+  plain["time"]["max_step_s"] = 1e300;
+  std::string pm = write_tmp("pm.json", plain.dump());
+  std::string h = write_tmp("pm9e18.csv", rows({"-9000000000000000000", "9000000000000000000"}));
+  expect_error([&] { import_trace(h, pm, vive()); }, {"pm9e18.csv:3:1", "time value out of range"});
+}

@@ -65,3 +65,46 @@ TEST(TraceRange, NonRegularTraceFileRefused) {
   Display d = vive();
   expect_error([&] { load(Json{{"file", "/dev/zero"}}, d); }, {"/dev/zero", "not a regular file"});
 }
+
+// Issue 20: `trace validate --max-gap` flags implausible gaps (located, counted, longest);
+// a time beyond 2^53 us (where exact integer arithmetic on nanoseconds overflows) is a
+// located "time value out of range".
+TEST(TraceRange, GapsAreFlaggedWithTheirLocation) {
+  std::string f = write_tmp("gaps.csv", longspan_csv() +
+                                            "10000001.5,0,0,0,1,0,0,0,0,0,-1,1\n"
+                                            "10000001.6,0,0,0,1,0,0,0,0,0,-1,1\n");
+  Trace all = read_trace_csv(f, vive());
+  EXPECT_TRUE(all.warnings.empty());  // no gap check unless asked
+  TraceReadOptions o;
+  o.max_gap_s = 1;
+  Trace tr = read_trace_csv(f, vive(), o);
+  ASSERT_EQ(tr.samples.size(), 5u);
+  ASSERT_EQ(tr.warnings.size(), 1u);
+  const std::string& w = tr.warnings[0];
+  EXPECT_NE(w.find("2 gaps longer than max_gap 1 s (longest 1e+07 s); first: "), std::string::npos)
+      << w;
+  EXPECT_NE(w.find("gaps.csv:4:1: t=10000000 after t=0.011111 (line 3)"), std::string::npos) << w;
+  o.max_gap_s = 2;
+  EXPECT_NE(read_trace_csv(f, vive(), o).warnings.at(0).find("1 gap longer than max_gap 2 s"),
+            std::string::npos);
+}
+
+TEST(TraceRange, TimeBeyondExactIntegerRangeIsLocated) {
+  for (const char* t : {"9007199255", "-1e300", "1e19"}) {
+    std::string f = write_tmp("far.csv", std::string("t,px,py,pz,qw,qx,qy,qz,gx,gy,gz\n"
+                                                     "0,0,0,0,1,0,0,0,0,0,-1\n") +
+                                             t + ",0,0,0,1,0,0,0,0,0,-1\n");
+    expect_error([&] { read_trace_csv(f, vive()); }, {"far.csv:3:1", "time value out of range"});
+  }
+  // Just inside the limit it is a valid (if absurd) time; skip drops the row and says so.
+  std::string g = write_tmp("far2.csv", std::string("t,px,py,pz,qw,qx,qy,qz,gx,gy,gz\n"
+                                                    "0,0,0,0,1,0,0,0,0,0,-1\n"
+                                                    "9007199254,0,0,0,1,0,0,0,0,0,-1\n"
+                                                    "9e15,0,0,0,1,0,0,0,0,0,-1\n"));
+  TraceReadOptions o;
+  o.on_bad = BadSamplePolicy::Skip;
+  Trace tr = read_trace_csv(g, vive(), o);
+  EXPECT_EQ(tr.samples.size(), 2u);
+  ASSERT_EQ(tr.warnings.size(), 1u);
+  EXPECT_NE(tr.warnings[0].find("time out of range"), std::string::npos) << tr.warnings[0];
+}
