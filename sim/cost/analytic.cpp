@@ -8,6 +8,7 @@
 #include "sim/cost/passes.h"
 #include "sim/foveation/density.h"
 #include "sim/foveation/factory.h"
+#include "sim/foveation/lighting.h"
 #include "sim/foveation/mapping_spec.h"
 
 namespace fovsim {
@@ -59,7 +60,7 @@ bool shades_whole_buffer(const std::string& kind) {
 }  // namespace
 
 Counters analytic_counters(const std::string& method, const Json& params, const Workload& w,
-                           const Display& d, const std::string& where) {
+                           const Display& d, const std::string& where, bool indirect) {
   if (!is_cost_method(method)) throw Error(where, "unknown method '" + method + "'");
   const Json all = params.is_null() ? Json::object() : params;
   if (!all.is_object()) throw Error(where, "method parameters must be an object");
@@ -148,14 +149,37 @@ Counters analytic_counters(const std::string& method, const Json& params, const 
     c.set("contribution_evals", total * ns);               // eq. 14 for every VPL and sample
     c.set("shaded_sample_vpls", s * kept / w.interleave);  // interleaved sampling (§6)
   }
+  if (indirect && fam != CostFamily::Flc) {
+    // One lighting model per scene: the method's samples also get the indirect light of its
+    // strategy (lighting.h). all_vpls (the default) shades every VPL; flc / fir keep at most
+    // their budget and pay for importance sampling and per-VPL culling.
+    const double total = w.rsm_res * w.rsm_res * std::max(1.0, w.lights);  // FLC paper §3
+    const LightingStrategy* L = inst->lighting();
+    double kept = total;
+    c.set("rsm_texels", total);
+    c.set("vpls_total", total);
+    if (L && !L->uses_all_vpls()) {
+      kept = std::min(total, column(cols, "vpl_budget", w.vpl_budget));
+      if (L->name() == "flc") {  // eq. 14 for every VPL and importance sample
+        c.set("importance_samples", w.importance_samples);
+        c.set("contribution_evals", total * w.importance_samples);
+      } else {
+        c.set("contribution_evals", total);  // fir: one visibility-based importance per VPL
+      }
+    }
+    c.set("vpls_kept", kept);
+    c.set("shaded_sample_vpls", c.get("shaded_samples") * kept);
+  }
   p.finish();
   return c;
 }
 
 FrameCost analytic_frame(const GpuProfile& gpu, const std::string& method, const Json& params,
-                         const Workload& w, const Display& d, const std::string& where) {
-  const Counters c = analytic_counters(method, params, w, d, where);
+                         const Workload& w, const Display& d, const std::string& where,
+                         bool indirect) {
+  const Counters c = analytic_counters(method, params, w, d, where, indirect);
   CostInputs in;
+  in.features.indirect = indirect;
   in.method = method;
   in.counters = &c;
   in.display = d;

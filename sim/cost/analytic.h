@@ -30,13 +30,19 @@
 namespace fovsim {
 
 // Counters per eye at the display's resolution (pixel_scale = 1). `where` prefixes errors.
+// `indirect`: the scene has one-bounce indirect light (SceneFeatures::indirect), so every
+// method also shades VPLs with its lighting strategy: RSM texels = workload.rsm_res^2 x lights,
+// VPLs used per shaded sample = all of them (all_vpls) or min(all, vpl_budget) (flc, fir), and
+// the flc/fir strategies' importance and culling work (the `flc` method always has these).
 Counters analytic_counters(const std::string& method, const Json& params, const Workload& w,
-                           const Display& d, const std::string& where = "params");
+                           const Display& d, const std::string& where = "params",
+                           bool indirect = false);
 
 // What `fovsim predict` and `budget` compute for one method: its analytic counters on this
 // workload and display, costed with `gpu` (estimate_frame, pixel_scale 1).
 FrameCost analytic_frame(const GpuProfile& gpu, const std::string& method, const Json& params,
-                         const Workload& w, const Display& d, const std::string& where = "params");
+                         const Workload& w, const Display& d, const std::string& where = "params",
+                         bool indirect = false);
 
 // Fraction of the screen's pixels shaded by fVRS rates (1, 1/4, 1/16 by eccentricity band),
 // through the real projection (DESIGN §3) on a grid of at most 256x256 points.

@@ -260,6 +260,7 @@ ResultTable analytic_summary(const LoadedConfig& cfg, const std::string& models_
   if (w.triangles < 0) w.triangles = double(f.triangles);
   if (w.lights < 0) w.lights = double(f.lights);
   if (w.shadowed_lights < 0) w.shadowed_lights = double(f.shadowed_lights);
+  if (f.indirect) w.rsm_res = scene.vpl.rsm_size;  // the scene's VPL set (scene.vpl)
   std::vector<std::string> gnames;
   if (doc.contains("gpus") && doc["gpus"].is_array())
     for (auto& g : doc["gpus"]) gnames.push_back(g.get<std::string>());
@@ -277,7 +278,7 @@ ResultTable analytic_summary(const LoadedConfig& cfg, const std::string& models_
     params.erase("label");
     Counters c;
     try {
-      c = analytic_counters(method, params, w, d, "methods[" + std::to_string(i) + "]");
+      c = analytic_counters(method, params, w, d, "methods[" + std::to_string(i) + "]", f.indirect);
     } catch (const Error& e) {
       if (notes) notes->push_back("analytic: " + label + " left out (" + e.what() + ")");
       continue;
