@@ -11,7 +11,6 @@ speedup_vs_full; budget: verdict, headroom_ms, factor_<resource>, factor_all).
 """
 from .engine import _module
 
-RESOURCES = ("shading", "geometry", "raster", "memory", "fixed")
 DEFAULT_BUDGET_METHODS = ["full", "kfr", "rmfr", "hyperbolic", "linear", "fvrs", "twfr"]
 
 
