@@ -10,8 +10,10 @@
 //    frame (reset each iteration, as bench_twfr). items/s = frames/s; the time column is ms
 //    per frame. One thread: CPU time of the calling thread (the work runs on it); two
 //    threads: wall-clock time, and the CPU column is the process CPU time (all threads).
-// 2. map/<pass>/tbb:<n>: KFR's forward map (LP-buffer gather, lp_gather: nearest G-buffer
-//    sample, kShadingChannels) and inverse map (bilinear reconstruction of the full image,
+// 2. map/<pass>/tbb:<n>: KFR's forward map as rendered (LP-buffer gather, lp_gather: the
+//    nearest G-buffer sample of each LP slot as a 32-bit index plus the used mask; the shader
+//    reads the G-buffer channels through the index, so that cost is in method/kfr, not here)
+//    and inverse map (bilinear reconstruction of the full image,
 //    lp_reconstruct) against OpenCV's cv::warpPolar (INTER_LINEAR | WARP_POLAR_LOG, forward and
 //    with WARP_INVERSE_MAP) on a CV_32FC3 image, same sizes: full 1440x1600 <-> LP-buffer
 //    (W/sigma) x (H/sigma), sigma = 1.8, centre at the gaze, maxRadius = e^L (the farthest
@@ -150,14 +152,37 @@ void BM_FullShade(benchmark::State& state) {
 void BM_FovsimForward(benchmark::State& state) {  // KFR pass 1 as rendered (lp_gather)
   Setup& S = setup();
   tbb::global_control gc(tbb::global_control::max_allowed_parallelism, size_t(state.range(0)));
-  GBuffer lp;
+  std::vector<uint32_t> lp;  // the LP-buffer: G-buffer sample index per slot (GBufferRef)
   std::vector<uint8_t> used;
   size_t n = 0;
-  // The channels KFR gathers (its required_channels(): kShadingChannels), not every channel the
-  // shared G-buffer holds for the other methods.
-  for (auto _ : state) n = lp_gather(S.b.gbuffer, S.map, lp, used, kShadingChannels);
+  for (auto _ : state) n = lp_gather(S.b.gbuffer, S.map, lp, used);
   state.SetItemsProcessed(state.iterations());
   state.counters["used_frac"] = double(n) / (S.map.w * S.map.h);
+}
+
+// Direct shading of KFR's LP-buffer (Renderer::shade, used slots): through the index view
+// (as rendered) or from a copy of the five shading channels (the LP G-buffer pass 1 used to
+// build). The difference is the cost of the scattered G-buffer reads that moved from the
+// forward map into shading; same output bits.
+void BM_KfrShadeLp(benchmark::State& state, bool copy) {
+  Setup& S = setup();
+  tbb::global_control gc(tbb::global_control::max_allowed_parallelism, size_t(state.range(0)));
+  const int w = int(S.map.w), h = int(S.map.h);
+  std::vector<uint32_t> index;
+  std::vector<uint8_t> used;
+  lp_gather(S.b.gbuffer, S.map, index, used);
+  GBuffer lp;
+  lp.resize(w, h, kShadingChannels);
+  for (size_t i = 0; i < lp.size(); ++i) {
+    if (index[i] == GBufferRef::kNone)
+      lp.clear_sample(i);
+    else
+      lp.copy_sample(S.b.gbuffer, index[i], i);
+  }
+  const GBufferRef view = copy ? GBufferRef(lp) : GBufferRef(S.b.gbuffer, index.data(), w, h);
+  Image col;
+  for (auto _ : state) S.renderer->shade(view, S.b.camera.position, col, used.data());
+  state.SetItemsProcessed(state.iterations());
 }
 
 void BM_FovsimForwardRgb(benchmark::State& state) {  // like-for-like with warpPolar forward
@@ -227,6 +252,8 @@ int main(int argc, char** argv) {
   for (const char* m : kMethods) add(std::string("method/") + m, BM_Method, std::string(m));
   add("map/fovsim_forward", BM_FovsimForward);
   add("map/fovsim_forward_rgb", BM_FovsimForwardRgb);
+  add("shade/kfr_lp_index", BM_KfrShadeLp, false);
+  add("shade/kfr_lp_copy", BM_KfrShadeLp, true);
   add("map/fovsim_inverse", BM_FovsimInverse);
 #ifdef FOVSIM_HAVE_OPENCV
   add("map/opencv_forward", BM_OpenCv, false);

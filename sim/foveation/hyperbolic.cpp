@@ -39,8 +39,9 @@ class HyperbolicMethod final : public MappingMethodBase {
         return glm::dvec2(std::min(L.x0 + a * L.s, L.x1 - 1e-3),
                           std::min(L.y0 + b * L.s, L.y1 - 1e-3));
       };
-      gather_gbuffer(gb, L.w, L.h, inv, buf_[i], used_[i]);
-      shade_buffer(ctx, buf_[i], col_[i], &needed_[i], out);  // only the pixels the composite reads
+      gather_gbuffer(gb, L.w, L.h, inv, index_[i], used_[i]);  // layer = index into gb
+      // Only the pixels the composite reads.
+      shade_buffer(ctx, GBufferRef(gb, index_[i].data(), L.w, L.h), col_[i], &needed_[i], out);
       alloc += double(L.w) * L.h;
     }
 
@@ -79,7 +80,7 @@ class HyperbolicMethod final : public MappingMethodBase {
   }
 
  private:
-  GBuffer buf_[3];
+  std::vector<uint32_t> index_[3];  // layer G-buffers: G-buffer sample per layer pixel
   Image col_[3];
   std::vector<uint8_t> used_[3], needed_[3];
 };

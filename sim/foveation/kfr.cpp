@@ -73,10 +73,10 @@ class KfrMethod final : public MappingMethodBase {
     const int w = reduced_size(W, s.sigma), h = reduced_size(H, s.sigma);
     const LogPolarMap map = LogPolarMap::make(W, H, w, h, ctx.gaze_px, s.kernel);
 
-    // Pass 1: forward kernel log-polar transformation of the G-buffer (§2.2.1-2.2.2).
-    const size_t n_used =
-        lp_gather(gb, map, lp_, used_, required_channels());  // shading channels only
-    shade_buffer(ctx, lp_, lp_col_, &used_, out);
+    // Pass 1: forward kernel log-polar transformation of the G-buffer (§2.2.1-2.2.2): the
+    // LP-buffer is an index into the shared G-buffer, shaded through it (same values as a copy).
+    const size_t n_used = lp_gather(gb, map, lp_index_, used_);
+    shade_buffer(ctx, GBufferRef(gb, lp_index_.data(), w, h), lp_col_, &used_, out);
     extend_unused(lp_col_, used_);
     double taps = 0;
     // §2.2.3 internal anti-aliasing: 3x3 Gaussian on the right (peripheral) part.
@@ -146,7 +146,7 @@ class KfrMethod final : public MappingMethodBase {
   }
 
  private:
-  GBuffer lp_;  // reused across frames (no per-frame reallocation when sizes match)
+  std::vector<uint32_t> lp_index_;  // LP-buffer: G-buffer sample per slot (reused across frames)
   Image lp_col_;
   std::vector<uint8_t> used_, eta_;
   Image tmp_lp_, tmp_full_;  // scratch of the two Gaussian passes (kept: no per-frame allocation)

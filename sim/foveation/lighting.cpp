@@ -79,37 +79,38 @@ glm::vec3 shade_vpls(const VplSoA& v, const glm::vec3& p, const glm::vec3& n, co
   return shade_with(vpl_sum_fn(), v, p, n, a, s, r, scale, rays);
 }
 
-void add_indirect(const GBuffer& g, const VplSoA& v, const VplShading& s, const Renderer* r,
+void add_indirect(GBufferRef g, const VplSoA& v, const VplShading& s, const Renderer* r,
                   const uint8_t* mask, Image& col, Counters* c) {
   if (col.width != g.width || col.height != g.height || col.channels != 3)
     throw Error("add_indirect", "colour buffer does not match the G-buffer");
   std::atomic<uint64_t> shaded{0}, rays{0};
   const size_t N = g.size();
   const VplSumFn fn = vpl_sum_fn();
-  tbb::parallel_for(
-      tbb::blocked_range<size_t>(0, N, 1024), [&](const tbb::blocked_range<size_t>& b) {
-        uint64_t ns = 0, nr = 0;
-        for (size_t i = b.begin(); i < b.end(); ++i) {
-          if (!g.hit(i) || (mask && !mask[i])) continue;
-          const glm::vec3 L =
-              shade_with(fn, v, g.position[i], g.normal[i], g.albedo[i], s, r, 1.f, &nr);
-          float* o = &col.data[i * 3];
-          o[0] += L.x;
-          o[1] += L.y;
-          o[2] += L.z;
-          ++ns;
-        }
-        shaded += ns;
-        rays += nr;
-      });
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, N, 1024),
+                    [&](const tbb::blocked_range<size_t>& b) {
+                      uint64_t ns = 0, nr = 0;
+                      for (size_t i = b.begin(); i < b.end(); ++i) {
+                        if ((mask && !mask[i]) || !g.hit(i)) continue;
+                        const size_t si = g.src(i);
+                        const glm::vec3 L = shade_with(fn, v, g.g->position[si], g.g->normal[si],
+                                                       g.g->albedo[si], s, r, 1.f, &nr);
+                        float* o = &col.data[i * 3];
+                        o[0] += L.x;
+                        o[1] += L.y;
+                        o[2] += L.z;
+                        ++ns;
+                      }
+                      shaded += ns;
+                      rays += nr;
+                    });
   if (c) {
     c->add("shaded_sample_vpls", double(shaded.load()) * double(v.size()));
     if (s.visibility) c->add("vpl_shadow_rays", double(rays.load()));
   }
 }
 
-void LightingStrategy::shade(const FrameContext& ctx, const GBuffer& g, const uint8_t* mask,
-                             Image& col, Counters& c) const {
+void LightingStrategy::shade(const FrameContext& ctx, GBufferRef g, const uint8_t* mask, Image& col,
+                             Counters& c) const {
   if (!ctx.vpls) return;
   add_indirect(g, selected(ctx), ctx.vpls->shading, ctx.renderer, mask, col, &c);
 }

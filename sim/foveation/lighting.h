@@ -51,9 +51,10 @@ glm::vec3 shade_vpls(const VplSoA& v, const glm::vec3& p, const glm::vec3& n, co
                      const VplShading& s, const Renderer* r, float scale = 1.f,
                      uint64_t* rays = nullptr);
 
-// col[i] += indirect light of v at every hit sample i of g with mask[i] != 0 (mask optional);
-// other samples are left as they are. Counters: shaded_sample_vpls, vpl_shadow_rays.
-void add_indirect(const GBuffer& g, const VplSoA& v, const VplShading& s, const Renderer* r,
+// col[i] += indirect light of v at every hit sample i of g (a G-buffer or an index view of
+// one) with mask[i] != 0 (mask optional); other samples are left as they are.
+// Counters: shaded_sample_vpls, vpl_shadow_rays.
+void add_indirect(GBufferRef g, const VplSoA& v, const VplShading& s, const Renderer* r,
                   const uint8_t* mask, Image& col, Counters* c = nullptr);
 
 class LightingStrategy {
@@ -76,7 +77,7 @@ class LightingStrategy {
   virtual std::vector<std::pair<std::string, double>> param_columns() const { return {}; }
 
   // Adds the selected VPLs' indirect light at the samples of g (see add_indirect).
-  void shade(const FrameContext& ctx, const GBuffer& g, const uint8_t* mask, Image& col,
+  void shade(const FrameContext& ctx, GBufferRef g, const uint8_t* mask, Image& col,
              Counters& c) const;
 };
 

@@ -180,8 +180,8 @@ int reduced_size(int S, double sigma) {
 }
 
 // ---- buffer passes ------------------------------------------------------------------------
-size_t lp_gather(const GBuffer& src, const LogPolarMap& map, GBuffer& out,
-                 std::vector<uint8_t>& used, uint32_t keep) {
+size_t lp_gather(const GBuffer& src, const LogPolarMap& map, std::vector<uint32_t>& index,
+                 std::vector<uint8_t>& used) {
   const int w = int(map.w), h = int(map.h);
   // LogPolarMap::inverse(iu + 0.5, iv + 0.5) split into its column and row factors.
   std::vector<double> rad(size_t(std::max(w, 0))), cs(size_t(std::max(h, 0))),
@@ -193,13 +193,13 @@ size_t lp_gather(const GBuffer& src, const LogPolarMap& map, GBuffer& out,
     sn[size_t(iv)] = std::sin(th);
   }
   const double gx = map.gx, gy = map.gy;
-  return gather_gbuffer_rows(
+  return gather_index_rows(
       src, w, h,
       [&](int iv, int iu) {
         const double r = rad[size_t(iu)];
         return glm::dvec2(gx + r * cs[size_t(iv)], gy + r * sn[size_t(iv)]);
       },
-      out, used, keep);
+      index, used);
 }
 
 void polar_angle_row(double* v, int n, double gx, double dy, double v_per_rad) {

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -96,64 +97,37 @@ void parallel_rows(int n, Body&& body) {
   });
 }
 
-// Core of gather_gbuffer: at(iv, iu) returns the screen point of slot (iu, iv) (lets callers
-// hoist per-row / per-column terms). Copies the channels of src that are also in `keep`
-// (kDepth always; same copies as GBuffer::copy_sample / clear_sample). Per row, the source
-// indices are resolved first, then each channel is copied in a loop of its own with the
-// sources a few slots ahead prefetched (the reads are scattered over the full-res G-buffer).
+// Core of gather_gbuffer: slot i = (iu, iv) of a w x h buffer takes the nearest sample of the
+// full-res G-buffer src at the screen point at(iv, iu) (lets callers hoist per-row / per-column
+// terms). Writes index[i] = that sample's index in src, or GBufferRef::kNone for a point outside
+// the screen (or not finite), and used[i] = (index[i] != kNone). The buffer is then shaded
+// through GBufferRef(src, index.data(), w, h): the gather reads no G-buffer channel. (Copying
+// the five shading channels per slot meant five streams of scattered cache-line reads and cost
+// 3.6x OpenCV's warpPolar forward map; the shader reads the same values through the index.)
 template <class AtFn>
-size_t gather_gbuffer_rows(const GBuffer& src, int w, int h, AtFn&& at, GBuffer& out,
-                           std::vector<uint8_t>& used, uint32_t keep = ~0u) {
-  out.resize(w, h, src.channels & keep);
-  used.resize(size_t(w) * size_t(h));
+size_t gather_index_rows(const GBuffer& src, int w, int h, AtFn&& at, std::vector<uint32_t>& index,
+                         std::vector<uint8_t>& used) {
+  if (src.size() >= size_t(GBufferRef::kNone))
+    throw std::length_error("gather_index_rows: G-buffer too large for 32-bit indices");
+  index.resize(size_t(std::max(w, 0)) * size_t(std::max(h, 0)));
+  used.resize(index.size());
   const double W = src.width, H = src.height;
-  const uint32_t both = out.channels & src.channels;  // == out.channels
   const size_t sw = size_t(src.width);
   const size_t xmax = size_t(src.width - 1), ymax = size_t(src.height - 1);
   std::vector<size_t> row_n(size_t(std::max(h, 0)), 0);
-  constexpr size_t kNone = ~size_t(0);
-  constexpr int kAhead = 128;
   parallel_rows(h, [&](int iv) {
-    thread_local std::vector<size_t> idx;  // per-thread row scratch, reused (no per-row allocation)
-    idx.resize(size_t(std::max(w, 0)) + kAhead);
-    for (int iu = 0; iu < w; ++iu) {
-      const glm::dvec2 p = at(iv, iu);
-      idx[size_t(iu)] =
-          (std::isfinite(p.x) && std::isfinite(p.y) && p.x >= 0 && p.y >= 0 && p.x < W && p.y < H)
-              ? std::min(size_t(p.y), ymax) * sw + std::min(size_t(p.x), xmax)
-              : kNone;
-    }
-    std::fill(idx.begin() + w, idx.end(), kNone);
-    const size_t* ix = idx.data();
     const size_t row0 = size_t(iv) * size_t(w);
-    // One loop per channel over the row (a single stream of scattered reads each, sources
-    // prefetched kAhead slots ahead): slot iu takes src[ix[iu]], or the cleared value.
-    auto copy = [&](const auto* s, auto* o, auto cleared) {
-      o += row0;
-      for (int iu = 0; iu < w; ++iu) {
-#if defined(__GNUC__)
-        const size_t pf = ix[size_t(iu) + kAhead];
-        if (pf != kNone) __builtin_prefetch(s + pf);
-#endif
-        const size_t si = ix[size_t(iu)];
-        o[iu] = si != kNone ? s[si] : cleared;
-      }
-    };
-    copy(src.depth.data(), out.depth.data(), std::numeric_limits<float>::infinity());
-    if (both & kPosition) copy(src.position.data(), out.position.data(), glm::vec3(0.f));
-    if (both & kNormal) copy(src.normal.data(), out.normal.data(), glm::vec3(0.f));
-    if (both & kAlbedo) copy(src.albedo.data(), out.albedo.data(), glm::vec3(0.f));
-    if (both & kMaterial) copy(src.material.data(), out.material.data(), int32_t(-1));
-    if (both & kObjectId) copy(src.object_id.data(), out.object_id.data(), int32_t(-1));
-    if (both & kSubModel) copy(src.submodel.data(), out.submodel.data(), int32_t(-1));
-    if (both & kMotion) copy(src.motion.data(), out.motion.data(), glm::vec2(0.f));
-    if (both & kUV) copy(src.uv.data(), out.uv.data(), glm::vec2(0.f));
+    uint32_t* o = index.data() + row0;
     uint8_t* o_used = used.data() + row0;
     size_t n = 0;
     for (int iu = 0; iu < w; ++iu) {
-      const uint8_t u = ix[size_t(iu)] != kNone;
-      o_used[iu] = u;
-      n += u;
+      const glm::dvec2 p = at(iv, iu);
+      // NaN and +-inf fail these comparisons (no separate finiteness test needed).
+      const bool in = p.x >= 0 && p.y >= 0 && p.x < W && p.y < H;
+      o[iu] = in ? uint32_t(std::min(size_t(p.y), ymax) * sw + std::min(size_t(p.x), xmax))
+                 : GBufferRef::kNone;
+      o_used[iu] = uint8_t(in);
+      n += in;
     }
     row_n[size_t(iv)] = n;
   });
@@ -163,14 +137,15 @@ size_t gather_gbuffer_rows(const GBuffer& src, int w, int h, AtFn&& at, GBuffer&
 }
 
 // Pass 1 gather (seed 004 §2.2.2, seed 003 §3.2 "TG-buffer"): slot i = (iu, iv) of a w x h
-// buffer takes the nearest full-res G-buffer sample at the screen point inv(iu + 0.5, iv + 0.5);
-// points outside the screen (or not finite) leave the slot cleared and used[i] = 0.
-// Returns the number of used slots. Parallel over rows; deterministic.
+// buffer takes the nearest full-res G-buffer sample at the screen point inv(iu + 0.5, iv + 0.5)
+// as an index into src (see gather_index_rows); points outside the screen (or not finite) leave
+// the slot cleared (kNone, a miss) and used[i] = 0. Returns the number of used slots. Parallel
+// over rows; deterministic.
 template <class InvFn>
-size_t gather_gbuffer(const GBuffer& src, int w, int h, InvFn&& inv, GBuffer& out,
+size_t gather_gbuffer(const GBuffer& src, int w, int h, InvFn&& inv, std::vector<uint32_t>& index,
                       std::vector<uint8_t>& used) {
-  return gather_gbuffer_rows(
-      src, w, h, [&](int iv, int iu) { return inv(iu + 0.5, iv + 0.5); }, out, used);
+  return gather_index_rows(
+      src, w, h, [&](int iv, int iu) { return inv(iu + 0.5, iv + 0.5); }, index, used);
 }
 
 // Bilinear sample of an RGB image at continuous pixel coordinates (centres at i + 0.5).
@@ -270,13 +245,13 @@ void polar_angle_row(double* v, int n, double gx, double dy, double v_per_rad);
 
 // ---- KFR's two mapping passes (seed 004 §2.2-2.3), callable on their own (bench_methods).
 // Forward map / pass 1 (§2.2.1-2.2.2): gathers the (map.w x map.h) LP-buffer from the
-// full-res G-buffer, slot (u, v) taking the nearest sample at map.inverse(u, v). Returns the
-// number of used slots (see gather_gbuffer). Alg. 2 is separable in polar form: the radius
+// full-res G-buffer, slot (u, v) taking the nearest sample at map.inverse(u, v), as an index
+// into src (the LP G-buffer is GBufferRef(src, index.data(), w, h); see gather_index_rows).
+// Returns the number of used slots. Alg. 2 is separable in polar form: the radius
 // exp(L K^-1(u/w)) depends on the column only and cos/sin(B v) on the row only, so both are
 // tabulated once per frame (the same double expressions as LogPolarMap::inverse).
-// `keep` limits the copied channels (e.g. to the shading channels; kDepth always).
-size_t lp_gather(const GBuffer& src, const LogPolarMap& map, GBuffer& out,
-                 std::vector<uint8_t>& used, uint32_t keep = ~0u);
+size_t lp_gather(const GBuffer& src, const LogPolarMap& map, std::vector<uint32_t>& index,
+                 std::vector<uint8_t>& used);
 // Inverse map / pass 2 (Alg. 2 as a gather): every pixel of the W x H output maps forward
 // (eq. 2.10) and reads the RGB LP-buffer (lp: map.w x map.h) bilinearly, angle (y) wrapping.
 // Parallel over rows. Float SIMD (simd_lp_uv_row + simd_bilinear_wrap_row, the same bits on

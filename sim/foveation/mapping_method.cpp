@@ -81,7 +81,7 @@ void MappingMethodBase::debug_density(const FrameContext& ctx, const MappingSpec
   out.debug.emplace_back("sample_density", std::move(d));
 }
 
-double shade_buffer(const FrameContext& ctx, const GBuffer& g, Image& col,
+double shade_buffer(const FrameContext& ctx, GBufferRef g, Image& col,
                     const std::vector<uint8_t>* used, FrameOutput& out) {
   Counters c;
   ctx.renderer->shade(g, ctx.camera->position, col, used ? used->data() : nullptr, &c);

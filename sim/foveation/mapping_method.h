@@ -43,11 +43,11 @@ class MappingMethodBase : public FoveationMethod {
   bool reachable_ = true;
 };
 
-// Shades the used slots of a gathered buffer with the frame's renderer (direct light) and the
-// method's lighting strategy (indirect light, when the scene has VPLs); returns the number of
-// shaded samples (the renderer's shaded_samples counter when it reports one) and merges the
-// renderer's other counters (shadow_rays, ...) into out.counters.
-double shade_buffer(const FrameContext& ctx, const GBuffer& g, Image& col,
+// Shades the used slots of a gathered buffer (a G-buffer or an index view of the frame's) with the
+// frame's renderer (direct light) and the method's lighting strategy (indirect light, when the
+// scene has VPLs); returns the number of shaded samples (the renderer's shaded_samples counter when
+// it reports one) and merges the renderer's other counters (shadow_rays, ...) into out.counters.
+double shade_buffer(const FrameContext& ctx, GBufferRef g, Image& col,
                     const std::vector<uint8_t>* used, FrameOutput& out);
 
 // Uniform [0,1) from (seed, frame, index): thread-count independent per-pixel randomness.

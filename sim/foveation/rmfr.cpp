@@ -26,9 +26,10 @@ class RmfrMethod final : public MappingMethodBase {
     const RectMap map = RectMap::make(W, H, w, h, ctx.gaze_px, s.fx_pixels(W), s.fy_pixels(H));
 
     // Rectangular mapping of the G-buffer into the TG-buffer, shading into the RS-buffer.
+    // The TG-buffer is an index into the shared G-buffer, shaded through it (gather_gbuffer).
     const size_t n_used = gather_gbuffer(
-        gb, w, h, [&](double u, double v) { return map.inverse(u, v); }, rs_, used_);
-    shade_buffer(ctx, rs_, rs_col_, &used_, out);
+        gb, w, h, [&](double u, double v) { return map.inverse(u, v); }, rs_index_, used_);
+    shade_buffer(ctx, GBufferRef(gb, rs_index_.data(), w, h), rs_col_, &used_, out);
 
     // Rendering to the screen: inverse rectangular mapping as a per-pixel gather (eqs. 4-5).
     out.image.resize(W, H, 3);
@@ -54,7 +55,7 @@ class RmfrMethod final : public MappingMethodBase {
   }
 
  private:
-  GBuffer rs_;
+  std::vector<uint32_t> rs_index_;  // TG-buffer: G-buffer sample per slot
   Image rs_col_;
   std::vector<uint8_t> used_;
 };

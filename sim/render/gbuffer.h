@@ -42,4 +42,29 @@ struct GBuffer {
   void clear_sample(size_t i);
 };
 
+// Read-only view of samples of a G-buffer: sample i of the view (width x height) is sample
+// index[i] of *g, kNone a cleared slot (a miss); index == nullptr is the G-buffer itself.
+// Reduced buffers (KFR's LP-buffer, RMFR's TG-buffer, hyperbolic layers) are shaded through
+// an index instead of a copy of every channel: shading a sample is a pure function of its
+// channel values, so reading them through the index gives the same bits. Implicit from a
+// GBuffer, so the shading entry points take either.
+struct GBufferRef {
+  static constexpr uint32_t kNone = ~0u;
+  const GBuffer* g = nullptr;
+  const uint32_t* index = nullptr;  // width * height entries, or nullptr (identity)
+  int width = 0, height = 0;
+
+  GBufferRef(const GBuffer& b) : g(&b), width(b.width), height(b.height) {}  // NOLINT: implicit
+  GBufferRef(const GBuffer& b, const uint32_t* idx, int w, int h)
+      : g(&b), index(idx), width(w), height(h) {}
+  size_t size() const { return size_t(width) * size_t(height); }
+  // Sample of *g behind slot i; only valid where hit(i) (a cleared slot has no source).
+  size_t src(size_t i) const { return index ? size_t(index[i]) : i; }
+  bool hit(size_t i) const {
+    if (!index) return g->hit(i);
+    const uint32_t s = index[i];
+    return s != kNone && g->hit(s);
+  }
+};
+
 }  // namespace fovsim

@@ -103,17 +103,20 @@ inline int light_term(const LightNow& l, const SurfacePoint& sp, bool shadows, f
   return 2;
 }
 
-// Ambient + emission, and the surface frame for the lights. False on a miss.
-inline bool surface(const Scene& scene, const RenderState& I, const GBuffer& g, size_t i,
+// Ambient + emission, and the surface frame for the lights. False on a miss. Slot i of the
+// view reads sample g.src(i) of the G-buffer (the same values a copied buffer would hold).
+inline bool surface(const Scene& scene, const RenderState& I, const GBufferRef& g, size_t i,
                     const glm::vec3& eye, SurfacePoint& sp, glm::vec3& base) {
   if (!g.hit(i)) {
     base = scene.background;
     return false;
   }
-  sp.P = g.position[i];
-  sp.N = g.normal[i];
-  sp.A = g.albedo[i];
-  const int mi = g.material[i];
+  const GBuffer& b = *g.g;
+  const size_t s = g.src(i);
+  sp.P = b.position[s];
+  sp.N = b.normal[s];
+  sp.A = b.albedo[s];
+  const int mi = b.material[s];
   sp.m = (mi >= 0 && size_t(mi) < scene.materials.size()) ? &scene.materials[size_t(mi)] : nullptr;
   base = scene.ambient * sp.A;
   if (sp.m) base += sp.m->emission;
@@ -123,8 +126,9 @@ inline bool surface(const Scene& scene, const RenderState& I, const GBuffer& g, 
 }
 
 // Direct lighting of one sample with single shadow rays (deterministic: no sampling).
-static glm::vec3 shade_one(const Scene& scene, const RenderState& I, bool shadows, const GBuffer& g,
-                           size_t i, const glm::vec3& eye, uint64_t* shadow_rays) {
+static glm::vec3 shade_one(const Scene& scene, const RenderState& I, bool shadows,
+                           const GBufferRef& g, size_t i, const glm::vec3& eye,
+                           uint64_t* shadow_rays) {
   SurfacePoint sp;
   glm::vec3 col;
   if (!surface(scene, I, g, i, eye, sp, col)) return col;
@@ -146,7 +150,7 @@ static glm::vec3 shade_one(const Scene& scene, const RenderState& I, bool shadow
 // The same for up to 16 samples at once, with one rtcOccluded16 packet per light (shadow
 // rays from neighbouring samples towards one light are coherent). Accumulates in the same
 // order as shade_one, so both give the same bits.
-static void shade_block(const Scene& scene, const RenderState& I, bool shadows, const GBuffer& g,
+static void shade_block(const Scene& scene, const RenderState& I, bool shadows, const GBufferRef& g,
                         const size_t* idx, int n, const glm::vec3& eye, Image& out,
                         uint64_t& shadow_rays, std::vector<glm::vec3>& contrib,
                         std::vector<uint8_t>& state) {
@@ -222,9 +226,12 @@ glm::vec3 Renderer::shade_sample(const GBuffer& g, size_t i, const glm::vec3& ey
   return c;
 }
 
-void Renderer::shade(const GBuffer& g, const glm::dvec3& eye_d, Image& out, const uint8_t* mask,
+// Through an index view the channel reads are scattered over the full-res G-buffer (KFR's
+// LP-buffer: about 15% more shading time than from a compact copy at 1440x1600, see
+// bench/README.md); software prefetching of the next block's sources did not measurably help.
+void Renderer::shade(GBufferRef g, const glm::dvec3& eye_d, Image& out, const uint8_t* mask,
                      Counters* c) const {
-  if (!g.has(kShadingChannels))
+  if (!g.g->has(kShadingChannels))
     throw Error("renderer",
                 "shade() needs a G-buffer with depth, position, normal, albedo, material");
   if (out.width != g.width || out.height != g.height || out.channels != 3)

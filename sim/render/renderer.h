@@ -67,11 +67,12 @@ class Renderer {
   void render_reference(const Camera& cam, const GBuffer& g1, Image& out,
                         Counters* c = nullptr) const;
   const RenderSettings& settings() const { return settings_; }
-  // Direct lighting of every sample of g (which must have kShadingChannels); misses get the
-  // background. mask (size g.size(), optional): shade only where mask[i] != 0, leave others.
-  // `out` is resized to g.width x g.height x 3 if its size differs. Linear RGB.
+  // Direct lighting of every sample of g (a G-buffer, or an index view of one, which must have
+  // kShadingChannels); misses and cleared slots get the background. mask (size g.size(),
+  // optional): shade only where mask[i] != 0, leave others. `out` is resized to
+  // g.width x g.height x 3 if its size differs. Linear RGB.
   // Counters: shaded_samples (samples written, misses included), shadow_rays.
-  void shade(const GBuffer& g, const glm::dvec3& eye, Image& out, const uint8_t* mask = nullptr,
+  void shade(GBufferRef g, const glm::dvec3& eye, Image& out, const uint8_t* mask = nullptr,
              Counters* c = nullptr) const;
   // Shade a single sample (for methods that need per-sample control; no allocation).
   glm::vec3 shade_sample(const GBuffer& g, size_t i, const glm::vec3& eye) const;

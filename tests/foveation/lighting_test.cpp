@@ -1,7 +1,8 @@
 // Lighting strategies (sim/foveation/lighting.h): the frame's VPL set is shared, all_vpls at
 // full sampling is the reference exactly, fir/flc keep at most their budget, the SIMD VPL loop
-// gives the scalar loop's bits on every path, bad `lighting` keys name their JSON path, and a
-// scene without indirect light has no VPLs at all.
+// gives the scalar loop's bits on every path, bad `lighting` keys name their JSON path, a
+// scene without indirect light has no VPLs at all, and shading through an index view of the
+// G-buffer gives a copied buffer's bits.
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
 
@@ -205,5 +206,44 @@ TEST(Lighting, SceneWithoutIndirectHasNoVplPass) {
     FAIL() << "no error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("scene.vpl"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Lighting, IndexViewShadesLikeACopiedBuffer) {
+  // Reduced buffers (KFR's LP-buffer, ...) are shaded through an index into the frame's
+  // G-buffer (GBufferRef): direct light, indirect light and counters equal those of a buffer
+  // holding copies of the same samples, bit for bit, cleared slots (kNone) being misses.
+  World& w = cornell();
+  const GBuffer& g = w.fd.gbuffer;
+  const int bw = 13, bh = 11;
+  std::vector<uint32_t> index(size_t(bw) * bh);
+  std::vector<uint8_t> mask(index.size());
+  GBuffer copy;
+  copy.resize(bw, bh, kShadingChannels);
+  for (size_t i = 0; i < index.size(); ++i) {
+    index[i] = i % 7 == 3 ? GBufferRef::kNone : uint32_t((i * 2654435761u) % g.size());
+    mask[i] = i % 5 != 1;
+    if (index[i] == GBufferRef::kNone)
+      copy.clear_sample(i);
+    else
+      copy.copy_sample(g, index[i], i);
+  }
+  const GBufferRef view(g, index.data(), bw, bh);
+  FrameContext ctx = w.fd.context(w.scene, *w.renderer, w.display, false);
+  auto L = default_lighting();
+  Counters cl;
+  L->begin_frame(ctx, cl);
+  for (bool vis : {false, true}) {
+    FrameVpls fv = w.fd.vpls;
+    fv.shading.visibility = vis;
+    Image a(bw, bh, 3), b(bw, bh, 3);  // zero: masked-out slots stay 0 in both
+    Counters ca, cb;
+    w.renderer->shade(view, ctx.camera->position, a, mask.data(), &ca);
+    w.renderer->shade(copy, ctx.camera->position, b, mask.data(), &cb);
+    add_indirect(view, fv.all, fv.shading, w.renderer.get(), mask.data(), a, &ca);
+    add_indirect(copy, fv.all, fv.shading, w.renderer.get(), mask.data(), b, &cb);
+    EXPECT_EQ(a.data, b.data) << vis;
+    EXPECT_EQ(ca.items(), cb.items()) << vis;
+    EXPECT_GT(ca.get("shaded_sample_vpls"), 0.0);
   }
 }

@@ -133,16 +133,13 @@ TEST(MappingFastPath, LpGatherAndReconstructMatchTheMaps) {
         k.alpha = alpha;
         const int w = reduced_size(W, 1.8), h = reduced_size(H, 1.8);
         const LogPolarMap m = LogPolarMap::make(W, H, w, h, g, k);
-        // Gather: depth encodes the source index, so the chosen pixel is visible.
+        // Gather: the LP-buffer is the source index of each slot.
         GBuffer src;
-        src.resize(W, H, kDepth | kNormal);
-        for (size_t i = 0; i < src.size(); ++i) {
-          src.depth[i] = float(i);
-          src.normal[i] = glm::vec3(float(i), 0.f, 1.f);
-        }
-        GBuffer lp;
+        src.resize(W, H, kDepth);
+        std::vector<uint32_t> lp;
         std::vector<uint8_t> used;
         const size_t n = lp_gather(src, m, lp, used);
+        ASSERT_EQ(lp.size(), size_t(w) * size_t(h));
         size_t n_ref = 0;
         for (int iv = 0; iv < h; ++iv)
           for (int iu = 0; iu < w; ++iu) {
@@ -151,13 +148,8 @@ TEST(MappingFastPath, LpGatherAndReconstructMatchTheMaps) {
             const bool in = p.x >= 0 && p.y >= 0 && p.x < W && p.y < H;
             ASSERT_EQ(used[i], in ? 1 : 0);
             n_ref += in;
-            if (in) {
-              EXPECT_EQ(lp.depth[i], float(size_t(p.y) * size_t(W) + size_t(p.x)));
-              EXPECT_EQ(lp.normal[i].x, lp.depth[i]);
-            } else {
-              EXPECT_TRUE(std::isinf(lp.depth[i]));
-              EXPECT_EQ(lp.normal[i], glm::vec3(0.f));
-            }
+            EXPECT_EQ(lp[i],
+                      in ? uint32_t(size_t(p.y) * size_t(W) + size_t(p.x)) : GBufferRef::kNone);
           }
         EXPECT_EQ(n, n_ref);
         // Reconstruct: against forward() + bilinear() per pixel.
