@@ -1,7 +1,9 @@
 // Primary rays (DESIGN §4): Embree 4x4 packets (rtcIntersect16; coherent flag on static
 // scenes, incoherent on instanced ones, see renderer.cpp), one tile at a time; tiles run in
 // parallel with TBB. Every pixel is computed independently, so results are identical at any
-// thread count. Hit distance and barycentrics are recomputed portably (refine_hit).
+// thread count. Hit distance and barycentrics are recomputed portably (refine_hit). A packet's
+// samples are staged and copied to the G-buffer row by row (Packet::flush). Performance
+// against Embree's own packet rate: bench/README.md.
 #include <tbb/parallel_for.h>
 
 #include <cstring>
@@ -62,8 +64,7 @@ void alpha_filter(const RTCFilterFunctionNArguments* args) {
 // G-buffer stores, one component at a time. GCC copies a glm vector by building it in a
 // stack slot with 4-byte stores and moving it out with an 8-byte load + store; that load
 // cannot be forwarded from the two narrower stores and waits for them to reach the cache
-// (measured: 77% of SampleWriter::hit's samples on the position store, ~30% of the pass).
-// Same values, so the same bits.
+// (perf: 55-77% of SampleWriter::hit's samples on that load). Same values, same bits.
 inline void put(glm::vec3& d, const glm::vec3& s) {
   d.x = s.x;
   d.y = s.y;
@@ -162,7 +163,7 @@ struct SampleWriter {
   };
   // `cone`: the sample's ray-cone width in radians (its angular spacing, see cone_width), for
   // the texture footprint.
-  void hit(GBuffer& g, size_t i, const glm::vec3 org, const glm::vec3 dir, float t, int obj,
+  void hit(GBuffer& g, size_t i, const glm::vec3& org, const glm::vec3& dir, float t, int obj,
            uint32_t prim, float bu, float bv, const glm::vec2& px, float cone,
            Deferred* deferred = nullptr) const {
     refine_hit(I, scene, obj, prim, org, dir, t, bu, bv);
@@ -337,12 +338,6 @@ struct Packet {
     n = 0;
   }
 
-  // Copies the staged samples to the G-buffer, one memcpy per run of consecutive indices (a
-  // 4x4 block: 4 rows of 4 pixels per channel). Writing the frame's channels directly, sample
-  // by sample, costs ~30 ns a ray (measured by redirecting them to a small scratch buffer):
-  // each packet touches 4 rows x 5 arrays of lines not yet in the cache with ~180 scalar
-  // stores, more than the store buffer holds while their lines are fetched. Staged, the same
-  // bytes leave in a few wide stores per row.
   // Asks for the lines flush() will write, before the traversal (a prefetch changes nothing).
   void prefetch(const GBuffer& g, uint32_t ch) const {
     auto pf = [&](const auto& dst) {
@@ -367,6 +362,12 @@ struct Packet {
     if (ch & kUV) pf(g.uv);
     if (ch & kFootprint) pf(g.footprint);
   }
+  // Copies the staged samples to the G-buffer, one memcpy per run of consecutive indices (a
+  // 4x4 block: 4 rows of 4 pixels per channel). Writing the frame's channels directly, sample
+  // by sample, cost ~30 ns a ray (measured by redirecting them to a small scratch buffer):
+  // each packet touches 4 rows x 5 arrays of lines not yet in the cache with ~180 scalar
+  // stores, which likely fill the store buffer while those lines are fetched. Staged, the
+  // same bytes leave in a few wide stores per row, to lines prefetch() asked for.
   void flush(GBuffer& g, uint32_t ch) const {
     auto copy = [&](auto& dst, const auto& src) {
       using T = std::decay_t<decltype(src[0])>;
