@@ -7,6 +7,9 @@
 //     every iteration (interleaved, so load on a shared machine affects them alike); counters
 //     gbuf_Mrays_s, packet_Mrays_s, single_Mrays_s, ratio_packet = gbuf/packet (issue 19 asks
 //     >= 0.8), ratio_single = gbuf/single.
+//   BM_GBufferChannels/<complexity>/<k>: the G-buffer pass at one thread with the shading
+//     channels added one at a time (depth, +position, +material, +normal, +albedo); counter
+//     ns_per_ray: the per-ray cost of each channel is the difference between rows.
 //   BM_ReferenceFrame/<complexity>/<threads>: one reference frame (G-buffer + shading with
 //     shadow rays) at 1440x1600 (HTC Vive Pro Eye per eye) on the atrium; counters frame_ms,
 //     gbuffer_ms.
@@ -234,6 +237,33 @@ BENCHMARK(BM_PrimaryVsBare)
     ->Args({6, 0})
     ->Args({3, 1})
     ->Args({6, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// Where the G-buffer pass's time goes: trace_gbuffer at one thread with the shading channels
+// added one at a time (arg 1: 0 depth, 1 +position, 2 +material, 3 +normal, 4 +albedo =
+// kShadingChannels); counter ns_per_ray (thread CPU time). The differences between rows are the
+// per-ray cost of each channel (its loads, arithmetic and stores); row 0 minus Embree's packet
+// rate is ray generation, hit refinement and the packet loop.
+void BM_GBufferChannels(benchmark::State& st) {
+  Fixture& f = atrium(int(st.range(0)));
+  const uint32_t sets[] = {kDepth, kDepth | kPosition, kDepth | kPosition | kMaterial,
+                           kDepth | kPosition | kMaterial | kNormal, kShadingChannels};
+  const uint32_t ch = sets[st.range(1)];
+  tbb::global_control gc(tbb::global_control::max_allowed_parallelism, 1);
+  GBuffer g;
+  f.renderer->trace_gbuffer(f.cam, ch, g);  // allocate outside the timing
+  double t = 0;
+  for (auto _ : st) {
+    const double t0 = thread_cpu_s();
+    f.renderer->trace_gbuffer(f.cam, ch, g);
+    t += thread_cpu_s() - t0;
+  }
+  const double rays = double(f.cam.width) * f.cam.height * double(st.iterations());
+  st.counters["ns_per_ray"] = t / rays * 1e9;
+}
+BENCHMARK(BM_GBufferChannels)
+    ->ArgsProduct({{3}, {0, 1, 2, 3, 4}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

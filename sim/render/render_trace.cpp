@@ -1,8 +1,12 @@
 // Primary rays (DESIGN §4): Embree 4x4 packets (rtcIntersect16; coherent flag on static
 // scenes, incoherent on instanced ones, see renderer.cpp), one tile at a time; tiles run in
 // parallel with TBB. Every pixel is computed independently, so results are identical at any
-// thread count. Hit distance and barycentrics are recomputed portably (refine_hit).
+// thread count. Hit distance and barycentrics are recomputed portably (refine_hit). A packet's
+// samples are staged and copied to the G-buffer row by row (Packet::flush). Performance
+// against Embree's own packet rate: bench/README.md.
 #include <tbb/parallel_for.h>
+
+#include <cstring>
 
 #include "sim/render/render_internal.h"
 
@@ -15,9 +19,14 @@ namespace fovsim {
 // root of that. At distance t on a surface seen at cos(n, d) the footprint's area is
 // (t * cone)^2 / |cos|, and the filter is the isotropic box of the same area (a compromise
 // between blur along the major axis and aliasing along the minor one). cos_axis = cos(theta).
-inline float cone_width(const Camera& cam, float spacing, double cos_axis) {
+// cone_scale() is the per-camera factor spacing * sqrt(dx * dy); cone_width(scale, cos_axis) the
+// per-ray remainder, evaluated in the same order as the single expression it was split from.
+inline double cone_scale(const Camera& cam, float spacing) {
   const double dx = 2.0 * cam.tan_half_h / cam.width, dy = 2.0 * cam.tan_half_v / cam.height;
-  return float(double(spacing) * std::sqrt(dx * dy) * cos_axis * std::sqrt(cos_axis));
+  return double(spacing) * std::sqrt(dx * dy);
+}
+inline float cone_width(double scale, double cos_axis) {
+  return float(scale * cos_axis * std::sqrt(cos_axis));
 }
 
 bool alpha_rejects(const RenderState& I, const Scene& scene, int obj, uint32_t prim, float u,
@@ -52,6 +61,20 @@ void alpha_filter(const RTCFilterFunctionNArguments* args) {
   }
 }
 
+// G-buffer stores, one component at a time. GCC copies a glm vector by building it in a
+// stack slot with 4-byte stores and moving it out with an 8-byte load + store; that load
+// cannot be forwarded from the two narrower stores and waits for them to reach the cache
+// (perf: 55-77% of SampleWriter::hit's samples on that load). Same values, same bits.
+inline void put(glm::vec3& d, const glm::vec3& s) {
+  d.x = s.x;
+  d.y = s.y;
+  d.z = s.z;
+}
+inline void put(glm::vec2& d, const glm::vec2& s) {
+  d.x = s.x;
+  d.y = s.y;
+}
+
 struct SampleWriter {
   const Scene& scene;
   const RenderState& I;
@@ -60,7 +83,8 @@ struct SampleWriter {
 
   void albedo(GBuffer& g, size_t i, glm::vec2 uv, int mat, float fw) const {
     const Material& mt = scene.materials[size_t(mat)];
-    g.albedo[i] = eval_albedo(scene, mt, uv, I.mat_cs[size_t(mat)].x, I.mat_cs[size_t(mat)].y, fw);
+    put(g.albedo[i],
+        eval_albedo(scene, mt, uv, I.mat_cs[size_t(mat)].x, I.mat_cs[size_t(mat)].y, fw));
   }
 
   // Texture filter width (uv units) of a hit at distance t: the cone's footprint on the
@@ -150,7 +174,7 @@ struct SampleWriter {
     const RenderState::Obj& ob = I.objs[size_t(obj)];
     const glm::uvec3 tri = m.triangles[prim];
     const glm::vec3 P = org + t * dir;
-    if (ch & kPosition) g.position[i] = P;
+    if (ch & kPosition) put(g.position[i], P);
     if (ch & kObjectId) g.object_id[i] = obj;
     if (ch & kSubModel) g.submodel[i] = ob.tri_sub.empty() ? -1 : ob.tri_sub[prim];
     const int mat = m.tri_material.empty() ? m.material : m.tri_material[prim];
@@ -174,7 +198,7 @@ struct SampleWriter {
              : (a.y >= a.z)             ? glm::vec2(po.x, po.z)
                                         : glm::vec2(po.x, po.y);
       }
-      if (ch & kUV) g.uv[i] = uv;
+      if (ch & kUV) put(g.uv[i], uv);
     }
     float fw = 0.f;
     if (need_uv) {
@@ -212,7 +236,7 @@ struct SampleWriter {
       // just past the view-perpendicular so every normal faces the viewer.
       const float nv = glm::dot(n, dir);
       if (nv > 0.f) n = glm::normalize(n - dir * (nv + 1e-3f));
-      g.normal[i] = n;
+      put(g.normal[i], n);
     }
     if (ch & kMotion) {
       glm::vec2 mv(0.f);
@@ -221,7 +245,7 @@ struct SampleWriter {
         glm::dvec2 pp;
         if (prev->project_world(glm::dvec3(Pp), pp)) mv = px - glm::vec2(pp);
       }
-      g.motion[i] = mv;
+      put(g.motion[i], mv);
     }
   }
 };
@@ -237,10 +261,13 @@ struct Packet {
   glm::vec2 px[16];
   float cone[16];
   int n = 0;
+  // The packet's samples, lane k in slot k, copied to the frame's G-buffer by flush().
+  GBuffer st;
 
   // Fields rtcIntersect16 only reads (tnear, time, mask, id, flags) are set once here; add()
   // writes the rest (Embree writes tfar and the hit fields back).
-  Packet() {
+  explicit Packet(uint32_t channels) {
+    st.resize(16, 1, channels);
     for (int k = 0; k < 16; ++k) {
       rh.ray.tnear[k] = 0.f;
       rh.ray.time[k] = 0.f;
@@ -282,6 +309,7 @@ struct Packet {
       rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
       rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
     }
+    prefetch(g, w.ch);
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     ctx.flags = I.packet_flags;
@@ -293,20 +321,73 @@ struct Packet {
     const bool albedo = (w.ch & kAlbedo) != 0;
     for (int k = 0; k < n; ++k) {
       if (rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) {
-        w.miss(g, idx[k]);
+        w.miss(st, size_t(k));
         continue;
       }
       RTCHit h;
       h.geomID = rh.hit.geomID[k];
       h.instID[0] = rh.hit.instID[0][k];
       glm::vec3 d(rh.ray.dir_x[k], rh.ray.dir_y[k], rh.ray.dir_z[k]);
-      w.hit(g, idx[k], o, d, rh.ray.tfar[k], hit_object(I, h), rh.hit.primID[k], rh.hit.u[k],
+      w.hit(st, size_t(k), o, d, rh.ray.tfar[k], hit_object(I, h), rh.hit.primID[k], rh.hit.u[k],
             rh.hit.v[k], px[k], cone[k], albedo ? &tex[nh] : nullptr);
       hits[nh++] = k;
     }
     if (albedo)
-      for (int j = 0; j < nh; ++j) w.albedo(g, idx[hits[j]], tex[j].uv, tex[j].mat, tex[j].fw);
+      for (int j = 0; j < nh; ++j) w.albedo(st, size_t(hits[j]), tex[j].uv, tex[j].mat, tex[j].fw);
+    flush(g, w.ch);
     n = 0;
+  }
+
+  // Asks for the lines flush() will write, before the traversal (a prefetch changes nothing).
+  void prefetch(const GBuffer& g, uint32_t ch) const {
+    auto pf = [&](const auto& dst) {
+      using T = std::decay_t<decltype(dst[0])>;
+      for (int k = 0; k < n;) {
+        int j = k + 1;
+        while (j < n && idx[j] == idx[j - 1] + 1) ++j;
+        const char* a = reinterpret_cast<const char*>(dst.data() + idx[k]);
+        for (size_t b = 0; b < size_t(j - k) * sizeof(T); b += 64) __builtin_prefetch(a + b, 1, 3);
+        __builtin_prefetch(a + size_t(j - k) * sizeof(T) - 1, 1, 3);
+        k = j;
+      }
+    };
+    pf(g.depth);
+    if (ch & kPosition) pf(g.position);
+    if (ch & kNormal) pf(g.normal);
+    if (ch & kAlbedo) pf(g.albedo);
+    if (ch & kMaterial) pf(g.material);
+    if (ch & kObjectId) pf(g.object_id);
+    if (ch & kSubModel) pf(g.submodel);
+    if (ch & kMotion) pf(g.motion);
+    if (ch & kUV) pf(g.uv);
+    if (ch & kFootprint) pf(g.footprint);
+  }
+  // Copies the staged samples to the G-buffer, one memcpy per run of consecutive indices (a
+  // 4x4 block: 4 rows of 4 pixels per channel). Writing the frame's channels directly, sample
+  // by sample, cost ~30 ns a ray (measured by redirecting them to a small scratch buffer):
+  // each packet touches 4 rows x 5 arrays of lines not yet in the cache with ~180 scalar
+  // stores, which likely fill the store buffer while those lines are fetched. Staged, the
+  // same bytes leave in a few wide stores per row, to lines prefetch() asked for.
+  void flush(GBuffer& g, uint32_t ch) const {
+    auto copy = [&](auto& dst, const auto& src) {
+      using T = std::decay_t<decltype(src[0])>;
+      for (int k = 0; k < n;) {
+        int j = k + 1;
+        while (j < n && idx[j] == idx[j - 1] + 1) ++j;
+        std::memcpy(&dst[idx[k]], &src[size_t(k)], size_t(j - k) * sizeof(T));
+        k = j;
+      }
+    };
+    copy(g.depth, st.depth);
+    if (ch & kPosition) copy(g.position, st.position);
+    if (ch & kNormal) copy(g.normal, st.normal);
+    if (ch & kAlbedo) copy(g.albedo, st.albedo);
+    if (ch & kMaterial) copy(g.material, st.material);
+    if (ch & kObjectId) copy(g.object_id, st.object_id);
+    if (ch & kSubModel) copy(g.submodel, st.submodel);
+    if (ch & kMotion) copy(g.motion, st.motion);
+    if (ch & kUV) copy(g.uv, st.uv);
+    if (ch & kFootprint) copy(g.footprint, st.footprint);
   }
 };
 
@@ -353,10 +434,11 @@ void Renderer::trace_gbuffer(const Camera& cam, uint32_t channels, GBuffer& out,
     hy2[size_t(y)] = hy[size_t(y)] * hy[size_t(y)];
   }
   SampleWriter w{scene_, I, prev, channels};
+  const double cone1 = cone_scale(cam, 1.f);
   tbb::parallel_for(
       tbb::blocked_range<int>(0, tx * ty, 1),
       [&](const tbb::blocked_range<int>& r) {
-        Packet pk;
+        Packet pk(w.ch);
         for (int tile = r.begin(); tile != r.end(); ++tile) {
           const int x0 = (tile % tx) * T, y0 = (tile / tx) * T;
           const int x1 = std::min(x0 + T, cam.width), y1 = std::min(y0 + T, cam.height);
@@ -368,7 +450,7 @@ void Renderer::trace_gbuffer(const Camera& cam, uint32_t channels, GBuffer& out,
                   const double s = 1.0 / std::sqrt((hx2[size_t(x)] + hy2[size_t(y)]) + 1.0);
                   const glm::dvec3 d = R * glm::dvec3(hx[size_t(x)] * s, hy[size_t(y)] * s, -s);
                   pk.add(org, glm::vec3(d), size_t(y) * size_t(cam.width) + size_t(x),
-                         glm::vec2(float(x) + 0.5f, float(y) + 0.5f), cone_width(cam, 1.f, s));
+                         glm::vec2(float(x) + 0.5f, float(y) + 0.5f), cone_width(cone1, s));
                 }
               pk.trace(I, w, org, out);
             }
@@ -390,6 +472,7 @@ void Renderer::trace_points(const Camera& cam, const std::vector<glm::vec2>& pts
   const glm::vec3 org(cam.position);
   const glm::dmat3 R = glm::mat3_cast(cam.orientation);
   SampleWriter w{scene_, I, nullptr, channels & ~uint32_t(kMotion)};
+  const double cone_s = cone_scale(cam, spacing);
   if (channels & kMotion)
     for (auto& m : out.motion) m = glm::vec2(0.f);
   // Consecutive points in packets of 16 (callers usually pass them in scanline order).
@@ -397,14 +480,14 @@ void Renderer::trace_points(const Camera& cam, const std::vector<glm::vec2>& pts
   tbb::parallel_for(
       tbb::blocked_range<int>(0, (n_pts + B - 1) / B, 1),
       [&](const tbb::blocked_range<int>& r) {
-        Packet pk;
+        Packet pk(w.ch);
         for (int b = r.begin(); b != r.end(); ++b) {
           const int i0 = b * B, i1 = std::min(n_pts, i0 + B);
           for (int i = i0; i < i1; ++i) {
             const glm::vec2 p = pts_in[size_t(i)];
             const glm::dvec3 dh = cam.dir_head(p.x, p.y);
             glm::dvec3 d = R * dh;
-            pk.add(org, glm::vec3(d), size_t(i), p, cone_width(cam, spacing, -dh.z));
+            pk.add(org, glm::vec3(d), size_t(i), p, cone_width(cone_s, -dh.z));
             if (pk.n == 16) pk.trace(I, w, org, out);
           }
           pk.trace(I, w, org, out);

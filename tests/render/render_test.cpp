@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <cstring>
 
@@ -181,6 +182,48 @@ TEST(Render, NormalsFaceViewerAndTracePointsMatch) {
       EXPECT_EQ(gp.object_id[i], g.object_id[i]);
       EXPECT_EQ(gp.albedo[i], g.albedo[i]);
     }
+  }
+}
+
+// The packet pass stages each packet's samples and copies runs of consecutive output slots:
+// every channel must land in its own slot whatever the order of the points (shuffled: no runs;
+// scanline: runs of 16; reversed: runs of 1), bit for bit as the G-buffer pass writes it.
+TEST(Render, TracePointsInAnyOrderMatchTheGBufferBits) {
+  Scene s = atrium_small();
+  Renderer r(s, RenderSettings{});
+  Camera cam = cam_at(small_display(37, 23, 100, 90), glm::dvec3(s.default_eye));
+  const uint32_t ch = kShadingChannels | kObjectId | kSubModel | kUV | kFootprint;
+  GBuffer g;
+  r.trace_gbuffer(cam, ch, g);
+  std::vector<size_t> order(g.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::vector<std::vector<size_t>> orders{order, order};
+  std::reverse(orders[1].begin(), orders[1].end());
+  orders.push_back(order);
+  for (size_t i = 0; i < order.size(); ++i)  // a fixed shuffle (no std::shuffle: portable)
+    std::swap(orders[2][i], orders[2][(i * 7919u + 13u) % order.size()]);
+  for (const auto& ord : orders) {
+    std::vector<glm::vec2> pts;
+    for (size_t j : ord)
+      pts.emplace_back(float(j % size_t(cam.width)) + 0.5f, float(j / size_t(cam.width)) + 0.5f);
+    GBuffer gp;
+    r.trace_points(cam, pts, ch, gp);
+    size_t hits = 0;
+    for (size_t k = 0; k < ord.size(); ++k) {
+      const size_t i = ord[k];
+      ASSERT_EQ(std::memcmp(&gp.depth[k], &g.depth[i], sizeof(float)), 0) << k;
+      EXPECT_EQ(gp.material[k], g.material[i]);
+      EXPECT_EQ(gp.object_id[k], g.object_id[i]);
+      EXPECT_EQ(gp.submodel[k], g.submodel[i]);
+      EXPECT_EQ(std::memcmp(&gp.position[k], &g.position[i], sizeof(glm::vec3)), 0);
+      EXPECT_EQ(std::memcmp(&gp.normal[k], &g.normal[i], sizeof(glm::vec3)), 0);
+      EXPECT_EQ(std::memcmp(&gp.uv[k], &g.uv[i], sizeof(glm::vec2)), 0);
+      // Albedo and footprint depend on the cone width, equal here (spacing 1).
+      EXPECT_EQ(std::memcmp(&gp.albedo[k], &g.albedo[i], sizeof(glm::vec3)), 0);
+      EXPECT_EQ(std::memcmp(&gp.footprint[k], &g.footprint[i], sizeof(float)), 0);
+      hits += g.hit(i);
+    }
+    EXPECT_GT(hits, ord.size() / 2);
   }
 }
 
