@@ -61,6 +61,10 @@ void write_image(const std::string& path, const Image& img) {
         if (!out) throw Error(path, "unsupported image format \"" + ext + "\" (use .png or .exr)");
         OIIO::ImageSpec spec(img.width, img.height, img.channels,
                              is_exr ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
+        // OIIO's EXR writer stamps the current time (capDate) unless DateTime is set: a
+        // fixed value keeps the same config's files byte-identical between runs (the run's
+        // time is in manifest.json).
+        if (is_exr) spec.attribute("DateTime", "1970:01:01 00:00:00");
         if (!out->open(tmp, spec))
           throw Error(path, "cannot open image for writing: " + out->geterror());
         bool ok;

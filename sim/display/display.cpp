@@ -92,14 +92,19 @@ double Camera::ppd_at(double px, double py) const {
   return 0.5 * (1.0 / ax + 1.0 / ay);
 }
 
-std::vector<float> eccentricity_map(const Camera& cam, const glm::dvec3& gaze_dir_head) {
-  std::vector<float> e(size_t(cam.width) * size_t(cam.height));
+void eccentricity_map(const Camera& cam, const glm::dvec3& gaze_dir_head, std::vector<float>& e) {
+  e.resize(size_t(cam.width) * size_t(cam.height));
   glm::dvec3 g = glm::normalize(gaze_dir_head);
   tbb::parallel_for(0, cam.height, [&](int y) {
     for (int x = 0; x < cam.width; ++x)
       e[size_t(y) * size_t(cam.width) + size_t(x)] =
           float(cam.eccentricity_deg(x + 0.5, y + 0.5, g));
   });
+}
+
+std::vector<float> eccentricity_map(const Camera& cam, const glm::dvec3& gaze_dir_head) {
+  std::vector<float> e;
+  eccentricity_map(cam, gaze_dir_head, e);
   return e;
 }
 

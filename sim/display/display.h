@@ -70,6 +70,9 @@ struct Camera {
 
 // Per-pixel eccentricity in degrees (row-major, W*H), computed in parallel.
 std::vector<float> eccentricity_map(const Camera& cam, const glm::dvec3& gaze_dir_head);
+// The same into `out` (resized to W*H; keeps its storage when the size is unchanged, so the
+// per-frame map of a run allocates once).
+void eccentricity_map(const Camera& cam, const glm::dvec3& gaze_dir_head, std::vector<float>& out);
 
 // Converts between a gaze direction in head space and a normalized screen point
 // ((0,0) top-left, (1,1) bottom-right). The screen point may be outside [0,1].

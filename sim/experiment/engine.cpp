@@ -94,10 +94,25 @@ struct ImageOutputs {
   bool png = true, exr = false, debug = false;
 };
 
+// The images of one frame, queued while the methods run and written together at the end of
+// the frame (write_all), in parallel: PNG compression is ~20 ms per image at the quickstart's
+// resolution and ran serially on the frame-loop thread (bench/README.md "Scaling"). Each job
+// owns a copy of its image, since the cell's display buffer is reused by the next method.
+// Which file each image goes to does not depend on the order the jobs run in.
+struct ImageJobs {
+  std::vector<std::pair<std::string, Image>> jobs;
+  void add(std::string path, Image img) { jobs.emplace_back(std::move(path), std::move(img)); }
+  void write_all() {
+    tbb::parallel_for(size_t(0), jobs.size(),
+                      [&](size_t i) { write_image(jobs[i].first, jobs[i].second); });
+    jobs.clear();
+  }
+};
+
 void write_images(const std::string& dir, const std::string& stem, const Image& display_img,
-                  const Image* linear, const ImageOutputs& io) {
-  if (io.png) write_image(dir + "/" + safe_file_name(stem) + ".png", display_img);
-  if (io.exr && linear) write_image(dir + "/" + safe_file_name(stem) + ".exr", *linear);
+                  const Image* linear, const ImageOutputs& io, ImageJobs& q) {
+  if (io.png) q.add(dir + "/" + safe_file_name(stem) + ".png", display_img);
+  if (io.exr && linear) q.add(dir + "/" + safe_file_name(stem) + ".exr", *linear);
 }
 
 Image error_heatmap(const Image& a, const Image& b) {
@@ -224,6 +239,7 @@ struct Cell {
   PhaseTimes phases;  // manifest "phases" (phase_times.h)
   Image out_display;  // per-cell scratch, reused every frame
   MetricsScratch metrics_scratch;
+  ImageJobs image_jobs;  // this frame's images (want_images), written at the end of process()
   LatencyConfig latency;  // issue 17 (docs/latency.md)
   std::set<std::string> metric_names;
   std::vector<float> est_ecc;  // eccentricity around the estimated gaze, reused
@@ -302,7 +318,7 @@ struct Cell {
     const SceneFeatures features = sh.scene->features();
     bool want_images = record && io.frames.count(fi) > 0;
     std::string img_dir = job->out_dir + "/images/frame_" + std::to_string(fi);
-    if (want_images) write_images(img_dir, "reference", ref_display, &fd.reference, io);
+    if (want_images) write_images(img_dir, "reference", ref_display, &fd.reference, io, image_jobs);
     pc = phases.lap("images", pc);
     FrameContext ctx = fd.context(*sh.scene, renderer, sh.sim_display, want_images && io.debug);
     // Latency what-if: methods see the gaze at t - latency, metrics keep fd's true gaze.
@@ -337,7 +353,7 @@ struct Cell {
         TraceSample est = estimated_gaze(sh.raw_trace, s.t, lat_ms * 1e-3, period, latency);
         glm::dvec3 dir = glm::normalize(est.gaze_dir);
         if (!(dir == est_dir_cached)) {
-          est_ecc = eccentricity_map(fd.camera, dir);
+          eccentricity_map(fd.camera, dir, est_ecc);
           est_dir_cached = dir;
         }
         ctx.gaze_dir = dir;
@@ -376,14 +392,15 @@ struct Cell {
       pc = phases.lap("metrics", pc);
 
       if (want_images) {
-        write_images(img_dir, m.stem, out_display, &lin, io);
-        write_image(img_dir + "/" + safe_file_name(m.stem + "_error") + ".png",
-                    error_heatmap(out_display, *refd));
+        write_images(img_dir, m.stem, out_display, &lin, io, image_jobs);
+        image_jobs.add(img_dir + "/" + safe_file_name(m.stem + "_error") + ".png",
+                       error_heatmap(out_display, *refd));
         if (mcfg.flip)
-          write_image(img_dir + "/" + safe_file_name(m.stem + "_flip") + ".png",
-                      flip_colormap(metrics_scratch.flip_map));
+          image_jobs.add(img_dir + "/" + safe_file_name(m.stem + "_flip") + ".png",
+                         flip_colormap(metrics_scratch.flip_map));
         for (auto& [dname, dimg] : fo.debug)
-          write_image(img_dir + "/" + safe_file_name(m.stem + "_" + dname) + ".png", dimg);
+          image_jobs.add(img_dir + "/" + safe_file_name(m.stem + "_" + dname) + ".png",
+                         std::move(dimg));
       }
       pc = phases.lap("images", pc);
 
@@ -446,6 +463,10 @@ struct Cell {
         if (record) frames.add(std::move(row));
       }
       pc = phases.lap("cost_rows", pc);
+    }
+    if (!image_jobs.jobs.empty()) {
+      image_jobs.write_all();
+      pc = phases.lap("images", pc);
     }
     cell_ms += ms_since(c0);
   }

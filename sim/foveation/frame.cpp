@@ -52,7 +52,7 @@ void prepare_frame(const Renderer& r, const Display& d, const TraceSample& s, in
                    &out.counters);
     }
   }
-  out.eccentricity = eccentricity_map(out.camera, out.gaze_dir);
+  eccentricity_map(out.camera, out.gaze_dir, out.eccentricity);  // reuses the previous frame's
 }
 
 FrameContext FrameData::context(const Scene& scene, const Renderer& r, const Display& d,

@@ -2,7 +2,9 @@
 // look complete (issue 2 item 9).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 
 #include "tests/app/app_util.h"
 
@@ -150,6 +152,41 @@ TEST(Cli, SameNumbersAtAnyThreadCount) {
       if (ca.header[k] == "sim_ms" || ca.header[k] == "ref_ms") continue;  // wall time
       EXPECT_EQ(ca.rows[r][k], cb.rows[r][k]) << ca.header[k];
     }
+}
+
+// The images of a frame are queued while the methods run and written together, in parallel
+// (engine.cpp ImageJobs): every file is there, and byte for byte the same at any thread count.
+TEST(Cli, ImagesAreTheSameFilesAtAnyThreadCount) {
+  namespace fs = std::filesystem;
+  std::string dir = temp_dir("threads_images");
+  write_text(dir + "/c.json", base_config(dir));
+  std::vector<std::string> runs;
+  for (const char* j : {"1", "2"}) {
+    const std::string out = dir + "/o" + j;
+    auto r = run_cmd(fovsim_bin() + " run " + dir + "/c.json -j " + j + " --no-plots --out " +
+                     out + " 'outputs.image_frames=[0, 1]' outputs.debug_images=true " +
+                     "outputs.exr=true " +
+                     "'methods=[{\"method\": \"full\"}, {\"method\": \"kfr\"}, " +
+                     "{\"method\": \"fvrs\"}]'");
+    ASSERT_EQ(r.code, 0) << r.output;
+    runs.push_back(out);
+  }
+  std::vector<std::string> names;
+  for (auto& e : fs::recursive_directory_iterator(runs[0] + "/images"))
+    if (e.is_regular_file()) names.push_back(fs::relative(e.path(), runs[0]).string());
+  std::sort(names.begin(), names.end());
+  for (const char* f : {"images/frame_0/reference.png", "images/frame_0/reference.exr",
+                        "images/frame_1/kfr.png", "images/frame_1/kfr_error.png",
+                        "images/frame_1/kfr_flip.png", "images/frame_1/fvrs.exr"})
+    EXPECT_TRUE(std::binary_search(names.begin(), names.end(), std::string(f))) << f;
+  EXPECT_GT(names.size(), 20u);  // plus the methods' debug images
+  for (auto& n : names) {
+    ASSERT_TRUE(fs::exists(runs[1] + "/" + n)) << n;
+    EXPECT_TRUE(read_text(runs[0] + "/" + n) == read_text(runs[1] + "/" + n)) << n;
+  }
+  size_t n1 = 0;
+  for (auto& e : fs::recursive_directory_iterator(runs[1] + "/images")) n1 += e.is_regular_file();
+  EXPECT_EQ(n1, names.size());
 }
 
 // Issue 13: summary.csv carries `<col>_ci95` (nan below 20 frames or for an inf mean) and

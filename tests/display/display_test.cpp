@@ -49,6 +49,23 @@ TEST(Display, EccentricityIsExactAngleNotPixelDistance) {
   EXPECT_NEAR(0.5 * (1.0 / rad2deg(dtheta_dx) + 1.0 / rad2deg(dtheta_dy)), ppd_c, 1e-3);
 }
 
+TEST(Display, EccentricityMapIntoAReusedBufferEqualsAFreshMap) {
+  Display d = vive();
+  d.width = 37;  // odd, small
+  d.height = 29;
+  Camera c = Camera::from_pose(d, {}, glm::dquat(1, 0, 0, 0));
+  const glm::dvec3 g1(0.2, -0.1, -1), g2(-0.3, 0.25, -1);
+  std::vector<float> buf(5, -1.f);  // wrong size and stale values: resized, every slot written
+  eccentricity_map(c, g1, buf);
+  EXPECT_EQ(buf, eccentricity_map(c, g1));
+  const float* storage = buf.data();
+  eccentricity_map(c, g2, buf);  // same size: no reallocation
+  EXPECT_EQ(buf.data(), storage);
+  EXPECT_EQ(buf, eccentricity_map(c, g2));
+  ASSERT_EQ(buf.size(), size_t(37 * 29));
+  EXPECT_FLOAT_EQ(buf[size_t(5 * 37 + 11)], float(c.eccentricity_deg(11.5, 5.5, glm::normalize(g2))));
+}
+
 TEST(Display, ProjectRoundTrip) {
   Display d = vive();
   glm::dquat rot = glm::angleAxis(0.3, glm::normalize(glm::dvec3(0.2, 1, 0.1)));
