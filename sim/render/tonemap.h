@@ -2,8 +2,9 @@
 // values, as the papers do). ONE implementation, used by ToneMap::apply and by every method
 // that needs display values itself (TWFR's contrast confidence, seed 002 §5.2).
 //
-// The curve is branch-free float arithmetic (selects, no table, no libm call) so loops over
-// pixels vectorise: sRGB's x^(1/2.4) is exp2(log2(x) / 2.4) with polynomial log2/exp2
+// The curve is branch-free float arithmetic (selects, no table, no libm call); ToneMap::apply
+// runs the same operations 4 lanes at a time (tonemap.cpp: GCC does not vectorise this scalar
+// form by itself), bit-identical to display_encode. sRGB's x^(1/2.4) is exp2(log2(x) / 2.4) with polynomial log2/exp2
 // (Chebyshev fits: |log2 error| < 3.1e-8 on the mantissa, exp2 relative error < 2.6e-9). Against
 // the former std::pow encoding the largest difference over every float in [0, 1] is below 1e-6
 // (tests/render/tonemap_test.cpp checks <= 1e-6; documented bound 1e-5).
