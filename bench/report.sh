@@ -8,7 +8,9 @@
 #   - `fovsim run configs/quickstart.json` at 1 and 2 threads: wall and CPU (user + sys) time,
 #     the 2-thread speed-up (wall), the serial fraction estimated from the 2-thread run's
 #     per-phase CPU times (manifest.json "phases", sim/experiment/phase_times.h) and the
-#     Amdahl speed-up it allows at 2 threads.
+#     Amdahl speed-up it allows at 2 threads;
+#   - `fovsim sweep configs/sweeps/bench_100_cells.json` (100 RMFR cells, 60 frames) at 1 and 2
+#     threads: wall time and the 2-thread speed-up.
 # Usage: bench/report.sh BUILD_DIR [MIN_TIME_S]   (make bench-report). Not covered: peak RSS
 # (issue 19 measured it flat).
 set -euo pipefail
@@ -72,4 +74,28 @@ if f is not None:
     for k, v in sorted(ph["phases"].items(), key=lambda kv: -kv[1]["cpu_ms"]):
         print(f"  phase {k:10s} wall {v['wall_ms'] / 1e3:7.2f} s  CPU {v['cpu_ms'] / 1e3:7.2f} s  "
               f"serial CPU {v.get('serial_cpu_ms', 0) / 1e3:6.2f} s")
+PY
+
+# fovsim sweep configs/sweeps/bench_100_cells.json at 1 and 2 threads.
+for j in 1 2; do
+  python3 - "$B/fovsim" "$j" "$tmp/sw$j" > "$tmp/swtime$j.json" <<'PY'
+import json, resource, subprocess, sys, time
+exe, j, out = sys.argv[1], sys.argv[2], sys.argv[3]
+t0 = time.monotonic()
+subprocess.run([exe, "sweep", "configs/sweeps/bench_100_cells.json", "-o", out, "-j", j,
+                "--no-plots", "-q"], check=True, stdout=subprocess.DEVNULL)
+wall = time.monotonic() - t0
+ru = resource.getrusage(resource.RUSAGE_CHILDREN)
+print(json.dumps({"wall_s": wall, "cpu_s": ru.ru_utime + ru.ru_stime}))
+PY
+done
+python3 - "$tmp" "$B" <<'PY'
+import json, sys
+d, B = sys.argv[1], sys.argv[2]
+t = {j: json.load(open(f"{d}/swtime{j}.json")) for j in (1, 2)}
+for j in (1, 2):
+    print(f"sweep (100 RMFR cells), {j} thread{'s' if j > 1 else ''}: wall {t[j]['wall_s']:.1f} s, "
+          f"CPU {t[j]['cpu_s']:.1f} s   [{B}/fovsim sweep configs/sweeps/bench_100_cells.json -j {j}]")
+print(f"sweep 2-thread speed-up (wall 1 / wall 2): {t[1]['wall_s'] / t[2]['wall_s']:.2f} "
+      f"(target >= 1.8; idle machine only)")
 PY
