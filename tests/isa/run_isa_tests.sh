@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs the tests that exercise CPU-specific code under every code path this machine has:
 # each Embree ISA (FOVSIM_EMBREE_ISA, sim/render/embree_device.h) and each SIMD kernel path
-# of fovsim's own loops (FOVSIM_SIMD, sim/foveation/simd_kernels.h). The selected tests cover
+# of fovsim's own loops (FOVSIM_SIMD, sim/foveation/simd_kernels.h), and glibc's libm with its
+# FMA/AVX2 variants masked (GLIBC_TUNABLES). The selected tests cover
 # dynamic scenes (instanced BVH, recommits), TWFR, FLC (RSM, VPL visibility), the mapping
 # fast paths and the golden regression of every method; goldens must match on every path.
 # Usage: tests/isa/run_isa_tests.sh BUILD_DIR     (ctest runs it as IsaPaths; make test)
@@ -48,7 +49,11 @@ for simd in $simds; do
   run "mapping[$simd]" "${S[@]}" -- "$B/test_foveation" --gtest_filter='Mapping*:Kfr*:Rmfr*'
   run "golden[$simd]" "${S[@]}" -- "$B/test_app" --gtest_filter='Golden*'
 done
+# glibc's libm picks FMA/AVX2 variants of sinf, cosf, powf, exp, log ... at run time (ifunc);
+# masking those CPU features makes it use its SSE2 variants, as on a CPU without FMA.
+LIBM=(GLIBC_TUNABLES=glibc.cpu.hwcaps=-AVX2,-FMA,-FMA4,-AVX,-AVX512F)
+run "golden[libm-sse2]" "${LIBM[@]}" -- "$B/test_app" --gtest_filter='Golden*'
 rm -f /tmp/fovsim_isa_$$.log
-echo "ISA paths exercised: embree {$(echo $isas | tr ' ' ',')} simd {$(echo $simds | tr ' ' ',')}${failures:+; failed:$failures}"
+echo "ISA paths exercised: embree {$(echo $isas | tr ' ' ',')} simd {$(echo $simds | tr ' ' ',')} libm {native,sse2}${failures:+; failed:$failures}"
 echo "isa: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]
