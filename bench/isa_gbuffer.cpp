@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <fstream>
 #include <memory>
+
 #include "sim/render/renderer.h"
 using namespace fovsim;
 int main(int argc, char** argv) {

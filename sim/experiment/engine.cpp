@@ -239,7 +239,7 @@ struct Cell {
   PhaseTimes phases;  // manifest "phases" (phase_times.h)
   Image out_display;  // per-cell scratch, reused every frame
   MetricsScratch metrics_scratch;
-  ImageJobs image_jobs;  // this frame's images (want_images), written at the end of process()
+  ImageJobs image_jobs;   // this frame's images (want_images), written at the end of process()
   LatencyConfig latency;  // issue 17 (docs/latency.md)
   std::set<std::string> metric_names;
   std::vector<float> est_ecc;  // eccentricity around the estimated gaze, reused

@@ -24,9 +24,13 @@ typedef float vf __attribute__((vector_size(16)));
 typedef int32_t vi __attribute__((vector_size(16)));
 typedef uint32_t vu __attribute__((vector_size(16)));
 
-inline vf splat(float f) { return vf{f, f, f, f}; }
+inline vf splat(float f) {
+  return vf{f, f, f, f};
+}
 // m ? a : b per lane (m: all ones or zero, as vector comparisons give).
-inline vf sel(vi m, vf a, vf b) { return (vf)(((vi)a & m) | ((vi)b & ~m)); }
+inline vf sel(vi m, vf a, vf b) {
+  return (vf)(((vi)a & m) | ((vi)b & ~m));
+}
 
 // tonemap_detail::pow_inv24, lane-wise.
 inline vf pow_inv24(vf x) {

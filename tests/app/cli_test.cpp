@@ -163,11 +163,10 @@ TEST(Cli, ImagesAreTheSameFilesAtAnyThreadCount) {
   std::vector<std::string> runs;
   for (const char* j : {"1", "2"}) {
     const std::string out = dir + "/o" + j;
-    auto r = run_cmd(fovsim_bin() + " run " + dir + "/c.json -j " + j + " --no-plots --out " +
-                     out + " 'outputs.image_frames=[0, 1]' outputs.debug_images=true " +
-                     "outputs.exr=true " +
-                     "'methods=[{\"method\": \"full\"}, {\"method\": \"kfr\"}, " +
-                     "{\"method\": \"fvrs\"}]'");
+    auto r = run_cmd(
+        fovsim_bin() + " run " + dir + "/c.json -j " + j + " --no-plots --out " + out +
+        " 'outputs.image_frames=[0, 1]' outputs.debug_images=true " + "outputs.exr=true " +
+        "'methods=[{\"method\": \"full\"}, {\"method\": \"kfr\"}, " + "{\"method\": \"fvrs\"}]'");
     ASSERT_EQ(r.code, 0) << r.output;
     runs.push_back(out);
   }
@@ -175,9 +174,9 @@ TEST(Cli, ImagesAreTheSameFilesAtAnyThreadCount) {
   for (auto& e : fs::recursive_directory_iterator(runs[0] + "/images"))
     if (e.is_regular_file()) names.push_back(fs::relative(e.path(), runs[0]).string());
   std::sort(names.begin(), names.end());
-  for (const char* f : {"images/frame_0/reference.png", "images/frame_0/reference.exr",
-                        "images/frame_1/kfr.png", "images/frame_1/kfr_error.png",
-                        "images/frame_1/kfr_flip.png", "images/frame_1/fvrs.exr"})
+  for (const char* f :
+       {"images/frame_0/reference.png", "images/frame_0/reference.exr", "images/frame_1/kfr.png",
+        "images/frame_1/kfr_error.png", "images/frame_1/kfr_flip.png", "images/frame_1/fvrs.exr"})
     EXPECT_TRUE(std::binary_search(names.begin(), names.end(), std::string(f))) << f;
   EXPECT_GT(names.size(), 20u);  // plus the methods' debug images
   for (auto& n : names) {

@@ -63,7 +63,8 @@ TEST(Display, EccentricityMapIntoAReusedBufferEqualsAFreshMap) {
   EXPECT_EQ(buf.data(), storage);
   EXPECT_EQ(buf, eccentricity_map(c, g2));
   ASSERT_EQ(buf.size(), size_t(37 * 29));
-  EXPECT_FLOAT_EQ(buf[size_t(5 * 37 + 11)], float(c.eccentricity_deg(11.5, 5.5, glm::normalize(g2))));
+  EXPECT_FLOAT_EQ(buf[size_t(5 * 37 + 11)],
+                  float(c.eccentricity_deg(11.5, 5.5, glm::normalize(g2))));
 }
 
 TEST(Display, ProjectRoundTrip) {
