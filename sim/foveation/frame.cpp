@@ -48,8 +48,11 @@ void prepare_frame(const Renderer& r, const Display& d, const TraceSample& s, in
       // VPLs is smooth, and 16x the VPL shading would dominate the run (docs/metrics.md).
       build_frame_vpls(r, out.vpls, &out.counters);
       out.counters.set("vpls_total", double(out.vpls.vpls.size()));
-      add_indirect(out.gbuffer, out.vpls.all, out.vpls.shading, &r, nullptr, out.reference,
-                   &out.counters);
+      if (cache_all_indirect(out.gbuffer, &r, out.vpls))  // kept for the all_vpls methods
+        add_cached_indirect(out.gbuffer, out.vpls, nullptr, out.reference, &out.counters);
+      else
+        add_indirect(out.gbuffer, out.vpls.all, out.vpls.shading, &r, nullptr, out.reference,
+                     &out.counters);
     }
   }
   eccentricity_map(out.camera, out.gaze_dir, out.eccentricity);  // reuses the previous frame's

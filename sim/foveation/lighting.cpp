@@ -109,9 +109,73 @@ void add_indirect(GBufferRef g, const VplSoA& v, const VplShading& s, const Rend
   }
 }
 
+bool cache_all_indirect(const GBuffer& g, const Renderer* r, FrameVpls& vp) {
+  vp.all_indirect_of = nullptr;
+  if (vp.shading.visibility) {
+    vp.all_indirect.data.clear();
+    vp.all_indirect.width = vp.all_indirect.height = 0;
+    return false;
+  }
+  Image& ind = vp.all_indirect;
+  if (ind.width != g.width || ind.height != g.height || ind.channels != 3)
+    ind.resize(g.width, g.height, 3);
+  const VplSumFn fn = vpl_sum_fn();
+  const size_t N = g.size();
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, N, 1024),
+                    [&](const tbb::blocked_range<size_t>& b) {
+                      uint64_t no_rays = 0;  // visibility is off: no shadow rays to count
+                      for (size_t i = b.begin(); i < b.end(); ++i) {
+                        float* o = &ind.data[i * 3];
+                        if (!g.hit(i)) {
+                          o[0] = o[1] = o[2] = 0.f;
+                          continue;
+                        }
+                        // The same call add_indirect makes for sample i (no shadow rays: r is not
+                        // consulted).
+                        const glm::vec3 L = shade_with(fn, vp.all, g.position[i], g.normal[i],
+                                                       g.albedo[i], vp.shading, r, 1.f, &no_rays);
+                        o[0] = L.x;
+                        o[1] = L.y;
+                        o[2] = L.z;
+                      }
+                    });
+  vp.all_indirect_of = &g;
+  return true;
+}
+
+void add_cached_indirect(GBufferRef g, const FrameVpls& vp, const uint8_t* mask, Image& col,
+                         Counters* c) {
+  if (col.width != g.width || col.height != g.height || col.channels != 3)
+    throw Error("add_indirect", "colour buffer does not match the G-buffer");
+  if (g.g != vp.all_indirect_of || !vp.all_indirect_of)
+    throw Error("add_indirect", "the cached indirect light belongs to another G-buffer");
+  std::atomic<uint64_t> shaded{0};
+  const float* ind = vp.all_indirect.data.data();
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, g.size(), 1024),
+                    [&](const tbb::blocked_range<size_t>& b) {
+                      uint64_t ns = 0;
+                      for (size_t i = b.begin(); i < b.end(); ++i) {
+                        if ((mask && !mask[i]) || !g.hit(i)) continue;
+                        const float* L = ind + g.src(i) * 3;
+                        float* o = &col.data[i * 3];
+                        o[0] += L[0];
+                        o[1] += L[1];
+                        o[2] += L[2];
+                        ++ns;
+                      }
+                      shaded += ns;
+                    });
+  if (c) c->add("shaded_sample_vpls", double(shaded.load()) * double(vp.all.size()));
+}
+
 void LightingStrategy::shade(const FrameContext& ctx, GBufferRef g, const uint8_t* mask, Image& col,
                              Counters& c) const {
   if (!ctx.vpls) return;
+  // All VPLs on samples of the frame's shared G-buffer: the reference already evaluated them.
+  if (uses_all_vpls() && ctx.vpls->all_indirect_of && g.g == ctx.vpls->all_indirect_of) {
+    add_cached_indirect(g, *ctx.vpls, mask, col, &c);
+    return;
+  }
   add_indirect(g, selected(ctx), ctx.vpls->shading, ctx.renderer, mask, col, &c);
 }
 

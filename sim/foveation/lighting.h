@@ -38,6 +38,13 @@ struct FrameVpls {
   VplSoA all;              // every VPL, weight 1
   VplShading shading;      // scene settings in world units
   float scene_diag = 1.f;  // world units
+  // The indirect light of `all` at every pixel of the frame's shared G-buffer (RGB per pixel,
+  // 0 on misses; `all_indirect_of` is that G-buffer), computed once with the reference
+  // (prepare_frame) when VPL visibility is off, else empty. Every all_vpls strategy shading
+  // samples of that G-buffer (itself, a mask of it, or an index view of it) adds these values
+  // instead of evaluating the same shade_vpls again: the same L, so the same bits.
+  Image all_indirect;
+  const GBuffer* all_indirect_of = nullptr;
 };
 
 // Renders the RSMs of every light and their VPLs (FLC paper §3, S-1/S-2) with the scene's
@@ -56,6 +63,17 @@ glm::vec3 shade_vpls(const VplSoA& v, const glm::vec3& p, const glm::vec3& n, co
 // Counters: shaded_sample_vpls, vpl_shadow_rays.
 void add_indirect(GBufferRef g, const VplSoA& v, const VplShading& s, const Renderer* r,
                   const uint8_t* mask, Image& col, Counters* c = nullptr);
+
+// Fills vp.all_indirect (resized to g's size) with the indirect light of vp.all at every
+// sample of g (0 on misses) and sets vp.all_indirect_of = &g, when vp.shading.visibility is
+// off; with visibility it clears both and returns false (no cache: shadow-ray counts are per
+// sample). Counters: none (add_cached_indirect counts what each user adds).
+bool cache_all_indirect(const GBuffer& g, const Renderer* r, FrameVpls& vp);
+// col[i] += vp.all_indirect[g.src(i)] at every hit sample i of g with mask[i] != 0: what
+// add_indirect(g, vp.all, vp.shading, ...) adds, bit for bit, when g views
+// *vp.all_indirect_of. Counters: shaded_sample_vpls (as add_indirect).
+void add_cached_indirect(GBufferRef g, const FrameVpls& vp, const uint8_t* mask, Image& col,
+                         Counters* c = nullptr);
 
 class LightingStrategy {
  public:

@@ -209,6 +209,62 @@ TEST(Lighting, SceneWithoutIndirectHasNoVplPass) {
   }
 }
 
+TEST(Lighting, CachedAllVplIndirectEqualsEvaluatingIt) {
+  // prepare_frame keeps the all-VPL indirect light of every pixel (FrameVpls::all_indirect,
+  // visibility off); all_vpls strategies add it through their view of the shared G-buffer
+  // instead of evaluating shade_vpls again. Same bits and counters as add_indirect, for the
+  // G-buffer itself, a mask and an index view with cleared slots; not used for another
+  // G-buffer or with visibility on.
+  World& w = cornell();
+  const GBuffer& g = w.fd.gbuffer;
+  ASSERT_FALSE(w.fd.vpls.shading.visibility);
+  ASSERT_EQ(w.fd.vpls.all_indirect_of, &g);  // prepare_frame filled it
+  ASSERT_EQ(w.fd.vpls.all_indirect.data.size(), g.size() * 3);
+  const int bw = 17, bh = 9;
+  std::vector<uint32_t> index(size_t(bw) * bh);
+  for (size_t i = 0; i < index.size(); ++i)
+    index[i] = i % 6 == 2 ? GBufferRef::kNone : uint32_t((i * 2654435761u) % g.size());
+  std::vector<uint8_t> mask_full(g.size()), mask_view(index.size());
+  for (size_t i = 0; i < mask_full.size(); ++i) mask_full[i] = i % 3 != 0;
+  for (size_t i = 0; i < mask_view.size(); ++i) mask_view[i] = i % 4 != 1;
+  const FrameVpls& fv = w.fd.vpls;
+  struct Case {
+    GBufferRef view;
+    const uint8_t* mask;
+  };
+  for (const Case& c : {Case{GBufferRef(g), nullptr}, Case{GBufferRef(g), mask_full.data()},
+                        Case{GBufferRef(g, index.data(), bw, bh), nullptr},
+                        Case{GBufferRef(g, index.data(), bw, bh), mask_view.data()}}) {
+    Image a(c.view.width, c.view.height, 3, 0.25f), b = a;
+    Counters ca, cb;
+    add_indirect(c.view, fv.all, fv.shading, w.renderer.get(), c.mask, a, &ca);
+    add_cached_indirect(c.view, fv, c.mask, b, &cb);
+    EXPECT_EQ(a.data, b.data);
+    EXPECT_EQ(ca.items(), cb.items());
+    EXPECT_GT(cb.get("shaded_sample_vpls"), 0.0);
+    // Through the strategy: the all_vpls default takes the cache and gives the same.
+    FrameContext ctx = w.fd.context(w.scene, *w.renderer, w.display, false);
+    auto L = default_lighting();
+    ASSERT_TRUE(L->uses_all_vpls());
+    Counters cl, cs;
+    L->begin_frame(ctx, cl);
+    Image s(c.view.width, c.view.height, 3, 0.25f);
+    L->shade(ctx, c.view, c.mask, s, cs);
+    EXPECT_EQ(s.data, a.data);
+    EXPECT_EQ(cs.get("shaded_sample_vpls"), ca.get("shaded_sample_vpls"));
+  }
+  // Another G-buffer: refused by add_cached_indirect (the strategy evaluates instead).
+  GBuffer other = g;
+  Image o(g.width, g.height, 3);
+  EXPECT_THROW(add_cached_indirect(other, fv, nullptr, o, nullptr), Error);
+  // Visibility on: no cache.
+  FrameVpls vis = fv;
+  vis.shading.visibility = true;
+  EXPECT_FALSE(cache_all_indirect(g, w.renderer.get(), vis));
+  EXPECT_EQ(vis.all_indirect_of, nullptr);
+  EXPECT_TRUE(vis.all_indirect.data.empty());
+}
+
 TEST(Lighting, IndexViewShadesLikeACopiedBuffer) {
   // Reduced buffers (KFR's LP-buffer, ...) are shaded through an index into the frame's
   // G-buffer (GBufferRef): direct light, indirect light and counters equal those of a buffer
