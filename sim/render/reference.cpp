@@ -74,7 +74,6 @@ void Renderer::render_reference(const Camera& cam, const GBuffer& g1, Image& out
   const int W = cam.width, H = cam.height;
   const size_t np = size_t(W) * size_t(H);
   out.resize(W, H, 3);
-  if (np == 0) return;
   const RenderState& I = *impl_;
   const glm::vec3 eye(cam.position);
   const float fn = float(n);
