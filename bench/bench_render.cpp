@@ -13,6 +13,13 @@
 //   BM_ReferenceFrame/<complexity>/<threads>: one reference frame (G-buffer + shading with
 //     shadow rays) at 1440x1600 (HTC Vive Pro Eye per eye) on the atrium; counters frame_ms,
 //     gbuffer_ms.
+//   BM_ReferencePhase/<threads>: the quickstart's shared reference of one frame (what
+//     prepare_frame does for configs/quickstart.json, without the tone map): the atrium
+//     (complexity 1, indirect light, 16x16 RSMs) at render.scale 0.25 of the Vive Pro Eye
+//     (360x400), G-buffer, 1-spp direct shading, the 16-spp supersampled direct light
+//     (render_reference), the frame's VPLs (RSMs) and the indirect light of all VPLs at pixel
+//     centres (add_indirect); counters gbuffer_ms, direct_ms, supersample_ms, vpls_ms,
+//     indirect_ms, frame_ms.
 // Run: build/bench_render [--benchmark_filter=...] [--benchmark_min_time=...] (no MinTime is
 // fixed in the code, so the command-line minimum applies). <threads> 1 = one TBB thread, timed
 // by the calling thread's CPU time (meaningful on a busy machine); 0 = all cores, wall clock.
@@ -29,6 +36,7 @@
 #include <memory>
 #include <vector>
 
+#include "sim/foveation/lighting.h"
 #include "sim/render/renderer.h"
 
 using namespace fovsim;
@@ -302,6 +310,65 @@ BENCHMARK(BM_ReferenceFrame)
     ->Args({6, 1})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
+
+// Arg: threads (0 = all cores, wall clock; 1 = one TBB thread, thread CPU time).
+void BM_ReferencePhase(benchmark::State& st) {
+  static std::unique_ptr<Fixture> f;
+  if (!f) {
+    f = std::make_unique<Fixture>();
+    Params p(Json{{"type", "atrium"},
+                  {"complexity", 1},
+                  {"indirect", true},
+                  {"vpl", Json{{"rsm_size", 16}}}});
+    f->scene = make_scene(p, std::string(FOVSIM_SOURCE_DIR) + "/models");
+    RenderSettings rs;
+    rs.spp = kDefaultReferenceSpp;
+    f->renderer = std::make_unique<Renderer>(f->scene, rs);
+    f->display =
+        Display::load("htc_vive_pro_eye", std::string(FOVSIM_SOURCE_DIR) + "/models").scaled(0.25);
+    f->cam = Camera::from_pose(f->display, glm::dvec3(f->scene.default_eye),
+                               glm::angleAxis(deg2rad(-8.0), glm::dvec3(0, 1, 0)));
+  }
+  const bool single = st.range(0) == 1;
+  std::unique_ptr<tbb::global_control> gc;
+  if (single)
+    gc = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, 1);
+  auto now = single ? thread_cpu_s : wall_s;
+  const Renderer& r = *f->renderer;
+  GBuffer g;
+  Image direct, ref;
+  FrameVpls vpls;
+  double t[5] = {0, 0, 0, 0, 0};
+  for (auto _ : st) {
+    Counters c;
+    double t0 = now();
+    r.trace_gbuffer(f->cam, kShadingChannels, g, &c);
+    double t1 = now();
+    r.shade(g, f->cam.position, direct, nullptr, &c);
+    double t2 = now();
+    r.render_reference(f->cam, g, ref, &c);
+    double t3 = now();
+    build_frame_vpls(r, vpls, &c);
+    double t4 = now();
+    add_indirect(g, vpls.all, vpls.shading, &r, nullptr, ref, &c);
+    double t5 = now();
+    t[0] += t1 - t0;
+    t[1] += t2 - t1;
+    t[2] += t3 - t2;
+    t[3] += t4 - t3;
+    t[4] += t5 - t4;
+    benchmark::DoNotOptimize(ref.data.data());
+  }
+  const double k = 1e3 / double(st.iterations());
+  st.counters["gbuffer_ms"] = k * t[0];
+  st.counters["direct_ms"] = k * t[1];
+  st.counters["supersample_ms"] = k * t[2];
+  st.counters["vpls_ms"] = k * t[3];
+  st.counters["indirect_ms"] = k * t[4];
+  st.counters["frame_ms"] = k * (t[0] + t[1] + t[2] + t[3] + t[4]);
+  st.counters["vpls"] = double(vpls.vpls.size());
+}
+BENCHMARK(BM_ReferencePhase)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 

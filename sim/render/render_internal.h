@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -152,6 +153,37 @@ struct OcclusionContext {
   float tnear[16], tfar[16];
 };
 static_assert(std::is_standard_layout<OcclusionContext>::value, "context must be standard layout");
+
+// Primary rays through screen points, one rtcIntersect16 packet at a time, for a pass that
+// consumes each packet's samples at once (render_reference): trace_points' ray, lane and
+// per-sample operations (the same bits), without a frame-sized G-buffer. One per thread.
+class PointPacketTracer {
+ public:
+  // `channels` as trace_points (| kDepth; kMotion is not filled); `spacing` as trace_points.
+  PointPacketTracer(const Scene& scene, const RenderState& I, const Camera& cam, uint32_t channels,
+                    float spacing);
+  ~PointPacketTracer();
+  PointPacketTracer(PointPacketTracer&&) noexcept;
+  // Traces pts[0..n) (n <= 16, pixel coordinates) as one packet, lane k = pts[k]. Returns the
+  // packet's 16-slot G-buffer, slot k = sample k; valid until the next call.
+  const GBuffer& trace(const glm::vec2* pts, int n);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> p_;
+};
+
+// Scratch of shade_packet (per thread).
+struct ShadeScratch {
+  std::vector<glm::vec3> contrib;
+  std::vector<uint8_t> state;
+};
+// Direct lighting of up to 16 samples of g (slots idx[0..n)), one rtcOccluded16 shadow packet
+// per light (render_shade.cpp, the kernel of Renderer::shade): the colour of slot idx[k] goes to
+// out[idx[k] * 3 + 0..2]. Adds the shadow rays traced to shadow_rays.
+void shade_packet(const Scene& scene, const RenderState& I, bool shadows, const GBufferRef& g,
+                  const size_t* idx, int n, const glm::vec3& eye, float* out, uint64_t& shadow_rays,
+                  ShadeScratch& scratch);
 
 // The widening of the interval handed to Embree (see OcclusionContext).
 inline float occlusion_slack(const RenderState& I) {

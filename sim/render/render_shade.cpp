@@ -69,9 +69,11 @@ struct SurfacePoint {
   const Material* m;
 };
 
-inline int light_term(const LightNow& l, const SurfacePoint& sp, bool shadows, float eps,
-                      glm::vec3& contrib, glm::vec3& L, float& tfar) {
-  glm::vec3 E;
+// The geometric part of light_term: direction L, irradiance E (before the cosine), cosine ndl
+// and the shadow interval; the same return values. L is set as light_term sets it (also on
+// some early returns: shade_packet hands every lane's L to Embree, used or not).
+inline int light_geom(const LightNow& l, const SurfacePoint& sp, bool shadows, float eps,
+                      glm::vec3& L, glm::vec3& E, float& ndl, float& tfar) {
   float dist = kInf;
   if (l.type == Light::Type::Directional) {
     L = -l.dir;
@@ -89,18 +91,39 @@ inline int light_term(const LightNow& l, const SurfacePoint& sp, bool shadows, f
       E *= f;
     }
   }
-  const float ndl = glm::dot(sp.N, L);
+  ndl = glm::dot(sp.N, L);
   if (ndl <= 0.f) return 0;
+  if (!(shadows && l.shadows)) return 1;
+  tfar = std::isinf(dist) ? kInf : std::max(0.f, dist - 2.f * eps);
+  return 2;
+}
+
+// The BRDF part: (albedo + ks (n.h)^s) * E * ndl.
+inline glm::vec3 light_value(const SurfacePoint& sp, const glm::vec3& L, const glm::vec3& E,
+                             float ndl) {
   glm::vec3 brdf = sp.A;
   if (sp.m && sp.m->specular > 0.f) {
     glm::vec3 H = glm::normalize(L + sp.V);
     float ndh = std::max(0.f, glm::dot(sp.N, H));
     brdf += glm::vec3(sp.m->specular * std::pow(ndh, sp.m->shininess));
   }
-  contrib = brdf * E * ndl;
-  if (!(shadows && l.shadows)) return 1;
-  tfar = std::isinf(dist) ? kInf : std::max(0.f, dist - 2.f * eps);
-  return 2;
+  return brdf * E * ndl;
+}
+
+inline int light_term(const LightNow& l, const SurfacePoint& sp, bool shadows, float eps,
+                      glm::vec3& contrib, glm::vec3& L, float& tfar) {
+  glm::vec3 E;
+  float ndl;
+  const int k = light_geom(l, sp, shadows, eps, L, E, ndl, tfar);
+  if (k != 0) contrib = light_value(sp, L, E, ndl);
+  return k;
+}
+
+// Component-wise store (see surface()).
+inline void put3(glm::vec3& d, const glm::vec3& v) {
+  d.x = v.x;
+  d.y = v.y;
+  d.z = v.z;
 }
 
 // Ambient + emission, and the surface frame for the lights. False on a miss. Slot i of the
@@ -113,15 +136,25 @@ inline bool surface(const Scene& scene, const RenderState& I, const GBufferRef& 
   }
   const GBuffer& b = *g.g;
   const size_t s = g.src(i);
-  sp.P = b.position[s];
-  sp.N = b.normal[s];
-  sp.A = b.albedo[s];
+  // Channels read one float at a time into locals and V, O computed from those: copying a
+  // glm::vec3 into sp and reading it back for V and O made GCC reload 8 bytes across two
+  // narrower stores, a failed store-to-load forward (perf: ~12% of shade_packet's samples on
+  // those two reloads). Same values, same operations.
+  const glm::vec3 P(b.position[s].x, b.position[s].y, b.position[s].z);
+  const glm::vec3 N(b.normal[s].x, b.normal[s].y, b.normal[s].z);
+  const glm::vec3 A(b.albedo[s].x, b.albedo[s].y, b.albedo[s].z);
   const int mi = b.material[s];
   sp.m = (mi >= 0 && size_t(mi) < scene.materials.size()) ? &scene.materials[size_t(mi)] : nullptr;
-  base = scene.ambient * sp.A;
-  if (sp.m) base += sp.m->emission;
-  sp.V = glm::normalize(eye - sp.P);
-  sp.O = sp.P + sp.N * (2e-4f * I.scene_scale);
+  glm::vec3 c = scene.ambient * A;
+  if (sp.m) c += sp.m->emission;
+  const glm::vec3 V = glm::normalize(eye - P);
+  const glm::vec3 O = P + N * (2e-4f * I.scene_scale);
+  put3(sp.P, P);
+  put3(sp.N, N);
+  put3(sp.A, A);
+  put3(sp.V, V);
+  put3(sp.O, O);
+  put3(base, c);
   return true;
 }
 
@@ -150,10 +183,11 @@ static glm::vec3 shade_one(const Scene& scene, const RenderState& I, bool shadow
 // The same for up to 16 samples at once, with one rtcOccluded16 packet per light (shadow
 // rays from neighbouring samples towards one light are coherent). Accumulates in the same
 // order as shade_one, so both give the same bits.
-static void shade_block(const Scene& scene, const RenderState& I, bool shadows, const GBufferRef& g,
-                        const size_t* idx, int n, const glm::vec3& eye, Image& out,
-                        uint64_t& shadow_rays, std::vector<glm::vec3>& contrib,
-                        std::vector<uint8_t>& state) {
+void shade_packet(const Scene& scene, const RenderState& I, bool shadows, const GBufferRef& g,
+                  const size_t* idx, int n, const glm::vec3& eye, float* out, uint64_t& shadow_rays,
+                  ShadeScratch& scratch) {
+  std::vector<glm::vec3>& contrib = scratch.contrib;
+  std::vector<uint8_t>& state = scratch.state;
   const size_t nl = I.lights.size();
   contrib.resize(16 * nl);
   state.resize(16 * nl);
@@ -168,51 +202,73 @@ static void shade_block(const Scene& scene, const RenderState& I, bool shadows, 
   oc.I = &I;
   oc.scene = &scene;
   const float slack = occlusion_slack(I);
+  // The fields that do not depend on the light, once per packet (rtcOccluded16 writes tfar only).
+  // Inactive lanes get a harmless ray too (Debian's Embree asserts on all lanes' fields).
+  for (int k = 0; k < 16; ++k) {
+    const bool on = k < n && hit[k];
+    const float ox = on ? sp[k].O.x : 0.f, oy = on ? sp[k].O.y : 0.f, oz = on ? sp[k].O.z : 0.f;
+    ray.org_x[k] = ox;
+    ray.org_y[k] = oy;
+    ray.org_z[k] = oz;
+    ray.tnear[k] = 0.f;
+    ray.time[k] = 0.f;
+    ray.mask[k] = 0xffffffffu;
+    ray.id[k] = unsigned(k);
+    ray.flags[k] = 0;
+    oc.org[k].x = ox;
+    oc.org[k].y = oy;
+    oc.org[k].z = oz;
+    oc.tnear[k] = 0.f;
+  }
   for (size_t li = 0; li < nl; ++li) {
     const LightNow& l = I.lights[li];
+    glm::vec3 E[16];
+    float ndl[16];
     int tests = 0;
     for (int k = 0; k < 16; ++k) {
       uint8_t st = 0;
       glm::vec3 L(0.f, 1.f, 0.f);
       float tfar = kInf;
-      if (k < n && hit[k])
-        st = uint8_t(light_term(l, sp[k], shadows, eps, contrib[size_t(k) * nl + li], L, tfar));
+      if (k < n && hit[k]) st = uint8_t(light_geom(l, sp[k], shadows, eps, L, E[k], ndl[k], tfar));
       state[size_t(k) * nl + li] = st;
-      // Inactive lanes get a harmless ray too (Debian's Embree asserts on all lanes' fields).
-      const glm::vec3 o = (k < n && hit[k]) ? sp[k].O : glm::vec3(0.f);
-      ray.org_x[k] = o.x;
-      ray.org_y[k] = o.y;
-      ray.org_z[k] = o.z;
       ray.dir_x[k] = L.x;
       ray.dir_y[k] = L.y;
       ray.dir_z[k] = L.z;
-      ray.tnear[k] = 0.f;
       ray.tfar[k] = st == 2 ? tfar + slack : kInf;
-      oc.org[k] = o;
-      oc.dir[k] = L;
-      oc.tnear[k] = 0.f;
+      // Component-wise: a glm::vec3 copy goes through a stack slot whose 8-byte reload waits
+      // for its 4-byte stores (render_trace.cpp's put()).
+      oc.dir[k].x = L.x;
+      oc.dir[k].y = L.y;
+      oc.dir[k].z = L.z;
       oc.tfar[k] = st == 2 ? tfar : kInf;
-      ray.time[k] = 0.f;
-      ray.mask[k] = 0xffffffffu;
-      ray.id[k] = unsigned(k);
-      ray.flags[k] = 0;
       valid[k] = st == 2 ? -1 : 0;
       tests += st == 2;
     }
-    if (tests == 0) continue;
-    shadow_rays += uint64_t(tests);
-    rtcInitIntersectContext(&oc.ctx);
-    oc.ctx.flags = I.packet_flags;
-    rtcOccluded16(valid, I.top, &oc.ctx, &ray);
+    if (tests > 0) {
+      shadow_rays += uint64_t(tests);
+      rtcInitIntersectContext(&oc.ctx);
+      oc.ctx.flags = I.packet_flags;
+      rtcOccluded16(valid, I.top, &oc.ctx, &ray);
+      for (int k = 0; k < n; ++k)
+        if (state[size_t(k) * nl + li] == 2 && ray.tfar[k] < 0.f) state[size_t(k) * nl + li] = 0;
+    }
+    // The BRDF (its powf) only where the light arrives; the same operations as light_term.
     for (int k = 0; k < n; ++k)
-      if (state[size_t(k) * nl + li] == 2 && ray.tfar[k] < 0.f) state[size_t(k) * nl + li] = 0;
+      if (state[size_t(k) * nl + li]) {
+        const glm::vec3 L(ray.dir_x[k], ray.dir_y[k], ray.dir_z[k]);
+        const glm::vec3 v = light_value(sp[k], L, E[k], ndl[k]);
+        glm::vec3& d = contrib[size_t(k) * nl + li];
+        d.x = v.x;
+        d.y = v.y;
+        d.z = v.z;
+      }
   }
   for (int k = 0; k < n; ++k) {
     glm::vec3 c = col[k];
     if (hit[k])
       for (size_t li = 0; li < nl; ++li)
         if (state[size_t(k) * nl + li]) c += contrib[size_t(k) * nl + li];
-    float* o = &out.data[idx[k] * 3];
+    float* o = out + idx[k] * 3;
     o[0] = c.x;
     o[1] = c.y;
     o[2] = c.z;
@@ -244,8 +300,7 @@ void Renderer::shade(GBufferRef g, const glm::dvec3& eye_d, Image& out, const ui
   tbb::parallel_for(
       tbb::blocked_range<size_t>(0, nb, 1),
       [&](const tbb::blocked_range<size_t>& r) {
-        std::vector<glm::vec3> contrib;
-        std::vector<uint8_t> state;
+        ShadeScratch scratch;
         size_t idx[16];
         for (size_t b = r.begin(); b != r.end(); ++b) {
           uint64_t sr = 0, ss = 0;
@@ -255,13 +310,14 @@ void Renderer::shade(GBufferRef g, const glm::dvec3& eye_d, Image& out, const ui
             idx[k++] = i;
             ++ss;
             if (k == 16) {
-              shade_block(scene_, *impl_, settings_.shadows, g, idx, k, eye, out, sr, contrib,
-                          state);
+              shade_packet(scene_, *impl_, settings_.shadows, g, idx, k, eye, out.data.data(), sr,
+                           scratch);
               k = 0;
             }
           }
           if (k)
-            shade_block(scene_, *impl_, settings_.shadows, g, idx, k, eye, out, sr, contrib, state);
+            shade_packet(scene_, *impl_, settings_.shadows, g, idx, k, eye, out.data.data(), sr,
+                         scratch);
           shadow[b] = sr;
           shaded[b] = ss;
         }

@@ -293,8 +293,17 @@ struct Packet {
     px[k] = p;
     cone[k] = cn;
   }
+  // Traces the packet and copies its samples to g (slot idx[k] of g gets lane k).
   void trace(const RenderState& I, const SampleWriter& w, const glm::vec3& o, GBuffer& g) {
     if (n == 0) return;
+    prefetch(g, w.ch);
+    stage(I, w, o);
+    flush(g, w.ch);
+    n = 0;
+  }
+
+  // Traces the packet (n >= 1 lanes) into the staging buffer st: slot k holds lane k.
+  void stage(const RenderState& I, const SampleWriter& w, const glm::vec3& o) {
     // Inactive lanes are masked off, but Debian's Embree (assertions on) still checks their
     // ray fields in the 8-wide halves: give them a copy of lane 0's valid ray.
     for (int k = n; k < 16; ++k) {
@@ -309,7 +318,6 @@ struct Packet {
       rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
       rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
     }
-    prefetch(g, w.ch);
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     ctx.flags = I.packet_flags;
@@ -334,8 +342,6 @@ struct Packet {
     }
     if (albedo)
       for (int j = 0; j < nh; ++j) w.albedo(st, size_t(hits[j]), tex[j].uv, tex[j].mat, tex[j].fw);
-    flush(g, w.ch);
-    n = 0;
   }
 
   // Asks for the lines flush() will write, before the traversal (a prefetch changes nothing).
@@ -408,7 +414,49 @@ inline void init_ray(RTCRayHit& r, const glm::vec3& o, const glm::vec3& d) {
   r.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
 }
 
+// The primary ray through screen point p as the packet's next lane (sample i). trace_points
+// and PointPacketTracer both use it: the same operations, so the same bits.
+inline void add_point(Packet& pk, const Camera& cam, const glm::dmat3& R, const glm::vec3& org,
+                      double cone_s, glm::vec2 p, size_t i) {
+  const glm::dvec3 dh = cam.dir_head(p.x, p.y);
+  glm::dvec3 d = R * dh;
+  pk.add(org, glm::vec3(d), i, p, cone_width(cone_s, -dh.z));
+}
+
 }  // namespace
+
+struct PointPacketTracer::Impl {
+  const RenderState& I;
+  const Camera& cam;
+  SampleWriter w;
+  glm::vec3 org;
+  glm::dmat3 R;
+  double cone_s;
+  Packet pk;
+  Impl(const Scene& scene, const RenderState& I_, const Camera& c, uint32_t channels, float spacing)
+      : I(I_),
+        cam(c),
+        w{scene, I_, nullptr, (channels | kDepth) & ~uint32_t(kMotion)},
+        org(c.position),
+        R(glm::mat3_cast(c.orientation)),
+        cone_s(cone_scale(c, spacing)),
+        pk(w.ch) {}
+};
+
+PointPacketTracer::PointPacketTracer(const Scene& scene, const RenderState& I, const Camera& cam,
+                                     uint32_t channels, float spacing)
+    : p_(std::make_unique<Impl>(scene, I, cam, channels, spacing)) {}
+PointPacketTracer::~PointPacketTracer() = default;
+PointPacketTracer::PointPacketTracer(PointPacketTracer&&) noexcept = default;
+
+const GBuffer& PointPacketTracer::trace(const glm::vec2* pts, int n) {
+  Impl& m = *p_;
+  m.pk.reset();
+  for (int k = 0; k < n; ++k) add_point(m.pk, m.cam, m.R, m.org, m.cone_s, pts[k], size_t(k));
+  if (n > 0) m.pk.stage(m.I, m.w, m.org);
+  m.pk.reset();
+  return m.pk.st;
+}
 
 void Renderer::trace_gbuffer(const Camera& cam, uint32_t channels, GBuffer& out, Counters* c,
                              const Camera* prev) const {
@@ -484,10 +532,7 @@ void Renderer::trace_points(const Camera& cam, const std::vector<glm::vec2>& pts
         for (int b = r.begin(); b != r.end(); ++b) {
           const int i0 = b * B, i1 = std::min(n_pts, i0 + B);
           for (int i = i0; i < i1; ++i) {
-            const glm::vec2 p = pts_in[size_t(i)];
-            const glm::dvec3 dh = cam.dir_head(p.x, p.y);
-            glm::dvec3 d = R * dh;
-            pk.add(org, glm::vec3(d), size_t(i), p, cone_width(cone_s, -dh.z));
+            add_point(pk, cam, R, org, cone_s, pts_in[size_t(i)], size_t(i));
             if (pk.n == 16) pk.trace(I, w, org, out);
           }
           pk.trace(I, w, org, out);

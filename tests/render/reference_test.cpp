@@ -81,7 +81,127 @@ void with_embree_isa(const std::string& isa, F f) {
     ::unsetenv("FOVSIM_EMBREE_ISA");
 }
 
+// The former render_reference, kept as the specification of the chunked pass: per stratum a
+// frame of jittered points through trace_points, shade() of that frame, a frame-sized double
+// sum; then times 1 / spp.
+void reference_whole_frame(const Renderer& r, const Camera& cam, Image& out, Counters* c) {
+  const int spp = r.settings().spp;
+  const int n = int(std::lround(std::sqrt(double(spp))));
+  const int W = cam.width, H = cam.height;
+  const size_t np = size_t(W) * size_t(H);
+  out.resize(W, H, 3);
+  std::vector<double> acc(np * 3, 0.0);
+  std::vector<glm::vec2> pts(np);
+  GBuffer g;
+  Image col;
+  for (int s = 0; s < spp; ++s) {
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x) {
+        const glm::vec2 o = stratified_offset(x, y, s, n);
+        pts[size_t(y) * size_t(W) + size_t(x)] = glm::vec2(float(x) + o.x, float(y) + o.y);
+      }
+    r.trace_points(cam, pts, kShadingChannels, g, c, 1.f / float(n));
+    r.shade(g, cam.position, col, nullptr, c);
+    for (size_t i = 0; i < np * 3; ++i) acc[i] += col.data[i];
+  }
+  const double inv = 1.0 / double(spp);
+  for (size_t i = 0; i < np * 3; ++i) out.data[i] = float(acc[i] * inv);
+}
+
+// The jitter hash stratified_offset had when the reference was introduced (its values are part
+// of every reference image).
+uint32_t mix32_v1(uint32_t h) {
+  h ^= h >> 16;
+  h *= 0x7feb352du;
+  h ^= h >> 15;
+  h *= 0x846ca68bu;
+  h ^= h >> 16;
+  return h;
+}
+float jitter_v1(uint32_t x, uint32_t y, uint32_t s, uint32_t axis) {
+  const uint32_t h =
+      mix32_v1(x * 0x9e3779b1u ^ mix32_v1(y * 0x85ebca77u ^ mix32_v1(s * 2u + axis)));
+  return float(h >> 8) * (1.f / 16777216.f);
+}
+
 }  // namespace
+
+TEST(Reference, StratifiedOffsetKeepsItsValues) {
+  for (int n : {1, 2, 3, 4})
+    for (int s = 0; s < n * n; ++s)
+      for (int y : {0, 1, 7, 399})
+        for (int x : {0, 3, 16, 359}) {
+          const glm::vec2 o = stratified_offset(x, y, s, n);
+          const float ex =
+              (float(s % n) + jitter_v1(uint32_t(x), uint32_t(y), uint32_t(s), 0u)) / float(n);
+          const float ey =
+              (float(s / n) + jitter_v1(uint32_t(x), uint32_t(y), uint32_t(s), 1u)) / float(n);
+          EXPECT_EQ(o.x, ex);
+          EXPECT_EQ(o.y, ey);
+        }
+}
+
+// The chunked pass (packets of 16 pixels x all strata, shaded from the packet's own buffer)
+// gives the former whole-frame passes' image bit for bit, and the same counters and ray count:
+// image sizes that are not multiples of the 16-pixel packets or of the 256-pixel tasks, one
+// narrower than a packet (packets span rows), a dynamic (instanced) scene, spp 4 and 16.
+TEST(Reference, ChunkedEqualsWholeFramePasses) {
+  struct Case {
+    bool dynamic;
+    int w, h, spp;
+  };
+  const Case cases[] = {{false, 37, 23, 4},  {false, 37, 23, 16}, {false, 7, 5, 16},
+                        {false, 53, 41, 16}, {true, 29, 19, 4},   {true, 29, 19, 16}};
+  for (const Case& k : cases) {
+    SCOPED_TRACE(testing::Message()
+                 << "dynamic " << k.dynamic << " " << k.w << "x" << k.h << " spp " << k.spp);
+    Params p(Json{{"type", "atrium"}, {"complexity", 1}, {"dynamic", k.dynamic}});
+    Scene s = make_scene(p, kModels);
+    ASSERT_FALSE(s.lights.empty());
+    Display d;
+    d.width = k.w;
+    d.height = k.h;
+    d.fov_h_deg = 100;
+    d.fov_v_deg = 80;
+    Camera cam =
+        Camera::from_pose(d, glm::dvec3(s.default_eye), glm::angleAxis(-0.3, glm::dvec3(0, 1, 0)));
+    RenderSettings rs;
+    rs.spp = k.spp;
+    Renderer r(s, rs);
+    if (k.dynamic) r.set_time(0.37);
+    GBuffer g1;
+    r.trace_gbuffer(cam, kShadingChannels, g1);
+    Image chunked, whole;
+    Counters cc, cw;
+    const uint64_t r0 = r.rays_traced();
+    r.render_reference(cam, g1, chunked, &cc);
+    const uint64_t r1 = r.rays_traced();
+    reference_whole_frame(r, cam, whole, &cw);
+    const uint64_t r2 = r.rays_traced();
+    ASSERT_EQ(chunked.width, k.w);
+    ASSERT_EQ(chunked.height, k.h);
+    ASSERT_EQ(chunked.data.size(), whole.data.size());
+    EXPECT_EQ(
+        std::memcmp(chunked.data.data(), whole.data.data(), whole.data.size() * sizeof(float)), 0);
+    // Not a flat image: the comparison covers textures, lights and shadows.
+    float lo = chunked.data[0], hi = lo;
+    for (float v : chunked.data) {
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+    }
+    EXPECT_LT(lo, hi);
+    ASSERT_EQ(cc.items().size(), cw.items().size());
+    for (size_t i = 0; i < cc.items().size(); ++i) {
+      EXPECT_EQ(cc.items()[i].first, cw.items()[i].first);
+      EXPECT_EQ(cc.items()[i].second, cw.items()[i].second) << cc.items()[i].first;
+    }
+    const double samples = double(k.w) * k.h * k.spp;
+    EXPECT_EQ(cc.get("primary_rays"), samples);
+    EXPECT_EQ(cc.get("shaded_samples"), samples);
+    EXPECT_GT(cc.get("shadow_rays"), 0.0);
+    EXPECT_EQ(r1 - r0, r2 - r1);
+  }
+}
 
 TEST(Reference, StratifiedOffsetsCoverTheirStrata) {
   for (int n : {1, 2, 4, 8})
