@@ -73,7 +73,7 @@ inline vf srgb_encode4(vf y) {
 template <ToneCurve C>
 inline vf display_encode4(vf x) {
   const vf big = splat(1e9f);
-  x = sel(x > 0.f, x, splat(0.f));
+  x = sel(x > kToneMapBlack, x, splat(0.f));
   vf y;
   if constexpr (C == ToneCurve::Reinhard) {
     x = sel(x < 1e9f, x, big);

@@ -4,10 +4,10 @@
 //
 // The curve is branch-free float arithmetic (selects, no table, no libm call); ToneMap::apply
 // runs the same operations 4 lanes at a time (tonemap.cpp: GCC does not vectorise this scalar
-// form by itself), bit-identical to display_encode. sRGB's x^(1/2.4) is exp2(log2(x) / 2.4) with polynomial log2/exp2
-// (Chebyshev fits: |log2 error| < 3.1e-8 on the mantissa, exp2 relative error < 2.6e-9). Against
-// the former std::pow encoding the largest difference over every float in [0, 1] is below 1e-6
-// (tests/render/tonemap_test.cpp checks <= 1e-6; documented bound 1e-5).
+// form by itself), bit-identical to display_encode. sRGB's x^(1/2.4) is exp2(log2(x) / 2.4) with
+// polynomial log2/exp2 (Chebyshev fits: |log2 error| < 3.1e-8 on the mantissa, exp2 relative error
+// < 2.6e-9). Against the former std::pow encoding the largest difference over every float in [0, 1]
+// is below 1e-6 (tests/render/tonemap_test.cpp checks <= 1e-6; documented bound 1e-5).
 #pragma once
 #include <cstdint>
 #include <cstring>
@@ -76,11 +76,17 @@ inline float aces_curve(float x) {
   return y < 1.f ? y : 1.f;
 }
 
+// Linear values at or below this encode as black. It keeps every intermediate of the curves a
+// normal float, so the result does not depend on the thread's flush-to-zero / denormals-are-zero
+// mode (TBB workers that have run Embree work carry FTZ/DAZ, the main thread does not: a
+// denormal input gave 0 on one and ~1e-41 on the other). Its display value would be < 1e-29.
+constexpr float kToneMapBlack = 1e-30f;
+
 // Linear HDR value (already times exposure) -> display-encoded value in [0, 1].
-// Negatives and NaN are black, +inf is white.
+// Negatives, NaN and values <= kToneMapBlack are black, +inf is white.
 template <ToneCurve C>
 inline float display_encode(float x) {
-  x = x > 0.f ? x : 0.f;
+  x = x > kToneMapBlack ? x : 0.f;
   float y;
   if constexpr (C == ToneCurve::Reinhard) {
     x = x < 1e9f ? x : 1e9f;
