@@ -99,6 +99,57 @@ inline void srgb_to_ycxcz(const SrgbTable& T, double r, double g, double b, doub
   out[2] = 200.0 * (y - Z * kInvZn);
 }
 
+// srgb_to_ycxcz over one row of n pixels with c channels (grey copied to RGB, alpha dropped),
+// into the three YCxCz planes' rows. SSE2 two pixels at a time: the table's index, fraction and
+// interpolation and the matrix products are the same IEEE operations as SrgbTable::operator()
+// and srgb_to_ycxcz (the index is computed from the value clamped to [0,1], which equals it
+// wherever the interpolation is selected, and keeps the table reads in bounds otherwise).
+void srgb_to_ycxcz_row(const SrgbTable& T, const float* p, int n, int c, double* o0, double* o1,
+                       double* o2) {
+  int x = 0;
+#if defined(__SSE2__)
+  const __m128d zero = _mm_setzero_pd(), one = _mm_set1_pd(1.0),
+                scale = _mm_set1_pd(double(SrgbTable::kN));
+  const double* v = T.v.data();
+  auto lin = [&](__m128d cv) {  // SrgbTable::operator() on two values
+    const __m128d t = _mm_mul_pd(_mm_min_pd(_mm_max_pd(cv, zero), one), scale);
+    const __m128i i = _mm_cvttpd_epi32(t);
+    const __m128d f = _mm_sub_pd(t, _mm_cvtepi32_pd(i));
+    const int i0 = _mm_cvtsi128_si32(i), i1 = _mm_cvtsi128_si32(_mm_shuffle_epi32(i, 1));
+    const __m128d lo = _mm_set_pd(v[i1], v[i0]), hi = _mm_set_pd(v[i1 + 1], v[i0 + 1]);
+    const __m128d interp = _mm_add_pd(lo, _mm_mul_pd(f, _mm_sub_pd(hi, lo)));
+    const __m128d ge1 = _mm_cmpge_pd(cv, one), pos = _mm_cmpgt_pd(cv, zero);
+    return _mm_and_pd(pos, _mm_or_pd(_mm_and_pd(ge1, one), _mm_andnot_pd(ge1, interp)));
+  };
+  auto k = [](double d) { return _mm_set1_pd(d); };
+  auto dot = [&](const double(&m)[3], __m128d a, __m128d b, __m128d d) {
+    return _mm_add_pd(_mm_add_pd(_mm_mul_pd(k(m[0]), a), _mm_mul_pd(k(m[1]), b)),
+                      _mm_mul_pd(k(m[2]), d));
+  };
+  const size_t cs = size_t(c), gi = c >= 3 ? 1 : 0, bi = c >= 3 ? 2 : 0;
+  for (; x + 2 <= n; x += 2) {
+    const float* a = p + size_t(x) * cs;
+    const float* b = a + cs;
+    const __m128d R = lin(_mm_set_pd(b[0], a[0])), G = lin(_mm_set_pd(b[gi], a[gi])),
+                  B = lin(_mm_set_pd(b[bi], a[bi]));
+    const __m128d X = dot(kM[0], R, G, B), Y = dot(kM[1], R, G, B), Z = dot(kM[2], R, G, B);
+    const __m128d y = _mm_mul_pd(Y, k(kInvYn));
+    _mm_storeu_pd(o0 + x, _mm_sub_pd(_mm_mul_pd(k(116.0), y), k(16.0)));
+    _mm_storeu_pd(o1 + x, _mm_mul_pd(k(500.0), _mm_sub_pd(_mm_mul_pd(X, k(kInvXn)), y)));
+    _mm_storeu_pd(o2 + x, _mm_mul_pd(k(200.0), _mm_sub_pd(y, _mm_mul_pd(Z, k(kInvZn)))));
+  }
+#endif
+  for (; x < n; ++x) {
+    const float* px = p + size_t(x) * size_t(c);
+    const double r = px[0], g = c >= 3 ? px[1] : px[0], b = c >= 3 ? px[2] : px[0];
+    double out[3];
+    srgb_to_ycxcz(T, r, g, b, out);
+    o0[x] = out[0];
+    o1[x] = out[1];
+    o2[x] = out[2];
+  }
+}
+
 // Cube root of t > 0: exponent-bit estimate, then three Halley steps (cubic convergence:
 // ~3% -> 1e-5 -> 1e-15 -> rounding); within 3 ulp of std::cbrt on [0.008, 1.2] (checked on 2M
 // points), without std::cbrt's frexp/scalbn library calls.
@@ -350,17 +401,8 @@ void prepare(const Image& img, const flip_detail::Kernels& k, FlipPrepared& out,
   const SrgbTable& table = srgb_table();
   tbb::parallel_for(tbb::blocked_range<int>(0, H), [&](const tbb::blocked_range<int>& rows) {
     for (int y = rows.begin(); y < rows.end(); ++y) {
-      const float* p = img.row(y);
-      for (int x = 0; x < W; ++x) {
-        const float* px = p + size_t(x) * size_t(C);
-        const double r = px[0], g = C >= 3 ? px[1] : px[0], b = C >= 3 ? px[2] : px[0];
-        double v[3];
-        srgb_to_ycxcz(table, r, g, b, v);
-        const size_t i = size_t(y) * size_t(W) + size_t(x);
-        ycc[0][i] = Real(v[0]);
-        ycc[1][i] = Real(v[1]);
-        ycc[2][i] = Real(v[2]);
-      }
+      const size_t o = size_t(y) * size_t(W);
+      srgb_to_ycxcz_row(table, img.row(y), W, C, &ycc[0][o], &ycc[1][o], &ycc[2][o]);
     }
   });
   auto clamp_row = [H](int sy) { return std::min(std::max(sy, 0), H - 1); };

@@ -223,6 +223,14 @@ TEST(MetricsKernels, FlipPrepareAndMapMatchStraightforwardEvaluationBitForBit) {
       if ((x + y) % 9 == 0)
         for (int c = 0; c < 3; ++c) b.at(x, y)[c] = c == 1 ? 0.002f : 0.03f;
   for (int c = 0; c < 3; ++c) a.at(4, 5)[c] = 1.f;
+  // Out-of-range and edge values (the sRGB table clamps them): below 0, 0, above 1, just below 1.
+  const float odd[4][3] = {
+      {-0.2f, 0.f, 1.5f}, {0.f, 0.f, 0.f}, {2.f, 1.f, 0.99999f}, {1e-9f, 0.5f, -0.f}};
+  for (int j = 0; j < 4; ++j)
+    for (int c = 0; c < 3; ++c) {
+      b.at(7 + j, 3)[c] = odd[j][c];
+      a.at(20, 10 + j)[c] = odd[3 - j][c];
+    }
   Image grey = testutil::pattern(W, H, 1, 93, 0.4);
   for (double ppd : {3.0, 20.0, 45.0}) {
     const FlipPrepared ra = reference_prepare(a, ppd), rb = reference_prepare(b, ppd);
