@@ -18,6 +18,12 @@ static double rms(double sq, double n) {
   return n > 0 ? std::sqrt(sq / n) : std::numeric_limits<double>::quiet_NaN();
 }
 
+static bool in_unit_range(const Image& im) {
+  for (float v : im.data)
+    if (!(v >= 0.f && v <= 1.f)) return false;  // NaN too
+  return true;
+}
+
 Counters compute_metrics(const MetricsConfig& cfg, const Image& test, const Image& ref,
                          const Camera& cam, const std::vector<float>& ecc_deg,
                          TemporalState* temporal, MetricsScratch* scratch) {
@@ -27,6 +33,20 @@ Counters compute_metrics(const MetricsConfig& cfg, const Image& test, const Imag
   if (cfg.flip) detail::check_cam(test, cam, where);
   if (need_ecc) detail::check_ecc(test, ecc_deg, where);
   if (cfg.fpsnr) detail::check_cam(test, cam, where);
+
+  // The reference's FLIP and SSIM preparations are reused while its pixels are unchanged.
+  MetricsScratch local;
+  MetricsScratch& sc = scratch ? *scratch : local;
+  if (cfg.ssim || cfg.flip) {
+    const Image& rp = sc.ref_pixels;
+    if (rp.width != ref.width || rp.height != ref.height || rp.channels != ref.channels ||
+        rp.data != ref.data) {
+      sc.flip_ref.ppd = 0;  // stale (a prepared ppd is > 0)
+      sc.ssim_ref.width = 0;
+      if (scratch) sc.ref_pixels = ref;
+    }
+  }
+  const bool identical = test.data == ref.data;  // sizes are equal (checked above)
 
   Counters out;
   detail::ErrorSums s;
@@ -42,7 +62,22 @@ Counters compute_metrics(const MetricsConfig& cfg, const Image& test, const Imag
     s = detail::error_sums(test, ref, req);
   }
   if (cfg.psnr) out.set("psnr", detail::psnr_from_mse(s.sq / s.n));
-  if (cfg.ssim) out.set("ssim", ssim(test, ref));
+  if (cfg.ssim) {
+    double v;
+    if (identical && test.channels != 2 && test.width >= 11 && test.height >= 11 &&
+        in_unit_range(test)) {
+      // Identical images (the `full` method of every run): with mu_x = mu_y, sigma_x^2 = sigma_y^2
+      // = sigma_xy bit for bit, 2 mu_x mu_y and mu_x^2 + mu_y^2 are the same doubling of one
+      // rounded product, so every pixel's numerator and denominator are equal and nonzero (C1
+      // and C2 dominate any rounding for values in [0,1]): each ratio is exactly 1, and so is
+      // their mean (metrics_kernels_test checks it against the full computation).
+      v = 1.0;
+    } else {
+      if (sc.ssim_ref.width == 0) ssim_prepare(ref, sc.ssim_ref);
+      v = ssim(test, sc.ssim_ref);
+    }
+    out.set("ssim", v);
+  }
   if (cfg.fpsnr) out.set("fpsnr", detail::psnr_from_mse(s.w_sq / s.w));
   if (cfg.regions) {
     out.set("rmse_fovea", rms(s.fovea_sq, s.fovea_n));
@@ -52,17 +87,10 @@ Counters compute_metrics(const MetricsConfig& cfg, const Image& test, const Imag
               rms(s.band_sq[k], s.band_n[k]));
   }
   if (cfg.flip) {
-    MetricsScratch local;
-    MetricsScratch& sc = scratch ? *scratch : local;
     const double ppd = flip_ppd(cam);
-    const Image& rp = sc.flip_ref_pixels;
-    if (sc.flip_ref.ppd != ppd || rp.width != ref.width || rp.height != ref.height ||
-        rp.channels != ref.channels || rp.data != ref.data) {
-      flip_prepare(ref, ppd, sc.flip_ref, &sc.flip_workspace);
-      sc.flip_ref_pixels = ref;
-    }
+    if (sc.flip_ref.ppd != ppd) flip_prepare(ref, ppd, sc.flip_ref, &sc.flip_workspace);
     const Image& map = sc.flip_map;
-    if (test.data == ref.data) {
+    if (identical) {
       // Identical images: every FLIP term is a difference of equal values, so E = 0 exactly
       // (FLIP.md §10.1); skip the work (the `full` method of every run).
       sc.flip_map.resize(test.width, test.height, 1, 0.f);

@@ -4,17 +4,25 @@
 // a feature kept ~1e-8 responses whose q_f = 0.5 root moved E by up to 4e-5 (FLIP.md §9). Rows are
 // processed in parallel with TBB; each task allocates its row buffers once, never per pixel. The
 // result is bit-identical at any thread count: every output value depends only on its own taps, and
-// the mean is summed per row, then over rows in order.
+// the mean is summed per row, then over rows in order. The separable filters run row by row
+// through per-task rings of filtered rows; the hot per-pixel loops have SSE2 forms with the same
+// IEEE operations in the same order as their scalar forms (tests/metrics/metrics_kernels_test.cpp
+// pins them to a straightforward implementation, bit for bit).
 #include "sim/metrics/flip.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <string>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "sim/core/error.h"
 #include "sim/core/math.h"
@@ -70,14 +78,18 @@ struct SrgbTable {
   }
 };
 
-double srgb_to_linear(double c) {
+const SrgbTable& srgb_table() {
   static const SrgbTable table;
-  return table(c);
+  return table;
 }
 
-// §4.2-4.3: display sRGB -> YCxCz.
-void srgb_to_ycxcz(double r, double g, double b, double out[3]) {
-  const double R = srgb_to_linear(r), G = srgb_to_linear(g), B = srgb_to_linear(b);
+double srgb_to_linear(double c) {
+  return srgb_table()(c);
+}
+
+// §4.2-4.3: display sRGB -> YCxCz (the table passed in, so that a loop looks it up once).
+inline void srgb_to_ycxcz(const SrgbTable& T, double r, double g, double b, double out[3]) {
+  const double R = T(r), G = T(g), B = T(b);
   const double X = kM[0][0] * R + kM[0][1] * G + kM[0][2] * B;
   const double Y = kM[1][0] * R + kM[1][1] * G + kM[1][2] * B;
   const double Z = kM[2][0] * R + kM[2][1] * G + kM[2][2] * B;
@@ -87,26 +99,85 @@ void srgb_to_ycxcz(double r, double g, double b, double out[3]) {
   out[2] = 200.0 * (y - Z * kInvZn);
 }
 
+// srgb_to_ycxcz over one row of n pixels with c channels (grey copied to RGB, alpha dropped),
+// into the three YCxCz planes' rows. SSE2 two pixels at a time: the table's index, fraction and
+// interpolation and the matrix products are the same IEEE operations as SrgbTable::operator()
+// and srgb_to_ycxcz (the index is computed from the value clamped to [0,1], which equals it
+// wherever the interpolation is selected, and keeps the table reads in bounds otherwise).
+void srgb_to_ycxcz_row(const SrgbTable& T, const float* p, int n, int c, double* o0, double* o1,
+                       double* o2) {
+  int x = 0;
+#if defined(__SSE2__)
+  const __m128d zero = _mm_setzero_pd(), one = _mm_set1_pd(1.0),
+                scale = _mm_set1_pd(double(SrgbTable::kN));
+  const double* v = T.v.data();
+  auto lin = [&](__m128d cv) {  // SrgbTable::operator() on two values
+    const __m128d t = _mm_mul_pd(_mm_min_pd(_mm_max_pd(cv, zero), one), scale);
+    const __m128i i = _mm_cvttpd_epi32(t);
+    const __m128d f = _mm_sub_pd(t, _mm_cvtepi32_pd(i));
+    const int i0 = _mm_cvtsi128_si32(i), i1 = _mm_cvtsi128_si32(_mm_shuffle_epi32(i, 1));
+    const __m128d lo = _mm_set_pd(v[i1], v[i0]), hi = _mm_set_pd(v[i1 + 1], v[i0 + 1]);
+    const __m128d interp = _mm_add_pd(lo, _mm_mul_pd(f, _mm_sub_pd(hi, lo)));
+    const __m128d ge1 = _mm_cmpge_pd(cv, one), pos = _mm_cmpgt_pd(cv, zero);
+    return _mm_and_pd(pos, _mm_or_pd(_mm_and_pd(ge1, one), _mm_andnot_pd(ge1, interp)));
+  };
+  auto k = [](double d) { return _mm_set1_pd(d); };
+  auto dot = [&](const double(&m)[3], __m128d a, __m128d b, __m128d d) {
+    return _mm_add_pd(_mm_add_pd(_mm_mul_pd(k(m[0]), a), _mm_mul_pd(k(m[1]), b)),
+                      _mm_mul_pd(k(m[2]), d));
+  };
+  const size_t cs = size_t(c), gi = c >= 3 ? 1 : 0, bi = c >= 3 ? 2 : 0;
+  for (; x + 2 <= n; x += 2) {
+    const float* a = p + size_t(x) * cs;
+    const float* b = a + cs;
+    const __m128d R = lin(_mm_set_pd(b[0], a[0])), G = lin(_mm_set_pd(b[gi], a[gi])),
+                  B = lin(_mm_set_pd(b[bi], a[bi]));
+    const __m128d X = dot(kM[0], R, G, B), Y = dot(kM[1], R, G, B), Z = dot(kM[2], R, G, B);
+    const __m128d y = _mm_mul_pd(Y, k(kInvYn));
+    _mm_storeu_pd(o0 + x, _mm_sub_pd(_mm_mul_pd(k(116.0), y), k(16.0)));
+    _mm_storeu_pd(o1 + x, _mm_mul_pd(k(500.0), _mm_sub_pd(_mm_mul_pd(X, k(kInvXn)), y)));
+    _mm_storeu_pd(o2 + x, _mm_mul_pd(k(200.0), _mm_sub_pd(y, _mm_mul_pd(Z, k(kInvZn)))));
+  }
+#endif
+  for (; x < n; ++x) {
+    const float* px = p + size_t(x) * size_t(c);
+    const double r = px[0], g = c >= 3 ? px[1] : px[0], b = c >= 3 ? px[2] : px[0];
+    double out[3];
+    srgb_to_ycxcz(T, r, g, b, out);
+    o0[x] = out[0];
+    o1[x] = out[1];
+    o2[x] = out[2];
+  }
+}
+
 // Cube root of t > 0: exponent-bit estimate, then three Halley steps (cubic convergence:
 // ~3% -> 1e-5 -> 1e-15 -> rounding); within 3 ulp of std::cbrt on [0.008, 1.2] (checked on 2M
 // points), without std::cbrt's frexp/scalbn library calls.
-double cube_root(double t) {
+inline double cube_root_seed(double t) {
   uint64_t bits;
   std::memcpy(&bits, &t, sizeof bits);
   bits = bits / 3 + 0x2A9F7893782DA1CEull;  // (bits - one) / 3 + one, one = bits of 1.0, rebalanced
   double y;
   std::memcpy(&y, &bits, sizeof y);
-  for (int i = 0; i < 3; ++i) {
-    const double y3 = y * y * y;
-    y *= (y3 + 2.0 * t) / (2.0 * y3 + t);
-  }
+  return y;
+}
+inline double halley_step(double y, double t) {
+  const double y3 = y * y * y;
+  return y * ((y3 + 2.0 * t) / (2.0 * y3 + t));
+}
+double cube_root(double t) {
+  double y = cube_root_seed(t);
+  for (int i = 0; i < 3; ++i) y = halley_step(y, t);
   return y;
 }
 
-// §4.6 CIELAB f(t).
+// §4.6 CIELAB f(t): the cube root above (6/29)^3, else the linear segment.
+constexpr double kLabD = 6.0 / 29.0, kLabD3 = kLabD * kLabD * kLabD;
+inline double lab_f_linear(double t) {
+  return t / (3.0 * kLabD * kLabD) + 4.0 / 29.0;
+}
 double lab_f(double t) {
-  constexpr double d = 6.0 / 29.0;
-  return t > d * d * d ? cube_root(t) : t / (3.0 * d * d) + 4.0 / 29.0;
+  return t > kLabD3 ? cube_root(t) : lab_f_linear(t);
 }
 
 // §4.6: linear RGB -> XYZ -> CIELAB -> Hunt-adjusted (L*, 0.01 L* a*, 0.01 L* b*).
@@ -121,14 +192,124 @@ void linear_to_hunt_lab(double R, double G, double B, double out[3]) {
   out[2] = kHunt * L * 200.0 * (fy - fz);
 }
 
-// §4.5-4.6: filtered YCxCz -> XYZ -> linear RGB, clamp -> Hunt-adjusted Lab.
-void ycxcz_to_hunt_lab(double yy, double cx, double cz, double out[3]) {
-  const double t = (yy + 16.0) / 116.0;
-  const double X = kXn * (t + cx / 500.0), Y = kYn * t, Z = kZn * (t - cz / 200.0);
-  const double R = clamp01(kMinv[0][0] * X + kMinv[0][1] * Y + kMinv[0][2] * Z);
-  const double G = clamp01(kMinv[1][0] * X + kMinv[1][1] * Y + kMinv[1][2] * Z);
-  const double B = clamp01(kMinv[2][0] * X + kMinv[2][1] * Y + kMinv[2][2] * Z);
-  linear_to_hunt_lab(R, G, B, out);
+// §4.5-4.6 over one row of n pixels: filtered YCxCz -> XYZ -> linear RGB, clamp -> XYZ ->
+// Hunt-adjusted Lab (linear_to_hunt_lab), with C_z given as its two Gaussians' parts (summed
+// here). Written as passes over arrays, two pixels at a time with SSE2; each pixel sees the
+// operations of the per-pixel form, in the same order (metrics_kernels_test pins it). The SSE2
+// path computes the cube roots for every t (their seeds in a scalar pass: a 64-bit integer
+// division) and selects them where t > (6/29)^3, as lab_f does. `tmp` holds 6 n doubles.
+void ycxcz_to_hunt_lab_row(const double* fy, const double* fcx, const double* fcz,
+                           const double* fcz2, int n, double* L, double* A, double* B,
+                           double* tmp) {
+  double *tx = tmp, *ty = tx + n, *tz = ty + n, *cx = tz + n, *cy = cx + n, *cz = cy + n;
+  int x = 0;
+#if defined(__SSE2__)
+  // Two pixels at a time with SSE2 (baseline x86-64): the same IEEE operations in the same
+  // order. std::max(v, 0.0) is (v < 0 ? 0 : v), i.e. max_pd(0, v) (keeps -0 and NaN as the
+  // scalar code does); std::min(w, 1.0) is min_pd(1, w).
+  const __m128d zero = _mm_setzero_pd(), one = _mm_set1_pd(1.0);
+  auto cl = [&](__m128d v) { return _mm_min_pd(one, _mm_max_pd(zero, v)); };
+  auto c = [](double v) { return _mm_set1_pd(v); };
+  auto dot = [&](const double(&m)[3], __m128d a, __m128d b, __m128d d) {
+    return _mm_add_pd(_mm_add_pd(_mm_mul_pd(c(m[0]), a), _mm_mul_pd(c(m[1]), b)),
+                      _mm_mul_pd(c(m[2]), d));
+  };
+  for (; x + 2 <= n; x += 2) {
+    const __m128d t = _mm_div_pd(_mm_add_pd(_mm_loadu_pd(fy + x), c(16.0)), c(116.0));
+    const __m128d zc = _mm_add_pd(_mm_loadu_pd(fcz + x), _mm_loadu_pd(fcz2 + x));
+    const __m128d X =
+        _mm_mul_pd(c(kXn), _mm_add_pd(t, _mm_div_pd(_mm_loadu_pd(fcx + x), c(500.0))));
+    const __m128d Y = _mm_mul_pd(c(kYn), t);
+    const __m128d Z = _mm_mul_pd(c(kZn), _mm_sub_pd(t, _mm_div_pd(zc, c(200.0))));
+    const __m128d R = cl(dot(kMinv[0], X, Y, Z)), G = cl(dot(kMinv[1], X, Y, Z)),
+                  Bl = cl(dot(kMinv[2], X, Y, Z));
+    _mm_storeu_pd(tx + x, _mm_mul_pd(dot(kM[0], R, G, Bl), c(kInvXn)));
+    _mm_storeu_pd(ty + x, _mm_mul_pd(dot(kM[1], R, G, Bl), c(kInvYn)));
+    _mm_storeu_pd(tz + x, _mm_mul_pd(dot(kM[2], R, G, Bl), c(kInvZn)));
+  }
+#endif
+  for (; x < n; ++x) {
+    const double t = (fy[x] + 16.0) / 116.0;
+    const double zc = fcz[x] + fcz2[x];
+    const double X = kXn * (t + fcx[x] / 500.0), Y = kYn * t, Z = kZn * (t - zc / 200.0);
+    const double R = clamp01(kMinv[0][0] * X + kMinv[0][1] * Y + kMinv[0][2] * Z);
+    const double G = clamp01(kMinv[1][0] * X + kMinv[1][1] * Y + kMinv[1][2] * Z);
+    const double Bl = clamp01(kMinv[2][0] * X + kMinv[2][1] * Y + kMinv[2][2] * Z);
+    tx[x] = (kM[0][0] * R + kM[0][1] * G + kM[0][2] * Bl) * kInvXn;
+    ty[x] = (kM[1][0] * R + kM[1][1] * G + kM[1][2] * Bl) * kInvYn;
+    tz[x] = (kM[2][0] * R + kM[2][1] * G + kM[2][2] * Bl) * kInvZn;
+  }
+  for (x = 0; x < n; ++x) {
+    cx[x] = cube_root_seed(tx[x]);
+    cy[x] = cube_root_seed(ty[x]);
+    cz[x] = cube_root_seed(tz[x]);
+  }
+  x = 0;
+#if defined(__SSE2__)
+  auto halley = [&](__m128d y, __m128d t) {
+    const __m128d y3 = _mm_mul_pd(_mm_mul_pd(y, y), y);
+    return _mm_mul_pd(y, _mm_div_pd(_mm_add_pd(y3, _mm_mul_pd(c(2.0), t)),
+                                    _mm_add_pd(_mm_mul_pd(c(2.0), y3), t)));
+  };
+  auto lin = [&](__m128d t) {  // lab_f_linear
+    return _mm_add_pd(_mm_div_pd(t, c(3.0 * kLabD * kLabD)), c(4.0 / 29.0));
+  };
+  auto sel = [&](__m128d t, __m128d root) {  // t > (6/29)^3 ? root : linear (NaN: linear)
+    const __m128d m = _mm_cmpgt_pd(t, c(kLabD3));
+    return _mm_or_pd(_mm_and_pd(m, root), _mm_andnot_pd(m, lin(t)));
+  };
+  for (; x + 2 <= n; x += 2) {
+    const __m128d ttx = _mm_loadu_pd(tx + x), tty = _mm_loadu_pd(ty + x),
+                  ttz = _mm_loadu_pd(tz + x);
+    __m128d a = _mm_loadu_pd(cx + x), b = _mm_loadu_pd(cy + x), d = _mm_loadu_pd(cz + x);
+    for (int i = 0; i < 3; ++i) {
+      a = halley(a, ttx);
+      b = halley(b, tty);
+      d = halley(d, ttz);
+    }
+    const __m128d fx = sel(ttx, a), fyv = sel(tty, b), fz = sel(ttz, d);
+    const __m128d l = _mm_sub_pd(_mm_mul_pd(c(116.0), fyv), c(16.0));
+    const __m128d hl = _mm_mul_pd(c(kHunt), l);
+    _mm_storeu_pd(L + x, l);
+    _mm_storeu_pd(A + x, _mm_mul_pd(_mm_mul_pd(hl, c(500.0)), _mm_sub_pd(fx, fyv)));
+    _mm_storeu_pd(B + x, _mm_mul_pd(_mm_mul_pd(hl, c(200.0)), _mm_sub_pd(fyv, fz)));
+  }
+#endif
+  for (; x < n; ++x) {
+    double a = cx[x], b = cy[x], d = cz[x];
+    for (int i = 0; i < 3; ++i) {
+      a = halley_step(a, tx[x]);
+      b = halley_step(b, ty[x]);
+      d = halley_step(d, tz[x]);
+    }
+    const double fx = tx[x] > kLabD3 ? a : lab_f_linear(tx[x]);
+    const double fyv = ty[x] > kLabD3 ? b : lab_f_linear(ty[x]);
+    const double fz = tz[x] > kLabD3 ? d : lab_f_linear(tz[x]);
+    const double l = 116.0 * fyv - 16.0;
+    L[x] = l;
+    A[x] = kHunt * l * 500.0 * (fx - fyv);
+    B[x] = kHunt * l * 200.0 * (fyv - fz);
+  }
+}
+
+// §5.3: edge and point magnitudes of one row from the x- and y-filtered responses (SSE2: the
+// same IEEE products, sums and square roots, two pixels at a time).
+void feature_magnitudes_row(const double* ex, const double* ey, const double* px, const double* py,
+                            int n, double* edge, double* point) {
+  int x = 0;
+#if defined(__SSE2__)
+  auto mag = [](__m128d a, __m128d b) {
+    return _mm_sqrt_pd(_mm_add_pd(_mm_mul_pd(a, a), _mm_mul_pd(b, b)));
+  };
+  for (; x + 2 <= n; x += 2) {
+    _mm_storeu_pd(edge + x, mag(_mm_loadu_pd(ex + x), _mm_loadu_pd(ey + x)));
+    _mm_storeu_pd(point + x, mag(_mm_loadu_pd(px + x), _mm_loadu_pd(py + x)));
+  }
+#endif
+  for (; x < n; ++x) {
+    edge[x] = std::sqrt(ex[x] * ex[x] + ey[x] * ey[x]);
+    point[x] = std::sqrt(px[x] * px[x] + py[x] * py[x]);
+  }
 }
 
 // §4.7
@@ -151,108 +332,148 @@ void normalise_pos_neg(std::vector<double>& k) {
   for (double& v : k) v = v > 0 ? v / pos : (neg > 0 ? v / neg : v);
 }
 
-// Horizontal pass (§4.4, §5.3) with clamp-to-edge: for each (kernel, out) pair,
-// out(x,y) = sum_i k[i] (scale in(clamp(x+i-r), y) + offset).
-struct HOut {
-  const std::vector<double>* k;
-  Real* out;
-};
-void hpass(int W, int H, int r, const Real* in, double scale, double offset, const HOut* outs,
-           int n_out) {
-  tbb::parallel_for(tbb::blocked_range<int>(0, H), [&](const tbb::blocked_range<int>& rows) {
-    std::vector<double> pad(size_t(W) + 2 * size_t(r));
-    for (int y = rows.begin(); y < rows.end(); ++y) {
-      const Real* src = in + size_t(y) * size_t(W);
-      for (int x = -r; x < W + r; ++x)
-        pad[size_t(x + r)] = scale * src[std::min(std::max(x, 0), W - 1)] + offset;
-      for (int o = 0; o < n_out; ++o) {
-        const double* k = outs[o].k->data();
-        Real* dst = outs[o].out + size_t(y) * size_t(W);
-        for (int x = 0; x < W; ++x) {
-          const double* p = &pad[size_t(x)];
-          double acc = 0;
-          for (int i = 0; i <= 2 * r; ++i) acc += k[i] * p[i];
-          dst[x] = Real(acc);
-        }
-      }
+// Horizontal pass (§4.4, §5.3) of one row with clamp-to-edge: for each kernel o,
+// dst[o][x] = sum_i k_o[i] (scale src[clamp(x+i-r)] + offset), accumulated from 0 in tap order.
+// Tap-outer loops vectorise over x; each dst[o][x] sees the per-pixel accumulator's operations.
+void hrow(int W, int r, const Real* src, double scale, double offset,
+          const std::vector<double>* const* ks, int nk, double* pad, double* const* dst) {
+  for (int x = -r; x < W + r; ++x)
+    pad[size_t(x + r)] = scale * src[std::min(std::max(x, 0), W - 1)] + offset;
+  for (int o = 0; o < nk; ++o) {
+    const double* k = ks[o]->data();
+    double* d = dst[o];
+    for (int x = 0; x < W; ++x) d[x] = 0.0;
+    for (int i = 0; i <= 2 * r; ++i) {
+      const double ki = k[i];
+      const double* p = pad + i;
+      for (int x = 0; x < W; ++x) d[x] += ki * p[x];
     }
-  });
+  }
 }
 
-// Vertical pass of one output row with clamp-to-edge: out[x] = sum_j k[j] in(x, clamp(y+j-r)).
-void vrow(int W, int H, int r, const Real* in, const std::vector<double>& k, int y, double* out) {
+// Vertical pass of one output row: out[x] = sum_j k[j] h_j[x], accumulated from 0 in tap order,
+// h_j = the horizontally filtered source row clamp(y + j - r).
+void vrow(int W, int r, const double* const* h, const std::vector<double>& k, double* out) {
   std::fill(out, out + W, 0.0);
   for (int j = 0; j <= 2 * r; ++j) {
-    const int yy = std::min(std::max(y + j - r, 0), H - 1);
-    const Real* src = in + size_t(yy) * size_t(W);
+    const double* src = h[j];
     const double kj = k[size_t(j)];
     for (int x = 0; x < W; ++x) out[x] += kj * src[x];
   }
 }
 
-void prepare(const Image& img, const flip_detail::Kernels& k, FlipPrepared& out, Plane (&ycc)[3],
-             Plane (&tmp)[4]) {
+// A task's horizontally filtered rows: for each of NP planes, a ring of the 2r+1 rows of the
+// current output row's window, so that the filtered planes never go through memory at full
+// size. Slot of source row sy (unclamped): (sy - first) mod (2r+1); it holds the filtered
+// row clamp(sy), as the per-plane passes read it.
+struct RowRing {
+  int W = 0, taps = 0, first = 0, np = 0;
+  std::vector<double> buf;
+  void reset(int w, int r, int y0, int n_planes) {
+    W = w;
+    taps = 2 * r + 1;
+    first = y0 - r;
+    np = n_planes;
+    buf.resize(size_t(np) * size_t(taps) * size_t(W) + size_t(W) + 2 * size_t(r));
+  }
+  double* row(int plane, int sy) {
+    return buf.data() + (size_t(plane) * taps + size_t((sy - first) % taps)) * size_t(W);
+  }
+  double* pad() { return buf.data() + size_t(np) * size_t(taps) * size_t(W); }
+  // Window of output row y in plane p: rows y-r .. y+r.
+  void window(int plane, int y, const double** h) {
+    const int r = (taps - 1) / 2;
+    for (int j = 0; j < taps; ++j) h[j] = row(plane, y - r + j);
+  }
+};
+
+// Output rows per task: at least 32, about 4 tasks per thread (a task filters 2r extra rows).
+int task_rows(int H) {
+  const int tasks = 4 * std::max(1, tbb::this_task_arena::max_concurrency());
+  return std::max(32, (H + tasks - 1) / tasks);
+}
+
+void prepare(const Image& img, const flip_detail::Kernels& k, FlipPrepared& out, Plane (&ycc)[3]) {
   const int W = img.width, H = img.height, C = img.channels;
   const size_t N = img.pixels();
   for (Plane* p : {&out.L, &out.A, &out.B, &out.edge, &out.point}) p->resize(N);
   // §4.1-4.3 per pixel. Grey (1 or 2 channels) is copied to RGB; alpha is dropped (§1).
+  const SrgbTable& table = srgb_table();
   tbb::parallel_for(tbb::blocked_range<int>(0, H), [&](const tbb::blocked_range<int>& rows) {
     for (int y = rows.begin(); y < rows.end(); ++y) {
-      const float* p = img.row(y);
-      for (int x = 0; x < W; ++x) {
-        const float* px = p + size_t(x) * size_t(C);
-        const double r = px[0], g = C >= 3 ? px[1] : px[0], b = C >= 3 ? px[2] : px[0];
-        double v[3];
-        srgb_to_ycxcz(r, g, b, v);
-        const size_t i = size_t(y) * size_t(W) + size_t(x);
-        ycc[0][i] = Real(v[0]);
-        ycc[1][i] = Real(v[1]);
-        ycc[2][i] = Real(v[2]);
-      }
-    }
-  });
-  // §4.4: horizontal then vertical CSF passes; C_z is the sum of two separable Gaussians.
-  HOut h0{&k.y, tmp[0].data()}, h1{&k.cx, tmp[1].data()};
-  HOut h2[2] = {{&k.cz1, tmp[2].data()}, {&k.cz2, tmp[3].data()}};
-  hpass(W, H, k.r_s, ycc[0].data(), 1.0, 0.0, &h0, 1);
-  hpass(W, H, k.r_s, ycc[1].data(), 1.0, 0.0, &h1, 1);
-  hpass(W, H, k.r_s, ycc[2].data(), 1.0, 0.0, h2, 2);
-  tbb::parallel_for(tbb::blocked_range<int>(0, H), [&](const tbb::blocked_range<int>& rows) {
-    std::vector<double> buf(5 * size_t(W));
-    double *fy = buf.data(), *fcx = fy + W, *fcz = fcx + W, *fcz2 = fcz + W;
-    for (int y = rows.begin(); y < rows.end(); ++y) {
-      vrow(W, H, k.r_s, tmp[0].data(), k.y, y, fy);
-      vrow(W, H, k.r_s, tmp[1].data(), k.cx, y, fcx);
-      vrow(W, H, k.r_s, tmp[2].data(), k.cz1, y, fcz);
-      vrow(W, H, k.r_s, tmp[3].data(), k.cz2, y, fcz2);
       const size_t o = size_t(y) * size_t(W);
-      for (int x = 0; x < W; ++x) {
-        double lab[3];
-        ycxcz_to_hunt_lab(fy[x], fcx[x], fcz[x] + fcz2[x], lab);
-        out.L[o + size_t(x)] = Real(lab[0]);
-        out.A[o + size_t(x)] = Real(lab[1]);
-        out.B[o + size_t(x)] = Real(lab[2]);
-      }
+      srgb_to_ycxcz_row(table, img.row(y), W, C, &ycc[0][o], &ycc[1][o], &ycc[2][o]);
     }
   });
-  // §5.1-5.3 on the unfiltered Y': A = (Y' + 16) / 116; one x-pass (D, S, G), then the y-pass.
-  HOut hf[3] = {{&k.d, tmp[0].data()}, {&k.s, tmp[1].data()}, {&k.g, tmp[2].data()}};
-  hpass(W, H, k.r_f, ycc[0].data(), 1.0 / 116.0, 16.0 / 116.0, hf, 3);
-  tbb::parallel_for(tbb::blocked_range<int>(0, H), [&](const tbb::blocked_range<int>& rows) {
-    std::vector<double> buf(4 * size_t(W));
-    double *ex = buf.data(), *px = ex + W, *ey = px + W, *py = ey + W;
-    for (int y = rows.begin(); y < rows.end(); ++y) {
-      vrow(W, H, k.r_f, tmp[0].data(), k.g, y, ex);
-      vrow(W, H, k.r_f, tmp[1].data(), k.g, y, px);
-      vrow(W, H, k.r_f, tmp[2].data(), k.d, y, ey);
-      vrow(W, H, k.r_f, tmp[2].data(), k.s, y, py);
-      const size_t o = size_t(y) * size_t(W);
-      for (int x = 0; x < W; ++x) {
-        out.edge[o + size_t(x)] = Real(std::sqrt(ex[x] * ex[x] + ey[x] * ey[x]));
-        out.point[o + size_t(x)] = Real(std::sqrt(px[x] * px[x] + py[x] * py[x]));
-      }
-    }
-  });
+  auto clamp_row = [H](int sy) { return std::min(std::max(sy, 0), H - 1); };
+  // §4.4: horizontal then vertical CSF passes; C_z is the sum of two separable Gaussians. Then
+  // §4.5-4.6 per pixel.
+  tbb::parallel_for(
+      tbb::blocked_range<int>(0, H, task_rows(H)), [&](const tbb::blocked_range<int>& rows) {
+        const int r = k.r_s, y0 = rows.begin();
+        RowRing ring;
+        ring.reset(W, r, y0, 4);
+        std::vector<double> buf(10 * size_t(W));
+        double *fy = buf.data(), *fcx = fy + W, *fcz = fcx + W, *fcz2 = fcz + W,
+               *lab_tmp = fcz2 + W;
+        const std::vector<double>* ky[1] = {&k.y};
+        const std::vector<double>* kx[1] = {&k.cx};
+        const std::vector<double>* kz[2] = {&k.cz1, &k.cz2};
+        auto load = [&](int sy) {
+          const size_t o = size_t(clamp_row(sy)) * size_t(W);
+          double* d0[1] = {ring.row(0, sy)};
+          double* d1[1] = {ring.row(1, sy)};
+          double* d2[2] = {ring.row(2, sy), ring.row(3, sy)};
+          hrow(W, r, &ycc[0][o], 1.0, 0.0, ky, 1, ring.pad(), d0);
+          hrow(W, r, &ycc[1][o], 1.0, 0.0, kx, 1, ring.pad(), d1);
+          hrow(W, r, &ycc[2][o], 1.0, 0.0, kz, 2, ring.pad(), d2);
+        };
+        for (int sy = y0 - r; sy < y0 + r; ++sy) load(sy);
+        std::vector<const double*> h(size_t(2 * r + 1));
+        for (int y = y0; y < rows.end(); ++y) {
+          load(y + r);
+          ring.window(0, y, h.data());
+          vrow(W, r, h.data(), k.y, fy);
+          ring.window(1, y, h.data());
+          vrow(W, r, h.data(), k.cx, fcx);
+          ring.window(2, y, h.data());
+          vrow(W, r, h.data(), k.cz1, fcz);
+          ring.window(3, y, h.data());
+          vrow(W, r, h.data(), k.cz2, fcz2);
+          const size_t o = size_t(y) * size_t(W);
+          ycxcz_to_hunt_lab_row(fy, fcx, fcz, fcz2, W, &out.L[o], &out.A[o], &out.B[o], lab_tmp);
+        }
+      });
+  // §5.1-5.3 on the unfiltered Y': A = (Y' + 16) / 116; one x-pass (D, S, G), then the y-pass:
+  // edge = (x-D then y-G, x-G then y-D), point = (x-S then y-G, x-G then y-S).
+  tbb::parallel_for(tbb::blocked_range<int>(0, H, task_rows(H)),
+                    [&](const tbb::blocked_range<int>& rows) {
+                      const int r = k.r_f, y0 = rows.begin();
+                      RowRing ring;
+                      ring.reset(W, r, y0, 3);
+                      std::vector<double> buf(4 * size_t(W));
+                      double *ex = buf.data(), *px = ex + W, *ey = px + W, *py = ey + W;
+                      const std::vector<double>* kf[3] = {&k.d, &k.s, &k.g};
+                      auto load = [&](int sy) {
+                        double* d[3] = {ring.row(0, sy), ring.row(1, sy), ring.row(2, sy)};
+                        hrow(W, r, &ycc[0][size_t(clamp_row(sy)) * size_t(W)], 1.0 / 116.0,
+                             16.0 / 116.0, kf, 3, ring.pad(), d);
+                      };
+                      for (int sy = y0 - r; sy < y0 + r; ++sy) load(sy);
+                      std::vector<const double*> h(size_t(2 * r + 1));
+                      for (int y = y0; y < rows.end(); ++y) {
+                        load(y + r);
+                        ring.window(0, y, h.data());
+                        vrow(W, r, h.data(), k.g, ex);
+                        ring.window(1, y, h.data());
+                        vrow(W, r, h.data(), k.g, px);
+                        ring.window(2, y, h.data());
+                        vrow(W, r, h.data(), k.d, ey);
+                        vrow(W, r, h.data(), k.s, py);
+                        const size_t o = size_t(y) * size_t(W);
+                        feature_magnitudes_row(ex, ey, px, py, W, &out.edge[o], &out.point[o]);
+                      }
+                    });
 }
 
 }  // namespace
@@ -266,6 +487,14 @@ namespace flip_detail {
 double c_max() {
   static const double v = compute_c_max();
   return v;
+}
+
+double srgb_to_linear_table(double c) {
+  return srgb_to_linear(c);
+}
+
+double lab_cube_root(double t) {
+  return cube_root(t);
 }
 
 Kernels kernels(double ppd) {
@@ -340,13 +569,45 @@ void flip_prepare(const Image& img, double ppd, FlipPrepared& out, FlipWorkspace
   FlipWorkspace local;
   FlipWorkspace& w = ws ? *ws : local;
   Plane(&ycc)[3] = w.ycc;
-  Plane(&tmp)[4] = w.tmp;
   for (Plane& p : ycc) p.resize(N);
-  for (Plane& p : tmp) p.resize(N);
-  prepare(img, k, out, ycc, tmp);
+  prepare(img, k, out, ycc);
   out.width = img.width;
   out.height = img.height;
   out.ppd = ppd;
+}
+
+// §4.7 and §5.4 for n pixels from index o: d = HyAB distance of the Lab values (hyab()),
+// df = max(|edge|, |point| differences) / sqrt(2), to the power q_f = 0.5. SSE2 as above;
+// std::max(de, dp) is (de < dp ? dp : de), i.e. max_pd(dp, de).
+static void flip_differences_row(const FlipPrepared& pr, const FlipPrepared& pt, size_t o, int n,
+                                 double* d, double* df) {
+  const double inv_sqrt2 = 1.0 / std::sqrt(2.0);
+  const double *rL = &pr.L[o], *rA = &pr.A[o], *rB = &pr.B[o], *re = &pr.edge[o],
+               *rp = &pr.point[o];
+  const double *tL = &pt.L[o], *tA = &pt.A[o], *tB = &pt.B[o], *te = &pt.edge[o],
+               *tp = &pt.point[o];
+  int x = 0;
+#if defined(__SSE2__)
+  const __m128d abs_mask = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffffLL));
+  const __m128d k = _mm_set1_pd(inv_sqrt2);
+  auto ld = [](const double* p) { return _mm_loadu_pd(p); };
+  for (; x + 2 <= n; x += 2) {
+    const __m128d da = _mm_sub_pd(ld(rA + x), ld(tA + x)), db = _mm_sub_pd(ld(rB + x), ld(tB + x));
+    const __m128d dl = _mm_and_pd(abs_mask, _mm_sub_pd(ld(rL + x), ld(tL + x)));
+    _mm_storeu_pd(d + x,
+                  _mm_add_pd(dl, _mm_sqrt_pd(_mm_add_pd(_mm_mul_pd(da, da), _mm_mul_pd(db, db)))));
+    const __m128d de = _mm_and_pd(abs_mask, _mm_sub_pd(ld(re + x), ld(te + x)));
+    const __m128d dp = _mm_and_pd(abs_mask, _mm_sub_pd(ld(rp + x), ld(tp + x)));
+    _mm_storeu_pd(df + x, _mm_sqrt_pd(_mm_mul_pd(k, _mm_max_pd(dp, de))));
+  }
+#endif
+  for (; x < n; ++x) {
+    const double a[3] = {rL[x], rA[x], rB[x]}, b[3] = {tL[x], tA[x], tB[x]};
+    d[x] = hyab(a, b);
+    const double de = std::fabs(re[x] - te[x]);
+    const double dp = std::fabs(rp[x] - tp[x]);
+    df[x] = std::sqrt(inv_sqrt2 * std::max(de, dp));
+  }
 }
 
 double flip(const FlipPrepared& pr, const FlipPrepared& pt, Image* map) {
@@ -361,7 +622,7 @@ double flip(const FlipPrepared& pr, const FlipPrepared& pt, Image* map) {
   const size_t N = size_t(W) * size_t(H);
 
   // §4.7-4.8, §5.4, §6 per pixel; §8 mean summed per row, then over rows in order.
-  const double cmax = flip_detail::c_max(), knee = kPc * cmax, inv_sqrt2 = 1.0 / std::sqrt(2.0);
+  const double cmax = flip_detail::c_max(), knee = kPc * cmax;
   const double ln_knee_d = std::log(knee) / kQc;  // e < knee  <=>  ln d < ln(knee) / q_c
   const double ln_pt_knee = std::log(kPt / knee);
   Image local;
@@ -369,17 +630,16 @@ double flip(const FlipPrepared& pr, const FlipPrepared& pt, Image* map) {
   if (E.width != W || E.height != H || E.channels != 1) E.resize(W, H, 1);
   std::vector<double> row_sum(size_t(H), 0.0);
   tbb::parallel_for(tbb::blocked_range<int>(0, H), [&](const tbb::blocked_range<int>& rows) {
+    std::vector<double> buf(2 * size_t(W));
+    double *d_row = buf.data(), *df_row = d_row + W;
     for (int y = rows.begin(); y < rows.end(); ++y) {
       const size_t o = size_t(y) * size_t(W);
       float* e_row = E.row(y);
+      // The colour and feature differences first, in a loop that vectorises, then the powers.
+      flip_differences_row(pr, pt, o, W, d_row, df_row);
       double s = 0;
       for (int x = 0; x < W; ++x) {
-        const size_t i = o + size_t(x);
-        const double a[3] = {pr.L[i], pr.A[i], pr.B[i]}, b[3] = {pt.L[i], pt.A[i], pt.B[i]};
-        const double d = hyab(a, b);
-        const double de = std::fabs(pr.edge[i] - pt.edge[i]);
-        const double dp = std::fabs(pr.point[i] - pt.point[i]);
-        const double df = std::sqrt(inv_sqrt2 * std::max(de, dp));  // ^q_f, q_f = 0.5
+        const double d = d_row[x], df = df_row[x];
         double v;
         if (d == 0.0) {
           v = df == 1.0 ? 1.0 : 0.0;  // pow(0, 1 - df), without the pow calls (§6)

@@ -31,10 +31,11 @@ struct FlipPrepared {
   double ppd = 0;
   std::vector<double> L, A, B, edge, point;  // row-major, width * height
 };
-// Working planes of flip_prepare (7 doubles per pixel). Passing the same workspace every time
-// (e.g. every frame of a run, for reference and test alike) avoids allocating them per call.
+// Working planes of flip_prepare (3 doubles per pixel; the filtered planes stay in per-task row
+// rings). Passing the same workspace every time (e.g. every frame of a run, for reference and
+// test alike) avoids allocating them per call.
 struct FlipWorkspace {
-  std::vector<double> ycc[3], tmp[4];
+  std::vector<double> ycc[3];
 };
 void flip_prepare(const Image& img, double ppd, FlipPrepared& out, FlipWorkspace* ws = nullptr);
 // As flip() above on prepared images (same size, same ppd, else fovsim::Error).
@@ -49,6 +50,8 @@ struct Kernels {
 };
 Kernels kernels(double ppd);
 double c_max();  // largest compressed HyAB distance (green vs blue), FLIP.md §4.8
+double srgb_to_linear_table(double c);  // §4.1 as flip_prepare evaluates it (interpolated table)
+double lab_cube_root(double t);         // §4.6 cube root as flip_prepare evaluates it
 }  // namespace flip_detail
 
 // Colour-maps a FLIP error map ([0,1], 1 channel) with a magma-like ramp (black -> purple ->

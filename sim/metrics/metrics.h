@@ -24,6 +24,17 @@ double psnr(const Image& a, const Image& b);
 // sigma=1.5, use_sample_covariance=False, data_range=1) (mean over the cropped valid region).
 // Images smaller than 11x11 throw (as skimage does).
 double ssim(const Image& a, const Image& b);
+// The second image of ssim() prepared once (its luma and, over the valid region, G * y and
+// G * y^2): ssim(a, prepared b) equals ssim(a, b) bit for bit, so a frame's reference serves
+// every method's image. ssim_prepare throws as ssim() does (2 channels, smaller than 11x11);
+// ssim(a, p) throws when a's size or channel count differs from the prepared image's.
+struct SsimPrepared {
+  int width = 0, height = 0, channels = 0;  // 0 until prepared
+  std::vector<double> luma;                 // width * height
+  std::vector<double> mu, mom2;             // (width - 10) * (height - 10), row-major
+};
+void ssim_prepare(const Image& b, SsimPrepared& out);
+double ssim(const Image& a, const SsimPrepared& b);
 // Foveated PSNR (Lee, Pattichis, Bovik 2002): per-pixel weight = cutoff frequency
 // f_c(e) = e2 ln(1/CT0) / (alpha (e + e2)), CT0 = 1/64, alpha = 0.106, e2 = 2.3 deg,
 // clipped at the local Nyquist frequency ppd/2 of the display.
@@ -71,13 +82,14 @@ double temporal_error(const Image& test, const Image& ref, const std::vector<flo
                       double fovea_deg, TemporalState& st);
 
 // Scratch that compute_metrics reuses across calls (one per caller thread, e.g. per run cell):
-// the FLIP reference prepared once and reused while the reference pixels and ppd are unchanged
-// (every method of a frame shares it; checked by comparing the pixels, so it is never stale),
-// and the FLIP map of the last call (for the error images).
+// the reference's FLIP and SSIM preparations, made once and reused while the reference pixels
+// (and FLIP's ppd) are unchanged (every method of a frame shares them; checked by comparing the
+// pixels, so they are never stale), and the FLIP map of the last call (for the error images).
 struct MetricsScratch {
   FlipPrepared flip_ref, flip_test;
   FlipWorkspace flip_workspace;
-  Image flip_ref_pixels;  // the pixels flip_ref was prepared from
+  SsimPrepared ssim_ref;
+  Image ref_pixels;  // the pixels flip_ref and ssim_ref were prepared from
   Image flip_map;
 };
 

@@ -1,0 +1,119 @@
+// CPU time of the image metrics of one frame pair at the quickstart's resolution
+// (configs/quickstart.json: htc_vive_pro_eye at render.scale 0.25 = 360x400, atrium complexity
+// 1), the "metrics" phase of `fovsim run` split per metric. The pair is the display-encoded
+// (ACES + sRGB, the run's tone map) reference of a frame and KFR's output for it (default
+// parameters, sigma 1.8), built once and not timed.
+//
+// metrics/<name>: compute_metrics with only that metric enabled, as the run calls it (one
+// MetricsScratch kept across iterations, so FLIP's prepared reference is reused as it is for
+// every method of a frame). all = every metric (the run's default config); errsums = psnr +
+// fpsnr + regions (one fused pass over the error); ssim (the reference's statistics prepared
+// once, as in a run); flip = preparing the test image + the FLIP map and its mean (the FLIP bands
+// need regions, so they are only in all); temporal = the temporal error after a first frame.
+// BM_FlipRefPrepare = preparing the reference for FLIP, done once per frame. Time column: ms
+// per call at the given TBB thread count (1: the calling thread's CPU time).
+#include <benchmark/benchmark.h>
+#include <tbb/global_control.h>
+
+#include <memory>
+#include <string>
+
+#include "sim/foveation/factory.h"
+#include "sim/foveation/frame.h"
+#include "sim/metrics/metrics.h"
+#include "sim/scene/scene.h"
+
+using namespace fovsim;
+
+namespace {
+
+struct Setup {
+  Display display;
+  Camera camera;
+  std::vector<float> ecc;
+  Image ref, test;  // display-encoded
+
+  Setup() {
+    const std::string models = std::string(FOVSIM_SOURCE_DIR) + "/models";
+    Params sp(Json{{"type", "atrium"}, {"complexity", 1}}, "bench");
+    Scene scene = make_scene(sp, models);
+    display = Display::load("htc_vive_pro_eye", models).scaled(0.25);
+    Renderer renderer(scene, RenderSettings{});
+    Params mp(Json::object(), "bench");
+    std::unique_ptr<FoveationMethod> kfr = make_method("kfr", mp);
+    TraceSample s;
+    s.head_pos = glm::dvec3(scene.default_eye);
+    s.gaze_dir = glm::normalize(glm::dvec3(0.15, -0.05, -1));
+    FrameData fd;
+    prepare_frame(renderer, display, s, 0, kShadingChannels | kfr->required_channels(), nullptr,
+                  fd);
+    FrameOutput out;
+    kfr->render(fd.context(scene, renderer, display, false), out);
+    ToneMap tm;
+    tm.exposure = scene.exposure;
+    tm.apply(fd.reference, ref);
+    tm.apply(out.image_is_reference ? fd.reference : out.image, test);
+    camera = fd.camera;
+    ecc = fd.eccentricity;
+  }
+};
+
+Setup& setup() {
+  static Setup s;
+  return s;
+}
+
+MetricsConfig only(const std::string& name) {
+  MetricsConfig c;
+  if (name == "all") return c;
+  c.psnr = c.ssim = c.fpsnr = c.regions = c.temporal = c.flip = false;
+  if (name == "errsums") c.psnr = c.fpsnr = c.regions = true;
+  if (name == "ssim") c.ssim = true;
+  if (name == "flip") c.flip = true;  // the mean only (its bands come with regions, in "all")
+  if (name == "temporal") c.temporal = true;
+  return c;
+}
+
+void BM_Metrics(benchmark::State& state, std::string name) {
+  Setup& S = setup();
+  tbb::global_control gc(tbb::global_control::max_allowed_parallelism, size_t(state.range(0)));
+  const MetricsConfig cfg = only(name);
+  MetricsScratch scratch;
+  TemporalState temporal;
+  // Warm-up: the reference is prepared, the scratch sized, the temporal state has a frame.
+  compute_metrics(cfg, S.test, S.ref, S.camera, S.ecc, &temporal, &scratch);
+  for (auto _ : state) {
+    Counters c = compute_metrics(cfg, S.test, S.ref, S.camera, S.ecc, &temporal, &scratch);
+    benchmark::DoNotOptimize(c);
+  }
+  state.counters["pixels"] = double(S.ref.pixels());
+}
+
+void BM_FlipRefPrepare(benchmark::State& state) {
+  Setup& S = setup();
+  tbb::global_control gc(tbb::global_control::max_allowed_parallelism, size_t(state.range(0)));
+  FlipPrepared p;
+  FlipWorkspace ws;
+  const double ppd = flip_ppd(S.camera);
+  flip_prepare(S.ref, ppd, p, &ws);
+  for (auto _ : state) {
+    flip_prepare(S.ref, ppd, p, &ws);
+    benchmark::DoNotOptimize(p.L.data());
+  }
+  state.counters["ppd"] = ppd;
+}
+
+}  // namespace
+
+BENCHMARK_CAPTURE(BM_Metrics, all, std::string("all"))->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Metrics, errsums, std::string("errsums"))
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Metrics, ssim, std::string("ssim"))->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Metrics, flip, std::string("flip"))->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Metrics, temporal, std::string("temporal"))
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FlipRefPrepare)->Arg(1)->Unit(benchmark::kMillisecond);
+
+BENCHMARK_MAIN();
