@@ -44,18 +44,24 @@ for p in ("forward", "inverse"):
         print(f"KFR {p} map / cv::warpPolar: {f:.1f} / {o:.1f} ms = {f/o:.2f} (target <= 1.0)")
 PY
 
-# fovsim run configs/quickstart.json at 1 and 2 threads (no plots, images as configured).
-for j in 1 2; do
-  python3 - "$B/fovsim" "$j" "$tmp/qs$j" > "$tmp/time$j.json" <<'PY'
+# timed OUT_JSON FOVSIM_ARGS...: runs $B/fovsim with the arguments (stdout discarded) and writes
+# {"wall_s", "cpu_s"} (wall clock, and user + sys CPU of the child) to OUT_JSON.
+timed() {
+  local out=$1
+  shift
+  python3 - "$B/fovsim" "$@" > "$out" <<'PY'
 import json, resource, subprocess, sys, time
-exe, j, out = sys.argv[1], sys.argv[2], sys.argv[3]
 t0 = time.monotonic()
-subprocess.run([exe, "run", "configs/quickstart.json", "-o", out, "-j", j, "--no-plots"],
-               check=True, stdout=subprocess.DEVNULL)
+subprocess.run(sys.argv[1:], check=True, stdout=subprocess.DEVNULL)
 wall = time.monotonic() - t0
 ru = resource.getrusage(resource.RUSAGE_CHILDREN)
 print(json.dumps({"wall_s": wall, "cpu_s": ru.ru_utime + ru.ru_stime}))
 PY
+}
+
+# fovsim run configs/quickstart.json at 1 and 2 threads (no plots, images as configured).
+for j in 1 2; do
+  timed "$tmp/time$j.json" run configs/quickstart.json -o "$tmp/qs$j" -j "$j" --no-plots
 done
 python3 - "$tmp" "$B" <<'PY'
 import json, sys
@@ -78,16 +84,8 @@ PY
 
 # fovsim sweep configs/sweeps/bench_100_cells.json at 1 and 2 threads.
 for j in 1 2; do
-  python3 - "$B/fovsim" "$j" "$tmp/sw$j" > "$tmp/swtime$j.json" <<'PY'
-import json, resource, subprocess, sys, time
-exe, j, out = sys.argv[1], sys.argv[2], sys.argv[3]
-t0 = time.monotonic()
-subprocess.run([exe, "sweep", "configs/sweeps/bench_100_cells.json", "-o", out, "-j", j,
-                "--no-plots", "-q"], check=True, stdout=subprocess.DEVNULL)
-wall = time.monotonic() - t0
-ru = resource.getrusage(resource.RUSAGE_CHILDREN)
-print(json.dumps({"wall_s": wall, "cpu_s": ru.ru_utime + ru.ru_stime}))
-PY
+  timed "$tmp/swtime$j.json" sweep configs/sweeps/bench_100_cells.json -o "$tmp/sw$j" -j "$j" \
+    --no-plots -q
 done
 python3 - "$tmp" "$B" <<'PY'
 import json, sys
