@@ -147,18 +147,83 @@ def variant_styles(keys_methods):
     return out
 
 
-UNITS = {"est_ms_total": "estimated frame time [ms]", "fpsnr": "FPSNR [dB]", "psnr": "PSNR [dB]",
-         "ssim": "SSIM [0–1]", "flip": "LDR-FLIP [0–1, lower is better]",
+# Units of the non-metric columns (metrics: the registry's labels, metric_label).
+UNITS = {"est_ms_total": "estimated frame time [ms]",
          "shaded_fraction": "shaded fraction [of W·H]", "shaded_samples": "shaded samples [samples]",
-         "temporal_error": "temporal error [RMSE]", "rmse_fovea": "RMSE in the fovea [0–1]",
-         "rmse_periphery": "RMSE in the periphery [0–1]", "latency_ms": "end-to-end latency [ms]",
+         "latency_ms": "end-to-end latency [ms]",
          "gaze_error_deg": "gaze error [deg]", "budget_ms": "frame budget [ms]"}
+
+
+# The metric registry of the C++ (sim/metrics/registry.h): name, unit, label, better direction,
+# pooling, headline. Read from what the C++ wrote, never copied here: a run's manifest.json
+# ("metrics"), else `fovsim info --json` of the build beside this repository (FOVSIM_BINARY
+# overrides the binary).
+_REGISTRY = {}
+
+
+def set_metric_registry(decls):
+    """Installs the registry from a list of declarations (manifest.json "metrics")."""
+    global _REGISTRY
+    if isinstance(decls, list) and decls:
+        _REGISTRY = {d["name"]: d for d in decls if isinstance(d, dict) and "name" in d}
+
+
+def load_metric_registry(manifest=None):
+    """The registry of `manifest` (a dict or a run folder), else of `fovsim info --json`.
+    Returns {name: declaration}; {} when neither is available (labels are then plain names)."""
+    if isinstance(manifest, str):
+        manifest = read_json(os.path.join(manifest, "manifest.json"))
+    if isinstance(manifest, dict) and manifest.get("metrics"):
+        set_metric_registry(manifest["metrics"])
+        return _REGISTRY
+    if not _REGISTRY:
+        import subprocess
+        here = os.path.dirname(os.path.abspath(__file__))
+        binary = os.environ.get("FOVSIM_BINARY") or os.path.join(here, "..", "build", "fovsim")
+        try:
+            out = subprocess.run([binary, "info", "--json"], capture_output=True, text=True,
+                                 timeout=30, check=True).stdout
+            set_metric_registry(json.loads(out).get("metrics"))
+        except (OSError, ValueError, subprocess.SubprocessError):
+            pass
+    return _REGISTRY
+
+
+def metric_decl(col):
+    """The registry declaration of a column (exact, pooled column, or family prefix), or None."""
+    reg = _REGISTRY or load_metric_registry()
+    for d in reg.values():
+        if d.get("family") and col.startswith(d["name"]) and len(col) > len(d["name"]):
+            return d
+        if col == d["name"] or (d.get("pooled_column") and col == d["pooled_column"]):
+            return d
+    return None
+
+
+def higher_is_better(col):
+    """Direction of a column: the registry's for metrics, lower-is-better for costs and counts."""
+    d = metric_decl(col)
+    if d is None:
+        return False
+    if d.get("pooled_column") == col and col != d["name"]:
+        return d.get("better") != "higher"  # FovVideoVDP's Q: larger Q, lower JOD
+    return d.get("better") == "higher"
+
+
+def headline_metrics(available=None):
+    """The registry's headline metrics in its order, restricted to `available` columns."""
+    reg = _REGISTRY or load_metric_registry()
+    names = [d["name"] for d in reg.values() if d.get("headline")]
+    return [n for n in names if available is None or n in available]
 
 
 def metric_label(col):
     """Axis label of a results column with its unit (results/README.md), e.g. "FPSNR [dB]"."""
     if col in UNITS:
         return UNITS[col]
+    d = metric_decl(col)
+    if d is not None and not d.get("family") and col == d["name"]:
+        return d.get("label") or col
     if col.startswith("est_ms_"):
         return f"estimated time of pass {col[len('est_ms_'):]} [ms]"
     if col.startswith("rmse_ecc_"):
@@ -206,7 +271,7 @@ def draw_quality_vs_budget(ax, entries, metric, budget=None):
     configurations whose cost <= B (starts at its cheapest configuration); the black line is the
     best over all methods. Non-finite entries (fpsnr inf for `full`) are named, not drawn.
     Returns the names not drawn."""
-    higher = metric not in ("flip", "temporal_error") and not metric.startswith("rmse")
+    higher = higher_is_better(metric)
     ok = [e for e in entries if math.isfinite(e[2]) and math.isfinite(e[3])]
     bad = [e[1] for e in entries if e not in ok]
     if not ok:

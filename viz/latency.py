@@ -33,7 +33,7 @@ def plot_latency(sweep_dir, out, metric="rmse_fovea", margin=0.10, report=print)
             raise NoLatency(f"no column {need} in summary.csv (no latency block)")
     meta = common.read_json(os.path.join(sweep_dir, "sweep_summary.json")) or {}
     others = [a for a in meta.get("axes", []) if a in cols and not (a.startswith("latency.") and a.endswith("_ms"))]
-    higher_is_better = metric.endswith("psnr") or metric == "ssim"
+    higher_is_better = common.higher_is_better(metric)  # the metric registry (C++)
     by, meth = {}, {}
     for r in rows:
         key = " ".join([r.get("label", r.get("method", "?"))] + [f"{a}={r[a]}" for a in others])

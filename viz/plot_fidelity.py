@@ -16,10 +16,11 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import common  # noqa: E402
 from common import log, plt, read_csv, to_float  # noqa: E402
 
 RELATIVE = {"est_ms_total", "est_ms_total_p95"}
-ORDER = ["est_ms_total", "est_ms_total_p95", "shaded_fraction", "psnr", "fpsnr", "ssim", "flip"]
+COSTS = ["est_ms_total", "est_ms_total_p95", "shaded_fraction"]  # + the headline metrics (registry)
 
 
 def main():
@@ -33,7 +34,10 @@ def main():
         return 2
     out = a.out or os.path.join(a.dir, "plots")
     os.makedirs(out, exist_ok=True)
-    outputs = [o for o in ORDER if any(r["output"] == o for r in rows)]
+    # The outputs fidelity.csv has, costs first, then metrics in the C++ registry's order.
+    order = COSTS + common.headline_metrics()
+    seen = [r["output"] for r in rows]
+    outputs = [o for o in order if o in seen] + [o for o in dict.fromkeys(seen) if o not in order]
     # Per output and rung: (wall_s, max |err|, max ci).
     data = {}
     for r in rows:

@@ -54,6 +54,7 @@ class Run:
         self.fcols, self.frames = common.read_csv(os.path.join(d, "frames.csv"))
         self.scols, self.summary = common.read_csv(os.path.join(d, "summary.csv"))
         self.manifest = common.read_json(os.path.join(d, "manifest.json"))
+        common.load_metric_registry(self.manifest)  # the C++'s metric declarations
         self.pcols, self.paired = common.read_csv(os.path.join(d, "paired.csv"))
         self.fcols = self.fcols or []
         self.scols = self.scols or []
@@ -168,9 +169,10 @@ def plot_timeline(run, out):
 def plot_quality_vs_cost(run, out):
     if not run.mean_available("est_ms_total"):
         raise Skip("no est_ms_total column")
-    metrics = [m for m in ("fpsnr", "psnr", "ssim") if run.mean_available(m)]
+    # Headline metrics where higher is better (the Pareto staircase assumes it).
+    metrics = [m for m in common.headline_metrics() if common.higher_is_better(m) and run.mean_available(m)]
     if not metrics:
-        raise Skip("no fpsnr, psnr or ssim column")
+        raise Skip("no headline quality column (metric registry)")
     b = common.budget_ms(run.manifest, run.summary)
     fig, axes = plt.subplots(1, len(metrics), figsize=(5.2 * len(metrics), 4.5), squeeze=False)
     for ax, m in zip(axes[0], metrics):
@@ -227,9 +229,9 @@ def plot_quality_vs_budget(run, out):
     methods: a configuration counts once its mean est_ms_total <= B (common.draw_quality_vs_budget)."""
     if not run.mean_available("est_ms_total"):
         raise Skip("no est_ms_total column")
-    metrics = [m for m in ("fpsnr", "ssim") if run.mean_available(m)]
+    metrics = [m for m in common.headline_metrics() if m != "psnr" and run.mean_available(m)]
     if not metrics:
-        raise Skip("no fpsnr or ssim column")
+        raise Skip("no headline quality column (metric registry)")
     b = common.budget_ms(run.manifest, run.summary)
     fig, axes = plt.subplots(1, len(metrics), figsize=(6 * len(metrics), 4.5), squeeze=False, sharex=True)
     for ax, m in zip(axes[0], metrics):
@@ -303,15 +305,12 @@ def plot_gaze(run, out):
     return "gaze.png"
 
 
-UNITS = {"fpsnr": "fpsnr [dB]", "psnr": "psnr [dB]", "ssim": "ssim [0–1]", "flip": "flip [0–1] (lower is better)"}
-
-
 def plot_quality_timeline(run, out):
     if not run.frames:
         raise Skip("no frames.csv")
-    metrics = [m for m in ("fpsnr", "psnr", "ssim", "flip") if run.has(m)]
+    metrics = [m for m in common.headline_metrics() if run.has(m)]
     if not metrics:
-        raise Skip("frames.csv has no fpsnr, psnr, ssim or flip column")
+        raise Skip("frames.csv has no headline metric column (metric registry)")
     xcol = "frame" if run.has("frame") else "t"
     if not run.has(xcol):
         raise Skip("frames.csv has neither frame nor t")
@@ -332,7 +331,7 @@ def plot_quality_timeline(run, out):
                 handles.setdefault(cid, h)
             else:
                 not_drawn.setdefault(m, []).append(cid)
-        ax.set_ylabel(UNITS.get(m, m), fontsize=9)
+        ax.set_ylabel(common.metric_label(m), fontsize=9)
         if m in not_drawn:
             ax.set_title("not drawn (no finite value, e.g. psnr = inf when exact): " +
                          ", ".join(not_drawn[m][:4]) + (" …" if len(not_drawn[m]) > 4 else ""),
@@ -543,14 +542,14 @@ PLOTS = [
 ]
 
 
-SUMMARY_COLS = ["method", "frames", "est_ms_total", "shaded_fraction", "fpsnr", "psnr", "ssim", "flip"]
+SUMMARY_COLS = ["method", "frames", "est_ms_total", "shaded_fraction"]  # + the headline metrics
 
 
 def summary_table(run):
     """HTML table of summary.csv's headline columns (mean ± 95% half-width where present)."""
     if not run.summary:
         return "<p>No summary.csv.</p>"
-    cols = [c for c in SUMMARY_COLS if c in run.scols]
+    cols = [c for c in SUMMARY_COLS + common.headline_metrics() if c in run.scols]
     head = "<tr><th>config</th>" + "".join(f"<th>{html.escape(c)}</th>" for c in cols) + "</tr>"
     rows = []
     for r in run.summary:

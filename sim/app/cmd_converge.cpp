@@ -13,6 +13,7 @@ void register_converge(CLI::App& app, Action& action) {
     std::vector<std::string> overrides;
     std::vector<int> spps{1, 4, 16, 64};
     int threads = 0;
+    double tol_jod = 0.05;
   };
   auto a = std::make_shared<Args>();
   CLI::App* c = app.add_subcommand(
@@ -27,6 +28,9 @@ void register_converge(CLI::App& app, Action& action) {
   c->add_option("-j,--threads", a->threads, "Worker threads (default: all cores)")
       ->check(CLI::Range(0, 4096));
   c->add_option("--models", a->models, "Models directory");
+  c->add_option("--tol-jod", a->tol_jod,
+                "FovVideoVDP tolerance in JOD between levels (default 0.05)")
+      ->check(CLI::Range(1e-6, 10.0));
   c->callback([a, &action]() {
     action = [a]() {
       ConvergenceOptions o;
@@ -34,6 +38,7 @@ void register_converge(CLI::App& app, Action& action) {
       o.out_dir = a->out;
       o.models_dir = a->models;
       o.threads = a->threads;
+      o.tol_jod = a->tol_jod;
       ConvergenceResult r = run_convergence(a->config, a->overrides, o);
       std::printf("%s", r.markdown().c_str());
       std::printf("written: %s/convergence.md, convergence.csv\n", a->out.c_str());

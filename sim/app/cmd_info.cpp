@@ -7,6 +7,7 @@
 #include "sim/core/version.h"
 #include "sim/experiment/code_paths.h"
 #include "sim/foveation/factory.h"
+#include "sim/metrics/registry.h"
 
 namespace fovsim::app {
 
@@ -23,6 +24,9 @@ void register_info(CLI::App& app, Action& action) {
       Json j = code_paths_info();
       j["version"] = version_string();
       j["git_commit"] = git_commit();
+      j["metrics"] = metric_registry_json();  // the metric registry (sim/metrics/registry.h)
+      j["methods"] = Json::array();
+      for (const auto& e : method_table()) j["methods"].push_back(e.name);
       if (*json) {
         std::printf("%s\n", j.dump().c_str());
         return 0;
@@ -37,6 +41,10 @@ void register_info(CLI::App& app, Action& action) {
                   j["embree_isa"].get<std::string>().c_str());
       std::printf("SIMD kernel paths: %s (active: %s)\n", list(j["simd_paths"]).c_str(),
                   j["simd_path"].get<std::string>().c_str());
+      std::printf("metrics:");
+      for (const auto& m : j["metrics"])
+        std::printf(" %s%s", m["name"].get<std::string>().c_str(), m["family"] ? "*" : "");
+      std::printf("\n");
       return 0;
     };
   });

@@ -38,4 +38,23 @@ MeanInterval batch_means_interval(const std::vector<double>& x) {
   return r;
 }
 
+MeanInterval interval_of_batch_values(const std::vector<double>& v) {
+  MeanInterval r;
+  r.n = v.size();
+  r.half_width = NAN;
+  double sum = 0;
+  bool finite = true;
+  for (double x : v) {
+    sum += x;
+    finite = finite && std::isfinite(x);
+  }
+  r.mean = v.empty() ? NAN : sum / double(v.size());
+  if (!finite || v.size() != kCiBatches) return r;
+  double ss = 0;
+  for (double x : v) ss += (x - r.mean) * (x - r.mean);
+  r.half_width = kCiT975 * std::sqrt(ss / double(kCiBatches - 1) / double(kCiBatches));
+  r.batch_size = 1;
+  return r;
+}
+
 }  // namespace fovsim

@@ -36,4 +36,10 @@ struct MeanInterval {
 // `x` in time order. Non-finite values make the interval undefined: filter them first.
 MeanInterval batch_means_interval(const std::vector<double>& x);
 
+// The same Student-t interval over kCiBatches values that already are per-batch statistics
+// (e.g. a pooled metric evaluated on each batch, sim/metrics/registry.h Pooling::sequence):
+// mean of the values ± kCiT975 · s / sqrt(kCiBatches). nan half-width unless `per_batch` has
+// exactly kCiBatches finite values.
+MeanInterval interval_of_batch_values(const std::vector<double>& per_batch);
+
 }  // namespace fovsim

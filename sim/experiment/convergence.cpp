@@ -9,12 +9,24 @@
 #include "sim/core/error.h"
 #include "sim/core/files.h"
 #include "sim/experiment/runner.h"
+#include "sim/metrics/registry.h"
 
 namespace fovsim {
 
 const std::vector<ConvergenceMetric>& convergence_metrics() {
-  static const std::vector<ConvergenceMetric> m = {
-      {"psnr", true, 0}, {"fpsnr", true, 0}, {"ssim", true, -1}, {"flip", false, 1}};
+  static const std::vector<ConvergenceMetric> m = [] {
+    std::vector<ConvergenceMetric> v;
+    for (auto& d : metric_registry()) {
+      if (!d.headline) continue;
+      using Tol = MetricDecl::Tol;
+      const int kind = d.convergence_tol == Tol::db     ? 0
+                       : d.convergence_tol == Tol::unit ? 1
+                       : d.convergence_tol == Tol::jod  ? 2
+                                                        : -1;
+      v.push_back({d.name, d.better == Better::higher, kind});
+    }
+    return v;
+  }();
   return m;
 }
 
@@ -56,8 +68,10 @@ void evaluate_convergence(ConvergenceResult& r, const ConvergenceOptions& opt) {
     for (size_t k = 0; k < r.labels.size() && ok; ++k)
       for (size_t m = 0; m < nm && ok; ++m) {
         const int kind = convergence_metrics()[m].tol_kind;
-        if (kind < 0) continue;
-        ok = within(r.value[i][k][m], r.value[i + 1][k][m], kind == 0 ? opt.tol_db : opt.tol_flip);
+        if (kind < 0 || (std::isnan(r.value[i][k][m]) && std::isnan(r.value[i + 1][k][m])))
+          continue;  // no tolerance, or not computed by the run
+        const double tol = kind == 0 ? opt.tol_db : kind == 1 ? opt.tol_flip : opt.tol_jod;
+        ok = within(r.value[i][k][m], r.value[i + 1][k][m], tol);
       }
     // The ranking (by every metric with a tolerance) is the same at this and every higher level.
     for (size_t m = 0; m < nm && ok; ++m) {
@@ -79,21 +93,30 @@ void evaluate_convergence(ConvergenceResult& r, const ConvergenceOptions& opt) {
 }
 
 std::string ConvergenceResult::markdown() const {
-  std::string s =
-      "| method | spp | PSNR (dB) | FPSNR (dB) | SSIM | FLIP | ΔPSNR | ΔFPSNR | ΔFLIP |\n";
-  s += "|---|---|---|---|---|---|---|---|---|\n";
+  // Columns: every metric of the study, then Δ for those with a tolerance (the registry).
+  const auto& ms = convergence_metrics();
+  auto prec = [](const std::string& name) {
+    const MetricDecl* d = find_metric(name);
+    return d ? d->precision : 4;
+  };
+  std::string s = "| method | spp |";
+  for (auto& m : ms) s += " " + m.name + " |";
+  for (auto& m : ms)
+    if (m.tol_kind >= 0) s += " Δ" + m.name + " |";
+  s += "\n|---|---|";
+  for (auto& m : ms) s += m.tol_kind >= 0 ? "---|---|" : "---|";
+  s += "\n";
   for (size_t k = 0; k < labels.size(); ++k)
     for (size_t i = 0; i < spps.size(); ++i) {
       const auto& v = value[i][k];
-      s += "| " + labels[k] + " | " + std::to_string(spps[i]) + " | " + fmt(v[0], 2) + " | " +
-           fmt(v[1], 2) + " | " + fmt(v[2], 4) + " | " + fmt(v[3], 4) + " | ";
-      if (i + 1 < spps.size()) {
-        const auto& w = value[i + 1][k];
-        s += fmt(w[0] - v[0], 3) + " | " + fmt(w[1] - v[1], 3) + " | " + fmt(w[3] - v[3], 4) +
-             " |\n";
-      } else {
-        s += " |  |  |\n";
+      s += "| " + labels[k] + " | " + std::to_string(spps[i]) + " |";
+      for (size_t m = 0; m < ms.size(); ++m) s += " " + fmt(v[m], prec(ms[m].name)) + " |";
+      for (size_t m = 0; m < ms.size(); ++m) {
+        if (ms[m].tol_kind < 0) continue;
+        s += i + 1 < spps.size() ? " " + fmt(value[i + 1][k][m] - v[m], prec(ms[m].name) + 1) + " |"
+                                 : "  |";
       }
+      s += "\n";
     }
   s += "\nΔ = next level minus this level. Level meets the criterion:";
   for (size_t i = 0; i + 1 < spps.size(); ++i)
@@ -104,7 +127,9 @@ std::string ConvergenceResult::markdown() const {
 }
 
 std::string ConvergenceResult::csv() const {
-  std::string s = "spp,label,psnr,fpsnr,ssim,flip,ref_seconds,level_ok\n";
+  std::string s = "spp,label";
+  for (auto& m : convergence_metrics()) s += "," + m.name;
+  s += ",ref_seconds,level_ok\n";
   for (size_t i = 0; i < spps.size(); ++i)
     for (size_t k = 0; k < labels.size(); ++k) {
       s += std::to_string(spps[i]) + "," + labels[k];

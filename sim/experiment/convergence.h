@@ -15,15 +15,19 @@ struct ConvergenceOptions {
   int threads = 0;
   double tol_db = 0.1;      // PSNR, FPSNR
   double tol_flip = 0.005;  // FLIP mean
+  double tol_jod = 0.05;    // FovVideoVDP JOD
 };
 
-// The metrics of the study: name, higher is better, tolerance kind (0: dB, 1: FLIP, -1: none).
+// The metrics of the study: the metric registry's headline metrics (sim/metrics/registry.h) in
+// its order (psnr, fpsnr, ssim, flip, fvvdp_jod): name, higher is better, tolerance kind
+// (0: dB, 1: FLIP, 2: JOD, -1: none, ranking only). A metric that is nan at two levels (not
+// computed by the run) does not take part in the rule.
 struct ConvergenceMetric {
-  const char* name;
+  std::string name;
   bool higher_better;
   int tol_kind;
 };
-const std::vector<ConvergenceMetric>& convergence_metrics();  // psnr, fpsnr, ssim, flip
+const std::vector<ConvergenceMetric>& convergence_metrics();
 
 struct ConvergenceResult {
   std::vector<int> spps;

@@ -33,6 +33,7 @@
 #include "sim/foveation/frame.h"
 #include "sim/foveation/simd_kernels.h"
 #include "sim/metrics/metrics.h"
+#include "sim/metrics/registry.h"
 #include "sim/render/embree_device.h"
 #include "sim/render/renderer.h"
 #include "sim/trace/trace.h"
@@ -556,6 +557,7 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
              {"trace", {{"source", sh.trace.source}, {"samples", sh.trace.samples.size()}}},
              {"frames", {{"start", sh.start}, {"count", sh.count}, {"stride", sh.stride}}},
              {"machine", machine_info()},
+             {"metrics", metric_registry_json()},  // the declarations viz and Python read
              {"threads", opt.threads > 0 ? opt.threads : int(tbb::info::default_concurrency())},
              {"start_time", iso_now()},
              {"status", "running"}};

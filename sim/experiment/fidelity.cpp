@@ -23,6 +23,7 @@
 #include "sim/experiment/runner.h"
 #include "sim/experiment/sweep_runner.h"
 #include "sim/experiment/sweep_spec.h"
+#include "sim/metrics/registry.h"
 #include "sim/render/renderer.h"
 #include "sim/scene/scene.h"
 
@@ -216,8 +217,11 @@ bool render_spp_known() {
 }
 
 const std::vector<std::string>& fidelity_outputs() {
-  static const std::vector<std::string> o = {
-      "est_ms_total", "est_ms_total_p95", "shaded_fraction", "psnr", "fpsnr", "ssim", "flip"};
+  static const std::vector<std::string> o = [] {
+    std::vector<std::string> v = {"est_ms_total", "est_ms_total_p95", "shaded_fraction"};
+    for (auto& n : headline_metric_names()) v.push_back(n);  // the metric registry
+    return v;
+  }();
   return o;
 }
 
@@ -660,7 +664,10 @@ FidelityResult run_fidelity(const LoadedConfig& cfg, const FidelityOptions& opt)
           fmt("%.4f", mx(max_abs, "shaded_fraction")) + " |";
     for (auto& o : outs)
       if (o != "est_ms_total" && o != "est_ms_total_p95" && o != "shaded_fraction")
-        md += " " + fmt(o == "psnr" || o == "fpsnr" ? "%.3f" : "%.4f", mx(max_abs, o)) + " |";
+        md +=
+            " " +
+            fmt(find_metric(o) && find_metric(o)->unit == "dB" ? "%.3f" : "%.4f", mx(max_abs, o)) +
+            " |";
     md += std::string(" ") + (rank_all ? "yes" : "no") +
           (swaps_all ? " (" + std::to_string(swaps_all) + " resolved swaps)" : "") + " | " +
           (r.top ? "-"

@@ -10,6 +10,7 @@
 #include "sim/core/rng.h"
 #include "sim/core/stats.h"
 #include "sim/foveation/factory.h"
+#include "sim/metrics/registry.h"
 
 namespace fovsim {
 
@@ -24,10 +25,45 @@ bool has_interval(const std::string& column) {
 }
 
 const std::vector<std::string>& headline_metrics() {
-  static const std::vector<std::string> m = {"est_ms_total", "shaded_fraction", "psnr", "ssim",
-                                             "fpsnr"};
+  static const std::vector<std::string> m = [] {
+    std::vector<std::string> v = {"est_ms_total", "shaded_fraction"};
+    for (auto& n : headline_metric_names()) v.push_back(n);  // the metric registry
+    return v;
+  }();
   return m;
 }
+
+namespace {
+
+// A paired difference of a sequence-pooled metric (sim/metrics/registry.h): the difference of
+// the two pooled values, with a batch-means interval over the per-batch differences of the
+// pooled values (the batches of sim/core/stats.h, over the paired frames in frame order).
+MeanInterval pooled_difference(const MetricDecl& d, const std::vector<double>& qa,
+                               const std::vector<double>& qb, double& mean_a, double& mean_b) {
+  auto pooled = [&](const std::vector<double>& q, size_t b, size_t e) {
+    double s = 0;
+    for (size_t i = b; i < e; ++i) s += q[i];
+    return e > b ? d.from_mean(s / double(e - b)) : double(NAN);
+  };
+  const size_t n = qa.size();
+  mean_a = pooled(qa, 0, n);
+  mean_b = pooled(qb, 0, n);
+  MeanInterval out;
+  out.n = n;
+  out.mean = n ? mean_a - mean_b : NAN;
+  out.half_width = NAN;
+  if (n < kCiMinSamples) return out;
+  const size_t m = n / kCiBatches;
+  std::vector<double> diffs;
+  for (size_t k = 0; k < kCiBatches; ++k)
+    diffs.push_back(pooled(qa, k * m, (k + 1) * m) - pooled(qb, k * m, (k + 1) * m));
+  MeanInterval b = interval_of_batch_values(diffs);
+  out.half_width = b.half_width;
+  out.batch_size = m;
+  return out;
+}
+
+}  // namespace
 
 ResultTable paired_differences(const ResultTable& frames) {
   // Per config, in first-seen order: its rows by frame index.
@@ -54,26 +90,37 @@ ResultTable paired_differences(const ResultTable& frames) {
       std::map<double, const ResultRow*> b_by_frame;
       for (auto* r : rows[b]) b_by_frame[r->get("frame", NAN)] = r;
       for (auto& m : headline_metrics()) {
-        if (!present.count(m)) continue;
+        const MetricDecl* decl = find_metric(m);
+        const bool seq = decl && decl->pooling == Pooling::sequence;
+        const std::string col = seq ? decl->pooled_column : m;
+        if (!present.count(col)) continue;
         std::vector<double> va, vb, d;  // frame order of config a
         for (auto* ra : rows[a]) {
           auto it = b_by_frame.find(ra->get("frame", NAN));
           if (it == b_by_frame.end()) continue;
-          double x = ra->get(m, NAN), y = it->second->get(m, NAN);
+          double x = ra->get(col, NAN), y = it->second->get(col, NAN);
           if (!std::isfinite(x) || !std::isfinite(y)) continue;
           va.push_back(x);
           vb.push_back(y);
           d.push_back(x - y);
         }
-        MeanInterval ci = batch_means_interval(d);
+        double mean_a = NAN, mean_b = NAN;
+        MeanInterval ci;
+        if (seq) {
+          ci = pooled_difference(*decl, va, vb, mean_a, mean_b);
+        } else {
+          ci = batch_means_interval(d);
+          mean_a = batch_means_interval(va).mean;
+          mean_b = batch_means_interval(vb).mean;
+        }
         ResultRow row;
         row.set_text("config_a", a);
         row.set_text("config_b", b);
         row.set_text("gpu", gpu_of[a]);
         row.set_text("metric", m);
         row.set("frames", double(d.size()));
-        row.set("mean_a", batch_means_interval(va).mean);
-        row.set("mean_b", batch_means_interval(vb).mean);
+        row.set("mean_a", mean_a);
+        row.set("mean_b", mean_b);
         row.set("diff", ci.mean);
         row.set("diff_ci95", ci.half_width);
         row.set("diff_lo", ci.lo());

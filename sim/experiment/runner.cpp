@@ -13,6 +13,7 @@
 #include "sim/core/stats.h"
 #include "sim/experiment/engine.h"
 #include "sim/experiment/intervals.h"
+#include "sim/metrics/registry.h"
 
 namespace fovsim {
 
@@ -48,17 +49,34 @@ RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt) {
   result.summary = std::move(c.summary);
   result.target = c.target;
   if (c.print_summary) {
-    // `+-95%`: half-widths of the 95% intervals (summary.csv `<col>_ci95`; nan below 20 frames).
-    std::printf("\n%-16s %-10s %7s %9s %10s %7s %8s %7s %8s %7s %7s\n", "config", "gpu", "frames",
-                "shaded%", "est_ms", "+-95%", "psnr", "ssim", "fpsnr", "+-95%", "flip");
+    // `+-`: half-widths of the 95% intervals (summary.csv `<col>_ci95`; nan below 20 frames).
+    // The metric columns are the registry's headline metrics present in the run.
+    std::vector<const MetricDecl*> shown;
+    if (!result.summary.rows().empty())
+      for (auto& d : metric_registry())
+        if (d.headline && !std::isnan(result.summary.rows().front().get(d.name, NAN)))
+          shown.push_back(&d);
+    std::printf("\n%-16s %-10s %7s %9s %18s", "config", "gpu", "frames", "shaded%", "est_ms");
+    for (auto* d : shown) std::printf(" %16s", d->name.c_str());
+    std::printf("\n");
+    auto cell = [](double v, double ci, int prec) {
+      char b[64];
+      if (std::isnan(ci))
+        std::snprintf(b, sizeof b, "%.*f", prec, v);
+      else
+        std::snprintf(b, sizeof b, "%.*f+-%.*f", prec, v, prec, ci);
+      return std::string(b);
+    };
     for (auto& r : result.summary.rows()) {
       const std::string* id = r.text_of("label");
       const std::string* g = r.text_of("gpu");
-      std::printf("%-16s %-10s %7.0f %8.1f%% %10.3f %7.3f %8.2f %7.4f %8.2f %7.2f %7.4f\n",
-                  id ? id->c_str() : "?", g ? g->c_str() : "?", r.get("frames", 0),
-                  100.0 * r.get("shaded_fraction", NAN), r.get("est_ms_total", NAN),
-                  r.get("est_ms_total_ci95", NAN), r.get("psnr", NAN), r.get("ssim", NAN),
-                  r.get("fpsnr", NAN), r.get("fpsnr_ci95", NAN), r.get("flip", NAN));
+      std::printf("%-16s %-10s %7.0f %8.1f%% %18s", id ? id->c_str() : "?", g ? g->c_str() : "?",
+                  r.get("frames", 0), 100 * r.get("shaded_fraction", NAN),
+                  cell(r.get("est_ms_total", NAN), r.get("est_ms_total_ci95", NAN), 3).c_str());
+      for (auto* d : shown)
+        std::printf(" %16s",
+                    cell(r.get(d->name, NAN), r.get(d->name + "_ci95", NAN), d->precision).c_str());
+      std::printf("\n");
     }
     std::printf("budget %.2f ms (%.0f Hz); results in %s\n", c.budget_ms, c.refresh_hz,
                 c.out_dir.c_str());
@@ -108,6 +126,28 @@ ResultTable summarize(const ResultTable& frames, double budget_ms) {
       s.set(c, n ? sum / double(n) : (pos_inf ? INFINITY : NAN));
       // 95% half-width over the same finite values (sim/core/stats.h; nan when undefined).
       if (has_interval(c)) s.set(c + "_ci95", batch_means_interval(finite).half_width);
+    }
+    // Sequence-pooled metrics (sim/metrics/registry.h): the pooled value of the whole run and
+    // its interval, the batch-means interval of the pooled column's mean mapped through the
+    // metric's monotone map (asymmetric: `_lo`, `_hi`; `_ci95` is half the width).
+    for (auto& d : metric_registry()) {
+      if (d.pooling != Pooling::sequence) continue;
+      std::vector<double> q;
+      bool present = false;
+      for (auto* r : rows) {
+        double v = r->get(d.pooled_column, NAN);
+        present = present || !std::isnan(v);
+        if (std::isfinite(v)) q.push_back(v);
+      }
+      if (!present) continue;
+      MeanInterval ci = batch_means_interval(q);
+      const double v = q.empty() ? NAN : d.from_mean(ci.mean);
+      double a = d.from_mean(ci.lo()), b = d.from_mean(ci.hi());
+      if (a > b) std::swap(a, b);
+      s.set(d.name, v);
+      s.set(d.name + "_ci95", 0.5 * (b - a));
+      s.set(d.name + "_lo", a);
+      s.set(d.name + "_hi", b);
     }
     std::vector<double> tot;
     for (auto* r : rows) tot.push_back(r->get("est_ms_total", NAN));

@@ -16,8 +16,9 @@ ConvergenceResult synthetic(bool swap_at_16) {
   r.labels = {"a", "b"};
   for (int spp : r.spps) {
     const double e = 4.0 / spp;
-    std::vector<std::vector<double>> lvl = {{30 - e, 30 - e, 0.9, 0.10 + 0.01 * e},
-                                            {25 - e, 25 - e, 0.8, 0.20 + 0.01 * e}};
+    // psnr, fpsnr, ssim, flip, fvvdp_jod (convergence_metrics() order); JOD not computed.
+    std::vector<std::vector<double>> lvl = {{30 - e, 30 - e, 0.9, 0.10 + 0.01 * e, NAN},
+                                            {25 - e, 25 - e, 0.8, 0.20 + 0.01 * e, NAN}};
     if (swap_at_16 && spp == 16) std::swap(lvl[0], lvl[1]);
     r.value.push_back(lvl);
   }
@@ -61,11 +62,37 @@ TEST(Convergence, InfinitePsnrMovesUnlessBothInfinite) {
   r.spps = {1, 4, 16};
   r.labels = {"full"};
   const double inf = INFINITY;
-  r.value = {{{inf, inf, 1, 0}}, {{40, 40, 0.99, 0.01}}, {{40.05, 40.05, 0.99, 0.01}}};
+  r.value = {
+      {{inf, inf, 1, 0, 10}}, {{40, 40, 0.99, 0.01, 9.9}}, {{40.05, 40.05, 0.99, 0.01, 9.9}}};
   evaluate_convergence(r, ConvergenceOptions{});
   EXPECT_FALSE(r.level_ok[0]);
   EXPECT_TRUE(r.level_ok[1]);
   EXPECT_EQ(r.chosen_spp, 4);
+}
+
+TEST(Convergence, MetricsAreTheRegistrysHeadlineMetrics) {
+  const auto& m = convergence_metrics();
+  ASSERT_EQ(m.size(), 5u);
+  EXPECT_EQ(m[0].name, "psnr");
+  EXPECT_EQ(m[3].name, "flip");
+  EXPECT_FALSE(m[3].higher_better);
+  EXPECT_EQ(m[4].name, "fvvdp_jod");
+  EXPECT_TRUE(m[4].higher_better);
+  EXPECT_EQ(m[4].tol_kind, 2);
+}
+
+TEST(Convergence, JodToleranceBlocksALevel) {
+  ConvergenceResult r;
+  r.spps = {1, 4, 16};
+  r.labels = {"a"};
+  r.value = {{{30, 30, 0.9, 0.1, 9.0}}, {{30, 30, 0.9, 0.1, 9.1}}, {{30, 30, 0.9, 0.1, 9.12}}};
+  evaluate_convergence(r, ConvergenceOptions{});  // tol_jod 0.05: 1 -> 4 moves 0.1 JOD
+  EXPECT_FALSE(r.level_ok[0]);
+  EXPECT_TRUE(r.level_ok[1]);
+  EXPECT_EQ(r.chosen_spp, 4);
+  EXPECT_NE(r.markdown().find("fvvdp_jod"), std::string::npos);
+  EXPECT_EQ(r.csv().substr(0, r.csv().find('\n')),
+            "spp,label,psnr,fpsnr,ssim,flip,fvvdp_jod,ref_seconds,level_ok");
 }
 
 TEST(Convergence, RejectsBadLevels) {

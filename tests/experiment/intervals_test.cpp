@@ -8,6 +8,7 @@
 #include "sim/core/error.h"
 #include "sim/core/stats.h"
 #include "sim/experiment/runner.h"
+#include "sim/metrics/fvvdp.h"
 
 namespace fovsim {
 namespace {
@@ -120,6 +121,47 @@ TEST(Intervals, PairedSkipsNonFiniteFramesAndIsUndefinedWhenShort) {
 
 namespace fovsim {
 namespace {
+
+// FovVideoVDP pools Q over the frames and maps the mean to JOD (sim/metrics/registry.h
+// Pooling::sequence): the summary's fvvdp_jod is the JOD of the mean Q, not the mean of per-frame
+// JODs; its interval is the batch-means interval of Q mapped through the JOD regression.
+TEST(Intervals, SequencePooledMetricSummaryAndPairedDifference) {
+  ResultTable f;
+  for (int i = 0; i < 40; ++i) {
+    ResultRow a = frame_row("a", "g", i, 30, 5), b = frame_row("b", "g", i, 28, 4);
+    const double qa = 10 + (i % 7), qb = 30 + 2 * (i % 5);
+    a.set("fvvdp_q", qa);
+    a.set("fvvdp_jod", fvvdp_jod_from_q(qa));
+    b.set("fvvdp_q", qb);
+    b.set("fvvdp_jod", fvvdp_jod_from_q(qb));
+    f.add(a);
+    f.add(b);
+  }
+  ResultTable s = summarize(f, 11.1);
+  std::vector<double> qa;
+  for (auto& r : f.rows())
+    if (*r.text_of("config_id") == "a") qa.push_back(r.get("fvvdp_q", NAN));
+  MeanInterval ci = batch_means_interval(qa);
+  const ResultRow& sa = s.rows()[0];
+  EXPECT_DOUBLE_EQ(sa.get("fvvdp_jod", NAN), fvvdp_jod_from_q(ci.mean));
+  EXPECT_DOUBLE_EQ(sa.get("fvvdp_jod_lo", NAN), fvvdp_jod_from_q(ci.hi()));
+  EXPECT_DOUBLE_EQ(sa.get("fvvdp_jod_hi", NAN), fvvdp_jod_from_q(ci.lo()));
+  EXPECT_DOUBLE_EQ(sa.get("fvvdp_jod_ci95", NAN),
+                   0.5 * (fvvdp_jod_from_q(ci.lo()) - fvvdp_jod_from_q(ci.hi())));
+  EXPECT_GT(sa.get("fvvdp_jod", NAN), s.rows()[1].get("fvvdp_jod", NAN));
+  ResultTable p = paired_differences(f);
+  bool seen = false;
+  for (auto& r : p.rows()) {
+    if (*r.text_of("metric") != "fvvdp_jod") continue;
+    seen = true;
+    EXPECT_DOUBLE_EQ(r.get("mean_a", NAN), sa.get("fvvdp_jod", NAN));
+    EXPECT_DOUBLE_EQ(r.get("diff", NAN),
+                     sa.get("fvvdp_jod", NAN) - s.rows()[1].get("fvvdp_jod", NAN));
+    EXPECT_TRUE(std::isfinite(r.get("diff_ci95", NAN)));
+    EXPECT_EQ(r.get("differs", NAN), 1.0);  // Q 10-16 vs 30-38 on every frame
+  }
+  EXPECT_TRUE(seen);
+}
 
 TEST(Targets, ParseSpecs) {
   IntervalTarget a = parse_target("est_ms_total:1%");

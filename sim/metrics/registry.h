@@ -1,0 +1,70 @@
+// The metric registry: one declaration per image metric (its column, unit, better direction,
+// how a run pools it, whether it is a headline metric). Every consumer reads it from here: the
+// summary and its intervals, paired differences, the fidelity ladder, the convergence study,
+// sweeps (iso-budget quality columns), the console summary, `fovsim info --json` and, through
+// the run's manifest, the Python loaders and the plots (viz/common.py). Adding a metric is its
+// file under sim/metrics/ plus one entry in registry.cpp.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "sim/core/params.h"
+
+namespace fovsim {
+
+enum class Better { higher, lower };
+
+// How a configuration's per-frame values become its summary value.
+enum class Pooling {
+  // The mean of the per-frame values (PSNR, SSIM, FLIP, RMSEs); interval by batch means.
+  frame_mean,
+  // The per-frame column `pooled_column` holds a quantity whose mean over the frames is the
+  // metric's pooled value before a monotone map `from_mean` (FovVideoVDP: per-frame Q, mean
+  // over frames, then the JOD regression of Mantiuk et al. 2021 §11). The summary column is
+  // from_mean(mean), its interval the batch-means interval of the mean mapped through
+  // from_mean (asymmetric; `_ci95` is half its width), and a paired difference is the
+  // difference of the pooled values with a batch-means interval over per-batch differences.
+  sequence,
+};
+
+struct MetricDecl {
+  std::string name;     // frames.csv / summary.csv column, or the prefix of a family
+  bool family = false;  // name is a prefix: rmse_ecc_<a>_<b>, flip_ecc_<a>_<b>
+  std::string unit;     // "dB", "1" (dimensionless), "JOD", "luma"
+  std::string label;    // axis label for plots, e.g. "PSNR [dB]"
+  Better better = Better::higher;
+  Pooling pooling = Pooling::frame_mean;
+  std::string pooled_column;              // Pooling::sequence: the per-frame column pooled
+  double (*from_mean)(double) = nullptr;  // Pooling::sequence: pooled mean -> summary value
+  // Headline metrics are compared pairwise (paired.csv), shown in the console summary, the
+  // fidelity ladder and the plots, and used as iso-budget quality columns.
+  bool headline = false;
+  // In the convergence study's stopping rule: none, within `--tol-db`, within `--tol-flip` (an
+  // absolute tolerance on a [0, 1] metric) or within `--tol-jod`.
+  enum class Tol { none, db, unit, jod } convergence_tol = Tol::none;
+  // printf precision of the metric in tables (console summary, fidelity report).
+  int precision = 3;
+  std::string cite;  // paper, author and year
+  std::string doc;   // one line: what the value means
+};
+
+// Every image metric, in display order.
+const std::vector<MetricDecl>& metric_registry();
+
+// The declaration a column belongs to (exact name, or a family's prefix followed by the band
+// suffix); nullptr for a column that is not an image metric (costs, counters, parameters).
+const MetricDecl* find_metric(const std::string& column);
+
+// Headline metric names in registry order.
+std::vector<std::string> headline_metric_names();
+
+// True when a larger value of `column` is better: the registry's direction for metrics; false
+// (lower is better) for every other column (costs, times, counts).
+bool higher_is_better(const std::string& column);
+
+// The registry as JSON ([{"name", "family", "unit", "label", "better", "pooling",
+// "pooled_column", "headline", "convergence_tol", "precision", "cite", "doc"}]): written into
+// every run's manifest and by `fovsim info --json`, so viz and Python read the same list.
+Json metric_registry_json();
+
+}  // namespace fovsim
