@@ -2,6 +2,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <cmath>
 #include <filesystem>
 
 #include "sim/core/error.h"
@@ -13,11 +14,43 @@ Display Display::from_params(Params& p) {
   d.name = p.string("name", "custom");
   d.width = p.integer("width", Range::closed(1, 16384));
   d.height = p.integer("height", Range::closed(1, 16384));
-  d.fov_h_deg = p.number("fov_h_deg", Range::above(0, 179));
-  d.fov_v_deg = p.number("fov_v_deg", Range::above(0, 179));
   d.refresh_hz = p.number("refresh_hz", 90.0, Range::above(0, 1000));
   d.eyes = p.integer("eyes", 1, Range::closed(1, 2));
   d.source = p.string("source", "");
+  // Photometry and physical geometry (FovVideoVDP's display model, Mantiuk et al. 2021).
+  d.peak_luminance = p.number("peak_luminance", 100.0, Range::above(0, 1e5));
+  d.black_luminance = p.number("black_luminance", 0.0, Range::closed(0, 1e4));
+  d.contrast = p.number("contrast", 500.0, Range::above(1, 1e9));
+  d.ambient_lux = p.number("ambient_lux", 0.0, Range::closed(0, 1e6));
+  d.reflectivity = p.number("reflectivity", 0.005, Range::closed(0, 1));
+  d.viewing_distance_m = p.number("viewing_distance_m", 0.0, Range::closed(0, 100));
+  d.diagonal_inches = p.number("diagonal_inches", 0.0, Range::closed(0, 1000));
+  d.fov_diagonal_deg = p.number("fov_diagonal_deg", 0.0, Range::closed(0, 179));
+  if (d.black_luminance >= d.peak_luminance)
+    throw Error(p.where("black_luminance"),
+                "must be below peak_luminance (" + std::to_string(d.peak_luminance) + " cd/m2)");
+  if (d.diagonal_inches > 0 && d.fov_diagonal_deg > 0)
+    throw Error(p.where("diagonal_inches"), "give diagonal_inches or fov_diagonal_deg, not both");
+  const bool geometry = d.diagonal_inches > 0 || d.fov_diagonal_deg > 0;
+  if (geometry && !p.has("fov_h_deg")) {
+    // A flat screen: FOV from its physical size at the viewing distance (3 m when unknown).
+    const double dist = d.viewing_distance_m > 0 ? d.viewing_distance_m : 3.0;
+    const double a = double(d.width) / double(d.height);
+    double h_m;
+    if (d.diagonal_inches > 0) {
+      const double D = d.diagonal_inches * 0.0254;
+      h_m = std::sqrt(D * D / (1 + a * a));
+    } else {
+      const double px = std::sqrt(double(d.width) * d.width + double(d.height) * d.height) /
+                        (2.0 * std::tan(deg2rad(d.fov_diagonal_deg) / 2.0));
+      h_m = d.height * dist / px;
+    }
+    d.fov_h_deg = rad2deg(2.0 * std::atan(a * h_m / (2.0 * dist)));
+    d.fov_v_deg = rad2deg(2.0 * std::atan(h_m / (2.0 * dist)));
+  } else {
+    d.fov_h_deg = p.number("fov_h_deg", Range::above(0, 179));
+    d.fov_v_deg = p.number("fov_v_deg", Range::above(0, 179));
+  }
   p.ignore("comment");
   return d;
 }
@@ -35,9 +68,22 @@ Display Display::load(const std::string& name_or_path, const std::string& models
 }
 
 Json Display::to_json() const {
-  return Json{{"name", name},           {"width", width},         {"height", height},
-              {"fov_h_deg", fov_h_deg}, {"fov_v_deg", fov_v_deg}, {"refresh_hz", refresh_hz},
-              {"eyes", eyes},           {"source", source}};
+  return Json{{"name", name},
+              {"width", width},
+              {"height", height},
+              {"fov_h_deg", fov_h_deg},
+              {"fov_v_deg", fov_v_deg},
+              {"refresh_hz", refresh_hz},
+              {"eyes", eyes},
+              {"source", source},
+              {"peak_luminance", peak_luminance},
+              {"black_luminance", black_luminance},
+              {"contrast", contrast},
+              {"ambient_lux", ambient_lux},
+              {"reflectivity", reflectivity},
+              {"viewing_distance_m", viewing_distance_m},
+              {"diagonal_inches", diagonal_inches},
+              {"fov_diagonal_deg", fov_diagonal_deg}};
 }
 
 Display Display::scaled(double s) const {

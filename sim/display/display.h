@@ -16,9 +16,20 @@ struct Display {
   double refresh_hz = 90.0;
   int eyes = 2;
   std::string source;  // where the numbers come from
+  // Photometry (FovVideoVDP's display model, Mantiuk et al. 2021; defaults of its reference
+  // display database): peak luminance cd/m², black level cd/m² (0 = from the contrast),
+  // contrast (used when black_luminance is 0), ambient illuminance lux, panel reflectivity.
+  double peak_luminance = 100.0, black_luminance = 0.0, contrast = 500.0;
+  double ambient_lux = 0.0, reflectivity = 0.005;
+  // Optional physical geometry: viewing distance (0 = unknown, 3 m assumed by FovVideoVDP) and
+  // either a diagonal size or a diagonal FOV (0 = absent; the FOVs above then give the size).
+  double viewing_distance_m = 0.0, diagonal_inches = 0.0, fov_diagonal_deg = 0.0;
 
   // Reads models/displays/NAME.json or a path; keys: name, width, height, fov_h_deg,
-  // fov_v_deg, refresh_hz, eyes, source. Unknown keys are errors.
+  // fov_v_deg, refresh_hz, eyes, source, peak_luminance, black_luminance, contrast, ambient_lux,
+  // reflectivity, viewing_distance_m, diagonal_inches, fov_diagonal_deg (configs/README.md).
+  // fov_h_deg/fov_v_deg may be omitted when viewing_distance_m and diagonal_inches or
+  // fov_diagonal_deg are given (a flat screen: derived from its size). Unknown keys are errors.
   static Display from_params(Params& p);
   static Display load(const std::string& name_or_path, const std::string& models_dir);
   Json to_json() const;

@@ -1,0 +1,169 @@
+// FovVideoVDP v1.2 (calibration "fvvdp_1_20"): Mantiuk, Denes, Chapiro, Kaplanyan, Rufo, Bachy,
+// Lian, Patney, "FovVideoVDP: A Visible Difference Predictor for Wide Field-of-View Video", ACM
+// TOG 40(4) 2021, implemented from the restatement in ../shared/metrics/FovVideoVDP.md, which
+// follows the reference code (pyfvvdp v1.2.x) including the quirks that change numbers. Section
+// numbers (§) below are that restatement's.
+//
+// Inputs are display-encoded sRGB images in [0,1] (fovsim::Image, 3 channels; the values a run
+// compares). Output: JOD (10 = no visible difference). Per-pixel work is float32; every large
+// sum is accumulated in double in a fixed order, so results are bit-identical at any thread
+// count.
+//
+// A run scores N methods against one reference per frame: FvvdpReferenceStream holds the
+// reference side of a frame (its temporal history, pyramid, adaptation luminance and CSF values,
+// which depend on the reference and the gaze only) and is pushed once per frame;
+// FvvdpTestStream holds one method's history and is pushed once per frame after the reference.
+#pragma once
+#include <array>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "sim/core/image.h"
+#include "sim/display/display.h"
+
+namespace fovsim {
+
+// What the metric needs of a display (§3).
+struct FvvdpDisplay {
+  std::string name;
+  int width = 0, height = 0;  // native resolution, pixels
+  double ppd = 0;             // pixels per degree at the centre (§3.2)
+  double w_m = 0, h_m = 0;    // physical size, metres
+  double d_m = 0;             // viewing distance, metres
+  double y_peak = 0;          // cd/m²
+  double y_black = 0;         // cd/m², including reflected ambient light (§3.1)
+
+  // §3.1/§3.2 from the reference display database's keys. Exactly one of diagonal_inches > 0 or
+  // fov_diagonal_deg > 0. contrast <= 0 and min_luminance <= 0 mean absent (C = 500).
+  static FvvdpDisplay from_spec(const std::string& name, int width, int height,
+                                double viewing_distance_m, double diagonal_inches,
+                                double fov_diagonal_deg, double max_luminance, double contrast,
+                                double min_luminance, double ambient_lux, double k_refl = 0.005);
+  // The four entries of §3.3: standard_4k, standard_fhd, standard_hmd, htc_vive_pro. Throws
+  // fovsim::Error for another name.
+  static FvvdpDisplay standard(const std::string& name);
+  // From a fovsim display: its geometry keys (viewing_distance_m with diagonal_inches or
+  // fov_diagonal_deg) when given, else its FOV (w_m = 2 d tan(fov_h/2), d = viewing distance or
+  // 3 m); its photometry keys.
+  static FvvdpDisplay from_display(const Display& d);
+  // The same physical display sampled at w x h pixels (ppd scales with w; §3.2 formula).
+  FvvdpDisplay scaled_to(int w, int h) const;
+  // "FovVideoVDP v1.2, 75.4 [pix/deg], Lpeak=200, Lblack=0.5979 [cd/m^2], non-foveated, (name)"
+  std::string describe(bool foveated) const;
+};
+
+// Options of a stream. fps <= 0: every pushed frame is a still image (§5.1; no temporal
+// channel). fps > 0: consecutive pushes are a video at fps Hz (§5.2; fps must give L >= 2 taps,
+// i.e. fps > 4).
+struct FvvdpOptions {
+  double fps = 0;
+  bool foveated = false;
+};
+
+struct FvvdpBandState;  // per-band reference data (internal)
+
+class FvvdpReferenceStream {
+ public:
+  // `display` as the frames are sampled (use scaled_to for a simulation at render.scale < 1).
+  // Frames pushed must be width x height (the display's resolution is not required: §1).
+  FvvdpReferenceStream(const FvvdpDisplay& display, int width, int height, FvvdpOptions opt);
+  ~FvvdpReferenceStream();
+  FvvdpReferenceStream(FvvdpReferenceStream&&) noexcept;
+  FvvdpReferenceStream& operator=(FvvdpReferenceStream&&) noexcept;
+
+  // Pushes the next reference frame (display-encoded RGB or grey) with the gaze in pixels from
+  // the top-left (used only when foveated; §3.4). Throws fovsim::Error on a size mismatch.
+  void push(const Image& ref, double gaze_px_x, double gaze_px_y);
+  // As push with the default gaze (⌊W/2⌋, ⌊H/2⌋).
+  void push(const Image& ref);
+  void reset();  // forget the history (the next push is frame 0)
+
+  int frames() const { return frames_; }  // frames pushed since construction/reset
+  int width() const { return W_; }
+  int height() const { return H_; }
+  int bands() const { return int(band_freq_.size()); }
+  int channels() const { return video_ ? 2 : 1; }  // sustained (+ transient for video)
+  bool video() const { return video_; }
+  const std::vector<double>& band_frequencies() const { return band_freq_; }  // cpd (§6.1)
+  const FvvdpDisplay& display() const { return disp_; }
+  const FvvdpOptions& options() const { return opt_; }
+  const std::vector<double>& temporal_sustained() const { return fs_; }
+  const std::vector<double>& temporal_transient() const { return ft_; }
+  // For tests: the last frame's adaptation luminance and sensitivity S of band b, channel c.
+  const std::vector<float>& adaptation(int b) const;
+  const std::vector<float>& sensitivity(int b, int c) const;
+
+ private:
+  friend class FvvdpTestStream;
+  struct Impl;
+  FvvdpDisplay disp_;
+  FvvdpOptions opt_;
+  int W_ = 0, H_ = 0;
+  bool video_ = false;
+  int frames_ = 0;
+  std::vector<double> band_freq_, fs_, ft_;
+  std::unique_ptr<Impl> impl_;
+};
+
+class FvvdpTestStream {
+ public:
+  explicit FvvdpTestStream(const FvvdpReferenceStream& ref);
+  ~FvvdpTestStream();
+  FvvdpTestStream(FvvdpTestStream&&) noexcept;
+  FvvdpTestStream& operator=(FvvdpTestStream&&) noexcept;
+
+  // Scores the next test frame against the reference's current frame (push the reference
+  // first; the frame counts must then agree, else fovsim::Error). Returns this frame's Q_tc
+  // (§10 step 3) and records it.
+  double push(const Image& test, const FvvdpReferenceStream& ref);
+  void reset();
+
+  int frames() const { return int(q_tc_.size()); }
+  // Q[b][c] of the last frame (§10 step 1, without the transient weight), c = 0 sustained, 1
+  // transient (0 for images).
+  double q_band(int b, int c) const { return last_q_[size_t(b)][size_t(c)]; }
+  const std::vector<std::array<double, 2>>& q_bands() const { return last_q_; }
+  const std::vector<double>& q_per_frame() const { return q_tc_; }
+  double mean_q() const;  // §10 step 4 over the frames pushed
+  double jod() const;     // fvvdp_jod_from_q(mean_q())
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  std::vector<double> q_tc_;
+  std::vector<std::array<double, 2>> last_q_;
+};
+
+// JOD of a pooled Q (§10 step 4, §11): 10 − 0.0161713 · Q^0.5915616.
+double fvvdp_jod_from_q(double mean_q);
+
+struct FvvdpResult {
+  double jod = 10;
+  double mean_q = 0;  // mean over frames of Q_tc (§10 step 4)
+  int frames = 0, bands = 0, channels = 1;
+  std::vector<double> band_freq;                      // cpd
+  std::vector<std::vector<std::array<double, 2>>> q;  // q[n][b][c] (§10 step 1)
+  std::vector<double> q_tc;                           // per frame
+  std::string display_line;                           // FvvdpDisplay::describe
+};
+
+// One-shot: test.size() == ref.size() frames; N = 1 is the still-image path (fps ignored), N >= 2
+// a video at fps. gaze_px: empty (default gaze), one point for all frames, or one per frame.
+FvvdpResult fvvdp(const std::vector<Image>& test, const std::vector<Image>& ref,
+                  const FvvdpDisplay& display, double fps, bool foveated,
+                  const std::vector<std::pair<double, double>>& gaze_px = {});
+
+// Internals exposed for the unit tests (spec sanity values).
+namespace fvvdp_detail {
+// §8.2 formula (without the sensitivity correction), omega in Hz, rho cpd, L cd/m², e degrees.
+double csf_formula(double rho, double omega, double L, double e);
+// §8.3 table lookup (without the correction); omega 0 or 5.
+double csf_table(double rho, double omega, double L, double e);
+int filter_length(double fps);
+void temporal_taps(double fps, std::vector<double>& fs, std::vector<double>& ft);
+std::vector<double> band_frequencies(int height, int width, double ppd);
+}  // namespace fvvdp_detail
+
+}  // namespace fovsim
