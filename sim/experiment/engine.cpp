@@ -32,6 +32,7 @@
 #include "sim/foveation/factory.h"
 #include "sim/foveation/frame.h"
 #include "sim/foveation/simd_kernels.h"
+#include "sim/metrics/fvvdp.h"
 #include "sim/metrics/metrics.h"
 #include "sim/metrics/registry.h"
 #include "sim/render/embree_device.h"
@@ -86,7 +87,8 @@ struct MethodRun {
   std::string method;
   std::unique_ptr<FoveationMethod> impl;
   TemporalState temporal;
-  FrameOutput fo;            // reused every frame (its image keeps its storage)
+  std::unique_ptr<FvvdpTestStream> fvvdp;  // this method's FovVideoVDP history (metrics.fvvdp)
+  FrameOutput fo;                          // reused every frame (its image keeps its storage)
   double prev_est_ms = NAN;  // latency.render_from_estimate: last frame's estimate (first GPU)
 };
 
@@ -244,6 +246,12 @@ struct Cell {
   LatencyConfig latency;  // issue 17 (docs/latency.md)
   std::set<std::string> metric_names;
   std::vector<float> est_ecc;  // eccentricity around the estimated gaze, reused
+  // FovVideoVDP (metrics.fvvdp): the reference side of each frame, pushed once per frame and
+  // shared by the cell's methods. A video at the display's refresh rate when the frames are
+  // consecutive (frames.stride 1, trace order); the still-image path otherwise (set by
+  // run_cells before the first frame; manifest "fvvdp").
+  std::unique_ptr<FvvdpReferenceStream> fvvdp_ref;
+  bool fvvdp_video = true;
   // --target (intervals.h): each cell stops on its own once its targets hold, so its frames do
   // not depend on the other cells of its group (sweep batches and shards give the same cell).
   bool stopped = false, met = false;
@@ -322,6 +330,21 @@ struct Cell {
     if (want_images) write_images(img_dir, "reference", ref_display, &fd.reference, io, image_jobs);
     pc = phases.lap("images", pc);
     FrameContext ctx = fd.context(*sh.scene, renderer, sh.sim_display, want_images && io.debug);
+    if (mcfg.fvvdp) {
+      if (!fvvdp_ref) {
+        FvvdpOptions fo;
+        fo.fps = fvvdp_video ? sh.display.refresh_hz : 0.0;
+        fo.foveated = mcfg.fvvdp_foveated;
+        fvvdp_ref = std::make_unique<FvvdpReferenceStream>(
+            FvvdpDisplay::from_display(sh.display)
+                .scaled_to(sh.sim_display.width, sh.sim_display.height),
+            sh.sim_display.width, sh.sim_display.height, fo);
+      }
+      // The true gaze (also under the latency what-if); fd.gaze_px is a screen point whose
+      // pixel centres are at i + 0.5, the metric's gaze a pixel index (Mantiuk et al. 2021).
+      fvvdp_ref->push(ref_display, fd.gaze_px.x - 0.5, fd.gaze_px.y - 0.5);
+      pc = phases.lap("metrics", pc);
+    }
     // Latency what-if: methods see the gaze at t - latency, metrics keep fd's true gaze.
     const double period = 1.0 / sh.display.refresh_hz;
     const char* phase = nullptr;
@@ -387,6 +410,12 @@ struct Cell {
       pc = phases.lap("tonemap", pc);
       Counters metrics = compute_metrics(mcfg, out_display, *refd, fd.camera, fd.eccentricity,
                                          &m.temporal, &metrics_scratch);
+      if (fvvdp_ref) {
+        if (!m.fvvdp) m.fvvdp = std::make_unique<FvvdpTestStream>(*fvvdp_ref);
+        const double q = m.fvvdp->push(out_display, *fvvdp_ref);
+        metrics.set("fvvdp_q", q);  // pooled over the run into summary fvvdp_jod (registry)
+        metrics.set("fvvdp_jod", fvvdp_jod_from_q(q));
+      }
       for (auto& f : fo.flags) flags_seen.insert(m.label + ":" + f);
       if (latency.enabled)
         for (auto& kv : metrics.items()) metric_names.insert(kv.first);
@@ -474,10 +503,12 @@ struct Cell {
 
   // Forget the frame history (temporal methods, temporal_error) before a non-contiguous frame.
   void reset_temporal() {
+    if (fvvdp_ref) fvvdp_ref->reset();
     for (auto& m : methods) {
       m.impl->reset();
       if (m.impl->lighting()) m.impl->lighting()->reset();
       m.temporal.reset();
+      if (m.fvvdp) m.fvvdp->reset();
       m.prev_est_ms = NAN;
     }
   }
@@ -641,6 +672,22 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
       temporal = temporal || m.impl->temporal() ||
                  (sh.scene->wants_indirect && m.impl->lighting() && m.impl->lighting()->temporal());
   const bool shuffled = sampled && !temporal;
+  // FovVideoVDP's mode (docs/metrics.md): a video of consecutive frames, else still images.
+  for (auto& c : cells) {
+    c->fvvdp_video = sh.stride == 1 && !shuffled;
+    if (c->mcfg.fvvdp)
+      c->manifest["fvvdp"] = {
+          {"mode", c->fvvdp_video ? "video" : "image"},
+          {"fps", c->fvvdp_video ? sh.display.refresh_hz : 0.0},
+          {"foveated", c->mcfg.fvvdp_foveated},
+          {"why", c->fvvdp_video ? "consecutive frames at the display's refresh rate"
+                  : sh.stride != 1
+                      ? "frames.stride > 1: frames are not consecutive, each is a still image"
+                      : "--target evaluates units in random order: each frame a still image"},
+          {"display", FvvdpDisplay::from_display(sh.display)
+                          .scaled_to(sh.sim_display.width, sh.sim_display.height)
+                          .describe(c->mcfg.fvvdp_foveated)}};
+  }
   const int unit = sampled ? kTargetUnitFrames : std::max(sh.count, 1);
   const int units = (sh.count + unit - 1) / unit;
   std::vector<int> unit_order(size_t(units), 0);

@@ -50,8 +50,13 @@ double local_ppd(const Camera& cam, double px, double py);
 
 struct MetricsConfig {
   bool psnr = true, ssim = true, fpsnr = true, regions = true, temporal = true;
-  bool flip = true;        // LDR-FLIP mean `flip` (+ flip_ecc_<a>_<b> bands when `regions`)
-  double fovea_deg = 5.0;  // fovea radius for rmse_fovea
+  bool flip = true;  // LDR-FLIP mean `flip` (+ flip_ecc_<a>_<b> bands when `regions`)
+  // FovVideoVDP (Mantiuk et al. 2021): per-frame `fvvdp_q`, `fvvdp_jod`; summary `fvvdp_jod`
+  // pooled over the run (sim/metrics/registry.h). Computed by the run engine's streams
+  // (sim/metrics/fvvdp.h), not by compute_metrics.
+  bool fvvdp = true;
+  bool fvvdp_foveated = true;  // foveated around the frame's true gaze (false: non-foveated)
+  double fovea_deg = 5.0;      // fovea radius for rmse_fovea
   std::vector<double> band_edges_deg{0, 5, 10, 20, 30, 60};  // rmse_ecc_<a>_<b> columns
   // Not a config key: set by the runner to 1 / render.scale so FPSNR's Nyquist clip is that
   // of the real display even when the simulation runs at a reduced resolution.

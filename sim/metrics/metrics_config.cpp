@@ -7,6 +7,8 @@
 // | regions        | bool     | true                 | rmse_fovea/periphery + bands   |
 // | temporal       | bool     | true                 | temporal_error                 |
 // | flip           | bool     | true                 | flip (+ flip_ecc_* bands)      |
+// | fvvdp          | bool     | true                 | fvvdp_q, fvvdp_jod             |
+// | fvvdp_foveated | bool     | true                 | foveated around the true gaze  |
 // | fovea_deg      | number   | 5                    | (0, 180]                       |
 // | band_edges_deg | number[] | [0,5,10,20,30,60]    | [0, 180], strictly increasing, |
 // |                |          |                      | empty (no bands) or >= 2 edges |
@@ -25,6 +27,8 @@ MetricsConfig MetricsConfig::from_params(Params& p) {
   c.regions = p.boolean("regions", c.regions);
   c.temporal = p.boolean("temporal", c.temporal);
   c.flip = p.boolean("flip", c.flip);
+  c.fvvdp = p.boolean("fvvdp", c.fvvdp);
+  c.fvvdp_foveated = p.boolean("fvvdp_foveated", c.fvvdp_foveated);
   c.fovea_deg = p.number("fovea_deg", c.fovea_deg, Range::above(0.0, 180.0));
   c.band_edges_deg = p.numbers("band_edges_deg", c.band_edges_deg, Range::closed(0.0, 180.0));
   if (c.band_edges_deg.size() == 1)
