@@ -189,9 +189,17 @@ def load_metric_registry(manifest=None):
     return _REGISTRY
 
 
+FL_SUFFIX = "_fl"  # against full at the method's sampling rate (registry.h kFoveationLossSuffix)
+
+
 def metric_decl(col):
-    """The registry declaration of a column (exact, pooled column, or family prefix), or None."""
+    """The registry declaration of a column (exact, pooled column, or family prefix, each with an
+    optional foveation-loss suffix "_fl"), or None."""
     reg = _REGISTRY or load_metric_registry()
+    if col.endswith(FL_SUFFIX) and col[:-len(FL_SUFFIX)]:
+        d = metric_decl(col[:-len(FL_SUFFIX)])
+        if d is not None:
+            return d
     for d in reg.values():
         if d.get("family") and col.startswith(d["name"]) and len(col) > len(d["name"]):
             return d
@@ -205,15 +213,19 @@ def higher_is_better(col):
     d = metric_decl(col)
     if d is None:
         return False
-    if d.get("pooled_column") == col and col != d["name"]:
+    base = col[:-len(FL_SUFFIX)] if col.endswith(FL_SUFFIX) and col != d["name"] else col
+    if d.get("pooled_column") == base and base != d["name"]:
         return d.get("better") != "higher"  # FovVideoVDP's Q: larger Q, lower JOD
     return d.get("better") == "higher"
 
 
-def headline_metrics(available=None):
-    """The registry's headline metrics in its order, restricted to `available` columns."""
+def headline_metrics(available=None, with_fl=True):
+    """The registry's headline metrics in its order, then the foveation-loss columns it shows
+    (`<name>_fl`, show_fl), restricted to `available` columns."""
     reg = _REGISTRY or load_metric_registry()
     names = [d["name"] for d in reg.values() if d.get("headline")]
+    if with_fl:
+        names += [d["name"] + FL_SUFFIX for d in reg.values() if d.get("headline") and d.get("show_fl")]
     return [n for n in names if available is None or n in available]
 
 
@@ -224,6 +236,8 @@ def metric_label(col):
     d = metric_decl(col)
     if d is not None and not d.get("family") and col == d["name"]:
         return d.get("label") or col
+    if d is not None and not d.get("family") and col == d["name"] + FL_SUFFIX:
+        return (d.get("label") or d["name"]) + " vs. full at the same sampling"
     if col.startswith("est_ms_"):
         return f"estimated time of pass {col[len('est_ms_'):]} [ms]"
     if col.startswith("rmse_ecc_"):

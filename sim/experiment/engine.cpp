@@ -88,7 +88,10 @@ struct MethodRun {
   std::unique_ptr<FoveationMethod> impl;
   TemporalState temporal;
   std::unique_ptr<FvvdpTestStream> fvvdp;  // this method's FovVideoVDP history (metrics.fvvdp)
-  FrameOutput fo;                          // reused every frame (its image keeps its storage)
+  // The same against `full` at the methods' sampling rate (metrics.foveation_loss).
+  TemporalState temporal_fl;
+  std::unique_ptr<FvvdpTestStream> fvvdp_fl;
+  FrameOutput fo;            // reused every frame (its image keeps its storage)
   double prev_est_ms = NAN;  // latency.render_from_estimate: last frame's estimate (first GPU)
 };
 
@@ -252,6 +255,15 @@ struct Cell {
   // run_cells before the first frame; manifest "fvvdp").
   std::unique_ptr<FvvdpReferenceStream> fvvdp_ref;
   bool fvvdp_video = true;
+  // metrics.foveation_loss: `full` at the methods' sampling rate (one sample per pixel of the
+  // shared G-buffer, its default lighting), rendered once per frame; every method's `<metric>_fl`
+  // is measured against it (docs/metrics.md "Two references").
+  std::unique_ptr<FoveationMethod> fl_full;
+  FrameOutput fl_fo;
+  Image fl_display;
+  MetricsScratch fl_scratch;
+  MetricsConfig fl_mcfg;
+  std::unique_ptr<FvvdpReferenceStream> fvvdp_ref_fl;
   // --target (intervals.h): each cell stops on its own once its targets hold, so its frames do
   // not depend on the other cells of its group (sweep batches and shards give the same cell).
   bool stopped = false, met = false;
@@ -345,6 +357,32 @@ struct Cell {
       fvvdp_ref->push(ref_display, fd.gaze_px.x - 0.5, fd.gaze_px.y - 0.5);
       pc = phases.lap("metrics", pc);
     }
+    if (mcfg.foveation_loss) {
+      if (!fl_full) {
+        Params fp(Json{{"method", "full"}}, job->file, "metrics.foveation_loss");
+        (void)fp.string("method");
+        fl_full = make_method("full", fp);
+        fl_mcfg = mcfg;
+        fl_mcfg.temporal = false;  // temporal_error: against the reference only
+      }
+      FrameContext fctx = ctx;  // the true gaze (full does not use it)
+      fl_fo.image_is_reference = false;
+      fl_fo.counters.clear();
+      fl_fo.debug.clear();
+      fl_fo.flags.clear();
+      render_with_lighting(*fl_full, fctx, fl_fo);
+      sh.tonemap.apply(fl_fo.image_is_reference ? fd.reference : fl_fo.image, fl_display);
+      pc = phases.lap("methods", pc);
+      if (mcfg.fvvdp) {
+        if (!fvvdp_ref_fl)
+          fvvdp_ref_fl = std::make_unique<FvvdpReferenceStream>(
+              FvvdpDisplay::from_display(sh.display)
+                  .scaled_to(sh.sim_display.width, sh.sim_display.height),
+              sh.sim_display.width, sh.sim_display.height, fvvdp_ref->options());
+        fvvdp_ref_fl->push(fl_display, fd.gaze_px.x - 0.5, fd.gaze_px.y - 0.5);
+        pc = phases.lap("metrics", pc);
+      }
+    }
     // Latency what-if: methods see the gaze at t - latency, metrics keep fd's true gaze.
     const double period = 1.0 / sh.display.refresh_hz;
     const char* phase = nullptr;
@@ -415,6 +453,17 @@ struct Cell {
         const double q = m.fvvdp->push(out_display, *fvvdp_ref);
         metrics.set("fvvdp_q", q);  // pooled over the run into summary fvvdp_jod (registry)
         metrics.set("fvvdp_jod", fvvdp_jod_from_q(q));
+      }
+      if (fl_full) {  // the foveation loss: every metric against full at the same sampling rate
+        Counters fl = compute_metrics(fl_mcfg, out_display, fl_display, fd.camera, fd.eccentricity,
+                                      &m.temporal_fl, &fl_scratch);
+        for (auto& [k, v] : fl.items()) metrics.set(k + kFoveationLossSuffix, v);
+        if (fvvdp_ref_fl) {
+          if (!m.fvvdp_fl) m.fvvdp_fl = std::make_unique<FvvdpTestStream>(*fvvdp_ref_fl);
+          const double q = m.fvvdp_fl->push(out_display, *fvvdp_ref_fl);
+          metrics.set(std::string("fvvdp_q") + kFoveationLossSuffix, q);
+          metrics.set(std::string("fvvdp_jod") + kFoveationLossSuffix, fvvdp_jod_from_q(q));
+        }
       }
       for (auto& f : fo.flags) flags_seen.insert(m.label + ":" + f);
       if (latency.enabled)
@@ -504,11 +553,15 @@ struct Cell {
   // Forget the frame history (temporal methods, temporal_error) before a non-contiguous frame.
   void reset_temporal() {
     if (fvvdp_ref) fvvdp_ref->reset();
+    if (fvvdp_ref_fl) fvvdp_ref_fl->reset();
+    if (fl_full) fl_full->reset();
     for (auto& m : methods) {
       m.impl->reset();
       if (m.impl->lighting()) m.impl->lighting()->reset();
       m.temporal.reset();
       if (m.fvvdp) m.fvvdp->reset();
+      if (m.fvvdp_fl) m.fvvdp_fl->reset();
+      m.temporal_fl.reset();
       m.prev_est_ms = NAN;
     }
   }

@@ -27,7 +27,8 @@ bool has_interval(const std::string& column) {
 const std::vector<std::string>& headline_metrics() {
   static const std::vector<std::string> m = [] {
     std::vector<std::string> v = {"est_ms_total", "shaded_fraction"};
-    for (auto& n : headline_metric_names()) v.push_back(n);  // the metric registry
+    // The metric registry's headline metrics and their shown foveation-loss columns.
+    for (auto& n : headline_metric_names(true)) v.push_back(n);
     return v;
   }();
   return m;
@@ -92,7 +93,9 @@ ResultTable paired_differences(const ResultTable& frames) {
       for (auto& m : headline_metrics()) {
         const MetricDecl* decl = find_metric(m);
         const bool seq = decl && decl->pooling == Pooling::sequence;
-        const std::string col = seq ? decl->pooled_column : m;
+        const std::string col =
+            seq ? decl->pooled_column + (is_foveation_loss_column(m) ? kFoveationLossSuffix : "")
+                : m;
         if (!present.count(col)) continue;
         std::vector<double> va, vb, d;  // frame order of config a
         for (auto* ra : rows[a]) {

@@ -51,13 +51,14 @@ RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt) {
   if (c.print_summary) {
     // `+-`: half-widths of the 95% intervals (summary.csv `<col>_ci95`; nan below 20 frames).
     // The metric columns are the registry's headline metrics present in the run.
-    std::vector<const MetricDecl*> shown;
+    // `_fl`: against full at the method's sampling rate (the foveation loss alone).
+    std::vector<std::pair<std::string, int>> shown;  // column, precision
     if (!result.summary.rows().empty())
-      for (auto& d : metric_registry())
-        if (d.headline && !std::isnan(result.summary.rows().front().get(d.name, NAN)))
-          shown.push_back(&d);
+      for (auto& n : headline_metric_names(true))
+        if (!std::isnan(result.summary.rows().front().get(n, NAN)))
+          shown.push_back({n, find_metric(n)->precision});
     std::printf("\n%-16s %-10s %7s %9s %18s", "config", "gpu", "frames", "shaded%", "est_ms");
-    for (auto* d : shown) std::printf(" %16s", d->name.c_str());
+    for (auto& [n, p] : shown) std::printf(" %16s", n.c_str());
     std::printf("\n");
     auto cell = [](double v, double ci, int prec) {
       char b[64];
@@ -73,9 +74,8 @@ RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt) {
       std::printf("%-16s %-10s %7.0f %8.1f%% %18s", id ? id->c_str() : "?", g ? g->c_str() : "?",
                   r.get("frames", 0), 100 * r.get("shaded_fraction", NAN),
                   cell(r.get("est_ms_total", NAN), r.get("est_ms_total_ci95", NAN), 3).c_str());
-      for (auto* d : shown)
-        std::printf(" %16s",
-                    cell(r.get(d->name, NAN), r.get(d->name + "_ci95", NAN), d->precision).c_str());
+      for (auto& [n, p] : shown)
+        std::printf(" %16s", cell(r.get(n, NAN), r.get(n + "_ci95", NAN), p).c_str());
       std::printf("\n");
     }
     std::printf("budget %.2f ms (%.0f Hz); results in %s\n", c.budget_ms, c.refresh_hz,
@@ -130,25 +130,27 @@ ResultTable summarize(const ResultTable& frames, double budget_ms) {
     // Sequence-pooled metrics (sim/metrics/registry.h): the pooled value of the whole run and
     // its interval, the batch-means interval of the pooled column's mean mapped through the
     // metric's monotone map (asymmetric: `_lo`, `_hi`; `_ci95` is half the width).
-    for (auto& d : metric_registry()) {
-      if (d.pooling != Pooling::sequence) continue;
-      std::vector<double> q;
-      bool present = false;
-      for (auto* r : rows) {
-        double v = r->get(d.pooled_column, NAN);
-        present = present || !std::isnan(v);
-        if (std::isfinite(v)) q.push_back(v);
+    for (auto& d : metric_registry())
+      for (const std::string suffix : {"", kFoveationLossSuffix}) {
+        if (d.pooling != Pooling::sequence) continue;
+        const std::string name = d.name + suffix;
+        std::vector<double> q;
+        bool present = false;
+        for (auto* r : rows) {
+          double v = r->get(d.pooled_column + suffix, NAN);
+          present = present || !std::isnan(v);
+          if (std::isfinite(v)) q.push_back(v);
+        }
+        if (!present) continue;
+        MeanInterval ci = batch_means_interval(q);
+        const double v = q.empty() ? NAN : d.from_mean(ci.mean);
+        double a = d.from_mean(ci.lo()), b = d.from_mean(ci.hi());
+        if (a > b) std::swap(a, b);
+        s.set(name, v);
+        s.set(name + "_ci95", 0.5 * (b - a));
+        s.set(name + "_lo", a);
+        s.set(name + "_hi", b);
       }
-      if (!present) continue;
-      MeanInterval ci = batch_means_interval(q);
-      const double v = q.empty() ? NAN : d.from_mean(ci.mean);
-      double a = d.from_mean(ci.lo()), b = d.from_mean(ci.hi());
-      if (a > b) std::swap(a, b);
-      s.set(d.name, v);
-      s.set(d.name + "_ci95", 0.5 * (b - a));
-      s.set(d.name + "_lo", a);
-      s.set(d.name + "_hi", b);
-    }
     std::vector<double> tot;
     for (auto* r : rows) tot.push_back(r->get("est_ms_total", NAN));
     std::sort(tot.begin(), tot.end());

@@ -56,7 +56,12 @@ struct MetricsConfig {
   // (sim/metrics/fvvdp.h), not by compute_metrics.
   bool fvvdp = true;
   bool fvvdp_foveated = true;  // foveated around the frame's true gaze (false: non-foveated)
-  double fovea_deg = 5.0;      // fovea radius for rmse_fovea
+  // Every metric also against `full` at the methods' own sampling rate (one sample per pixel of
+  // the shared G-buffer, default lighting): `<metric>_fl`, the foveation loss alone, without
+  // the 1-spp-vs-converged aliasing floor that the ground-truth columns include. Computed by
+  // the run engine.
+  bool foveation_loss = true;
+  double fovea_deg = 5.0;                                    // fovea radius for rmse_fovea
   std::vector<double> band_edges_deg{0, 5, 10, 20, 30, 60};  // rmse_ecc_<a>_<b> columns
   // Not a config key: set by the runner to 1 / render.scale so FPSNR's Nyquist clip is that
   // of the real display even when the simulation runs at a reduced resolution.

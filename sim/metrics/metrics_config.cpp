@@ -9,6 +9,7 @@
 // | flip           | bool     | true                 | flip (+ flip_ecc_* bands)      |
 // | fvvdp          | bool     | true                 | fvvdp_q, fvvdp_jod             |
 // | fvvdp_foveated | bool     | true                 | foveated around the true gaze  |
+// | foveation_loss | bool     | true                 | <metric>_fl vs full at 1 spp   |
 // | fovea_deg      | number   | 5                    | (0, 180]                       |
 // | band_edges_deg | number[] | [0,5,10,20,30,60]    | [0, 180], strictly increasing, |
 // |                |          |                      | empty (no bands) or >= 2 edges |
@@ -29,6 +30,7 @@ MetricsConfig MetricsConfig::from_params(Params& p) {
   c.flip = p.boolean("flip", c.flip);
   c.fvvdp = p.boolean("fvvdp", c.fvvdp);
   c.fvvdp_foveated = p.boolean("fvvdp_foveated", c.fvvdp_foveated);
+  c.foveation_loss = p.boolean("foveation_loss", c.foveation_loss);
   c.fovea_deg = p.number("fovea_deg", c.fovea_deg, Range::above(0.0, 180.0));
   c.band_edges_deg = p.numbers("band_edges_deg", c.band_edges_deg, Range::closed(0.0, 180.0));
   if (c.band_edges_deg.size() == 1)

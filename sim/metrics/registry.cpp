@@ -33,6 +33,7 @@ std::vector<MetricDecl> make_registry() {
                            "Lee, Pattichis and Bovik 2002",
                            "foveated PSNR: squared error weighted by the eccentricity-dependent "
                            "cutoff frequency"));
+  r.back().show_fl = true;
   r.push_back(frame_metric("ssim", "1", "SSIM [0-1]", Better::higher, true, Tol::none, 4,
                            "Wang et al. 2004", "structural similarity of Rec.709 luma"));
   r.push_back(frame_metric("flip", "1", "LDR-FLIP [0-1, lower is better]", Better::lower, true,
@@ -46,6 +47,7 @@ std::vector<MetricDecl> make_registry() {
     d.pooling = Pooling::sequence;
     d.pooled_column = "fvvdp_q";
     d.from_mean = &fvvdp_jod_from_q;
+    d.show_fl = true;
     r.push_back(d);
   }
   r.push_back(frame_metric("rmse_fovea", "1", "RMSE in the fovea [0-1]", Better::lower, false,
@@ -96,7 +98,8 @@ const std::vector<MetricDecl>& metric_registry() {
   return r;
 }
 
-const MetricDecl* find_metric(const std::string& column) {
+namespace {
+const MetricDecl* find_exact(const std::string& column) {
   for (auto& d : metric_registry()) {
     if (d.family ? column.size() > d.name.size() && column.compare(0, d.name.size(), d.name) == 0
                  : column == d.name)
@@ -106,10 +109,30 @@ const MetricDecl* find_metric(const std::string& column) {
   return nullptr;
 }
 
-std::vector<std::string> headline_metric_names() {
+bool ends_fl(const std::string& c) {
+  const std::string suf = kFoveationLossSuffix;
+  return c.size() > suf.size() && c.compare(c.size() - suf.size(), suf.size(), suf) == 0;
+}
+}  // namespace
+
+const MetricDecl* find_metric(const std::string& column) {
+  if (const MetricDecl* d = find_exact(column)) return d;
+  if (ends_fl(column))
+    return find_exact(column.substr(0, column.size() - std::string(kFoveationLossSuffix).size()));
+  return nullptr;
+}
+
+bool is_foveation_loss_column(const std::string& column) {
+  return ends_fl(column) && !find_exact(column) && find_metric(column);
+}
+
+std::vector<std::string> headline_metric_names(bool with_fl) {
   std::vector<std::string> out;
   for (auto& d : metric_registry())
     if (d.headline) out.push_back(d.name);
+  if (with_fl)
+    for (auto& d : metric_registry())
+      if (d.headline && d.show_fl) out.push_back(d.name + kFoveationLossSuffix);
   return out;
 }
 
@@ -118,7 +141,11 @@ bool higher_is_better(const std::string& column) {
   if (!d) return false;
   // The pooled column of a sequence metric runs the other way round when its map decreases
   // (FovVideoVDP's Q: larger Q, lower JOD).
-  if (d->pooling == Pooling::sequence && column == d->pooled_column)
+  const std::string base =
+      is_foveation_loss_column(column)
+          ? column.substr(0, column.size() - std::string(kFoveationLossSuffix).size())
+          : column;
+  if (d->pooling == Pooling::sequence && base == d->pooled_column)
     return d->from_mean && d->from_mean(1.0) > d->from_mean(2.0) ? d->better == Better::lower
                                                                  : d->better == Better::higher;
   return d->better == Better::higher;
@@ -136,6 +163,7 @@ Json metric_registry_json() {
     j["pooling"] = d.pooling == Pooling::sequence ? "sequence" : "frame_mean";
     j["pooled_column"] = d.pooled_column;
     j["headline"] = d.headline;
+    j["show_fl"] = d.show_fl;
     j["convergence_tol"] = tol_name(d.convergence_tol);
     j["precision"] = d.precision;
     j["cite"] = d.cite;

@@ -14,6 +14,11 @@ namespace fovsim {
 
 enum class Better { higher, lower };
 
+// Suffix of a metric measured against `full` at the method's own sampling rate instead of the
+// converged reference (metrics.foveation_loss): `psnr_fl`, `fvvdp_jod_fl`, `rmse_fovea_fl`, ...
+// The foveation loss alone; the plain column is the loss against the ground truth.
+inline constexpr const char* kFoveationLossSuffix = "_fl";
+
 // How a configuration's per-frame values become its summary value.
 enum class Pooling {
   // The mean of the per-frame values (PSNR, SSIM, FLIP, RMSEs); interval by batch means.
@@ -42,6 +47,9 @@ struct MetricDecl {
   // In the convergence study's stopping rule: none, within `--tol-db`, within `--tol-flip` (an
   // absolute tolerance on a [0, 1] metric) or within `--tol-jod`.
   enum class Tol { none, db, unit, jod } convergence_tol = Tol::none;
+  // Its foveation-loss column (`<name>_fl`) is shown beside the headline metrics in the console
+  // summary and the plots.
+  bool show_fl = false;
   // printf precision of the metric in tables (console summary, fidelity report).
   int precision = 3;
   std::string cite;  // paper, author and year
@@ -52,11 +60,16 @@ struct MetricDecl {
 const std::vector<MetricDecl>& metric_registry();
 
 // The declaration a column belongs to (exact name, or a family's prefix followed by the band
-// suffix); nullptr for a column that is not an image metric (costs, counters, parameters).
+// suffix, each optionally followed by kFoveationLossSuffix); nullptr for a column that is not an
+// image metric (costs, counters, parameters).
 const MetricDecl* find_metric(const std::string& column);
 
-// Headline metric names in registry order.
-std::vector<std::string> headline_metric_names();
+// True when `column` is a foveation-loss column (ends in kFoveationLossSuffix and names a metric).
+bool is_foveation_loss_column(const std::string& column);
+
+// Headline metric names in registry order, then (with_fl) the `_fl` columns of those with
+// show_fl.
+std::vector<std::string> headline_metric_names(bool with_fl = false);
 
 // True when a larger value of `column` is better: the registry's direction for metrics; false
 // (lower is better) for every other column (costs, times, counts).

@@ -219,9 +219,9 @@ TEST(Cli, RunWritesIntervalsAndPairedDifferences) {
   EXPECT_GE(num(1, "est_ms_total_ci95"), 0.0);
   Csv p = read_csv(dir + "/out/paired.csv");
   ASSERT_GE(p.col("diff_ci95"), 0);
-  // full - rmfr: est_ms_total, shaded_fraction and the headline metrics psnr, fpsnr, ssim, flip
-  // (metric registry; fvvdp_jod once the run computes it)
-  ASSERT_EQ(p.rows.size(), 6u);
+  // full - rmfr: est_ms_total, shaded_fraction, the headline metrics psnr, fpsnr, ssim, flip,
+  // fvvdp_jod and the foveation-loss columns fpsnr_fl, fvvdp_jod_fl (the metric registry)
+  ASSERT_EQ(p.rows.size(), 9u);
   for (auto& row : p.rows) {
     EXPECT_EQ(row[size_t(p.col("config_a"))], "full");
     if (row[size_t(p.col("metric"))] == "psnr") {  // inf for full on every frame: nothing paired

@@ -23,6 +23,22 @@ TEST(MetricRegistry, FindsNamesFamiliesAndPooledColumns) {
   EXPECT_EQ(find_metric("shaded_fraction"), nullptr);
 }
 
+TEST(MetricRegistry, FoveationLossColumns) {
+  ASSERT_NE(find_metric("psnr_fl"), nullptr);
+  EXPECT_EQ(find_metric("psnr_fl")->name, "psnr");
+  EXPECT_EQ(find_metric("rmse_ecc_0_5_fl")->name, "rmse_ecc_");
+  EXPECT_EQ(find_metric("fvvdp_q_fl")->name, "fvvdp_jod");
+  EXPECT_TRUE(is_foveation_loss_column("fvvdp_jod_fl"));
+  EXPECT_FALSE(is_foveation_loss_column("fvvdp_jod"));
+  EXPECT_FALSE(is_foveation_loss_column("est_ms_fl"));
+  EXPECT_FALSE(higher_is_better("fvvdp_q_fl"));
+  EXPECT_TRUE(higher_is_better("fvvdp_jod_fl"));
+  EXPECT_FALSE(higher_is_better("flip_fl"));
+  EXPECT_EQ(headline_metric_names(true),
+            (std::vector<std::string>{"psnr", "fpsnr", "ssim", "flip", "fvvdp_jod", "fpsnr_fl",
+                                      "fvvdp_jod_fl"}));
+}
+
 TEST(MetricRegistry, Directions) {
   EXPECT_TRUE(higher_is_better("psnr"));
   EXPECT_TRUE(higher_is_better("fvvdp_jod"));
