@@ -29,6 +29,30 @@ const std::vector<std::string>& headline_metrics() {
   return m;
 }
 
+void paired_columns(const std::vector<const ResultRow*>& a,
+                    const std::map<double, const ResultRow*>& b_by_frame, const std::string& m,
+                    ResultRow& row) {
+  std::vector<double> va, vb, d;  // frame order of config a
+  for (auto* ra : a) {
+    auto it = b_by_frame.find(ra->get("frame", NAN));
+    if (it == b_by_frame.end()) continue;
+    double x = ra->get(m, NAN), y = it->second->get(m, NAN);
+    if (!std::isfinite(x) || !std::isfinite(y)) continue;
+    va.push_back(x);
+    vb.push_back(y);
+    d.push_back(x - y);
+  }
+  MeanInterval ci = batch_means_interval(d);
+  row.set("frames", double(d.size()));
+  row.set("mean_a", batch_means_interval(va).mean);
+  row.set("mean_b", batch_means_interval(vb).mean);
+  row.set("diff", ci.mean);
+  row.set("diff_ci95", ci.half_width);
+  row.set("diff_lo", ci.lo());
+  row.set("diff_hi", ci.hi());
+  row.set("differs", std::isnan(ci.half_width) ? NAN : (ci.lo() > 0 || ci.hi() < 0) ? 1 : 0);
+}
+
 ResultTable paired_differences(const ResultTable& frames) {
   // Per config, in first-seen order: its rows by frame index.
   std::vector<std::string> order;
@@ -55,30 +79,12 @@ ResultTable paired_differences(const ResultTable& frames) {
       for (auto* r : rows[b]) b_by_frame[r->get("frame", NAN)] = r;
       for (auto& m : headline_metrics()) {
         if (!present.count(m)) continue;
-        std::vector<double> va, vb, d;  // frame order of config a
-        for (auto* ra : rows[a]) {
-          auto it = b_by_frame.find(ra->get("frame", NAN));
-          if (it == b_by_frame.end()) continue;
-          double x = ra->get(m, NAN), y = it->second->get(m, NAN);
-          if (!std::isfinite(x) || !std::isfinite(y)) continue;
-          va.push_back(x);
-          vb.push_back(y);
-          d.push_back(x - y);
-        }
-        MeanInterval ci = batch_means_interval(d);
         ResultRow row;
         row.set_text("config_a", a);
         row.set_text("config_b", b);
         row.set_text("gpu", gpu_of[a]);
         row.set_text("metric", m);
-        row.set("frames", double(d.size()));
-        row.set("mean_a", batch_means_interval(va).mean);
-        row.set("mean_b", batch_means_interval(vb).mean);
-        row.set("diff", ci.mean);
-        row.set("diff_ci95", ci.half_width);
-        row.set("diff_lo", ci.lo());
-        row.set("diff_hi", ci.hi());
-        row.set("differs", std::isnan(ci.half_width) ? NAN : (ci.lo() > 0 || ci.hi() < 0) ? 1 : 0);
+        paired_columns(rows[a], b_by_frame, m, row);
         out.add(std::move(row));
       }
     }

@@ -3,6 +3,7 @@
 // run (same frames, same gaze). Estimator: batch means (sim/core/stats.h).
 #pragma once
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,12 @@ const std::vector<std::string>& headline_metrics();
 // differences, nan below kCiMinSamples frames), diff_lo, diff_hi, and differs (1 when the
 // interval excludes 0, 0 when it contains it, nan when undefined).
 ResultTable paired_differences(const ResultTable& frames);
+
+// The numeric columns of one paired.csv row (frames .. differs) for `metric`: config a's rows
+// paired with config b's rows of the same frame index.
+void paired_columns(const std::vector<const ResultRow*>& a,
+                    const std::map<double, const ResultRow*>& b_by_frame, const std::string& metric,
+                    ResultRow& row);
 
 // ---- `fovsim run --target`: stop when the intervals are narrow enough (issue 13 item 3) ----
 
