@@ -170,3 +170,12 @@ TEST(Workflow, SmallerMessages) {
   EXPECT_NE(r.output.find("this is a sweep config: run it with `fovsim sweep"), std::string::npos)
       << r.output;
 }
+
+// Every worked number of docs/ marked <!--n:ID--> reproduces from its tiny run within its
+// stated interval (scripts/docs_numbers.py; `make docs` rewrites them).
+TEST(Workflow, DocsNumbersReproduce) {
+  if (run_cmd("/usr/bin/python3 -c 'import csv'").code != 0) GTEST_SKIP() << "no python3";
+  auto r = run_cmd("/usr/bin/python3 scripts/docs_numbers.py --check --fovsim " + fovsim_bin());
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("numbers reproduce"), std::string::npos) << r.output;
+}
