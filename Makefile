@@ -70,9 +70,11 @@ format:
 clean:
 	rm -rf $(BUILD)
 
-# Regenerates the method parameter tables in docs/methods.md and configs/README.md.
+# Regenerates the method parameter tables in docs/methods.md and configs/README.md, and the
+# worked numbers of docs/ from their tiny runs (scripts/docs_numbers.py).
 docs: build
 	scripts/gen_method_docs.sh $(BUILD)
+	$(PY) scripts/docs_numbers.py --update --fovsim $(BUILD)/fovsim
 
 # Rewrites the regression goldens from the current build (review the diff before committing).
 update-golden: build

@@ -66,6 +66,8 @@ void register_run(CLI::App& app, Action& action) {
       for (auto& t : a->targets) opt.command_line += " --target " + t;
       opt.targets = a->targets;
       RunResult r = run_experiment(cfg, opt);
+      for (auto& w : r.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+      if (!r.printed_summary) std::printf("results in %s\n", r.out_dir.c_str());
       if (!a->no_plots) {
         PlotOutcome p = run_plot_script("plot_run.py", {r.out_dir}, a->quiet);
         if (p.status == PlotOutcome::Status::Failed)

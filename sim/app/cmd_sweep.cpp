@@ -158,6 +158,8 @@ void register_sweep(CLI::App& app, Action& action) {
                 ? "results in %s (summary.csv)\n"
                 : "results in %s; other shards pending: run `fovsim merge %s` when all are done\n",
             r.out_dir.c_str(), r.out_dir.c_str());
+      } else {
+        std::printf("results in %s\n", r.out_dir.c_str());
       }
       if (a->bench) {
         int threads = a->threads > 0 ? a->threads : int(std::thread::hardware_concurrency());
@@ -247,6 +249,7 @@ void register_search(CLI::App& app, Action& action) {
       else
         shard_from_env(opt.shard, opt.shards);
       SearchReport r = run_search(plan, cfg, opt);
+      for (auto& n : r.notes) std::fprintf(stderr, "warning: %s\n", n.c_str());
       if (!a->quiet) {
         std::printf("search %s: %d context%s, %d evaluations (%d from cache)\n", plan.name.c_str(),
                     r.contexts, r.contexts == 1 ? "" : "s", r.evaluations, r.cached);

@@ -2,6 +2,7 @@
 
 #include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <sstream>
 
 #include "sim/core/error.h"
@@ -157,6 +158,39 @@ void Params::set_origins(std::vector<std::pair<std::string, std::string>> origin
   st_->origins = std::move(origins);
 }
 
+void Params::set_inherited(const std::vector<std::pair<std::string, std::string>>& inherited) {
+  st_->inherited.clear();
+  for (auto& [path, file] : inherited) st_->inherited[path] = file;
+}
+
+// The base file that wrote `path` or the nearest value above it ("methods" for
+// "methods[0].sigma": arrays are inherited whole).
+const std::string* Params::inherited_from(const std::string& path) const {
+  if (st_->inherited.empty()) return nullptr;
+  std::string p = path;
+  for (;;) {
+    auto it = st_->inherited.find(p);
+    if (it != st_->inherited.end()) return &it->second;
+    size_t cut = p.find_last_of(".[");
+    if (cut == std::string::npos || cut == 0) return nullptr;
+    p.resize(cut);
+  }
+}
+
+std::string Params::source_dir(const std::string& key) const {
+  const std::string path = path_of(key);
+  for (auto& o : st_->origins) {  // a command-line value is the user's, not a base file's
+    const std::string& q = o.first;
+    if (path.compare(0, q.size(), q) == 0 &&
+        (path.size() == q.size() || path[q.size()] == '.' || path[q.size()] == '['))
+      return "";
+  }
+  const std::string* f = inherited_from(path);
+  if (!f) return "";
+  std::string d = std::filesystem::path(*f).parent_path().string();
+  return d.empty() ? "." : d;
+}
+
 std::string Params::locate(const std::string& path) const {
   // The last override at or above `path` set it (later overrides win, as when applied).
   for (auto it = st_->origins.rbegin(); it != st_->origins.rend(); ++it) {
@@ -166,6 +200,7 @@ std::string Params::locate(const std::string& path) const {
       return "override '" + it->second + "': " + path;
   }
   std::string p = path.empty() ? "(root)" : path;
+  if (const std::string* f = inherited_from(path)) p += " (inherited from " + *f + ")";
   return st_->file.empty() ? p : st_->file + ": " + p;
 }
 
@@ -361,8 +396,20 @@ void Params::finish_rec(const Json& j, const Json::json_pointer& ptr,
       auto p = ptr / it.key();
       std::string sp = path.empty() ? it.key() : path + "." + it.key();
       if (!st_->used.count(p.to_string())) {
-        throw Error(locate(sp),
-                    "unknown key \"" + it.key() + "\" (not a parameter here; check spelling)");
+        // "did you mean": the keys read at this level (defaults included) are the known ones.
+        std::vector<std::string> known;
+        const std::string prefix = ptr.to_string() + "/";
+        for (auto u = st_->used.lower_bound(prefix);
+             u != st_->used.end() && u->compare(0, prefix.size(), prefix) == 0; ++u) {
+          std::string rest = u->substr(prefix.size());
+          if (rest.find('/') == std::string::npos)
+            known.push_back(Json::json_pointer("/" + rest).back());
+        }
+        std::string hint = closest_name(it.key(), known);
+        throw Error(locate(sp), "unknown key \"" + it.key() + "\" (" +
+                                    (hint.empty() ? "not a parameter here; check spelling"
+                                                  : "did you mean \"" + hint + "\"?") +
+                                    ")");
       }
       finish_rec(it.value(), p, sp);
     }

@@ -4,6 +4,7 @@
 // never silently falls back to a default. Reads record the value used (defaults included)
 // into a shared "resolved" document written to manifest.json.
 #pragma once
+#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -83,6 +84,13 @@ class Params {
   // override text). An error at or below such a path names "override 'TEXT'" instead of
   // the config file, so a typo on the command line is not blamed on the file.
   void set_origins(std::vector<std::pair<std::string, std::string>> origins);
+  // Values written by a "base" file of the config: (JSON path, that file). An error at or
+  // below such a path reads "config.json: trace.file (inherited from base.json): ...", and
+  // source_dir() resolves a relative path there against the base file's folder.
+  void set_inherited(const std::vector<std::pair<std::string, std::string>>& inherited);
+  // Folder of the base file that wrote `key` (at or above it), or "" when this object's own
+  // config (or a command-line override) wrote it.
+  std::string source_dir(const std::string& key) const;
 
  private:
   struct State {
@@ -90,7 +98,9 @@ class Params {
     Json resolved = Json::object();
     std::set<std::string> used;  // JSON pointers of keys that were read
     std::vector<std::pair<std::string, std::string>> origins;  // see set_origins
+    std::map<std::string, std::string> inherited;              // see set_inherited
   };
+  const std::string* inherited_from(const std::string& path) const;
   std::string locate(const std::string& path) const;  // "file: path" or "override '…': path"
   Params(Json j, std::shared_ptr<State> st, std::string path, Json::json_pointer ptr);
   const Json* find(const std::string& key) const;

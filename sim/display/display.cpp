@@ -2,6 +2,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -59,8 +60,20 @@ Display Display::load(const std::string& name_or_path, const std::string& models
   std::string path = name_or_path;
   if (path.find('/') == std::string::npos && path.find(".json") == std::string::npos)
     path = models_dir + "/displays/" + name_or_path + ".json";
-  if (!std::filesystem::exists(path))
-    throw Error(path, "display model not found (give a name from models/displays/ or a path)");
+  if (!std::filesystem::exists(path)) {
+    std::vector<std::string> names;
+    std::error_code ec;
+    for (auto& e : std::filesystem::directory_iterator(models_dir + "/displays", ec))
+      if (e.path().extension() == ".json") names.push_back(e.path().stem().string());
+    std::sort(names.begin(), names.end());
+    std::string list;
+    for (auto& n : names) list += (list.empty() ? "" : ", ") + n;
+    std::string hint = closest_name(name_or_path, names);
+    throw Error(path, "display model not found" +
+                          (hint.empty() ? std::string() : " (did you mean \"" + hint + "\"?)") +
+                          "; displays in " + models_dir + "/displays: " +
+                          (list.empty() ? "none" : list) + " (or give a path to a display JSON)");
+  }
   Params p = Params::from_file(path);
   Display d = from_params(p);
   p.finish();

@@ -14,50 +14,82 @@ std::string resolve_path(const std::string& base_dir, const std::string& p) {
   return (fs::path(base_dir) / p).lexically_normal().string();
 }
 
-static void merge_into(Json& dst, const Json& src) {
-  if (dst.is_object() && src.is_object()) {
-    for (auto it = src.begin(); it != src.end(); ++it) {
-      if (dst.contains(it.key()) && dst[it.key()].is_object() && it.value().is_object())
-        merge_into(dst[it.key()], it.value());
-      else
-        dst[it.key()] = it.value();
-    }
-  } else {
+namespace {
+
+// Merges `src` (written by file number `idx` of the chain) into `dst`; `who` mirrors `dst`:
+// an object where `dst` is a merged object, else the number of the file that wrote the value.
+// Recursion follows the JSON nesting, which parse_json_text bounds by kMaxJsonDepth.
+void merge_into(Json& dst, Json& who, const Json& src, int idx) {
+  if (!src.is_object()) {
     dst = src;
+    who = idx;
+    return;
+  }
+  if (!dst.is_object()) dst = Json::object();
+  if (!who.is_object()) who = Json::object();
+  for (auto it = src.begin(); it != src.end(); ++it)
+    merge_into(dst[it.key()], who[it.key()], it.value(), idx);
+}
+
+// (JSON path, file) of every value in `who` written by a file other than number 0.
+void list_inherited(const Json& who, const std::string& path, const std::vector<std::string>& files,
+                    std::vector<std::pair<std::string, std::string>>& out) {
+  if (who.is_object()) {
+    for (auto it = who.begin(); it != who.end(); ++it)
+      list_inherited(it.value(), path.empty() ? it.key() : path + "." + it.key(), files, out);
+  } else if (who.is_number_integer() && who.get<int>() > 0) {
+    out.emplace_back(path, files[size_t(who.get<int>())]);
   }
 }
 
-static Json load_with_bases(const std::string& path, std::set<std::string>& seen) {
-  std::error_code ec;
-  std::string canon = fs::weakly_canonical(path, ec).string();
-  if (ec) throw Error(path, "cannot resolve path: " + ec.message());
-  if (seen.count(canon)) throw Error(path, "config inheritance cycle through \"base\"");
-  seen.insert(canon);
-  Json doc = Params::parse_json_file(path);
-  if (!doc.is_object()) throw Error(path, "a config must be a JSON object");
-  if (doc.contains("base")) {
+}  // namespace
+
+// The chain CONFIG -> base -> base of base ... is followed in a loop (no recursion: a chain of
+// any length costs no stack) up to kMaxBaseDepth files, then merged from the last base on.
+static Json load_with_bases(const std::string& path, LoadedConfig& c) {
+  std::vector<std::string> files{path};
+  std::vector<Json> docs;
+  std::set<std::string> seen;
+  for (;;) {
+    const std::string& f = files.back();
+    std::error_code ec;
+    std::string canon = fs::weakly_canonical(f, ec).string();
+    if (ec) throw Error(f, "cannot resolve path: " + ec.message());
+    if (seen.count(canon)) throw Error(f, "config inheritance cycle through \"base\"");
+    seen.insert(canon);
+    Json doc = Params::parse_json_file(f);
+    if (!doc.is_object()) throw Error(f, "a config must be a JSON object");
+    if (!doc.contains("base")) {
+      docs.push_back(std::move(doc));
+      break;
+    }
     if (!doc["base"].is_string())
-      throw Error(path + ": base", "expected a path string, got " + describe_json(doc["base"]));
+      throw Error(f + ": base", "expected a path string, got " + describe_json(doc["base"]));
+    // Relative to the file that names it, whatever its depth in the chain.
     std::string base =
-        resolve_path(fs::path(path).parent_path().string(), doc["base"].get<std::string>());
-    if (!fs::exists(base, ec))
-      throw Error(path + ": base", "base config \"" + base + "\" not found");
-    Json merged = load_with_bases(base, seen);
+        resolve_path(fs::path(f).parent_path().string(), doc["base"].get<std::string>());
     doc.erase("base");
-    merge_into(merged, doc);
-    return merged;
+    docs.push_back(std::move(doc));
+    if (!fs::exists(base, ec)) throw Error(f + ": base", "base config \"" + base + "\" not found");
+    if (int(files.size()) >= kMaxBaseDepth)
+      throw Error(f + ": base", "\"base\" chain longer than " + std::to_string(kMaxBaseDepth) +
+                                    " files (the limit of config inheritance; starting at " + path +
+                                    ")");
+    files.push_back(base);
   }
-  return doc;
+  Json merged = Json::object(), who = Json::object();
+  for (size_t i = docs.size(); i-- > 0;) merge_into(merged, who, docs[i], int(i));
+  list_inherited(who, "", files, c.inherited);
+  return merged;
 }
 
 LoadedConfig load_config(const std::string& path, const std::vector<std::string>& overrides) {
   LoadedConfig c;
   c.file = path;
   c.base_dir = fs::path(path).parent_path().string();
-  std::set<std::string> seen;
   std::error_code ec;
   if (!fs::exists(path, ec)) throw Error(path, "config file not found");
-  c.doc = load_with_bases(path, seen);
+  c.doc = load_with_bases(path, c);
   for (auto& o : overrides) c.overridden.emplace_back(apply_override(c.doc, o), o);
   return c;
 }

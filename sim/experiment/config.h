@@ -1,6 +1,8 @@
 // Run configs (DESIGN §3): JSON with optional inheritance ("base": "other.json", merged
-// recursively; arrays replace) and command-line overrides key.path=value. Paths inside a
-// config are relative to the config file's directory.
+// recursively; arrays replace) and command-line overrides key.path=value. A relative path in
+// a config (trace.file, trace.map, scene.path, a "base" itself) is relative to the folder of
+// the file that wrote it, through any depth of "base"; errors about an inherited value name
+// the file it came from ("inherited from base.json").
 #pragma once
 #include <string>
 #include <vector>
@@ -15,7 +17,13 @@ struct LoadedConfig {
   std::string base_dir;  // directory of that file (for relative paths)
   // (JSON path, override text) of each command-line override, for Params::set_origins.
   std::vector<std::pair<std::string, std::string>> overridden;
+  // (JSON path, base file) of every value written by a base file, for Params::set_inherited.
+  std::vector<std::pair<std::string, std::string>> inherited;
 };
+
+// Longest "base" chain accepted (files, the config itself included). Configs inherit one or
+// two levels; the chain is followed in a loop, so the limit is about mistakes, not the stack.
+constexpr int kMaxBaseDepth = 256;
 
 // Loads CONFIG, applies "base" chains (cycle-checked) and then `overrides` in order.
 LoadedConfig load_config(const std::string& path, const std::vector<std::string>& overrides = {});

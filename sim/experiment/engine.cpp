@@ -37,6 +37,7 @@
 #include "sim/metrics/registry.h"
 #include "sim/render/embree_device.h"
 #include "sim/render/renderer.h"
+#include "sim/trace/stats.h"
 #include "sim/trace/trace.h"
 
 namespace fovsim {
@@ -143,6 +144,7 @@ struct Shared {
   Trace trace;
   Trace raw_trace;  // before resampling: gaze at any time for the latency what-if
   int start = 0, stride = 1, count = 0;
+  int warmup = 0;  // frames.warmup: rendered before `start`, not recorded
   double pixel_scale = 1;
   Json resolved;  // resolved shared keys (for every cell's manifest)
 
@@ -184,6 +186,11 @@ struct Shared {
     start = fp.integer("start", 0, Range::at_least(0));
     stride = fp.integer("stride", 1, Range::closed(1, 1e6));
     count = fp.integer("count", 0, Range::at_least(0));  // 0 = all available
+    // Warm-up frames (frames.warmup): the first `warmup` frames of the range are rendered and
+    // fed to every method (TWFR's cold first frame, temporal history) but not recorded; the
+    // recorded frames, frames.count of them, follow.
+    warmup = fp.integer("warmup", 0, Range::closed(0, 1e6));
+    start += warmup * stride;
     const double needed_s =
         count > 0 ? (double(start) + double(count - 1) * stride + 2.0) / display.refresh_hz
                   : INFINITY;
@@ -205,9 +212,11 @@ struct Shared {
     int avail = int(trace.samples.size());
     std::string on_short = fp.string("on_short_trace", "fail", {"fail", "truncate"});
     if (start >= avail)
-      fp.fail("start", "frame " + std::to_string(start) + " is past the end of the trace (" +
-                           std::to_string(avail) + " frames at " +
-                           format_number(display.refresh_hz) + " Hz)");
+      fp.fail(warmup > 0 ? "warmup" : "start",
+              "frame " + std::to_string(start) +
+                  (warmup > 0 ? " (after " + std::to_string(warmup) + " warm-up frames)" : "") +
+                  " is past the end of the trace (" + std::to_string(avail) + " frames at " +
+                  format_number(display.refresh_hz) + " Hz)");
     int max_count = (avail - start + stride - 1) / stride;
     if (count == 0) count = max_count;
     if (count > max_count) {
@@ -224,6 +233,52 @@ struct Shared {
     (void)cfg_file;
   }
 };
+
+// Values that are valid but probably not what was meant (printed as warnings, recorded in
+// the manifest): an angle in degrees below 1 (phi_f = 0.17 reads as radians), image frames
+// that are not frames of the run, an implausible trace (trace_stats: a map's "unit": "rad" on
+// degrees gives head speeds of hundreds of deg/s). `shared`: also the shared keys' warnings.
+std::vector<std::string> config_warnings(const Json& doc, const Params& root, const Shared& sh,
+                                         const std::set<int>& image_frames, bool shared) {
+  std::vector<std::string> w;
+  if (doc.contains("methods") && doc["methods"].is_array()) {
+    const Json& ms = doc["methods"];
+    for (size_t i = 0; i < ms.size(); ++i) {
+      if (!ms[i].is_object()) continue;
+      for (auto it = ms[i].begin(); it != ms[i].end(); ++it) {
+        const std::string& k = it.key();
+        const bool angle = k == "phi_f" || k == "phi_0" ||
+                           (k.size() > 4 && k.compare(k.size() - 4, 4, "_deg") == 0);
+        if (!angle || !it.value().is_number()) continue;
+        const double v = it.value().get<double>();
+        if (v > 0 && v < 1)
+          w.push_back(root.where("methods[" + std::to_string(i) + "]." + k) + ": " +
+                      format_number(v) + " deg is below 1 degree: angles are in degrees (" +
+                      format_number(v) + " rad would be " + format_number(v * 180 / M_PI) +
+                      " deg)");
+      }
+    }
+  }
+  std::vector<std::string> outside;
+  for (int f : image_frames) {
+    const bool in =
+        f >= sh.start && f < sh.start + sh.count * sh.stride && (f - sh.start) % sh.stride == 0;
+    if (!in) outside.push_back(std::to_string(f));
+  }
+  if (!outside.empty()) {
+    std::string list;
+    for (size_t i = 0; i < outside.size() && i < 8; ++i) list += (i ? ", " : "") + outside[i];
+    if (outside.size() > 8) list += ", ...";
+    w.push_back(root.where("outputs.image_frames") + ": frame" + (outside.size() > 1 ? "s " : " ") +
+                list + " not among the frames of this run (" + std::to_string(sh.start) + " to " +
+                std::to_string(sh.start + (sh.count - 1) * sh.stride) + ", stride " +
+                std::to_string(sh.stride) + "): no images written for " +
+                (outside.size() > 1 ? "them" : "it"));
+  }
+  if (shared)
+    for (auto& t : trace_stats(sh.raw_trace).warnings) w.push_back(root.where("trace") + ": " + t);
+  return w;
+}
 
 // One cell: its methods, metrics, GPU profiles, outputs and accumulated rows.
 struct Cell {
@@ -268,6 +323,7 @@ struct Cell {
   // not depend on the other cells of its group (sweep batches and shards give the same cell).
   bool stopped = false, met = false;
   int used = 0, warmup = 0;
+  std::vector<std::string> warnings;  // config_warnings(): manifest "warnings", printed by the CLI
 
   void parse(Params& root, const std::string& models, bool default_print) {
     name = root.string("name", fs::path(job->file).stem().string());
@@ -499,6 +555,7 @@ struct Cell {
         row.set_text("label", m.label);
         row.set_text("gpu", gpu.name);
         for (auto& [pn, pv] : m.impl->param_columns()) row.set(pn, pv);
+        for (auto& [pn, pv] : m.impl->text_param_columns()) row.set_text(pn, pv);
         if (fd.has_vpls && m.impl->lighting()) {  // lighting strategy columns (results/README.md)
           row.set_text("lighting", m.impl->lighting()->name());
           for (auto& [pn, pv] : m.impl->lighting()->param_columns()) row.set(pn, pv);
@@ -599,6 +656,7 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
           own.erase(it.key());
     Params root(own, job.file);
     root.set_origins(job.origins);
+    root.set_inherited(job.inherited);
     root.ignore("comment");
     root.ignore("description");
     auto cell = std::make_unique<Cell>();
@@ -612,6 +670,7 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
       cell->parse(root, sh.models, opt.print_summary);
     }
     root.finish();  // any key nobody read is a typo: fail before computing anything
+    cell->warnings = config_warnings(job.doc, root, sh, cell->io.frames, ci == 0);
     // FPSNR clips at the real display's Nyquist frequency (docs/metrics.md).
     cell->mcfg.ppd_scale = double(sh.display.width) / double(sh.sim_display.width);
     Json resolved = ci == 0 ? root.resolved() : sh.resolved;
@@ -623,31 +682,33 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
         if (root.resolved().contains(k)) resolved[k] = root.resolved()[k];
       }
     }
-    cell->manifest =
-        Json{{"tool", "fovsim"},
-             {"version", version_string()},
-             {"git_commit", git_commit()},
-             {"command_line", job.command_line},
-             {"config_file", job.file},
-             {"config", job.doc},
-             {"resolved_config", resolved},
-             {"seed", sh.seed},
-             {"display", sh.display.to_json()},
-             {"simulated_resolution", {sh.sim_display.width, sh.sim_display.height}},
-             {"scene",
-              {{"name", sh.scene->name},
-               {"triangles", sh.scene->triangle_count()},
-               {"features", sh.scene->features().to_json()}}},
-             {"trace", {{"source", sh.trace.source}, {"samples", sh.trace.samples.size()}}},
-             {"frames", {{"start", sh.start}, {"count", sh.count}, {"stride", sh.stride}}},
-             {"machine", machine_info()},
-             {"metrics", metric_registry_json()},  // the declarations viz and Python read
-             {"threads", opt.threads > 0 ? opt.threads : int(tbb::info::default_concurrency())},
-             {"start_time", iso_now()},
-             {"status", "running"}};
+    cell->manifest = Json{
+        {"tool", "fovsim"},
+        {"version", version_string()},
+        {"git_commit", git_commit()},
+        {"command_line", job.command_line},
+        {"config_file", job.file},
+        {"config", job.doc},
+        {"resolved_config", resolved},
+        {"seed", sh.seed},
+        {"display", sh.display.to_json()},
+        {"simulated_resolution", {sh.sim_display.width, sh.sim_display.height}},
+        {"scene",
+         {{"name", sh.scene->name},
+          {"triangles", sh.scene->triangle_count()},
+          {"features", sh.scene->features().to_json()}}},
+        {"trace", {{"source", sh.trace.source}, {"samples", sh.trace.samples.size()}}},
+        {"frames",
+         {{"start", sh.start}, {"count", sh.count}, {"stride", sh.stride}, {"warmup", sh.warmup}}},
+        {"machine", machine_info()},
+        {"metrics", metric_registry_json()},  // the declarations viz and Python read
+        {"threads", opt.threads > 0 ? opt.threads : int(tbb::info::default_concurrency())},
+        {"start_time", iso_now()},
+        {"status", "running"}};
     if (job.extra_manifest.is_object())
       for (auto it = job.extra_manifest.begin(); it != job.extra_manifest.end(); ++it)
         cell->manifest[it.key()] = it.value();
+    if (!cell->warnings.empty()) cell->manifest["warnings"] = cell->warnings;
     cells.push_back(std::move(cell));
   }
 
@@ -747,6 +808,10 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
   for (int u = 0; u < units; ++u) unit_order[size_t(u)] = u;
   if (shuffled) unit_order = sampling_order(units, sh.seed);
   int next_k = 0, used = 0, warmup = 0, units_done = 0;
+  for (int k = -sh.warmup; k < 0; ++k) {  // frames.warmup: rendered, not recorded
+    do_frame(k, false);
+    ++warmup;
+  }
   for (int u : unit_order) {
     const int k0 = u * unit, k1 = std::min(sh.count, k0 + unit);
     if (k0 != next_k) {
@@ -786,6 +851,7 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
     r.refresh_hz = sh.display.refresh_hz;
     r.print_summary = c->print_table;
     r.flags.assign(c->flags_seen.begin(), c->flags_seen.end());
+    r.warnings = c->warnings;
     r.cell_ms = c->cell_ms;
     r.summary = summarize(c->frames, r.budget_ms);
     if (c->latency.enabled) r.summary = summarize_phases(c->frames, r.summary, c->metric_names);

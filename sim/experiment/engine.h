@@ -26,7 +26,8 @@ struct CellJob {
   std::string out_dir;       // results folder of this cell
   std::string command_line;  // recorded in its manifest
   Json extra_manifest;       // merged into manifest.json (e.g. sweep cell index, hash)
-  std::vector<std::pair<std::string, std::string>> origins;  // command-line overrides (config.h)
+  std::vector<std::pair<std::string, std::string>> origins;    // command-line overrides (config.h)
+  std::vector<std::pair<std::string, std::string>> inherited;  // values from "base" files
 };
 
 struct EngineOptions {
@@ -45,6 +46,7 @@ struct CellResult {
   double refresh_hz = 0;
   bool print_summary = false;
   std::vector<std::string> flags;
+  std::vector<std::string> warnings;  // valid but suspicious values (engine.cpp config_warnings)
   double cell_ms = 0;  // wall time spent in this cell's own work (methods, metrics, cost, images)
   Json target;         // with targets: the manifest's "target" record (else null)
 };

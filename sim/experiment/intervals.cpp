@@ -66,6 +66,48 @@ MeanInterval pooled_difference(const MetricDecl& d, const std::vector<double>& q
 
 }  // namespace
 
+std::string paired_source_column(const std::string& m) {
+  const MetricDecl* decl = find_metric(m);
+  if (decl && decl->pooling == Pooling::sequence)
+    return decl->pooled_column + (is_foveation_loss_column(m) ? kFoveationLossSuffix : "");
+  return m;
+}
+
+void paired_columns(const std::vector<const ResultRow*>& a,
+                    const std::map<double, const ResultRow*>& b_by_frame, const std::string& m,
+                    ResultRow& row) {
+  const MetricDecl* decl = find_metric(m);
+  const bool seq = decl && decl->pooling == Pooling::sequence;
+  const std::string col = paired_source_column(m);
+  std::vector<double> va, vb, d;  // frame order of config a
+  for (auto* ra : a) {
+    auto it = b_by_frame.find(ra->get("frame", NAN));
+    if (it == b_by_frame.end()) continue;
+    double x = ra->get(col, NAN), y = it->second->get(col, NAN);
+    if (!std::isfinite(x) || !std::isfinite(y)) continue;
+    va.push_back(x);
+    vb.push_back(y);
+    d.push_back(x - y);
+  }
+  double mean_a = NAN, mean_b = NAN;
+  MeanInterval ci;
+  if (seq) {
+    ci = pooled_difference(*decl, va, vb, mean_a, mean_b);
+  } else {
+    ci = batch_means_interval(d);
+    mean_a = batch_means_interval(va).mean;
+    mean_b = batch_means_interval(vb).mean;
+  }
+  row.set("frames", double(d.size()));
+  row.set("mean_a", mean_a);
+  row.set("mean_b", mean_b);
+  row.set("diff", ci.mean);
+  row.set("diff_ci95", ci.half_width);
+  row.set("diff_lo", ci.lo());
+  row.set("diff_hi", ci.hi());
+  row.set("differs", std::isnan(ci.half_width) ? NAN : (ci.lo() > 0 || ci.hi() < 0) ? 1 : 0);
+}
+
 ResultTable paired_differences(const ResultTable& frames) {
   // Per config, in first-seen order: its rows by frame index.
   std::vector<std::string> order;
@@ -91,44 +133,13 @@ ResultTable paired_differences(const ResultTable& frames) {
       std::map<double, const ResultRow*> b_by_frame;
       for (auto* r : rows[b]) b_by_frame[r->get("frame", NAN)] = r;
       for (auto& m : headline_metrics()) {
-        const MetricDecl* decl = find_metric(m);
-        const bool seq = decl && decl->pooling == Pooling::sequence;
-        const std::string col =
-            seq ? decl->pooled_column + (is_foveation_loss_column(m) ? kFoveationLossSuffix : "")
-                : m;
-        if (!present.count(col)) continue;
-        std::vector<double> va, vb, d;  // frame order of config a
-        for (auto* ra : rows[a]) {
-          auto it = b_by_frame.find(ra->get("frame", NAN));
-          if (it == b_by_frame.end()) continue;
-          double x = ra->get(col, NAN), y = it->second->get(col, NAN);
-          if (!std::isfinite(x) || !std::isfinite(y)) continue;
-          va.push_back(x);
-          vb.push_back(y);
-          d.push_back(x - y);
-        }
-        double mean_a = NAN, mean_b = NAN;
-        MeanInterval ci;
-        if (seq) {
-          ci = pooled_difference(*decl, va, vb, mean_a, mean_b);
-        } else {
-          ci = batch_means_interval(d);
-          mean_a = batch_means_interval(va).mean;
-          mean_b = batch_means_interval(vb).mean;
-        }
+        if (!present.count(paired_source_column(m))) continue;
         ResultRow row;
         row.set_text("config_a", a);
         row.set_text("config_b", b);
         row.set_text("gpu", gpu_of[a]);
         row.set_text("metric", m);
-        row.set("frames", double(d.size()));
-        row.set("mean_a", mean_a);
-        row.set("mean_b", mean_b);
-        row.set("diff", ci.mean);
-        row.set("diff_ci95", ci.half_width);
-        row.set("diff_lo", ci.lo());
-        row.set("diff_hi", ci.hi());
-        row.set("differs", std::isnan(ci.half_width) ? NAN : (ci.lo() > 0 || ci.hi() < 0) ? 1 : 0);
+        paired_columns(rows[a], b_by_frame, m, row);
         out.add(std::move(row));
       }
     }

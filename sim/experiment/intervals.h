@@ -3,6 +3,7 @@
 // run (same frames, same gaze). Estimator: batch means (sim/core/stats.h).
 #pragma once
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,17 @@ const std::vector<std::string>& headline_metrics();
 // differences, nan below kCiMinSamples frames), diff_lo, diff_hi, and differs (1 when the
 // interval excludes 0, 0 when it contains it, nan when undefined).
 ResultTable paired_differences(const ResultTable& frames);
+
+// The frames.csv column a paired difference of `metric` reads: the metric itself, or for a
+// sequence-pooled metric (sim/metrics/registry.h) its pooled column (fvvdp_jod -> fvvdp_q).
+std::string paired_source_column(const std::string& metric);
+
+// The numeric columns of one paired.csv row (frames .. differs) for `metric`: config a's rows
+// paired with config b's rows of the same frame index; a sequence-pooled metric's difference is
+// that of the pooled values (sim/metrics/registry.h).
+void paired_columns(const std::vector<const ResultRow*>& a,
+                    const std::map<double, const ResultRow*>& b_by_frame, const std::string& metric,
+                    ResultRow& row);
 
 // ---- `fovsim run --target`: stop when the intervals are narrow enough (issue 13 item 3) ----
 

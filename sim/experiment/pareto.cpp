@@ -109,8 +109,15 @@ ResultTable iso_budget_table(const ResultTable& summary, const IsoBudgetSpec& sp
           row.set_text("config_id", "none_within_budget");
         }
         row.set("budget", budget);
+        // Each value with its 95% half-width from the cell's summary (nan when it has none).
         row.set(spec.column, best ? best->get(spec.column, NAN) : NAN);
-        for (auto& q : spec.quality) row.set(q, best ? best->get(q, NAN) : NAN);
+        row.set(spec.column + "_ci95", best ? best->get(spec.column + "_ci95", NAN) : NAN);
+        for (auto& q : spec.quality) {
+          row.set(q, best ? best->get(q, NAN) : NAN);
+          row.set(q + "_ci95", best ? best->get(q + "_ci95", NAN) : NAN);
+        }
+        if (best)
+          if (const std::string* k = best->text_of("kernel")) row.set_text("kernel", *k);
         row.set("cell", best ? best->get("cell", NAN) : NAN);
         for (auto& p : param_columns) row.set(p, best ? best->get(p, NAN) : NAN);
         out.add(std::move(row));

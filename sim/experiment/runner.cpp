@@ -9,6 +9,7 @@
 #include <map>
 #include <memory>
 
+#include "sim/core/error.h"
 #include "sim/core/files.h"
 #include "sim/core/stats.h"
 #include "sim/experiment/engine.h"
@@ -22,11 +23,15 @@ RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt) {
   if (opt.threads > 0)
     threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                     size_t(opt.threads));
+  if (cfg.doc.is_object() && cfg.doc.contains("sweep"))
+    throw Error(cfg.file + ": sweep", "this is a sweep config: run it with `fovsim sweep " +
+                                          cfg.file + "` (`fovsim run` runs one config)");
   // A run is a group of one cell (sim/experiment/engine.h).
   CellJob job;
   job.doc = cfg.doc;
   job.file = cfg.file;
   job.origins = cfg.overridden;
+  job.inherited = cfg.inherited;
   job.base_dir = cfg.base_dir;
   job.command_line = opt.command_line;
   std::string name = cfg.doc.contains("name") && cfg.doc["name"].is_string()
@@ -48,6 +53,8 @@ RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt) {
   result.frames = std::move(c.frames);
   result.summary = std::move(c.summary);
   result.target = c.target;
+  result.warnings = c.warnings;
+  result.printed_summary = c.print_summary;
   if (c.print_summary) {
     // `+-`: half-widths of the 95% intervals (summary.csv `<col>_ci95`; nan below 20 frames).
     // The metric columns are the registry's headline metrics present in the run.

@@ -26,7 +26,9 @@ struct RunResult {
   std::string out_dir;
   ResultTable frames;
   ResultTable summary;
-  Json target;  // manifest "target" record when targets were given
+  Json target;                        // manifest "target" record when targets were given
+  std::vector<std::string> warnings;  // suspicious but valid values (manifest "warnings")
+  bool printed_summary = false;       // the summary table (with the results path) was printed
 };
 
 RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt);

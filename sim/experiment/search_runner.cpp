@@ -52,6 +52,7 @@ SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const Sw
     ++rep.contexts;
     Searcher s(sp.space, sp.objective.maximize, sp.seed + uint64_t(ci), sp.batch);
     int n = 0;
+    std::vector<std::pair<std::vector<double>, double>> seen_cv;  // (point, constraint value)
     while (n < sp.evaluations) {
       auto pts = s.ask();
       if (pts.empty()) break;
@@ -73,6 +74,7 @@ SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const Sw
         j.doc = std::move(doc);
         j.file = cfg.file;
         j.origins = cfg.overridden;
+        j.inherited = cfg.inherited;
         j.base_dir = cfg.base_dir;
         j.out_dir = dir;
         j.command_line = opt.command_line;
@@ -108,6 +110,7 @@ SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const Sw
                           ? 0.0
                           : (std::isnan(cv) ? INFINITY : std::max(0.0, cv - sp.constraint_max));
         ev.push_back(e);
+        seen_cv.emplace_back(e.x, cv);
         ResultRow h;
         h.set_text("context_id", ctx.id());
         h.set_text("eval_dir", "search/evals/" + dirs[i].substr(dirs[i].rfind('/') + 1));
@@ -135,6 +138,25 @@ SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const Sw
       for (size_t d = 0; d < s.best().x.size(); ++d) b.set(sp.space[d].path, s.best().x[d]);
       b.set(sp.objective.column, s.best().score);
       b.set("feasible", s.best().violation <= 0 ? 1 : 0);
+      if (!sp.constraint_column.empty()) {
+        double cv = NAN;
+        for (auto& [x, v] : seen_cv)
+          if (x == s.best().x) cv = v;
+        b.set(sp.constraint_column, cv);
+        b.set("violation", s.best().violation);
+        if (s.best().violation > 0) {
+          // Nothing met the constraint: the "best" is the point of least violation, said so.
+          std::string at;
+          for (size_t d = 0; d < s.best().x.size(); ++d)
+            at += (d ? ", " : "") + sp.space[d].path + " = " + format_number(s.best().x[d]);
+          rep.notes.push_back("context " + ctx.id() + ": no feasible point in " +
+                              std::to_string(n) + " evaluations (" + sp.constraint_column +
+                              " <= " + format_number(sp.constraint_max) + "); least violation " +
+                              format_number(s.best().violation) + " (" + sp.constraint_column +
+                              " = " + format_number(cv) + ") at " + at +
+                              ": widen sweep.search.space or relax the constraint");
+        }
+      }
     }
     best.add(std::move(b));
   }

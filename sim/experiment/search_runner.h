@@ -6,6 +6,7 @@
 // evaluation), search_best.csv (one row per context).
 #pragma once
 #include <string>
+#include <vector>
 
 #include "sim/experiment/sweep_runner.h"
 
@@ -14,7 +15,9 @@ namespace fovsim {
 struct SearchReport {
   std::string out_dir;
   int contexts = 0, evaluations = 0, cached = 0;
-  ResultTable best;
+  ResultTable best;  // per context; with a constraint: its value and "violation" (0 = met)
+  // One line per context where no evaluated point met the constraint (its least violation).
+  std::vector<std::string> notes;
 };
 
 SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const SweepOptions& opt);

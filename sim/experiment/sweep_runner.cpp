@@ -3,6 +3,7 @@
 #include <sys/resource.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -17,6 +18,7 @@
 #include "sim/experiment/engine.h"
 #include "sim/experiment/intervals.h"
 #include "sim/experiment/pareto.h"
+#include "sim/trace/csv_table.h"
 
 namespace fovsim {
 
@@ -107,14 +109,154 @@ void write_sweep_json(const std::string& out, const SweepPlan& plan, const Loade
          {"plan_hash", plan.hash}, {"config_file", cfg.file},     {"base_dir", cfg.base_dir},
          {"config", cfg.doc},      {"axes", plan.axis_paths},     {"objectives", objectives},
          {"cells", cells}};
+  if (!cfg.inherited.empty()) j["inherited"] = cfg.inherited;  // base files of each value
   std::string path = out + "/sweep.json";
   std::string text = j.dump(1) + "\n";
   if (file_exists(path) && read_file(path) == text) return;  // shards write the same file
   write_file_atomic(path, text);
 }
 
+// The config's inherited values less those a sweep axis sets in cell `c` (the sweep file
+// wrote those).
+std::vector<std::pair<std::string, std::string>> inherited_for(const LoadedConfig& cfg,
+                                                               const SweepCell& c) {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (auto& e : cfg.inherited) {
+    bool set = false;
+    for (auto& a : c.assign) {
+      const std::string& q = a.path;
+      set = set ||
+            (e.first.compare(0, q.size(), q) == 0 &&
+             (e.first.size() == q.size() || e.first[q.size()] == '.' || e.first[q.size()] == '['));
+    }
+    if (!set) out.push_back(e);
+  }
+  return out;
+}
+
 std::string cell_dir(const std::string& out, const SweepCell& c) {
   return out + "/runs/" + c.id();
+}
+
+// The columns of a cell's frames.csv that sweep pairing needs (the headline metrics).
+ResultTable read_frames_for_pairs(const std::string& path) {
+  ResultTable t;
+  std::vector<CsvRow> rows = read_csv_rows(path, ',', 0);
+  if (rows.empty()) return t;
+  const std::vector<std::string>& metrics = headline_metrics();  // metric list: registry
+  std::vector<std::string> header;
+  for (auto& f : rows[0].fields) header.push_back(f.text);
+  for (size_t i = 1; i < rows.size(); ++i) {
+    ResultRow r;
+    for (size_t k = 0; k < header.size() && k < rows[i].fields.size(); ++k) {
+      const std::string& h = header[k];
+      const std::string& v = rows[i].fields[k].text;
+      if (h == "config_id" || h == "gpu") {
+        r.set_text(h, v);
+      } else if (h == "frame" || std::find(metrics.begin(), metrics.end(), h) != metrics.end()) {
+        r.set(h, std::strtod(v.c_str(), nullptr));  // "inf", "nan" as written by format_number
+      }
+    }
+    t.add(std::move(r));
+  }
+  return t;
+}
+
+std::string value_text(const Json& v) {
+  return v.is_string() ? v.get<std::string>() : v.dump();
+}
+
+// Sweep-level paired differences (paired.csv of the sweep): "within" rows are each cell's own
+// config pairs (same as runs/<cell>/paired.csv); "across" rows pair the same config_id in two
+// cells of one reference group (same scene, trace and frames: the references are identical,
+// so frame i of one cell and frame i of the other saw the same gaze and image) whose axis
+// values differ in exactly one axis, e.g. latency 0 vs 50 ms or sigma 1.8 vs 2.0.
+ResultTable sweep_paired(const std::string& out, const SweepPlan& plan) {
+  ResultTable all;
+  std::vector<std::string> order;
+  std::map<std::string, std::vector<const SweepCell*>> groups;
+  for (auto& c : plan.cells) {
+    std::string k = reference_key(c.doc);
+    if (!groups.count(k)) order.push_back(k);
+    groups[k].push_back(&c);
+  }
+  auto common = [](ResultRow& row, const char* kind, const SweepCell& a, const SweepCell& b) {
+    row.set_text("kind", kind);
+    row.set_text("cell_a_id", a.id());
+    row.set_text("cell_b_id", b.id());
+  };
+  for (auto& k : order) {
+    const auto& cells = groups[k];
+    std::vector<ResultTable> frames;
+    for (auto* c : cells) {
+      std::string f = cell_dir(out, *c) + "/frames.csv";
+      frames.push_back(file_exists(f) ? read_frames_for_pairs(f) : ResultTable());
+    }
+    // Per cell: config_id -> its rows (frame order), first-seen order of config ids.
+    std::vector<std::map<std::string, std::vector<const ResultRow*>>> by_cfg(cells.size());
+    std::vector<std::vector<std::string>> cfg_order(cells.size());
+    for (size_t i = 0; i < cells.size(); ++i)
+      for (auto& r : frames[i].rows()) {
+        const std::string* id = r.text_of("config_id");
+        std::string key = id ? *id : "";
+        if (!by_cfg[i].count(key)) cfg_order[i].push_back(key);
+        by_cfg[i][key].push_back(&r);
+      }
+    std::set<std::string> present;
+    for (auto& t : frames)
+      for (auto& c : t.numeric_columns()) present.insert(c);
+    for (size_t i = 0; i < cells.size(); ++i) {
+      const SweepCell& a = *cells[i];
+      const ResultTable within = paired_differences(frames[i]);
+      for (auto& r : within.rows()) {
+        ResultRow row;
+        common(row, "within", a, a);
+        for (auto& [kk, v] : r.text) row.set_text(kk, v);
+        row.set_text("axis", "");
+        row.set_text("value_a", "");
+        row.set_text("value_b", "");
+        row.set("cell_a", a.index);
+        row.set("cell_b", a.index);
+        for (auto& [kk, v] : r.num) row.set(kk, v);
+        all.add(std::move(row));
+      }
+      for (size_t j = i + 1; j < cells.size(); ++j) {
+        const SweepCell& b = *cells[j];
+        int diffs = 0;
+        size_t axis = 0;
+        for (size_t d = 0; d < a.assign.size() && d < b.assign.size(); ++d)
+          if (a.assign[d].value != b.assign[d].value) {
+            ++diffs;
+            axis = d;
+          }
+        if (diffs != 1) continue;
+        for (auto& id : cfg_order[i]) {
+          auto it = by_cfg[j].find(id);
+          if (it == by_cfg[j].end()) continue;
+          std::map<double, const ResultRow*> b_by_frame;
+          for (auto* r : it->second) b_by_frame[r->get("frame", NAN)] = r;
+          const std::string* g = by_cfg[i][id].front()->text_of("gpu");
+          for (auto& m : headline_metrics()) {  // metric list: registry
+            if (!present.count(m)) continue;
+            ResultRow row;
+            common(row, "across", a, b);
+            row.set_text("config_a", id);
+            row.set_text("config_b", id);
+            row.set_text("gpu", g ? *g : "");
+            row.set_text("metric", m);
+            row.set_text("axis", a.assign[axis].path);
+            row.set_text("value_a", value_text(a.assign[axis].value));
+            row.set_text("value_b", value_text(b.assign[axis].value));
+            row.set("cell_a", a.index);
+            row.set("cell_b", b.index);
+            paired_columns(by_cfg[i][id], b_by_frame, m, row);
+            all.add(std::move(row));
+          }
+        }
+      }
+    }
+  }
+  return all;
 }
 
 }  // namespace
@@ -232,6 +374,9 @@ SweepPlan load_sweep_plan(const std::string& dir) {
     cfg.doc = j.at("config");
     cfg.file = j.value("config_file", "");
     cfg.base_dir = j.value("base_dir", "");
+    if (j.contains("inherited"))
+      for (auto& e : j["inherited"])
+        cfg.inherited.emplace_back(e.at(0).get<std::string>(), e.at(1).get<std::string>());
   } catch (const Json::exception& e) {
     throw Error(p, std::string("corrupt sweep record: ") + e.what());
   }
@@ -310,6 +455,7 @@ SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const Swee
         j.doc = c->doc;
         j.file = cfg.file;
         j.origins = cfg.overridden;
+        j.inherited = inherited_for(cfg, *c);
         j.base_dir = cfg.base_dir;
         j.out_dir = cell_dir(out, *c);
         j.command_line = opt.command_line;
@@ -415,6 +561,8 @@ MergeReport merge_sweep(const std::string& out_dir, const std::vector<std::strin
     files.push_back("pareto.csv");
   }
   write_file_atomic(out_dir + "/summary.csv", summary.to_csv());
+  write_file_atomic(out_dir + "/paired.csv", sweep_paired(out_dir, plan).to_csv());
+  files.push_back("paired.csv");
   if (plan.iso.enabled()) {
     write_file_atomic(out_dir + "/iso_budget.csv",
                       iso_budget_table(summary, plan.iso, params).to_csv());

@@ -20,6 +20,9 @@ class MappingMethodBase : public FoveationMethod {
   // The spec's columns with the free parameter as resolved (iso-budget), plus
   // iso_achieved_fraction when a target was given.
   std::vector<std::pair<std::string, double>> param_columns() const override;
+  std::vector<std::pair<std::string, std::string>> text_param_columns() const override {
+    return active_.text_columns();
+  }
   const MappingSpec& active_spec() const { return active_; }
   const MappingSpec* mapping_spec() const override { return &active_; }
 

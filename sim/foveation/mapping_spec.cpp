@@ -69,10 +69,15 @@ MappingSpec MappingSpec::from_params(const std::string& method, Params& p) {
   return s;
 }
 
+std::vector<std::pair<std::string, std::string>> MappingSpec::text_columns() const {
+  if (method == "kfr") return {{"kernel", KernelFn::name(kernel.kind)}};
+  return {};
+}
+
 std::vector<std::pair<std::string, double>> MappingSpec::columns() const {
   std::vector<std::pair<std::string, double>> c;
   if (method == "kfr") {
-    c = {{"sigma", sigma}, {"alpha", kernel.alpha}, {"kernel", double(int(kernel.kind))}};
+    c = {{"sigma", sigma}, {"alpha", kernel.alpha}};  // kernel: text_columns()
   } else if (method == "rmfr") {
     c = {{"sigma", sigma}};
     // fx, fy always as fractions of W / H; fx_px, fy_px only when given in pixels.

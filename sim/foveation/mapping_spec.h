@@ -42,6 +42,8 @@ struct MappingSpec {
   static MappingSpec from_params(const std::string& method, Params& p);
   // Parameter columns for frames.csv (sigma, alpha, kernel index, fx, fy, r1, ...).
   std::vector<std::pair<std::string, double>> columns() const;
+  // String parameters as written in the config (kfr: {"kernel", "power"}).
+  std::vector<std::pair<std::string, std::string>> text_columns() const;
 };
 
 bool is_mapping_method(const std::string& name);

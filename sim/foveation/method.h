@@ -66,6 +66,9 @@ class FoveationMethod {
   virtual bool temporal() const { return false; }
   // Parameter values as named columns for frames.csv (e.g. {"sigma", 1.8}).
   virtual std::vector<std::pair<std::string, double>> param_columns() const { return {}; }
+  // String parameters as text columns, written as given (kfr {"kernel", "sine"}), never as
+  // enum indices.
+  virtual std::vector<std::pair<std::string, std::string>> text_param_columns() const { return {}; }
   // The sampling geometry of image-mapping methods and baselines (density, analytic
   // counters); nullptr for the others.
   virtual const MappingSpec* mapping_spec() const { return nullptr; }

@@ -282,7 +282,11 @@ Scene load_file_scene(Params& p, const std::string& models_dir) {
   // Relative paths: next to the config file first, then under models/scenes/.
   fs::path path(rel);
   if (!path.is_absolute()) {
-    fs::path base = p.file().empty() ? fs::current_path() : fs::path(p.file()).parent_path();
+    // Relative to the config that wrote it (a "base" config's folder for an inherited path).
+    const std::string inherited = p.source_dir("path");
+    fs::path base = !inherited.empty() ? fs::path(inherited)
+                    : p.file().empty() ? fs::current_path()
+                                       : fs::path(p.file()).parent_path();
     fs::path a = base / rel, b = fs::path(models_dir) / "scenes" / rel;
     path = fs::exists(a) ? a : (fs::exists(b) ? b : a);
   }

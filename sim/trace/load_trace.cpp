@@ -39,13 +39,18 @@ Trace load_trace(Params& p, const Display& display, const std::string& base_dir,
   Trace tr;
   if (has_file) {
     std::string f = p.string("file");
-    std::string path = resolve(base_dir, f);
+    // A relative path is relative to the file that wrote it (a "base" config, config.h).
+    auto dir_of = [&](const std::string& key) {
+      std::string d = p.source_dir(key);
+      return d.empty() ? base_dir : d;
+    };
+    std::string path = resolve(dir_of("file"), f);
     if (!std::filesystem::exists(path)) p.fail("file", "trace file not found: " + path);
     if (p.has("map")) {
       // A raw recording imported on the fly: its gaze is checked against the FOV row by row
       // (errors name file:line:column), and only the requested range (plus a margin for
       // resampling) is read.
-      std::string map = resolve(base_dir, p.string("map"));
+      std::string map = resolve(dir_of("map"), p.string("map"));
       if (!std::filesystem::exists(map)) p.fail("map", "column map not found: " + map);
       ImportOptions io;
       io.on_fov = opt.on_bad;
@@ -65,7 +70,8 @@ Trace load_trace(Params& p, const Display& display, const std::string& base_dir,
     EyeModel m;
     if (s.has("params")) {
       const Json& j = s.raw("params");
-      m = load_eye_model(j, p.file(), s.path_of("params"), base_dir);
+      std::string d = s.source_dir("params");
+      m = load_eye_model(j, p.file(), s.path_of("params"), d.empty() ? base_dir : d);
     }
     tr = synthesize(m, so, display);
   }

@@ -73,6 +73,14 @@ TraceStats trace_stats(const Trace& tr) {
                   s.ecc_p95, kPlausibleEccP95);
     s.warnings.push_back(b);
   }
+  if (s.head_speed_p50 > kPlausibleHeadSpeedP50) {
+    std::snprintf(b, sizeof b,
+                  "head-speed median %.0f deg/s is above %.0f deg/s (a head at rest or turning "
+                  "moves well below that most of the time): check the orientation unit (a map's "
+                  "\"unit\": \"rad\" on degrees multiplies by 57.3) and the time unit",
+                  s.head_speed_p50, kPlausibleHeadSpeedP50);
+    s.warnings.push_back(b);
+  }
   if (s.bursts > 0) {
     std::snprintf(b, sizeof b,
                   "%ld intervals shorter than a quarter of the median (bursts after a stall) "

@@ -32,6 +32,8 @@ struct TraceStats {
 
 constexpr double kPlausibleSpeedP99 = 700;  // deg/s
 constexpr double kPlausibleEccP95 = 35;     // deg
+// Head rotation: peaks reach a few hundred deg/s, the median over a session is far lower.
+constexpr double kPlausibleHeadSpeedP50 = 200;  // deg/s
 
 TraceStats trace_stats(const Trace& tr);
 // Multi-line human-readable summary.

@@ -1,0 +1,181 @@
+// The research workflow as a new user meets it: configs outside the repository inheriting
+// configs/sweeps/base.json, warm-up frames, sweep-level paired intervals, search without a
+// feasible point, string parameters in CSVs and the smaller messages (suspicious angles,
+// image frames outside the run, "did you mean", the display list, `run` on a sweep config).
+// Tiny configs (scale 0.05, a few frames): each test runs in about a second.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "tests/app/app_util.h"
+
+using namespace fovsim_test;
+
+namespace {
+
+const std::string kBase = std::string(FOVSIM_SOURCE_DIR) + "/configs/sweeps/base.json";
+
+std::string tiny(const std::string& extra) {
+  return "{\"base\": \"" + kBase + "\", \"frames\": {\"count\": 3}, \"render\": {\"scale\": 0.05}" +
+         extra + "}";
+}
+
+// Rows of a CSV whose `col` equals `value`.
+std::vector<size_t> rows_where(const Csv& c, const std::string& col, const std::string& value) {
+  std::vector<size_t> out;
+  for (size_t i = 0; i < c.rows.size(); ++i)
+    if (c.rows[i][c.col(col)] == value) out.push_back(i);
+  return out;
+}
+
+}  // namespace
+
+TEST(Workflow, InheritedPathsResolveAgainstTheBaseFile) {
+  std::string d = temp_dir("wf_base");
+  // Two levels outside the repository: child -> sub/mid.json -> configs/sweeps/base.json.
+  std::filesystem::create_directories(d + "/sub");
+  write_text(d + "/sub/mid.json", "{\"base\": \"" + kBase + "\", \"frames\": {\"count\": 2}}");
+  write_text(d + "/child.json",
+             "{\"base\": \"sub/mid.json\", \"render\": {\"scale\": 0.05}, \"methods\": "
+             "[{\"method\": \"kfr\", \"kernel\": \"sine\"}]}");
+  auto r = run_cmd(fovsim_bin() + " run " + d + "/child.json -q --no-plots --out " + d + "/o");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("results in " + d + "/o"), std::string::npos) << r.output;  // -q
+  // The kernel is written as given, not as an enum index.
+  Csv f = read_csv(d + "/o/frames.csv");
+  EXPECT_EQ(f.rows.at(0)[f.col("kernel")], "sine");
+  Csv s = read_csv(d + "/o/summary.csv");
+  EXPECT_EQ(s.rows.at(0)[s.col("kernel")], "sine");
+
+  // A bad path in a base is reported against that base, resolved in its folder.
+  write_text(d + "/sub/bad.json",
+             "{\"base\": \"" + kBase + "\", \"trace\": {\"file\": \"no.csv\"}}");
+  write_text(d + "/c2.json", "{\"base\": \"sub/bad.json\", \"methods\": [{\"method\": \"full\"}]}");
+  r = run_cmd(fovsim_bin() + " run " + d + "/c2.json -q --no-plots --out " + d + "/o2");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("trace.file (inherited from " + d + "/sub/bad.json)"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find(d + "/sub/no.csv"), std::string::npos) << r.output;
+}
+
+TEST(Workflow, LongBaseChainIsAnErrorNotACrash) {
+  std::string d = temp_dir("wf_chain");
+  for (int i = 0; i < 20000; ++i)
+    write_text(d + "/b" + std::to_string(i) + ".json",
+               "{\"base\": \"b" + std::to_string(i + 1) + ".json\"}");
+  write_text(d + "/b20000.json", "{}");
+  auto r = run_cmd(fovsim_bin() + " run " + d + "/b0.json -q --no-plots");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find(": base: \"base\" chain longer than 256 files"), std::string::npos)
+      << r.output;
+  std::filesystem::remove_all(d);
+}
+
+TEST(Workflow, WarmupFramesAreRenderedNotRecorded) {
+  std::string d = temp_dir("wf_warm");
+  write_text(d + "/a.json", tiny(", \"methods\": [{\"method\": \"twfr\"}]"));
+  auto a = run_cmd(fovsim_bin() + " run " + d + "/a.json -q --no-plots --out " + d + "/a");
+  auto b = run_cmd(fovsim_bin() + " run " + d + "/a.json -q --no-plots --out " + d +
+                   "/b frames.warmup=1");
+  ASSERT_EQ(a.code, 0) << a.output;
+  ASSERT_EQ(b.code, 0) << b.output;
+  Csv fa = read_csv(d + "/a/frames.csv"), fb = read_csv(d + "/b/frames.csv");
+  ASSERT_EQ(fa.rows.size(), 3u);
+  ASSERT_EQ(fb.rows.size(), 3u);
+  EXPECT_EQ(fb.rows[0][fb.col("frame")], "1");  // frame 0 was the warm-up
+  // TWFR's cold first frame redraws everything; after a warm-up frame it does not.
+  const double cold = std::stod(fa.rows[0][fa.col("est_ms_total")]);
+  const double warm = std::stod(fb.rows[0][fb.col("est_ms_total")]);
+  EXPECT_LT(warm, cold);
+  EXPECT_EQ(fa.rows[1][fa.col("est_ms_total")], fb.rows[0][fb.col("est_ms_total")]);
+}
+
+TEST(Workflow, LatencySweepAnswersWithAPairedInterval) {
+  std::string d = temp_dir("wf_lat");
+  write_text(d + "/lat.json",
+             "{\"name\": \"lat\", \"base\": \"" + kBase +
+                 "\", \"frames\": {\"count\": 24}, \"render\": {\"scale\": 0.05}, \"methods\": "
+                 "[{\"method\": \"kfr\"}, {\"method\": \"rmfr\"}], \"latency\": {}, \"sweep\": "
+                 "{\"grid\": {\"latency.tracker_ms\": [0, 50]}}}");
+  auto r = run_cmd("FOVSIM_NO_PLOTS=1 " + fovsim_bin() + " sweep " + d + "/lat.json -q --out " + d +
+                   "/s");
+  ASSERT_EQ(r.code, 0) << r.output;
+  Csv p = read_csv(d + "/s/paired.csv");
+  auto across = rows_where(p, "kind", "across");
+  auto within = rows_where(p, "kind", "within");
+  EXPECT_FALSE(within.empty());
+  bool found = false;
+  for (size_t i : across) {
+    const auto& row = p.rows[i];
+    if (row[p.col("config_a")] != "kfr" || row[p.col("metric")] != "fpsnr") continue;
+    found = true;
+    EXPECT_EQ(row[p.col("axis")], "latency.tracker_ms");
+    EXPECT_EQ(row[p.col("value_a")], "0");
+    EXPECT_EQ(row[p.col("value_b")], "50");
+    EXPECT_EQ(row[p.col("frames")], "24");  // the same frames in both cells
+    const double lo = std::stod(row[p.col("diff_lo")]), hi = std::stod(row[p.col("diff_hi")]);
+    const double diff = std::stod(row[p.col("diff")]);
+    EXPECT_TRUE(std::isfinite(lo) && std::isfinite(hi));
+    EXPECT_LE(lo, diff);
+    EXPECT_GE(hi, diff);
+    EXPECT_EQ(row[p.col("differs")], (lo > 0 || hi < 0) ? "1" : "0");
+  }
+  EXPECT_TRUE(found) << "no kfr fpsnr row across the latency cells";
+}
+
+TEST(Workflow, SearchWithoutFeasiblePointSaysSo) {
+  std::string d = temp_dir("wf_search");
+  write_text(d + "/s.json",
+             "{\"name\": \"s\", \"base\": \"" + kBase +
+                 "\", \"frames\": {\"count\": 2}, \"render\": {\"scale\": 0.05}, \"methods\": "
+                 "[{\"method\": \"kfr\"}], \"sweep\": {\"search\": {\"space\": "
+                 "[{\"methods[kfr].sigma\": {\"from\": 1.5, \"to\": 2.5, \"step\": 0.5}}], "
+                 "\"maximize\": \"fpsnr\", \"subject_to\": {\"shaded_fraction\": {\"max\": "
+                 "0.001}}, \"label\": \"kfr\", \"evaluations\": 3, \"batch\": 3, \"seed\": 1}}}");
+  auto r = run_cmd(fovsim_bin() + " search " + d + "/s.json --out " + d + "/o");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("no feasible point in 3 evaluations (shaded_fraction <= 0.001); least "
+                          "violation"),
+            std::string::npos)
+      << r.output;
+  Csv b = read_csv(d + "/o/search_best.csv");
+  ASSERT_EQ(b.rows.size(), 1u);
+  EXPECT_EQ(b.rows[0][b.col("feasible")], "0");
+  EXPECT_GT(std::stod(b.rows[0][b.col("violation")]), 0);
+}
+
+TEST(Workflow, SmallerMessages) {
+  std::string d = temp_dir("wf_msgs");
+  write_text(d + "/a.json", tiny(", \"methods\": [{\"method\": \"twfr\", \"phi_f\": 0.17, "
+                                 "\"phi_0\": 20}], \"outputs\": {\"image_frames\": [1, 500]}"));
+  auto r = run_cmd(fovsim_bin() + " run " + d + "/a.json -q --no-plots --out " + d + "/o");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("methods[0].phi_f: 0.17 deg is below 1 degree"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("outputs.image_frames: frame 500 not among the frames of this run"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(read_text(d + "/o/manifest.json").find("\"warnings\""), std::string::npos);
+
+  r = run_cmd(fovsim_bin() + " run " + d + "/a.json -q --no-plots trace.on_shrt=fail");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("did you mean \"on_short\"?"), std::string::npos) << r.output;
+
+  r = run_cmd(fovsim_bin() + " run " + d + "/a.json -q --no-plots display=vive_pro");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("htc_vive_pro_eye"), std::string::npos) << r.output;
+
+  r = run_cmd(fovsim_bin() + " run configs/sweeps/latency.json -q --no-plots");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("this is a sweep config: run it with `fovsim sweep"), std::string::npos)
+      << r.output;
+}
+
+// Every worked number of docs/ marked <!--n:ID--> reproduces from its tiny run within its
+// stated interval (scripts/docs_numbers.py; `make docs` rewrites them).
+TEST(Workflow, DocsNumbersReproduce) {
+  if (run_cmd("/usr/bin/python3 -c 'import csv'").code != 0) GTEST_SKIP() << "no python3";
+  auto r = run_cmd("/usr/bin/python3 scripts/docs_numbers.py --check --fovsim " + fovsim_bin());
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("numbers reproduce"), std::string::npos) << r.output;
+}
