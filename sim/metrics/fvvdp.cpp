@@ -545,6 +545,13 @@ double fvvdp_jod_from_q(double mean_q) {
 // ---------------------------------------------------------------------------------------------
 // Display (§3).
 
+namespace {
+// §3.2: ppd = 1 / (2 atan(w_m / (2 W d)) 180/pi), in the reference's order of operations.
+double ppd_of(double w_m, int W, double d) {
+  return 1.0 / (2.0 * (std::atan(0.5 * w_m / W / d) * (180.0 / kPiD)));
+}
+}  // namespace
+
 FvvdpDisplay FvvdpDisplay::from_spec(const std::string& name, int width, int height,
                                      double viewing_distance_m, double diagonal_inches,
                                      double fov_diagonal_deg, double max_luminance, double contrast,
@@ -556,19 +563,19 @@ FvvdpDisplay FvvdpDisplay::from_spec(const std::string& name, int width, int hei
   const double a = double(width) / double(height);
   d.d_m = viewing_distance_m > 0 ? viewing_distance_m : 3.0;
   if (diagonal_inches > 0) {
-    const double D = diagonal_inches * 0.0254;
-    d.h_m = std::sqrt(D * D / (1 + a * a));
-    d.w_m = a * d.h_m;
+    const double D_mm = diagonal_inches * 25.4;  // in mm, as the reference (same ppd bits)
+    const double h_mm = std::sqrt(D_mm * D_mm / (1 + a * a));
+    d.h_m = h_mm / 1000.0;
+    d.w_m = a * h_mm / 1000.0;
   } else if (fov_diagonal_deg > 0) {
     const double p = std::sqrt(double(width) * width + double(height) * height) /
                      (2.0 * std::tan(fov_diagonal_deg * kPiD / 180.0 / 2.0));
-    const double theta_h = 2.0 * std::atan(height / (2.0 * p));  // radians
-    d.h_m = 2.0 * std::tan(theta_h / 2.0) * d.d_m;
+    d.h_m = height * d.d_m / p;  // = 2 tan(theta_h / 2) d, theta_h = 2 atan(H / (2 p))
     d.w_m = a * d.h_m;
   } else {
     throw Error(kWhere, "display " + name + " needs a diagonal size or a diagonal FOV");
   }
-  d.ppd = 1.0 / (2.0 * std::atan(d.w_m / (2.0 * width * d.d_m)) * 180.0 / kPiD);
+  d.ppd = ppd_of(d.w_m, width, d.d_m);
   const double C =
       min_luminance > 0 ? max_luminance / min_luminance : (contrast > 0 ? contrast : 500.0);
   const double y_refl = ambient_lux / kPiD * k_refl;
@@ -599,7 +606,7 @@ FvvdpDisplay FvvdpDisplay::from_display(const Display& disp) {
                   disp.contrast, disp.black_luminance, disp.ambient_lux, disp.reflectivity);
     d.w_m = 2.0 * dist * std::tan(disp.fov_h_deg * kPiD / 360.0);
     d.h_m = 2.0 * dist * std::tan(disp.fov_v_deg * kPiD / 360.0);
-    d.ppd = 1.0 / (2.0 * std::atan(d.w_m / (2.0 * d.width * d.d_m)) * 180.0 / kPiD);
+    d.ppd = ppd_of(d.w_m, d.width, d.d_m);
   }
   return d;
 }
@@ -608,7 +615,7 @@ FvvdpDisplay FvvdpDisplay::scaled_to(int w, int h) const {
   FvvdpDisplay d = *this;
   d.width = w;
   d.height = h;
-  d.ppd = 1.0 / (2.0 * std::atan(w_m / (2.0 * w * d_m)) * 180.0 / kPiD);
+  d.ppd = ppd_of(w_m, w, d_m);
   return d;
 }
 

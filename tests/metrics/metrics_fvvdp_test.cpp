@@ -188,14 +188,14 @@ TEST(Fvvdp, StandardDisplays) {
             {"htc_vive_pro", 13.153262507309297, 0.1, 5.732283888, 6.369204320}};
   for (const auto& e : ds) {
     const FvvdpDisplay d = FvvdpDisplay::standard(e.name);
-    EXPECT_NEAR(d.ppd, e.ppd, e.ppd * 1e-13) << e.name;
+    EXPECT_EQ(d.ppd, e.ppd) << e.name;
     EXPECT_NEAR(d.y_black, e.black, 1e-10) << e.name;
     EXPECT_NEAR(d.w_m, e.w_m, 1e-9) << e.name;
     EXPECT_NEAR(d.h_m, e.h_m, 1e-9) << e.name;
     // The shipped display models give the same numbers.
     const Display m = Display::load(e.name, std::string(FOVSIM_SOURCE_DIR) + "/models");
     const FvvdpDisplay f = FvvdpDisplay::from_display(m);
-    EXPECT_NEAR(f.ppd, e.ppd, e.ppd * 1e-13) << e.name;
+    EXPECT_EQ(f.ppd, e.ppd) << e.name;
     EXPECT_NEAR(f.y_black, e.black, 1e-10) << e.name;
     EXPECT_EQ(f.y_peak, d.y_peak) << e.name;
   }
