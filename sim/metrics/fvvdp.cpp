@@ -408,20 +408,35 @@ struct TemporalRing {
     for (auto& r : ring)
       if (&r != &ring[size_t(head)]) r = ring[size_t(head)];
   }
-  void filter(const std::vector<double>& taps, int W, int H, float* out) const {
-    const int L = int(taps.size());
+  // Both channels in one pass; per pixel the taps are summed in double in tap order.
+  void filter2(const std::vector<double>& fs, const std::vector<double>& ft, int W, int H,
+               float* out_s, float* out_t) const {
+    const int L = int(fs.size());
     std::vector<const float*> src(static_cast<size_t>(L));
     for (int k = 0; k < L; ++k) {
       const int s = ((head - k) % L + L) % L;
       src[size_t(k)] = ring[size_t(s)].data();
     }
     for_rows(H, W, [&](int y) {
+      constexpr int kChunk = 256;
+      double as[kChunk], at[kChunk];
       const size_t off = size_t(y) * size_t(W);
-      for (int x = 0; x < W; ++x) {
-        double acc = 0;
-        for (int k = 0; k < L; ++k)
-          acc += taps[size_t(k)] * double(src[size_t(k)][off + size_t(x)]);
-        out[off + size_t(x)] = float(acc);
+      for (int x0 = 0; x0 < W; x0 += kChunk) {
+        const int n = std::min(kChunk, W - x0);
+        for (int i = 0; i < n; ++i) as[i] = at[i] = 0.0;
+        for (int k = 0; k < L; ++k) {
+          const float* p = src[size_t(k)] + off + size_t(x0);
+          const double a = fs[size_t(k)], b = ft[size_t(k)];
+          for (int i = 0; i < n; ++i) {
+            const double v = double(p[i]);
+            as[i] += a * v;
+            at[i] += b * v;
+          }
+        }
+        for (int i = 0; i < n; ++i) {
+          out_s[off + size_t(x0 + i)] = float(as[i]);
+          out_t[off + size_t(x0 + i)] = float(at[i]);
+        }
       }
     });
   }
@@ -459,8 +474,7 @@ struct Frame {
     float* slot = ring.push_slot(Y.size());
     to_luminance(img, d, slot);
     if (first) ring.replicate_first();
-    ring.filter(fs, W, H, X[0].data());
-    ring.filter(ft, W, H, X[1].data());
+    ring.filter2(fs, ft, W, H, X[0].data(), X[1].data());
     for (int c = 0; c < 2; ++c) pyr[c].build(X[c].data(), lv, tmp);
   }
   const float* plane(int c) const { return video ? X[c].data() : Y.data(); }
