@@ -42,7 +42,7 @@ for k, label in (("BM_FvvdpMethodFrame/video/1", "one method-frame, video, fovea
                  ("BM_FvvdpReference/1", "reference side of a frame (once for all methods)")):
     if f and k in m:
         print(f"FovVideoVDP {label} / FLIP: {m[k]:.1f} / {f:.1f} ms = {m[k]/f:.2f}"
-              + (" (target <= 2.0)" if "method" in label else ""))
+              + (" (target <= 2.0)" if "MethodFrame" in k else ""))
 PY
 python3 - "$tmp/render.json" "$tmp/methods.json" <<'PY'
 import json, sys
