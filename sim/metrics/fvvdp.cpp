@@ -818,7 +818,8 @@ void FvvdpReferenceStream::push(const Image& ref, double gx, double gy) {
 
 struct FvvdpTestStream::Impl {
   Frame frame;
-  std::vector<float> E;
+  std::vector<float> E, up;
+  std::vector<std::vector<float>> Dmap;  // heat map: per-band D (sustained + 0.25 transient)
   std::vector<double> row_sum;
 };
 
@@ -855,13 +856,20 @@ double FvvdpTestStream::push(const Image& test, const FvvdpReferenceStream& ref)
   last_q_.assign(size_t(nb), {0.0, 0.0});
   const float kM = float(std::pow(10.0, kMaskC));
   const float p = float(kMaskP), beta = float(kBeta);
+  if (heat_on_) I.Dmap.resize(size_t(nb));
   for (int b = 0; b < nb; ++b) {
     const FvvdpBandState& B = R.bands[size_t(b)];
     const Level& up = I.frame.lv[size_t(b) + 1];
     const size_t n = size_t(B.w) * size_t(B.h);
     I.E.resize(n);
     I.row_sum.assign(size_t(B.h), 0.0);
+    float* dmap = nullptr;
+    if (heat_on_) {
+      I.Dmap[size_t(b)].assign(n, 0.f);
+      dmap = I.Dmap[size_t(b)].data();
+    }
     for (int c = 0; c < nc; ++c) {
+      const float wc = c == 0 ? 1.f : float(kWTransient);
       expand(I.frame.level(c, b + 1), up.w, up.h, B.w, B.h, I.E.data(), I.frame.tmp);
       const float* G = I.frame.level(c, b);
       const float q = float(kMaskQ[c]);
@@ -881,6 +889,7 @@ double FvvdpTestStream::push(const Image& test, const FvvdpReferenceStream& ref)
           float D = 0.f;
           if (diff > 0.f) D = std::min(std::pow(diff, p) / (1.f + std::pow(M, q)), 1e4f);
           if (D > 0.f) acc += double(std::pow(D, beta));  // §10 (1)
+          if (dmap) dmap[o + size_t(x)] += wc * D;
         }
         I.row_sum[size_t(y)] = acc;
       });
@@ -888,6 +897,22 @@ double FvvdpTestStream::push(const Image& test, const FvvdpReferenceStream& ref)
       for (double v : I.row_sum) sum += v;  // row order: same bits at any thread count
       last_q_[size_t(b)][size_t(c)] = std::pow(sum / double(n), 1.0 / kBeta);
     }
+  }
+  if (heat_on_) {
+    // Collapse the D pyramid from the coarsest scored band to the frame, then to JOD units.
+    std::vector<float> acc = I.Dmap[size_t(nb) - 1];
+    for (int b = nb - 2; b >= 0; --b) {
+      const Level &lo = I.frame.lv[size_t(b) + 1], &hi = I.frame.lv[size_t(b)];
+      I.up.resize(size_t(hi.w) * size_t(hi.h));
+      expand(acc.data(), lo.w, lo.h, hi.w, hi.h, I.up.data(), I.frame.tmp);
+      const std::vector<float>& d = I.Dmap[size_t(b)];
+      for (size_t k = 0; k < I.up.size(); ++k) I.up[k] += d[k];
+      acc.swap(I.up);
+    }
+    heat_.resize(ref.width(), ref.height(), 1);
+    const float a = float(-kJodA), bj = float(std::pow(10.0, kLogJodExp));
+    for (size_t k = 0; k < acc.size(); ++k)
+      heat_.data[k] = acc[k] > 0.f ? a * std::pow(acc[k], bj) : 0.f;
   }
   // §10 (2), (3).
   double qsc[2] = {0, 0};
