@@ -10,8 +10,14 @@
 // fpsnr + regions (one fused pass over the error); ssim (the reference's statistics prepared
 // once, as in a run); flip = preparing the test image + the FLIP map and its mean (the FLIP bands
 // need regions, so they are only in all); temporal = the temporal error after a first frame.
-// BM_FlipRefPrepare = preparing the reference for FLIP, done once per frame. Time column: ms
-// per call at the given TBB thread count (1: the calling thread's CPU time).
+// BM_FlipRefPrepare = preparing the reference for FLIP, done once per frame.
+// FovVideoVDP (Mantiuk et al. 2021), foveated, as a video at the display's 90 Hz with the gaze
+// of the frame: BM_FvvdpMethodFrame = one method-frame with the reference side of the frame
+// prepared (the per-method marginal cost: the test's temporal filtering, pyramid, masking and
+// pooling); BM_FvvdpReference = the reference side of one frame (temporal filtering, pyramid,
+// adaptation, CSF), done once per frame for all methods; BM_FvvdpImage = the still-image path
+// (test side) for comparison. Time column: ms per call at the given TBB thread count (1: the
+// calling thread's CPU time).
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
 
@@ -20,6 +26,7 @@
 
 #include "sim/foveation/factory.h"
 #include "sim/foveation/frame.h"
+#include "sim/metrics/fvvdp.h"
 #include "sim/metrics/metrics.h"
 #include "sim/scene/scene.h"
 
@@ -103,8 +110,56 @@ void BM_FlipRefPrepare(benchmark::State& state) {
   state.counters["ppd"] = ppd;
 }
 
+struct FvvdpSetup {
+  FvvdpDisplay display;
+  double gx = 0, gy = 0;
+  explicit FvvdpSetup(const Setup& S) {
+    const std::string models = std::string(FOVSIM_SOURCE_DIR) + "/models";
+    display = FvvdpDisplay::from_display(Display::load("htc_vive_pro_eye", models))
+                  .scaled_to(S.ref.width, S.ref.height);
+    glm::dvec2 px;
+    if (S.camera.project_head(glm::normalize(glm::dvec3(0.15, -0.05, -1)), px)) {
+      gx = px.x;
+      gy = px.y;
+    }
+  }
+};
+
+void BM_FvvdpMethodFrame(benchmark::State& state, bool video) {
+  Setup& S = setup();
+  tbb::global_control gc(tbb::global_control::max_allowed_parallelism, size_t(state.range(0)));
+  FvvdpSetup F(S);
+  FvvdpOptions opt;
+  opt.fps = video ? 90.0 : 0.0;
+  opt.foveated = true;
+  FvvdpReferenceStream ref(F.display, S.ref.width, S.ref.height, opt);
+  FvvdpTestStream test(ref);
+  ref.push(S.ref, F.gx, F.gy);
+  test.push(S.test, ref);
+  for (auto _ : state) {  // steady state: the histories are full
+    state.PauseTiming();
+    ref.push(S.ref, F.gx, F.gy);
+    state.ResumeTiming();
+    benchmark::DoNotOptimize(test.push(S.test, ref));
+  }
+  state.counters["bands"] = ref.bands();
+  state.counters["ppd"] = F.display.ppd;
+}
+
+void BM_FvvdpReference(benchmark::State& state) {
+  Setup& S = setup();
+  tbb::global_control gc(tbb::global_control::max_allowed_parallelism, size_t(state.range(0)));
+  FvvdpSetup F(S);
+  FvvdpReferenceStream ref(F.display, S.ref.width, S.ref.height, {90.0, true});
+  ref.push(S.ref, F.gx, F.gy);
+  for (auto _ : state) ref.push(S.ref, F.gx, F.gy);
+}
+
 }  // namespace
 
+BENCHMARK_CAPTURE(BM_FvvdpMethodFrame, video, true)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_FvvdpMethodFrame, image, false)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FvvdpReference)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Metrics, all, std::string("all"))->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Metrics, errsums, std::string("errsums"))
     ->Arg(1)

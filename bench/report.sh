@@ -5,6 +5,8 @@
 #     complexity 3 and 6; and / single-ray rtcIntersect1;
 #   - KFR forward (lp_gather) and inverse (lp_reconstruct) map time / cv::warpPolar's time
 #     (bench_methods; needs OpenCV, `make deps-bench`);
+#   - FovVideoVDP per method-frame (reference side prepared) and its reference side / the FLIP
+#     mean of the same frame pair (bench_metrics, quickstart size);
 #   - `fovsim run configs/quickstart.json` at 1 and 2 threads: wall and CPU (user + sys) time,
 #     the 2-thread speed-up (wall), the serial fraction estimated from the 2-thread run's
 #     per-phase CPU times (manifest.json "phases", sim/experiment/phase_times.h) and the
@@ -29,6 +31,19 @@ else
   echo '{"benchmarks": []}' > "$tmp/methods.json"
   echo "bench_methods has no OpenCV cases (make deps-bench, then reconfigure): KFR ratios skipped"
 fi
+"$B/bench_metrics" --benchmark_filter='BM_Metrics/flip/1|BM_Fvvdp' --benchmark_min_time="$T" \
+  --benchmark_format=json > "$tmp/metrics.json"
+python3 - "$tmp/metrics.json" <<'PY'
+import json, sys
+m = {b["name"]: b["cpu_time"] for b in json.load(open(sys.argv[1]))["benchmarks"]}
+f = m.get("BM_Metrics/flip/1")
+for k, label in (("BM_FvvdpMethodFrame/video/1", "one method-frame, video, foveated"),
+                 ("BM_FvvdpMethodFrame/image/1", "one method-frame, still image, foveated"),
+                 ("BM_FvvdpReference/1", "reference side of a frame (once for all methods)")):
+    if f and k in m:
+        print(f"FovVideoVDP {label} / FLIP: {m[k]:.1f} / {f:.1f} ms = {m[k]/f:.2f}"
+              + (" (target <= 2.0)" if "MethodFrame" in k else ""))
+PY
 python3 - "$tmp/render.json" "$tmp/methods.json" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1]))["benchmarks"]

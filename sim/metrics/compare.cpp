@@ -4,10 +4,12 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <sstream>
 #include <vector>
 
 #include "sim/core/error.h"
@@ -15,7 +17,11 @@
 
 namespace fovsim {
 
-Image read_ldr_rgb(const std::string& path) {
+namespace {
+
+// `fvvdp`: FovVideoVDP's decoding (FovVideoVDP.md §1): 16-bit values v / 65535, grey kept as one
+// channel; otherwise the FLIP tool's (above).
+Image read_display_encoded(const std::string& path, bool fvvdp) {
   if (!std::filesystem::exists(path)) throw Error(path, "no such file");
   // Raw colour values: OpenImageIO premultiplies PNG colour by alpha unless asked not to; the
   // FLIP tool drops alpha without compositing.
@@ -37,6 +43,10 @@ Image read_ldr_rgb(const std::string& path) {
     const bool wide = base == OIIO::TypeDesc::UINT16;
     for (size_t i = 0; i < n; ++i) {
       // UINT8 read as UINT16 is v * 257; either way the high byte is the 8-bit value.
+      if (fvvdp && wide) {
+        v[i] = float(raw[i]) / 65535.0f;
+        continue;
+      }
       const unsigned byte = wide ? unsigned(raw[i]) >> 8 : unsigned(raw[i]) / 257u;
       v[i] = float(byte) / 255.0f;
     }
@@ -44,12 +54,26 @@ Image read_ldr_rgb(const std::string& path) {
     throw Error(path, "cannot decode image: " + in->geterror());
   }
   in->close();
+  if (fvvdp && C < 3) {
+    Image grey(W, H, 1);
+    for (size_t i = 0; i < grey.pixels(); ++i) grey.data[i] = v[i * size_t(C)];
+    return grey;
+  }
   Image out(W, H, 3);
   for (size_t i = 0; i < out.pixels(); ++i) {
     const float* p = &v[i * size_t(C)];
     for (int c = 0; c < 3; ++c) out.data[3 * i + size_t(c)] = C >= 3 ? p[c] : p[0];
   }
   return out;
+}
+
+}  // namespace
+
+Image read_ldr_rgb(const std::string& path) {
+  return read_display_encoded(path, false);
+}
+Image read_fvvdp_image(const std::string& path) {
+  return read_display_encoded(path, true);
 }
 
 ImageComparison compare_images(const Image& ref, const Image& test, double ppd,
@@ -105,6 +129,180 @@ std::string comparison_text(const ImageComparison& c) {
   std::snprintf(buf, sizeof buf, "flip    %.6f\n", c.flip);
   out += buf;
   return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// FovVideoVDP (Mantiuk et al. 2021).
+
+std::vector<std::string> frame_files(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw Error(path, "no such file or folder");
+  if (!fs::is_directory(path, ec)) return {path};
+  std::vector<std::string> files;
+  for (const auto& e : fs::directory_iterator(path, ec)) {
+    std::string ext = e.path().extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return std::tolower(c); });
+    if (e.is_regular_file() && ext == ".png") files.push_back(e.path().string());
+  }
+  if (files.empty()) throw Error(path, "folder has no PNG frames");
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+std::pair<double, double> parse_gaze(const std::string& s) {
+  const size_t comma = s.find(',');
+  double v[2];
+  bool ok = comma != std::string::npos;
+  for (int i = 0; ok && i < 2; ++i) {
+    const std::string part = i == 0 ? s.substr(0, comma) : s.substr(comma + 1);
+    try {
+      size_t used = 0;
+      v[i] = std::stod(part, &used);
+      ok = used == part.size() && std::isfinite(v[i]);
+    } catch (const std::exception&) {
+      ok = false;
+    }
+  }
+  if (!ok)
+    throw Error("--gaze",
+                "expected X,Y in pixels from the top-left (e.g. 640,360), got '" + s + "'");
+  return {v[0], v[1]};
+}
+
+std::vector<std::string> display_names(const std::string& models_dir) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(models_dir + "/displays", ec))
+    if (e.path().extension() == ".json") names.push_back(e.path().stem().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+FvvdpComparison compare_fvvdp(const std::string& ref_path, const std::string& test_path,
+                              const FvvdpCompareOptions& opt) {
+  FvvdpComparison c;
+  const std::string& dn = opt.display;
+  const bool is_path = dn.find('/') != std::string::npos || dn.find(".json") != std::string::npos;
+  if (dn.empty() ||
+      (!is_path && !std::filesystem::exists(opt.models_dir + "/displays/" + dn + ".json"))) {
+    std::string list;
+    for (const auto& n : display_names(opt.models_dir)) list += (list.empty() ? "" : ", ") + n;
+    throw Error("--display", (dn.empty() ? std::string("FovVideoVDP needs a display")
+                                         : "unknown display '" + dn + "'") +
+                                 " (available: " + list + ")");
+  }
+  c.display = FvvdpDisplay::from_display(Display::load(dn, opt.models_dir));
+  const std::vector<std::string> rf = frame_files(ref_path), tf = frame_files(test_path);
+  if (rf.size() != tf.size())
+    throw Error("compare", ref_path + " has " + std::to_string(rf.size()) + " frames, " +
+                               test_path + " has " + std::to_string(tf.size()));
+  const size_t N = rf.size();
+  if (N >= 2 && !(opt.fps > 0))
+    throw Error("--fps", "a sequence of " + std::to_string(N) +
+                             " frames needs its frame rate: --fps F (Hz, > 4)");
+  if (N >= 2 && fvvdp_detail::filter_length(opt.fps) < 2)
+    throw Error("--fps", "frame rate must be > 4 Hz, got " + std::to_string(opt.fps));
+  std::vector<Image> ref, test;
+  for (size_t i = 0; i < N; ++i) {
+    ref.push_back(read_fvvdp_image(rf[i]));
+    test.push_back(read_fvvdp_image(tf[i]));
+    const Image &r = ref.back(), &t = test.back(), &r0 = ref.front();
+    for (const auto* im : {&r, &t}) {
+      if (im->width != r0.width || im->height != r0.height) {
+        const std::string& f = im == &r ? rf[i] : tf[i];
+        throw Error(f, "frame is " + std::to_string(im->width) + "x" + std::to_string(im->height) +
+                           ", " + rf[0] + " is " + std::to_string(r0.width) + "x" +
+                           std::to_string(r0.height) + " (every frame must have the same size)");
+      }
+    }
+    if (r.channels != t.channels) {
+      // Mixed grey and RGB: use RGB for both (grey copied to three channels).
+      for (Image* im : {&ref.back(), &test.back()})
+        if (im->channels == 1) {
+          Image rgb(im->width, im->height, 3);
+          for (size_t k = 0; k < im->pixels(); ++k)
+            for (int ch = 0; ch < 3; ++ch) rgb.data[3 * k + size_t(ch)] = im->data[k];
+          *im = std::move(rgb);
+        }
+    }
+  }
+  c.width = ref[0].width;
+  c.height = ref[0].height;
+  if (c.width < 4 || c.height < 4)
+    throw Error(rf[0], "image is " + std::to_string(c.width) + "x" + std::to_string(c.height) +
+                           ", FovVideoVDP needs at least 4x4 pixels");
+  c.frames = int(N);
+  c.fps = N >= 2 ? opt.fps : 0.0;
+  c.foveated = opt.foveated || opt.has_gaze;
+  c.gaze_x = opt.has_gaze ? opt.gaze_x : std::floor(c.width / 2);
+  c.gaze_y = opt.has_gaze ? opt.gaze_y : std::floor(c.height / 2);
+  c.result = fvvdp(test, ref, c.display, c.fps, c.foveated, {{c.gaze_x, c.gaze_y}});
+  return c;
+}
+
+Json fvvdp_comparison_json(const FvvdpComparison& c) {
+  const FvvdpResult& r = c.result;
+  Json j;
+  j["fvvdp_jod"] = r.jod;
+  j["q"] = r.mean_q;
+  j["display"] = r.display_line;
+  j["display_name"] = c.display.name;
+  j["ppd"] = c.display.ppd;
+  j["y_peak"] = c.display.y_peak;
+  j["y_black"] = c.display.y_black;
+  j["foveated"] = c.foveated;
+  j["gaze"] = c.foveated ? Json::array({c.gaze_x, c.gaze_y}) : Json(nullptr);
+  j["frames"] = c.frames;
+  j["fps"] = c.frames >= 2 ? Json(c.fps) : Json(nullptr);
+  j["mode"] = c.frames >= 2 ? "video" : "image";
+  j["width"] = c.width;
+  j["height"] = c.height;
+  Json bands = Json::array();
+  for (int b = 0; b < r.bands; ++b) {
+    double q[2] = {0, 0};
+    for (const auto& f : r.q)
+      for (int ch = 0; ch < 2; ++ch) q[ch] += f[size_t(b)][size_t(ch)];
+    bands.push_back({{"rho_cpd", r.band_freq[size_t(b)]},
+                     {"q_sustained", q[0] / r.frames},
+                     {"q_transient", r.channels == 2 ? Json(q[1] / r.frames) : Json(nullptr)}});
+  }
+  j["bands"] = bands;
+  return j;
+}
+
+std::string fvvdp_comparison_text(const FvvdpComparison& c) {
+  const FvvdpResult& r = c.result;
+  std::ostringstream o;
+  char buf[256];
+  o << r.display_line << "\n";
+  if (c.frames >= 2)
+    std::snprintf(buf, sizeof buf, "input      %d frames of %dx%d at %g fps (video)\n", c.frames,
+                  c.width, c.height, c.fps);
+  else
+    std::snprintf(buf, sizeof buf, "input      %dx%d (image)\n", c.width, c.height);
+  o << buf;
+  if (c.foveated) {
+    std::snprintf(buf, sizeof buf, "gaze       %g,%g px\n", c.gaze_x, c.gaze_y);
+    o << buf;
+  }
+  for (int b = 0; b < r.bands; ++b) {
+    double q[2] = {0, 0};
+    for (const auto& f : r.q)
+      for (int ch = 0; ch < 2; ++ch) q[ch] += f[size_t(b)][size_t(ch)];
+    if (r.channels == 2)
+      std::snprintf(buf, sizeof buf, "band %-2d    %9.4f cpd  Q sustained %.6g  transient %.6g\n",
+                    b, r.band_freq[size_t(b)], q[0] / r.frames, q[1] / r.frames);
+    else
+      std::snprintf(buf, sizeof buf, "band %-2d    %9.4f cpd  Q %.6g\n", b, r.band_freq[size_t(b)],
+                    q[0] / r.frames);
+    o << buf;
+  }
+  std::snprintf(buf, sizeof buf, "fvvdp_jod  %.6f\n", r.jod);
+  o << buf;
+  return o.str();
 }
 
 }  // namespace fovsim

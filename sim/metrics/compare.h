@@ -2,9 +2,11 @@
 // parses the arguments and prints what these functions return.
 #pragma once
 #include <string>
+#include <vector>
 
 #include "sim/core/image.h"
 #include "sim/core/params.h"
+#include "sim/metrics/fvvdp.h"
 
 namespace fovsim {
 
@@ -35,5 +37,50 @@ ImageComparison compare_files(const std::string& ref_path, const std::string& te
 Json comparison_json(const ImageComparison& c);
 // Human-readable lines "psnr  <dB>", "ssim  <v>", "flip  <v>" (6 decimals, as the FLIP tool).
 std::string comparison_text(const ImageComparison& c);
+
+// ---- `fovsim compare --fvvdp`: FovVideoVDP v1.2 (Mantiuk et al. 2021) of an image pair or of
+// two PNG sequences (docs/metrics.md, "FovVideoVDP").
+
+// As read_ldr_rgb, with FovVideoVDP's decoding (FovVideoVDP.md §1): 16-bit values v / 65535,
+// and a grey file stays one channel (Y = L).
+Image read_fvvdp_image(const std::string& path);
+
+// A PNG file (one frame) or a folder of PNG frames in name order. Throws fovsim::Error naming
+// the path for a missing or empty folder or an unreadable file.
+std::vector<std::string> frame_files(const std::string& path);
+
+// "X,Y" in pixels from the top-left; throws fovsim::Error("--gaze", ...) when malformed.
+std::pair<double, double> parse_gaze(const std::string& s);
+
+struct FvvdpCompareOptions {
+  std::string display;     // a name from models/displays/ or a path
+  std::string models_dir;  // where models/displays/ lives
+  double fps = 0;          // 0 = not given (required for sequences)
+  bool foveated = false;   // implied by a gaze
+  bool has_gaze = false;
+  double gaze_x = 0, gaze_y = 0;
+};
+
+struct FvvdpComparison {
+  FvvdpResult result;
+  FvvdpDisplay display;
+  int width = 0, height = 0, frames = 0;
+  double fps = 0;  // 0 for an image
+  bool foveated = false;
+  double gaze_x = 0, gaze_y = 0;  // the gaze used (foveated only)
+};
+
+// Names of the displays in models_dir/displays (sorted).
+std::vector<std::string> display_names(const std::string& models_dir);
+// Throws fovsim::Error located at "--display", "--fps", "--gaze" or the file for bad input:
+// unknown display (the available ones listed), frame counts or sizes that differ, a sequence
+// without --fps.
+FvvdpComparison compare_fvvdp(const std::string& ref_path, const std::string& test_path,
+                              const FvvdpCompareOptions& opt);
+// {"fvvdp_jod", "q", "display", "display_name", "ppd", "y_peak", "y_black", "foveated", "gaze",
+//  "frames", "fps", "mode", "width", "height", "bands": [{"rho_cpd", "q_sustained",
+//  "q_transient"}]} (band values: §10 step 1, mean over frames).
+Json fvvdp_comparison_json(const FvvdpComparison& c);
+std::string fvvdp_comparison_text(const FvvdpComparison& c);
 
 }  // namespace fovsim

@@ -408,20 +408,35 @@ struct TemporalRing {
     for (auto& r : ring)
       if (&r != &ring[size_t(head)]) r = ring[size_t(head)];
   }
-  void filter(const std::vector<double>& taps, int W, int H, float* out) const {
-    const int L = int(taps.size());
+  // Both channels in one pass; per pixel the taps are summed in double in tap order.
+  void filter2(const std::vector<double>& fs, const std::vector<double>& ft, int W, int H,
+               float* out_s, float* out_t) const {
+    const int L = int(fs.size());
     std::vector<const float*> src(static_cast<size_t>(L));
     for (int k = 0; k < L; ++k) {
       const int s = ((head - k) % L + L) % L;
       src[size_t(k)] = ring[size_t(s)].data();
     }
     for_rows(H, W, [&](int y) {
+      constexpr int kChunk = 256;
+      double as[kChunk], at[kChunk];
       const size_t off = size_t(y) * size_t(W);
-      for (int x = 0; x < W; ++x) {
-        double acc = 0;
-        for (int k = 0; k < L; ++k)
-          acc += taps[size_t(k)] * double(src[size_t(k)][off + size_t(x)]);
-        out[off + size_t(x)] = float(acc);
+      for (int x0 = 0; x0 < W; x0 += kChunk) {
+        const int n = std::min(kChunk, W - x0);
+        for (int i = 0; i < n; ++i) as[i] = at[i] = 0.0;
+        for (int k = 0; k < L; ++k) {
+          const float* p = src[size_t(k)] + off + size_t(x0);
+          const double a = fs[size_t(k)], b = ft[size_t(k)];
+          for (int i = 0; i < n; ++i) {
+            const double v = double(p[i]);
+            as[i] += a * v;
+            at[i] += b * v;
+          }
+        }
+        for (int i = 0; i < n; ++i) {
+          out_s[off + size_t(x0 + i)] = float(as[i]);
+          out_t[off + size_t(x0 + i)] = float(at[i]);
+        }
       }
     });
   }
@@ -459,8 +474,7 @@ struct Frame {
     float* slot = ring.push_slot(Y.size());
     to_luminance(img, d, slot);
     if (first) ring.replicate_first();
-    ring.filter(fs, W, H, X[0].data());
-    ring.filter(ft, W, H, X[1].data());
+    ring.filter2(fs, ft, W, H, X[0].data(), X[1].data());
     for (int c = 0; c < 2; ++c) pyr[c].build(X[c].data(), lv, tmp);
   }
   const float* plane(int c) const { return video ? X[c].data() : Y.data(); }
@@ -545,6 +559,13 @@ double fvvdp_jod_from_q(double mean_q) {
 // ---------------------------------------------------------------------------------------------
 // Display (§3).
 
+namespace {
+// §3.2: ppd = 1 / (2 atan(w_m / (2 W d)) 180/pi), in the reference's order of operations.
+double ppd_of(double w_m, int W, double d) {
+  return 1.0 / (2.0 * (std::atan(0.5 * w_m / W / d) * (180.0 / kPiD)));
+}
+}  // namespace
+
 FvvdpDisplay FvvdpDisplay::from_spec(const std::string& name, int width, int height,
                                      double viewing_distance_m, double diagonal_inches,
                                      double fov_diagonal_deg, double max_luminance, double contrast,
@@ -556,19 +577,19 @@ FvvdpDisplay FvvdpDisplay::from_spec(const std::string& name, int width, int hei
   const double a = double(width) / double(height);
   d.d_m = viewing_distance_m > 0 ? viewing_distance_m : 3.0;
   if (diagonal_inches > 0) {
-    const double D = diagonal_inches * 0.0254;
-    d.h_m = std::sqrt(D * D / (1 + a * a));
-    d.w_m = a * d.h_m;
+    const double D_mm = diagonal_inches * 25.4;  // in mm, as the reference (same ppd bits)
+    const double h_mm = std::sqrt(D_mm * D_mm / (1 + a * a));
+    d.h_m = h_mm / 1000.0;
+    d.w_m = a * h_mm / 1000.0;
   } else if (fov_diagonal_deg > 0) {
     const double p = std::sqrt(double(width) * width + double(height) * height) /
                      (2.0 * std::tan(fov_diagonal_deg * kPiD / 180.0 / 2.0));
-    const double theta_h = 2.0 * std::atan(height / (2.0 * p));  // radians
-    d.h_m = 2.0 * std::tan(theta_h / 2.0) * d.d_m;
+    d.h_m = height * d.d_m / p;  // = 2 tan(theta_h / 2) d, theta_h = 2 atan(H / (2 p))
     d.w_m = a * d.h_m;
   } else {
     throw Error(kWhere, "display " + name + " needs a diagonal size or a diagonal FOV");
   }
-  d.ppd = 1.0 / (2.0 * std::atan(d.w_m / (2.0 * width * d.d_m)) * 180.0 / kPiD);
+  d.ppd = ppd_of(d.w_m, width, d.d_m);
   const double C =
       min_luminance > 0 ? max_luminance / min_luminance : (contrast > 0 ? contrast : 500.0);
   const double y_refl = ambient_lux / kPiD * k_refl;
@@ -599,7 +620,7 @@ FvvdpDisplay FvvdpDisplay::from_display(const Display& disp) {
                   disp.contrast, disp.black_luminance, disp.ambient_lux, disp.reflectivity);
     d.w_m = 2.0 * dist * std::tan(disp.fov_h_deg * kPiD / 360.0);
     d.h_m = 2.0 * dist * std::tan(disp.fov_v_deg * kPiD / 360.0);
-    d.ppd = 1.0 / (2.0 * std::atan(d.w_m / (2.0 * d.width * d.d_m)) * 180.0 / kPiD);
+    d.ppd = ppd_of(d.w_m, d.width, d.d_m);
   }
   return d;
 }
@@ -608,7 +629,7 @@ FvvdpDisplay FvvdpDisplay::scaled_to(int w, int h) const {
   FvvdpDisplay d = *this;
   d.width = w;
   d.height = h;
-  d.ppd = 1.0 / (2.0 * std::atan(w_m / (2.0 * w * d_m)) * 180.0 / kPiD);
+  d.ppd = ppd_of(w_m, w, d_m);
   return d;
 }
 
@@ -797,7 +818,8 @@ void FvvdpReferenceStream::push(const Image& ref, double gx, double gy) {
 
 struct FvvdpTestStream::Impl {
   Frame frame;
-  std::vector<float> E;
+  std::vector<float> E, up;
+  std::vector<std::vector<float>> Dmap;  // heat map: per-band D (sustained + 0.25 transient)
   std::vector<double> row_sum;
 };
 
@@ -834,13 +856,20 @@ double FvvdpTestStream::push(const Image& test, const FvvdpReferenceStream& ref)
   last_q_.assign(size_t(nb), {0.0, 0.0});
   const float kM = float(std::pow(10.0, kMaskC));
   const float p = float(kMaskP), beta = float(kBeta);
+  if (heat_on_) I.Dmap.resize(size_t(nb));
   for (int b = 0; b < nb; ++b) {
     const FvvdpBandState& B = R.bands[size_t(b)];
     const Level& up = I.frame.lv[size_t(b) + 1];
     const size_t n = size_t(B.w) * size_t(B.h);
     I.E.resize(n);
     I.row_sum.assign(size_t(B.h), 0.0);
+    float* dmap = nullptr;
+    if (heat_on_) {
+      I.Dmap[size_t(b)].assign(n, 0.f);
+      dmap = I.Dmap[size_t(b)].data();
+    }
     for (int c = 0; c < nc; ++c) {
+      const float wc = c == 0 ? 1.f : float(kWTransient);
       expand(I.frame.level(c, b + 1), up.w, up.h, B.w, B.h, I.E.data(), I.frame.tmp);
       const float* G = I.frame.level(c, b);
       const float q = float(kMaskQ[c]);
@@ -860,6 +889,7 @@ double FvvdpTestStream::push(const Image& test, const FvvdpReferenceStream& ref)
           float D = 0.f;
           if (diff > 0.f) D = std::min(std::pow(diff, p) / (1.f + std::pow(M, q)), 1e4f);
           if (D > 0.f) acc += double(std::pow(D, beta));  // §10 (1)
+          if (dmap) dmap[o + size_t(x)] += wc * D;
         }
         I.row_sum[size_t(y)] = acc;
       });
@@ -867,6 +897,22 @@ double FvvdpTestStream::push(const Image& test, const FvvdpReferenceStream& ref)
       for (double v : I.row_sum) sum += v;  // row order: same bits at any thread count
       last_q_[size_t(b)][size_t(c)] = std::pow(sum / double(n), 1.0 / kBeta);
     }
+  }
+  if (heat_on_) {
+    // Collapse the D pyramid from the coarsest scored band to the frame, then to JOD units.
+    std::vector<float> acc = I.Dmap[size_t(nb) - 1];
+    for (int b = nb - 2; b >= 0; --b) {
+      const Level &lo = I.frame.lv[size_t(b) + 1], &hi = I.frame.lv[size_t(b)];
+      I.up.resize(size_t(hi.w) * size_t(hi.h));
+      expand(acc.data(), lo.w, lo.h, hi.w, hi.h, I.up.data(), I.frame.tmp);
+      const std::vector<float>& d = I.Dmap[size_t(b)];
+      for (size_t k = 0; k < I.up.size(); ++k) I.up[k] += d[k];
+      acc.swap(I.up);
+    }
+    heat_.resize(ref.width(), ref.height(), 1);
+    const float a = float(-kJodA), bj = float(std::pow(10.0, kLogJodExp));
+    for (size_t k = 0; k < acc.size(); ++k)
+      heat_.data[k] = acc[k] > 0.f ? a * std::pow(acc[k], bj) : 0.f;
   }
   // §10 (2), (3).
   double qsc[2] = {0, 0};

@@ -127,13 +127,21 @@ class FvvdpTestStream {
   const std::vector<std::array<double, 2>>& q_bands() const { return last_q_; }
   const std::vector<double>& q_per_frame() const { return q_tc_; }
   double mean_q() const;  // §10 step 4 over the frames pushed
-  double jod() const;     // fvvdp_jod_from_q(mean_q())
+  // Supra-threshold heat map of each pushed frame (off by default; costs one map per band):
+  // the per-band D maps (transient x 0.25 added to the sustained) collapsed as a Laplacian
+  // pyramid, then mapped to JOD-like units |jod_a| D^0.5916 (0 = no visible difference), as
+  // the reference's heat maps (Mantiuk et al. 2021 reference code). 1 channel, frame size.
+  void enable_heatmap(bool on) { heat_on_ = on; }
+  const Image& heatmap() const { return heat_; }
+  double jod() const;  // fvvdp_jod_from_q(mean_q())
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
   std::vector<double> q_tc_;
   std::vector<std::array<double, 2>> last_q_;
+  bool heat_on_ = false;
+  Image heat_;
 };
 
 // JOD of a pooled Q (§10 step 4, §11): 10 − 0.0161713 · Q^0.5915616.

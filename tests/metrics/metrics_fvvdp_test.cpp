@@ -188,14 +188,14 @@ TEST(Fvvdp, StandardDisplays) {
             {"htc_vive_pro", 13.153262507309297, 0.1, 5.732283888, 6.369204320}};
   for (const auto& e : ds) {
     const FvvdpDisplay d = FvvdpDisplay::standard(e.name);
-    EXPECT_NEAR(d.ppd, e.ppd, e.ppd * 1e-13) << e.name;
+    EXPECT_EQ(d.ppd, e.ppd) << e.name;
     EXPECT_NEAR(d.y_black, e.black, 1e-10) << e.name;
     EXPECT_NEAR(d.w_m, e.w_m, 1e-9) << e.name;
     EXPECT_NEAR(d.h_m, e.h_m, 1e-9) << e.name;
     // The shipped display models give the same numbers.
     const Display m = Display::load(e.name, std::string(FOVSIM_SOURCE_DIR) + "/models");
     const FvvdpDisplay f = FvvdpDisplay::from_display(m);
-    EXPECT_NEAR(f.ppd, e.ppd, e.ppd * 1e-13) << e.name;
+    EXPECT_EQ(f.ppd, e.ppd) << e.name;
     EXPECT_NEAR(f.y_black, e.black, 1e-10) << e.name;
     EXPECT_EQ(f.y_peak, d.y_peak) << e.name;
   }
@@ -289,4 +289,36 @@ TEST(Fvvdp, BadInput) {
   EXPECT_THROW(fvvdp({a, a}, {a}, d, 30, false), Error);
   EXPECT_THROW(fvvdp({a, a}, {a, a}, d, 0, false), Error);
   EXPECT_THROW(fvvdp({uniform(3, 3, 1)}, {uniform(3, 3, 1)}, d, 0, false), Error);
+}
+
+TEST(Fvvdp, HeatMap) {
+  const FvvdpDisplay d = FvvdpDisplay::standard("standard_fhd");
+  FvvdpReferenceStream rs(d, 256, 256, {});
+  FvvdpTestStream plain(rs), heat(rs);
+  heat.enable_heatmap(true);
+  // A difference in one small patch: the map is high near it and zero far away; enabling the
+  // map does not change the score.
+  Image r = grating(256, 256, 10, 12), t = r;
+  for (int y = 20; y < 40; ++y)
+    for (int x = 20; x < 40; ++x)
+      for (int c = 0; c < 3; ++c) t.at(x, y)[c] += 0.05f;
+  rs.push(r);
+  EXPECT_EQ(plain.push(t, rs), heat.push(t, rs));
+  const Image& h = heat.heatmap();
+  ASSERT_EQ(h.width, 256);
+  ASSERT_EQ(h.height, 256);
+  ASSERT_EQ(h.channels, 1);
+  double near = 0, far = 0;
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x) {
+      near += h.at(x, y)[0];
+      far += h.at(x + 192, y + 192)[0];
+    }
+  for (float v : h.data) ASSERT_GE(v, 0.f);
+  EXPECT_GT(near, 0.0);
+  EXPECT_LT(far, 1e-3 * near);
+  FvvdpTestStream same(rs);
+  same.enable_heatmap(true);
+  same.push(r, rs);
+  for (float v : same.heatmap().data) ASSERT_EQ(v, 0.f);
 }
