@@ -305,6 +305,11 @@ struct Cell {
         if (!gj[i].is_string())
           root.fail("gpus[" + std::to_string(i) + "]",
                     "expected a profile name, got " + describe_json(gj[i]));
+        for (size_t k = 0; k < names.size(); ++k)
+          if (names[k] == gj[i].get<std::string>())
+            root.fail("gpus[" + std::to_string(i) + "]",
+                      "\"" + names[k] + "\" is also gpus[" + std::to_string(k) +
+                          "] (each GPU once: a repeat would count every frame twice)");
         names.push_back(gj[i].get<std::string>());
       }
     } else {

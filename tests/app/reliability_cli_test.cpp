@@ -4,6 +4,7 @@
 // Every check asserts the one-line message and exit 2 (as tests/app/hardening_cli_test.cpp).
 #include <gtest/gtest.h>
 #include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <unistd.h>
 
 #include "tests/app/app_util.h"
@@ -255,5 +256,12 @@ TEST(Reliability, NaNAndZeroOnFlagsAreErrors) {
                     "--target: value 0 is out of range (0, 1]");
   expect_user_error(run_cmd(bin + " density -m kfr --param rmfr.fx=0.3 --out " + d + "/x"),
                     "method \"rmfr\" is not selected with --method");
+  write_text(d + "/g.json", small_config(R"({"type": "atrium", "complexity": 1})",
+                                         R"(, "gpus": ["gtx1080", "gtx1080"])"));
+  expect_user_error(run_cmd(bin + " run " + d + "/g.json --out " + d + "/o"),
+                    "gpus[1]: \"gtx1080\" is also gpus[0]");
+  write_text(d + "/dup.json", "{\"name\": \"a\",\n \"render\": {\"scale\": 1, \"scale\": 2}}");
+  expect_user_error(run_cmd(bin + " run " + d + "/dup.json"),
+                    "dup.json:2:25: duplicate key \"render.scale\"");
   expect_user_error(run_cmd(bin + " frobnicate"), "unknown command 'frobnicate' (commands: ");
 }
