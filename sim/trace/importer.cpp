@@ -384,7 +384,7 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
               m.euler_order[1] != m.euler_order[2] && m.euler_order[0] != m.euler_order[2];
       if (!okord)
         ho.fail("order",
-                "expected X, Y and Z once each in some order, such as \"ZXY\" (Unity) or \"ZYX\"");
+                "expected three of X, Y, Z, each once, such as \"ZXY\" (Unity) or \"ZYX\"");
       m.intrinsic =
           ho.string("sequence", std::vector<std::string>{"extrinsic", "intrinsic"}) == "intrinsic";
       m.angle_scale =
