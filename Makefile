@@ -114,7 +114,7 @@ test-sanitize: deps
 # recording, sweep specs), each run for FUZZ_SECONDS with its committed seed corpus and
 # dictionary (tests/fuzz/README.md). New corpus entries and crash inputs stay under
 # $(SAN_BUILD)/fuzz/; a crash fails the target and becomes a regression test.
-FUZZ_TARGETS ?= params trace_csv importer sweep
+FUZZ_TARGETS ?= params trace_csv importer sweep scene png
 FUZZ_SECONDS ?= 60
 FUZZ_OUT := $(SAN_BUILD)/fuzz
 .PHONY: fuzz

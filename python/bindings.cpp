@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "sim/core/error.h"
+#include "sim/core/params.h"
 #include "sim/cost/analytic.h"
 #include "sim/cost/budget.h"
 #include "sim/cost/cost_model.h"
@@ -50,6 +51,7 @@ struct RunOut {
 
 RunOut run_one(const std::string& config, const std::vector<std::string>& overrides,
                const std::string& out, int threads, const std::string& models) {
+  check_integer("threads", threads, Range::closed(0, 4096));
   LoadedConfig cfg = load_config(config, overrides);
   RunOptions opt;
   opt.out_dir = out;
@@ -155,6 +157,13 @@ py::dict estimate_py(const std::string& gpu, const std::string& workload, const 
                      const std::string& display, int width, int height, int eyes,
                      const std::map<std::string, double>& scale, double budget_ms,
                      const std::string& models_in) {
+  // The checks `fovsim predict` / `budget` make on their flags (params.h check_number): 0
+  // keeps the display's own value, anything else must be in the flag's range.
+  if (width) check_integer("width", width, Range::closed(1, 1 << 20));
+  if (height) check_integer("height", height, Range::closed(1, 1 << 20));
+  if (eyes) check_integer("eyes", eyes, Range::closed(1, 2));
+  if (budget_ms != 0) check_number("budget_ms", budget_ms, Range::above(0, 1e6));
+  for (auto& [k, f] : scale) check_number("scale." + k, f, Range::closed(1e-6, 1e6));
   const std::string models = models_in.empty() ? default_models_dir() : models_in;
   MethodArg m = parse_method_arg(method, "method");
   if (!is_cost_method(m.name))
@@ -352,6 +361,19 @@ PYBIND11_MODULE(_fovsim, m) {
       fovsim_error(e.what());
     }
   });
+  // The range checks of the CLI's flags (params.h), for the Python layer's own arguments.
+  m.def(
+      "check_number",
+      [](const std::string& where, double v, double lo, double hi, bool lo_open) {
+        return check_number(where, v, lo_open ? Range::above(lo, hi) : Range::closed(lo, hi));
+      },
+      py::arg("where"), py::arg("value"), py::arg("lo"), py::arg("hi"), py::arg("lo_open") = false);
+  m.def(
+      "check_integer",
+      [](const std::string& where, double v, double lo, double hi) {
+        return check_integer(where, v, Range::closed(lo, hi));
+      },
+      py::arg("where"), py::arg("value"), py::arg("lo"), py::arg("hi"));
   m.def("run", &run_py, py::arg("config"), py::arg("overrides") = std::vector<std::string>{},
         py::arg("out") = "", py::arg("threads") = 0, py::arg("models") = "",
         "Runs one config (like `fovsim run`); returns {out_dir, summary (list of dicts), "

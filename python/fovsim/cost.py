@@ -71,7 +71,7 @@ def predict(gpu, workload=None, methods=None, display=None, width=0, height=0, e
     return _table(rows, as_frame)
 
 
-def budget(gpu, workload, methods=None, hz=90.0, budget_ms=0.0, scale=None, display="htc_vive_pro_eye",
+def budget(gpu, workload, methods=None, hz=90.0, budget_ms=None, scale=None, display="htc_vive_pro_eye",
            width=0, height=0, eyes=0, models="", as_frame=True):
     """Does each method fit a frame budget (1000/hz, or budget_ms) on each GPU, optionally with
     resources' throughput scaled (scale={"shading": 2.0, ...}) — `fovsim budget`. Per row:
@@ -79,7 +79,12 @@ def budget(gpu, workload, methods=None, hz=90.0, budget_ms=0.0, scale=None, disp
     factor_<resource> (throughput factor that resource alone needs to fit; inf: cannot) and
     factor_all (uniform factor on everything but fixed overheads)."""
     m = _module()
-    b = budget_ms if budget_ms and budget_ms > 0 else 1000.0 / hz
+    # The ranges of `fovsim budget --hz / --budget-ms` (the library's check, not a copy):
+    # NaN, 0 and negative values are errors, not "the default".
+    if budget_ms is not None:
+        b = m.check_number("budget_ms", float(budget_ms), 0.0, 1e6, True)
+    else:
+        b = 1000.0 / m.check_number("hz", float(hz), 1.0, 10000.0)
     scale = dict(scale or {})
     rows = []
     for g in _list(gpu):

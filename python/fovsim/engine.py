@@ -206,7 +206,8 @@ class AskTell:
     def run(self, evaluations=None):
         """The whole loop here (ask, evaluate, tell) until `evaluations` (default: the spec's)
         points are told or the search converges; returns best."""
-        n = evaluations or self.spec["evaluations"]
+        n = self.spec["evaluations"] if evaluations is None else \
+            int(_module().check_integer("evaluations", evaluations, 1, 1e9))
         while len(self.history) < n:
             xs = self.ask()
             if not xs:

@@ -474,21 +474,21 @@ void register_cost(CLI::App& app, Action& action) {
     c->add_option("--hz", a->hz,
                   "Refresh rate whose frame time is the budget (e.g. 72, 90, 120, 144)")
         ->capture_default_str()
-        ->check(CLI::Range(1.0, 10000.0));
+        ->check(finite_in(1.0, 10000.0));
     c->add_option("--budget-ms", a->budget_ms, "Frame budget in ms (overrides --hz)")
-        ->check(CLI::Range(0.0, 1e6));
+        ->check(finite_above(0.0, 1e6));
     c->add_option("--scale-shading", a->s_shading, "What-if: multiply shading (FP32) throughput")
-        ->check(CLI::Range(1e-6, 1e6));
+        ->check(finite_in(1e-6, 1e6));
     c->add_option("--scale-geometry", a->s_geometry,
                   "What-if: multiply geometry (triangle) throughput")
-        ->check(CLI::Range(1e-6, 1e6));
+        ->check(finite_in(1e-6, 1e6));
     c->add_option("--scale-raster", a->s_raster, "What-if: multiply raster (fill) throughput")
-        ->check(CLI::Range(1e-6, 1e6));
+        ->check(finite_in(1e-6, 1e6));
     c->add_option("--scale-memory", a->s_memory, "What-if: multiply memory bandwidth")
-        ->check(CLI::Range(1e-6, 1e6));
+        ->check(finite_in(1e-6, 1e6));
     c->add_option("--scale-fixed", a->s_fixed,
                   "What-if: divide fixed per-pass overheads by this factor")
-        ->check(CLI::Range(1e-6, 1e6));
+        ->check(finite_in(1e-6, 1e6));
     c->add_flag("--json", a->json, "Print JSON");
     c->callback([a, &action]() { action = [a]() { return do_budget(*a); }; });
   }

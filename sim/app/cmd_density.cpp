@@ -18,6 +18,8 @@
 namespace fovsim::app {
 
 namespace {
+// Most rows `fovsim density` writes (configs/README.md "Limits on input").
+constexpr double kMaxDensityRows = 2e6;
 struct DensityArgs {
   std::vector<std::string> methods{"kfr", "rmfr", "hyperbolic", "linear"};
   std::vector<std::string> params;  // METHOD.key=value
@@ -40,6 +42,29 @@ int run_density(const DensityArgs& a) {
   Json summary = Json::object();
   summary["display"] = d.to_json();
   summary["gaze_px"] = {v.gaze_px.x, v.gaze_px.y};
+  // Every --param names a selected method (a typo or an unselected method is an error, not
+  // ignored) and has the form METHOD.key=value.
+  for (const std::string& kv : a.params) {
+    auto dot = kv.find('.'), eq = kv.find('=');
+    if (dot == std::string::npos || eq == std::string::npos || eq < dot)
+      throw Error("--param " + kv, "expected METHOD.key=value");
+    bool selected = false;
+    for (const std::string& arg : a.methods)
+      selected = selected || parse_method_arg(arg, "--method").name == kv.substr(0, dot);
+    if (!selected)
+      throw Error("--param " + kv,
+                  "method \"" + kv.substr(0, dot) + "\" is not selected with --method");
+  }
+  // Rows written: bounded before any is computed (about 100 bytes and one density solve each).
+  const double rows = double(a.methods.size()) * a.directions * a.samples;
+  if (rows > kMaxDensityRows)
+    throw Error("--samples",
+                "--directions " + std::to_string(a.directions) + " x --samples " +
+                    std::to_string(a.samples) + " x " + std::to_string(a.methods.size()) +
+                    " methods = " + std::to_string(int64_t(rows)) + " rows, over the limit of " +
+                    std::to_string(int64_t(kMaxDensityRows)));
+  check_output_target(a.out + ".csv");
+  check_output_target(a.out + ".json");
   for (const std::string& arg : a.methods) {
     // One syntax on every command: "kfr:sigma=1.8,alpha=2" (parse_method_arg); --param
     // METHOD.key=value is kept as an alias.
@@ -133,11 +158,15 @@ void register_density(CLI::App& app, Action& action) {
   c->add_option("--display", a->display, "Display name or path (models/displays/NAME.json)")
       ->capture_default_str();
   c->add_option("--models", a->models, "Models directory");
-  c->add_option("--gaze-u", a->gaze_u, "Gaze x as a fraction of W")->capture_default_str();
-  c->add_option("--gaze-v", a->gaze_v, "Gaze y as a fraction of H")->capture_default_str();
+  c->add_option("--gaze-u", a->gaze_u, "Gaze x as a fraction of W")
+      ->capture_default_str()
+      ->check(finite_in(0.0, 1.0));
+  c->add_option("--gaze-v", a->gaze_v, "Gaze y as a fraction of H")
+      ->capture_default_str()
+      ->check(finite_in(0.0, 1.0));
   c->add_option("--target", a->target,
                 "Iso-budget: shaded fraction every method is tuned to (Ye et al. 2022 §5.1)")
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(finite_above(0.0, 1.0));
   c->add_option("--directions", a->directions, "Directions from the gaze")
       ->check(CLI::Range(1, 360))
       ->capture_default_str();

@@ -44,7 +44,7 @@ void register_fidelity(CLI::App& app, Action& action) {
   c->add_flag("-q,--quiet", a->quiet, "Print only the table");
   c->add_flag("--no-plots", a->no_plots, "Do not run viz/plot_fidelity.py");
   c->add_option("--watchdog", a->watchdog_s, "Per-frame watchdog seconds (as in fovsim run)")
-      ->check(CLI::Range(0.0, 1e9));
+      ->check(finite_in(0.0, 1e9));
   c->callback([a, &action]() {
     action = [a]() {
       // Rungs are checked before the config is even loaded: a typo fails in one line, at once.

@@ -43,7 +43,7 @@ void register_run(CLI::App& app, Action& action) {
                 "runs longer than\n"
                 "max(SECONDS, 50x the median of its previous frames) (its first frame: 10x "
                 "SECONDS); 0 disables")
-      ->check(CLI::Range(0.0, 1e9));
+      ->check(finite_in(0.0, 1e9));
   c->add_option("--target", a->targets,
                 "Stop early: COLUMN:VALUE[%|dB|ms] or ranking[:COLUMN] (repeatable, e.g. "
                 "est_ms_total:1%); "

@@ -82,7 +82,7 @@ void register_sweep(CLI::App& app, Action& action) {
                 "runs longer than\n"
                 "max(SECONDS, 50x the median of its previous frames) (its first frame: 10x "
                 "SECONDS); 0 disables")
-      ->check(CLI::Range(0.0, 1e9));
+      ->check(finite_in(0.0, 1e9));
   c->add_option("--target", a->targets,
                 "Stop each cell early: COLUMN:VALUE[%|dB|ms] or ranking[:COLUMN] (repeatable); "
                 "each cell's manifest records frames used and achieved half-widths "

@@ -5,6 +5,7 @@
 
 #include "sim/app/commands.h"
 #include "sim/core/error.h"
+#include "sim/core/files.h"
 #include "sim/experiment/config.h"
 #include "sim/trace/guess.h"
 #include "sim/trace/importer.h"
@@ -23,6 +24,7 @@ struct TraceArgs {
   long long seed = 1;
   double duration = 10, rate = 0;
   double max_gap = 1;
+  double max_samples = kDefaultMaxTraceSamples;
 };
 
 Display load_display(const TraceArgs& a) {
@@ -93,6 +95,7 @@ void register_trace(CLI::App& app, Action& action) {
     if (a->map.empty()) throw CLI::RequiredError("--map (or --guess)");
     if (a->out.empty()) throw CLI::RequiredError("--output");
     action = [a] {
+      check_output_target(a->out);  // before any work: never replaces a FIFO, device or link
       Display d = load_display(*a);
       ImportReport rep;
       ImportOptions io;
@@ -118,7 +121,7 @@ void register_trace(CLI::App& app, Action& action) {
   val->add_option("--max-gap", a->max_gap,
                   "Seconds: flag intervals between samples longer than this (0: no check)")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1e9));
+      ->check(finite_in(0.0, 1e9));
   add_display_opts(val, *a);
   val->callback([a, &action] {
     action = [a] {
@@ -177,15 +180,20 @@ void register_trace(CLI::App& app, Action& action) {
       ->check(CLI::NonNegativeNumber);
   syn->add_option("--duration", a->duration, "Duration in seconds")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(finite_above(0.0, 36000.0));
   syn->add_option("--rate", a->rate, "Output rate in Hz (default: the display's refresh rate)")
-      ->check(CLI::PositiveNumber);
+      ->check(finite_above(0.0, 10000.0));
+  syn->add_option("--max-samples", a->max_samples,
+                  "Most samples generated (output or internal rate, whichever is higher)")
+      ->capture_default_str()
+      ->check(finite_in(1.0, 2e9));
   syn->add_option("--params", a->params,
                   "Eye-model overrides JSON (any subset of models/eyemodel/default.json)");
   syn->add_option("-o,--output", a->out, "Canonical CSV to write")->required();
   add_display_opts(syn, *a);
   syn->callback([a, &action] {
     action = [a] {
+      check_output_target(a->out);
       Display d = load_display(*a);
       EyeModel m;
       if (!a->params.empty()) m = load_eye_model(Json(a->params), "--params", "", "");
@@ -194,6 +202,15 @@ void register_trace(CLI::App& app, Action& action) {
       o.seed = uint64_t(a->seed);
       o.duration_s = a->duration;
       o.rate_hz = a->rate > 0 ? a->rate : d.refresh_hz;
+      const double n = synth_sample_count(m, o);
+      if (!(n <= a->max_samples)) {
+        char b[256];
+        std::snprintf(b, sizeof b,
+                      "%.6g s at %.6g Hz (internal rate %.6g Hz) is %.6g samples, over the limit "
+                      "--max-samples %.6g (shorten it or raise --max-samples)",
+                      o.duration_s, o.rate_hz, m.internal_rate_hz, n, a->max_samples);
+        throw Error("--duration", b);
+      }
       Trace tr = synthesize(m, o, d);
       write_trace_csv(a->out, tr);
       std::printf("wrote %s (%s)\n", a->out.c_str(), tr.source.c_str());

@@ -2,9 +2,41 @@
 // explicitly from main.cpp (no static registration).
 #pragma once
 #include <CLI/CLI.hpp>
+#include <cmath>
+#include <cstdio>
 #include <functional>
+#include <string>
+
+#include "sim/core/error.h"
+#include "sim/core/params.h"
 
 namespace fovsim::app {
+
+// Flag validators that refuse NaN, infinities and values outside the range (CLI11's Range
+// and PositiveNumber let NaN through), through the library's check_number (params.h), the
+// check the Python bindings make too: "[lo, hi]" and "(lo, hi]".
+inline CLI::Validator finite_range(double lo, double hi, bool lo_open) {
+  const Range r = lo_open ? Range::above(lo, hi) : Range::closed(lo, hi);
+  return CLI::Validator(
+      [r](std::string& s) -> std::string {
+        double v = 0;
+        if (!CLI::detail::lexical_cast(s, v))
+          return "value \"" + s.substr(0, 40) + "\" is not a number in " + r.str();
+        try {
+          check_number("", v, r);
+        } catch (const Error& e) {
+          return e.message();
+        }
+        return "";
+      },
+      "FLOAT in " + r.str());
+}
+inline CLI::Validator finite_in(double lo, double hi) {
+  return finite_range(lo, hi, false);
+}
+inline CLI::Validator finite_above(double lo, double hi) {
+  return finite_range(lo, hi, true);
+}
 
 // A registered subcommand sets `action`; main runs it inside the one try/catch.
 using Action = std::function<int()>;

@@ -59,10 +59,27 @@ int main(int argc, char** argv) {
                      best.c_str());
         return 2;
       }
+      if (!names.empty() && cur->get_subcommands({}).size() > 0 &&
+          cur->get_require_subcommand_min() > 0) {
+        std::string list;
+        for (auto& n : names) list += (list.empty() ? "" : ", ") + n;
+        std::string word = std::string(argv[i]).substr(0, 40);
+        for (char& ch : word)
+          if ((unsigned char)ch < 0x20 || ch == 0x7f) ch = '?';
+        std::fprintf(stderr, "fovsim: error: unknown command '%s' (commands: %s)\n", word.c_str(),
+                     list.c_str());
+        return 2;
+      }
       break;
     }
-    int rc = app.exit(e);
-    return rc == 0 ? 0 : 2;
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    // Bad flags and values are one line like every other input error (the usage hint of
+    // CLI11 would be a second line). An unknown subcommand is named as such.
+    std::string msg = e.what();
+    for (char& ch : msg)
+      if (ch == '\n' || ch == '\r') ch = ' ';
+    std::fprintf(stderr, "fovsim: error: %s (see --help)\n", msg.c_str());
+    return 2;
   }
   try {
     return action ? action() : 0;

@@ -74,15 +74,42 @@ std::string git_commit() {
   return FOVSIM_GIT_COMMIT;
 }
 
+// A path with an embedded NUL would be cut there by every system call (Python strings can
+// carry one): refused wherever fovsim opens or creates a file.
+static void check_nul(const std::string& path) {
+  if (path.find('\0') != std::string::npos)
+    throw Error(path.substr(0, path.find('\0')) + "\\0...",
+                "path contains a NUL byte (refused rather than cut at the NUL)");
+}
+
 void make_dirs(const std::string& path) {
   if (path.empty()) return;
+  check_nul(path);
   std::error_code ec;
   fs::create_directories(path, ec);
   if (ec) throw Error(path, "cannot create directory: " + ec.message());
 }
 
+void check_output_target(const std::string& path) {
+  if (path.empty()) throw Error("output path", "is empty");
+  check_nul(path);
+  struct stat st {};
+  if (::lstat(path.c_str(), &st) != 0) return;  // nothing there yet (or the rename reports)
+  if (S_ISREG(st.st_mode)) return;
+  const char* kind = S_ISLNK(st.st_mode)                            ? "a symbolic link"
+                     : S_ISDIR(st.st_mode)                          ? "a directory"
+                     : S_ISFIFO(st.st_mode)                         ? "a FIFO"
+                     : S_ISSOCK(st.st_mode)                         ? "a socket"
+                     : (S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode)) ? "a device"
+                                                                    : "not a regular file";
+  throw Error(path, std::string("output exists and is ") + kind +
+                        "; only a regular file is replaced (remove it or choose another path)");
+}
+
 void write_atomic(const std::string& path, const std::function<void(const std::string&)>& write,
                   const std::function<std::string(const std::string&)>& check) {
+  // Checked before any work and again just before the rename.
+  check_output_target(path);
   fs::path p(path);
   if (p.has_parent_path()) make_dirs(p.parent_path().string());
   // The real extension stays last (image writers pick the format from it).
@@ -93,6 +120,12 @@ void write_atomic(const std::string& path, const std::function<void(const std::s
     write(tmp);
     std::string why = check ? check(tmp) : std::string();
     if (!why.empty()) throw Error(path, why + "; nothing written under this name");
+  } catch (...) {
+    std::remove(tmp.c_str());
+    throw;
+  }
+  try {
+    check_output_target(path);
   } catch (...) {
     std::remove(tmp.c_str());
     throw;
@@ -159,7 +192,29 @@ uint64_t max_input_bytes() {
   return uint64_t(mb ? *mb : 256) << 20;
 }
 
+double max_image_pixels() {
+  auto mp = env_integer("FOVSIM_MAX_IMAGE_MPIXELS", 1, 100000);
+  return mp ? double(*mp) * 1048576.0 : 67108864.0;
+}
+
+void check_input_file(const std::string& path, const std::string& what) {
+  check_nul(path);
+  const std::string where = what.empty() ? path : what + ": " + path;
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0)
+    throw Error(where, std::string("cannot read file (") + std::strerror(errno) + ")");
+  if (S_ISDIR(st.st_mode)) throw Error(where, "is a directory, expected a file");
+  if (!S_ISREG(st.st_mode))
+    throw Error(where, "not a regular file (devices, FIFOs and sockets are refused)");
+  const uint64_t limit = max_input_bytes();
+  if (uint64_t(st.st_size) > limit)
+    throw Error(where, "file is " + std::to_string(uint64_t(st.st_size) >> 20) +
+                           " MiB, over the input limit of " + std::to_string(limit >> 20) +
+                           " MiB (set FOVSIM_MAX_INPUT_MB to raise it)");
+}
+
 std::string read_file(const std::string& path) {
+  check_nul(path);
   // Checked on the open descriptor (no race between the check and the read).
   int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
   if (fd < 0) {

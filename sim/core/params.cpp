@@ -2,7 +2,9 @@
 
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
+#include <set>
 #include <sstream>
 
 #include "sim/core/error.h"
@@ -28,6 +30,24 @@ static std::string fmt_num(double v) {
 std::string Range::str() const {
   return std::string(lo_open ? "(" : "[") + fmt_num(lo) + ", " + fmt_num(hi) +
          (hi_open ? ")" : "]");
+}
+
+static std::string short_num(double v) {
+  char b[40];
+  std::snprintf(b, sizeof b, "%.6g", v);
+  return b;
+}
+
+double check_number(const std::string& where, double v, const Range& r) {
+  if (!r.contains(v)) throw Error(where, "value " + short_num(v) + " is out of range " + r.str());
+  return v;
+}
+
+long check_integer(const std::string& where, double v, const Range& r) {
+  check_number(where, v, r);
+  if (v != std::floor(v) || std::fabs(v) > 9e15)
+    throw Error(where, "value " + short_num(v) + " is not an integer in " + r.str());
+  return long(v);
 }
 
 std::string describe_json(const Json& v) {
@@ -94,10 +114,95 @@ class LocatingSax : public nlohmann::detail::json_sax_dom_parser<Json> {
     message = ex.what();
     return false;
   }
+  // Duplicate keys (nlohmann keeps the last silently): the JSON path is tracked per value,
+  // and the n-th key of the document (counted here) is located in the text afterwards.
+  using Base = nlohmann::detail::json_sax_dom_parser<Json>;
+  struct Frame {
+    bool array = false;
+    long index = -1;
+    std::string key;
+    std::set<std::string> keys;
+  };
+  void value_event() {
+    if (!frames.empty() && frames.back().array) ++frames.back().index;
+  }
+  bool null() { return value_event(), Base::null(); }
+  bool boolean(bool v) { return value_event(), Base::boolean(v); }
+  bool number_integer(Json::number_integer_t v) { return value_event(), Base::number_integer(v); }
+  bool number_unsigned(Json::number_unsigned_t v) {
+    return value_event(), Base::number_unsigned(v);
+  }
+  bool number_float(Json::number_float_t v, const std::string& s) {
+    return value_event(), Base::number_float(v, s);
+  }
+  bool string(std::string& v) { return value_event(), Base::string(v); }
+  bool binary(Json::binary_t& v) { return value_event(), Base::binary(v); }
+  bool start_object(std::size_t n) {
+    value_event();
+    frames.push_back({});
+    return Base::start_object(n);
+  }
+  bool end_object() {
+    frames.pop_back();
+    return Base::end_object();
+  }
+  bool start_array(std::size_t n) {
+    value_event();
+    frames.push_back({true, -1, "", {}});
+    return Base::start_array(n);
+  }
+  bool end_array() {
+    frames.pop_back();
+    return Base::end_array();
+  }
+  bool key(std::string& k) {
+    ++keys_seen;
+    Frame& f = frames.back();
+    f.key = k;
+    if (!f.keys.insert(k).second) {
+      duplicate = true;
+      for (const Frame& g : frames) {
+        if (g.array)
+          dup_path += "[" + std::to_string(g.index) + "]";
+        else
+          dup_path += (dup_path.empty() ? "" : ".") + g.key;
+      }
+      return false;
+    }
+    return Base::key(k);
+  }
+  std::vector<Frame> frames;
+  long keys_seen = 0;
+  bool duplicate = false;
+  std::string dup_path;
   bool failed = false;
   size_t position = 0;
   std::string message;
 };
+
+// Byte offset of the n-th (1-based) object key of `text` (a string followed by ':'), comments
+// and other strings skipped; text.size() when not found.
+size_t nth_key_offset(const std::string& text, long n) {
+  const size_t len = text.size();
+  for (size_t i = 0; i < len; ++i) {
+    const char c = text[i];
+    if (c == '/' && i + 1 < len && text[i + 1] == '/') {
+      while (i + 1 < len && text[i + 1] != '\n') ++i;
+    } else if (c == '/' && i + 1 < len && text[i + 1] == '*') {
+      size_t e = text.find("*/", i + 2);
+      i = e == std::string::npos ? len : e + 1;
+    } else if (c == '"') {
+      const size_t start = i;
+      for (++i; i < len && text[i] != '"'; ++i)
+        if (text[i] == '\\') ++i;
+      size_t j = i + 1;
+      while (j < len && (text[j] == ' ' || text[j] == '\t' || text[j] == '\n' || text[j] == '\r'))
+        ++j;
+      if (j < len && text[j] == ':' && --n == 0) return start;
+    }
+  }
+  return len;
+}
 
 }  // namespace
 
@@ -130,6 +235,10 @@ Json parse_json_text(const std::string& text, const std::string& file) {
   LocatingSax sax(j);
   Json::sax_parse(text, &sax, nlohmann::detail::input_format_t::json, /*strict=*/true,
                   /*ignore_comments=*/true);
+  if (sax.duplicate)
+    throw Error(at(file, text, nth_key_offset(text, sax.keys_seen)),
+                "duplicate key \"" + sax.dup_path +
+                    "\" (each key may appear once; JSON keeps only the last)");
   if (sax.failed) {
     std::string msg = sax.message;
     auto p = msg.find("] ");  // drop nlohmann's "[json.exception.parse_error.101] "

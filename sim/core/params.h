@@ -39,6 +39,13 @@ struct Range {
   std::string str() const;  // "[1, 64]", "(0, inf)"
 };
 
+// The one check of a numeric argument outside a config (CLI flags, Python arguments): returns
+// v when it is finite and in `r`, else throws fovsim::Error(where, "value V is out of range R")
+// -- the message a config key gets. NaN and infinities are never in range.
+double check_number(const std::string& where, double v, const Range& r);
+// As check_number, and v must be an integer.
+long check_integer(const std::string& where, double v, const Range& r);
+
 class Params {
  public:
   // `file` is used in error locations; `path` is the JSON path of `j` ("" at the root).

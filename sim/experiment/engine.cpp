@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <ctime>
 #include <filesystem>
 #include <map>
@@ -18,6 +19,7 @@
 #include "sim/core/error.h"
 #include "sim/core/files.h"
 #include "sim/core/hash.h"
+#include "sim/core/limits.h"
 #include "sim/core/progress.h"
 #include "sim/core/version.h"
 #include "sim/core/watchdog.h"
@@ -208,6 +210,19 @@ struct Shared {
       glm::dvec3 p0 = trace.samples.front().head_pos;
       for (auto& s : trace.samples) s.head_pos = glm::dvec3(scene->default_eye) + (s.head_pos - p0);
     }
+    // The eye points the renderer traces from, within the bound `trace validate` applies.
+    for (const auto& s : trace.samples)
+      for (int c = 0; c < 3; ++c)
+        if (!(std::fabs(s.head_pos[c]) <= kMaxCoordinateM)) {
+          char b[160];
+          std::snprintf(
+              b, sizeof b,
+              "head position %.6g m at t = %.6g s is beyond the coordinate "
+              "bound +-1e5 m%s",
+              s.head_pos[c], s.t,
+              placement == "scene" ? " (after placing the trace at the scene's default eye)" : "");
+          throw Error(root.where("trace"), b);
+        }
 
     int avail = int(trace.samples.size());
     std::string on_short = fp.string("on_short_trace", "fail", {"fail", "truncate"});
@@ -367,6 +382,11 @@ struct Cell {
         if (!gj[i].is_string())
           root.fail("gpus[" + std::to_string(i) + "]",
                     "expected a profile name, got " + describe_json(gj[i]));
+        for (size_t k = 0; k < names.size(); ++k)
+          if (names[k] == gj[i].get<std::string>())
+            root.fail("gpus[" + std::to_string(i) + "]",
+                      "\"" + names[k] + "\" is also gpus[" + std::to_string(k) +
+                          "] (each GPU once: a repeat would count every frame twice)");
         names.push_back(gj[i].get<std::string>());
       }
     } else {

@@ -13,6 +13,8 @@
 #include <vector>
 
 #include "sim/core/error.h"
+#include "sim/core/files.h"
+#include "sim/metrics/flip.h"
 #include "sim/metrics/metrics.h"
 
 namespace fovsim {
@@ -23,6 +25,7 @@ namespace {
 // channel; otherwise the FLIP tool's (above).
 Image read_display_encoded(const std::string& path, bool fvvdp) {
   if (!std::filesystem::exists(path)) throw Error(path, "no such file");
+  check_input_file(path);  // a FIFO or /dev/zero is refused before the decoder blocks on it
   // Raw colour values: OpenImageIO premultiplies PNG colour by alpha unless asked not to; the
   // FLIP tool drops alpha without compositing.
   OIIO::ImageSpec config;
@@ -32,6 +35,13 @@ Image read_display_encoded(const std::string& path, bool fvvdp) {
   const OIIO::ImageSpec& spec = in->spec();
   const int W = spec.width, H = spec.height, C = spec.nchannels;
   if (W <= 0 || H <= 0 || C <= 0) throw Error(path, "empty image");
+  // The header's size is checked before anything is allocated (files.h max_image_pixels).
+  const double max_px = max_image_pixels();
+  if (double(W) * double(H) > max_px || C > 16)
+    throw Error(path, "image header claims " + std::to_string(W) + "x" + std::to_string(H) + "x" +
+                          std::to_string(C) + ", over the limit of " +
+                          std::to_string(int64_t(max_px)) +
+                          " pixels (set FOVSIM_MAX_IMAGE_MPIXELS to raise it)");
   const size_t n = size_t(W) * size_t(H) * size_t(C);
   std::vector<float> v(n);
   const auto base = spec.format.basetype;
@@ -83,8 +93,7 @@ ImageComparison compare_images(const Image& ref, const Image& test, double ppd,
                                std::to_string(ref.width) + "x" + std::to_string(ref.height) + ", " +
                                test_name + " is " + std::to_string(test.width) + "x" +
                                std::to_string(test.height));
-  if (!(std::isfinite(ppd) && ppd > 0))
-    throw Error("--ppd", "pixels per degree must be finite and > 0, got " + std::to_string(ppd));
+  check_flip_ppd(ppd, ref.width, ref.height, "--ppd");
   ImageComparison c;
   c.width = ref.width;
   c.height = ref.height;

@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <string>
 
@@ -559,11 +560,37 @@ static void check_ppd(double ppd) {
                 "pixels per degree must be finite and > 0, got " + std::to_string(ppd));
 }
 
+double flip_max_ppd(int width, int height) {
+  const double side = std::max(64.0, double(std::max(width, height)));
+  // The larger of the two radii per unit ppd: the CSF radius 3 sqrt(b_max / (2 pi^2)), b_max =
+  // 0.04 (kernels() above; the feature radius 1.5 w = 0.123 is smaller).
+  const double per_ppd = 3.0 * std::sqrt(0.04 / (2.0 * kPi * kPi));
+  return std::floor(side / per_ppd);
+}
+
+static std::string short_number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+
+void check_flip_ppd(double ppd, int width, int height, const std::string& where) {
+  if (!(std::isfinite(ppd) && ppd > 0))
+    throw Error(where, "pixels per degree must be finite and > 0, got " + short_number(ppd));
+  const double mx = flip_max_ppd(width, height);
+  if (ppd > mx)
+    throw Error(where, "pixels per degree " + short_number(ppd) + " is over the FLIP limit of " +
+                           short_number(mx) + " for a " + std::to_string(width) + "x" +
+                           std::to_string(height) +
+                           " image (filter radius at most max(64, longer side) pixels)");
+}
+
 void flip_prepare(const Image& img, double ppd, FlipPrepared& out, FlipWorkspace* ws) {
   if (img.empty()) throw Error("metrics.flip", "empty image");
   if (img.channels > 4)
     throw Error("metrics.flip", "expected 1 to 4 channels, got " + std::to_string(img.channels));
   check_ppd(ppd);
+  check_flip_ppd(ppd, img.width, img.height, "metrics.flip");
   const size_t N = img.pixels();
   const flip_detail::Kernels k = flip_detail::kernels(ppd);
   FlipWorkspace local;

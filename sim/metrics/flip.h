@@ -37,6 +37,15 @@ struct FlipPrepared {
 struct FlipWorkspace {
   std::vector<double> ycc[3];
 };
+// The largest pixels per degree FLIP accepts for a width x height image. FLIP's filter radii
+// grow linearly with ppd (Andersson et al. 2020 §4.4 and §5.2: about 0.135 ppd pixels); a
+// radius beyond max(64, the longer image side) only repeats clamped edge pixels at a cost of
+// O(pixels x radius), so ppd is bounded there: max(64, max(width, height)) / 0.1351. Beyond it
+// flip_prepare, flip and compare_images throw fovsim::Error naming the limit (no allocation
+// or work sized by ppd happens first).
+double flip_max_ppd(int width, int height);
+// Throws fovsim::Error(where, ...) unless ppd is finite, > 0 and <= flip_max_ppd(width, height).
+void check_flip_ppd(double ppd, int width, int height, const std::string& where);
 void flip_prepare(const Image& img, double ppd, FlipPrepared& out, FlipWorkspace* ws = nullptr);
 // As flip() above on prepared images (same size, same ppd, else fovsim::Error).
 double flip(const FlipPrepared& reference, const FlipPrepared& test, Image* map = nullptr);

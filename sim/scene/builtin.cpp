@@ -4,13 +4,21 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "sim/core/error.h"
+#include "sim/core/limits.h"
 #include "sim/scene/mesh_builder.h"
 
 namespace fovsim {
 
 namespace {
+
+std::string num(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.6g", v);
+  return b;
+}
 
 int add_material(Scene& s, Material m) {
   s.materials.push_back(std::move(m));
@@ -392,12 +400,22 @@ Scene make_patterns(Params& p) {
 }
 
 // ---- cornell ------------------------------------------------------------------------------
-Scene make_cornell(Params& p) {
+Scene make_cornell(Params& p, double max_triangles) {
   const double light_int = p.number("light_intensity", 1.6, Range::closed(0, 1e6));
   const std::string light_type = p.string("light", "point", {"point", "spot"});
   const double tess = p.number("cell", 0.25, Range::above(0, 10));
   const bool textured = p.boolean("textured", false);
   p.ignore("comment");
+  {
+    // Counted before anything is tessellated: five 2 m walls and two boxes of 1.2 m at most
+    // per side, two triangles per cell.
+    const double w = std::max(1.0, std::ceil(2.0 / tess)), b = std::max(1.0, std::ceil(1.2 / tess));
+    const double estimate = 2.0 * (5.0 * w * w + 12.0 * b * b);
+    if (estimate > max_triangles)
+      p.fail("cell", "cell " + num(tess) + " m tessellates the scene into about " + num(estimate) +
+                         " triangles, over scene.max_triangles = " + num(max_triangles) +
+                         " (use a larger cell or raise scene.max_triangles)");
+  }
 
   Scene s;
   s.name = "cornell";
@@ -470,18 +488,67 @@ Scene make_cornell(Params& p) {
   return s;
 }
 
+// ---- checks -------------------------------------------------------------------------------
+namespace {
+
+// Every vertex of every object in world space finite and within kMaxCoordinateM; triangles
+// of zero area counted (a scene with nothing else renders blank). Keyframed objects are
+// checked at their keys.
+void check_geometry(const Scene& s, Params& p, const std::string& key) {
+  size_t zero_area = 0, total = 0;
+  for (const Object& o : s.objects) {
+    const Mesh& m = s.meshes[size_t(o.mesh)];
+    std::vector<glm::mat4> xfs{o.transform};
+    for (const Keyframe& k : o.keys) xfs.push_back(o.transform_at(k.t));
+    for (const glm::mat4& xf : xfs)
+      for (size_t i = 0; i < m.positions.size(); ++i) {
+        const glm::vec3 w = glm::vec3(xf * glm::vec4(m.positions[i], 1.f));
+        for (int c = 0; c < 3; ++c) {
+          const glm::vec3 local = m.positions[i];
+          if (!std::isfinite(local[c]) || !std::isfinite(w[c]))
+            p.fail(key, "object \"" + o.name + "\": vertex " + std::to_string(i) +
+                            " has a non-finite coordinate (" + num(local[c]) + " in the mesh, " +
+                            num(w[c]) + " in the world)");
+          if (!(std::fabs(w[c]) <= kMaxCoordinateM))
+            p.fail(key, "object \"" + o.name + "\": vertex " + std::to_string(i) + " is at " +
+                            num(w[c]) + " m in the world, beyond the coordinate bound +-1e5 m");
+        }
+      }
+    for (const glm::uvec3& t : m.triangles) {
+      ++total;
+      const glm::vec3 a = m.positions[t.x], b = m.positions[t.y], c = m.positions[t.z];
+      if (!(glm::length(glm::cross(b - a, c - a)) > 0.f)) ++zero_area;
+    }
+  }
+  if (total > 0 && zero_area == total)
+    p.fail(key, "all " + std::to_string(total) +
+                    " triangles have zero area (nothing would be rendered)");
+}
+
+}  // namespace
+
 // ---- factory ------------------------------------------------------------------------------
 Scene make_scene(Params& p, const std::string& models_dir) {
   const std::string type = p.string("type", {"atrium", "patterns", "cornell", "file"});
+  const double max_tris = p.number("max_triangles", kDefaultMaxTriangles, Range::closed(1, 2e9));
   Scene s;
   if (type == "atrium")
     s = make_atrium(p);
   else if (type == "patterns")
     s = make_patterns(p);
   else if (type == "cornell")
-    s = make_cornell(p);
+    s = make_cornell(p, max_tris);
   else
     s = load_file_scene(p, models_dir);
+  if (double(s.triangle_count()) > max_tris)
+    p.fail("max_triangles", "the scene has " + std::to_string(s.triangle_count()) +
+                                " triangles, over the limit of " + num(max_tris) +
+                                " (raise scene.max_triangles)");
+  check_geometry(s, p, type == "file" ? "path" : "type");
+  for (int c = 0; c < 3; ++c)
+    if (!(std::fabs(s.default_eye[c]) <= kMaxCoordinateM))
+      p.fail("default_eye", "eye point coordinate " + num(s.default_eye[c]) +
+                                " is beyond the coordinate bound +-1e5 m");
   // Common key `vpl`: how the frame's VPL set is generated (only for scenes with indirect light,
   // so a scene without it has no VPL pass anywhere).
   if (p.has("vpl")) {

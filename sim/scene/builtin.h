@@ -8,7 +8,7 @@ namespace fovsim {
 
 Scene make_atrium(Params& p);
 Scene make_patterns(Params& p);
-Scene make_cornell(Params& p);
+Scene make_cornell(Params& p, double max_triangles);
 Scene load_file_scene(Params& p, const std::string& models_dir);
 
 // Atrium tessellation for a complexity level (exposed for tests/benchmarks).

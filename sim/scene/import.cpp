@@ -8,11 +8,15 @@
 
 #include <algorithm>
 #include <assimp/Importer.hpp>
+#include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <map>
 
 #include "sim/core/error.h"
+#include "sim/core/files.h"
+#include "sim/core/limits.h"
 #include "sim/scene/builtin.h"
 
 namespace fovsim {
@@ -20,6 +24,112 @@ namespace fovsim {
 namespace {
 
 namespace fs = std::filesystem;
+
+std::string one_line(std::string s) {
+  for (char& c : s)
+    if (c == '\n' || c == '\r') c = ' ';
+  while (!s.empty() && s.back() == ' ') s.pop_back();
+  return s;
+}
+
+// A file name as shown in a message: control bytes escaped, at most 200 characters.
+std::string printable_name(const std::string& s) {
+  std::string out = "\"";
+  for (unsigned char c : s.substr(0, 200)) {
+    if (c < 0x20 || c == 0x7f) {
+      char b[8];
+      std::snprintf(b, sizeof b, "\\x%02x", c);
+      out += b;
+    } else {
+      out += char(c);
+    }
+  }
+  return out + (s.size() > 200 ? "...\"" : "\"");
+}
+
+// %XX decoding of a URI path (glTF URIs are URI-encoded).
+std::string uri_decode(const std::string& u) {
+  std::string out;
+  for (size_t i = 0; i < u.size(); ++i) {
+    if (u[i] == '%' && i + 2 < u.size() && std::isxdigit((unsigned char)u[i + 1]) &&
+        std::isxdigit((unsigned char)u[i + 2])) {
+      out += char(std::stoi(u.substr(i + 1, 2), nullptr, 16));
+      i += 2;
+    } else {
+      out += u[i];
+    }
+  }
+  return out;
+}
+
+// A file a model refers to (a glTF buffer or image URI, an OBJ mtllib, a texture): relative,
+// without "..", inside the model's folder, and (when present) a regular file within the input
+// size limit. Returns the path to read; throws fovsim::Error(where, ...) otherwise.
+std::string confined_path(const std::string& dir, const std::string& ref, const std::string& where,
+                          const std::string& what) {
+  const std::string r = uri_decode(ref);
+  if (r.empty()) throw Error(where, what + " reference is empty");
+  if (r.find('\0') != std::string::npos || r.find(':') != std::string::npos)
+    throw Error(where, what + " " + printable_name(ref) +
+                           ": only relative paths inside the model's folder are read");
+  fs::path p(r);
+  if (p.is_absolute() || r[0] == '/' || r[0] == '\\')
+    throw Error(where, what + " " + printable_name(ref) +
+                           ": absolute paths are refused (only files inside the model's folder are "
+                           "read)");
+  for (const auto& part : p)
+    if (part == "..")
+      throw Error(where, what + " " + printable_name(ref) +
+                             ": \"..\" is refused (only files inside the model's folder are read)");
+  const std::string full = (fs::path(dir) / p).string();
+  std::error_code ec;
+  if (fs::exists(full, ec)) check_input_file(full, where + ": " + what);
+  return full;
+}
+
+// The files a glTF (buffers, images) or OBJ (mtllib) file names, checked with confined_path
+// before assimp opens any of them. glTF "data:" URIs are embedded and need no file.
+void check_references(const fs::path& model, const std::string& where) {
+  std::string ext = model.extension().string();
+  for (char& c : ext) c = char(std::tolower((unsigned char)c));
+  const std::string dir = model.parent_path().string();
+  if (ext == ".gltf") {
+    Json j = Json::parse(read_file(model.string()), nullptr, false);
+    if (j.is_discarded() || !j.is_object())
+      throw Error(where, model.string() + ": not a glTF file (the JSON does not parse)");
+    for (const char* list : {"buffers", "images"}) {
+      if (!j.contains(list) || !j[list].is_array()) continue;
+      for (const Json& e : j[list]) {
+        if (!e.is_object() || !e.contains("uri")) continue;
+        if (!e["uri"].is_string())
+          throw Error(where, model.string() + ": " + list + "[].uri is not a string");
+        const std::string u = e["uri"].get<std::string>();
+        if (u.rfind("data:", 0) == 0) continue;
+        const std::string f =
+            confined_path(dir, u, where, std::string(list) == "buffers" ? "buffer" : "image");
+        std::error_code ec;
+        if (std::string(list) == "buffers" && !fs::exists(f, ec))
+          throw Error(where,
+                      "buffer " + printable_name(u) + " of " + model.string() + " not found");
+      }
+    }
+  } else if (ext == ".obj") {
+    const std::string text = read_file(model.string());
+    size_t pos = 0;
+    while (pos < text.size()) {
+      size_t end = text.find('\n', pos);
+      if (end == std::string::npos) end = text.size();
+      std::string line = text.substr(pos, end - pos);
+      pos = end + 1;
+      size_t i = line.find_first_not_of(" \t");
+      if (i == std::string::npos || line.compare(i, 6, "mtllib") != 0) continue;
+      std::string rest = line.substr(i + 6);
+      size_t a = rest.find_first_not_of(" \t"), b = rest.find_last_not_of(" \t\r");
+      if (a == std::string::npos) continue;
+      confined_path(dir, rest.substr(a, b - a + 1), where, "material library");
+    }
+  }
+}
 
 float srgb_to_linear(float c) {
   return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
@@ -40,23 +150,41 @@ void fill_texels(const float* px, int nc, bool srgb, TextureImage& out) {
   }
 }
 
-bool load_image_file(const std::string& path, bool srgb, TextureImage& out) {
+// Header checks before any pixel is decoded: a positive size within max_pixels and 1 to 4
+// channels. "" when fine, else why not.
+std::string check_header(const OIIO::ImageSpec& spec, double max_pixels) {
+  if (spec.width <= 0 || spec.height <= 0 || spec.depth > 1)
+    return "empty image (" + std::to_string(spec.width) + "x" + std::to_string(spec.height) + ")";
+  if (spec.nchannels < 1 || spec.nchannels > 4)
+    return "expected 1 to 4 channels, got " + std::to_string(spec.nchannels);
+  if (double(spec.width) * double(spec.height) > max_pixels)
+    return "image header claims " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+           " pixels, over scene.max_texture_pixels = " + std::to_string(int64_t(max_pixels));
+  return "";
+}
+
+// "" on success, else why the image could not be used.
+std::string load_image_file(const std::string& path, bool srgb, double max_pixels,
+                            TextureImage& out) {
   auto in = OIIO::ImageInput::open(path);
-  if (!in) return false;
+  if (!in) return "cannot read image: " + one_line(OIIO::geterror());
   const OIIO::ImageSpec& spec = in->spec();
+  std::string why = check_header(spec, max_pixels);
+  if (!why.empty()) return why;
   int nc = spec.nchannels;
   std::vector<float> px(size_t(spec.width) * size_t(spec.height) * size_t(nc));
   bool ok = in->read_image(0, 0, 0, nc, OIIO::TypeDesc::FLOAT, px.data());
+  const std::string err = ok ? "" : one_line(in->geterror());
   in->close();
-  if (!ok || nc < 1) return false;
+  if (!ok) return "cannot decode image (truncated or corrupt): " + err;
   out.width = spec.width;
   out.height = spec.height;
   out.texels.resize(size_t(spec.width) * size_t(spec.height));
   fill_texels(px.data(), nc, srgb, out);
-  return true;
+  return "";
 }
 
-bool load_image_memory(const aiTexture* t, bool srgb, TextureImage& out) {
+std::string load_image_memory(const aiTexture* t, bool srgb, double max_pixels, TextureImage& out) {
   if (t->mHeight == 0) {  // compressed (png/jpg) bytes in memory
     OIIO::Filesystem::IOMemReader mem(t->pcData, t->mWidth);
     void* ptr = &mem;
@@ -64,19 +192,25 @@ bool load_image_memory(const aiTexture* t, bool srgb, TextureImage& out) {
     config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &ptr);
     std::string ext = std::string("x.") + (t->achFormatHint[0] ? t->achFormatHint : "png");
     auto in = OIIO::ImageInput::open(ext, &config);
-    if (!in) return false;
+    if (!in) return "cannot read embedded image: " + one_line(OIIO::geterror());
     const OIIO::ImageSpec& spec = in->spec();
+    std::string why = check_header(spec, max_pixels);
+    if (!why.empty()) return why;
     int nc = spec.nchannels;
     std::vector<float> px(size_t(spec.width) * size_t(spec.height) * size_t(nc));
     bool ok = in->read_image(0, 0, 0, nc, OIIO::TypeDesc::FLOAT, px.data());
+    const std::string err = ok ? "" : one_line(in->geterror());
     in->close();
-    if (!ok || nc < 1) return false;
+    if (!ok) return "cannot decode embedded image (truncated or corrupt): " + err;
     out.width = spec.width;
     out.height = spec.height;
     out.texels.resize(size_t(spec.width) * size_t(spec.height));
     fill_texels(px.data(), nc, srgb, out);
-    return true;
+    return "";
   }
+  if (t->mWidth == 0 || double(t->mWidth) * double(t->mHeight) > max_pixels)
+    return "embedded image of " + std::to_string(t->mWidth) + "x" + std::to_string(t->mHeight) +
+           " texels is empty or over scene.max_texture_pixels";
   out.width = int(t->mWidth);
   out.height = int(t->mHeight);
   out.texels.resize(size_t(t->mWidth) * size_t(t->mHeight));
@@ -89,7 +223,7 @@ bool load_image_memory(const aiTexture* t, bool srgb, TextureImage& out) {
     px[4 * i + 3] = x.a / 255.f;
   }
   fill_texels(px.data(), 4, srgb, out);
-  return true;
+  return "";
 }
 
 glm::mat4 to_glm(const aiMatrix4x4& m) {
@@ -101,7 +235,9 @@ glm::mat4 to_glm(const aiMatrix4x4& m) {
 struct Loader {
   const aiScene* ai = nullptr;
   Scene* s = nullptr;
-  std::string dir;
+  std::string dir, where;  // model folder; JSON path of scene.path for messages
+  double max_pixels = 0;
+  bool fail_on_missing = true;
   std::map<std::string, int> image_index;
   std::vector<int> mesh_map;  // assimp mesh -> Scene mesh
 
@@ -110,12 +246,29 @@ struct Loader {
     auto it = image_index.find(key);
     if (it != image_index.end()) return it->second;
     TextureImage img;
-    bool ok = false;
+    std::string why, name = ref;
     if (const aiTexture* emb = ai->GetEmbeddedTexture(ref.c_str())) {
-      ok = load_image_memory(emb, srgb, img);
+      why = load_image_memory(emb, srgb, max_pixels, img);
     } else {
-      fs::path p = fs::path(ref).is_absolute() ? fs::path(ref) : fs::path(dir) / ref;
-      ok = load_image_file(p.string(), srgb, img);
+      // Confined to the model's folder (throws for "..", absolute paths, devices, FIFOs).
+      const std::string p = confined_path(dir, ref, where, "texture");
+      name = p;
+      std::error_code ec;
+      if (!fs::exists(p, ec))
+        why = "texture not found";
+      else
+        why = load_image_file(p, srgb, max_pixels, img);
+    }
+    const bool ok = why.empty();
+    if (!ok) {
+      if (fail_on_missing)
+        throw Error(where,
+                    "texture " + printable_name(name) + ": " + why +
+                        " (set scene.on_missing_texture=\"base_color\" to render without it)");
+      std::fprintf(stderr,
+                   "warning: %s: texture %s: %s; using the base colour "
+                   "(scene.on_missing_texture=\"base_color\")\n",
+                   where.c_str(), printable_name(name).c_str(), why.c_str());
     }
     int idx = -1;
     if (ok) {
@@ -273,6 +426,9 @@ Scene load_file_scene(Params& p, const std::string& models_dir) {
   const std::vector<double> eye = p.numbers("default_eye", {});
   const bool want_default_lights = p.boolean("default_lights", true);
   const double exposure = p.number("exposure", 1.0, Range::above(0, 1e6));
+  const std::string on_missing = p.string("on_missing_texture", "fail", {"fail", "base_color"});
+  const double max_texture_pixels =
+      p.number("max_texture_pixels", kDefaultMaxTexturePixels, Range::closed(1, 1e10));
   p.ignore("comment");
   if (tr.size() != 3) p.fail("translate", "expected 3 numbers [x, y, z]");
   if (rot.size() != 3)
@@ -291,6 +447,8 @@ Scene load_file_scene(Params& p, const std::string& models_dir) {
     path = fs::exists(a) ? a : (fs::exists(b) ? b : a);
   }
   if (!fs::exists(path)) throw Error(p.where("path"), "scene file not found: " + path.string());
+  check_input_file(path.string(), p.where("path"));
+  check_references(path, p.where("path"));
 
   Assimp::Importer imp;
   const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
@@ -306,6 +464,9 @@ Scene load_file_scene(Params& p, const std::string& models_dir) {
   L.ai = ai;
   L.s = &s;
   L.dir = path.parent_path().string();
+  L.where = p.where("path");
+  L.max_pixels = max_texture_pixels;
+  L.fail_on_missing = on_missing == "fail";
   L.materials();
   L.meshes();
   glm::mat4 root(1.f);

@@ -356,6 +356,10 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
   if (ho.has("constant")) {
     std::vector<double> q = ho.numbers("constant", {});
     if (q.size() != 4) ho.fail("constant", "expected 4 numbers (w, x, y, z) in fovsim coordinates");
+    const double qn = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+    if (!(qn > 1e-6) || !std::isfinite(qn))
+      ho.fail("constant", "quaternion of norm " + std::to_string(qn) +
+                              " is not a rotation (give a unit quaternion such as [1, 0, 0, 0])");
     m.rot_kind = Map::ConstRot;
     m.rot_value = glm::normalize(glm::dquat(q[0], q[1], q[2], q[3]));
   } else {
@@ -375,7 +379,12 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
       m.euler_order = ho.string("order");
       bool okord = m.euler_order.size() == 3;
       for (char c : m.euler_order) okord = okord && (c == 'X' || c == 'Y' || c == 'Z');
-      if (!okord) ho.fail("order", "expected three of X, Y, Z such as \"ZXY\" (Unity) or \"ZYX\"");
+      // Each axis once: "XXY" would ignore the Z column.
+      okord = okord && m.euler_order[0] != m.euler_order[1] &&
+              m.euler_order[1] != m.euler_order[2] && m.euler_order[0] != m.euler_order[2];
+      if (!okord)
+        ho.fail("order",
+                "expected three of X, Y, Z, each once, such as \"ZXY\" (Unity) or \"ZYX\"");
       m.intrinsic =
           ho.string("sequence", std::vector<std::string>{"extrinsic", "intrinsic"}) == "intrinsic";
       m.angle_scale =

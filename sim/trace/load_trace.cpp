@@ -1,5 +1,7 @@
 // The run config's "trace" block (keys documented in traces/README.md "Run config").
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 
@@ -9,6 +11,12 @@
 #include "sim/trace/trace.h"
 
 namespace fovsim {
+
+static std::string g6(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.6g", v);
+  return b;
+}
 
 static std::string resolve(const std::string& base_dir, const std::string& f) {
   std::filesystem::path p(f);
@@ -73,6 +81,13 @@ Trace load_trace(Params& p, const Display& display, const std::string& base_dir,
       std::string d = s.source_dir("params");
       m = load_eye_model(j, p.file(), s.path_of("params"), d.empty() ? base_dir : d);
     }
+    // Sized before anything is generated.
+    const double n_syn = synth_sample_count(m, so);
+    if (n_syn > max_samples)
+      s.fail("duration", "a synthetic trace of " + g6(so.duration_s) + " s at " + g6(so.rate_hz) +
+                             " Hz has " + g6(n_syn) +
+                             " samples, over the limit trace.max_samples = " + g6(max_samples) +
+                             " (shorten it, lower trace.rate_hz or raise trace.max_samples)");
     tr = synthesize(m, so, display);
   }
   if (tr.samples.empty()) p.fail(has_file ? "file" : "synthetic", "trace has no samples");
@@ -115,6 +130,13 @@ Trace load_trace(Params& p, const Display& display, const std::string& base_dir,
     if (s.t >= from - eps && s.t < to - eps) out.samples.push_back(s);
   if (on_short == "hold" && duration > 0 && !out.samples.empty() && period > 0) {
     TraceSample h = out.samples.back();
+    // The held samples count towards the same limit, checked before any is added.
+    const double n_hold = double(out.samples.size()) + std::max(0.0, (to - h.t) / period);
+    if (n_hold > max_samples)
+      p.fail("duration", "holding the last sample to start+duration = " + g6(start + duration) +
+                             " s needs " + g6(std::ceil(n_hold)) + " samples at " + g6(rate) +
+                             " Hz, over the limit trace.max_samples = " + g6(max_samples) +
+                             " (shorten trace.duration or raise trace.max_samples)");
     for (long k = 1;; ++k) {
       TraceSample c = h;
       c.t = h.t + double(k) * period;

@@ -540,6 +540,10 @@ class Simulator {
 
 }  // namespace
 
+double synth_sample_count(const EyeModel& m, const SynthOptions& o) {
+  return o.duration_s * std::max(o.rate_hz, m.internal_rate_hz) + 1.0;
+}
+
 Trace synth_internal(const EyeModel& m, const SynthOptions& o, const Display& d, SynthDebug* dbg) {
   if (!(o.duration_s > 0)) throw Error("synthetic trace", "duration must be > 0 s");
   Simulator sim(m, o, d);

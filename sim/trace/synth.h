@@ -73,6 +73,11 @@ struct SynthOptions {
   double rate_hz = 90;  // output rate
 };
 
+// Samples synthesize() holds at once: duration x the larger of the output rate and the
+// model's internal rate (+1), computed without generating anything. Callers compare it with
+// their limit (trace.max_samples, `trace synth --max-samples`) before generating.
+double synth_sample_count(const EyeModel& m, const SynthOptions& o);
+
 // Per internal sample ground truth (for tests and plots).
 struct SynthDebug {
   enum Phase { Fixation = 0, Saccade = 1, Pursuit = 2 };

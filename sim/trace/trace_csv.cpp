@@ -7,6 +7,7 @@
 
 #include "sim/core/error.h"
 #include "sim/core/files.h"
+#include "sim/core/limits.h"
 #include "sim/trace/csv_table.h"
 #include "sim/trace/issue_log.h"
 #include "sim/trace/trace.h"
@@ -146,6 +147,17 @@ Trace read_trace_csv(const std::string& path, const Display& display, const Trac
         bad_number(k, Part::Pose);
         pose_ok = false;
       }
+    if (pose_ok) {
+      for (int k = PX; k <= PZ; ++k)
+        if (!(std::fabs(v[k]) <= kMaxCoordinateM)) {
+          probs.push_back({Part::Pose, col_of(k), "head position out of range",
+                           std::string("column \"") + kCols[k] + "\": head position " +
+                               printable(row.fields[idx[k]].text) +
+                               " m is beyond the coordinate bound +-1e5 m"});
+          pose_ok = false;
+          break;
+        }
+    }
     if (pose_ok) {
       s.head_pos = {v[PX], v[PY], v[PZ]};
       glm::dquat q(v[QW], v[QX], v[QY], v[QZ]);

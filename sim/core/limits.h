@@ -1,0 +1,22 @@
+// Stated bounds on input values that are in the documented ranges of no single key but that
+// downstream code cannot handle (configs/README.md "Limits on input").
+#pragma once
+
+namespace fovsim {
+
+// Largest |x|, |y| or |z| (metres) of a head position, an eye point or a scene vertex in
+// world space. Geometry is traced in single precision (Embree): at 1e5 m a float still
+// resolves 8 mm, and Embree's build asserts on coordinates near 1e20 long before FLT_MAX.
+// Head positions beyond it are refused by the trace reader (`trace validate` and `run`
+// alike), scene geometry and scene.default_eye by the scene factory.
+constexpr double kMaxCoordinateM = 1e5;
+
+// Default of scene.max_triangles: most triangles a scene may have (built-in tessellation is
+// checked before it is generated, file scenes after import).
+constexpr double kDefaultMaxTriangles = 2e7;
+
+// Default of scene.max_texture_pixels (file scenes) and of `compare --max-pixels`: most pixels
+// an image may claim in its header before it is decoded (8192 x 8192).
+constexpr double kDefaultMaxTexturePixels = 67108864;
+
+}  // namespace fovsim

@@ -1,0 +1,267 @@
+// Reliability of inputs and outputs as a user meets them: outputs never replace what is not
+// a regular file, in-range values never end in a signal, work and memory are bounded before
+// they are spent, non-regular inputs never block, bad scenes and flags are one clear line.
+// Every check asserts the one-line message and exit 2 (as tests/app/hardening_cli_test.cpp).
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
+#include <unistd.h>
+
+#include "tests/app/app_util.h"
+
+using namespace fovsim_test;
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kTrace = std::string(FOVSIM_SOURCE_DIR) + "/tests/golden/golden_trace.csv";
+
+int count_lines(const std::string& s) {
+  int n = 0;
+  for (char c : s) n += c == '\n';
+  return n;
+}
+
+void expect_user_error(const CmdResult& r, const std::string& expect) {
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_EQ(count_lines(r.output), 1) << r.output;
+  EXPECT_EQ(r.output.rfind("fovsim: error: ", 0), 0u) << r.output;
+  EXPECT_EQ(r.output.find("internal error"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(expect), std::string::npos) << r.output;
+}
+
+std::string small_config(const std::string& scene = R"({"type": "atrium", "complexity": 1})",
+                         const std::string& extra = "") {
+  return R"({"name": "rel", "render": {"scale": 0.05}, "scene": )" + scene +
+         R"(, "trace": {"file": ")" + kTrace +
+         R"("}, "frames": {"count": 1}, "methods": [{"method": "full"}],
+  "outputs": {"print_summary": false})" +
+         extra + "}";
+}
+
+// The three kinds of non-regular targets every writer must leave alone.
+struct Targets {
+  std::string fifo, link, dir, link_target;
+};
+Targets make_targets(const std::string& d, const std::string& stem) {
+  Targets t{d + "/" + stem + "_fifo", d + "/" + stem + "_link", d + "/" + stem + "_dir",
+            d + "/" + stem + "_real"};
+  EXPECT_EQ(::mkfifo(t.fifo.c_str(), 0644), 0);
+  write_text(t.link_target, "keep\n");
+  fs::create_symlink(t.link_target, t.link);
+  fs::create_directories(t.dir);
+  return t;
+}
+void expect_untouched(const Targets& t) {
+  struct stat st {};
+  ASSERT_EQ(::lstat(t.fifo.c_str(), &st), 0);
+  EXPECT_TRUE(S_ISFIFO(st.st_mode));
+  ASSERT_EQ(::lstat(t.link.c_str(), &st), 0);
+  EXPECT_TRUE(S_ISLNK(st.st_mode));
+  EXPECT_EQ(read_text(t.link_target), "keep\n");
+  EXPECT_TRUE(fs::is_directory(t.dir));
+}
+
+}  // namespace
+
+TEST(Reliability, WritersNeverReplaceNonRegularFiles) {
+  const std::string d = temp_dir("rel_writers"), bin = fovsim_bin();
+  // trace synth -o
+  {
+    Targets t = make_targets(d, "synth");
+    expect_user_error(run_cmd(bin + " trace synth --scenario fixate --duration 1 -o " + t.fifo),
+                      "output exists and is a FIFO");
+    expect_user_error(run_cmd(bin + " trace synth --scenario fixate --duration 1 -o " + t.link),
+                      "output exists and is a symbolic link");
+    expect_user_error(run_cmd(bin + " trace synth --scenario fixate --duration 1 -o " + t.dir),
+                      "output exists and is a directory");
+    expect_untouched(t);
+  }
+  // trace import -o
+  {
+    Targets t = make_targets(d, "import");
+    const std::string imp = bin + " trace import " + kTrace + " --map traces/maps/varjo.json -o ";
+    expect_user_error(run_cmd(imp + t.fifo), "output exists and is a FIFO");
+    expect_user_error(run_cmd(imp + t.link), "output exists and is a symbolic link");
+    expect_user_error(run_cmd(imp + t.dir), "output exists and is a directory");
+    expect_untouched(t);
+  }
+  // density --out PREFIX (PREFIX.csv, PREFIX.json)
+  {
+    Targets t = make_targets(d, "dens");
+    fs::rename(t.fifo, t.fifo + ".csv");
+    EXPECT_EQ(::mkfifo(t.fifo.c_str(), 0644), 0);
+    expect_user_error(run_cmd(bin + " density -m kfr --out " + t.fifo),
+                      "output exists and is a FIFO");
+    struct stat st {};
+    ASSERT_EQ(::lstat((t.fifo + ".csv").c_str(), &st), 0);
+    EXPECT_TRUE(S_ISFIFO(st.st_mode));
+    EXPECT_FALSE(fs::exists(t.fifo + ".json"));
+  }
+  // run --out: its files (manifest.json, frames.csv, ...) under the folder
+  {
+    write_text(d + "/cfg.json", small_config());
+    fs::create_directories(d + "/run");
+    EXPECT_EQ(::mkfifo((d + "/run/manifest.json").c_str(), 0644), 0);
+    expect_user_error(run_cmd(bin + " run " + d + "/cfg.json --out " + d + "/run"),
+                      "manifest.json: output exists and is a FIFO");
+    struct stat st {};
+    ASSERT_EQ(::lstat((d + "/run/manifest.json").c_str(), &st), 0);
+    EXPECT_TRUE(S_ISFIFO(st.st_mode));
+  }
+  // A device node, when the test may make one (root): /dev/null-like, in the temp folder.
+  if (::geteuid() == 0) {
+    const std::string dev = d + "/null_dev";
+    if (::mknod(dev.c_str(), S_IFCHR | 0666, makedev(1, 3)) == 0) {
+      expect_user_error(run_cmd(bin + " trace synth --scenario fixate --duration 1 -o " + dev),
+                        "output exists and is a device");
+      struct stat st {};
+      ASSERT_EQ(::lstat(dev.c_str(), &st), 0);
+      EXPECT_TRUE(S_ISCHR(st.st_mode));
+    }
+  }
+}
+
+TEST(Reliability, HugeInRangeValuesAreErrorsNotSignals) {
+  const std::string d = temp_dir("rel_huge"), bin = fovsim_bin();
+  const std::string png = std::string(FOVSIM_SOURCE_DIR) + "/tests/data/metrics/gray_a.png";
+  if (fs::exists(png)) {
+    expect_user_error(run_cmd(bin + " compare " + png + " " + png + " --ppd 1e12"),
+                      "is over the FLIP limit of");
+    expect_user_error(run_cmd(bin + " compare " + png + " " + png + " --ppd 1e5"),
+                      "is over the FLIP limit of");
+  }
+  // A head position of 1e20 m: refused by `trace validate` and by `run` alike.
+  write_text(d + "/far.csv",
+             "t,px,py,pz,qw,qx,qy,qz,gx,gy,gz,valid\n0,1e20,0,0,1,0,0,0,0,0,-1,1\n"
+             "0.011111,1e20,0,0,1,0,0,0,0,0,-1,1\n");
+  expect_user_error(run_cmd(bin + " trace validate " + d + "/far.csv"),
+                    "far.csv:2:3: column \"px\": head position 1e20 m is beyond the coordinate "
+                    "bound +-1e5 m");
+  write_text(d + "/cfg.json", small_config());
+  expect_user_error(run_cmd(bin + " run " + d + "/cfg.json --out " + d + "/o trace.file='\"" + d +
+                            "/far.csv\"' trace_placement='\"absolute\"'"),
+                    "beyond the coordinate bound +-1e5 m");
+  write_text(d + "/tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  write_text(d + "/eye.json", small_config(R"({"type": "file", "path": ")" + d +
+                                           R"(/tri.obj", "default_eye": [1e20, 0, 0]})"));
+  expect_user_error(run_cmd(bin + " run " + d + "/eye.json --out " + d + "/o"),
+                    "scene.default_eye: eye point coordinate 1e+20 is beyond the coordinate "
+                    "bound +-1e5 m");
+}
+
+TEST(Reliability, WorkIsBoundedBeforeItIsSpent) {
+  const std::string d = temp_dir("rel_bounds"), bin = fovsim_bin();
+  expect_user_error(
+      run_cmd(bin + " trace synth --scenario fixate --duration 36000 -o " + d + "/t.csv"),
+      "over the limit --max-samples");
+  expect_user_error(
+      run_cmd(bin + " trace synth --scenario fixate --duration 1e9 -o " + d + "/t.csv"),
+      "--duration: value 1e+09 is out of range (0, 36000]");
+  EXPECT_FALSE(fs::exists(d + "/t.csv"));
+  write_text(
+      d + "/syn.json",
+      R"({"name": "rel", "render": {"scale": 0.05}, "scene": {"type": "atrium", "complexity": 1},
+  "trace": {"synthetic": {"scenario": "fixate", "duration": 36000}, "rate_hz": 10000},
+  "frames": {"count": 1}, "methods": [{"method": "full"}], "outputs": {"print_summary": false}})");
+  expect_user_error(run_cmd(bin + " run " + d + "/syn.json --out " + d + "/o"),
+                    "over the limit trace.max_samples");
+  write_text(d + "/hold.json", small_config(R"({"type": "atrium", "complexity": 1})"));
+  expect_user_error(run_cmd(bin + " run " + d + "/hold.json --out " + d +
+                            "/o trace.on_short='\"hold\"' trace.duration=1e9"),
+                    "trace.duration: holding the last sample");
+  write_text(d + "/cornell.json", small_config(R"({"type": "cornell", "cell": 0.001})"));
+  expect_user_error(run_cmd(bin + " run " + d + "/cornell.json --out " + d + "/o"),
+                    "scene.cell: cell 0.001 m tessellates the scene into about");
+  expect_user_error(run_cmd(bin + " density --directions 360 --samples 100000 --out " + d + "/dd"),
+                    "rows, over the limit");
+}
+
+TEST(Reliability, NonRegularInputsNeverBlock) {
+  const std::string d = temp_dir("rel_fifo_in"), bin = fovsim_bin();
+  ASSERT_EQ(::mkfifo((d + "/in.png").c_str(), 0644), 0);
+  expect_user_error(run_cmd(bin + " compare " + d + "/in.png " + d + "/in.png"),
+                    "not a regular file");
+  expect_user_error(run_cmd(bin + " compare /dev/zero /dev/zero"), "not a regular file");
+  ASSERT_EQ(::mkfifo((d + "/scene.obj").c_str(), 0644), 0);
+  write_text(d + "/cfg.json",
+             small_config(R"({"type": "file", "path": ")" + d + R"(/scene.obj"})"));
+  expect_user_error(run_cmd(bin + " run " + d + "/cfg.json --out " + d + "/o"),
+                    "not a regular file");
+}
+
+TEST(Reliability, BadScenesAreRefused) {
+  const std::string d = temp_dir("rel_scene"), bin = fovsim_bin();
+  auto scene_run = [&](const std::string& file, const std::string& extra = "") {
+    write_text(d + "/cfg.json",
+               small_config(R"({"type": "file", "path": ")" + d + "/" + file + "\"" + extra + "}"));
+    return run_cmd(bin + " run " + d + "/cfg.json --out " + d + "/o");
+  };
+  write_text(d + "/nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n");
+  expect_user_error(scene_run("nan.obj"), "non-finite coordinate");
+  write_text(d + "/big.obj", "v 0 0 0\nv 3e38 0 0\nv 0 1 0\nf 1 2 3\n");
+  expect_user_error(scene_run("big.obj"), "beyond the coordinate bound +-1e5 m");
+  write_text(d + "/flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n");
+  expect_user_error(scene_run("flat.obj"), "all 1 triangles have zero area");
+  write_text(d + "/ok.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  expect_user_error(scene_run("ok.obj", R"(, "translate": [1e300, 0, 0])"),
+                    "non-finite coordinate");
+  // glTF buffer URIs stay inside the model's folder.
+  write_text(
+      d + "/esc.gltf",
+      R"({"asset": {"version": "2.0"}, "buffers": [{"uri": "../../../../../../etc/passwd", "byteLength": 36}]})");
+  expect_user_error(scene_run("esc.gltf"), "\"..\" is refused");
+  write_text(
+      d + "/abs.gltf",
+      R"({"asset": {"version": "2.0"}, "buffers": [{"uri": "/etc/passwd", "byteLength": 36}]})");
+  expect_user_error(scene_run("abs.gltf"), "absolute paths are refused");
+  // A missing texture names the file (or is a warning when asked).
+  write_text(d + "/tex.obj",
+             "mtllib tex.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n"
+             "usemtl m\nf 1/1 2/2 3/3\n");
+  write_text(d + "/tex.mtl", "newmtl m\nKd 1 1 1\nmap_Kd missing.png\n");
+  expect_user_error(scene_run("tex.obj"), "missing.png\": texture not found");
+  auto r = scene_run("tex.obj", R"(, "on_missing_texture": "base_color")");
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("warning:"), std::string::npos) << r.output;
+  // A texture whose header claims more pixels than the limit is refused before decoding.
+  write_text(d + "/tex.mtl", "newmtl m\nKd 1 1 1\nmap_Kd small.png\n");
+  const std::string png = std::string(FOVSIM_SOURCE_DIR) + "/tests/data/metrics/gray_a.png";
+  if (fs::exists(png)) {
+    fs::copy_file(png, d + "/small.png");
+    expect_user_error(scene_run("tex.obj", R"(, "max_texture_pixels": 4)"),
+                      "over scene.max_texture_pixels = 4");
+  }
+}
+
+TEST(Reliability, NaNAndZeroOnFlagsAreErrors) {
+  const std::string bin = fovsim_bin(), d = temp_dir("rel_flags");
+  expect_user_error(run_cmd(bin + " budget --gpu gtx1080 --workload atrium --hz nan"),
+                    "--hz: value nan is out of range [1, 10000]");
+  expect_user_error(run_cmd(bin + " budget --gpu gtx1080 --workload atrium --budget-ms 0"),
+                    "--budget-ms: value 0 is out of range (0, 1e+06]");
+  expect_user_error(run_cmd(bin + " budget --gpu gtx1080 --workload atrium --budget-ms nan"),
+                    "--budget-ms: value nan is out of range");
+  expect_user_error(run_cmd(bin + " run configs/quickstart.json --watchdog nan"),
+                    "--watchdog: value nan is out of range [0, 1e+09]");
+  expect_user_error(run_cmd(bin + " trace synth --scenario fixate --rate nan -o " + d + "/t.csv"),
+                    "--rate: value nan is out of range (0, 10000]");
+  expect_user_error(run_cmd(bin + " trace validate " + kTrace + " --max-gap nan"),
+                    "--max-gap: value nan is out of range");
+  expect_user_error(run_cmd(bin + " density --gaze-u nan --out " + d + "/x"),
+                    "--gaze-u: value nan is out of range [0, 1]");
+  expect_user_error(run_cmd(bin + " density --gaze-u 1e308 --out " + d + "/x"),
+                    "--gaze-u: value 1e+308 is out of range [0, 1]");
+  expect_user_error(run_cmd(bin + " density --target 0 --out " + d + "/x"),
+                    "--target: value 0 is out of range (0, 1]");
+  expect_user_error(run_cmd(bin + " density -m kfr --param rmfr.fx=0.3 --out " + d + "/x"),
+                    "method \"rmfr\" is not selected with --method");
+  write_text(d + "/g.json", small_config(R"({"type": "atrium", "complexity": 1})",
+                                         R"(, "gpus": ["gtx1080", "gtx1080"])"));
+  expect_user_error(run_cmd(bin + " run " + d + "/g.json --out " + d + "/o"),
+                    "gpus[1]: \"gtx1080\" is also gpus[0]");
+  write_text(d + "/dup.json", "{\"name\": \"a\",\n \"render\": {\"scale\": 1, \"scale\": 2}}");
+  expect_user_error(run_cmd(bin + " run " + d + "/dup.json"),
+                    "dup.json:2:25: duplicate key \"render.scale\"");
+  expect_user_error(run_cmd(bin + " frobnicate"), "unknown command 'frobnicate' (commands: ");
+}
