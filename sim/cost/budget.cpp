@@ -122,7 +122,7 @@ std::vector<BudgetChange> fitting_changes(const BudgetQuery& q, double budget_ms
   double lo = 1, hi = 2;
   while (hi < 1e4 && fit_probability(g, at(hi), budget_ms) < target) lo = hi, hi *= 2;
   if (hi < 1e4) {
-    for (int it = 0; it < 40; ++it) {
+    for (int it = 0; it < 30; ++it) {
       const double mid = 0.5 * (lo + hi);
       (fit_probability(g, at(mid), budget_ms) >= target ? hi : lo) = mid;
     }
