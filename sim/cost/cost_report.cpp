@@ -238,6 +238,62 @@ ValidationOutputs run_validation(const std::string& models, double level) {
     txt << "  " << pad(p, 14) << fmt("[%.2f, ", f.lo_factor) << fmt("%.2f]", f.hi_factor)
         << (own ? "  " + std::to_string(f.n) + " rows" : "  pooled") << "\n";
   }
+  // Absolute times across papers: leave-one-paper-out error of the frame totals.
+  txt << "\n== leave-one-paper-out (= leave-one-GPU-out) |rel err| of held-out frame totals, model "
+      << model_name(v.model) << "\n";
+  {
+    double sum_all = 0;
+    int n_all = 0;
+    for (auto& t : data.tables) {
+      const std::string ex = "cross:fit all but " + t.id + " -> predict " + t.id;
+      double sum = 0, sp = 0;
+      int n = 0, np = 0;
+      for (auto& r : rep.rows) {
+        if (r.experiment != ex || !(r.published_ms > 0) || !(r.model_ms > 0)) continue;
+        if (r.kind == "total") sum += std::fabs(r.rel_err()), ++n;
+        if (r.kind == "predicted") sp += std::fabs(r.rel_err()), ++np;
+      }
+      sum_all += sum, n_all += n;
+      txt << "  " << pad(t.id, 6) << " totals "
+          << (n ? fmt("%.1f%%", 100 * sum / n) + " (" + std::to_string(n) + ")"
+                : std::string("none predictable"))
+          << ", per-pass rows " << (np ? fmt("%.1f%%", 100 * sp / np) : std::string("-")) << " ("
+          << np << ")\n";
+    }
+    txt << "  all    totals " << (n_all ? fmt("%.1f%%", 100 * sum_all / n_all) : std::string("-"))
+        << " (" << n_all << "); target <= 25%\n";
+  }
+  // Fitted parameters with their jackknife uncertainty over the leave-one-paper-out refits.
+  txt << "\n== fitted parameters of model " << model_name(v.model)
+      << " (full fit; +- jackknife SE over the leave-one-paper-out refits, sqrt((k-1)/k sum "
+         "(x_i - mean)^2); k: refits that fitted it)\n";
+  {
+    CalData d2 = data;
+    FitOptions o;
+    o.model = v.model;
+    const CostFit full = fit_cost_model(d2, o);
+    size_t refits = 0;
+    for (auto& [k, xs] : rep.lopo_theta) refits = std::max(refits, xs.size());
+    for (auto& [k, val] : full.theta) {
+      if (k.rfind("geo:", 0) == 0) continue;
+      txt << "  " << pad(k, 28) << fmt("%12.5g", val);
+      auto it = rep.lopo_theta.find(k);
+      if (it != rep.lopo_theta.end() && it->second.size() >= 2 && it->second.size() == refits) {
+        const auto& xs = it->second;
+        double m = 0;
+        for (double x : xs) m += x;
+        m /= double(xs.size());
+        double ss = 0;
+        for (double x : xs) ss += (x - m) * (x - m);
+        const double kk = double(xs.size());
+        txt << " +- " << fmt("%-10.3g", std::sqrt((kk - 1) / kk * ss)) << " (k " << xs.size()
+            << ")";
+      } else {
+        txt << " +- ?          (one paper's rows only: no spread)";
+      }
+      txt << " " << theta_unit(k) << "\n";
+    }
+  }
   txt << "\ndetailed report below: model " << model_name(v.model) << "\n\n";
   txt << "== calibration entries (all tables fitted together; 'check' rows are totals, not "
          "fitted)\n";

@@ -128,6 +128,10 @@ ValidationReport validate_cost(const CalData& data, const CostFit& fit, const Fi
     FitOptions o = opt;
     o.tables = u.fit_tables;
     CostFit f = fit_cost_model(d2, o);
+    if (u.exclude_workload.empty() && u.fit_tables.size() + 1 == all.size() &&
+        !u.fit_tables.count(u.target_table))
+      for (auto& [k, v] : f.theta)
+        if (k.rfind("geo:", 0) != 0) rep.lopo_theta[k].push_back(v);
     const CalTable* target = nullptr;
     for (auto& t : data.tables)
       if (t.id == u.target_table) target = &t;

@@ -34,6 +34,9 @@ struct CrossPrediction {
 struct ValidationReport {
   std::vector<ValidationRow> rows;
   std::vector<CrossPrediction> cross;
+  // Fitted parameters of every leave-one-paper-out refit (key -> one value per refit; absent
+  // keys are not listed): their spread is the jackknife uncertainty of the full fit.
+  std::map<std::string, std::vector<double>> lopo_theta;
 };
 
 // Coverage of the intervals at one level on the nested held-out rows (each table's rows
