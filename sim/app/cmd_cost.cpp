@@ -19,6 +19,7 @@
 #include "sim/cost/validate.h"
 #include "sim/cost/workload.h"
 #include "sim/experiment/config.h"
+#include "sim/experiment/config_cost.h"
 #include "sim/experiment/plots.h"
 #include "sim/experiment/recost.h"
 #include "sim/foveation/factory.h"
@@ -61,12 +62,13 @@ struct Target {  // display + workload + GPUs shared by predict and budget
   std::vector<std::string> gpus;
   int width = 0, height = 0, eyes = 0;
   std::vector<std::string> methods;
+  std::string config;  // --config: the run config's scene, workload, display and methods
 };
 
 void add_target_options(CLI::App* c, Target& t, const std::string& default_methods) {
   c->add_option("--gpu", t.gpus,
-                "GPU profile name(s) or path(s) (models/gpus/NAME.json); repeat or comma-separate")
-      ->required()
+                "GPU profile name(s) or path(s) (models/gpus/NAME.json); repeat or comma-separate "
+                "(required, except with --config: the config's gpus)")
       ->delimiter(',');
   c->add_option("--workload", t.workload,
                 "Workload descriptor name or path (models/workloads/NAME.json); required: the "
@@ -87,33 +89,85 @@ void add_target_options(CLI::App* c, Target& t, const std::string& default_metho
           default_methods + ")");
   c->add_option("--models", t.models,
                 "Models directory (default: $FOVSIM_MODELS, ./models, or the source tree's)");
+  c->add_option("--config", t.config,
+                "A run config (configs/*.json): its scene's triangles, lights and indirect light, "
+                "its workload, display and methods, as `fovsim run` charges them (replaces "
+                "--workload; --display/--width/--height/--eyes/-m override)");
 }
 
 // Without a scene the generic workload knows no lights, so every method's shading cost (and
 // KFR's speedup) would be meaningless (issue 14 item 5): a workload must be named.
 Workload target_workload(const Target& t, const std::string& models) {
-  if (t.workload.empty()) {
+  // generic knows no scene (no triangles, no lights): refused like a missing --workload.
+  if (t.workload.empty() || t.workload == "generic") {
     std::string av;
     for (auto& n : Workload::available(models))
       if (n != "generic") av += (av.empty() ? "" : ", ") + n;
     throw Error("--workload",
-                "required (the scene's triangles, lights and shading cost decide every estimate; "
-                "available: " +
-                    av + ")");
+                std::string(t.workload.empty() ? "required" : "'generic' describes no scene") +
+                    " (the scene's triangles, lights and shading cost decide every estimate; "
+                    "available: " +
+                    av + "; or --config CONFIG for a run config's scene)");
   }
   return Workload::load(t.workload, models);
 }
 
-Display target_display(const Target& t, const std::string& models) {
-  Display d = Display::load(t.display, models);
-  if (t.width) d.width = t.width;
-  if (t.height) d.height = t.height;
-  if (t.eyes) d.eyes = t.eyes;
-  return d;
+// What predict/budget cost: --config's scene, or --workload with the display flags.
+struct Resolved {
+  Workload workload;
+  Display display;
+  bool indirect = false;
+  std::vector<MethodSpec> methods;
+  std::vector<std::string> gpus;
+};
+
+Resolved resolve_target(const Target& t, const std::string& models,
+                        const std::vector<std::string>& default_methods, bool display_given) {
+  Resolved r;
+  r.gpus = t.gpus;
+  if (!t.config.empty()) {
+    if (!t.workload.empty())
+      throw Error("--workload", "give either --workload or --config (its scene), not both");
+    const ConfigCostTarget c = config_cost_target(t.config, models);
+    r.workload = c.workload;
+    r.display = display_given ? Display::load(t.display, models) : c.display;
+    r.indirect = c.features.indirect;
+    for (auto& m : c.methods) {
+      if (!is_cost_method(m.method))
+        throw Error(t.config, "no cost model for method \"" + m.method + "\"");
+      r.methods.push_back({m.label, m.method, m.params});
+    }
+    if (r.gpus.empty()) r.gpus = c.gpus;
+  } else {
+    r.workload = target_workload(t, models);
+    r.display = Display::load(t.display, models);
+  }
+  if (t.width) r.display.width = t.width;
+  if (t.height) r.display.height = t.height;
+  if (t.eyes) r.display.eyes = t.eyes;
+  if (!t.methods.empty() || r.methods.empty()) {
+    r.methods.clear();
+    for (auto& m : t.methods.empty() ? default_methods : t.methods)
+      r.methods.push_back(parse_method(m));
+  }
+  if (r.gpus.empty()) throw Error("--gpu", "required (a GPU profile name, e.g. gtx1080)");
+  return r;
 }
 
-FrameCost cost_for(const GpuProfile& g, const MethodSpec& m, const Workload& w, const Display& d) {
-  return analytic_frame(g, m.name, m.params, w, d, "--method " + m.text);
+FrameCost cost_for(const GpuProfile& g, const MethodSpec& m, const Resolved& r) {
+  return analytic_frame(g, m.name, m.params, r.workload, r.display, "--method " + m.text,
+                        r.indirect);
+}
+
+// Footnote for spec-transfer profiles (issue 31 item 5).
+void print_uncalibrated_note(const std::vector<GpuProfile>& gs) {
+  for (auto& g : gs)
+    if (!g.calibrated)
+      std::cout << "* " << g.name
+                << ": calibrated = no, a spec-sheet transfer (no calibration table used this GPU); "
+                   "its interval is widened x"
+                << fmt("%.2f", g.interval.widen) << " in log space"
+                << (g.architecture.empty() ? std::string() : "; " + g.architecture) << "\n";
 }
 
 void print_table(const std::vector<std::vector<std::string>>& rows) {
@@ -137,7 +191,7 @@ void print_table(const std::vector<std::vector<std::string>>& rows) {
 
 // ---------------------------------------------------------------- calibrate
 struct CalibrateArgs {
-  std::string models, tables, model = "roofline";
+  std::string models, tables, model = "roofline", out = "results/calibrate";
   bool dry_run = false, quiet = false;
 };
 
@@ -147,10 +201,12 @@ int do_calibrate(const CalibrateArgs& a) {
   o.tables = parse_id_list(a.tables, "--tables");
   o.model = a.model == "linear" ? CostModelKind::Linear : CostModelKind::Roofline;
   o.write = !a.dry_run;
+  o.out = a.out;
   const CalibrationRun run = run_calibration(o);
   if (!a.quiet) {
     std::vector<std::vector<std::string>> rows = {{"table", "gpu", "workload", "config", "row",
-                                                   "use", "published_ms", "model_ms", "rel_err"}};
+                                                   "use", "published [ms]", "model [ms]",
+                                                   "rel_err [%]"}};
     for (auto& r : run.rows)
       rows.push_back({r.entry.table, r.entry.gpu, r.entry.workload, r.entry.config, r.entry.row,
                       r.entry.fit ? "fit" : "check", fmt("%.3f", r.entry.published_ms),
@@ -167,9 +223,10 @@ int do_calibrate(const CalibrateArgs& a) {
       std::cout << "  " << wl << "." << p << " = "
                 << fmt("%.1f", p == "vpl_flops" ? w.vpl_flops : w.shading_flops) << "\n";
     }
-    std::cout << "\nshared work per counter unit (theta; coefficient = theta / spec rate of its "
-                 "resource):\n";
-    for (auto& [k, v] : run.fit.theta) std::cout << "  " << k << " = " << fmt("%.6g", v) << "\n";
+    std::cout << "\nshared work per counter unit (theta; coefficient in ms per unit = theta / "
+                 "spec rate of its resource):\n";
+    for (auto& [k, v] : run.fit.theta)
+      std::cout << "  " << k << " = " << fmt("%.6g", v) << " " << theta_unit(k) << "\n";
     for (auto& f : run.written) std::cout << "wrote " << f << "\n";
   }
   return 0;
@@ -245,24 +302,25 @@ int do_predict_results(const PredictArgs& a) {
 int do_predict(const PredictArgs& a) {
   if (!a.results.empty()) return do_predict_results(a);
   const std::string models = models_or_default(a.t.models);
-  Workload w = target_workload(a.t, models);
-  Display d = target_display(a.t, models);
-  std::vector<MethodSpec> methods;
-  for (auto& m : a.t.methods.empty() ? std::vector<std::string>{"full"} : a.t.methods)
-    methods.push_back(parse_method(m));
+  const Resolved res = resolve_target(a.t, models, {"full"}, a.display_given);
+  const Workload& w = res.workload;
+  const Display& d = res.display;
+  const std::vector<MethodSpec>& methods = res.methods;
   nlohmann::ordered_json out = nlohmann::ordered_json::array();
   std::vector<std::vector<std::string>> rows;
-  std::vector<std::string> header = {"gpu", "method"};
+  std::vector<GpuProfile> used;
+  std::vector<std::string> header = {"gpu", "calibrated", "method"};
   for (auto& p : known_passes()) header.push_back(p);
   header.push_back("total_ms");
   header.push_back("interval_ms");
   header.push_back("speedup");
   rows.push_back(header);
-  for (auto& gname : a.t.gpus) {
+  for (auto& gname : res.gpus) {
     GpuProfile g = GpuProfile::load(gname, models);
-    double full_total = cost_for(g, parse_method("full"), w, d).total_ms;
+    used.push_back(g);
+    double full_total = cost_for(g, parse_method("full"), res).total_ms;
     for (auto& m : methods) {
-      FrameCost fc = cost_for(g, m, w, d);
+      FrameCost fc = cost_for(g, m, res);
       nlohmann::ordered_json j;
       j["gpu"] = g.name;
       j["calibrated"] = g.calibrated;
@@ -285,9 +343,10 @@ int do_predict(const PredictArgs& a) {
         }
       }
       j["speedup_vs_full"] = fc.total_ms > 0 ? full_total / fc.total_ms : 0.0;
+      if (!a.t.config.empty()) j["label"] = m.text, j["indirect"] = res.indirect;
       if (!fc.missing_counters.empty()) j["missing_counters"] = fc.missing_counters;
       out.push_back(j);
-      std::vector<std::string> r = {g.name, m.text};
+      std::vector<std::string> r = {g.name, g.calibrated ? "yes" : "no*", m.text};
       for (auto& p : known_passes()) {
         bool exists = false;
         for (auto& pc : fc.passes) exists |= pc.pass == p;
@@ -306,8 +365,13 @@ int do_predict(const PredictArgs& a) {
     std::cout << "workload " << w.name << ", display " << d.name << " " << d.width << "x"
               << d.height << " x" << d.eyes
               << " eye(s); ms per frame ('-': pass does not exist); interval_ms: the profile's "
-              << "prediction interval on the total (docs/cost_model.md)\n";
+              << "prediction interval on the total (docs/cost_model.md)"
+              << (a.t.config.empty() ? std::string()
+                                     : std::string("; scene of ") + a.t.config +
+                                           (res.indirect ? " (indirect light)" : ""))
+              << "\n";
     print_table(rows);
+    print_uncalibrated_note(used);
   }
   return 0;
 }
@@ -315,52 +379,137 @@ int do_predict(const PredictArgs& a) {
 // ---------------------------------------------------------------- budget
 struct BudgetArgs {
   Target t;
-  double hz = 90, budget_ms = 0;
+  double hz = 90, budget_ms = 0, target_p = 0.8;
   double s_shading = 1, s_geometry = 1, s_raster = 1, s_memory = 1, s_fixed = 1;
-  bool json = false;
+  bool json = false, display_given = false, workload_given = false;
+  std::string results;  // budget of a finished run's measured counters
 };
 
+std::string pct(double p) {
+  return fmt("%.0f%%", 100 * p);
+}
+
+// `fovsim budget --results RUN`: the run's (or each sweep cell's) re-costed frame time against
+// the budget: verdict, headroom and the probability of fitting (logic: recost_results).
+int do_budget_results(const BudgetArgs& a, double budget) {
+  if (a.t.gpus.empty()) throw Error("--gpu", "required with --results");
+  RecostOptions o;
+  o.results = a.results;
+  o.models = models_or_default(a.t.models);
+  o.gpus = a.t.gpus;
+  if (a.display_given) o.display = a.t.display;
+  o.width = a.t.width, o.height = a.t.height, o.eyes = a.t.eyes;
+  if (a.workload_given) o.workload = a.t.workload;
+  const RecostResult res = recost_results(o);
+  std::map<std::string, GpuProfile> gs;
+  std::vector<GpuProfile> used;
+  for (auto& n : a.t.gpus) {
+    gs.emplace(n, GpuProfile::load(n, o.models));
+    used.push_back(gs.at(n));
+  }
+  std::vector<std::vector<std::string>> rows = {{"gpu", "calibrated", "config_id", "total_ms",
+                                                 "interval_ms", "budget_ms", "fits", "p_fit",
+                                                 "headroom_ms"}};
+  nlohmann::ordered_json out = nlohmann::ordered_json::array();
+  for (const RecostRow& x : res.rows) {
+    const GpuProfile* g = nullptr;
+    for (auto& [n, p] : gs)
+      if (p.name == x.gpu) g = &p;
+    FrameCost fc;
+    fc.total_ms = x.total_ms;
+    if (x.level > 0)
+      fc.interval_level = x.level, fc.total_lo_ms = x.lo_ms, fc.total_hi_ms = x.hi_ms;
+    const double pf = g ? fit_probability(*g, fc, budget) : (x.total_ms <= budget ? 1.0 : 0.0);
+    const char* verdict = budget_verdict(fc, budget);
+    rows.push_back({x.gpu, g && !g->calibrated ? "no*" : "yes", x.config_id,
+                    fmt("%.3f", x.total_ms),
+                    x.level > 0 ? fmt("%.2f-", x.lo_ms) + fmt("%.2f", x.hi_ms) : "-",
+                    fmt("%.2f", budget), verdict, pct(pf), fmt("%+.3f", budget - x.total_ms)});
+    out.push_back({{"gpu", x.gpu},
+                   {"config_id", x.config_id},
+                   {"method", x.method},
+                   {"est_ms_total", x.total_ms},
+                   {"budget_ms", budget},
+                   {"verdict", verdict},
+                   {"p_fit", pf},
+                   {"headroom_ms", budget - x.total_ms}});
+  }
+  if (a.json) {
+    std::cout << out.dump(2) << "\n";
+  } else {
+    std::cout << "results " << a.results << " re-costed for display " << res.display.name << " "
+              << res.display.width << "x" << res.display.height << " x" << res.display.eyes
+              << " eye(s), workload " << res.workload << "; budget " << fmt("%.2f", budget)
+              << " ms; p_fit: probability that the frame fits (held-out total errors)\n";
+    print_table(rows);
+    print_uncalibrated_note(used);
+  }
+  return 0;
+}
+
 int do_budget(const BudgetArgs& a) {
-  const std::string models = models_or_default(a.t.models);
-  Workload w = target_workload(a.t, models);
-  Display d = target_display(a.t, models);
   const double budget = a.budget_ms > 0 ? a.budget_ms : 1000.0 / a.hz;
-  std::vector<std::string> mlist = a.t.methods;
-  if (mlist.empty())
-    mlist = {"full", "kfr", "rmfr", "hyperbolic", "linear", "fvrs", "twfr"};  // run defaults
+  if (!a.results.empty()) return do_budget_results(a, budget);
+  const std::string models = models_or_default(a.t.models);
+  const Resolved res =
+      resolve_target(a.t, models, {"full", "kfr", "rmfr", "hyperbolic", "linear", "fvrs", "twfr"},
+                     a.display_given);
+  const Workload& w = res.workload;
+  const Display& d = res.display;
   std::vector<std::vector<std::string>> rows = {
-      {"gpu", "method", "total_ms", "interval_ms", "budget_ms", "fits", "headroom_ms", "headroom",
-       "x_shading", "x_geometry", "x_raster", "x_memory", "x_fixed", "x_all"}};
+      {"gpu", "calibrated", "method", "total_ms", "interval_ms", "budget_ms", "fits", "p_fit",
+       "change_for_" + pct(a.target_p), "headroom_ms", "x_shading", "x_geometry", "x_raster",
+       "x_memory", "x_fixed", "x_all"}};
   nlohmann::ordered_json out = nlohmann::ordered_json::array();
   WhatIf wi;
   wi.shading = a.s_shading, wi.geometry = a.s_geometry, wi.raster = a.s_raster;
   wi.memory = a.s_memory, wi.fixed = a.s_fixed;
   auto factor_text = [](double f) { return std::isfinite(f) ? fmt("%.2f", f) : "inf"; };
   auto factor_json = [](double f) { return std::isfinite(f) ? Json(f) : Json("inf"); };
-  for (auto& gname : a.t.gpus) {
+  std::vector<GpuProfile> used;
+  for (auto& gname : res.gpus) {
     GpuProfile g = apply_what_if(GpuProfile::load(gname, models), wi);
-    for (auto& ms : mlist) {
-      MethodSpec m = parse_method(ms);
-      FrameCost fc = cost_for(g, m, w, d);
+    used.push_back(g);
+    for (const MethodSpec& m : res.methods) {
+      FrameCost fc = cost_for(g, m, res);
       const double T = fc.total_ms;
       const bool iv = fc.interval_level > 0;
       const char* verdict = budget_verdict(fc, budget);
+      const double pf = fit_probability(g, fc, budget);
+      BudgetQuery q;
+      q.gpu = &g, q.method = m.name, q.params = m.params, q.workload = &w, q.display = d;
+      q.indirect = res.indirect, q.where = "--method " + m.text;
+      const std::vector<BudgetChange> changes = fitting_changes(q, budget, a.target_p);
+      const std::string change = changes.empty() ? "none found" : changes.front().text;
       std::vector<std::string> r = {
           g.name,
+          g.calibrated ? "yes" : "no*",
           m.text,
           fmt("%.3f", T),
           iv ? fmt("%.2f-", fc.total_lo_ms) + fmt("%.2f", fc.total_hi_ms) : "-",
           fmt("%.2f", budget),
           verdict,
-          fmt("%+.3f", budget - T),
-          fmt("%+.0f%%", budget > 0 ? 100 * (budget - T) / budget : 0)};
+          pct(pf),
+          change,
+          fmt("%+.3f", budget - T)};
       nlohmann::ordered_json j = {{"gpu", g.name},
+                                  {"calibrated", g.calibrated},
                                   {"method", m.text},
                                   {"est_ms_total", T},
                                   {"budget_ms", budget},
                                   {"fits", T <= budget},
                                   {"verdict", verdict},
+                                  {"p_fit", pf},
                                   {"headroom_ms", budget - T}};
+      nlohmann::ordered_json cj = nlohmann::ordered_json::array();
+      for (auto& c : changes)
+        cj.push_back({{"kind", c.kind},
+                      {"change", c.text},
+                      {"value", c.value},
+                      {"est_ms_total", c.total_ms},
+                      {"p_fit", c.probability}});
+      j["changes_for_p"] = a.target_p;
+      j["changes"] = cj;
       if (iv) {
         j["est_ms_total_lo"] = fc.total_lo_ms, j["est_ms_total_hi"] = fc.total_hi_ms;
         j["interval_level"] = fc.interval_level;
@@ -389,12 +538,16 @@ int do_budget(const BudgetArgs& a) {
               << " eye(s); what-if throughput x shading " << a.s_shading << ", geometry "
               << a.s_geometry << ", raster " << a.s_raster << ", memory " << a.s_memory
               << ", fixed " << a.s_fixed << "\n"
+              << "p_fit: probability that the frame fits (held-out frame-total errors, "
+                 "docs/cost_model.md); change_for_"
+              << pct(a.target_p) << ": the cheapest change reaching that probability (the "
+              << "method's parameter, then resolution, then GPU throughput); fits: at the "
+                 "interval's confidence (uncertain: it straddles the budget)\n"
               << "x_<resource>: throughput factor that resource alone needs to fit (<1: slack; "
-                 "inf: cannot fit alone); "
-                 "x_all: uniform factor on everything but fixed overheads; fits: at the interval's "
-                 "confidence "
-                 "(uncertain: the interval straddles the budget)\n";
+                 "inf: cannot fit alone); x_all: uniform factor on everything but fixed "
+                 "overheads\n";
     print_table(rows);
+    print_uncalibrated_note(used);
   }
   return 0;
 }
@@ -430,13 +583,17 @@ void register_cost(CLI::App& app, Action& action) {
     CLI::App* c =
         app.add_subcommand("calibrate",
                            "Fit GPU profiles and workload shading costs to the seeds' per-pass "
-                           "tables (models/calibration) and write models/gpus/*.json");
+                           "tables (models/calibration) and write profiles to --out");
     c->add_option("--models", a->models,
                   "Models directory (default: $FOVSIM_MODELS, ./models, or the source tree's)");
     c->add_option("--tables", a->tables,
                   "Comma-separated calibration table ids to fit (default: all)");
     c->add_flag("--dry-run", a->dry_run,
                 "Print the fit and residuals without writing profiles or workloads");
+    c->add_option("--out", a->out,
+                  "Directory for OUT/gpus/*.json and OUT/workloads/*.json (`--out models` "
+                  "replaces the committed profiles)")
+        ->capture_default_str();
     c->add_flag("-q,--quiet", a->quiet, "Do not print the residual table");
     c->add_option("--model", a->model,
                   "How a pass combines its resources: roofline (bottleneck) or linear (sum)")
@@ -490,7 +647,17 @@ void register_cost(CLI::App& app, Action& action) {
                   "What-if: divide fixed per-pass overheads by this factor")
         ->check(finite_in(1e-6, 1e6));
     c->add_flag("--json", a->json, "Print JSON");
-    c->callback([a, &action]() { action = [a]() { return do_budget(*a); }; });
+    c->add_option("--p", a->target_p,
+                  "Probability of fitting the cheapest change must reach (default 0.8)")
+        ->check(CLI::Range(0.05, 0.99));
+    c->add_option("--results", a->results,
+                  "A results directory of `fovsim run` (or a sweep folder: every cell): the "
+                  "verdict, probability and headroom of its measured counters re-costed for --gpu");
+    c->callback([a, &action, c]() {
+      a->display_given = c->get_option("--display")->count() > 0;
+      a->workload_given = c->get_option("--workload")->count() > 0;
+      action = [a]() { return do_budget(*a); };
+    });
   }
   {
     auto a = std::make_shared<ValidateArgs>();

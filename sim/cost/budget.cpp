@@ -2,6 +2,12 @@
 #include "sim/cost/budget.h"
 
 #include <cmath>
+#include <cstdio>
+
+#include "sim/core/error.h"
+#include "sim/cost/analytic.h"
+#include "sim/cost/passes.h"
+#include "sim/cost/workload.h"
 
 namespace fovsim {
 
@@ -31,6 +37,105 @@ BudgetFactors budget_factors(const FrameCost& fc, double budget) {
   const double fixed = it == fc.resource_ms.end() ? 0.0 : it->second;
   out.x_all = (budget - fixed) > 0 ? (T - fixed) / (budget - fixed) : INFINITY;
   return out;
+}
+
+double fit_probability(const GpuProfile& g, const FrameCost& fc, double budget_ms) {
+  return fit_probability(g.interval, fc.total_ms, budget_ms);
+}
+
+namespace {
+
+std::string num(const char* f, double v) {
+  char b[64];
+  std::snprintf(b, sizeof b, f, v);
+  return b;
+}
+
+FrameCost eval(const BudgetQuery& q, const GpuProfile& g, const Json& params, const Display& d) {
+  return analytic_frame(g, q.method, params, *q.workload, d, q.where, q.indirect);
+}
+
+}  // namespace
+
+std::vector<BudgetChange> fitting_changes(const BudgetQuery& q, double budget_ms, double target) {
+  std::vector<BudgetChange> out;
+  const GpuProfile& g = *q.gpu;
+  const FrameCost base = eval(q, g, q.params, q.display);
+  const double p0 = fit_probability(g, base, budget_ms);
+  if (p0 >= target) {
+    out.push_back({"none", "none needed", 0, base.total_ms, p0});
+    return out;
+  }
+  // 1. The method's own quality knob.
+  const CostFamily fam = cost_family(q.method);
+  if (fam == CostFamily::Mapping && (q.method == "kfr" || q.method == "rmfr")) {
+    const double s0 = q.params.value("sigma", q.method == "kfr" ? 1.8 : 2.6);
+    for (int k = 1; s0 + 0.1 * k <= 4.0 + 1e-9; ++k) {
+      const double s = std::round((s0 + 0.1 * k) * 10) / 10;
+      Json p = q.params;
+      p["sigma"] = s;
+      const FrameCost fc = eval(q, g, p, q.display);
+      const double pr = fit_probability(g, fc, budget_ms);
+      if (pr >= target) {
+        out.push_back(
+            {"param", "sigma " + num("%.1f", s0) + " -> " + num("%.1f", s), s, fc.total_ms, pr});
+        break;
+      }
+    }
+  } else if (fam == CostFamily::Flc) {
+    const double b0 = q.params.value("vpl_budget", q.workload->vpl_budget);
+    for (double b = std::floor(b0 / 2); b >= 64; b = std::floor(b / 2)) {
+      Json p = q.params;
+      p["vpl_budget"] = int(b);
+      const FrameCost fc = eval(q, g, p, q.display);
+      const double pr = fit_probability(g, fc, budget_ms);
+      if (pr >= target) {
+        out.push_back({"param", "vpl_budget " + num("%.0f", b0) + " -> " + num("%.0f", b), b,
+                       fc.total_ms, pr});
+        break;
+      }
+    }
+  }
+  // 2. Per-eye resolution.
+  for (int k = 1; k <= 10; ++k) {
+    const double sc = 1 - 0.05 * k;
+    Display d = q.display;
+    d.width = std::max(1, int(std::lround(q.display.width * sc)));
+    d.height = std::max(1, int(std::lround(q.display.height * sc)));
+    const FrameCost fc = eval(q, g, q.params, d);
+    const double pr = fit_probability(g, fc, budget_ms);
+    if (pr >= target) {
+      out.push_back({"resolution",
+                     "resolution x" + num("%.2f", sc) + " (" + std::to_string(d.width) + "x" +
+                         std::to_string(d.height) + " per eye)",
+                     sc, fc.total_ms, pr});
+      break;
+    }
+  }
+  // 3. A faster GPU: one factor on every throughput but the fixed overheads (bisection; the
+  // total falls monotonically with it).
+  auto at = [&](double x) {
+    WhatIf w;
+    w.shading = w.geometry = w.raster = w.memory = x;
+    return eval(q, apply_what_if(g, w), q.params, q.display);
+  };
+  double lo = 1, hi = 2;
+  while (hi < 1e4 && fit_probability(g, at(hi), budget_ms) < target) lo = hi, hi *= 2;
+  if (hi < 1e4) {
+    for (int it = 0; it < 30; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      (fit_probability(g, at(mid), budget_ms) >= target ? hi : lo) = mid;
+    }
+    const FrameCost fc = at(hi);
+    out.push_back({"gpu", "GPU throughput x" + num("%.2f", hi), hi, fc.total_ms,
+                   fit_probability(g, fc, budget_ms)});
+  }
+  return out;
+}
+
+BudgetChange cheapest_fitting_change(const BudgetQuery& q, double budget_ms, double target) {
+  std::vector<BudgetChange> v = fitting_changes(q, budget_ms, target);
+  return v.empty() ? BudgetChange{} : v.front();
 }
 
 }  // namespace fovsim

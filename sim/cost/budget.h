@@ -8,6 +8,7 @@
 
 #include "sim/cost/cost_model.h"
 #include "sim/cost/gpu_profile.h"
+#include "sim/display/display.h"
 
 namespace fovsim {
 
@@ -29,5 +30,32 @@ struct BudgetFactors {
   double x_all = 0;  // one factor on every resource but the fixed overheads
 };
 BudgetFactors budget_factors(const FrameCost& fc, double budget_ms);
+
+struct Workload;
+
+// The cheapest change that makes a configuration fit a budget with probability >= target
+// (fit_probability on the profile's interval, gpu_profile.h). Searched in order of what it
+// costs the user: the method's own parameter (kfr/rmfr: sigma up in steps of 0.1 to 4; flc:
+// vpl_budget halved down to 64), then the per-eye resolution (steps of 5% down to 50%), then
+// a faster GPU (one throughput factor on every resource but the fixed overheads). `kind`:
+// "none" (already fits), "param", "resolution", "gpu", or "" when nothing found.
+struct BudgetChange {
+  std::string kind, text;  // text: e.g. "sigma 1.8 -> 2.3", "resolution x0.85", "GPU x1.40"
+  double value = 0;        // the new sigma / vpl_budget / resolution scale / throughput factor
+  double total_ms = 0, probability = 0;
+};
+struct BudgetQuery {
+  const GpuProfile* gpu = nullptr;
+  std::string method;
+  Json params = Json::object();
+  const Workload* workload = nullptr;
+  Display display;
+  bool indirect = false;
+  std::string where;  // names the method in errors
+};
+double fit_probability(const GpuProfile& g, const FrameCost& fc, double budget_ms);
+std::vector<BudgetChange> fitting_changes(const BudgetQuery& q, double budget_ms, double target);
+// The first of fitting_changes (kind "" when none).
+BudgetChange cheapest_fitting_change(const BudgetQuery& q, double budget_ms, double target);
 
 }  // namespace fovsim

@@ -60,6 +60,8 @@ CalData load_calibration(const std::string& models_dir) {
       e.spec.tri_gtris = s.number("tri_gtris", pos);
       e.spec.boost_mhz = s.number("boost_mhz", 0, Range::at_least(0));
       e.spec.l2_mb = s.number("l2_mb", 0, Range::at_least(0));
+      e.widen = s.number("extrapolation_widen", 1.0, Range::closed(1, 10));
+      e.architecture = s.string("architecture", "");
       e.spec.source = s.string("source", "");
       d.specs[it.key()] = e;
     }
@@ -124,6 +126,16 @@ CalData load_calibration(const std::string& models_dir) {
       } else if (!(ps.is_string() && ps.get<std::string>() == "all")) {
         e.fail("passes", "must be an array of pass names or \"all\"");
       }
+      // "all" but these: a published total that leaves out work the model charges (KFR
+      // thesis Table 4.1 "Total" lists the passes; "Total GPU Time" adds the frame's rest).
+      if (e.has("except")) {
+        if (!ce.passes.empty()) e.fail("except", "only with \"passes\": \"all\"");
+        for (auto& v : e.raw("except")) {
+          std::string pn = v.is_string() ? v.get<std::string>() : std::string();
+          if (!is_known_pass(pn)) e.fail("except", "unknown pass '" + pn + "'");
+          ce.except.push_back(pn);
+        }
+      }
       ce.published_ms = e.number("ms", Range::at_least(0));
       ce.fit = e.string("use", "fit", {"fit", "check"}) == "fit";
       e.ignore("comment");
@@ -170,6 +182,7 @@ double entry_ms(const GpuProfile& g, const Workload& w, const CalEntry& e, Frame
   double ms = 0;
   if (e.passes.empty()) {
     ms = fc.total_ms;
+    for (auto& p : e.except) ms -= fc.pass_ms(p);
   } else {
     for (auto& p : e.passes) {
       bool found = false;
@@ -254,6 +267,7 @@ Row design_row(const CostFit& fit, const CalData& data, const CalEntry& e) {
   for (const PassWork& pw : assemble_passes(in, wu)) {
     if (!e.passes.empty() && std::find(e.passes.begin(), e.passes.end(), pw.pass) == e.passes.end())
       continue;
+    if (std::find(e.except.begin(), e.except.end(), pw.pass) != e.except.end()) continue;
     r.x[pw.pass + ".overhead_ms"] += 1.0;
     // Roofline: only the bottleneck resource's terms (with the current theta) enter the row.
     bool use_all = fit.model != CostModelKind::Roofline || pw.pass == "lighting";
@@ -398,6 +412,30 @@ double theta_floor(const std::string& pass, const std::string& term) {
   for (const char* t : {"tris", "frags", "gbuffer_bytes", "shadow_tris", "shadow_texels", "texels"})
     if (term == t) return 1.0;
   return 0.0;
+}
+
+std::string theta_unit(const std::string& key) {
+  if (key.rfind("geo:", 0) == 0) return "[triangle-rate units per submitted triangle, this scene]";
+  const auto dot = key.find('.');
+  if (dot == std::string::npos) return "";
+  const std::string pass = key.substr(0, dot), term = key.substr(dot + 1);
+  if (term == "overhead_ms") return "[ms per pass]";
+  try {
+    switch (term_resource(pass, term, "")) {
+      case Resource::Geometry:
+        return "[triangles at peak rate per counted triangle]";
+      case Resource::Raster:
+        return "[pixels at peak fill rate per counted fragment/texel/pixel]";
+      case Resource::Memory:
+        return "[bytes per counted unit]";
+      case Resource::Shading:
+        return "[FP32 operations per counted unit]";
+      case Resource::Fixed:
+        return "[ms]";
+    }
+  } catch (const Error&) {
+  }
+  return "";
 }
 
 CostFit fit_cost_model(const CalData& data, const FitOptions& opt) {

@@ -18,6 +18,7 @@ namespace fovsim {
 struct CalEntry {
   std::string table, id, row, config, workload, gpu, method;
   std::vector<std::string> passes;  // empty: every pass of the frame
+  std::vector<std::string> except;  // with every pass: these left out (key `except`)
   double published_ms = 0;
   bool fit = true;        // false: a check row (totals), compared but not fitted
   bool baseline = false;  // a non-foveated config (full-resolution method)
@@ -35,6 +36,10 @@ struct CalTable {
 struct GpuSpecEntry {
   std::string description;
   GpuSpec spec;
+  // A GPU no calibration table used: its interval's log-widths are multiplied by this
+  // (key `extrapolation_widen`, >= 1), and `architecture` states what the transfer assumes.
+  double widen = 1.0;
+  std::string architecture;
 };
 
 struct CalData {
@@ -69,6 +74,8 @@ struct CostFit {
 double theta_floor(const std::string& pass, const std::string& term);
 
 CostFit fit_cost_model(const CalData& data, const FitOptions& opt);
+// The unit of a fitted parameter (a key of CostFit::theta), for the printed tables.
+std::string theta_unit(const std::string& key);
 // The workload's fitted parameter: "vpl_flops" for FLC workloads, else "shading_flops".
 std::string fitted_param(const Workload& w);
 // Fits only the shading cost of `workload` from `rows`, other parameters fixed.

@@ -72,7 +72,13 @@ FrameCost estimate_frame(const GpuProfile& gpu, const CostInputs& in) {
     fc.interval_level = gpu.interval.level;
     std::vector<PassSpan> parts;
     for (auto& pc : fc.passes) parts.push_back({pc.ms, pc.lo_ms, pc.hi_ms});
-    combine_pass_intervals(parts, &fc.total_lo_ms, &fc.total_hi_ms);
+    const IntervalFactors tf = gpu.interval.for_total();
+    if (tf.n > 0) {  // split-conformal on held-out frame totals (docs/cost_model.md)
+      fc.total_lo_ms = fc.total_ms * tf.lo_factor;
+      fc.total_hi_ms = fc.total_ms * tf.hi_factor;
+    } else {
+      combine_pass_intervals(parts, &fc.total_lo_ms, &fc.total_hi_ms);
+    }
     if (!std::isfinite(fc.total_ms)) fc.total_lo_ms = fc.total_hi_ms = HUGE_VAL;
   }
   return fc;

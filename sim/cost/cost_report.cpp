@@ -33,10 +33,12 @@ std::string csv_quote(const std::string& s) {
 }
 
 const char* kIntervalMethod =
-    "empirical 10%/90% quantiles of published/model over the held-out rows of fovsim "
+    "split-conformal 10%/90% quantiles of log(published/model) over the held-out rows of fovsim "
     "validate-cost's leave-one-seed/GPU/scene-out refits: per pass (passes) where the pass has "
     "at least 5 single-pass rows, shrunk toward the pooled quantiles with weight n/(n+8) in log "
-    "space, else pooled; a total combines its passes' intervals in quadrature";
+    "space, else pooled; the total (total) from the held-out frame totals, whose sorted scores "
+    "(total_scores) give budget's probability of fitting; widen > 1: a GPU no table used "
+    "(log-widths multiplied)";
 
 }  // namespace
 
@@ -62,6 +64,11 @@ GpuProfile calibrated_profile(const CostFit& fit, const CalData& data, const std
       g.residuals.push_back({e.id, e.fit, e.published_ms, ms,
                              e.published_ms > 0 ? (ms - e.published_ms) / e.published_ms : 0.0});
     }
+  }
+  if (!g.calibrated) {  // extrapolation: wider intervals (docs/cost_model.md "Current GPUs")
+    const GpuSpecEntry& se = data.specs.at(gpu);
+    g.interval.widen = se.widen;
+    g.architecture = se.architecture;
   }
   g.calibration_comment =
       std::string("Written by `fovsim calibrate`: NNLS on relative error over the tables below; ") +
@@ -97,14 +104,18 @@ CalibrationRun run_calibration(const CalibrateOptions& o) {
   for (auto& [gpu, se] : run.data.specs) {
     (void)se;
     run.profiles.push_back(calibrated_profile(run.fit, run.data, gpu, run.interval, o.tables));
-    const std::string file = o.models + "/gpus/" + gpu + ".json";
+    const std::string dir = (o.out.empty() ? o.models : o.out) + "/gpus";
+    make_dirs(dir);
+    const std::string file = dir + "/" + gpu + ".json";
     write_file_atomic(file, run.profiles.back().to_file_text());
     run.written.push_back(file);
   }
   // Fitted workload costs go into the workload files, which keep their authors' layout.
   for (auto& wl : run.fit.fitted_workloads) {
-    const std::string file = o.models + "/workloads/" + wl + ".json";
-    auto j = nlohmann::ordered_json::parse(read_file(file));
+    const std::string dir = (o.out.empty() ? o.models : o.out) + "/workloads";
+    make_dirs(dir);
+    const std::string file = dir + "/" + wl + ".json";
+    auto j = nlohmann::ordered_json::parse(read_file(o.models + "/workloads/" + wl + ".json"));
     const Workload& w = run.fit.workloads.at(wl);
     const std::string p = fitted_param(w);
     j[p] = p == "vpl_flops" ? w.vpl_flops : w.shading_flops;
@@ -159,7 +170,7 @@ ValidationOutputs run_validation(const std::string& models, double level) {
       csv << ",\n";
     } else {
       double lo = 0, hi = 0;
-      row_interval(iv, r.parts, &lo, &hi);
+      row_interval(iv, r.parts, &lo, &hi, r.kind == "total" || r.kind == "withheld");
       csv << lo << ',' << hi << "\n";
     }
   }
@@ -183,7 +194,23 @@ ValidationOutputs run_validation(const std::string& models, double level) {
   txt << "coverage (nested): each target table's held-out rows against the intervals built from "
          "the other tables' held-out rows;\n"
          "  per-pass: held-out per-pass rows; total: held-out frame totals whose passes the refit "
-         "all saw (interval combined from the passes')\n";
+         "all saw (split-conformal on the other tables' held-out totals)\n\n";
+  txt << "== interval calibration per model (split-conformal on log(published/model), grouped by "
+         "paper = GPU: a table never calibrates its own rows); coverage [Wilson 95%] and median "
+         "half-width / estimate\n";
+  txt << pad("model", 10) << pad("level", 7) << pad("per-pass coverage [95% CI] (n)", 32)
+      << pad("half-width", 12) << pad("total coverage [95% CI] (n)", 30) << "half-width\n";
+  for (auto& m : v.ranked)
+    for (size_t i = 0; i < m.pass_cov.size() && i < m.total_cov.size(); ++i) {
+      const CoverageStat &cp = m.pass_cov[i], &ct = m.total_cov[i];
+      auto cov = [](const CoverageStat& c) {
+        return fmt("%.0f%%", 100 * c.coverage) + fmt(" [%.0f, ", 100 * c.wilson_lo) +
+               fmt("%.0f]", 100 * c.wilson_hi) + " (" + std::to_string(c.n) + ")";
+      };
+      txt << pad(model_name(m.model), 10) << pad(fmt("%.0f%%", 100 * cp.level), 7)
+          << pad(cov(cp), 32) << pad(fmt("%.2f", cp.median_half_width), 12) << pad(cov(ct), 30)
+          << fmt("%.2f", ct.median_half_width) << "\n";
+    }
   // Leave-one-resolution-out needs one configuration at several resolutions in a table.
   txt << "leave-one-resolution-out: not possible, every calibration table gives one resolution (";
   {
@@ -211,6 +238,62 @@ ValidationOutputs run_validation(const std::string& models, double level) {
     txt << "  " << pad(p, 14) << fmt("[%.2f, ", f.lo_factor) << fmt("%.2f]", f.hi_factor)
         << (own ? "  " + std::to_string(f.n) + " rows" : "  pooled") << "\n";
   }
+  // Absolute times across papers: leave-one-paper-out error of the frame totals.
+  txt << "\n== leave-one-paper-out (= leave-one-GPU-out) |rel err| of held-out frame totals, model "
+      << model_name(v.model) << "\n";
+  {
+    double sum_all = 0;
+    int n_all = 0;
+    for (auto& t : data.tables) {
+      const std::string ex = "cross:fit all but " + t.id + " -> predict " + t.id;
+      double sum = 0, sp = 0;
+      int n = 0, np = 0;
+      for (auto& r : rep.rows) {
+        if (r.experiment != ex || !(r.published_ms > 0) || !(r.model_ms > 0)) continue;
+        if (r.kind == "total") sum += std::fabs(r.rel_err()), ++n;
+        if (r.kind == "predicted") sp += std::fabs(r.rel_err()), ++np;
+      }
+      sum_all += sum, n_all += n;
+      txt << "  " << pad(t.id, 6) << " totals "
+          << (n ? fmt("%.1f%%", 100 * sum / n) + " (" + std::to_string(n) + ")"
+                : std::string("none predictable"))
+          << ", per-pass rows " << (np ? fmt("%.1f%%", 100 * sp / np) : std::string("-")) << " ("
+          << np << ")\n";
+    }
+    txt << "  all    totals " << (n_all ? fmt("%.1f%%", 100 * sum_all / n_all) : std::string("-"))
+        << " (" << n_all << "); target <= 25%\n";
+  }
+  // Fitted parameters with their jackknife uncertainty over the leave-one-paper-out refits.
+  txt << "\n== fitted parameters of model " << model_name(v.model)
+      << " (full fit; +- jackknife SE over the leave-one-paper-out refits, sqrt((k-1)/k sum "
+         "(x_i - mean)^2); k: refits that fitted it)\n";
+  {
+    CalData d2 = data;
+    FitOptions o;
+    o.model = v.model;
+    const CostFit full = fit_cost_model(d2, o);
+    size_t refits = 0;
+    for (auto& [k, xs] : rep.lopo_theta) refits = std::max(refits, xs.size());
+    for (auto& [k, val] : full.theta) {
+      if (k.rfind("geo:", 0) == 0) continue;
+      txt << "  " << pad(k, 28) << fmt("%12.5g", val);
+      auto it = rep.lopo_theta.find(k);
+      if (it != rep.lopo_theta.end() && it->second.size() >= 2 && it->second.size() == refits) {
+        const auto& xs = it->second;
+        double m = 0;
+        for (double x : xs) m += x;
+        m /= double(xs.size());
+        double ss = 0;
+        for (double x : xs) ss += (x - m) * (x - m);
+        const double kk = double(xs.size());
+        txt << " +- " << fmt("%-10.3g", std::sqrt((kk - 1) / kk * ss)) << " (k " << xs.size()
+            << ")";
+      } else {
+        txt << " +- ?          (one paper's rows only: no spread)";
+      }
+      txt << " " << theta_unit(k) << "\n";
+    }
+  }
   txt << "\ndetailed report below: model " << model_name(v.model) << "\n\n";
   txt << "== calibration entries (all tables fitted together; 'check' rows are totals, not "
          "fitted)\n";
@@ -236,7 +319,7 @@ ValidationOutputs run_validation(const std::string& models, double level) {
     txt << pad(k, 52);
     for (auto* r : rows) {
       double lo = 0, hi = 0;
-      row_interval(iv_all, r->parts, &lo, &hi);
+      row_interval(iv_all, r->parts, &lo, &hi, true);
       txt << " " << r->config << fmt(" %.2f ms", r->model_ms) << fmt(" [%.2f, ", lo)
           << fmt("%.2f]", hi);
     }

@@ -19,6 +19,10 @@ struct CalibrateOptions {
   std::set<std::string> tables;  // empty: all
   CostModelKind model = CostModelKind::Roofline;
   bool write = true;  // false (--dry-run): fit and report only, no interval
+  // Where profiles and fitted workloads are written: OUT/gpus/<gpu>.json and
+  // OUT/workloads/<workload>.json (the models directory's file, fitted keys replaced). "" =
+  // the models directory itself.
+  std::string out;
 };
 
 struct CalibrationRun {

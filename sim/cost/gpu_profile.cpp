@@ -112,6 +112,19 @@ GpuProfile GpuProfile::from_json(const Json& j, const std::string& file) {
     g.interval.hi_factor = pooled.hi_factor;
     g.interval.n = pooled.n;
     g.interval.method = iv.string("method", "");
+    g.interval.widen = iv.number("widen", 1.0, Range::closed(1, 10));
+    if (iv.has("total")) {
+      Params t = iv.child("total");
+      factors(t, g.interval.total);
+      t.finish();
+    }
+    if (iv.has("total_scores")) {
+      for (auto& v : iv.raw("total_scores")) {
+        if (!v.is_number()) iv.fail("total_scores", "must be an array of numbers");
+        g.interval.total_scores.push_back(v.get<double>());
+      }
+      std::sort(g.interval.total_scores.begin(), g.interval.total_scores.end());
+    }
     if (iv.has("passes")) {
       Params ps = iv.child("passes");
       if (!ps.json().is_object())
@@ -174,6 +187,7 @@ GpuProfile GpuProfile::from_json(const Json& j, const std::string& file) {
     }
   }
   p.ignore("comment");
+  if (p.has("architecture")) g.architecture = p.string("architecture");
   p.finish();
   return g;
 }
@@ -183,6 +197,7 @@ Json GpuProfile::to_json() const {
   j["name"] = name;
   j["description"] = description;
   j["calibrated"] = calibrated;
+  if (!architecture.empty()) j["architecture"] = architecture;
   j["model"] = model_name(model);
   j.erase("interval");
   if (interval.level > 0) {
@@ -191,6 +206,12 @@ Json GpuProfile::to_json() const {
                {"hi_factor", interval.hi_factor},
                {"n", interval.n}};
     if (!interval.method.empty()) iv["method"] = interval.method;
+    if (interval.widen != 1.0) iv["widen"] = interval.widen;
+    if (interval.total.n > 0)
+      iv["total"] = {{"lo_factor", interval.total.lo_factor},
+                     {"hi_factor", interval.total.hi_factor},
+                     {"n", interval.total.n}};
+    if (!interval.total_scores.empty()) iv["total_scores"] = interval.total_scores;
     if (!interval.passes.empty()) {
       Json ps = Json::object();
       for (auto& [pass, f] : interval.passes)
@@ -233,11 +254,13 @@ Json GpuProfile::to_json() const {
 std::string GpuProfile::to_file_text() const {
   const Json j = to_json();
   nlohmann::ordered_json o;
-  for (const char* k : {"name", "description", "calibrated", "model", "interval", "spec"})
+  for (const char* k :
+       {"name", "description", "calibrated", "architecture", "model", "interval", "spec"})
     if (j.contains(k)) o[k] = j.at(k);
   if (o.contains("interval")) {  // level, factors, n, method, passes (as documented)
     nlohmann::ordered_json iv;
-    for (const char* k : {"level", "lo_factor", "hi_factor", "n", "method", "passes"})
+    for (const char* k : {"level", "lo_factor", "hi_factor", "n", "method", "widen", "total",
+                          "total_scores", "passes"})
       if (j.at("interval").contains(k)) iv[k] = j.at("interval").at(k);
     o["interval"] = iv;
   }
@@ -271,10 +294,45 @@ std::string GpuProfile::to_file_text() const {
   return o.dump(2) + "\n";
 }
 
+namespace {
+IntervalFactors widened(IntervalFactors f, double widen) {
+  if (widen != 1.0) {
+    f.lo_factor = std::exp(widen * std::log(f.lo_factor));
+    f.hi_factor = std::exp(widen * std::log(f.hi_factor));
+  }
+  return f;
+}
+}  // namespace
+
 IntervalFactors PredictionInterval::for_pass(const std::string& pass) const {
   auto it = passes.find(pass);
-  if (it != passes.end()) return it->second;
-  return {lo_factor, hi_factor, n};
+  if (it != passes.end()) return widened(it->second, widen);
+  return widened({lo_factor, hi_factor, n}, widen);
+}
+
+IntervalFactors PredictionInterval::for_total() const {
+  if (total.n <= 0) return {1, 1, 0};
+  return widened(total, widen);
+}
+
+double fit_probability(const PredictionInterval& iv, double ms, double budget_ms) {
+  if (!(ms > 0)) return 1.0;
+  if (!std::isfinite(ms)) return 0.0;
+  const double need = std::log(budget_ms / ms);  // the score at which the frame just fits
+  if (!iv.total_scores.empty()) {
+    const double n = double(iv.total_scores.size());
+    double k = 0;
+    for (double s : iv.total_scores) k += iv.widen * s <= need ? 1.0 : 0.0;
+    return (k + 0.5) / (n + 1);
+  }
+  if (iv.level <= 0) return ms <= budget_ms ? 1.0 : 0.0;
+  // Only the level's factors: a log-uniform spread between them carrying `level` of the mass.
+  const IntervalFactors f = iv.for_total().n > 0 ? iv.for_total() : iv.for_pass("");
+  const double a = std::log(f.lo_factor), b = std::log(f.hi_factor), tail = (1 - iv.level) / 2;
+  if (!(b > a)) return ms <= budget_ms ? 1.0 : 0.0;
+  if (need < a) return tail * std::exp((need - a) / (b - a));
+  if (need > b) return 1 - tail * std::exp((b - need) / (b - a));
+  return tail + iv.level * (need - a) / (b - a);
 }
 
 void combine_pass_intervals(const std::vector<PassSpan>& parts, double* lo_ms, double* hi_ms) {

@@ -55,9 +55,24 @@ struct PredictionInterval {
   double lo_factor = 1, hi_factor = 1;  // pooled over every held-out row
   int n = 0;
   std::map<std::string, IntervalFactors> passes;
+  // Split-conformal factors of the frame total, from held-out frame totals (n 0: none; the
+  // total then combines its passes' intervals). Used for every estimate's total interval.
+  IntervalFactors total;
+  // Held-out log(published / model) of the frame totals, sorted: the predictive distribution
+  // behind budget's probability of fitting (fit_probability). Empty: none.
+  std::vector<double> total_scores;
+  // Extrapolation (profiles no calibration table used): log-widths are multiplied by this
+  // (>= 1), documented per profile in `extrapolation` (docs/cost_model.md "Current GPUs").
+  double widen = 1.0;
   std::string method;  // how the factors were made (profile documentation)
   IntervalFactors for_pass(const std::string& pass) const;
+  IntervalFactors for_total() const;  // `total` when known, widened; else n = 0
 };
+// P(published total <= budget) for a model total `ms` under the held-out score distribution
+// (conformal: (k + 1/2) / (n + 1) smoothing, k scores with ms * e^s <= budget; scores widened
+// by `widen`). Without scores: the interval's factors as a log-uniform spread; without any
+// interval 1 or 0 (the point estimate).
+double fit_probability(const PredictionInterval& iv, double ms, double budget_ms);
 // A 10%/90% quantile from fewer rows is noise: such passes take the pooled factors.
 constexpr int kMinPassIntervalRows = 5;
 // Weight of the pooled quantiles, in rows, when a pass's own quantiles are shrunk toward them.
@@ -100,6 +115,7 @@ struct GpuProfile {
   std::vector<std::string> calibration_tables;  // "id: source" of the tables fitted
   std::string calibration_comment;
   bool calibrated = false;  // false: coefficients transferred from the fit through spec ratios only
+  std::string architecture;  // key `architecture`: what a spec transfer assumes (uncalibrated)
   CostModelKind model = CostModelKind::Linear;  // key `model`: "linear" (default) | "roofline"
   PredictionInterval interval;                  // key `interval` (optional)
 

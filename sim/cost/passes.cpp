@@ -55,7 +55,7 @@ const std::vector<TermDef>& term_table() {
       {"tonemap", "pixels", Resource::Memory},
       {"taa", "pixels", Resource::Memory},
       {"post_aa", "pixels", Resource::Memory},
-  };
+  };  // "frame" has no terms: its overhead is the whole pass
   return t;
 }
 
@@ -63,9 +63,9 @@ const std::vector<TermDef>& term_table() {
 
 const std::vector<std::string>& known_passes() {
   static const std::vector<std::string> p = {
-      "depth",     "shadow",     "rsm",          "gbuffer",       "skybox",
-      "reproject", "importance", "contribution", "light_culling", "lighting",
-      "pass2",     "ssao",       "tonemap",      "taa",           "post_aa"};
+      "depth",      "shadow",       "rsm",           "gbuffer",  "skybox", "reproject",
+      "importance", "contribution", "light_culling", "lighting", "pass2",  "ssao",
+      "tonemap",    "taa",          "post_aa",       "frame"};
   return p;
 }
 
@@ -229,6 +229,11 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
         {"shade_flops", Resource::Shading, S * fwd * lights * w.shading_flops * eyes}};
     if (vpl) {  // indirect light: shaded samples x VPLs used (all of them for all_vpls)
       double vf = w.vpl_flops >= 0 ? w.vpl_flops : w.shading_flops;
+      // Yang et al. 2021 §7, Fig. 7: the cost rises "almost quadratically" with the VPLs kept;
+      // the workload's vpl_exponent (1: linear) scales the per-VPL work by
+      // (kept / vpl_ref)^(exponent - 1), so at the calibrated budget vpl_ref it is unchanged.
+      if (w.vpl_exponent != 1.0 && c.has("vpls_kept") && w.vpl_ref > 0)
+        vf *= std::pow(std::max(0.0, c.get("vpls_kept")) / w.vpl_ref, w.vpl_exponent - 1.0);
       t.push_back({"vpl_flops", Resource::Shading, need_px("shaded_sample_vpls", 0) * vf * eyes});
     }
     add("lighting", std::move(t));
@@ -247,6 +252,11 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
   if (w.pipeline.tonemap) add("tonemap", {{"pixels", Resource::Memory, post_px * eyes}});
   if (w.pipeline.taa) add("taa", {{"pixels", Resource::Memory, P * eyes}});
   if (w.pipeline.post_aa) add("post_aa", {{"pixels", Resource::Memory, P * eyes}});
+  // The frame's GPU work outside the listed passes (present, UI, blits): a fixed per-frame
+  // cost independent of resolution and method (Meng 2018 Table 4.1: "Total GPU Time" minus
+  // "Total"). Its share falls as the per-pixel work grows with resolution, which is why a
+  // foveated method's speedup rises with resolution (Meng 2018 §1, §4.0.2).
+  if (w.pipeline.frame) add("frame", {});
   return out;
 }
 

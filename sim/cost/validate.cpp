@@ -20,7 +20,9 @@ double predict_parts(const CostFit& fit, const CalData& data, const CalEntry& e,
       entry_ms(profile_from_fit(fit, e.gpu, data), entry_workload(fit, data, e), e, &fc);
   parts->clear();
   for (auto& pc : fc.passes)
-    if (e.passes.empty() || std::find(e.passes.begin(), e.passes.end(), pc.pass) != e.passes.end())
+    if ((e.passes.empty() ||
+         std::find(e.passes.begin(), e.passes.end(), pc.pass) != e.passes.end()) &&
+        std::find(e.except.begin(), e.except.end(), pc.pass) == e.except.end())
       parts->push_back({pc.pass, pc.ms, pc.ms, pc.ms});
   return ms;
 }
@@ -126,6 +128,10 @@ ValidationReport validate_cost(const CalData& data, const CostFit& fit, const Fi
     FitOptions o = opt;
     o.tables = u.fit_tables;
     CostFit f = fit_cost_model(d2, o);
+    if (u.exclude_workload.empty() && u.fit_tables.size() + 1 == all.size() &&
+        !u.fit_tables.count(u.target_table))
+      for (auto& [k, v] : f.theta)
+        if (k.rfind("geo:", 0) != 0) rep.lopo_theta[k].push_back(v);
     const CalTable* target = nullptr;
     for (auto& t : data.tables)
       if (t.id == u.target_table) target = &t;
@@ -225,32 +231,53 @@ bool held_out(const ValidationRow& r) {
          r.model_ms > 0;
 }
 
-double quantile(std::vector<double> v, double q) {
-  std::sort(v.begin(), v.end());
-  if (v.empty()) return 1.0;
-  double pos = q * double(v.size() - 1);
-  size_t i = size_t(std::floor(pos));
-  if (i + 1 >= v.size()) return v.back();
-  return v[i] + (pos - double(i)) * (v[i + 1] - v[i]);
+bool held_out_total(const ValidationRow& r) {
+  return r.kind == "total" && r.published_ms > 0 && r.model_ms > 0;
 }
 
 }  // namespace
 
+void wilson_interval(int k, int n, double z, double* lo, double* hi) {
+  if (n <= 0) {
+    *lo = 0, *hi = 1;
+    return;
+  }
+  const double p = double(k) / n, z2 = z * z, den = 1 + z2 / n;
+  const double c = (p + z2 / (2 * n)) / den;
+  const double h = z * std::sqrt(p * (1 - p) / n + z2 / (4.0 * n * n)) / den;
+  *lo = std::max(0.0, c - h), *hi = std::min(1.0, c + h);
+}
+
+double conformal_quantile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const double n = double(v.size());
+  long k = q >= 0.5 ? long(std::ceil((n + 1) * q)) : long(std::floor((n + 1) * q));
+  k = std::max(1L, std::min(long(v.size()), k));
+  return v[size_t(k - 1)];
+}
+
 PredictionInterval interval_from_rows(const std::vector<ValidationRow>& rows, double level,
                                       const std::string& exclude_table) {
-  std::vector<double> q;
+  std::vector<double> q, tot;
   std::map<std::string, std::vector<double>> per_pass;
-  for (auto& r : rows)
-    if (held_out(r) && r.table != exclude_table) {
-      q.push_back(r.published_ms / r.model_ms);
-      if (r.parts.size() == 1) per_pass[r.parts[0].pass].push_back(r.published_ms / r.model_ms);
+  for (auto& r : rows) {
+    if (r.table == exclude_table) continue;
+    if (held_out(r)) {
+      q.push_back(std::log(r.published_ms / r.model_ms));
+      if (r.parts.size() == 1)
+        per_pass[r.parts[0].pass].push_back(std::log(r.published_ms / r.model_ms));
+    } else if (held_out_total(r)) {
+      tot.push_back(std::log(r.published_ms / r.model_ms));
     }
+  }
   PredictionInterval iv;
   if (q.empty()) return iv;
+  const double a_lo = (1 - level) / 2, a_hi = (1 + level) / 2;
   iv.level = level;
   iv.n = int(q.size());
-  iv.lo_factor = std::min(1.0, quantile(q, (1 - level) / 2));
-  iv.hi_factor = std::max(1.0, quantile(q, (1 + level) / 2));
+  iv.lo_factor = std::min(1.0, std::exp(conformal_quantile(q, a_lo)));
+  iv.hi_factor = std::max(1.0, std::exp(conformal_quantile(q, a_hi)));
   // Partial pooling (gpu_profile.h): a pass's quantiles shrink toward the pooled ones in log
   // space with weight n / (n + kPassIntervalPrior).
   for (auto& [pass, v] : per_pass) {
@@ -260,14 +287,32 @@ PredictionInterval interval_from_rows(const std::vector<ValidationRow>& rows, do
     auto shrink = [&](double own, double pooled) {
       return std::exp(a * std::log(own) + (1 - a) * std::log(pooled));
     };
-    iv.passes[pass] = {shrink(std::min(1.0, quantile(v, (1 - level) / 2)), iv.lo_factor),
-                       shrink(std::max(1.0, quantile(v, (1 + level) / 2)), iv.hi_factor), n};
+    iv.passes[pass] = {shrink(std::min(1.0, std::exp(conformal_quantile(v, a_lo))), iv.lo_factor),
+                       shrink(std::max(1.0, std::exp(conformal_quantile(v, a_hi))), iv.hi_factor),
+                       n};
+  }
+  // Only where the held-out totals can carry the level: the upper rank ceil((n+1)(1+L)/2)
+  // must exist (n >= 9 at 80%; 95% needs 39 rows, so it combines the passes' intervals).
+  const double nt = double(tot.size());
+  if (tot.size() >= size_t(kMinPassIntervalRows) && std::ceil((nt + 1) * a_hi) <= nt &&
+      std::floor((nt + 1) * a_lo) >= 1) {
+    iv.total = {std::min(1.0, std::exp(conformal_quantile(tot, a_lo))),
+                std::max(1.0, std::exp(conformal_quantile(tot, a_hi))), int(tot.size())};
+    std::sort(tot.begin(), tot.end());
+    iv.total_scores = tot;
   }
   return iv;
 }
 
 void row_interval(const PredictionInterval& iv, const std::vector<PassCost>& parts, double* lo_ms,
-                  double* hi_ms) {
+                  double* hi_ms, bool total) {
+  const IntervalFactors tf = iv.for_total();
+  if (total && tf.n > 0) {
+    double ms = 0;
+    for (auto& pc : parts) ms += pc.ms;
+    *lo_ms = ms * tf.lo_factor, *hi_ms = ms * tf.hi_factor;
+    return;
+  }
   std::vector<PassSpan> spans;
   for (auto& pc : parts) {
     const IntervalFactors f = iv.for_pass(pc.pass);
@@ -295,26 +340,42 @@ ModelSummary summarize_model(const ValidationReport& rep, CostModelKind model, d
   s.fitted_mean = s.fitted_n ? sf / s.fitted_n : 0;
   s.leaveout_mean = s.leaveout_n ? sl / s.leaveout_n : 0;
   s.interval = interval_from_rows(rep.rows, level);
-  int in = 0, in_total = 0;
-  for (auto& t : tables) {
-    PredictionInterval iv = interval_from_rows(rep.rows, level, t);
-    if (iv.level <= 0) continue;
-    for (auto& r : rep.rows) {
-      if (r.table != t) continue;
-      const bool total = r.kind == "total" && r.published_ms > 0;
-      if (!held_out(r) && !total) continue;
-      double lo = 0, hi = 0;
-      row_interval(iv, r.parts, &lo, &hi);
-      const bool inside = r.published_ms >= lo && r.published_ms <= hi;
-      if (total) {
-        in_total += inside, ++s.total_coverage_n;
-      } else {
-        in += inside, ++s.coverage_n;
+  for (double lv : {0.5, 0.8, 0.95}) {
+    CoverageStat cp, ct;
+    cp.level = ct.level = lv;
+    std::vector<double> wp, wt;
+    for (auto& t : tables) {
+      PredictionInterval iv = interval_from_rows(rep.rows, lv, t);
+      if (iv.level <= 0) continue;
+      for (auto& r : rep.rows) {
+        if (r.table != t) continue;
+        const bool total = held_out_total(r);
+        if (!held_out(r) && !total) continue;
+        double lo = 0, hi = 0;
+        row_interval(iv, r.parts, &lo, &hi, total);
+        const bool inside = r.published_ms >= lo && r.published_ms <= hi;
+        CoverageStat& c = total ? ct : cp;
+        c.inside += inside, ++c.n;
+        (total ? wt : wp).push_back((hi - lo) / (2 * r.model_ms));
       }
     }
+    for (auto* c : {&cp, &ct}) {
+      c->coverage = c->n ? double(c->inside) / c->n : 0;
+      wilson_interval(c->inside, c->n, 1.96, &c->wilson_lo, &c->wilson_hi);
+      std::vector<double>& w = c == &cp ? wp : wt;
+      if (!w.empty()) {
+        std::sort(w.begin(), w.end());
+        const size_t m = w.size() / 2;
+        c->median_half_width = w.size() % 2 ? w[m] : 0.5 * (w[m - 1] + w[m]);
+      }
+    }
+    s.pass_cov.push_back(cp);
+    s.total_cov.push_back(ct);
+    if (std::fabs(lv - level) < 1e-9) {
+      s.coverage = cp.coverage, s.coverage_n = cp.n;
+      s.total_coverage = ct.coverage, s.total_coverage_n = ct.n;
+    }
   }
-  s.coverage = s.coverage_n ? double(in) / s.coverage_n : 0;
-  s.total_coverage = s.total_coverage_n ? double(in_total) / s.total_coverage_n : 0;
   return s;
 }
 

@@ -34,7 +34,26 @@ struct CrossPrediction {
 struct ValidationReport {
   std::vector<ValidationRow> rows;
   std::vector<CrossPrediction> cross;
+  // Fitted parameters of every leave-one-paper-out refit (key -> one value per refit; absent
+  // keys are not listed): their spread is the jackknife uncertainty of the full fit.
+  std::map<std::string, std::vector<double>> lopo_theta;
 };
+
+// Coverage of the intervals at one level on the nested held-out rows (each table's rows
+// against intervals calibrated without that table), with a Wilson score interval (95%) on the
+// coverage and the median half-width (hi - lo) / 2 as a fraction of the estimate.
+struct CoverageStat {
+  double level = 0;
+  int n = 0, inside = 0;
+  double coverage = 0, wilson_lo = 0, wilson_hi = 0;
+  double median_half_width = 0;
+};
+// Wilson score interval for k successes in n trials at z (1.96: 95%).
+void wilson_interval(int k, int n, double z, double* lo, double* hi);
+// Split-conformal quantile of scores: the ceil((n+1) q)-th smallest for q >= 1/2, the
+// floor((n+1) q)-th for q < 1/2 (clamped to the extreme score when n is too small to
+// guarantee q; Vovk, Gammerman and Shafer 2005; Lei et al. 2018).
+double conformal_quantile(std::vector<double> scores, double q);
 
 // Transfer summary of one model (issue 14): fitted and held-out relative errors, the
 // prediction interval from the held-out rows, and its nested empirical coverage.
@@ -53,16 +72,22 @@ struct ModelSummary {
   // The same for held-out frame totals (kind "total"), intervals combined from their passes.
   double total_coverage = 0;
   int total_coverage_n = 0;
+  // Nested coverage and width at 50%, 80% and 95% (per-pass rows; frame totals).
+  std::vector<CoverageStat> pass_cov, total_cov;
 };
 
 // Interval of a row (or any sum of passes): each pass's factors around its ms, combined.
+// `total`: the row is a whole frame (kind "total" or a withheld figure): the interval's total
+// factors when it has them.
 void row_interval(const PredictionInterval& iv, const std::vector<PassCost>& parts, double* lo_ms,
-                  double* hi_ms);
+                  double* hi_ms, bool total = false);
 
-// Interval factors [q_lo, q_hi] of published/model over held-out rows: the empirical
-// (1-level)/2 and (1+level)/2 quantiles (linear interpolation), pooled over every row and per
-// pass over the single-pass rows of that pass (kept when at least kMinPassIntervalRows).
-// `exclude_table`: rows of that table are not used.
+// Interval factors [q_lo, q_hi] of published/model over held-out rows: split-conformal
+// (1-level)/2 and (1+level)/2 quantiles of the log-ratios (asymmetric), pooled over every
+// per-pass row, per pass over the single-pass rows of that pass (kept when at least
+// kMinPassIntervalRows, shrunk toward the pooled ones), and for the total over the held-out
+// frame totals (kind "total"; their sorted scores too). `exclude_table`: rows of that table
+// (paper = GPU) are not used, so a group never calibrates itself.
 PredictionInterval interval_from_rows(const std::vector<ValidationRow>& rows, double level,
                                       const std::string& exclude_table = "");
 ModelSummary summarize_model(const ValidationReport& rep, CostModelKind model, double level);

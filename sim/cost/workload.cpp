@@ -32,6 +32,8 @@ Workload Workload::from_params(Params& p) {
   w.importance_samples = p.number("importance_samples", w.importance_samples, nonneg);
   w.chain_length = p.number("chain_length", w.chain_length, nonneg);
   w.vpl_budget = p.number("vpl_budget", w.vpl_budget, nonneg);
+  w.vpl_exponent = p.number("vpl_exponent", w.vpl_exponent, Range::closed(1, 3));
+  w.vpl_ref = p.number("vpl_ref", w.vpl_ref, Range::above(0));
   w.interleave = p.number("interleave", w.interleave, Range::at_least(1));
   w.lpt_fraction = p.number("lpt_fraction", w.lpt_fraction, Range::closed(0, 1));
   w.twfr_redraw_fraction =
@@ -46,6 +48,7 @@ Workload Workload::from_params(Params& p) {
   w.pipeline.tonemap = pl.boolean("tonemap", w.pipeline.tonemap);
   w.pipeline.taa = pl.boolean("taa", w.pipeline.taa);
   w.pipeline.post_aa = pl.boolean("post_aa", w.pipeline.post_aa);
+  w.pipeline.frame = pl.boolean("frame", w.pipeline.frame);
   return w;
 }
 
@@ -87,6 +90,8 @@ Json Workload::to_json() const {
           {"importance_samples", importance_samples},
           {"chain_length", chain_length},
           {"vpl_budget", vpl_budget},
+          {"vpl_exponent", vpl_exponent},
+          {"vpl_ref", vpl_ref},
           {"interleave", interleave},
           {"lpt_fraction", lpt_fraction},
           {"twfr_redraw_fraction", twfr_redraw_fraction},
@@ -98,7 +103,8 @@ Json Workload::to_json() const {
             {"ssao", pipeline.ssao},
             {"tonemap", pipeline.tonemap},
             {"taa", pipeline.taa},
-            {"post_aa", pipeline.post_aa}}}};
+            {"post_aa", pipeline.post_aa},
+            {"frame", pipeline.frame}}}};
 }
 
 }  // namespace fovsim

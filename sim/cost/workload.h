@@ -18,7 +18,8 @@ struct PipelineOptions {
   bool ssao = false;
   bool tonemap = true;
   bool taa = false;
-  bool post_aa = false;  // FLC's Gaussian blur + TAA (seed 001 §6)
+  bool post_aa = false;  // FLC's Gaussian blur + TAA (Yang et al. 2021 §6)
+  bool frame = false;    // fixed per-frame GPU work outside the passes (Meng 2018 Table 4.1)
 };
 
 struct Workload {
@@ -45,6 +46,10 @@ struct Workload {
   double importance_samples = 4096;
   double chain_length = 8;  // M in Alg. 1
   double vpl_budget = 1024;
+  // VPL shading work per VPL grows as (kept / vpl_ref)^(vpl_exponent - 1) (Yang et al. 2021
+  // §7, Fig. 7: "almost quadratically"); 1 = linear in the VPLs kept.
+  double vpl_exponent = 1.0;
+  double vpl_ref = 1024;
   double interleave =
       4;  // interleaved-sampling factor (each pixel shades 1/interleave of the VPLs)
   double lpt_fraction = 1.0;  // shaded samples / pixels with the log-polar transform (seed 001 §6)

@@ -1,6 +1,10 @@
 #include "sim/experiment/recost.h"
 
+#include <algorithm>
+#include <filesystem>
+
 #include "sim/core/error.h"
+#include "sim/core/files.h"
 #include "sim/cost/cost_model.h"
 #include "sim/cost/gpu_profile.h"
 #include "sim/cost/passes.h"
@@ -10,7 +14,9 @@
 
 namespace fovsim {
 
-RecostResult recost_results(const RecostOptions& o) {
+namespace {
+
+RecostResult recost_one(const RecostOptions& o) {
   const std::string man_path = o.results + "/manifest.json", csv_path = o.results + "/frames.csv";
   Json man = Params::parse_json_file(man_path);
   if (man.value("status", "") != "complete")
@@ -118,11 +124,42 @@ RecostResult recost_results(const RecostOptions& o) {
           parts.push_back({ms, ms * f.lo_factor, ms * f.hi_factor});
         }
         combine_pass_intervals(parts, &r.lo_ms, &r.hi_ms);
+        const IntervalFactors tf = iv.for_total();  // conformal on frame totals when known
+        if (tf.n > 0) r.lo_ms = r.total_ms * tf.lo_factor, r.hi_ms = r.total_ms * tf.hi_factor;
         r.level = iv.level;
       }
       res.rows.push_back(std::move(r));
     }
   return res;
+}
+
+}  // namespace
+
+RecostResult recost_results(const RecostOptions& o) {
+  // A sweep folder (sweep.json, runs/<cell>/): every cell, config ids prefixed "<cell>/".
+  if (!file_exists(o.results + "/manifest.json") && file_exists(o.results + "/sweep.json")) {
+    std::vector<std::string> cells;
+    std::error_code ec;
+    for (auto& e : std::filesystem::directory_iterator(o.results + "/runs", ec))
+      if (e.is_directory() && file_exists(e.path().string() + "/manifest.json"))
+        cells.push_back(e.path().filename().string());
+    std::sort(cells.begin(), cells.end());
+    if (cells.empty())
+      throw Error(o.results + "/runs", "no finished cell (runs/<cell>/manifest.json) to re-cost");
+    RecostResult all;
+    for (size_t k = 0; k < cells.size(); ++k) {
+      RecostOptions c = o;
+      c.results = o.results + "/runs/" + cells[k];
+      RecostResult r = recost_one(c);
+      if (k == 0) all.display = r.display, all.workload = r.workload;
+      for (auto& row : r.rows) {
+        row.config_id = cells[k] + "/" + row.config_id;
+        all.rows.push_back(std::move(row));
+      }
+    }
+    return all;
+  }
+  return recost_one(o);
 }
 
 }  // namespace fovsim

@@ -67,10 +67,20 @@ TEST(PassIntervals, EstimatesCarryPerPassIntervals) {
     EXPECT_GE(pc.hi_ms, pc.ms);
     spans.push_back({pc.ms, pc.lo_ms, pc.hi_ms});
   }
-  double lo = 0, hi = 0;
-  combine_pass_intervals(spans, &lo, &hi);
-  EXPECT_DOUBLE_EQ(fc.total_lo_ms, lo);
-  EXPECT_DOUBLE_EQ(fc.total_hi_ms, hi);
+  // The total's interval: split-conformal on held-out frame totals (cost model v3); without
+  // total factors it combines its passes'.
+  ASSERT_GT(g.interval.total.n, 0);
+  EXPECT_DOUBLE_EQ(fc.total_lo_ms, fc.total_ms * g.interval.total.lo_factor);
+  EXPECT_DOUBLE_EQ(fc.total_hi_ms, fc.total_ms * g.interval.total.hi_factor);
+  {
+    GpuProfile g2 = g;
+    g2.interval.total = IntervalFactors{};
+    const FrameCost f2 = kfr_frame(g2);
+    double lo = 0, hi = 0;
+    combine_pass_intervals(spans, &lo, &hi);
+    EXPECT_DOUBLE_EQ(f2.total_lo_ms, lo);
+    EXPECT_DOUBLE_EQ(f2.total_hi_ms, hi);
+  }
   EXPECT_LT(fc.total_lo_ms, fc.total_ms);
   EXPECT_GT(fc.total_hi_ms, fc.total_ms);
   // Without an interval every bound is the estimate itself.
