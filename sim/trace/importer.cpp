@@ -68,6 +68,7 @@ struct Map {
   double max_step_s = 3600;
   double burst_below_s = 0;
   enum { BurstKeep, BurstDrop, BurstRetime } on_burst = BurstKeep;
+  bool burst_pose_arrival = true;  // time.burst_pose: retimed samples keep the arrival pose
   bool pos_const = false;
   glm::dvec3 pos_value{0.0};
   std::vector<ColRef> pos;
@@ -107,7 +108,10 @@ struct Resolver {
   std::map<std::string, std::vector<int>>
       dup_cols;  // names that occur more than once: 1-based columns
   int nfields = 0;
-  int max_index = -1;  // largest 0-based index the map uses
+  int max_index = -1;        // largest 0-based index the map uses
+  std::vector<ColRef> used;  // every column the map refers to
+  char delim = ',';
+  std::string header_text;  // the header's only field, when it has one (wrong delimiter?)
   std::string in_file;
   long header_line = 0;
   ColRef get(Params& p, const std::string& key, const Json& v, const std::string& sub) {
@@ -128,9 +132,23 @@ struct Resolver {
                                "): refer to the one meant by its 1-based index");
       }
       auto it = by_name.find(c.name);
-      if (it == by_name.end())
+      if (it == by_name.end()) {
+        std::string hint;
+        if (nfields == 1) {
+          // One field: the delimiter is probably not the file's.
+          std::string others;
+          for (char d : {',', ';', '\t', ' '})
+            if (d != delim && header_text.find(d) != std::string::npos)
+              others += std::string(others.empty() ? "" : ", ") + (d == '\t'  ? "tab"
+                                                                   : d == ' ' ? "space"
+                                                                              : std::string(1, d));
+          hint = ": the header is a single field (\"" + printable(header_text, 40) +
+                 "\"), so the map's delimiter is probably wrong" +
+                 (others.empty() ? std::string() : " (the header contains " + others + ")");
+        }
         throw Error(where, "column \"" + printable(c.name) + "\" is not in the header of " +
-                               in_file + " (line " + std::to_string(header_line) + ")");
+                               in_file + " (line " + std::to_string(header_line) + ")" + hint);
+      }
       c.index = it->second;
     } else if (v.is_number_integer()) {
       int i = v.get<int>();
@@ -144,6 +162,7 @@ struct Resolver {
                   "expected a column name (string) or a 1-based index, got " + describe_json(v));
     }
     max_index = std::max(max_index, c.index);
+    used.push_back(c);
     return c;
   }
   ColRef one(Params& p, const std::string& key) { return get(p, key, p.raw(key), ""); }
@@ -319,6 +338,8 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
     }
   }
   res.nfields = int(row0.fields.size());
+  res.delim = m.delim;
+  if (row0.fields.size() == 1) res.header_text = row0.fields[0].text;
 
   Params tp = p.child("time");
   m.time = res.one(tp, "column");
@@ -332,6 +353,7 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
   m.burst_below_s = tp.number("burst_below_s", 0.0, Range::at_least(0));
   std::string ob = tp.string("on_burst", "keep", {"keep", "drop", "retime"});
   m.on_burst = ob == "keep" ? Map::BurstKeep : ob == "drop" ? Map::BurstDrop : Map::BurstRetime;
+  m.burst_pose_arrival = tp.string("burst_pose", "arrival", {"arrival", "sample"}) == "arrival";
   tp.ignore("comment");
 
   if (!p.has("head_position"))
@@ -475,6 +497,8 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
   std::vector<glm::dvec3>
       world_gaze;            // gaze in world (for re-deriving it after pose interpolation)
   bool pending = !m.header;  // without a header the first row is data
+  CsvRow prev_row;           // the last complete row (for a cut-off last line)
+  bool have_prev_row = false;
   CsvRow cur;
   while (true) {
     if (pending) {
@@ -494,6 +518,33 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
       log.add("skipped", kind, where, msg);
       ++rep.skipped_rows;
     };
+    // A last line cut off by an interrupted write (no final newline): dropped, and said so.
+    {
+      std::string why;
+      if (looks_truncated(row, have_prev_row ? &prev_row : nullptr,
+                          have_prev_row ? prev_row.fields.size() : nf, why)) {
+        tr.warnings.push_back(file_location(in, row.line) + ": " + why + "; the line was dropped");
+        ++rep.skipped_rows;
+        break;
+      }
+      if (!row.unterminated) {
+        prev_row = row;
+        have_prev_row = true;
+      }
+    }
+    if (m.used_fields_only && row.fields.size() < need) {
+      // Name the used column that is missing, not the field count (which row_fields = used
+      // does not require).
+      const ColRef* miss = nullptr;
+      for (auto& c : res.used)
+        if (size_t(c.index) >= row.fields.size() && (!miss || c.index > miss->index)) miss = &c;
+      fail_row(row.fields.back().col, "used column missing",
+               "column \"" + printable(miss ? miss->name : "?") + "\" (field " +
+                   std::to_string(miss ? miss->index + 1 : 0) + ") is missing: the row has " +
+                   std::to_string(row.fields.size()) +
+                   " fields (a shorter row, or fields fused before it)");
+      continue;
+    }
     if (row.fields.size() != nf && !(m.used_fields_only && row.fields.size() >= need)) {
       fail_row(row.fields.size() > nf ? row.fields[nf].col : row.fields.back().col,
                "wrong field count",
@@ -699,7 +750,9 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
       fail_row(gcol, gerr, gerr);
       continue;
     }
-    s.gaze_dir = gerr.empty() ? gh / gn : last_gaze;
+    // Rows flagged invalid show the last valid gaze (traces/README.md): their own gaze, even
+    // when finite and inside the FOV, is what the tracker reported while it had lost the eye.
+    s.gaze_dir = gerr.empty() && valid ? gh / gn : last_gaze;
     if (valid && opt.check_fov && !gaze_inside_fov(display, s.gaze_dir)) {
       double u = 0, w = 0;
       gaze_screen_from_dir(display, s.gaze_dir, u, w);
@@ -818,6 +871,10 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
       } else {
         // Retime: a burst i..k was buffered during the stall before it; spread the samples
         // from the one that ended the stall (i-1) to k evenly after the sample before it (i-2).
+        // The gaze was buffered, but the head pose of each sample is the one current when it
+        // arrived (time.burst_pose = "arrival", the default): the retimed samples take the
+        // pose interpolated on the arrival times, so the head does not turn by the whole
+        // stall's motion in one retimed slot. "sample" moves the pose with the gaze.
         long retimed = 0;
         for (size_t i = 1; i < x.size();) {
           if (!burst[i]) {
@@ -829,8 +886,24 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
           if (i >= 2) {
             size_t a = i - 2;
             double ta = x[a].t, tk = x[k].t;
+            std::vector<TraceSample> orig(x.begin() + long(a), x.begin() + long(k) + 1);
             for (size_t j = a + 1; j < k; ++j)
               x[j].t = ta + (tk - ta) * double(j - a) / double(k - a);
+            if (m.burst_pose_arrival) {
+              for (size_t j = a + 1; j < k; ++j) {
+                // Bracket the new time on the arrival times orig[0..k-a] (non-decreasing).
+                size_t q = 0;
+                while (q + 2 < orig.size() && orig[q + 1].t <= x[j].t) ++q;
+                const TraceSample &A = orig[q], &B = orig[q + 1];
+                double f = B.t > A.t ? std::clamp((x[j].t - A.t) / (B.t - A.t), 0.0, 1.0) : 1.0;
+                x[j].head_pos = A.head_pos + (B.head_pos - A.head_pos) * f;
+                x[j].head_rot = glm::normalize(
+                    glm::slerp(A.head_rot,
+                               glm::dot(A.head_rot, B.head_rot) < 0 ? -B.head_rot : B.head_rot, f));
+                if (m.gaze_kind == Map::DirWorld || m.gaze_kind == Map::Point)
+                  x[j].gaze_dir = glm::normalize(glm::conjugate(x[j].head_rot) * world_gaze[j]);
+              }
+            }
             retimed += long(k - a - 1);
           }
           i = k + 1;
@@ -906,7 +979,12 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
                           " times (" + std::to_string(m.wrap_bits) + " bits): unwrapped");
   if (rep.one_eye_rows > 0)
     tr.warnings.push_back(in + ": " + std::to_string(rep.one_eye_rows) +
-                          " rows had one valid eye: its gaze was used alone");
+                          (rep.one_eye_rows == 1 ? " row" : " rows") +
+                          " had one valid eye: its gaze was used alone");
+  tr.lines = lines;
+  check_invalid_fraction(tr, m.valid.empty() ? ""
+                                             : "check the map's valid conditions: a bitmask "
+                                               "needs all_bits, a confidence a min");
   rep.notes = log.lines(m.skip_bad ? "on_bad_row=skip" : "on_bad_sample");
   for (auto& n : rep.notes) tr.warnings.push_back(in + ": " + n);
   if (report) *report = rep;
