@@ -25,6 +25,9 @@
 //                  {"type": "point", "columns": [x,y,z], "unit": "m"|"cm"|"mm"} (world point looked
 //                  at); optional "coordinates": the gaze vectors' own axes when they differ from
 //                  the head's
+//   fused          [{"column", "suffixes": [...] | "pattern": "(a)(b)"}]: split a fused field
+//   on_bad         "fail" | "skip" | "hold" (default of --on-bad); on_invalid (runs' default)
+//   head_position.recentre "none"|"first"|"mean", head_*.dequantise (run centres)
 //   valid          [{"column", "valid_values"|"invalid_values": [...] | "all_bits": int |
 //   "min"/"max": x,
 //                    "eye": "left"|"right"}]  ([])
@@ -35,6 +38,7 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
+#include <regex>
 #include <set>
 
 #include "sim/core/error.h"
@@ -99,7 +103,67 @@ struct Map {
     int eye = 0;  // 0 both, 1 left, 2 right
   };
   std::vector<Cond> valid;
+  std::string recentre = "none";                  // head_position.recentre
+  bool dequant_pos = false, dequant_rot = false;  // head_*.dequantise
+  bool has_on_bad = false;
+  BadSamplePolicy on_bad = BadSamplePolicy::Fail;  // the map's "on_bad"
+  std::string on_invalid;                          // the map's "on_invalid"
+  struct Fused {
+    ColRef col;  // the first of the two fields that the export wrote as one
+    std::vector<std::string> suffixes;
+    bool use_pattern = false;
+    std::regex pattern;
+  };
+  std::vector<Fused> fused;
 };
+
+// Splits `text` into the fused field's two parts; false when it is not fused.
+bool split_fused(const Map::Fused& f, const std::string& text, std::string& a, std::string& b) {
+  if (f.use_pattern) {
+    std::smatch mt;
+    if (!std::regex_match(text, mt, f.pattern) || mt.size() != 3) return false;
+    a = mt[1].str();
+    b = mt[2].str();
+    return !a.empty() && !b.empty();
+  }
+  for (auto& sfx : f.suffixes)
+    if (text.size() > sfx.size() && text.compare(text.size() - sfx.size(), sfx.size(), sfx) == 0) {
+      a = text.substr(0, text.size() - sfx.size());
+      b = sfx;
+      return true;
+    }
+  return false;
+}
+
+// Dequantisation by run centres: a run of samples with an identical value is taken as that
+// value at the run's middle time, and samples between two run middles are interpolated
+// (`lerp(a, b, f)`); before the first and after the last middle the run's value is kept.
+template <class T, class Get, class Set, class Lerp>
+long dequantise_runs(std::vector<TraceSample>& x, Get get, Set set, Lerp lerp) {
+  struct Knot {
+    double t;
+    T v;
+  };
+  std::vector<Knot> knots;
+  for (size_t a = 0; a < x.size();) {
+    size_t b = a;
+    while (b + 1 < x.size() && get(x[b + 1]) == get(x[a])) ++b;
+    knots.push_back({0.5 * (x[a].t + x[b].t), get(x[a])});
+    a = b + 1;
+  }
+  if (knots.size() < 2) return 0;
+  long changed = 0;
+  size_t k = 0;
+  for (auto& s : x) {
+    while (k + 2 < knots.size() && knots[k + 1].t <= s.t) ++k;
+    const Knot &A = knots[k], &B = knots[k + 1];
+    if (s.t <= A.t || s.t >= B.t) continue;  // outside the knots: the run's own value
+    T v = lerp(A.v, B.v, (s.t - A.t) / (B.t - A.t));
+    if (!(v == get(s))) ++changed;
+    set(s, v);
+  }
+  return changed;
+}
 
 // Column references are strings (header names) or 1-based integers (files without header).
 struct Resolver {
@@ -367,6 +431,8 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
   } else {
     m.pos = res.many(hp, "columns", 3);
     m.pos_scale = length_unit(hp, "unit");
+    m.recentre = hp.string("recentre", "none", {"none", "first", "mean"});
+    m.dequant_pos = hp.boolean("dequantise", false);
   }
 
   if (!p.has("head_orientation"))
@@ -375,6 +441,9 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
   Params ho = p.child("head_orientation");
   ho.ignore("comment");
   m.inverse = ho.boolean("inverse", false);
+  m.dequant_rot = ho.boolean("dequantise", false);
+  if (m.dequant_rot && ho.has("constant"))
+    ho.fail("dequantise", "a constant orientation has nothing to dequantise");
   if (ho.has("constant")) {
     std::vector<double> q = ho.numbers("constant", {});
     if (q.size() != 4) ho.fail("constant", "expected 4 numbers (w, x, y, z) in fovsim coordinates");
@@ -477,7 +546,49 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
   }
   const bool per_eye = !m.left.empty();
   for (Params& c : p.children("valid")) m.valid.push_back(read_cond(c, res, per_eye));
+  if (p.has("on_bad")) {
+    m.has_on_bad = true;
+    std::string ob = p.string("on_bad", {"fail", "skip", "hold"});
+    m.on_bad = ob == "fail"   ? BadSamplePolicy::Fail
+               : ob == "skip" ? BadSamplePolicy::Skip
+                              : BadSamplePolicy::Hold;
+  }
+  if (p.has("on_invalid"))
+    m.on_invalid = p.string("on_invalid", {"hold", "centre", "full", "widen"});
+  for (Params& f : p.children("fused")) {
+    f.ignore("comment");
+    Map::Fused fu;
+    fu.col = res.one(f, "column");
+    if (f.has("suffixes") == f.has("pattern"))
+      f.fail("",
+             "give exactly one of \"suffixes\": [\"True\", \"False\"] or \"pattern\": "
+             "\"^(.*[0-9])(True|False)$\"");
+    if (f.has("pattern")) {
+      fu.use_pattern = true;
+      std::string pat = f.string("pattern");
+      try {
+        fu.pattern = std::regex(pat);
+      } catch (const std::regex_error& e) {
+        f.fail("pattern", std::string("not a valid regular expression: ") + e.what());
+      }
+      if (fu.pattern.mark_count() != 2)
+        f.fail("pattern", "needs exactly two groups, (first field)(second field)");
+    } else {
+      const Json& sj = f.raw("suffixes");
+      if (!sj.is_array() || sj.empty()) f.fail("suffixes", "expected a non-empty array of strings");
+      for (size_t i = 0; i < sj.size(); ++i) {
+        if (!sj[i].is_string() || sj[i].get<std::string>().empty())
+          f.fail("suffixes[" + std::to_string(i) + "]", "expected a non-empty string");
+        fu.suffixes.push_back(sj[i].get<std::string>());
+      }
+    }
+    if (fu.col.index + 1 >= res.nfields)
+      f.fail("column", "the fused field must be followed by another header column");
+    m.fused.push_back(std::move(fu));
+  }
   p.finish();
+  ImportOptions eff = opt;  // the map's on_bad unless the caller chose
+  if (m.has_on_bad && !opt.on_fov_explicit) eff.on_fov = m.on_bad;
 
   // ---- rows ---------------------------------------------------------------------------------
   Trace tr;
@@ -506,6 +617,17 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
       pending = false;
     } else if (!reader.next(cur)) {
       break;
+    }
+    // A fused field (`666.5324True`): split back into two, so later columns are in place.
+    for (auto& f : m.fused) {
+      if (cur.fields.size() >= nf || size_t(f.col.index) >= cur.fields.size()) break;
+      std::string a, b;
+      CsvField& fld = cur.fields[size_t(f.col.index)];
+      if (!split_fused(f, fld.text, a, b)) continue;
+      CsvField second{b, fld.col + int(a.size())};
+      fld.text = a;
+      cur.fields.insert(cur.fields.begin() + f.col.index + 1, second);
+      ++rep.fused_rows;
     }
     const CsvRow& row = cur;
     ++rep.data_rows;
@@ -762,11 +884,11 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
                     "not in [0,1]^2",
                     display.name.c_str(), display.fov_h_deg, display.fov_v_deg, u, w);
       std::string where = file_location(in, row.line, gcol);
-      if (opt.on_fov == BadSamplePolicy::Fail)
+      if (eff.on_fov == BadSamplePolicy::Fail)
         throw Error(where, std::string(b) +
                                " (check the gaze coordinates and --display; --on-bad / "
                                "trace.on_bad_sample skip or hold accept it)");
-      if (opt.on_fov == BadSamplePolicy::Skip) {
+      if (eff.on_fov == BadSamplePolicy::Skip) {
         log.add("skipped", "gaze outside the display FOV", where, b);
         ++rep.skipped_rows;
         continue;
@@ -981,6 +1103,48 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
     tr.warnings.push_back(in + ": " + std::to_string(rep.one_eye_rows) +
                           (rep.one_eye_rows == 1 ? " row" : " rows") +
                           " had one valid eye: its gaze was used alone");
+  // Recentring and dequantisation (traces/README.md "Column maps").
+  if (m.recentre != "none" && !x.empty()) {
+    glm::dvec3 c(0.0);
+    if (m.recentre == "first") {
+      c = x.front().head_pos;
+    } else {
+      for (auto& s : x) c += s.head_pos;
+      c /= double(x.size());
+    }
+    for (auto& s : x) s.head_pos -= c;
+    char b[160];
+    std::snprintf(b, sizeof b, "head positions recentred by (%.4g, %.4g, %.4g) m (%s)", c.x, c.y,
+                  c.z, m.recentre == "first" ? "first sample at the origin" : "mean at the origin");
+    tr.warnings.push_back(in + ": " + b);
+  }
+  if (m.dequant_pos || m.dequant_rot) {
+    long np = 0, nr = 0;
+    if (m.dequant_pos)
+      for (int k = 0; k < 3; ++k)
+        np += dequantise_runs<double>(
+            x, [k](const TraceSample& s) { return s.head_pos[k]; },
+            [k](TraceSample& s, double v) { s.head_pos[k] = v; },
+            [](double a, double b, double f) { return a + (b - a) * f; });
+    if (m.dequant_rot)
+      nr = dequantise_runs<glm::dquat>(
+          x, [](const TraceSample& s) { return s.head_rot; },
+          [](TraceSample& s, const glm::dquat& q) { s.head_rot = q; },
+          [](const glm::dquat& a, const glm::dquat& b, double f) {
+            return glm::normalize(glm::slerp(a, glm::dot(a, b) < 0 ? -b : b, f));
+          });
+    if (m.dequant_rot && (m.gaze_kind == Map::DirWorld || m.gaze_kind == Map::Point))
+      for (size_t j = 0; j < x.size(); ++j)
+        x[j].gaze_dir = glm::normalize(glm::conjugate(x[j].head_rot) * world_gaze[j]);
+    tr.warnings.push_back(in + ": dequantised by run centres: " + std::to_string(np) +
+                          " position components and " + std::to_string(nr) +
+                          " orientations interpolated");
+  }
+  if (rep.fused_rows > 0)
+    tr.warnings.push_back(in + ": " + std::to_string(rep.fused_rows) +
+                          (rep.fused_rows == 1 ? " row had" : " rows had") +
+                          " a fused field split back into two (the map's \"fused\")");
+  rep.on_invalid = m.on_invalid;
   tr.lines = lines;
   check_invalid_fraction(tr, m.valid.empty() ? ""
                                              : "check the map's valid conditions: a bitmask "

@@ -20,17 +20,13 @@ static std::string resolve(const std::string& base_dir, const std::string& f) {
 Trace load_trace(Params& p, const Display& display, const std::string& base_dir, double needed_s,
                  TrackingPolicy* tracking) {
   p.ignore("comment");
-  {
-    // Tracking loss in runs (tracking.h): parsed here so that every trace key is validated
-    // in one place, with its JSON path.
-    TrackingPolicy tp;
-    std::string oi = p.string("on_invalid", "hold", {"hold", "centre", "full", "widen"});
-    parse_on_invalid(oi, tp.on_invalid);
-    tp.widen_per_s = p.number("widen_per_s", 10.0, Range::closed(0, 1000));
-    if (p.has("widen_per_s") && tp.on_invalid != OnInvalid::Widen)
-      p.fail("widen_per_s", "only used with \"on_invalid\": \"widen\"");
-    if (tracking) *tracking = tp;
-  }
+  // Tracking loss in runs (tracking.h): parsed here so that every trace key is validated
+  // in one place, with its JSON path. A column map's "on_invalid" is the default.
+  TrackingPolicy tpol;
+  const bool oi_given = p.has("on_invalid");
+  parse_on_invalid(p.string("on_invalid", "hold", {"hold", "centre", "full", "widen"}),
+                   tpol.on_invalid);
+  tpol.widen_per_s = p.number("widen_per_s", 10.0, Range::closed(0, 1000));
   bool has_file = p.has("file"), has_syn = p.has("synthetic");
   if (has_file == has_syn)
     p.fail("", has_file ? "give either \"file\" or \"synthetic\", not both"
@@ -62,8 +58,11 @@ Trace load_trace(Params& p, const Display& display, const std::string& base_dir,
       if (!std::filesystem::exists(map)) p.fail("map", "column map not found: " + map);
       ImportOptions io;
       io.on_fov = opt.on_bad;
+      io.on_fov_explicit = p.has("on_bad_sample");  // else the map's "on_bad"
+      ImportReport rep;
       if (duration > 0) io.stop_after_s = start + duration + 2.0 / rate;
-      tr = import_trace(path, map, display, nullptr, io);
+      tr = import_trace(path, map, display, &rep, io);
+      if (!oi_given && !rep.on_invalid.empty()) parse_on_invalid(rep.on_invalid, tpol.on_invalid);
     } else {
       tr = read_trace_csv(path, display, opt);
     }
@@ -83,6 +82,9 @@ Trace load_trace(Params& p, const Display& display, const std::string& base_dir,
     tr = synthesize(m, so, display);
   }
   if (tr.samples.empty()) p.fail(has_file ? "file" : "synthetic", "trace has no samples");
+  if (p.has("widen_per_s") && tpol.on_invalid != OnInvalid::Widen)
+    p.fail("widen_per_s", "only used with \"on_invalid\": \"widen\"");
+  if (tracking) *tracking = tpol;
   // The range the recording covers, before resampling shortens it to what the frames use:
   // start+duration is checked against this, not against the resampled part.
   const double raw_first = tr.samples.front().t, raw_last = tr.samples.back().t;

@@ -5,6 +5,7 @@
 #include "sim/trace/importer.h"
 #include "sim/trace/stats.h"
 #include "sim/trace/trace.h"
+#include "sim/trace/tracking.h"
 #include "test_util.h"
 
 using namespace fovsim;
@@ -211,4 +212,77 @@ TEST(ImportV3, HeadJumpsNamedByLine) {
   EXPECT_NE(f.find("max 1719"), std::string::npos) << f;
   EXPECT_NE(f.find("largest head jumps line 14"), std::string::npos) << f;
   EXPECT_NE(f.find("implausible        head speed max 1719 deg/s"), std::string::npos) << f;
+}
+
+// Map features: a fused field split back by suffix or pattern, so later columns line up.
+TEST(ImportV3, FusedFieldSplitBySuffixOrPattern) {
+  Json j = base_map();
+  j["valid"] = Json::array({{{"column", "blink"}, {"valid_values", {"False"}}}});
+  j["fused"] = Json::array({{{"column", "pupil"}, {"suffixes", {"True", "False"}}}});
+  std::string rec = write_tmp("f.csv",
+                              "t,pupil,blink,x,y,z\n0,3.5,False,0,0,-1\n10,666.5324True,0.1,0,-1\n"
+                              "20,3.5,False,0,0,-1\n");
+  ImportReport rep;
+  Trace tr = import_trace(rec, write_tmp("m.json", j.dump()), vive(), &rep);
+  ASSERT_EQ(tr.samples.size(), 3u);
+  EXPECT_EQ(rep.fused_rows, 1);
+  EXPECT_FALSE(tr.samples[1].valid);  // "True" is the blink field, x = 0.1 is in place
+  EXPECT_TRUE(has_warning(tr, "1 row had a fused field split back into two"));
+  j["fused"] = Json::array({{{"column", "pupil"}, {"pattern", "^(.*[0-9])(True|False)$"}}});
+  Trace tp = import_trace(rec, write_tmp("p.json", j.dump()), vive());
+  EXPECT_FALSE(tp.samples[1].valid);
+  j["fused"] = Json::array({{{"column", "pupil"}, {"pattern", "(a"}}});
+  expect_error([&] { import_trace(rec, write_tmp("b.json", j.dump()), vive()); },
+               {"fused[0].pattern", "not a valid regular expression"});
+  j["fused"] = Json::array({{{"column", "pupil"}}});
+  expect_error([&] { import_trace(rec, write_tmp("c.json", j.dump()), vive()); },
+               {"fused[0]", "exactly one of"});
+}
+
+// Map features: recentring, dequantisation, on_bad and on_invalid in the map.
+TEST(ImportV3, RecentreDequantiseAndPoliciesInTheMap) {
+  Json j = base_map();
+  j["head_position"] = {{"columns", {"px", "py", "pz"}}, {"unit", "m"}, {"recentre", "first"}};
+  // Position rounded to 0.1 m of a walk at 1 m/s sampled every 10 ms.
+  std::string csv = "t,px,py,pz,x,y,z\n";
+  for (int k = 0; k <= 40; ++k) {
+    char b[100];
+    std::snprintf(b, sizeof b, "%d,%.1f,1.6,-20,0,0,-1\n", 10 * k, 20 + std::round(k * 0.1) / 10);
+    csv += b;
+  }
+  std::string rec = write_tmp("q.csv", csv);
+  Trace tr = import_trace(rec, write_tmp("m.json", j.dump()), vive());
+  EXPECT_EQ(tr.samples.front().head_pos, glm::dvec3(0.0));
+  EXPECT_TRUE(has_warning(tr, "recentred by (20, 1.6, -20) m"));
+  j["head_position"]["dequantise"] = true;
+  Trace td = import_trace(rec, write_tmp("d.json", j.dump()), vive());
+  // Between run centres the position is interpolated: no 0.1 m steps within 10 ms.
+  double max_step = 0;
+  for (size_t i = 1; i < td.samples.size(); ++i)
+    max_step = std::max(max_step, glm::length(td.samples[i].head_pos - td.samples[i - 1].head_pos));
+  EXPECT_LT(max_step, 0.02);
+  EXPECT_TRUE(has_warning(td, "dequantised by run centres"));
+  // on_bad in the map replaces --on-bad's default; the caller's explicit choice wins.
+  Json g = base_map();
+  g["on_bad"] = "hold";
+  std::string out = write_tmp("o.csv", "t,x,y,z\n0,0,0,-1\n10,5,0,-0.1\n20,0,0,-1\n");
+  Trace th = import_trace(out, write_tmp("h.json", g.dump()), vive());
+  EXPECT_EQ(th.samples.size(), 3u);
+  ImportOptions io;
+  io.on_fov_explicit = true;  // fail, chosen by the caller
+  expect_error([&] { import_trace(out, write_tmp("h2.json", g.dump()), vive(), nullptr, io); },
+               {"o.csv:3:", "outside the display FOV"});
+  // on_invalid in the map is the run's default.
+  g.erase("on_bad");
+  g["on_invalid"] = "full";
+  std::string mp = write_tmp("i.json", g.dump());
+  std::string rec2 = write_tmp("i.csv", "t,x,y,z\n0,0,0,-1\n10,0,0,-1\n20,0,0,-1\n");
+  TrackingPolicy pol;
+  Params root(Json{{"trace", {{"file", rec2}, {"map", mp}}}}, "run.json");
+  Params tp = root.child("trace");
+  load_trace(tp, vive(), "", 0.02, &pol);
+  EXPECT_EQ(pol.on_invalid, OnInvalid::Full);
+  g["on_invalid"] = "never";
+  expect_error([&] { import_trace(rec2, write_tmp("n.json", g.dump()), vive()); },
+               {"on_invalid", "hold"});
 }
