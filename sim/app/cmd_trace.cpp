@@ -84,7 +84,7 @@ void register_trace(CLI::App& app, Action& action) {
       ->check(CLI::IsMember({"fail", "skip", "hold"}))
       ->capture_default_str();
   add_display_opts(imp, *a);
-  imp->callback([a, &action] {
+  imp->callback([a, imp, &action] {
     if (a->guess) {
       action = [a] {
         std::printf("%s\n", guess_map(a->in).dump(2).c_str());
@@ -94,12 +94,13 @@ void register_trace(CLI::App& app, Action& action) {
     }
     if (a->map.empty()) throw CLI::RequiredError("--map (or --guess)");
     if (a->out.empty()) throw CLI::RequiredError("--output");
-    action = [a] {
+    action = [a, imp] {
       check_output_target(a->out);  // before any work: never replaces a FIFO, device or link
       Display d = load_display(*a);
       ImportReport rep;
       ImportOptions io;
       io.on_fov = policy(a->on_bad);
+      io.on_fov_explicit = imp->count("--on-bad") > 0;  // else the map's "on_bad"
       Trace tr = import_trace(a->in, a->map, d, &rep, io);
       write_trace_csv(a->out, tr);
       std::printf("imported %s -> %s\n", a->in.c_str(), a->out.c_str());

@@ -41,6 +41,7 @@
 #include "sim/render/renderer.h"
 #include "sim/trace/stats.h"
 #include "sim/trace/trace.h"
+#include "sim/trace/tracking.h"
 
 namespace fovsim {
 
@@ -89,6 +90,8 @@ struct MethodRun {
   std::string stem;  // safe_file_name(label): the only form of the label used in file names
   std::string method;
   std::unique_ptr<FoveationMethod> impl;
+  std::unique_ptr<FoveationMethod> full;  // trace.on_invalid = full: rendered while lost
+  bool was_full = false;                  // the previous frame was rendered by `full`
   TemporalState temporal;
   std::unique_ptr<FvvdpTestStream> fvvdp;  // this method's FovVideoVDP history (metrics.fvvdp)
   // The same against `full` at the methods' sampling rate (metrics.foveation_loss).
@@ -144,7 +147,9 @@ struct Shared {
   std::unique_ptr<Scene> scene;  // the Renderer keeps a reference: stable address
   ToneMap tonemap;
   Trace trace;
-  Trace raw_trace;  // before resampling: gaze at any time for the latency what-if
+  Trace raw_trace;               // before resampling: gaze at any time for the latency what-if
+  TrackingPolicy tracking;       // trace.on_invalid (sim/trace/tracking.h)
+  bool tracking_column = false;  // frames.csv `tracking`: a policy given or invalid frames
   int start = 0, stride = 1, count = 0;
   int warmup = 0;  // frames.warmup: rendered before `start`, not recorded
   double pixel_scale = 1;
@@ -197,7 +202,8 @@ struct Shared {
         count > 0 ? (double(start) + double(count - 1) * stride + 2.0) / display.refresh_hz
                   : INFINITY;
     Params trp = root.child("trace");
-    Trace raw_trace = load_trace(trp, display, base_dir, needed_s);
+    const bool policy_given = trp.has("on_invalid");
+    Trace raw_trace = load_trace(trp, display, base_dir, needed_s, &tracking);
     std::string placement = root.string("trace_placement", "scene", {"scene", "absolute"});
     trace = resample(raw_trace, display.refresh_hz,
                      raw_trace.samples.empty() ? INFINITY : raw_trace.samples.front().t + needed_s);
@@ -245,6 +251,9 @@ struct Shared {
     }
     pixel_scale =
         double(display.width) * display.height / (double(sim_display.width) * sim_display.height);
+    tracking_column = policy_given;
+    for (int k = 0; k < count && !tracking_column; ++k)
+      tracking_column = !trace.samples[size_t(start + k * stride)].valid;
     (void)cfg_file;
   }
 };
@@ -334,6 +343,7 @@ struct Cell {
   MetricsScratch fl_scratch;
   MetricsConfig fl_mcfg;
   std::unique_ptr<FvvdpReferenceStream> fvvdp_ref_fl;
+  std::vector<float> trk_ecc;  // eccentricity around the gaze shown while tracking is lost
   // --target (intervals.h): each cell stops on its own once its targets hold, so its frames do
   // not depend on the other cells of its group (sweep batches and shards give the same cell).
   bool stopped = false, met = false;
@@ -468,6 +478,9 @@ struct Cell {
       speed = gaze_speed_deg_s(sh.raw_trace, s.t, 0.5 * period);
     }
     glm::dvec3 est_dir_cached(NAN);
+    // Tracking loss (trace.on_invalid): the gaze the methods see on an invalid frame.
+    const TrackedGaze tg = tracked_gaze(sh.trace, size_t(fi), sh.tracking);
+    bool trk_ecc_ready = false;
 
     for (size_t mi = 0; mi < methods.size(); ++mi) {
       MethodRun& m = methods[mi];
@@ -504,11 +517,40 @@ struct Cell {
         ctx.gaze_valid = fd.gaze_valid;
         ctx.eccentricity = &fd.eccentricity;
       }
+      if (!tg.valid) {  // the frame's own tracking state, also under the latency what-if
+        if (!trk_ecc_ready) {
+          eccentricity_map(fd.camera, tg.gaze_dir, trk_ecc);
+          if (tg.ecc_scale != 1.0)
+            for (float& e : trk_ecc) e = float(double(e) * tg.ecc_scale);
+          trk_ecc_ready = true;
+        }
+        ctx.gaze_dir = tg.gaze_dir;
+        ctx.gaze_px = gaze_pixel(fd.camera, tg.gaze_dir);
+        ctx.gaze_valid = false;
+        ctx.eccentricity = &trk_ecc;
+      }
+      // trace.on_invalid = full: the method renders as `full` until tracking returns; its
+      // temporal history restarts then (what it had is from before the loss).
+      FoveationMethod* impl = m.impl.get();
+      std::string cost_method = m.method;
+      if (tg.render_full && m.method != "full") {
+        if (!m.full) {
+          Params fp(Json::object(), "trace.on_invalid");
+          m.full = make_method("full", fp);
+        }
+        impl = m.full.get();
+        cost_method = "full";
+        m.was_full = true;
+      } else if (m.was_full) {
+        m.impl->reset();
+        if (m.impl->lighting()) m.impl->lighting()->reset();
+        m.was_full = false;
+      }
       auto m0 = Clock::now();
       if (watchdog)
         watchdog->begin(watchdog_slot, "frame " + std::to_string(fi) + ", method \"" + m.method +
                                            "\" (label \"" + m.label + "\")");
-      render_with_lighting(*m.impl, ctx, fo);  // the method + its lighting strategy (lighting.h)
+      render_with_lighting(*impl, ctx, fo);  // the method + its lighting strategy (lighting.h)
       if (watchdog) watchdog->end(watchdog_slot);
       // The frame's RSMs are shared work every method of a scene with indirect light needs.
       if (fd.has_vpls && fd.counters.has("rsm_texels"))
@@ -561,7 +603,7 @@ struct Cell {
 
       for (auto& gpu : gpus) {
         CostInputs ci;
-        ci.method = m.method;
+        ci.method = cost_method;
         ci.counters = &fo.counters;
         ci.features = features;
         ci.display = sh.display;
@@ -585,6 +627,7 @@ struct Cell {
         row.set("gaze_x", fd.gaze_px.x / sh.scale);  // pixels of the real display
         row.set("gaze_y", fd.gaze_px.y / sh.scale);
         row.set("gaze_valid", fd.gaze_valid ? 1 : 0);
+        if (sh.tracking_column) row.set_text("tracking", tg.state);  // docs/tracking.md
         if (latency.enabled) {  // results/README.md "Latency what-if"
           row.set_text("phase", phase);
           row.set("latency_ms", lat_ms);

@@ -1,5 +1,6 @@
 #include "sim/trace/csv_table.h"
 
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -86,6 +87,34 @@ bool CsvReader::next(CsvRow& r) {
     if (comment_ && line[k] == comment_) continue;
     r.line = line_no_;
     r.fields = split_csv_line(line, delim_, path_, line_no_);
+    r.unterminated = e >= text_.size();
+    return true;
+  }
+  return false;
+}
+
+bool looks_truncated(const CsvRow& last, const CsvRow* prev, size_t nfields, std::string& why) {
+  if (!last.unterminated || last.fields.empty()) return false;
+  if (last.fields.size() < nfields) {
+    why = "the file's last line " + std::to_string(last.line) + " has " +
+          std::to_string(last.fields.size()) + " of " + std::to_string(nfields) +
+          " fields and no final newline: the file looks cut off (an interrupted write)";
+    return true;
+  }
+  if (!prev || prev->fields.size() < last.fields.size()) return false;
+  size_t k = last.fields.size() - 1;
+  auto decimals = [](const std::string& t) {
+    size_t d = t.find('.');
+    if (d == std::string::npos) return 0;
+    size_t n = 0;
+    for (size_t i = d + 1; i < t.size() && std::isdigit((unsigned char)t[i]); ++i) ++n;
+    return int(n);
+  };
+  const std::string &a = last.fields[k].text, &b = prev->fields[k].text;
+  if (decimals(a) < decimals(b)) {
+    why = "the file's last line " + std::to_string(last.line) + " ends in \"" + printable(a) +
+          "\" with no final newline, where line " + std::to_string(prev->line) + " has \"" +
+          printable(b) + "\": the file looks cut off inside its last field";
     return true;
   }
   return false;

@@ -15,7 +15,13 @@ struct CsvField {
 struct CsvRow {
   long line = 0;  // 1-based line number in the file
   std::vector<CsvField> fields;
+  bool unterminated = false;  // the file's last line, with no newline after it
 };
+
+// True when `last` (the file's last row, no final newline) looks cut off by an interrupted
+// write: fewer fields than `nfields`, or its last field has fewer decimals than the same field
+// of the row before (`prev`, may be null) -- "358.9176" cut to "358". Sets `why`.
+bool looks_truncated(const CsvRow& last, const CsvRow* prev, size_t nfields, std::string& why);
 
 // Splits one line (without its newline) on `delim`. Double-quoted fields may contain the
 // delimiter; "" inside quotes is a literal quote. An unterminated quote throws Error at

@@ -25,6 +25,9 @@
 //                  {"type": "point", "columns": [x,y,z], "unit": "m"|"cm"|"mm"} (world point looked
 //                  at); optional "coordinates": the gaze vectors' own axes when they differ from
 //                  the head's
+//   fused          [{"column", "suffixes": [...] | "pattern": "(a)(b)"}]: split a fused field
+//   on_bad         "fail" | "skip" | "hold" (default of --on-bad); on_invalid (runs' default)
+//   head_position.recentre "none"|"first"|"mean", head_*.dequantise (run centres)
 //   valid          [{"column", "valid_values"|"invalid_values": [...] | "all_bits": int |
 //   "min"/"max": x,
 //                    "eye": "left"|"right"}]  ([])
@@ -35,6 +38,7 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
+#include <regex>
 #include <set>
 
 #include "sim/core/error.h"
@@ -68,6 +72,7 @@ struct Map {
   double max_step_s = 3600;
   double burst_below_s = 0;
   enum { BurstKeep, BurstDrop, BurstRetime } on_burst = BurstKeep;
+  bool burst_pose_arrival = true;  // time.burst_pose: retimed samples keep the arrival pose
   bool pos_const = false;
   glm::dvec3 pos_value{0.0};
   std::vector<ColRef> pos;
@@ -98,7 +103,67 @@ struct Map {
     int eye = 0;  // 0 both, 1 left, 2 right
   };
   std::vector<Cond> valid;
+  std::string recentre = "none";                  // head_position.recentre
+  bool dequant_pos = false, dequant_rot = false;  // head_*.dequantise
+  bool has_on_bad = false;
+  BadSamplePolicy on_bad = BadSamplePolicy::Fail;  // the map's "on_bad"
+  std::string on_invalid;                          // the map's "on_invalid"
+  struct Fused {
+    ColRef col;  // the first of the two fields that the export wrote as one
+    std::vector<std::string> suffixes;
+    bool use_pattern = false;
+    std::regex pattern;
+  };
+  std::vector<Fused> fused;
 };
+
+// Splits `text` into the fused field's two parts; false when it is not fused.
+bool split_fused(const Map::Fused& f, const std::string& text, std::string& a, std::string& b) {
+  if (f.use_pattern) {
+    std::smatch mt;
+    if (!std::regex_match(text, mt, f.pattern) || mt.size() != 3) return false;
+    a = mt[1].str();
+    b = mt[2].str();
+    return !a.empty() && !b.empty();
+  }
+  for (auto& sfx : f.suffixes)
+    if (text.size() > sfx.size() && text.compare(text.size() - sfx.size(), sfx.size(), sfx) == 0) {
+      a = text.substr(0, text.size() - sfx.size());
+      b = sfx;
+      return true;
+    }
+  return false;
+}
+
+// Dequantisation by run centres: a run of samples with an identical value is taken as that
+// value at the run's middle time, and samples between two run middles are interpolated
+// (`lerp(a, b, f)`); before the first and after the last middle the run's value is kept.
+template <class T, class Get, class Set, class Lerp>
+long dequantise_runs(std::vector<TraceSample>& x, Get get, Set set, Lerp lerp) {
+  struct Knot {
+    double t;
+    T v;
+  };
+  std::vector<Knot> knots;
+  for (size_t a = 0; a < x.size();) {
+    size_t b = a;
+    while (b + 1 < x.size() && get(x[b + 1]) == get(x[a])) ++b;
+    knots.push_back({0.5 * (x[a].t + x[b].t), get(x[a])});
+    a = b + 1;
+  }
+  if (knots.size() < 2) return 0;
+  long changed = 0;
+  size_t k = 0;
+  for (auto& s : x) {
+    while (k + 2 < knots.size() && knots[k + 1].t <= s.t) ++k;
+    const Knot &A = knots[k], &B = knots[k + 1];
+    if (s.t <= A.t || s.t >= B.t) continue;  // outside the knots: the run's own value
+    T v = lerp(A.v, B.v, (s.t - A.t) / (B.t - A.t));
+    if (!(v == get(s))) ++changed;
+    set(s, v);
+  }
+  return changed;
+}
 
 // Column references are strings (header names) or 1-based integers (files without header).
 struct Resolver {
@@ -107,7 +172,10 @@ struct Resolver {
   std::map<std::string, std::vector<int>>
       dup_cols;  // names that occur more than once: 1-based columns
   int nfields = 0;
-  int max_index = -1;  // largest 0-based index the map uses
+  int max_index = -1;        // largest 0-based index the map uses
+  std::vector<ColRef> used;  // every column the map refers to
+  char delim = ',';
+  std::string header_text;  // the header's only field, when it has one (wrong delimiter?)
   std::string in_file;
   long header_line = 0;
   ColRef get(Params& p, const std::string& key, const Json& v, const std::string& sub) {
@@ -128,9 +196,23 @@ struct Resolver {
                                "): refer to the one meant by its 1-based index");
       }
       auto it = by_name.find(c.name);
-      if (it == by_name.end())
+      if (it == by_name.end()) {
+        std::string hint;
+        if (nfields == 1) {
+          // One field: the delimiter is probably not the file's.
+          std::string others;
+          for (char d : {',', ';', '\t', ' '})
+            if (d != delim && header_text.find(d) != std::string::npos)
+              others += std::string(others.empty() ? "" : ", ") + (d == '\t'  ? "tab"
+                                                                   : d == ' ' ? "space"
+                                                                              : std::string(1, d));
+          hint = ": the header is a single field (\"" + printable(header_text, 40) +
+                 "\"), so the map's delimiter is probably wrong" +
+                 (others.empty() ? std::string() : " (the header contains " + others + ")");
+        }
         throw Error(where, "column \"" + printable(c.name) + "\" is not in the header of " +
-                               in_file + " (line " + std::to_string(header_line) + ")");
+                               in_file + " (line " + std::to_string(header_line) + ")" + hint);
+      }
       c.index = it->second;
     } else if (v.is_number_integer()) {
       int i = v.get<int>();
@@ -144,6 +226,7 @@ struct Resolver {
                   "expected a column name (string) or a 1-based index, got " + describe_json(v));
     }
     max_index = std::max(max_index, c.index);
+    used.push_back(c);
     return c;
   }
   ColRef one(Params& p, const std::string& key) { return get(p, key, p.raw(key), ""); }
@@ -319,6 +402,8 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
     }
   }
   res.nfields = int(row0.fields.size());
+  res.delim = m.delim;
+  if (row0.fields.size() == 1) res.header_text = row0.fields[0].text;
 
   Params tp = p.child("time");
   m.time = res.one(tp, "column");
@@ -332,6 +417,7 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
   m.burst_below_s = tp.number("burst_below_s", 0.0, Range::at_least(0));
   std::string ob = tp.string("on_burst", "keep", {"keep", "drop", "retime"});
   m.on_burst = ob == "keep" ? Map::BurstKeep : ob == "drop" ? Map::BurstDrop : Map::BurstRetime;
+  m.burst_pose_arrival = tp.string("burst_pose", "arrival", {"arrival", "sample"}) == "arrival";
   tp.ignore("comment");
 
   if (!p.has("head_position"))
@@ -345,6 +431,8 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
   } else {
     m.pos = res.many(hp, "columns", 3);
     m.pos_scale = length_unit(hp, "unit");
+    m.recentre = hp.string("recentre", "none", {"none", "first", "mean"});
+    m.dequant_pos = hp.boolean("dequantise", false);
   }
 
   if (!p.has("head_orientation"))
@@ -353,6 +441,9 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
   Params ho = p.child("head_orientation");
   ho.ignore("comment");
   m.inverse = ho.boolean("inverse", false);
+  m.dequant_rot = ho.boolean("dequantise", false);
+  if (m.dequant_rot && ho.has("constant"))
+    ho.fail("dequantise", "a constant orientation has nothing to dequantise");
   if (ho.has("constant")) {
     std::vector<double> q = ho.numbers("constant", {});
     if (q.size() != 4) ho.fail("constant", "expected 4 numbers (w, x, y, z) in fovsim coordinates");
@@ -464,7 +555,49 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
   }
   const bool per_eye = !m.left.empty();
   for (Params& c : p.children("valid")) m.valid.push_back(read_cond(c, res, per_eye));
+  if (p.has("on_bad")) {
+    m.has_on_bad = true;
+    std::string ob = p.string("on_bad", {"fail", "skip", "hold"});
+    m.on_bad = ob == "fail"   ? BadSamplePolicy::Fail
+               : ob == "skip" ? BadSamplePolicy::Skip
+                              : BadSamplePolicy::Hold;
+  }
+  if (p.has("on_invalid"))
+    m.on_invalid = p.string("on_invalid", {"hold", "centre", "full", "widen"});
+  for (Params& f : p.children("fused")) {
+    f.ignore("comment");
+    Map::Fused fu;
+    fu.col = res.one(f, "column");
+    if (f.has("suffixes") == f.has("pattern"))
+      f.fail("",
+             "give exactly one of \"suffixes\": [\"True\", \"False\"] or \"pattern\": "
+             "\"^(.*[0-9])(True|False)$\"");
+    if (f.has("pattern")) {
+      fu.use_pattern = true;
+      std::string pat = f.string("pattern");
+      try {
+        fu.pattern = std::regex(pat);
+      } catch (const std::regex_error& e) {
+        f.fail("pattern", std::string("not a valid regular expression: ") + e.what());
+      }
+      if (fu.pattern.mark_count() != 2)
+        f.fail("pattern", "needs exactly two groups, (first field)(second field)");
+    } else {
+      const Json& sj = f.raw("suffixes");
+      if (!sj.is_array() || sj.empty()) f.fail("suffixes", "expected a non-empty array of strings");
+      for (size_t i = 0; i < sj.size(); ++i) {
+        if (!sj[i].is_string() || sj[i].get<std::string>().empty())
+          f.fail("suffixes[" + std::to_string(i) + "]", "expected a non-empty string");
+        fu.suffixes.push_back(sj[i].get<std::string>());
+      }
+    }
+    if (fu.col.index + 1 >= res.nfields)
+      f.fail("column", "the fused field must be followed by another header column");
+    m.fused.push_back(std::move(fu));
+  }
   p.finish();
+  ImportOptions eff = opt;  // the map's on_bad unless the caller chose
+  if (m.has_on_bad && !opt.on_fov_explicit) eff.on_fov = m.on_bad;
 
   // ---- rows ---------------------------------------------------------------------------------
   Trace tr;
@@ -484,6 +617,8 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
   std::vector<glm::dvec3>
       world_gaze;            // gaze in world (for re-deriving it after pose interpolation)
   bool pending = !m.header;  // without a header the first row is data
+  CsvRow prev_row;           // the last complete row (for a cut-off last line)
+  bool have_prev_row = false;
   CsvRow cur;
   while (true) {
     if (pending) {
@@ -491,6 +626,17 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
       pending = false;
     } else if (!reader.next(cur)) {
       break;
+    }
+    // A fused field (`666.5324True`): split back into two, so later columns are in place.
+    for (auto& f : m.fused) {
+      if (cur.fields.size() >= nf || size_t(f.col.index) >= cur.fields.size()) break;
+      std::string a, b;
+      CsvField& fld = cur.fields[size_t(f.col.index)];
+      if (!split_fused(f, fld.text, a, b)) continue;
+      CsvField second{b, fld.col + int(a.size())};
+      fld.text = a;
+      cur.fields.insert(cur.fields.begin() + f.col.index + 1, second);
+      ++rep.fused_rows;
     }
     const CsvRow& row = cur;
     ++rep.data_rows;
@@ -503,6 +649,33 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
       log.add("skipped", kind, where, msg);
       ++rep.skipped_rows;
     };
+    // A last line cut off by an interrupted write (no final newline): dropped, and said so.
+    {
+      std::string why;
+      if (looks_truncated(row, have_prev_row ? &prev_row : nullptr,
+                          have_prev_row ? prev_row.fields.size() : nf, why)) {
+        tr.warnings.push_back(file_location(in, row.line) + ": " + why + "; the line was dropped");
+        ++rep.skipped_rows;
+        break;
+      }
+      if (!row.unterminated) {
+        prev_row = row;
+        have_prev_row = true;
+      }
+    }
+    if (m.used_fields_only && row.fields.size() < need) {
+      // Name the used column that is missing, not the field count (which row_fields = used
+      // does not require).
+      const ColRef* miss = nullptr;
+      for (auto& c : res.used)
+        if (size_t(c.index) >= row.fields.size() && (!miss || c.index > miss->index)) miss = &c;
+      fail_row(row.fields.back().col, "used column missing",
+               "column \"" + printable(miss ? miss->name : "?") + "\" (field " +
+                   std::to_string(miss ? miss->index + 1 : 0) + ") is missing: the row has " +
+                   std::to_string(row.fields.size()) +
+                   " fields (a shorter row, or fields fused before it)");
+      continue;
+    }
     if (row.fields.size() != nf && !(m.used_fields_only && row.fields.size() >= need)) {
       fail_row(row.fields.size() > nf ? row.fields[nf].col : row.fields.back().col,
                "wrong field count",
@@ -708,7 +881,9 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
       fail_row(gcol, gerr, gerr);
       continue;
     }
-    s.gaze_dir = gerr.empty() ? gh / gn : last_gaze;
+    // Rows flagged invalid show the last valid gaze (traces/README.md): their own gaze, even
+    // when finite and inside the FOV, is what the tracker reported while it had lost the eye.
+    s.gaze_dir = gerr.empty() && valid ? gh / gn : last_gaze;
     if (valid && opt.check_fov && !gaze_inside_fov(display, s.gaze_dir)) {
       double u = 0, w = 0;
       gaze_screen_from_dir(display, s.gaze_dir, u, w);
@@ -718,11 +893,11 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
                     "not in [0,1]^2",
                     display.name.c_str(), display.fov_h_deg, display.fov_v_deg, u, w);
       std::string where = file_location(in, row.line, gcol);
-      if (opt.on_fov == BadSamplePolicy::Fail)
+      if (eff.on_fov == BadSamplePolicy::Fail)
         throw Error(where, std::string(b) +
                                " (check the gaze coordinates and --display; --on-bad / "
                                "trace.on_bad_sample skip or hold accept it)");
-      if (opt.on_fov == BadSamplePolicy::Skip) {
+      if (eff.on_fov == BadSamplePolicy::Skip) {
         log.add("skipped", "gaze outside the display FOV", where, b);
         ++rep.skipped_rows;
         continue;
@@ -827,6 +1002,10 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
       } else {
         // Retime: a burst i..k was buffered during the stall before it; spread the samples
         // from the one that ended the stall (i-1) to k evenly after the sample before it (i-2).
+        // The gaze was buffered, but the head pose of each sample is the one current when it
+        // arrived (time.burst_pose = "arrival", the default): the retimed samples take the
+        // pose interpolated on the arrival times, so the head does not turn by the whole
+        // stall's motion in one retimed slot. "sample" moves the pose with the gaze.
         long retimed = 0;
         for (size_t i = 1; i < x.size();) {
           if (!burst[i]) {
@@ -838,8 +1017,24 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
           if (i >= 2) {
             size_t a = i - 2;
             double ta = x[a].t, tk = x[k].t;
+            std::vector<TraceSample> orig(x.begin() + long(a), x.begin() + long(k) + 1);
             for (size_t j = a + 1; j < k; ++j)
               x[j].t = ta + (tk - ta) * double(j - a) / double(k - a);
+            if (m.burst_pose_arrival) {
+              for (size_t j = a + 1; j < k; ++j) {
+                // Bracket the new time on the arrival times orig[0..k-a] (non-decreasing).
+                size_t q = 0;
+                while (q + 2 < orig.size() && orig[q + 1].t <= x[j].t) ++q;
+                const TraceSample &A = orig[q], &B = orig[q + 1];
+                double f = B.t > A.t ? std::clamp((x[j].t - A.t) / (B.t - A.t), 0.0, 1.0) : 1.0;
+                x[j].head_pos = A.head_pos + (B.head_pos - A.head_pos) * f;
+                x[j].head_rot = glm::normalize(
+                    glm::slerp(A.head_rot,
+                               glm::dot(A.head_rot, B.head_rot) < 0 ? -B.head_rot : B.head_rot, f));
+                if (m.gaze_kind == Map::DirWorld || m.gaze_kind == Map::Point)
+                  x[j].gaze_dir = glm::normalize(glm::conjugate(x[j].head_rot) * world_gaze[j]);
+              }
+            }
             retimed += long(k - a - 1);
           }
           i = k + 1;
@@ -915,7 +1110,54 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
                           " times (" + std::to_string(m.wrap_bits) + " bits): unwrapped");
   if (rep.one_eye_rows > 0)
     tr.warnings.push_back(in + ": " + std::to_string(rep.one_eye_rows) +
-                          " rows had one valid eye: its gaze was used alone");
+                          (rep.one_eye_rows == 1 ? " row" : " rows") +
+                          " had one valid eye: its gaze was used alone");
+  // Recentring and dequantisation (traces/README.md "Column maps").
+  if (m.recentre != "none" && !x.empty()) {
+    glm::dvec3 c(0.0);
+    if (m.recentre == "first") {
+      c = x.front().head_pos;
+    } else {
+      for (auto& s : x) c += s.head_pos;
+      c /= double(x.size());
+    }
+    for (auto& s : x) s.head_pos -= c;
+    char b[160];
+    std::snprintf(b, sizeof b, "head positions recentred by (%.4g, %.4g, %.4g) m (%s)", c.x, c.y,
+                  c.z, m.recentre == "first" ? "first sample at the origin" : "mean at the origin");
+    tr.warnings.push_back(in + ": " + b);
+  }
+  if (m.dequant_pos || m.dequant_rot) {
+    long np = 0, nr = 0;
+    if (m.dequant_pos)
+      for (int k = 0; k < 3; ++k)
+        np += dequantise_runs<double>(
+            x, [k](const TraceSample& s) { return s.head_pos[k]; },
+            [k](TraceSample& s, double v) { s.head_pos[k] = v; },
+            [](double a, double b, double f) { return a + (b - a) * f; });
+    if (m.dequant_rot)
+      nr = dequantise_runs<glm::dquat>(
+          x, [](const TraceSample& s) { return s.head_rot; },
+          [](TraceSample& s, const glm::dquat& q) { s.head_rot = q; },
+          [](const glm::dquat& a, const glm::dquat& b, double f) {
+            return glm::normalize(glm::slerp(a, glm::dot(a, b) < 0 ? -b : b, f));
+          });
+    if (m.dequant_rot && (m.gaze_kind == Map::DirWorld || m.gaze_kind == Map::Point))
+      for (size_t j = 0; j < x.size(); ++j)
+        x[j].gaze_dir = glm::normalize(glm::conjugate(x[j].head_rot) * world_gaze[j]);
+    tr.warnings.push_back(in + ": dequantised by run centres: " + std::to_string(np) +
+                          " position components and " + std::to_string(nr) +
+                          " orientations interpolated");
+  }
+  if (rep.fused_rows > 0)
+    tr.warnings.push_back(in + ": " + std::to_string(rep.fused_rows) +
+                          (rep.fused_rows == 1 ? " row had" : " rows had") +
+                          " a fused field split back into two (the map's \"fused\")");
+  rep.on_invalid = m.on_invalid;
+  tr.lines = lines;
+  check_invalid_fraction(tr, m.valid.empty() ? ""
+                                             : "check the map's valid conditions: a bitmask "
+                                               "needs all_bits, a confidence a min");
   rep.notes = log.lines(m.skip_bad ? "on_bad_row=skip" : "on_bad_sample");
   for (auto& n : rep.notes) tr.warnings.push_back(in + ": " + n);
   if (report) *report = rep;

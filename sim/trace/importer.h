@@ -19,6 +19,8 @@ struct ImportReport {
   long repeated_poses = 0;     // samples whose head pose repeats the previous sample's exactly
   bool stopped_early = false;  // reading stopped at ImportOptions::stop_after_s
   double time_offset_s = 0;    // subtracted when rebasing
+  long fused_rows = 0;         // rows whose fused field was split (the map's "fused")
+  std::string on_invalid;      // the map's "on_invalid" (run default), "" when not given
   std::vector<std::string>
       notes;  // what was skipped/held/changed, one line per kind with the first location
 };
@@ -28,6 +30,8 @@ struct ImportOptions {
   // or replaced by the last valid gaze (Hold). check_fov = false leaves it to the caller.
   bool check_fov = true;
   BadSamplePolicy on_fov = BadSamplePolicy::Fail;
+  // False: the map's "on_bad" (when given) replaces on_fov; true: the caller chose it.
+  bool on_fov_explicit = false;
   // Stop reading once a sample lies more than this many seconds after the first one (that
   // sample is kept, so resampling can bracket the end): a run asking for 2 s reads ~2 s.
   double stop_after_s = INFINITY;

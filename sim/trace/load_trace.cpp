@@ -9,6 +9,7 @@
 #include "sim/trace/importer.h"
 #include "sim/trace/synth.h"
 #include "sim/trace/trace.h"
+#include "sim/trace/tracking.h"
 
 namespace fovsim {
 
@@ -24,8 +25,16 @@ static std::string resolve(const std::string& base_dir, const std::string& f) {
   return (std::filesystem::path(base_dir) / p).lexically_normal().string();
 }
 
-Trace load_trace(Params& p, const Display& display, const std::string& base_dir, double needed_s) {
+Trace load_trace(Params& p, const Display& display, const std::string& base_dir, double needed_s,
+                 TrackingPolicy* tracking) {
   p.ignore("comment");
+  // Tracking loss in runs (tracking.h): parsed here so that every trace key is validated
+  // in one place, with its JSON path. A column map's "on_invalid" is the default.
+  TrackingPolicy tpol;
+  const bool oi_given = p.has("on_invalid");
+  parse_on_invalid(p.string("on_invalid", "hold", {"hold", "centre", "full", "widen"}),
+                   tpol.on_invalid);
+  tpol.widen_per_s = p.number("widen_per_s", 10.0, Range::closed(0, 1000));
   bool has_file = p.has("file"), has_syn = p.has("synthetic");
   if (has_file == has_syn)
     p.fail("", has_file ? "give either \"file\" or \"synthetic\", not both"
@@ -62,8 +71,11 @@ Trace load_trace(Params& p, const Display& display, const std::string& base_dir,
       if (!std::filesystem::exists(map)) p.fail("map", "column map not found: " + map);
       ImportOptions io;
       io.on_fov = opt.on_bad;
+      io.on_fov_explicit = p.has("on_bad_sample");  // else the map's "on_bad"
+      ImportReport rep;
       if (duration > 0) io.stop_after_s = start + duration + 2.0 / rate;
-      tr = import_trace(path, map, display, nullptr, io);
+      tr = import_trace(path, map, display, &rep, io);
+      if (!oi_given && !rep.on_invalid.empty()) parse_on_invalid(rep.on_invalid, tpol.on_invalid);
     } else {
       tr = read_trace_csv(path, display, opt);
     }
@@ -91,11 +103,19 @@ Trace load_trace(Params& p, const Display& display, const std::string& base_dir,
     tr = synthesize(m, so, display);
   }
   if (tr.samples.empty()) p.fail(has_file ? "file" : "synthetic", "trace has no samples");
+  if (p.has("widen_per_s") && tpol.on_invalid != OnInvalid::Widen)
+    p.fail("widen_per_s", "only used with \"on_invalid\": \"widen\"");
+  if (tracking) *tracking = tpol;
+  // The range the recording covers, before resampling shortens it to what the frames use:
+  // start+duration is checked against this, not against the resampled part.
+  const double raw_first = tr.samples.front().t, raw_last = tr.samples.back().t;
+  double used_end = INFINITY;  // absolute time past which nothing is resampled
   if (do_resample) {
     // Only the range used: [first, first + start + (duration or what the caller needs)],
     // plus two periods for the end-of-range tests below. Checked before allocating.
     double used = std::min(duration > 0 ? duration : INFINITY, needed_s);
     double t_end = tr.samples.front().t + start + used + 2.0 / rate;
+    used_end = t_end;
     double n = resampled_count(tr, rate, t_end);
     if (n > max_samples)
       p.fail("max_samples",
@@ -108,16 +128,17 @@ Trace load_trace(Params& p, const Display& display, const std::string& base_dir,
   }
 
   // Frame range: [first + start, first + start + duration).
-  const double t_first = tr.samples.front().t, t_last = tr.samples.back().t;
+  const double t_first = tr.samples.front().t;
   const double period = do_resample ? 1.0 / rate : 0.0, eps = 1e-9 + 1e-6 * period;
   const double from = t_first + start;
-  if (from > t_last + eps)
+  if (from > raw_last + eps)
     p.fail("start", "start " + std::to_string(start) + " s is past the end of the trace (" +
-                        std::to_string(t_last - t_first) + " s long)");
+                        std::to_string(raw_last - raw_first) + " s long)");
   double to = duration > 0 ? from + duration : INFINITY;
-  if (duration > 0 && to > t_last + period + eps) {
+  bool short_trace = duration > 0 && to > raw_last + period + eps;
+  if (short_trace) {
     std::string msg = "trace " + tr.source + " covers " +
-                      std::to_string(t_last - t_first + period) +
+                      std::to_string(raw_last - raw_first + period) +
                       " s but start+duration asks for " + std::to_string(start + duration) + " s";
     if (on_short == "fail") p.fail("duration", msg + " (set on_short to truncate or hold)");
     tr.warnings.push_back(msg + (on_short == "truncate" ? ": truncated (on_short=truncate)"
@@ -128,7 +149,9 @@ Trace load_trace(Params& p, const Display& display, const std::string& base_dir,
   out.warnings = tr.warnings;
   for (const auto& s : tr.samples)
     if (s.t >= from - eps && s.t < to - eps) out.samples.push_back(s);
-  if (on_short == "hold" && duration > 0 && !out.samples.empty() && period > 0) {
+  if (on_short == "hold" && short_trace && !out.samples.empty() && period > 0) {
+    // Held only up to what the frames use (the resampled range), not the whole duration.
+    const double hold_to = std::min(to, used_end + period);
     TraceSample h = out.samples.back();
     // The held samples count towards the same limit, checked before any is added.
     const double n_hold = double(out.samples.size()) + std::max(0.0, (to - h.t) / period);
@@ -140,7 +163,7 @@ Trace load_trace(Params& p, const Display& display, const std::string& base_dir,
     for (long k = 1;; ++k) {
       TraceSample c = h;
       c.t = h.t + double(k) * period;
-      if (c.t >= to - eps) break;
+      if (c.t >= hold_to - eps) break;
       out.samples.push_back(c);
     }
   }

@@ -20,6 +20,14 @@ TraceStats trace_stats(const Trace& tr) {
   if (x.empty()) return s;
   s.duration_s = tr.duration();
   std::vector<double> dts, ecc, speed, hspeed;
+  struct Jump {
+    double speed, deg, dt;
+    size_t i;
+  };
+  std::vector<Jump> jumps;
+  s.constant_head = x.size() > 1;
+  for (size_t i = 1; i < x.size() && s.constant_head; ++i)
+    s.constant_head = x[i].head_pos == x[0].head_pos && x[i].head_rot == x[0].head_rot;
   long invalid = 0;
   for (size_t i = 0; i < x.size(); ++i) {
     if (!x[i].valid) ++invalid;
@@ -30,11 +38,13 @@ TraceStats trace_stats(const Trace& tr) {
     if (dt <= 0) continue;
     if (x[i].valid && x[i - 1].valid)
       speed.push_back(rad2deg(angle_between(x[i].gaze_dir, x[i - 1].gaze_dir)) / dt);
-    if (x[i].head_pos == x[i - 1].head_pos && x[i].head_rot == x[i - 1].head_rot)
+    if (!s.constant_head && x[i].head_pos == x[i - 1].head_pos &&
+        x[i].head_rot == x[i - 1].head_rot)
       ++s.repeated_poses;
     glm::dquat d = glm::conjugate(x[i - 1].head_rot) * x[i].head_rot;
     double ang = 2 * std::atan2(std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z), std::fabs(d.w));
     hspeed.push_back(rad2deg(ang) / dt);
+    jumps.push_back({hspeed.back(), rad2deg(ang), dt, i});
     s.head_path_m += glm::length(x[i].head_pos - x[i - 1].head_pos);
   }
   s.invalid_fraction = double(invalid) / double(x.size());
@@ -56,6 +66,24 @@ TraceStats trace_stats(const Trace& tr) {
   s.speed_p99 = pct(speed, 99);
   s.head_speed_p50 = pct(hspeed, 50);
   s.head_speed_p99 = pct(hspeed, 99);
+  s.head_speed_max = hspeed.empty() ? 0 : *std::max_element(hspeed.begin(), hspeed.end());
+  {
+    // The 5 largest, ties by sample order (deterministic).
+    size_t n = std::min<size_t>(5, jumps.size());
+    std::partial_sort(jumps.begin(), jumps.begin() + long(n), jumps.end(),
+                      [](const Jump& a, const Jump& b) {
+                        return a.speed > b.speed || (a.speed == b.speed && a.i < b.i);
+                      });
+    for (size_t k = 0; k < n && jumps[k].speed > 0; ++k) {
+      const Jump& j = jumps[k];
+      char jb[200];
+      std::string where = j.i < tr.lines.size() ? "line " + std::to_string(tr.lines[j.i])
+                                                : "sample " + std::to_string(j.i);
+      std::snprintf(jb, sizeof jb, " (t=%.6g s): %.2f deg in %.2f ms (%.0f deg/s)", x[j.i].t, j.deg,
+                    j.dt * 1e3, j.speed);
+      s.head_jumps.push_back(where + jb);
+    }
+  }
   char b[300];
   if (s.speed_p99 > kPlausibleSpeedP99) {
     std::snprintf(b, sizeof b,
@@ -81,6 +109,22 @@ TraceStats trace_stats(const Trace& tr) {
                   s.head_speed_p50, kPlausibleHeadSpeedP50);
     s.warnings.push_back(b);
   }
+  if (s.head_speed_max > kPlausibleHeadSpeed) {
+    std::snprintf(b, sizeof b,
+                  "head speed max %.0f deg/s is above %.0f deg/s (head turns rarely exceed "
+                  "~800 deg/s): check the pose time in bursts (time.burst_pose), the orientation "
+                  "order and unit; largest at %s",
+                  s.head_speed_max, kPlausibleHeadSpeed,
+                  s.head_jumps.empty() ? "?" : s.head_jumps.front().c_str());
+    s.warnings.push_back(b);
+  }
+  if (s.invalid_fraction > kWarnInvalidFraction) {
+    std::snprintf(b, sizeof b,
+                  "%.1f %% of samples are flagged invalid (more than %.0f %%): check the "
+                  "validity conditions",
+                  100.0 * s.invalid_fraction, 100.0 * kWarnInvalidFraction);
+    s.warnings.push_back(b);
+  }
   if (s.bursts > 0) {
     std::snprintf(b, sizeof b,
                   "%ld intervals shorter than a quarter of the median (bursts after a stall) "
@@ -93,23 +137,29 @@ TraceStats trace_stats(const Trace& tr) {
 }
 
 std::string format_stats(const TraceStats& s) {
-  char b[1024];
+  char b[1400];
+  const std::string rep = s.constant_head ? std::string("not checked (constant head pose)")
+                                          : std::to_string(s.repeated_poses) +
+                                                " (head pose equal to the previous sample's)";
   std::snprintf(b, sizeof b,
                 "samples            %zu\n"
                 "duration           %.3f s\n"
                 "rate               %.2f Hz (median interval), %.2f Hz (mean)\n"
                 "gaps               %ld (> 1.5x median interval), longest %.1f ms\n"
                 "bursts             %ld (< 0.25x median interval)\n"
-                "repeated poses     %ld (head pose equal to the previous sample's)\n"
+                "repeated poses     %s\n"
                 "invalid            %.1f %%\n"
                 "gaze eccentricity  p50 %.1f  p95 %.1f  max %.1f deg\n"
                 "gaze speed         p50 %.1f  p95 %.1f  p99 %.1f deg/s (eye in head)\n"
-                "head speed         p50 %.1f  p99 %.1f deg/s, path %.2f m\n",
+                "head speed         p50 %.1f  p99 %.1f  max %.1f deg/s, path %.2f m\n",
                 s.samples, s.duration_s, s.rate_hz, s.rate_mean_hz, s.gaps, s.max_gap_s * 1e3,
-                s.bursts, s.repeated_poses, 100.0 * s.invalid_fraction, s.ecc_p50, s.ecc_p95,
-                s.ecc_max, s.speed_p50, s.speed_p95, s.speed_p99, s.head_speed_p50,
-                s.head_speed_p99, s.head_path_m);
+                s.bursts, rep.c_str(), 100.0 * s.invalid_fraction, s.ecc_p50, s.ecc_p95, s.ecc_max,
+                s.speed_p50, s.speed_p95, s.speed_p99, s.head_speed_p50, s.head_speed_p99,
+                s.head_speed_max, s.head_path_m);
   std::string out = b;
+  for (size_t k = 0; k < s.head_jumps.size(); ++k)
+    out += std::string(k == 0 ? "largest head jumps " : "                   ") + s.head_jumps[k] +
+           "\n";
   for (auto& w : s.warnings) out += "implausible        " + w + "\n";
   return out;
 }

@@ -24,6 +24,9 @@ struct Trace {
   // Problems that a skip/hold policy handled (one line per kind, with the first location and
   // a count) or that a caller should know. Never empty when something was changed.
   std::vector<std::string> warnings;
+  // Line of each sample in its source file, when read from one (empty otherwise, and after
+  // resampling): lets summaries name the lines of implausible samples.
+  std::vector<long> lines;
   double duration() const { return samples.empty() ? 0 : samples.back().t - samples.front().t; }
 };
 
@@ -52,6 +55,14 @@ Trace read_trace_csv(const std::string& path, const Display& display,
                      const TraceReadOptions& opt = {});
 void write_trace_csv(const std::string& path, const Trace& trace);
 
+// Above this fraction of samples flagged invalid, readers add a warning (Trace::warnings):
+// blinks and brief losses are 2-10 % of a recording (Holmqvist et al. 2011 ch. 4); a quarter
+// or more usually means a wrong validity condition or a tracker that lost the eyes.
+constexpr double kWarnInvalidFraction = 0.25;
+// Adds that warning to `tr`; a trace with no valid sample at all is an Error naming its source
+// (nothing to foveate on: refused by import, validate and run). `hint` ends the error message.
+void check_invalid_fraction(Trace& tr, const std::string& hint = "");
+
 // Resamples to `hz` from the first sample: lerp positions, slerp orientations, normalized lerp of
 // gaze (nearest for `valid`). Frames past the end, or past `t_end` (absolute time), are not
 // produced: a caller resamples only the range it uses.
@@ -79,7 +90,9 @@ bool gaze_inside_fov(const Display& display, const glm::dvec3& dir);
 // `needed_s`: seconds after `start` the caller will use (from frames.count); the trace is
 // resampled only up to there, and the resampled range is checked against "max_samples"
 // before it is allocated.
+// `tracking`, when given, receives the "on_invalid" and "widen_per_s" keys (tracking.h).
+struct TrackingPolicy;
 Trace load_trace(Params& p, const Display& display, const std::string& base_dir,
-                 double needed_s = INFINITY);
+                 double needed_s = INFINITY, TrackingPolicy* tracking = nullptr);
 
 }  // namespace fovsim

@@ -56,6 +56,10 @@ Trace read_trace_csv(const std::string& path, const Display& display, const Trac
     for (int k = 0; k < NCOL; ++k)
       if (name == kCols[k]) c = k;
     auto loc = file_location(path, head.line, head.fields[f].col);
+    if (c < 0 && head.fields.size() == 1 && name.find_first_of(";\t ") != std::string::npos)
+      throw Error(loc, "the header is a single field (\"" + printable(name, 40) +
+                           "\"): the canonical trace CSV is comma-separated (t,px,py,...), "
+                           "this file seems to use another delimiter");
     if (c < 0)
       throw Error(
           loc,
@@ -89,12 +93,18 @@ Trace read_trace_csv(const std::string& path, const Display& display, const Trac
   glm::dvec3 last_valid_gaze(0.0, 0.0, -1.0);  // gaze shown while valid=0
   double last_t = -INFINITY;
   long last_t_line = 0;
-  long gaps = 0;  // intervals longer than opt.max_gap_s
+  std::string last_t_text;  // the previous time as written in the file
+  long gaps = 0;            // intervals longer than opt.max_gap_s
   double longest_gap = 0;
   std::string first_gap;
 
   for (size_t r = 1; r < rows.size(); ++r) {
     const CsvRow& row = rows[r];
+    std::string cut;
+    if (r + 1 == rows.size() && looks_truncated(row, r >= 2 ? &rows[r - 1] : nullptr, ncols, cut)) {
+      tr.warnings.push_back(file_location(path, row.line) + ": " + cut + "; the line was dropped");
+      break;
+    }
     if (row.fields.size() != ncols) {
       int col = row.fields.size() > ncols ? row.fields[ncols].col : row.fields.back().col;
       throw Error(file_location(path, row.line, col), "expected " + std::to_string(ncols) +
@@ -125,7 +135,7 @@ Trace read_trace_csv(const std::string& path, const Display& display, const Trac
     } else if (!(v[T] > last_t)) {
       probs.push_back({Part::Row, col_of(T), "non-monotonic time",
                        "time not strictly increasing: t=" + printable(row.fields[idx[T]].text) +
-                           " after t=" + std::to_string(last_t) + " (line " +
+                           " after t=" + printable(last_t_text) + " (line " +
                            std::to_string(last_t_line) + ")"});
     }
     s.t = v[T];
@@ -239,7 +249,8 @@ Trace read_trace_csv(const std::string& path, const Display& display, const Trac
       for (auto& p : gprobs) probs.push_back(p);
       if (gaze_ok) s.gaze_dir = g;
     } else {
-      s.gaze_dir = gaze_ok ? g : last_valid_gaze;
+      // Flagged invalid: the last valid gaze, whatever this row carries (traces/README.md).
+      s.gaze_dir = last_valid_gaze;
     }
 
     if (!probs.empty()) {
@@ -278,11 +289,14 @@ Trace read_trace_csv(const std::string& path, const Display& display, const Trac
     }
     last_t = s.t;
     last_t_line = row.line;
+    last_t_text = row.fields[size_t(idx[T])].text;
     last_good = s;
     have_last = true;
     tr.samples.push_back(s);
+    tr.lines.push_back(row.line);
   }
   if (tr.samples.empty()) throw Error(path, "trace has no usable samples");
+  check_invalid_fraction(tr);
   for (auto& l : log.lines(policy_name(opt.on_bad))) tr.warnings.push_back(path + ": " + l);
   if (gaps > 0) {
     char b[160];
@@ -291,6 +305,25 @@ Trace read_trace_csv(const std::string& path, const Display& display, const Trac
     tr.warnings.push_back(path + ": " + b + first_gap);
   }
   return tr;
+}
+
+void check_invalid_fraction(Trace& tr, const std::string& hint) {
+  long invalid = 0;
+  for (auto& s : tr.samples) invalid += s.valid ? 0 : 1;
+  const long n = long(tr.samples.size());
+  if (n > 0 && invalid == n)
+    throw Error(tr.source, "all " + std::to_string(n) + (n == 1 ? " sample is" : " samples are") +
+                               " flagged invalid: the trace has no gaze to foveate on" +
+                               (hint.empty() ? "" : " (" + hint + ")"));
+  double f = n > 0 ? double(invalid) / double(n) : 0.0;
+  if (f > kWarnInvalidFraction) {
+    char b[200];
+    std::snprintf(b, sizeof b,
+                  "%.1f %% of samples (%ld of %ld) are flagged invalid, more than %.0f %%: check "
+                  "the validity flags",
+                  100.0 * f, invalid, n, 100.0 * kWarnInvalidFraction);
+    tr.warnings.push_back(tr.source + ": " + b + (hint.empty() ? "" : " (" + hint + ")"));
+  }
 }
 
 // "+ 0.0" turns -0 into 0 so files do not show "-0".

@@ -71,3 +71,28 @@ TEST(TraceCli, ImportChecksTheFovAndGuessesAMap) {
   EXPECT_EQ(n.code, 2) << n.output;
   EXPECT_NE(n.output.find("--map"), std::string::npos) << n.output;
 }
+
+// Real recordings v3: a run asking for more trace than its frames need runs on the shipped
+// sample (it is 4 s long); an all-invalid trace is refused by validate, import and run.
+TEST(TraceCli, LongDurationRunsAndAllInvalidIsRefused) {
+  std::string dir = temp_dir("trace_v3");
+  auto r = run_cmd(fovsim_bin() +
+                   " run configs/quickstart.json trace.duration=1 frames.count=2 render.scale=0.04 "
+                   "'methods=[{\"method\": \"full\"}]' outputs.image_frames=[] --out " +
+                   dir + "/run -q --no-plots");
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(r.output.find("covers"), std::string::npos) << r.output;
+  write_text(dir + "/inv.csv",
+             "t,px,py,pz,qw,qx,qy,qz,gx,gy,gz,valid\n0,0,0,0,1,0,0,0,0,0,-1,0\n"
+             "0.011,0,0,0,1,0,0,0,0,0,-1,0\n0.022,0,0,0,1,0,0,0,0,0,-1,0\n");
+  auto v = run_cmd(fovsim_bin() + " trace validate " + dir + "/inv.csv");
+  EXPECT_EQ(v.code, 2) << v.output;
+  EXPECT_NE(v.output.find("inv.csv: all 3 samples are flagged invalid"), std::string::npos)
+      << v.output;
+  auto x = run_cmd(fovsim_bin() + " run configs/quickstart.json trace.file=" + dir +
+                   "/inv.csv frames.count=2 render.scale=0.04 'methods=[{\"method\": \"full\"}]' "
+                   "--out " +
+                   dir + "/run2 -q --no-plots");
+  EXPECT_EQ(x.code, 2) << x.output;
+  EXPECT_NE(x.output.find("all 3 samples are flagged invalid"), std::string::npos) << x.output;
+}

@@ -60,7 +60,8 @@ TEST(ImportV2, FusedFieldsAcceptedWhenUsedColumnsArePresent) {
   EXPECT_EQ(rep.skipped_rows, 0);
   // ... but a row missing a used column still fails at its line.
   std::string shorter = write_tmp("short.csv", "t,x,y,z,pupil,blink\n0,0,0,-1,3,False\n10,0,0\n");
-  expect_error([&] { import_trace(shorter, used, vive()); }, {"short.csv:3:", "got 3"});
+  expect_error([&] { import_trace(shorter, used, vive()); },
+               {"short.csv:3:", "column \"z\" (field 4) is missing"});
   u["row_fields"] = "some";
   std::string badkey = write_tmp("bad.json", u.dump());
   expect_error([&] { import_trace(rec, badkey, vive()); },
@@ -284,7 +285,8 @@ TEST(ImportV2, PlausibilityWarnings) {
   ASSERT_EQ(st.warnings.size(), 1u);
   EXPECT_NE(st.warnings[0].find("eccentricity p95 40.0 deg is above 35 deg"), std::string::npos)
       << st.warnings[0];
-  EXPECT_EQ(st.repeated_poses, 99);  // a constant head repeats (reported, not a warning)
+  EXPECT_EQ(st.repeated_poses, 0);  // a constant head is not checked for repeats
+  EXPECT_TRUE(st.constant_head);
   // The eye model's scenarios stay inside human ranges.
   for (const char* sc : {"free-viewing", "walk-through"}) {
     SynthOptions o;

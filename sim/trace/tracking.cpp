@@ -1,0 +1,71 @@
+#include "sim/trace/tracking.h"
+
+namespace fovsim {
+
+bool parse_on_invalid(const std::string& s, OnInvalid& out) {
+  if (s == "hold")
+    out = OnInvalid::Hold;
+  else if (s == "centre")
+    out = OnInvalid::Centre;
+  else if (s == "full")
+    out = OnInvalid::Full;
+  else if (s == "widen")
+    out = OnInvalid::Widen;
+  else
+    return false;
+  return true;
+}
+
+const char* on_invalid_name(OnInvalid p) {
+  switch (p) {
+    case OnInvalid::Hold:
+      return "hold";
+    case OnInvalid::Centre:
+      return "centre";
+    case OnInvalid::Full:
+      return "full";
+    default:
+      return "widen";
+  }
+}
+
+TrackedGaze tracked_gaze(const Trace& trace, size_t i, const TrackingPolicy& p) {
+  TrackedGaze g;
+  const auto& x = trace.samples;
+  if (i >= x.size()) return g;
+  if (x[i].valid) {
+    g.gaze_dir = x[i].gaze_dir;
+    return g;
+  }
+  g.valid = false;
+  // The last valid sample at or before i (a run is short: a backward scan is cheap enough,
+  // and keeps the function free of state).
+  size_t k = i;
+  while (k > 0 && !x[k].valid) --k;
+  const bool any = x[k].valid;
+  g.since_valid_s = x[i].t - x[k].t;
+  const glm::dvec3 held = any ? x[k].gaze_dir : glm::dvec3(0, 0, -1);
+  switch (p.on_invalid) {
+    case OnInvalid::Hold:
+      g.gaze_dir = held;
+      g.state = "held";
+      break;
+    case OnInvalid::Centre:
+      g.gaze_dir = glm::dvec3(0, 0, -1);
+      g.state = "lost";
+      break;
+    case OnInvalid::Full:
+      g.gaze_dir = held;
+      g.state = "held";
+      g.render_full = true;
+      break;
+    case OnInvalid::Widen:
+      g.gaze_dir = held;
+      g.state = "held";
+      g.ecc_scale = 1.0 / (1.0 + p.widen_per_s * g.since_valid_s);
+      break;
+  }
+  return g;
+}
+
+}  // namespace fovsim
