@@ -70,6 +70,7 @@ RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt) {
     std::printf("budget %.2f ms (%.0f Hz); results in %s\n", c.budget_ms, c.refresh_hz,
                 c.out_dir.c_str());
     for (auto& f : c.flags) std::printf("flag: %s\n", f.c_str());
+    if (!c.fidelity_note.empty()) std::printf("fidelity: %s\n", c.fidelity_note.c_str());
     if (c.target.is_object())
       std::printf(
           "target %s after %d of %d frames (+%d warm-up); achieved half-widths in manifest.json\n",
