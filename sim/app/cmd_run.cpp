@@ -69,7 +69,11 @@ void register_run(CLI::App& app, Action& action) {
       opt.targets = a->targets;
       RunResult r = run_experiment(cfg, opt);
       for (auto& w : r.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-      if (!r.printed_summary) std::printf("results in %s\n", r.out_dir.c_str());
+      if (!r.printed_summary) {
+        std::printf("results in %s\n", r.out_dir.c_str());
+        if (!a->quiet && !r.fidelity_note.empty())
+          std::printf("fidelity: %s\n", r.fidelity_note.c_str());
+      }
       if (!a->no_plots) {
         std::vector<std::string> args{r.out_dir};
         for (auto& x : a->plot.args()) args.push_back(x);

@@ -54,6 +54,7 @@ RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt) {
   result.target = c.target;
   result.warnings = c.warnings;
   result.printed_summary = c.print_summary;
+  result.fidelity_note = c.fidelity_note;
   if (c.print_summary) {
     // `+-95%`: half-widths of the 95% intervals (summary.csv `<col>_ci95`; nan below 20 frames).
     std::printf("\n%-16s %-10s %7s %9s %10s %7s %8s %7s %8s %7s %7s\n", "config", "gpu", "frames",
