@@ -433,12 +433,49 @@ def draw_strip(cols, gx, gy, title, colors=None):
     return fig
 
 
+# Figure output of every plot script (--format, --dpi): the PNG that index.html shows is always
+# written; --format pdf|svg writes the same figure next to it as PDF/SVG (vector: for a paper).
+OUTPUT = {"format": "png", "dpi": 110}
+FORMATS = ("png", "pdf", "svg")
+
+
+def add_output_args(ap):
+    """--format, --dpi and --configs, shared by plot_run.py and plot_sweep.py."""
+    ap.add_argument("--format", choices=FORMATS, default="png",
+                    help="also write every figure as PDF or SVG next to its PNG (default: png only)")
+    ap.add_argument("--dpi", type=float, default=110, help="resolution of raster output (default 110)")
+    ap.add_argument("--configs", help="comma-separated configurations (labels / config ids) to draw, in "
+                    "this order (default: all)")
+
+
+def set_output(a):
+    if not (a.dpi > 0 and a.dpi <= 2400):
+        raise SystemExit(f"--dpi {a.dpi}: expected a number in (0, 2400]")
+    OUTPUT["format"], OUTPUT["dpi"] = a.format, a.dpi
+
+
+def pick_configs(available, spec, what="configuration"):
+    """The configurations named by --configs (comma-separated), in that order; an unknown name is an
+    error listing the available ones."""
+    if not spec:
+        return list(available)
+    want = [s.strip() for s in spec.split(",") if s.strip()]
+    bad = [w for w in want if w not in available]
+    if bad:
+        raise SystemExit(f"--configs: unknown {what} {', '.join(bad)} (available: {', '.join(available)})")
+    return want
+
+
 def save(fig, path):
     os.makedirs(os.path.dirname(path) or ".", exist_ok=True)
-    tmp = os.path.join(os.path.dirname(path) or ".", ".tmp.%d.%s" % (os.getpid(), os.path.basename(path)))
-    fig.savefig(tmp, dpi=110, bbox_inches="tight")
+    paths = [path]
+    if OUTPUT["format"] != "png":
+        paths.append(os.path.splitext(path)[0] + "." + OUTPUT["format"])
+    for p in paths:
+        tmp = os.path.join(os.path.dirname(p) or ".", ".tmp.%d.%s" % (os.getpid(), os.path.basename(p)))
+        fig.savefig(tmp, dpi=OUTPUT["dpi"], bbox_inches="tight", format=os.path.splitext(p)[1][1:])
+        os.replace(tmp, p)  # atomic, like every fovsim output
     plt.close(fig)
-    os.replace(tmp, path)  # atomic, like every fovsim output
 
 
 def write_text_atomic(path, text):

@@ -13,6 +13,7 @@ results/README.md) and writes PNGs plus an index.html to results/<name>/plots/ (
   quality_vs_budget.png best mean fpsnr / ssim attainable within a frame budget B, per method
                         (95% intervals) and over all methods, with the display's budget
   shaded_fraction.png   mean shaded_fraction per config, with its 95% interval
+  paired_vs_baseline.png  every configuration minus the baseline (full), sorted by effect
   paired.png            paired.csv: per headline metric, the mean difference of every pair
                         of configs with its 95% interval (filled: the interval excludes 0)
   gaze.png              gaze path on the screen (pixels, row 0 on top)
@@ -326,8 +327,11 @@ def plot_quality_timeline(run, out):
             col = run.color(cid)
             if pts:
                 full = run.method(cid) == "full"  # the reference pipeline on top (it often sits at ssim 1)
+                # One full-sampling config is the dotted reference line; several (full_tbds, fir)
+                # keep their own line styles so they stay apart.
+                lone = full and sum(run.method(c) == "full" for c in run.configs) == 1
                 (h,) = ax.plot([p[0] for p in pts], [p[1] for p in pts], lw=1.4 if full else 1, color=col,
-                               ls=":" if full else run.linestyle(cid), label=cid, zorder=5 if full else 2)
+                               ls=":" if lone else run.linestyle(cid), label=cid, zorder=5 if full else 2)
                 handles.setdefault(cid, h)
             else:
                 not_drawn.setdefault(m, []).append(cid)
@@ -356,7 +360,7 @@ def plot_paired(run, out):
     pairs = []
     for r in run.paired:
         p = (r.get("config_a"), r.get("config_b"))
-        if p not in pairs:
+        if p not in pairs and p[0] in run.configs and p[1] in run.configs:
             pairs.append(p)
     # One row per pair, the same rows in every panel (shared y): its labels only on the left.
     fig, axes = plt.subplots(1, len(metrics), figsize=(3.4 * len(metrics) + 1.5, 0.28 * len(pairs) + 2),
@@ -379,9 +383,51 @@ def plot_paired(run, out):
     axes[0, 0].set_yticklabels([f"{a} − {b}" for a, b in pairs], fontsize=7)
     axes[0, 0].set_ylim(len(pairs) - 0.5, -0.5)
     fig.suptitle("Paired differences A − B (same frames, same gaze), 95% intervals; filled: the interval "
-                 "excludes 0; not drawn: non-finite (psnr of full is inf)", fontsize=9)
+                 "excludes 0; not drawn: a difference that is not finite (e.g. PSNR against an identical "
+                 "image)", fontsize=9)
     common.save(fig, os.path.join(out, "paired.png"))
-    return "paired.png"
+    return ["paired.png"] + plot_paired_baseline(run, out, metrics)
+
+
+def plot_paired_baseline(run, out, metrics):
+    """paired_vs_baseline.png: every configuration minus one baseline (the first configuration;
+    `full` when present), one colour per configuration, rows sorted by the effect on the first
+    metric (largest first): the plot a paper shows instead of all pairs."""
+    base = next((c for c in run.configs if run.method(c) == "full"), run.configs[0] if run.configs else None)
+    rows = {}
+    for r in run.paired:
+        a, b = r.get("config_a"), r.get("config_b")
+        if a not in run.configs or b not in run.configs or base not in (a, b) or a == b:
+            continue
+        other, sign = (a, 1.0) if b == base else (b, -1.0)
+        rows.setdefault(other, {})[r.get("metric")] = (sign * to_float(r.get("diff")), to_float(r.get("diff_ci95")),
+                                                      to_float(r.get("differs")) == 1)
+    if not rows:
+        return []
+    m0 = metrics[0]
+    order = sorted(rows, key=lambda c: -abs(rows[c].get(m0, (0, 0, 0))[0])
+                   if math.isfinite(rows[c].get(m0, (math.nan,))[0]) else 0)
+    fig, axes = plt.subplots(1, len(metrics), figsize=(3.4 * len(metrics) + 1.5, 0.3 * len(order) + 2),
+                             squeeze=False, sharey=True)
+    for ax, m in zip(axes[0], metrics):
+        for i, c in enumerate(order):
+            d, h, sig = rows[c].get(m, (math.nan, math.nan, False))
+            if not math.isfinite(d):
+                continue
+            col = run.color(c)
+            ax.errorbar([d], [i], xerr=[h] if math.isfinite(h) else None, fmt=run.style(c)[0], ms=5, capsize=2,
+                        color=col, mfc=col if sig else "white")
+        ax.axvline(0, color="k", lw=0.8)
+        ax.set_title(m, fontsize=9)
+        ax.set_xlabel(f"configuration − {base}, " + common.metric_label(m), fontsize=8)
+        ax.grid(axis="x", alpha=0.3)
+    axes[0, 0].set_yticks(range(len(order)))
+    axes[0, 0].set_yticklabels(order, fontsize=8)
+    axes[0, 0].set_ylim(len(order) - 0.5, -0.5)
+    fig.suptitle(f"Each configuration vs. {base} (paired: same frames, same gaze), 95% intervals, sorted by "
+                 f"|effect| on {m0}; filled: the interval excludes 0; not drawn: not finite", fontsize=9)
+    common.save(fig, os.path.join(out, "paired_vs_baseline.png"))
+    return ["paired_vs_baseline.png"]
 
 
 def pass_columns(run):
@@ -476,7 +522,8 @@ def plot_eccentricity(run, out):
 def plot_strips(run, out):
     """strip_<frame>.png for each images/frame_<n>/: reference and every configuration side by
     side with the gaze marked, insets at the gaze and in the periphery, error maps with a colour
-    bar (common.draw_strip); at most 8 configurations per strip (the title says so)."""
+    bar (common.draw_strip); at most 8 configurations per strip; more go on further pages
+    (strip_<frame>_p2.png, ...), never dropped; --configs chooses which and in what order."""
     img_root = os.path.join(run.dir, "images")
     if not os.path.isdir(img_root):
         raise Skip("no images/ (set outputs.image_frames)")
@@ -491,30 +538,37 @@ def plot_strips(run, out):
         cols = [("reference", plt.imread(ref), None)]
         labels = [run.by_config[c][0].get("label") or c for c in run.configs]
         shown = [lab for lab in labels if os.path.exists(os.path.join(full, lab + ".png"))]
-        for lab in shown[:8]:
-            err = os.path.join(full, lab + "_error.png")
-            cols.append((lab, plt.imread(os.path.join(full, lab + ".png")),
-                         plt.imread(err) if os.path.exists(err) else None))
-        if len(cols) < 2:
+        pages = [shown[i:i + 8] for i in range(0, len(shown), 8)]  # a second page, never dropped
+        if not pages:
             continue
-        h, w = cols[0][1].shape[:2]
-        gx, gy = w / 2, h / 2
-        rows = [r for r in run.frames or [] if r.get("frame") == frame]
-        if rows and isinstance(d.get("width"), (int, float)) and d["width"] > 0:
-            sc = w / float(d["width"])
-            x, y = to_float(rows[0].get("gaze_x")), to_float(rows[0].get("gaze_y"))
-            if math.isfinite(x) and math.isfinite(y):
-                gx, gy = x * sc, y * sc
-        title = f"frame {frame}: gaze +"
-        if len(shown) > 8:
-            title += f" (8 of {len(shown)} configurations shown)"
-        f = f"strip_{frame}.png"
-        colors = {run.by_config[c][0].get("label") or c: run.color(c) for c in run.configs}
-        common.save(common.draw_strip(cols, gx, gy, title, colors), os.path.join(out, f))
-        made.append(f)
+        for page, labs in enumerate(pages):
+            cols = [cols[0]]
+            for lab in labs:
+                err = os.path.join(full, lab + "_error.png")
+                cols.append((lab, plt.imread(os.path.join(full, lab + ".png")),
+                             plt.imread(err) if os.path.exists(err) else None))
+            made.append(_strip_page(run, d, frame, cols, page, len(pages), out))
     if not made:
         raise Skip("images/ has no frame_<n>/reference.png")
     return made
+
+
+def _strip_page(run, d, frame, cols, page, pages, out):
+    h, w = cols[0][1].shape[:2]
+    gx, gy = w / 2, h / 2
+    rows = [r for r in run.frames or [] if r.get("frame") == frame]
+    if rows and isinstance(d.get("width"), (int, float)) and d["width"] > 0:
+        sc = w / float(d["width"])
+        x, y = to_float(rows[0].get("gaze_x")), to_float(rows[0].get("gaze_y"))
+        if math.isfinite(x) and math.isfinite(y):
+            gx, gy = x * sc, y * sc
+    title = f"frame {frame}: gaze +"
+    if pages > 1:
+        title += f" (page {page + 1} of {pages})"
+    f = f"strip_{frame}.png" if page == 0 else f"strip_{frame}_p{page + 1}.png"
+    colors = {run.by_config[c][0].get("label") or c: run.color(c) for c in run.configs}
+    common.save(common.draw_strip(cols, gx, gy, title, colors), os.path.join(out, f))
+    return f
 
 
 def plot_video(run, out):
@@ -651,8 +705,14 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("results_dir", help="results/<name> with frames.csv, summary.csv, manifest.json")
     ap.add_argument("--out", help="output directory (default: RESULTS_DIR/plots)")
+    common.add_output_args(ap)
     a = ap.parse_args(argv)
+    common.set_output(a)
     run = Run(a.results_dir)
+    if a.configs:  # --configs: only these, in this order (every plot, strips included)
+        labels = {(run.by_config[c][0].get("label") or c): c for c in run.configs}
+        names = list(run.configs) + [n for n in labels if n not in run.configs]
+        run.configs = [labels.get(c, c) for c in common.pick_configs(names, a.configs)]
     if run.frames is None and run.summary is None:
         print(f"plot_run: error: {a.results_dir}: no frames.csv or summary.csv", file=sys.stderr)
         return 2

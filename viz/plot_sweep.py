@@ -369,9 +369,13 @@ def plot_strips(sw, out):
     (|luma error|, turbo 0–0.25, with its colour bar)."""
     made = []
     cells = list(dict.fromkeys(r.get("cell_id", "") for r in selected(sw, 16)))  # cells of the front
-    if len(cells) > 4:
-        note(f"strips: {len(cells)} cells hold front configurations; strips drawn for the first 4")
-    for cid in cells[:4]:
+    with_images = [c for c in cells if glob.glob(os.path.join(sw.dir, "runs", c, "images", "frame_*"))]
+    if not with_images:
+        raise Skip("no cell of the selected configurations wrote images (set outputs.image_frames)")
+    if len(with_images) > 4:
+        note(f"strips: {len(with_images)} cells with images hold front configurations; strips drawn for "
+             "the first 4")
+    for cid in with_images[:4]:
         # every method of the cell side by side (Pareto rows first), at most MAX_STRIP_CONFIGS
         rows = [r for r in sw.rows if r.get("cell_id", "") == cid]
         rows.sort(key=lambda r: r.get("pareto") != "1")
@@ -497,8 +501,14 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("sweep_dir", help="results/<name> with summary.csv and sweep_summary.json")
     ap.add_argument("--out", help="output directory (default: SWEEP_DIR/plots)")
+    common.add_output_args(ap)
     a = ap.parse_args(argv)
+    common.set_output(a)
     sw = Sweep(a.sweep_dir)
+    if a.configs:  # --configs: only these labels (every plot, strips included)
+        labels = list(dict.fromkeys(r.get("label", "") for r in sw.rows))
+        keep = set(common.pick_configs(labels, a.configs, "label"))
+        sw.rows = [r for r in sw.rows if r.get("label", "") in keep]
     if not sw.rows:
         print(f"plot_sweep: error: {a.sweep_dir}: no summary.csv rows (run fovsim merge first?)", file=sys.stderr)
         return 2

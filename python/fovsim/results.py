@@ -92,7 +92,9 @@ def load_run(directory, as_frame=False):
 
 
 def load_sweep(directory, cells=False, as_frame=False):
-    """Loads a `fovsim sweep` folder: {"summary", "pareto"} as structured arrays, "sweep" (the
+    """Loads a `fovsim sweep` folder: {"summary", "pareto", "paired", "iso_budget"} as structured
+    arrays (paired: the sweep's paired.csv, within-cell and across-cell differences with their 95%
+    intervals, docs/sweeps.md; None when a file is absent), "sweep" (the
     expanded sweep.json) as a dict, "dir"; with cells=True also "cells": {cell_id: load_run(...)}
     for every complete cell under runs/; as_frame=True gives DataFrames. Raises
     FileNotFoundError without summary.csv."""
@@ -104,6 +106,8 @@ def load_sweep(directory, cells=False, as_frame=False):
         "dir": d,
         "summary": summary,
         "pareto": load_csv(os.path.join(d, "pareto.csv")),
+        "paired": load_csv(os.path.join(d, "paired.csv")),
+        "iso_budget": load_csv(os.path.join(d, "iso_budget.csv")),
         "sweep": _load_json(os.path.join(d, "sweep.json")),
     }
     if cells:
@@ -114,7 +118,7 @@ def load_sweep(directory, cells=False, as_frame=False):
                 cd = os.path.join(runs, name)
                 if os.path.exists(os.path.join(cd, "cell.json")):
                     res["cells"][name] = load_run(cd, as_frame=as_frame)
-    return _frames_of(res, ("summary", "pareto"), as_frame)
+    return _frames_of(res, ("summary", "pareto", "paired", "iso_budget"), as_frame)
 
 
 def numeric_columns(arr, exclude=()):
@@ -238,8 +242,10 @@ def tidy_sweep(directory, metrics=None, drop_nan=True, as_frame=True):
     the keys (config_id, cell_id, method, label, gpu), the swept axes (columns named by their
     path, e.g. `methods[kfr].sigma`), the method parameters and `frames` as columns, then
     `metric`, `value` (the mean over the cell's frames) and `ci95` (its 95% half-width from
-    `<metric>_ci95`; nan when absent). `metrics` defaults to every numeric column that is not a
-    key, axis, parameter, half-width, pareto flag or wall-clock column. DataFrame with pandas."""
+    `<metric>_ci95`; nan when absent), `lo` and `hi` (value ∓ ci95). `metrics` defaults to every
+    numeric column that is not a key, axis, parameter, half-width, pareto flag or wall-clock
+    column. DataFrame with pandas. Differences between cells with paired intervals:
+    load_sweep(d)["paired"]."""
     d = os.fspath(directory)
     sw = load_sweep(d)
     s = sw["summary"]
@@ -269,10 +275,12 @@ def tidy_sweep(directory, metrics=None, drop_nan=True, as_frame=True):
         if m + "_ci95" in names and s.dtype[m + "_ci95"].kind == "f":
             ci[pos:pos + n] = s[m + "_ci95"][keep]
         pos += n
-    out = np.empty(len(arr), dtype=arr.dtype.descr + [("ci95", "f8")])
+    out = np.empty(len(arr), dtype=arr.dtype.descr + [("ci95", "f8"), ("lo", "f8"), ("hi", "f8")])
     for n in arr.dtype.names:
         out[n] = arr[n]
     out["ci95"] = ci
+    out["lo"] = out["value"] - ci
+    out["hi"] = out["value"] + ci
     if as_frame:
         try:
             import pandas as pd

@@ -141,6 +141,16 @@ class TidySweepTest(unittest.TestCase):
             self.assertTrue(math.isnan(fp["ci95"][0]))
             self.assertEqual(fp["ci95"][1], 0.5)
             self.assertEqual(fp["methods[kfr].sigma"][1], 2.4)
+            self.assertEqual(fp["lo"][1], 24.5)  # value -+ ci95
+            self.assertEqual(fp["hi"][1], 25.5)
+            # The sweep's paired.csv (within- and across-cell differences) comes with load_sweep.
+            with open(os.path.join(d, "paired.csv"), "w") as f:
+                f.write("kind,cell_a_id,cell_b_id,config_a,config_b,gpu,metric,axis,value_a,value_b,cell_a,"
+                        "cell_b,frames,mean_a,mean_b,diff,diff_ci95,diff_lo,diff_hi,differs\n"
+                        "across,0-a,1-b,kfr,kfr,g,fpsnr,latency.tracker_ms,0,50,0,1,24,25,24,1,0.5,0.5,1.5,1\n")
+            p = fovsim.load_sweep(d)["paired"]
+            self.assertEqual(list(p["kind"]), ["across"])
+            self.assertEqual(p["diff_lo"][0], 0.5)
 
 
 if __name__ == "__main__":

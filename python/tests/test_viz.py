@@ -173,6 +173,32 @@ class RunFiles(unittest.TestCase):
             else:
                 self.assertIn("ffmpeg not found", page)
 
+    def test_pdf_dpi_and_configs(self):
+        """--format pdf writes every figure as PDF next to its PNG; --configs keeps only the named
+        configurations (the strip then shows only them); an unknown name is an error listing them."""
+        import matplotlib.pyplot as plt
+        with tempfile.TemporaryDirectory() as d:
+            write(os.path.join(d, "frames.csv"), "\n".join(FRAMES) + "\n")
+            write(os.path.join(d, "summary.csv"), SUMMARY)
+            write(os.path.join(d, "manifest.json"),
+                  '{"display": {"width": 200, "height": 160, "refresh_hz": 90}}')
+            fd = os.path.join(d, "images", "frame_0")
+            os.makedirs(fd)
+            for name, v in (("reference", 1.0), ("kfr", 0.5), ("rmfr", 0.2)):
+                plt.imsave(os.path.join(fd, name + ".png"), np.full((40, 50, 3), v))
+            try:
+                self.assertEqual(plot_run.main([d, "--format", "pdf", "--dpi", "150", "--configs", "kfr"]), 0)
+            finally:
+                common.OUTPUT.update({"format": "png", "dpi": 110})
+            out = os.path.join(d, "plots")
+            pngs = [f for f in os.listdir(out) if f.endswith(".png")]
+            self.assertTrue(pngs)
+            for f in pngs:
+                self.assertTrue(os.path.exists(os.path.join(out, f[:-4] + ".pdf")), f)
+            with self.assertRaises(SystemExit) as e:
+                plot_run.main([d, "--configs", "nope"])
+            self.assertIn("available:", str(e.exception.code))
+
     def test_video_skipped_without_ffmpeg_or_frames(self):
         with tempfile.TemporaryDirectory() as d:
             write(os.path.join(d, "frames.csv"), "\n".join(FRAMES) + "\n")

@@ -15,6 +15,7 @@ struct RunArgs {
   int threads = 0;
   bool quiet = false, no_plots = false;
   double watchdog_s = 60;
+  PlotFlags plot;
 };
 }  // namespace
 
@@ -38,6 +39,7 @@ void register_run(CLI::App& app, Action& action) {
               "--no-plots: do not run viz/plot_run.py at the end; --plots (the default): plots, "
               "run.mp4 (with ffmpeg) and index.html in <out>/plots/, skipped with a message when "
               "/usr/bin/python3 has no matplotlib");
+  add_plot_flags(c, a->plot);
   c->add_option("--watchdog", a->watchdog_s,
                 "Seconds: stop with an error naming the frame and method when one method's frame "
                 "runs longer than\n"
@@ -67,9 +69,15 @@ void register_run(CLI::App& app, Action& action) {
       opt.targets = a->targets;
       RunResult r = run_experiment(cfg, opt);
       for (auto& w : r.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-      if (!r.printed_summary) std::printf("results in %s\n", r.out_dir.c_str());
+      if (!r.printed_summary) {
+        std::printf("results in %s\n", r.out_dir.c_str());
+        if (!a->quiet && !r.fidelity_note.empty())
+          std::printf("fidelity: %s\n", r.fidelity_note.c_str());
+      }
       if (!a->no_plots) {
-        PlotOutcome p = run_plot_script("plot_run.py", {r.out_dir}, a->quiet);
+        std::vector<std::string> args{r.out_dir};
+        for (auto& x : a->plot.args()) args.push_back(x);
+        PlotOutcome p = run_plot_script("plot_run.py", args, a->quiet);
         if (p.status == PlotOutcome::Status::Failed)
           std::fprintf(stderr, "fovsim: %s\n", p.message.c_str());
         else if (p.status == PlotOutcome::Status::Skipped && !p.message.empty() && !a->quiet)

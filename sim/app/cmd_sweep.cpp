@@ -24,6 +24,7 @@ struct SweepArgs {
   int threads = 0, batch = 0;
   double watchdog_s = 60;
   bool bench = false, no_plots = false, quiet = false, json = false, allow_partial = false;
+  PlotFlags plot;
   std::vector<std::string> sources;
   std::vector<std::string> targets;
 };
@@ -37,8 +38,10 @@ std::string command_line(const std::string& cmd, const SweepArgs& a) {
 
 // Plots and index.html (viz/plot_sweep.py) through the one launcher (sim/experiment/plots.h):
 // skipped with one line when /usr/bin/python3 or matplotlib is missing.
-void make_plots(const std::string& out, bool quiet) {
-  PlotOutcome p = run_plot_script("plot_sweep.py", {out}, quiet);
+void make_plots(const std::string& out, bool quiet, const PlotFlags& flags = {}) {
+  std::vector<std::string> args{out};
+  for (auto& x : flags.args()) args.push_back(x);
+  PlotOutcome p = run_plot_script("plot_sweep.py", args, quiet);
   if (p.status == PlotOutcome::Status::Failed)
     std::fprintf(stderr, "fovsim: %s\n", p.message.c_str());
   else if (p.status == PlotOutcome::Status::Skipped && !p.message.empty() && !quiet)
@@ -74,6 +77,7 @@ void register_sweep(CLI::App& app, Action& action) {
       ->check(CLI::Range(0, 1000000));
   c->add_flag("--bench", a->bench,
               "Print the timing report (references vs. cells' own work) and write bench.json");
+  add_plot_flags(c, a->plot);
   c->add_flag("--no-plots,!--plots", a->no_plots,
               "--no-plots: do not run viz/plot_sweep.py at the end; --plots: the default");
   c->add_flag("-q,--quiet", a->quiet, "Print only errors");
@@ -190,7 +194,7 @@ void register_sweep(CLI::App& app, Action& action) {
                     cpu_per_thread);
         std::printf("bench: wall / (CPU / threads) = %.3f\n", ratio);
       }
-      if (r.complete && !a->no_plots) make_plots(r.out_dir, a->quiet);
+      if (r.complete && !a->no_plots) make_plots(r.out_dir, a->quiet, a->plot);
       return 0;
     };
   });

@@ -56,4 +56,17 @@ void register_compare(CLI::App& app, Action& action);  // fovsim compare REF TES
 void register_converge(CLI::App& app, Action& action);
 // fovsim fidelity CONFIG (docs/fidelity.md)
 void register_fidelity(CLI::App& app, Action& action);
+
+// --plot-format, --plot-dpi, --plot-configs of `run` and `sweep` (the viz scripts' --format,
+// --dpi, --configs).
+template <class Flags>
+void add_plot_flags(CLI::App* c, Flags& f) {
+  c->add_option("--plot-format", f.format,
+                "Also write every plot as pdf or svg next to its png (viz --format)")
+      ->check(CLI::IsMember({"png", "pdf", "svg"}));
+  c->add_option("--plot-dpi", f.dpi, "Resolution of raster plots (default 110)")
+      ->check(CLI::Range(1.0, 2400.0));
+  c->add_option("--plot-configs", f.configs,
+                "Comma-separated configurations (labels) to draw, in that order (default: all)");
+}
 }  // namespace fovsim::app

@@ -258,6 +258,48 @@ struct Shared {
   }
 };
 
+// The fidelity a run used and the bias the fidelity ladder (docs/fidelity.md, `fovsim
+// fidelity` on the quickstart methods, top rung render.scale 0.5, 90 frames) measured for it:
+// the largest |difference| of any method's mean from the top rung's. Rungs not measured say
+// so; nothing is extrapolated.
+Json fidelity_record(double scale, int stride, int spp) {
+  Json bias = nullptr;
+  std::string note;
+  struct Rung {
+    double scale;
+    double psnr_db, fpsnr_db, frame_time_pct, shaded_fraction;
+  };
+  // docs/fidelity.md, ladder table (scale rungs against the top rung 0.5).
+  static const Rung rungs[] = {{0.125, 4.65, 4.58, 7.01, 0.125}, {0.25, 2.39, 2.35, 2.27, 0.040}};
+  for (const Rung& r : rungs)
+    if (std::fabs(scale - r.scale) < 1e-9)
+      bias = Json{{"vs_render_scale", 0.5},
+                  {"psnr_db", r.psnr_db},
+                  {"fpsnr_db", r.fpsnr_db},
+                  {"est_ms_total_percent", r.frame_time_pct},
+                  {"shaded_fraction", r.shaded_fraction},
+                  {"ranking_kept", false}};
+  if (bias.is_object())
+    note = "render.scale " + format_number(scale) +
+           ": the fidelity ladder (docs/fidelity.md) measured mean biases up to " +
+           format_number(bias["psnr_db"].get<double>()) + " dB PSNR, " +
+           format_number(bias["est_ms_total_percent"].get<double>()) + "% frame time and " +
+           format_number(bias["shaded_fraction"].get<double>()) +
+           " shaded fraction against render.scale 0.5, with method rankings changed: a paired "
+           "difference smaller than that may not hold at full resolution (check with `fovsim "
+           "fidelity`)";
+  else if (scale < 0.5)
+    note = "render.scale " + format_number(scale) +
+           " is below 0.5 and not a rung the fidelity ladder measured (docs/fidelity.md): its "
+           "bias is unknown; measure it with `fovsim fidelity`";
+  Json j{{"render_scale", scale},
+         {"frames_stride", stride},
+         {"reference_spp", spp},
+         {"known_bias", bias}};
+  if (!note.empty()) j["note"] = note;
+  return j;
+}
+
 // Values that are valid but probably not what was meant (printed as warnings, recorded in
 // the manifest): an angle in degrees below 1 (phi_f = 0.17 reads as radians), image frames
 // that are not frames of the run, an implausible trace (trace_stats: a map's "unit": "rad" on
@@ -761,6 +803,7 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
           {"triangles", sh.scene->triangle_count()},
           {"features", sh.scene->features().to_json()}}},
         {"trace", {{"source", sh.trace.source}, {"samples", sh.trace.samples.size()}}},
+        {"fidelity", fidelity_record(sh.scale, sh.stride, sh.rs.spp)},
         {"frames",
          {{"start", sh.start}, {"count", sh.count}, {"stride", sh.stride}, {"warmup", sh.warmup}}},
         {"machine", machine_info()},
@@ -915,6 +958,8 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
     r.print_summary = c->print_table;
     r.flags.assign(c->flags_seen.begin(), c->flags_seen.end());
     r.warnings = c->warnings;
+    if (c->manifest["fidelity"].contains("note"))
+      r.fidelity_note = c->manifest["fidelity"]["note"].get<std::string>();
     r.cell_ms = c->cell_ms;
     r.summary = summarize(c->frames, r.budget_ms);
     if (c->latency.enabled) r.summary = summarize_phases(c->frames, r.summary, c->metric_names);
@@ -946,6 +991,7 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
     }
     Json summary{
         {"name", c->name}, {"budget_ms", r.budget_ms}, {"configs", sj}, {"flags", r.flags}};
+    summary["fidelity"] = c->manifest["fidelity"];  // the fidelity used and its known bias
     write_file_atomic(out + "/summary.json", summary.dump(2) + "\n");
     c->manifest["status"] = "complete";
     c->manifest["end_time"] = iso_now();

@@ -47,6 +47,7 @@ struct CellResult {
   bool print_summary = false;
   std::vector<std::string> flags;
   std::vector<std::string> warnings;  // valid but suspicious values (engine.cpp config_warnings)
+  std::string fidelity_note;  // manifest "fidelity" note: the known bias of this render.scale
   double cell_ms = 0;  // wall time spent in this cell's own work (methods, metrics, cost, images)
   Json target;         // with targets: the manifest's "target" record (else null)
 };

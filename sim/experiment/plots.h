@@ -28,6 +28,18 @@ std::string plot_command(const std::string& script_path, const std::vector<std::
 // not found, /usr/bin/python3 is missing or cannot import matplotlib; skips silently (empty
 // message) when the environment sets FOVSIM_NO_PLOTS to a value other than "0" (used by the
 // test suites). `quiet` silences the script's own output.
+// Figure options shared by `fovsim run` and `fovsim sweep`: --plot-format png|pdf|svg,
+// --plot-dpi, --plot-configs, passed to the viz scripts as --format/--dpi/--configs.
+struct PlotFlags {
+  std::string format = "png", configs;
+  double dpi = 110;
+  std::vector<std::string> args() const {
+    std::vector<std::string> a{"--format", format, "--dpi", std::to_string(dpi)};
+    if (!configs.empty()) a.insert(a.end(), {"--configs", configs});
+    return a;
+  }
+};
+
 PlotOutcome run_plot_script(const std::string& script, const std::vector<std::string>& args,
                             bool quiet);
 

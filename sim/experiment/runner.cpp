@@ -55,6 +55,7 @@ RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt) {
   result.target = c.target;
   result.warnings = c.warnings;
   result.printed_summary = c.print_summary;
+  result.fidelity_note = c.fidelity_note;
   if (c.print_summary) {
     // `+-`: half-widths of the 95% intervals (summary.csv `<col>_ci95`; nan below 20 frames).
     // The metric columns are the registry's headline metrics present in the run.
@@ -88,6 +89,7 @@ RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt) {
     std::printf("budget %.2f ms (%.0f Hz); results in %s\n", c.budget_ms, c.refresh_hz,
                 c.out_dir.c_str());
     for (auto& f : c.flags) std::printf("flag: %s\n", f.c_str());
+    if (!c.fidelity_note.empty()) std::printf("fidelity: %s\n", c.fidelity_note.c_str());
     if (c.target.is_object())
       std::printf(
           "target %s after %d of %d frames (+%d warm-up); achieved half-widths in manifest.json\n",

@@ -29,6 +29,7 @@ struct RunResult {
   Json target;                        // manifest "target" record when targets were given
   std::vector<std::string> warnings;  // suspicious but valid values (manifest "warnings")
   bool printed_summary = false;       // the summary table (with the results path) was printed
+  std::string fidelity_note;          // manifest "fidelity" note (empty at scale >= 0.5)
 };
 
 RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt);

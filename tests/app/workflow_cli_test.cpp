@@ -88,6 +88,12 @@ TEST(Workflow, WarmupFramesAreRenderedNotRecorded) {
   const double warm = std::stod(fb.rows[0][fb.col("est_ms_total")]);
   EXPECT_LT(warm, cold);
   EXPECT_EQ(fa.rows[1][fa.col("est_ms_total")], fb.rows[0][fb.col("est_ms_total")]);
+  // The manifest states the fidelity; 0.05 is no rung of the ladder, so its bias is unknown.
+  const std::string man = read_text(d + "/b/manifest.json");
+  EXPECT_NE(man.find("\"render_scale\": 0.05"), std::string::npos) << man;
+  EXPECT_NE(man.find("\"warmup\": 1"), std::string::npos);
+  EXPECT_NE(man.find("not a rung the fidelity ladder measured"), std::string::npos);
+  EXPECT_NE(read_text(d + "/b/summary.json").find("\"fidelity\""), std::string::npos);
 }
 
 TEST(Workflow, LatencySweepAnswersWithAPairedInterval) {

@@ -274,8 +274,7 @@ TEST(Override, ErrorsNameTheCommandLine) {
   (void)ms[0].string("method");
   ms[0].ignore("sigma");  // the failed read above did not mark it
   EXPECT_EQ(error_of([&] { p.finish(); }),
-            "override 'rendr.scale=1': rendr: unknown key \"rendr\" (not a parameter here; check "
-            "spelling)");
+            "override 'rendr.scale=1': rendr: unknown key \"rendr\" (did you mean \"render\"?)");
   // Keys the command line did not touch still name the file.
   EXPECT_EQ(error_of([&] {
               (void)p.child("render").string("scale");

@@ -26,8 +26,17 @@ TEST(Params, UnknownKeyNamesPath) {
     FAIL() << "expected an error";
   } catch (const Error& e) {
     EXPECT_EQ(std::string(e.what()),
-              "cfg.json: methods[0].sigmma: unknown key \"sigmma\" (not a parameter here; check "
-              "spelling)");
+              "cfg.json: methods[0].sigmma: unknown key \"sigmma\" (did you mean \"sigma\"?)");
+  }
+  // No known key close to it: the old hint.
+  Params q(Json{{"zzzzzz", 1}}, "cfg.json");
+  q.number("sigma", 1.0);
+  try {
+    q.finish();
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "cfg.json: zzzzzz: unknown key \"zzzzzz\" (not a parameter here; check spelling)");
   }
 }
 
@@ -65,4 +74,20 @@ TEST(Params, Overrides) {
   EXPECT_EQ(j["new"]["key"], true);
   EXPECT_THROW(apply_override(j, "a.b[3].c=1"), Error);
   EXPECT_THROW(apply_override(j, "novalue"), Error);
+}
+
+// Values written by a "base" file: errors name that file, relative paths resolve in its folder,
+// and a command-line override of the same key is the user's again.
+TEST(Params, InheritedValuesNameTheirFile) {
+  Params p(Json{{"trace", {{"file", "t.csv"}}}, {"methods", Json::array({{{"sigma", -1}}})}},
+           "dir/child.json");
+  p.set_inherited({{"trace.file", "/repo/configs/base.json"}, {"methods", "../b.json"}});
+  Params t = p.child("trace");
+  EXPECT_EQ(t.where("file"), "dir/child.json: trace.file (inherited from /repo/configs/base.json)");
+  EXPECT_EQ(t.source_dir("file"), "/repo/configs");
+  auto ms = p.children("methods");
+  EXPECT_EQ(ms[0].where("sigma"), "dir/child.json: methods[0].sigma (inherited from ../b.json)");
+  EXPECT_EQ(p.source_dir("scene"), "");  // written by the config itself
+  p.set_origins({{"trace.file", "trace.file=x.csv"}});
+  EXPECT_EQ(t.source_dir("file"), "");
 }
