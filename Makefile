@@ -114,7 +114,9 @@ test-sanitize: deps
 # recording, sweep specs), each run for FUZZ_SECONDS with its committed seed corpus and
 # dictionary (tests/fuzz/README.md). New corpus entries and crash inputs stay under
 # $(SAN_BUILD)/fuzz/; a crash fails the target and becomes a regression test.
-FUZZ_TARGETS ?= params trace_csv importer sweep scene png
+# fuzz_scene and fuzz_png build with FOVSIM_FUZZ but are not yet in CI's list: they have not had
+# a first 60 s run under ASan/LSan (assimp); add them here once they have (tests/fuzz/README.md).
+FUZZ_TARGETS ?= params trace_csv importer sweep
 FUZZ_SECONDS ?= 60
 FUZZ_OUT := $(SAN_BUILD)/fuzz
 .PHONY: fuzz
