@@ -206,6 +206,10 @@ GpuProfile profile_from_fit(const CostFit& fit, const std::string& gpu, const Ca
     PassCoef pc;
     auto oh = fit.theta.find(pass + ".overhead_ms");
     pc.overhead_ms = oh == fit.theta.end() ? 0 : oh->second;
+    // A pass no fitted row measured: its nominal work at the pooled efficiency (prior_theta);
+    // the frame's rest (present, UI) has no nominal work and stays 0.
+    const bool unseen = fit.unseen(pass);
+    if (unseen) pc.overhead_ms = pass == "frame" ? 0.0 : fit.prior_overhead_ms;
     // Every term the model knows for this pass (term_resource validates the pair).
     for (const char* term :
          {"tris", "frags", "gbuffer_bytes", "shadow_tris", "shadow_texels", "texels", "pixels",
@@ -219,6 +223,10 @@ GpuProfile profile_from_fit(const CostFit& fit, const std::string& gpu, const Ca
       double rate = se.spec.rate_per_ms(r);
       if (pass == "lighting") {  // unit work: the workload carries the (fitted) flops
         pc.terms[term] = 1.0 / rate;
+        continue;
+      }
+      if (unseen) {
+        pc.terms[term] = prior_theta(fit, pass, term) / rate;
         continue;
       }
       auto t = fit.theta.find(pass + "." + term);
@@ -414,6 +422,120 @@ double theta_floor(const std::string& pass, const std::string& term) {
   return 0.0;
 }
 
+double nominal_work(const std::string& pass, const std::string& term, std::string* like,
+                    std::string* why) {
+  struct Nominal {
+    const char *pass, *term;
+    double work;
+    const char *like, *why;
+  };
+  // Bytes per unit (memory terms) or FP32 operations per unit (shading terms) at 100%
+  // efficiency, from each pass's algorithm as its paper states it. Not fitted.
+  static const Nominal table[] = {
+      {"reproject", "pixels", 105, "",
+       "Franke et al. 2021 §4: each previous pixel is a point sprite of colour (RGBA8, 4 B) and "
+       "world position (XYZW 32-bit, 16 B), read and written with a depth test (44 B); push-pull "
+       "hole filling over the mip chain (4/3 x 40 B = 53 B); confidence (8 B)"},
+      {"ssao", "pixels", 42, "",
+       "Franke et al. 2021 §8.4: SSAO at half resolution, 32 samples per pixel: 32 x 4 B depth + "
+       "8 B normal + 1 B written per half-resolution pixel = 137 B / 4 = 34 B per pixel, plus a "
+       "full-resolution upsample/blur (8 B)"},
+      {"tonemap", "pixels", 12, "", "read RGBA16F (8 B), write RGBA8 (4 B)"},
+      {"taa", "pixels", 36, "",
+       "current colour 8 B, history 8 B, motion 4 B read; output and history 8 B each written "
+       "(the 3x3 clamp neighbourhood from cache)"},
+      {"post_aa", "pixels", 108, "",
+       "Yang et al. 2021 §6: 3x3 Gaussian filter (9 x 8 B) and TAA (36 B)"},
+      {"pass2", "taps", 8, "", "one RGBA16F texel per filter tap, uncached"},
+      {"importance", "pixels", 16, "",
+       "Yang et al. 2021 eqs. 3-9: depth and normal read (8 B), importance written with its mip "
+       "chain (8 B)"},
+      {"importance", "samples", 50, "",
+       "Yang et al. 2021 Alg. 1: one quasi-Metropolis-Hastings step (candidate, importance "
+       "lookup, acceptance ratio)"},
+      {"contribution", "evals", 300, "",
+       "Yang et al. 2021 eq. 14: geometry term (distance, two cosines, a division, ~20 flops) and "
+       "the BLSO visibility mix of two local-space estimates of a few samples each (~280 flops)"},
+      {"light_culling", "vpls", 100, "",
+       "Yang et al. 2021 §5: one random draw, a comparison and the compaction of a VPL"},
+      {"rsm", "tris", 1, "shadow.shadow_tris",
+       "a reflective shadow map is a shadow map rendered from the light (Dachsbacher and "
+       "Stamminger 2005): the same work per triangle"},
+      {"rsm", "texels", 3, "shadow.shadow_texels",
+       "Dachsbacher and Stamminger 2005: an RSM texel stores depth, normal and flux: three "
+       "render targets per shadow-map texel"},
+  };
+  for (const Nominal& n : table)
+    if (pass == n.pass && term == n.term) {
+      if (like) *like = n.like;
+      if (why) *why = n.why;
+      return n.work;
+    }
+  if (like) like->clear();
+  if (why) why->clear();
+  return 0.0;
+}
+
+double prior_theta(const CostFit& fit, const std::string& pass, const std::string& term) {
+  std::string like;
+  const double w = nominal_work(pass, term, &like);
+  const double fl = theta_floor(pass, term);
+  if (!like.empty()) {
+    const auto dot = like.find('.');
+    const std::string lp = like.substr(0, dot), lt = like.substr(dot + 1);
+    if (fit.unseen(lp)) return std::max(fl, w * prior_theta(fit, lp, lt));
+    auto it = fit.theta.find(like);
+    const double lf = fit.model == CostModelKind::Roofline ? theta_floor(lp, lt) : 0.0;
+    return std::max(fl, w * (it == fit.theta.end() ? lf : std::max(lf, it->second)));
+  }
+  if (!(w > 0)) return fl;
+  auto e = fit.efficiency.find(term_resource(pass, term, ""));
+  const double eff = e == fit.efficiency.end() || !(e->second > 0) ? 1.0 : e->second;
+  return std::max(fl, w / eff);
+}
+
+namespace {
+
+// Pooled efficiencies and the prior overhead of the passes a fit never measured.
+void finish_priors(CostFit& fit) {
+  std::map<Resource, std::pair<double, int>> acc;
+  std::vector<double> oh;
+  for (const std::string& pass : known_passes()) {
+    if (fit.unseen(pass)) continue;
+    std::set<Resource> res;
+    for (const char* term : {"pixels", "taps", "samples", "evals", "vpls", "holes"}) {
+      std::string like;
+      const double w = nominal_work(pass, term, &like);
+      if (!like.empty() || !(w > 0)) continue;
+      auto it = fit.theta.find(pass + "." + term);
+      if (it == fit.theta.end() || !(it->second > 0)) continue;  // never measured or never bound
+      auto& a = acc[term_resource(pass, term, "")];
+      a.first += std::log(w / it->second), ++a.second;
+    }
+    // Overheads of the single-resource screen and shading passes (no geometry work).
+    bool single = false;
+    for (const char* term : {"pixels", "taps", "evals", "vpls"}) {
+      try {
+        term_resource(pass, term, "");
+        single = pass != "skybox" && pass != "importance";
+      } catch (const Error&) {
+      }
+    }
+    auto o = fit.theta.find(pass + ".overhead_ms");
+    if (single && o != fit.theta.end()) oh.push_back(o->second);
+  }
+  fit.efficiency.clear();
+  for (auto& [r, a] : acc) fit.efficiency[r] = std::exp(a.first / a.second);
+  fit.prior_overhead_ms = 0;
+  if (!oh.empty()) {
+    std::sort(oh.begin(), oh.end());
+    const size_t m = oh.size() / 2;
+    fit.prior_overhead_ms = oh.size() % 2 ? oh[m] : 0.5 * (oh[m - 1] + oh[m]);
+  }
+}
+
+}  // namespace
+
 std::string theta_unit(const std::string& key) {
   if (key.rfind("geo:", 0) == 0) return "[triangle-rate units per submitted triangle, this scene]";
   const auto dot = key.find('.');
@@ -455,7 +577,10 @@ CostFit fit_cost_model(const CalData& data, const FitOptions& opt) {
   fit.model = CostModelKind::Linear;
   solve_once(fit, CostFit(fit), data, used, opt);
   fit.iterations = 1;
-  if (opt.model == CostModelKind::Linear) return fit;
+  if (opt.model == CostModelKind::Linear) {
+    finish_priors(fit);
+    return fit;
+  }
   // Roofline: the max makes the fit piecewise linear. Active-set iteration: pick each pass's
   // bottleneck with the current theta, solve the linear problem on those terms only, repeat
   // until the fitted loss stops improving. Two deterministic starts: every multi-resource
@@ -484,8 +609,64 @@ CostFit fit_cost_model(const CalData& data, const FitOptions& opt) {
       f = next;
     }
   }
+  finish_priors(best);
   return best;
 }
+
+namespace {
+
+// Roofline: the G-buffer pass costs overhead + max(triangle time, fragment time, byte time),
+// so the scene's triangle work enters a row only where triangles are the bottleneck. A linear
+// refit on the current bottlenecks cannot raise it past another resource; instead the
+// relative-error loss of the workload's G-buffer rows is minimised over log(theta) by golden
+// section (each row's model is convex and non-decreasing in theta).
+void refit_tri_cost_roofline(CostFit& fit, const CalData& data, const std::string& workload,
+                             const std::vector<const CalEntry*>& rows, const std::string& col) {
+  std::vector<const CalEntry*> geo;
+  for (auto* e : rows)
+    if (e->workload == workload && e->published_ms > 0 &&
+        std::find(e->passes.begin(), e->passes.end(), "gbuffer") != e->passes.end())
+      geo.push_back(e);
+  auto it = fit.theta.find("gbuffer.tris");
+  if (geo.empty() || it == fit.theta.end() || !(it->second > 0)) return;
+  const double mean = it->second;
+  auto set = [&](double th) {
+    fit.theta[col] = th;
+    fit.workloads[workload].tri_cost = th / mean;
+  };
+  auto loss = [&](double u) {
+    set(std::exp(u));
+    double l = 0;
+    for (auto* e : geo)
+      l += std::pow((predict_entry(fit, data, *e) - e->published_ms) / e->published_ms, 2);
+    return l;
+  };
+  const double fl = std::max(1e-9, theta_floor("gbuffer", "tris"));
+  // A coarse scan brackets the minimum (the loss is flat where triangles do not bind), then
+  // golden section refines it.
+  const double lo = std::log(fl), hi = std::log(std::max(fl, mean) * 1e4);
+  const int kScan = 48;
+  int best = 0;
+  double best_l = HUGE_VAL;
+  for (int i = 0; i <= kScan; ++i) {
+    const double l = loss(lo + (hi - lo) * i / kScan);
+    if (l < best_l) best_l = l, best = i;
+  }
+  double a = lo + (hi - lo) * std::max(0, best - 1) / kScan;
+  double b = lo + (hi - lo) * std::min(kScan, best + 1) / kScan;
+  const double g = (std::sqrt(5.0) - 1) / 2;
+  double x1 = b - g * (b - a), x2 = a + g * (b - a), f1 = loss(x1), f2 = loss(x2);
+  for (int i = 0; i < 80 && b - a > 1e-6; ++i) {
+    if (f1 <= f2) {
+      b = x2, x2 = x1, f2 = f1, x1 = b - g * (b - a), f1 = loss(x1);
+    } else {
+      a = x1, x1 = x2, f1 = f2, x2 = a + g * (b - a), f2 = loss(x2);
+    }
+  }
+  set(std::exp(0.5 * (a + b)));
+}
+
+}  // namespace
 
 void refit_workload(CostFit& fit, const CalData& data, const std::string& workload,
                     const std::vector<const CalEntry*>& rows) {
@@ -521,16 +702,18 @@ void refit_workload(CostFit& fit, const CalData& data, const std::string& worklo
         num += a * b;
         den += a * a;
       }
-      if (!(den > 0)) continue;
       if (c[0] == 'w') {
+        if (!(den > 0)) continue;
         Workload& w = fit.workloads[workload];
         (fitted_param(w) == "vpl_flops" ? w.vpl_flops : w.shading_flops) = std::max(0.0, num / den);
-      } else {
-        double fl = fit.model == CostModelKind::Roofline ? theta_floor("gbuffer", "tris") : 0.0;
-        fit.theta[c] = std::max(fl, num / den);
+      } else if (fit.model != CostModelKind::Roofline) {
+        if (!(den > 0)) continue;
+        fit.theta[c] = std::max(0.0, num / den);
         auto it = fit.theta.find("gbuffer.tris");
         if (it != fit.theta.end() && it->second > 0)
           fit.workloads[workload].tri_cost = fit.theta[c] / it->second;
+      } else {
+        refit_tri_cost_roofline(fit, data, workload, rows, c);
       }
     }
 }

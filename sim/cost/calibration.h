@@ -67,7 +67,27 @@ struct CostFit {
   int rows = 0;
   CostModelKind model = CostModelKind::Linear;
   int iterations = 0;  // roofline: active-set refits until the bottlenecks stop changing
+  // Passes no fitted row measured (a paper's own passes when that paper is left out) are
+  // costed from their nominal work (nominal_work) at the pooled efficiency of their resource:
+  // efficiency[r] = geometric mean of nominal / theta over the fitted terms of r that have a
+  // nominal work; prior_overhead_ms = median fitted overhead of the single-resource passes.
+  std::map<Resource, double> efficiency;
+  double prior_overhead_ms = 0;
+  bool unseen(const std::string& pass) const {
+    return !seen_passes.empty() && !seen_passes.count(pass);
+  }
 };
+
+// Work per counter unit of a (pass, term) at 100% efficiency, derived from the algorithm the
+// papers describe (docs/cost_model.md "Absolute times across papers"): bytes per pixel or tap
+// (memory), FP32 operations per unit (shading). 0: none stated. `like`: instead, the fitted
+// theta of that "pass.term" times the returned factor (e.g. an RSM is a shadow map with three
+// render targets). `why` receives the derivation.
+double nominal_work(const std::string& pass, const std::string& term, std::string* like = nullptr,
+                    std::string* why = nullptr);
+// Theta of a term of a pass the fit never measured (CostFit::unseen): nominal work at the
+// pooled efficiency, or its `like` term's fitted theta times the factor; floor when neither.
+double prior_theta(const CostFit& fit, const std::string& pass, const std::string& term);
 
 // Roofline floor of theta (work per counter unit at 100% efficiency): 1 for terms counted in
 // their resource's own unit (triangles, fragments, texels, bytes), 0 for the others.

@@ -36,9 +36,10 @@ const char* kIntervalMethod =
     "split-conformal 10%/90% quantiles of log(published/model) over the held-out rows of fovsim "
     "validate-cost's leave-one-seed/GPU/scene-out refits: per pass (passes) where the pass has "
     "at least 5 single-pass rows, shrunk toward the pooled quantiles with weight n/(n+8) in log "
-    "space, else pooled; the total (total) from the held-out frame totals, whose sorted scores "
-    "(total_scores) give budget's probability of fitting; widen > 1: a GPU no table used "
-    "(log-widths multiplied)";
+    "space, else pooled; the total (total) from every held-out frame total (leave-one-scene-out "
+    "and leave-one-paper-out, passes a refit never measured costed from their nominal work), "
+    "whose sorted scores (total_scores) give budget's probability of fitting; widen > 1: a GPU "
+    "no table used (log-widths multiplied)";
 
 }  // namespace
 
@@ -170,7 +171,8 @@ ValidationOutputs run_validation(const std::string& models, double level) {
       csv << ",\n";
     } else {
       double lo = 0, hi = 0;
-      row_interval(iv, r.parts, &lo, &hi, r.kind == "total" || r.kind == "withheld");
+      row_interval(iv, r.parts, &lo, &hi,
+                   r.kind == "total" || r.kind == "total_prior" || r.kind == "withheld");
       csv << lo << ',' << hi << "\n";
     }
   }
@@ -194,7 +196,8 @@ ValidationOutputs run_validation(const std::string& models, double level) {
   txt << "coverage (nested): each target table's held-out rows against the intervals built from "
          "the other tables' held-out rows;\n"
          "  per-pass: held-out per-pass rows; total: held-out frame totals whose passes the refit "
-         "all saw (split-conformal on the other tables' held-out totals)\n\n";
+         "all saw or costed from nominal work (split-conformal on the other tables' held-out "
+         "totals)\n\n";
   txt << "== interval calibration per model (split-conformal on log(published/model), grouped by "
          "paper = GPU: a table never calibrates its own rows); coverage [Wilson 95%] and median "
          "half-width / estimate\n";
@@ -250,8 +253,8 @@ ValidationOutputs run_validation(const std::string& models, double level) {
       int n = 0, np = 0;
       for (auto& r : rep.rows) {
         if (r.experiment != ex || !(r.published_ms > 0) || !(r.model_ms > 0)) continue;
-        if (r.kind == "total") sum += std::fabs(r.rel_err()), ++n;
-        if (r.kind == "predicted") sp += std::fabs(r.rel_err()), ++np;
+        if (r.kind == "total" || r.kind == "total_prior") sum += std::fabs(r.rel_err()), ++n;
+        if (r.kind == "predicted" || r.kind == "prior") sp += std::fabs(r.rel_err()), ++np;
       }
       sum_all += sum, n_all += n;
       txt << "  " << pad(t.id, 6) << " totals "
@@ -274,7 +277,10 @@ ValidationOutputs run_validation(const std::string& models, double level) {
     const CostFit full = fit_cost_model(d2, o);
     size_t refits = 0;
     for (auto& [k, xs] : rep.lopo_theta) refits = std::max(refits, xs.size());
-    for (auto& [k, val] : full.theta) {
+    std::map<std::string, double> params(full.theta.begin(), full.theta.end());
+    for (auto& [r, e] : full.efficiency) params[std::string("efficiency.") + resource_name(r)] = e;
+    params["prior.overhead_ms"] = full.prior_overhead_ms;
+    for (auto& [k, val] : params) {
       if (k.rfind("geo:", 0) == 0) continue;
       txt << "  " << pad(k, 28) << fmt("%12.5g", val);
       auto it = rep.lopo_theta.find(k);
@@ -293,6 +299,32 @@ ValidationOutputs run_validation(const std::string& models, double level) {
       }
       txt << " " << theta_unit(k) << "\n";
     }
+  }
+  // Nominal work of the passes one paper alone measures, and what the pooled efficiency makes
+  // of it, next to the full fit's theta (how far the transfer prior is from the paper's rows).
+  txt << "\n== nominal work of passes one paper alone measures (prior in its leave-one-paper-out "
+         "refit: nominal / pooled efficiency of the resource, or the named term's theta x factor); "
+         "full-fit theta for comparison\n";
+  {
+    FitOptions o;
+    o.model = v.model;
+    const CostFit full = fit_cost_model(data, o);
+    for (const std::string& pass : known_passes())
+      for (const char* term : {"pixels", "taps", "samples", "evals", "vpls", "tris", "texels"}) {
+        std::string like, why;
+        const double w = nominal_work(pass, term, &like, &why);
+        if (!(w > 0)) continue;
+        CostFit without = full;  // the prior the full fit's efficiencies give this term
+        without.seen_passes.erase(pass);
+        if (without.seen_passes.empty()) without.seen_passes.insert("-");
+        auto it = full.theta.find(pass + "." + std::string(term));
+        txt << "  " << pad(pass + "." + term, 20)
+            << (like.empty() ? fmt("nominal %-8.4g", w) : pad(fmt("%.4g x ", w) + like, 30))
+            << fmt(" prior %-10.4g", prior_theta(without, pass, term))
+            << (it == full.theta.end() ? std::string(" fitted (floor)")
+                                       : fmt(" fitted %-10.4g", it->second))
+            << " " << theta_unit(pass + "." + term) << "\n      " << why << "\n";
+      }
   }
   txt << "\ndetailed report below: model " << model_name(v.model) << "\n\n";
   txt << "== calibration entries (all tables fitted together; 'check' rows are totals, not "

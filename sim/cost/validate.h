@@ -13,8 +13,9 @@ namespace fovsim {
 struct ValidationRow {
   std::string experiment;  // "calibration" or "cross:<name>" or "withheld"
   std::string id, table, gpu, workload, config, row;
-  // fitted | check | predicted | refit | withheld | unseen | total (a held-out check row:
-  // a frame total whose passes the refit all saw; scored for interval coverage only)
+  // fitted | check | predicted | refit | withheld | total (a held-out check row: a frame total
+  // whose passes the refit all saw; scored for interval coverage) | prior / total_prior (a pass
+  // row / frame total with passes the refit never measured, costed from their nominal work)
   std::string kind;
   double published_ms = -1;  // < 0: withheld / none
   double model_ms = 0;
@@ -69,7 +70,9 @@ struct ModelSummary {
   // interval it helped build).
   double coverage = 0;
   int coverage_n = 0;
-  // The same for held-out frame totals (kind "total"), intervals combined from their passes.
+  // The same for held-out frame totals (kinds "total" and "total_prior"), against the total's
+  // interval from the other tables' held-out totals (where too few: the passes' intervals
+  // combined).
   double total_coverage = 0;
   int total_coverage_n = 0;
   // Nested coverage and width at 50%, 80% and 95% (per-pass rows; frame totals).
@@ -77,7 +80,7 @@ struct ModelSummary {
 };
 
 // Interval of a row (or any sum of passes): each pass's factors around its ms, combined.
-// `total`: the row is a whole frame (kind "total" or a withheld figure): the interval's total
+// `total`: the row is a whole frame (a held-out total or a withheld figure): the interval's total
 // factors when it has them.
 void row_interval(const PredictionInterval& iv, const std::vector<PassCost>& parts, double* lo_ms,
                   double* hi_ms, bool total = false);
@@ -86,8 +89,8 @@ void row_interval(const PredictionInterval& iv, const std::vector<PassCost>& par
 // (1-level)/2 and (1+level)/2 quantiles of the log-ratios (asymmetric), pooled over every
 // per-pass row, per pass over the single-pass rows of that pass (kept when at least
 // kMinPassIntervalRows, shrunk toward the pooled ones), and for the total over the held-out
-// frame totals (kind "total"; their sorted scores too). `exclude_table`: rows of that table
-// (paper = GPU) are not used, so a group never calibrates itself.
+// frame totals (kinds "total" and "total_prior"; their sorted scores too). `exclude_table`: rows of
+// that table (paper = GPU) are not used, so a group never calibrates itself.
 PredictionInterval interval_from_rows(const std::vector<ValidationRow>& rows, double level,
                                       const std::string& exclude_table = "");
 ModelSummary summarize_model(const ValidationReport& rep, CostModelKind model, double level);
