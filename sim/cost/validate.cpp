@@ -248,6 +248,55 @@ bool held_out_total(const ValidationRow& r) {
 
 }  // namespace
 
+namespace {
+std::string lopo_experiment(const std::string& table) {
+  return "cross:fit all but " + table + " -> predict " + table;
+}
+}  // namespace
+
+std::vector<TransferError> lopo_errors(const ValidationReport& rep, const CalData& data) {
+  std::vector<TransferError> out;
+  for (auto& t : data.tables) {
+    TransferError e;
+    e.table = t.id;
+    const std::string ex = lopo_experiment(t.id);
+    double st = 0, sr = 0;
+    for (auto& r : rep.rows) {
+      if (r.experiment != ex || !(r.published_ms > 0) || !(r.model_ms > 0)) continue;
+      if (r.kind == "total" || r.kind == "total_prior") st += std::fabs(r.rel_err()), ++e.totals_n;
+      if (r.kind == "predicted" || r.kind == "prior") sr += std::fabs(r.rel_err()), ++e.rows_n;
+    }
+    e.totals_mean = e.totals_n ? st / e.totals_n : 0;
+    e.rows_mean = e.rows_n ? sr / e.rows_n : 0;
+    out.push_back(e);
+  }
+  return out;
+}
+
+std::vector<TransferSpeedup> lopo_speedups(const ValidationReport& rep, const CalData& data) {
+  std::vector<TransferSpeedup> out;
+  for (auto& t : data.tables) {
+    std::set<std::string> baseline;
+    for (auto& e : t.entries)
+      if (e.baseline) baseline.insert(e.config);
+    const std::string ex = lopo_experiment(t.id);
+    std::vector<const ValidationRow*> tot;
+    for (auto& r : rep.rows)
+      if (r.experiment == ex && (r.kind == "total" || r.kind == "total_prior") &&
+          r.published_ms > 0 && r.model_ms > 0)
+        tot.push_back(&r);
+    for (auto* b : tot) {
+      if (!baseline.count(b->config)) continue;
+      for (auto* f : tot) {
+        if (baseline.count(f->config) || f->workload != b->workload || f->row != b->row) continue;
+        out.push_back({t.id, b->workload, b->row, b->config, f->config,
+                       b->published_ms / f->published_ms, b->model_ms / f->model_ms});
+      }
+    }
+  }
+  return out;
+}
+
 void wilson_interval(int k, int n, double z, double* lo, double* hi) {
   if (n <= 0) {
     *lo = 0, *hi = 1;

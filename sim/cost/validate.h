@@ -95,6 +95,23 @@ PredictionInterval interval_from_rows(const std::vector<ValidationRow>& rows, do
                                       const std::string& exclude_table = "");
 ModelSummary summarize_model(const ValidationReport& rep, CostModelKind model, double level);
 
+// Leave-one-paper-out transfer (fit every other paper, predict this one's milliseconds): mean
+// |rel err| of its frame totals (kinds "total" and "total_prior") and of its per-pass rows
+// (kinds "predicted" and "prior"), per calibration table (= paper = GPU).
+struct TransferError {
+  std::string table;
+  double totals_mean = 0, rows_mean = 0;
+  int totals_n = 0, rows_n = 0;
+};
+std::vector<TransferError> lopo_errors(const ValidationReport& rep, const CalData& data);
+// Speedups of the leave-one-paper-out frame totals: a baseline config's total over a foveated
+// config's, same table, workload and row name, published and modelled.
+struct TransferSpeedup {
+  std::string table, workload, row, base, fov;
+  double published = 0, model = 0;
+};
+std::vector<TransferSpeedup> lopo_speedups(const ValidationReport& rep, const CalData& data);
+
 // Uses `fit` (normally fit_cost_model over all tables) for the calibration rows and withheld
 // predictions; refits for every cross-prediction experiment.
 ValidationReport validate_cost(const CalData& data, const CostFit& fit, const FitOptions& opt);
