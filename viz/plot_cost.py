@@ -4,7 +4,8 @@
 Top row, one panel per GPU: the held-out rows of the leave-one-seed/GPU/scene-out refits
 (model ms against published ms) with their 80% prediction interval as a vertical bar (nested:
 built without the row's table; a bar that crosses the diagonal covers the published value),
-the calibration fit faint behind them, held-out frame totals as squares.
+the calibration fit faint behind them, held-out frame totals as squares; rows and totals with
+passes the refit never measured (costed from their nominal work) as down-triangles / diamonds.
 Below, one panel per pass: the same for the single-pass held-out rows of that pass.
 Usage: plot_cost.py validate_cost.csv out.png"""
 import math
@@ -12,7 +13,9 @@ import sys
 
 from common import plt, read_csv, save, to_float
 
-KIND_STYLE = {"predicted": ("^", 0.9), "total": ("s", 0.9)}
+# prior / total_prior: passes the refit never measured, costed from their nominal work
+KIND_STYLE = {"predicted": ("^", 0.9), "total": ("s", 0.9), "prior": ("v", 0.5),
+              "total_prior": ("D", 0.6)}
 GPU_COLORS = {"gtx980": "tab:orange", "gtx1080": "tab:blue", "rtx2070": "tab:green",
               "rtx2080ti": "tab:red"}
 TABLE_COLORS = {"kfr": "tab:blue", "rmfr": "tab:orange", "twfr": "tab:green", "flc": "tab:red"}
@@ -59,8 +62,8 @@ def main():
     _, rows = read_csv(sys.argv[1])
     if rows is None:
         sys.exit(f"plot_cost.py: {sys.argv[1]} not found")
-    held = [r for r in rows if r["experiment"].startswith("cross:") and r["kind"] in ("predicted", "total")
-            and to_float(r["published_ms"]) > 0]
+    held = [r for r in rows if r["experiment"].startswith("cross:")
+            and r["kind"] in ("predicted", "total", "prior", "total_prior") and to_float(r["published_ms"]) > 0]
     calib = [r for r in rows if r["experiment"] == "calibration" and to_float(r["published_ms"]) > 0]
     gpus = sorted({r["gpu"] for r in held})
     passes = sorted({r["passes"] for r in held if r["kind"] == "predicted" and "+" not in r["passes"]})
