@@ -307,6 +307,11 @@ ValidationOutputs run_validation(const std::string& models, double level) {
   txt << "\n== nominal work of passes one paper alone measures (prior in its leave-one-paper-out "
          "refit: nominal / pooled efficiency of the resource, or the named term's theta x factor); "
          "full-fit theta for comparison\n";
+  for (auto& [table, pr] : rep.lopo_priors) {
+    txt << "  left out " << pad(table, 6);
+    for (auto& [k, x] : pr) txt << " " << k << fmt(" %.4g", x);
+    txt << "\n";
+  }
   {
     FitOptions o;
     o.model = v.model;
@@ -373,11 +378,16 @@ ValidationOutputs run_validation(const std::string& models, double level) {
       txt << " not predictable (" << c.why << ")\n";
       continue;
     }
+    if (c.n == 0) {
+      txt << " no row of measured passes beyond the refit ones (rows costed from nominal work: "
+             "leave-one-paper-out section)\n";
+      continue;
+    }
     txt << " rows " << c.n << ", mean |rel err| " << fmt("%.1f%%", 100 * c.mean_abs_rel_err);
     if (c.speedup_published > 0)
       txt << ", speedup published " << fmt("%.2fx", c.speedup_published) << " model "
           << fmt("%.2fx", c.speedup_model);
-    if (!c.why.empty()) txt << " [rows skipped, " << c.why << "]";
+    if (!c.why.empty()) txt << " [not counted here, costed from nominal work: " << c.why << "]";
     txt << "\n";
   }
   v.report_txt = txt.str();

@@ -132,9 +132,12 @@ ValidationReport validate_cost(const CalData& data, const CostFit& fit, const Fi
         !u.fit_tables.count(u.target_table)) {
       for (auto& [k, v] : f.theta)
         if (k.rfind("geo:", 0) != 0) rep.lopo_theta[k].push_back(v);
-      for (auto& [r, v] : f.efficiency)
+      for (auto& [r, v] : f.efficiency) {
         rep.lopo_theta[std::string("efficiency.") + resource_name(r)].push_back(v);
+        rep.lopo_priors[u.target_table][std::string("efficiency.") + resource_name(r)] = v;
+      }
       rep.lopo_theta["prior.overhead_ms"].push_back(f.prior_overhead_ms);
+      rep.lopo_priors[u.target_table]["prior.overhead_ms"] = f.prior_overhead_ms;
     }
     const CalTable* target = nullptr;
     for (auto& t : data.tables)
@@ -155,7 +158,8 @@ ValidationReport validate_cost(const CalData& data, const CostFit& fit, const Fi
           if (!f.seen_passes.count(p)) unseen.insert(p);
         predictable += row_seen(e);
       }
-    for (auto& p : unseen) cp.why += (cp.why.empty() ? "passes never calibrated: " : ", ") + p;
+    for (auto& p : unseen)
+      cp.why += (cp.why.empty() ? "passes the refit never measured: " : ", ") + p;
     if (predictable == 0) {
       cp.possible = false;
       rep.cross.push_back(cp);

@@ -38,6 +38,9 @@ struct ValidationReport {
   // Fitted parameters of every leave-one-paper-out refit (key -> one value per refit; absent
   // keys are not listed): their spread is the jackknife uncertainty of the full fit.
   std::map<std::string, std::vector<double>> lopo_theta;
+  // Pooled efficiencies and prior overhead of each leave-one-paper-out refit, by left-out
+  // table: what the passes that paper alone measures were costed with.
+  std::map<std::string, std::map<std::string, double>> lopo_priors;
 };
 
 // Coverage of the intervals at one level on the nested held-out rows (each table's rows
