@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Plots of one fovsim result directory (DESIGN §8).
+"""Plots of one fovsim result directory (docs/architecture.md §8).
 
     /usr/bin/python3 viz/plot_run.py results/<name> [--out DIR]
 

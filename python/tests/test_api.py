@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Tests of the Python API beyond run/sweep (issue 18 item 1): predict/budget against the CLI's
+"""Tests of the Python API beyond run/sweep: predict/budget against the CLI's
 `--json`, the AskTell search, the tidy form with parameter columns, and the example
 python/examples/asktell_kfr.py. Run by ctest (PythonApi) with FOVSIM_PYTHON_EXT=<build>/python;
 exits 77 (skipped) when numpy or the compiled module is missing. Tiny configs: seconds."""

@@ -1,4 +1,4 @@
-// The one error type of fovsim (DESIGN §10). Library code throws it with a location
+// The one error type of fovsim (docs/architecture.md §10). Library code throws it with a location
 // (JSON path, file:line:column, parameter); only sim/app catches, prints one line, exits 2.
 #pragma once
 #include <stdexcept>

@@ -367,7 +367,7 @@ struct Cell {
   Image out_display;  // per-cell scratch, reused every frame
   MetricsScratch metrics_scratch;
   ImageJobs image_jobs;   // this frame's images (want_images), written at the end of process()
-  LatencyConfig latency;  // issue 17 (docs/latency.md)
+  LatencyConfig latency;  // the latency what-if (docs/latency.md)
   std::set<std::string> metric_names;
   std::vector<float> est_ecc;  // eccentricity around the estimated gaze, reused
   // FovVideoVDP (metrics.fvvdp): the reference side of each frame, pushed once per frame and
@@ -981,7 +981,7 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
     }
     write_file_atomic(out + "/frames.csv", c->frames.to_csv());
     write_file_atomic(out + "/summary.csv", r.summary.to_csv());
-    write_file_atomic(out + "/paired.csv", paired_differences(c->frames).to_csv());  // issue 13
+    write_file_atomic(out + "/paired.csv", paired_differences(c->frames).to_csv());
     Json sj = Json::array();
     for (auto& row : r.summary.rows()) {
       Json o;

@@ -563,7 +563,7 @@ FidelityResult run_fidelity(const LoadedConfig& cfg, const FidelityOptions& opt)
     }
     double ratio = top.wall_s > 0 ? d.wall_s / top.wall_s : NAN;
     double cpu_ratio = top.cpu_s > 0 ? d.cpu_s / top.cpu_s : NAN;
-    // Analytic (issue 13 item 4): also every pass estimate and the counters frames.csv holds
+    // Analytic: also every pass estimate and the counters frames.csv holds
     // at the display's resolution (shaded samples, primitives, VPLs). The other pixel counters
     // of frames.csv are at the simulated resolution, so they are not compared.
     std::vector<std::string> o_here = outs;

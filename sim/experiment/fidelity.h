@@ -1,4 +1,4 @@
-// `fovsim fidelity CONFIG` (issue 13 item 2, DESIGN §9, docs/fidelity.md): the user's config
+// `fovsim fidelity CONFIG` (docs/architecture.md §9, docs/fidelity.md): the user's config
 // run at a ladder of cheaper settings (rungs) -- the analytic prediction (no rendering), lower
 // `render.scale`, a frame stride over the same span, fewer reference samples per pixel when
 // `render.spp` exists -- each compared with the top rung, the truth: wall time, and the error of
@@ -69,7 +69,7 @@ struct FidelityResult {
 // ranked within a cell, and err_ci95_paired / resolved swaps are not computed (nan / 0).
 FidelityResult run_fidelity(const LoadedConfig& cfg, const FidelityOptions& opt);
 
-// `predict`'s machinery on a run config (issue 13 item 4): per method entry (and GPU) of the
+// `predict`'s machinery on a run config: per method entry (and GPU) of the
 // config, the analytic counters of sim/cost/analytic.h at the real display's resolution (gaze at
 // the screen centre, the workload's assumptions) costed by the config's GPU profiles with the
 // scene's features. One row per config_id like summary.csv: est_ms_total, est_ms_total_p95 (=

@@ -1,4 +1,4 @@
-// FLC sample selection (seed 001 §4.2, Algorithm 1). See flc_sampling.h.
+// FLC sample selection (Yang et al. 2021 §4.2, Algorithm 1). See flc_sampling.h.
 #include "sim/foveation/flc_sampling.h"
 
 #include <tbb/parallel_for.h>

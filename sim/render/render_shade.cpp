@@ -1,6 +1,6 @@
-// Shading (DESIGN §4): ambient + emission, Lambert + Blinn-Phong per light, shadow rays as
-// rtcOccluded16 packets with a portable occlusion decision (occlusion_filter). Deterministic
-// per sample: no sampling, the same bits at any thread count.
+// Shading (docs/architecture.md §4): ambient + emission, Lambert + Blinn-Phong per light, shadow
+// rays as rtcOccluded16 packets with a portable occlusion decision (occlusion_filter).
+// Deterministic per sample: no sampling, the same bits at any thread count.
 #include <tbb/parallel_for.h>
 
 #include "sim/render/render_internal.h"

@@ -1,4 +1,4 @@
-// Reflective shadow maps by ray casting from the light (seed 001 §3 S-1). See rsm.h.
+// Reflective shadow maps by ray casting from the light (Yang et al. 2021 §3 S-1). See rsm.h.
 #include "sim/render/rsm.h"
 
 #include <tbb/parallel_for.h>

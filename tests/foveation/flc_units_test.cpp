@@ -1,4 +1,4 @@
-// FLC building blocks (seed 001 §4-§5): Halton, Algorithm 1, acuity (eqs. 3-6), eq. 7,
+// FLC building blocks (Yang et al. 2021 §4-§5): Halton, Algorithm 1, acuity (eqs. 3-6), eq. 7,
 // BLSO's eq. 12, contribution (eq. 14) and stochastic culling.
 #include <gtest/gtest.h>
 
