@@ -600,9 +600,9 @@ struct Cell {
       double sim_ms = ms_since(m0);
       pc = phases.lap("methods", pc);
       const Image& lin = fo.image_is_reference ? fd.reference : fo.image;
-      if (lin.width != sh.sim_display.width || lin.height != sh.sim_display.height ||
-          lin.channels != 3)
-        throw Error("method " + m.label, "produced an image of the wrong size");
+      FOVSIM_CHECK(lin.width == sh.sim_display.width && lin.height == sh.sim_display.height &&
+                       lin.channels == 3,
+                   "method \"" + m.label + "\" produced an image of the wrong size");
       sh.tonemap.apply(lin, out_display);
       const Image* refd = &ref_display;  // every row against the same reference
       pc = phases.lap("tonemap", pc);
@@ -740,8 +740,8 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
   if (jobs.empty()) return results;
   const std::string key = reference_key(jobs.front().doc);
   for (auto& j : jobs)
-    if (reference_key(j.doc) != key)
-      throw Error(j.file, "internal: cells of one reference group differ in a reference key");
+    FOVSIM_CHECK(reference_key(j.doc) == key,
+                 "cells of one reference group differ in a reference key (" + j.file + ")");
 
   // ---- configuration: the first cell parses the shared keys (scene, trace, ...); every
   // cell parses its own keys; all are validated before any frame is computed ----

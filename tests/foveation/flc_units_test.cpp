@@ -83,7 +83,7 @@ TEST(FlcSampling, ZeroMapGivesZeroWeightsAndRejectsShortInput) {
     EXPECT_EQ(e.weight, 0.f);
     EXPECT_LT(e.pixel, 256u);
   }
-  EXPECT_THROW(flc_select_samples(Z, H, 17, 4), Error);
+  EXPECT_THROW(flc_select_samples(Z, H, 17, 4), InternalError);  // a caller's bug
 }
 
 TEST(FlcImportance, AcuityFollowsEqs3To6) {
