@@ -9,6 +9,7 @@
 #include "sim/app/commands.h"
 #include "sim/core/error.h"
 #include "sim/core/files.h"
+#include "sim/core/text.h"
 #include "sim/cost/analytic.h"
 #include "sim/cost/budget.h"
 #include "sim/cost/calibration.h"
@@ -30,12 +31,6 @@ namespace {
 
 std::string models_or_default(const std::string& m) {
   return m.empty() ? default_models_dir() : m;
-}
-
-std::string fmt(const char* f, double v) {
-  char b[64];
-  std::snprintf(b, sizeof b, f, v);
-  return b;
 }
 
 struct MethodSpec {
