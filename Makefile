@@ -1,4 +1,4 @@
-# Thin wrapper (DESIGN §1). `make demo` and `make test` work on a fresh Debian 12 machine:
+# Thin wrapper (docs/architecture.md §1). `make demo` and `make test` work on a fresh Debian 12 machine:
 # they install missing Debian packages with apt, configure, build, then run.
 BUILD ?= build
 JOBS  ?= $(shell nproc)
@@ -60,7 +60,7 @@ test: build
 bench: deps-bench build
 	@for b in $(BUILD)/bench_*; do echo "== $$b"; $$b; done
 
-# The ratios against the real limits (issue 19; bench/README.md), one run, one thread.
+# The ratios against the real limits (bench/README.md), one run, one thread.
 bench-report: deps-bench build
 	bench/report.sh $(BUILD)
 

@@ -6,7 +6,7 @@
 //     vpls_total, vpls_kept. visibility: 0 none, 1 blso, 2 exact.
 //   BM_VplShading/<path>: indirect light of every pixel from all VPLs (the reference's TBDS
 //     pass) on ONE thread; counter ns_per_pair = ns per shaded sample x VPL. path 0: the scalar
-//     loop (shade_vpls_point, sim/render/vpl.cpp, the code before issue 19 item 4), 1: the SIMD
+//     loop (shade_vpls_point, sim/render/vpl.cpp, the code before the SIMD kernel), 1: the SIMD
 //     loop on the generic (SSE2) path, 2: on the AVX2 path (lighting.cpp, vpl_kernels.inc). All
 //     three give the same bits (tests/foveation/lighting_test.cpp).
 // Environment: FLC_BENCH_SIZE (default 1024) changes the resolution; FLC_BENCH_IMAGES=DIR writes

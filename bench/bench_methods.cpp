@@ -1,4 +1,4 @@
-// Per-frame CPU time of the image-mapping methods and of KFR's mapping passes (issue 4 item 9).
+// Per-frame CPU time of the image-mapping methods and of KFR's mapping passes.
 //
 // 1. method/<name>/tbb:<n>: one FoveationMethod::render() of kfr, rmfr, hyperbolic, linear,
 //    fvrs and twfr (default parameters) at the HTC Vive Pro Eye resolution (1440x1600,
@@ -46,7 +46,7 @@ using namespace fovsim;
 namespace {
 
 const char* const kMethods[] = {"kfr", "rmfr", "hyperbolic", "linear", "fvrs", "twfr"};
-constexpr double kSigma = 1.8;  // KFR default (seed 004 §2.1)
+constexpr double kSigma = 1.8;  // KFR default (Meng 2018 §2.1)
 
 struct Setup {
   Scene scene;

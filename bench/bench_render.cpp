@@ -5,7 +5,7 @@
 //     same scene, the same tiles and TBB partitioning, writing only the hit distance. A second
 //     baseline is single-ray rtcIntersect1 over the same rays. The three passes run in turn in
 //     every iteration (interleaved, so load on a shared machine affects them alike); counters
-//     gbuf_Mrays_s, packet_Mrays_s, single_Mrays_s, ratio_packet = gbuf/packet (issue 19 asks
+//     gbuf_Mrays_s, packet_Mrays_s, single_Mrays_s, ratio_packet = gbuf/packet (the target is
 //     >= 0.8), ratio_single = gbuf/single.
 //   BM_GBufferChannels/<complexity>/<k>: the G-buffer pass at one thread with the shading
 //     channels added one at a time (depth, +position, +material, +normal, +albedo); counter

@@ -1,5 +1,5 @@
-// TWFR per-frame CPU time at the FOVE resolution (1280x1440, seed 002 §8.4), split into its
-// stages: reprojection, push-pull, confidence, culling, redraw (masked shading + composition).
+// TWFR per-frame CPU time at the FOVE resolution (1280x1440, Franke et al. 2021 §8.4), split into
+// its stages: reprojection, push-pull, confidence, culling, redraw (masked shading + composition).
 // Each iteration renders a full-redraw frame (untimed) then a reprojected frame (timed) after
 // a small head motion on the atrium; stage times are reported as counters (ms per frame).
 #include <benchmark/benchmark.h>

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Prints the performance ratios of issue 19 that the benchmarks measure today, one run, one
+# Prints the performance ratios that the benchmarks measure today, one run, one
 # thread (thread CPU time, so a loaded machine still gives comparable numbers):
 #   - G-buffer pass / Embree's rtcIntersect16 4x4 coherent packet rate (bench_render), atrium
 #     complexity 3 and 6; and / single-ray rtcIntersect1;
@@ -14,7 +14,7 @@
 #   - `fovsim sweep configs/sweeps/bench_100_cells.json` (100 RMFR cells, 60 frames) at 1 and 2
 #     threads: wall time and the 2-thread speed-up.
 # Usage: bench/report.sh BUILD_DIR [MIN_TIME_S]   (make bench-report). Not covered: peak RSS
-# (issue 19 measured it flat).
+# (measured flat when the performance targets were set).
 set -euo pipefail
 B=${1:-build}
 T=${2:-2}

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Predicted vs. published pass times for `fovsim validate-cost` (issue 14 item 6).
+"""Predicted vs. published pass times for `fovsim validate-cost`.
 
 Top row, one panel per GPU: the held-out rows of the leave-one-seed/GPU/scene-out refits
 (model ms against published ms) with their 80% prediction interval as a vertical bar (nested:

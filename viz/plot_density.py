@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Plot `fovsim density` output like seed 003 Fig. 11: sampling density (shading samples per
+"""Plot `fovsim density` output like Ye et al. 2022 Fig. 11: sampling density (shading samples per
 screen pixel, capped at 1) against eccentricity, one panel per method, one line per direction.
 Usage: plot_density.py DENSITY.csv OUT.png"""
 import csv

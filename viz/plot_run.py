@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Plots of one fovsim result directory (DESIGN §8).
+"""Plots of one fovsim result directory (docs/architecture.md §8).
 
     /usr/bin/python3 viz/plot_run.py results/<name> [--out DIR]
 
@@ -79,13 +79,15 @@ class Run:
         return [to_float(r.get(col)) for r in self.by_config[cid]]
 
     def mean(self, cid, col):
-        """Per-config mean from frames.csv, else summary.csv's value (already a mean)."""
-        if self.frames and self.has(col):
-            return finite_mean(self.series(cid, col))
+        """Per-config value of summary.csv as the C++ wrote it (the mean, or a pooled value such as
+        FovVideoVDP's JOD: the same number as the summary table and its `_ci95`); the finite mean
+        of frames.csv only for a column the summary does not have."""
         if self.summary and col in self.scols:
             for r in self.summary:
                 if (r.get("config_id") or r.get("label") or r.get("method")) == cid:
                     return to_float(r.get(col))
+        if self.frames and self.has(col):
+            return finite_mean(self.series(cid, col))
         return math.nan
 
     def ci(self, cid, col):

@@ -3,7 +3,7 @@
 
 Writes into <dir>/plots/: pareto.png (declared objectives, front highlighted, every method,
 95% intervals `<col>_ci95` as error bars; eccentricity profiles carry them too),
-heat maps over sigma x alpha and fx x fy per method (seed 003 Fig. 6/9 style), per-frame
+heat maps over sigma x alpha and fx x fy per method (Ye et al. 2022 Fig. 6/9 style), per-frame
 timelines of the Pareto cells with the frame-budget line and gaze speed, error-vs-eccentricity
 profiles, image strips with zoomed insets (when cells wrote images), and index.html linking
 every plot, table and cell folder. Needs Debian's python3-matplotlib and python3-numpy.
@@ -420,7 +420,7 @@ def plot_strips(sw, out):
 
 
 def plot_latency(sw, out):
-    # Quality vs latency per method (issue 17, docs/latency.md), only for sweeps with a latency block.
+    # Quality vs latency per method (docs/latency.md), only for sweeps with a latency block.
     import latency  # noqa: E402  (viz/latency.py)
     try:
         return [latency.plot_latency(sw.dir, out, "rmse_fovea", 0.10, report=log)]

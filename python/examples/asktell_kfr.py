@@ -19,7 +19,10 @@ import math
 import os
 import sys
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+try:
+    import fovsim  # installed: pip install --no-build-isolation --no-index -e python (docs/python.md)
+except ImportError:  # run from a checkout without installing
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 import fovsim  # noqa: E402
 
 

@@ -1,8 +1,7 @@
 """fovsim in Python: results (numpy; pandas when installed), and through the compiled module
 run/sweep/predict/budget and an ask/tell search.
 
-    import sys; sys.path.insert(0, "<repo>/python")
-    import fovsim
+    import fovsim      # after: python3 -m pip install --no-build-isolation --no-index -e python
     run = fovsim.load_run("results/quickstart")      # dict: frames, summary, paired, manifest
     df = fovsim.tidy(run)          # pandas: one row per frame x configuration x metric,
                                    # parameters (sigma, alpha, ...) as columns

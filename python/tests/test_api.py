@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Tests of the Python API beyond run/sweep (issue 18 item 1): predict/budget against the CLI's
+"""Tests of the Python API beyond run/sweep: predict/budget against the CLI's
 `--json`, the AskTell search, the tidy form with parameter columns, and the example
 python/examples/asktell_kfr.py. Run by ctest (PythonApi) with FOVSIM_PYTHON_EXT=<build>/python;
 exits 77 (skipped) when numpy or the compiled module is missing. Tiny configs: seconds."""
@@ -11,6 +11,7 @@ import sys
 import tempfile
 import unittest
 
+# The checkout's package first, installed (pip install -e python) or not: the tests check this tree.
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 try:
     import fovsim  # noqa: E402

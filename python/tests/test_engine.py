@@ -9,6 +9,7 @@ import sys
 import tempfile
 import unittest
 
+# The checkout's package first, installed (pip install -e python) or not: the tests check this tree.
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 try:
     import fovsim  # noqa: E402  (imports numpy)

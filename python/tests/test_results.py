@@ -14,6 +14,7 @@ except ImportError:
     print("numpy not installed (apt-get install python3-numpy): skipped")
     sys.exit(77)
 
+# The checkout's package first, installed (pip install -e python) or not: the tests check this tree.
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 import fovsim  # noqa: E402
 

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Tests of viz/ plot fixes (issue 18) on small synthetic result folders. Run by ctest
+"""Tests of viz/ plot fixes on small synthetic result folders. Run by ctest
 (PythonViz); exits 77 (skipped) when matplotlib or numpy is missing."""
 import math
 import os

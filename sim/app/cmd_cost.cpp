@@ -1,4 +1,4 @@
-// Cost-model commands (issue 7): `fovsim calibrate`, `fovsim predict`, `fovsim budget`,
+// Cost-model commands: `fovsim calibrate`, `fovsim predict`, `fovsim budget`,
 // `fovsim validate-cost`. Documented in docs/cost_model.md.
 #include <algorithm>
 #include <cmath>
@@ -9,6 +9,7 @@
 #include "sim/app/commands.h"
 #include "sim/core/error.h"
 #include "sim/core/files.h"
+#include "sim/core/text.h"
 #include "sim/cost/analytic.h"
 #include "sim/cost/budget.h"
 #include "sim/cost/calibration.h"
@@ -30,12 +31,6 @@ namespace {
 
 std::string models_or_default(const std::string& m) {
   return m.empty() ? default_models_dir() : m;
-}
-
-std::string fmt(const char* f, double v) {
-  char b[64];
-  std::snprintf(b, sizeof b, f, v);
-  return b;
 }
 
 struct MethodSpec {
@@ -96,7 +91,7 @@ void add_target_options(CLI::App* c, Target& t, const std::string& default_metho
 }
 
 // Without a scene the generic workload knows no lights, so every method's shading cost (and
-// KFR's speedup) would be meaningless (issue 14 item 5): a workload must be named.
+// KFR's speedup) would be meaningless: a workload must be named.
 Workload target_workload(const Target& t, const std::string& models) {
   // generic knows no scene (no triangles, no lights): refused like a missing --workload.
   if (t.workload.empty() || t.workload == "generic") {
@@ -159,7 +154,7 @@ FrameCost cost_for(const GpuProfile& g, const MethodSpec& m, const Resolved& r) 
                         r.indirect);
 }
 
-// Footnote for spec-transfer profiles (issue 31 item 5).
+// Footnote for spec-transfer profiles.
 void print_uncalibrated_note(const std::vector<GpuProfile>& gs) {
   for (auto& g : gs)
     if (!g.calibrated)

@@ -1,7 +1,7 @@
 // `fovsim density`: analytic sampling density of a mapping method / baseline as a function of
 // eccentricity along several directions from the gaze (from the map's Jacobian, see
 // sim/foveation/density.h), and the theoretical shading reduction (shaded samples / W H and
-// the speedup W H / shaded, seed 003 §5.1, Fig. 11). Writes PREFIX.csv and PREFIX.json;
+// the speedup W H / shaded, Ye et al. 2022 §5.1, Fig. 11). Writes PREFIX.csv and PREFIX.json;
 // --plot runs viz/plot_density.py on them.
 #include <cmath>
 #include <cstdlib>

@@ -1,5 +1,5 @@
 // `fovsim fidelity CONFIG [--out DIR] [-j N] [--rungs LIST] [--top RUNG] [key.path=value ...]`
-// (issue 13; logic in sim/experiment/fidelity.h, docs/fidelity.md).
+// (logic in sim/experiment/fidelity.h, docs/fidelity.md).
 #include <cstdio>
 #include <memory>
 

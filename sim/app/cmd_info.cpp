@@ -3,7 +3,6 @@
 #include <cstdio>
 
 #include "sim/app/commands.h"
-#include "sim/core/cite.h"
 #include "sim/core/version.h"
 #include "sim/experiment/code_paths.h"
 #include "sim/foveation/factory.h"
@@ -63,7 +62,7 @@ void register_methods(CLI::App& app, Action& action) {
         return 0;
       }
       for (const auto& e : method_table()) {
-        std::printf("%-11s %s\n", e.name, cite_papers(e.summary).c_str());
+        std::printf("%-11s %s\n", e.name, e.summary);
         for (const ParamInfo& p : e.params())
           std::printf("    %-24s %-7s default %-8s %s\n", p.name, p.type, p.def, p.range);
       }

@@ -86,6 +86,10 @@ int main(int argc, char** argv) {
   } catch (const fovsim::Error& e) {
     std::fprintf(stderr, "fovsim: error: %s\n", e.what());
     return 2;
+  } catch (const fovsim::InternalError& e) {  // FOVSIM_CHECK: a bug, not the input
+    std::fprintf(stderr, "fovsim: internal error: %s (a bug in fovsim, not in the input)\n",
+                 e.what());
+    return 3;
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr,
                  "fovsim: error: out of memory (try a smaller render.scale or fewer frames)\n");

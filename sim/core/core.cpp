@@ -29,6 +29,19 @@ std::string file_location(const std::string& file, long line, long col) {
   return s;
 }
 
+void internal_error(const char* file, int line, const std::string& what) {
+  std::string f = file ? file : "?";
+  // __FILE__ is absolute in out-of-tree builds: keep the part a reader finds in the repository.
+  for (const char* top : {"/sim/", "/tests/", "/python/", "/bench/"}) {
+    const size_t at = f.rfind(top);
+    if (at != std::string::npos) {
+      f = f.substr(at + 1);
+      break;
+    }
+  }
+  throw InternalError(file_location(f, line), what);
+}
+
 std::string closest_name(const std::string& word, const std::vector<std::string>& names) {
   // Optimal string alignment distance (Damerau-Levenshtein without repeated edits).
   auto dist = [](const std::string& a, const std::string& b) {

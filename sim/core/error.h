@@ -1,5 +1,7 @@
-// The one error type of fovsim (DESIGN §10). Library code throws it with a location
-// (JSON path, file:line:column, parameter); only sim/app catches, prints one line, exits 2.
+// The one error type of fovsim for bad input (docs/architecture.md §10). Library code throws it
+// with a location (JSON path, file:line:column, parameter); only sim/app catches, prints one line,
+// exits 2. A broken invariant of the code itself is an InternalError (FOVSIM_CHECK): exit 3 with
+// the source file:line, so a bug is never reported as the user's mistake.
 #pragma once
 #include <stdexcept>
 #include <string>
@@ -24,4 +26,34 @@ class Error : public std::runtime_error {
 // Formats "file:line" or "file:line:col" (col <= 0 omitted).
 std::string file_location(const std::string& file, long line, long col = 0);
 
+// A bug in fovsim, not in its input: thrown by FOVSIM_CHECK with the source location
+// ("sim/experiment/engine.cpp:744"). Deliberately not a fovsim::Error, so code that recovers
+// from bad input (catch (const Error&)) never swallows it; sim/app prints
+// "fovsim: internal error: <where>: <what>" and exits 3.
+class InternalError : public std::logic_error {
+ public:
+  InternalError(const std::string& where, const std::string& what)
+      : std::logic_error(where + ": " + what), where_(where), what_(what) {}
+  const std::string& where() const { return where_; }
+  const std::string& message() const { return what_; }
+
+ private:
+  std::string where_;
+  std::string what_;
+};
+
+// Throws InternalError at `file` (shortened to the path from the repository's sim/, tests/ or
+// python/ folder) and `line`.
+[[noreturn]] void internal_error(const char* file, int line, const std::string& what);
+
 }  // namespace fovsim
+
+// FOVSIM_CHECK(cond, msg): an invariant the code guarantees whatever the input (input is checked
+// with located fovsim::Errors before it gets here). Always on, also in release builds: the checks
+// sit outside per-pixel loops. `msg` is a std::string or a string literal.
+#define FOVSIM_CHECK(cond, msg)                                       \
+  do {                                                                \
+    if (!(cond)) ::fovsim::internal_error(__FILE__, __LINE__, (msg)); \
+  } while (0)
+
+namespace fovsim {}  // namespace fovsim

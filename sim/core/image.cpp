@@ -1,4 +1,4 @@
-// Image helpers and I/O through OpenImageIO (DESIGN: prefer a library for image I/O).
+// Image helpers and I/O through OpenImageIO (prefer a library for image I/O).
 #include "sim/core/image.h"
 
 #include <OpenImageIO/imageio.h>

@@ -106,8 +106,8 @@ Counters analytic_counters(const std::string& method, const Json& params, const 
     c.set("shaded_samples", P);
     c.set("gbuffer_samples", P);
   } else if (fam == CostFamily::Mapping) {
-    // KFR/RMFR: the w x h = (W/sigma) x (H/sigma) buffer is fully shaded (seed 004 §2.2,
-    // seed 003 §3.2); the baselines shade what their layers / sample pattern need.
+    // KFR/RMFR: the w x h = (W/sigma) x (H/sigma) buffer is fully shaded (Meng 2018 §2.2,
+    // Ye et al. 2022 §3.2); the baselines shade what their layers / sample pattern need.
     const double sigma = column(cols, "sigma", 1.0);
     const double buf = P / (sigma * sigma);
     const double s = shades_whole_buffer(kind) ? buf : baseline_fraction(1.0) * P;
@@ -133,7 +133,7 @@ Counters analytic_counters(const std::string& method, const Json& params, const 
     c.set("prims_culled", (1 - pf) * T);
   } else if (fam == CostFamily::Flc) {
     double lights = std::max(1.0, w.lights);
-    double total = w.rsm_res * w.rsm_res * lights;  // one VPL per RSM texel (seed 001 §3)
+    double total = w.rsm_res * w.rsm_res * lights;  // one VPL per RSM texel (Yang et al. 2021 §3)
     // The budget given on the command line (validated by FLC's parser), else the workload's.
     const double budget =
         own.contains("vpl_budget") ? column(cols, "vpl_budget", w.vpl_budget) : w.vpl_budget;

@@ -1,4 +1,4 @@
-// Analytic counters (issue 7 item 2): the counters a method would report for a workload on a
+// Analytic counters: the counters a method would report for a workload on a
 // display, without rendering, so `fovsim predict` and calibration run from descriptors.
 //
 // Parameters: the method's own keys (the same as in a run config, parsed and validated by the
@@ -13,8 +13,8 @@
 //   gaze_u, gaze_v         hyperbolic, linear, fvrs    0.5       [-1, 2]  gaze point as a fraction
 //   of W, H filter_taps_per_pixel  kfr, rmfr, hyperbolic, lin. 4         >= 0     pass-2 taps per
 //   full-res pixel redraw_fraction        twfr                        workload  [0, 1]   pixels
-//   redrawn / W*H (seed 002 §8.4) prims_fraction         twfr                        workload  [0,
-//   1]   primitives kept by foveated culling
+//   redrawn / W*H (Franke et al. 2021 §8.4) prims_fraction         twfr workload  [0, 1] primitives
+//   kept by foveated culling
 // kfr/rmfr shade their whole (W/sigma) x (H/sigma) buffer; flc's vpl_budget is FLC's own key
 // (default: the workload's budget when not given).
 #pragma once
@@ -45,7 +45,7 @@ FrameCost analytic_frame(const GpuProfile& gpu, const std::string& method, const
                          bool indirect = false);
 
 // Fraction of the screen's pixels shaded by fVRS rates (1, 1/4, 1/16 by eccentricity band),
-// through the real projection (DESIGN §3) on a grid of at most 256x256 points.
+// through the real projection (docs/architecture.md §3) on a grid of at most 256x256 points.
 double fvrs_shaded_fraction(const Display& d, double gaze_u, double gaze_v, double r1, double r2);
 
 }  // namespace fovsim

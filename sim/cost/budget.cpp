@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "sim/core/error.h"
+#include "sim/core/text.h"
 #include "sim/cost/analytic.h"
 #include "sim/cost/passes.h"
 #include "sim/cost/workload.h"
@@ -45,12 +46,6 @@ double fit_probability(const GpuProfile& g, const FrameCost& fc, double budget_m
 
 namespace {
 
-std::string num(const char* f, double v) {
-  char b[64];
-  std::snprintf(b, sizeof b, f, v);
-  return b;
-}
-
 FrameCost eval(const BudgetQuery& q, const GpuProfile& g, const Json& params, const Display& d) {
   return analytic_frame(g, q.method, params, *q.workload, d, q.where, q.indirect);
 }
@@ -78,7 +73,7 @@ std::vector<BudgetChange> fitting_changes(const BudgetQuery& q, double budget_ms
       const double pr = fit_probability(g, fc, budget_ms);
       if (pr >= target) {
         out.push_back(
-            {"param", "sigma " + num("%.1f", s0) + " -> " + num("%.1f", s), s, fc.total_ms, pr});
+            {"param", "sigma " + fmt("%.1f", s0) + " -> " + fmt("%.1f", s), s, fc.total_ms, pr});
         break;
       }
     }
@@ -90,7 +85,7 @@ std::vector<BudgetChange> fitting_changes(const BudgetQuery& q, double budget_ms
       const FrameCost fc = eval(q, g, p, q.display);
       const double pr = fit_probability(g, fc, budget_ms);
       if (pr >= target) {
-        out.push_back({"param", "vpl_budget " + num("%.0f", b0) + " -> " + num("%.0f", b), b,
+        out.push_back({"param", "vpl_budget " + fmt("%.0f", b0) + " -> " + fmt("%.0f", b), b,
                        fc.total_ms, pr});
         break;
       }
@@ -106,7 +101,7 @@ std::vector<BudgetChange> fitting_changes(const BudgetQuery& q, double budget_ms
     const double pr = fit_probability(g, fc, budget_ms);
     if (pr >= target) {
       out.push_back({"resolution",
-                     "resolution x" + num("%.2f", sc) + " (" + std::to_string(d.width) + "x" +
+                     "resolution x" + fmt("%.2f", sc) + " (" + std::to_string(d.width) + "x" +
                          std::to_string(d.height) + " per eye)",
                      sc, fc.total_ms, pr});
       break;
@@ -127,7 +122,7 @@ std::vector<BudgetChange> fitting_changes(const BudgetQuery& q, double budget_ms
       (fit_probability(g, at(mid), budget_ms) >= target ? hi : lo) = mid;
     }
     const FrameCost fc = at(hi);
-    out.push_back({"gpu", "GPU throughput x" + num("%.2f", hi), hi, fc.total_ms,
+    out.push_back({"gpu", "GPU throughput x" + fmt("%.2f", hi), hi, fc.total_ms,
                    fit_probability(g, fc, budget_ms)});
   }
   return out;

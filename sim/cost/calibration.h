@@ -1,4 +1,4 @@
-// Calibration (issue 7 item 3): the seeds' per-pass tables (models/calibration/*.json) are
+// Calibration: the seeds' per-pass tables (models/calibration/*.json) are
 // fitted by non-negative least squares on relative error. Unknowns: per (pass, term) a work
 // amount per counter unit (theta, shared by all GPUs: a GPU's coefficient is theta divided by
 // its spec-sheet rate of the term's resource, models/calibration/gpu_specs.json), a fixed

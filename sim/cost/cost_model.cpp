@@ -1,4 +1,5 @@
-// estimate_frame (DESIGN §6): sum over the passes that exist of overhead + sum coef * term.
+// estimate_frame (docs/architecture.md §6): sum over the passes that exist of overhead + sum coef *
+// term.
 #include "sim/cost/cost_model.h"
 
 #include <cmath>
@@ -42,8 +43,8 @@ FrameCost estimate_frame(const GpuProfile& gpu, const CostInputs& in) {
         per_res[t.res] += c->second * t.value * ws;
       }
       if (gpu.model == CostModelKind::Roofline) {
-        // Bottleneck: the pass takes as long as its slowest resource (DESIGN §6); the time is
-        // charged to that resource in resource_ms.
+        // Bottleneck: the pass takes as long as its slowest resource (docs/architecture.md §6); the
+        // time is charged to that resource in resource_ms.
         Resource bound = Resource::Fixed;
         double worst = 0;
         for (auto& [r, v] : per_res)

@@ -1,5 +1,5 @@
-// GPU pipeline cost model (DESIGN §6). A frame is the list of passes that exist for this
-// scene and method; each pass time is a small linear model of measured counters with
+// GPU pipeline cost model (docs/architecture.md §6). A frame is the list of passes that exist for
+// this scene and method; each pass time is a small linear model of measured counters with
 // coefficients from a GPU profile (models/gpus/*.json) plus a fixed overhead.
 #pragma once
 #include <map>
@@ -23,10 +23,11 @@ struct PassCost {
 struct FrameCost {
   std::vector<PassCost> passes;
   double total_ms = 0;
-  // Prediction interval on total_ms (issue 14; interval_level 0: the profile has none),
+  // Prediction interval on total_ms (interval_level 0: the profile has none),
   // combined from the passes' intervals (combine_pass_intervals, gpu_profile.h).
   double interval_level = 0, total_lo_ms = 0, total_hi_ms = 0;
-  // Counters the passes read that the method did not fill (charged as 0, DESIGN §6 note).
+  // Counters the passes read that the method did not fill (charged as 0, docs/architecture.md §6
+  // note).
   std::vector<std::string> missing_counters;
   // Time per resource class (geometry, raster, shading, memory, fixed = overheads); sums to total.
   std::map<std::string, double> resource_ms;
@@ -51,7 +52,7 @@ struct CostInputs {
 // and RSMs once per frame. Pixel counters are multiplied by pixel_scale, triangles are not.
 FrameCost estimate_frame(const GpuProfile& gpu, const CostInputs& in);
 
-// Budget verdict at the interval's confidence (issue 14): "fits" when the interval's upper
+// Budget verdict at the interval's confidence: "fits" when the interval's upper
 // end is within the budget, "does not fit" when its lower end exceeds it, else "uncertain".
 // Without an interval, the point estimate decides ("fits" / "does not fit").
 const char* budget_verdict(const FrameCost& fc, double budget_ms);

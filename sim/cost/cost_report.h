@@ -1,4 +1,4 @@
-// Orchestration of `fovsim calibrate` and `fovsim validate-cost` (issue 15: library logic out
+// Orchestration of `fovsim calibrate` and `fovsim validate-cost` (library logic out
 // of sim/app): fit, interval, profile and workload files, the validation report and CSVs.
 // The app only parses arguments, calls these and prints. Formats: docs/cost_model.md.
 #pragma once

@@ -1,7 +1,7 @@
-// A GPU profile (DESIGN §6): spec-sheet throughputs, per-pass linear coefficients (ms per
-// counter unit, see docs/cost_model.md for every term) plus a fixed overhead per pass, and
-// the calibration residuals the coefficients were fitted with. Files: models/gpus/NAME.json,
-// written by `fovsim calibrate`.
+// A GPU profile (docs/architecture.md §6): spec-sheet throughputs, per-pass linear coefficients (ms
+// per counter unit, see docs/cost_model.md for every term) plus a fixed overhead per pass, and the
+// calibration residuals the coefficients were fitted with. Files: models/gpus/NAME.json, written by
+// `fovsim calibrate`.
 #pragma once
 #include <map>
 #include <string>
@@ -30,7 +30,7 @@ struct GpuSpec {
   double rate_per_ms(Resource r) const;
 };
 
-// How a pass combines its terms (DESIGN §6). Linear: overhead + Σ coef·value (issue 7).
+// How a pass combines its terms (docs/architecture.md §6). Linear: overhead + Σ coef·value.
 // Roofline: overhead + max over resources of Σ_{terms of that resource} coef·value, i.e. the
 // pass runs at the speed of its bottleneck resource (Williams, Waterman, Patterson,
 // "Roofline: an insightful visual performance model for multicore architectures", CACM 2009).
@@ -43,7 +43,7 @@ struct IntervalFactors {
   int n = 0;  // held-out rows the quantiles came from
 };
 
-// Prediction interval (issue 14): multiplicative factors from the empirical quantiles of
+// Prediction interval: multiplicative factors from the empirical quantiles of
 // published / model over held-out rows (leave-one-seed/GPU/scene-out experiments of
 // `fovsim validate-cost`). lo_factor <= 1 <= hi_factor. `passes` holds the factors of the
 // passes with at least kMinPassIntervalRows held-out single-pass rows of their own, partially
@@ -78,7 +78,7 @@ constexpr int kMinPassIntervalRows = 5;
 // Weight of the pooled quantiles, in rows, when a pass's own quantiles are shrunk toward them.
 constexpr double kPassIntervalPrior = 8;
 
-// The total's interval from its passes' intervals [lo_p, hi_p] around ms_p (issue 14): the
+// The total's interval from its passes' intervals [lo_p, hi_p] around ms_p: the
 // half-widths below and above add in quadrature, i.e. pass errors are treated as independent
 // (docs/cost_model.md "Prediction intervals" gives the measured coverage of this choice).
 struct PassSpan {
@@ -86,7 +86,7 @@ struct PassSpan {
 };
 void combine_pass_intervals(const std::vector<PassSpan>& parts, double* lo_ms, double* hi_ms);
 
-// Working-set effect (issue 14): the fraction of a pass's reads that miss an L2 of `l2_mb`
+// Working-set effect: the fraction of a pass's reads that miss an L2 of `l2_mb`
 // when the pass gathers from a `working_set_bytes` buffer at data-dependent positions (hits
 // assumed free, misses at DRAM bandwidth): max(0, 1 - L2 / working set). 1 when l2_mb is 0.
 double l2_miss_fraction(const GpuSpec& s, double working_set_bytes);

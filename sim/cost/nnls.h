@@ -1,5 +1,5 @@
 // Non-negative least squares (Lawson & Hanson 1974), for calibration: coefficients of a pass
-// must be >= 0 so every pass is non-decreasing in each counter (issue 7 item 6).
+// must be >= 0 so every pass is non-decreasing in each counter.
 #pragma once
 #include <vector>
 

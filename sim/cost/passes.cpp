@@ -1,4 +1,4 @@
-// Pass lists and term values (DESIGN §6). Terms and their units:
+// Pass lists and term values (docs/architecture.md §6). Terms and their units:
 //   tris           triangles submitted to a raster pass (not scaled by pixel_scale); in the
 //                  G-buffer pass times workload.tri_cost (the scene's relative triangle cost)
 //   frags          rasterised fragments = pixels * overdraw
@@ -159,10 +159,10 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
   const double shadowed = fin(w.nshadowed(f));
   const CostFamily fam = cost_family(m);
   const bool twfr = fam == CostFamily::Twfr, flc = fam == CostFamily::Flc;
-  // Lighting passes (DESIGN §5 lighting axis): a scene with indirect light charges every method
-  // for its RSMs and the VPL shading of its samples; the importance / contribution / culling
-  // passes exist when the method's lighting strategy has them (its counters say so; the `flc`
-  // method always). A scene without indirect light has none of them.
+  // Lighting passes (docs/architecture.md §5 lighting axis): a scene with indirect light charges
+  // every method for its RSMs and the VPL shading of its samples; the importance / contribution /
+  // culling passes exist when the method's lighting strategy has them (its counters say so; the
+  // `flc` method always). A scene without indirect light has none of them.
   const bool vpl = f.indirect || flc;
   const bool has_importance = flc || c.has("importance_samples");
   const bool has_culling = flc || c.has("contribution_evals");
@@ -179,7 +179,8 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
     for (auto& t : terms) t.value = fin(t.value);
     out.push_back({pass, std::move(terms)});
   };
-  const double Tsub = twfr ? need("prims_submitted", T) : T;  // foveation culling (seed 002 §6.1)
+  const double Tsub =
+      twfr ? need("prims_submitted", T) : T;  // foveation culling (Franke et al. 2021 §6.1)
 
   if (w.pipeline.depth_prepass)
     add("depth", {{"tris", Resource::Geometry, T * eyes},
@@ -188,12 +189,12 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
     add("shadow",
         {{"shadow_tris", Resource::Geometry, T * shadowed},
          {"shadow_texels", Resource::Raster, w.shadow_map_res * w.shadow_map_res * shadowed}});
-  if (vpl) {  // reflective shadow maps, one per light (seed 001 §3, S-2)
+  if (vpl) {  // reflective shadow maps, one per light (Yang et al. 2021 §3, S-2)
     double texels = need("rsm_texels", w.rsm_res * w.rsm_res * std::max(1.0, lights));
     add("rsm", {{"tris", Resource::Geometry, T * std::max(1.0, lights)},
                 {"texels", Resource::Raster, texels}});
   }
-  if (twfr) {  // reprojection + push-pull + confidence (seed 002 §4-§5)
+  if (twfr) {  // reprojection + push-pull + confidence (Franke et al. 2021 §4-§5)
     double rp = need_px("reprojected_pixels", P);
     double holes = 0;
     for (auto& kv : c.items())
@@ -223,7 +224,7 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
     add("light_culling", {{"vpls", Resource::Shading, vt * eyes}});
   }
   {
-    // fVRS is a forward renderer (seed 002 §8.4): every rasterised fragment is shaded.
+    // fVRS is a forward renderer (Franke et al. 2021 §8.4): every rasterised fragment is shaded.
     const double fwd = fam == CostFamily::Fvrs ? std::max(1.0, w.overdraw) : 1.0;
     std::vector<Term> t = {
         {"shade_flops", Resource::Shading, S * fwd * lights * w.shading_flops * eyes}};

@@ -1,5 +1,5 @@
-// Pass assembly (DESIGN §6): which passes exist for a scene + method, and the value of every
-// term of their linear models. Shared by estimate_frame and calibration so the fit and the
+// Pass assembly (docs/architecture.md §6): which passes exist for a scene + method, and the value
+// of every term of their linear models. Shared by estimate_frame and calibration so the fit and the
 // prediction use the same equations. Term units are in docs/cost_model.md.
 #pragma once
 #include <string>
@@ -35,8 +35,8 @@ Resource term_resource(const std::string& pass, const std::string& term, const s
 const std::vector<std::string>& known_passes();
 bool is_known_pass(const std::string& p);
 
-// Roofline model only: factor on a term's work for the working-set effect (issue 14). TWFR's
-// reprojection gathers the previous frame at reprojected positions (seed 002 §4), so its
+// Roofline model only: factor on a term's work for the working-set effect. TWFR's
+// reprojection gathers the previous frame at reprojected positions (Franke et al. 2021 §4), so its
 // DRAM traffic is the L2 miss fraction of a W*H*kReprojectBytesPerPixel buffer (one eye at
 // a time); every other term streams and is 1.
 double working_set_factor(const std::string& pass, const std::string& term, const GpuSpec& spec,

@@ -1,4 +1,4 @@
-// Cost-model validation (issue 7 item 7): every calibration entry predicted vs. published,
+// Cost-model validation: every calibration entry predicted vs. published,
 // the seeds' withheld figures predicted, and cross-predictions (fit on some seeds/scenes,
 // predict another's per-pass times and speedup).
 #pragma once
@@ -59,7 +59,7 @@ void wilson_interval(int k, int n, double z, double* lo, double* hi);
 // guarantee q; Vovk, Gammerman and Shafer 2005; Lei et al. 2018).
 double conformal_quantile(std::vector<double> scores, double q);
 
-// Transfer summary of one model (issue 14): fitted and held-out relative errors, the
+// Transfer summary of one model: fitted and held-out relative errors, the
 // prediction interval from the held-out rows, and its nested empirical coverage.
 struct ModelSummary {
   CostModelKind model = CostModelKind::Linear;

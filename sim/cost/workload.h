@@ -11,7 +11,8 @@
 
 namespace fovsim {
 
-// Optional passes of the pipeline (DESIGN §6: a pass that does not exist costs nothing).
+// Optional passes of the pipeline (docs/architecture.md §6: a pass that does not exist costs
+// nothing).
 struct PipelineOptions {
   bool depth_prepass = true;
   bool skybox = false;
@@ -37,10 +38,10 @@ struct Workload {
   // `fovsim calibrate` for the seeds' scenes). The default is the mean of the fitted scenes.
   double shading_flops = 3000;
   // Cost of a submitted triangle in the G-buffer pass relative to the mean of the calibrated
-  // scenes (vertex shading, attributes, materials differ per scene; issue 14). Fitted by
+  // scenes (vertex shading, attributes, materials differ per scene). Fitted by
   // `fovsim calibrate` for the seeds' scenes from their Render rows; 1 = the mean.
   double tri_cost = 1.0;
-  // FLC (seed 001 §6): per-VPL shading cost, RSM size, importance samples, VPL budget.
+  // FLC (Yang et al. 2021 §6): per-VPL shading cost, RSM size, importance samples, VPL budget.
   double vpl_flops = -1;  // <0: shading_flops
   double rsm_res = 64;
   double importance_samples = 4096;
@@ -52,8 +53,9 @@ struct Workload {
   double vpl_ref = 1024;
   double interleave =
       4;  // interleaved-sampling factor (each pixel shades 1/interleave of the VPLs)
-  double lpt_fraction = 1.0;  // shaded samples / pixels with the log-polar transform (seed 001 §6)
-  // TWFR (seed 002 §8.4) analytic defaults.
+  double lpt_fraction =
+      1.0;  // shaded samples / pixels with the log-polar transform (Yang et al. 2021 §6)
+  // TWFR (Franke et al. 2021 §8.4) analytic defaults.
   double twfr_redraw_fraction = 0.059;  // 108K / 1.84M fragments
   double twfr_prims_fraction = 0.667;   // 1.8M / 2.7M primitives
   // fVRS / baselines: shaded fraction when no density model is given (<0: computed).

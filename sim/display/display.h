@@ -1,5 +1,5 @@
-// Headset/display model (DESIGN §3): per-eye resolution, symmetric FOV, refresh rate, eyes.
-// fovsim simulates one eye's view; the cost model charges per-eye work `eyes` times.
+// Headset/display model (docs/architecture.md §3): per-eye resolution, symmetric FOV, refresh rate,
+// eyes. fovsim simulates one eye's view; the cost model charges per-eye work `eyes` times.
 #pragma once
 #include <string>
 #include <vector>
@@ -70,7 +70,7 @@ struct Camera {
   }
 
   // Exact eccentricity (degrees) of pixel point (px,py): angle between the gaze ray and the
-  // pixel's ray through the real projection (DESIGN §3; not a pixel-distance proxy).
+  // pixel's ray through the real projection (docs/architecture.md §3; not a pixel-distance proxy).
   double eccentricity_deg(double px, double py, const glm::dvec3& gaze_dir_head) const {
     return rad2deg(angle_between(dir_head(px, py), gaze_dir_head));
   }

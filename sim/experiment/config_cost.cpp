@@ -2,6 +2,9 @@
 #include "sim/experiment/config_cost.h"
 
 #include "sim/core/error.h"
+#include "sim/cost/analytic.h"
+#include "sim/cost/cost_model.h"
+#include "sim/cost/gpu_profile.h"
 #include "sim/experiment/config.h"
 
 namespace fovsim {
@@ -48,6 +51,94 @@ ConfigCostTarget config_cost_target(const std::string& config, const std::string
     for (auto& g : lc.doc.at("gpus"))
       if (g.is_string()) t.gpus.push_back(g.get<std::string>());
   if (t.gpus.empty()) t.gpus.push_back("gtx1080");
+  return t;
+}
+
+namespace {
+
+Display config_display(const Json& doc, const std::string& file, const std::string& models) {
+  if (doc.contains("display") && doc["display"].is_object()) {
+    Params dp(doc["display"], file, "display");
+    return Display::from_params(dp);
+  }
+  std::string name = doc.contains("display") && doc["display"].is_string()
+                         ? doc["display"].get<std::string>()
+                         : "htc_vive_pro_eye";
+  return Display::load(name, models);
+}
+
+}  // namespace
+
+// The analytic rung of the fidelity ladder (fidelity.h) and `predict` on a run config's methods.
+ResultTable analytic_summary(const LoadedConfig& cfg, const std::string& models_dir,
+                             std::vector<std::string>* notes) {
+  const std::string models = models_dir.empty() ? default_models_dir() : models_dir;
+  const Json& doc = cfg.doc;
+  Display d = config_display(doc, cfg.file, models);
+  Json sj = doc.contains("scene") ? doc["scene"] : Json::object();
+  Params sp(sj, cfg.file, "scene");
+  Scene scene = make_scene(sp, models);
+  const SceneFeatures f = scene.features();
+  Workload w = Workload::load(doc.contains("workload") && doc["workload"].is_string()
+                                  ? doc["workload"].get<std::string>()
+                                  : "generic",
+                              models);
+  // analytic_counters sees only the workload: what it leaves to the scene (-1: triangles,
+  // lights) is resolved from this scene's features, as the cost model does for a rendered run.
+  if (w.triangles < 0) w.triangles = double(f.triangles);
+  if (w.lights < 0) w.lights = double(f.lights);
+  if (w.shadowed_lights < 0) w.shadowed_lights = double(f.shadowed_lights);
+  if (f.indirect) w.rsm_res = scene.vpl.rsm_size;  // the scene's VPL set (scene.vpl)
+  std::vector<std::string> gnames;
+  if (doc.contains("gpus") && doc["gpus"].is_array())
+    for (auto& g : doc["gpus"]) gnames.push_back(g.get<std::string>());
+  if (gnames.empty()) gnames.push_back("gtx1080");
+  std::vector<GpuProfile> gpus;
+  for (auto& g : gnames) gpus.push_back(GpuProfile::load(g, models));
+  ResultTable t;
+  if (!doc.contains("methods") || !doc["methods"].is_array()) return t;
+  const Json& ms = doc["methods"];
+  for (size_t i = 0; i < ms.size(); ++i) {
+    Json params = ms[i];
+    std::string method = params.value("method", "");
+    std::string label = params.value("label", method);
+    params.erase("method");
+    params.erase("label");
+    Counters c;
+    try {
+      c = analytic_counters(method, params, w, d, "methods[" + std::to_string(i) + "]", f.indirect);
+    } catch (const Error& e) {
+      if (notes) notes->push_back("analytic: " + label + " left out (" + e.what() + ")");
+      continue;
+    }
+    for (auto& g : gpus) {
+      CostInputs in;
+      in.method = method;
+      in.counters = &c;
+      in.features = f;
+      in.display = d;
+      in.workload = &w;
+      FrameCost fc = estimate_frame(g, in);
+      ResultRow r;
+      r.set_text("config_id", gpus.size() > 1 ? label + "@" + g.name : label);
+      r.set_text("method", method);
+      r.set_text("label", label);
+      r.set_text("gpu", g.name);
+      r.set("frames", 1);
+      double shaded = c.get("shaded_samples");
+      r.set("shaded_samples", shaded);
+      r.set("shaded_fraction", shaded / (double(d.width) * d.height));
+      r.set("prims_submitted", c.get("prims_submitted", double(f.triangles)));
+      r.set("prims_culled", c.get("prims_culled", 0.0));
+      for (auto& [cn, cv] : c.items())
+        if (cn != "shaded_samples" && cn != "prims_submitted" && cn != "prims_culled")
+          r.set(cn, cv);
+      r.set("est_ms_total", fc.total_ms);
+      r.set("est_ms_total_p95", fc.total_ms);
+      for (auto& pc : fc.passes) r.set("est_ms_" + pc.pass, pc.ms);
+      t.add(std::move(r));
+    }
+  }
   return t;
 }
 

@@ -10,6 +10,8 @@
 #include "sim/core/params.h"
 #include "sim/cost/workload.h"
 #include "sim/display/display.h"
+#include "sim/experiment/config.h"
+#include "sim/experiment/table.h"
 #include "sim/scene/scene.h"
 
 namespace fovsim {
@@ -30,5 +32,14 @@ struct ConfigCostTarget {
 
 // Throws fovsim::Error naming the config file and JSON path.
 ConfigCostTarget config_cost_target(const std::string& config, const std::string& models);
+
+// `predict`'s machinery on a run config: per method entry (and GPU) of the
+// config, the analytic counters of sim/cost/analytic.h at the real display's resolution (gaze at
+// the screen centre, the workload's assumptions) costed by the config's GPU profiles with the
+// scene's features. One row per config_id like summary.csv: est_ms_total, est_ms_total_p95 (=
+// the mean: one analytic frame), est_ms_<pass>, shaded_fraction and the analytic counters.
+// Methods without an analytic model are left out and named in `notes`.
+ResultTable analytic_summary(const LoadedConfig& cfg, const std::string& models_dir,
+                             std::vector<std::string>* notes = nullptr);
 
 }  // namespace fovsim

@@ -178,7 +178,7 @@ ConvergenceResult run_convergence(const std::string& config,
       lvl.push_back(v);
     }
     if (r.labels.empty()) r.labels = labels;
-    if (labels != r.labels) throw Error("converge", "method labels differ between spp levels");
+    FOVSIM_CHECK(labels == r.labels, "converge: method labels differ between spp levels");
     r.value.push_back(lvl);
   }
   evaluate_convergence(r, opt);

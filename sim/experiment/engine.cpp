@@ -367,7 +367,7 @@ struct Cell {
   Image out_display;  // per-cell scratch, reused every frame
   MetricsScratch metrics_scratch;
   ImageJobs image_jobs;   // this frame's images (want_images), written at the end of process()
-  LatencyConfig latency;  // issue 17 (docs/latency.md)
+  LatencyConfig latency;  // the latency what-if (docs/latency.md)
   std::set<std::string> metric_names;
   std::vector<float> est_ecc;  // eccentricity around the estimated gaze, reused
   // FovVideoVDP (metrics.fvvdp): the reference side of each frame, pushed once per frame and
@@ -600,9 +600,9 @@ struct Cell {
       double sim_ms = ms_since(m0);
       pc = phases.lap("methods", pc);
       const Image& lin = fo.image_is_reference ? fd.reference : fo.image;
-      if (lin.width != sh.sim_display.width || lin.height != sh.sim_display.height ||
-          lin.channels != 3)
-        throw Error("method " + m.label, "produced an image of the wrong size");
+      FOVSIM_CHECK(lin.width == sh.sim_display.width && lin.height == sh.sim_display.height &&
+                       lin.channels == 3,
+                   "method \"" + m.label + "\" produced an image of the wrong size");
       sh.tonemap.apply(lin, out_display);
       const Image* refd = &ref_display;  // every row against the same reference
       pc = phases.lap("tonemap", pc);
@@ -740,8 +740,8 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
   if (jobs.empty()) return results;
   const std::string key = reference_key(jobs.front().doc);
   for (auto& j : jobs)
-    if (reference_key(j.doc) != key)
-      throw Error(j.file, "internal: cells of one reference group differ in a reference key");
+    FOVSIM_CHECK(reference_key(j.doc) == key,
+                 "cells of one reference group differ in a reference key (" + j.file + ")");
 
   // ---- configuration: the first cell parses the shared keys (scene, trace, ...); every
   // cell parses its own keys; all are validated before any frame is computed ----
@@ -981,7 +981,7 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
     }
     write_file_atomic(out + "/frames.csv", c->frames.to_csv());
     write_file_atomic(out + "/summary.csv", r.summary.to_csv());
-    write_file_atomic(out + "/paired.csv", paired_differences(c->frames).to_csv());  // issue 13
+    write_file_atomic(out + "/paired.csv", paired_differences(c->frames).to_csv());
     Json sj = Json::array();
     for (auto& row : r.summary.rows()) {
       Json o;

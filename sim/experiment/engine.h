@@ -1,5 +1,5 @@
-// The frame engine behind `fovsim run` and `fovsim sweep` (DESIGN §2, §9). A group of cells
-// (run configs) that agree on everything a reference depends on — scene, display, render
+// The frame engine behind `fovsim run` and `fovsim sweep` (docs/architecture.md §2, §9). A group of
+// cells (run configs) that agree on everything a reference depends on — scene, display, render
 // settings, trace, frame range — is replayed in one frame loop: each frame's G-buffer and
 // reference are rendered once, then every cell's methods run on it in parallel (TBB), each
 // cell writing its own results folder. Frames stream; no whole-trace image storage.

@@ -1,4 +1,4 @@
-// `fovsim fidelity CONFIG` (issue 13 item 2, DESIGN §9, docs/fidelity.md): the user's config
+// `fovsim fidelity CONFIG` (docs/architecture.md §9, docs/fidelity.md): the user's config
 // run at a ladder of cheaper settings (rungs) -- the analytic prediction (no rendering), lower
 // `render.scale`, a frame stride over the same span, fewer reference samples per pixel when
 // `render.spp` exists -- each compared with the top rung, the truth: wall time, and the error of
@@ -10,6 +10,7 @@
 
 #include "sim/core/params.h"
 #include "sim/experiment/config.h"
+#include "sim/experiment/config_cost.h"
 #include "sim/experiment/table.h"
 
 namespace fovsim {
@@ -69,14 +70,7 @@ struct FidelityResult {
 // ranked within a cell, and err_ci95_paired / resolved swaps are not computed (nan / 0).
 FidelityResult run_fidelity(const LoadedConfig& cfg, const FidelityOptions& opt);
 
-// `predict`'s machinery on a run config (issue 13 item 4): per method entry (and GPU) of the
-// config, the analytic counters of sim/cost/analytic.h at the real display's resolution (gaze at
-// the screen centre, the workload's assumptions) costed by the config's GPU profiles with the
-// scene's features. One row per config_id like summary.csv: est_ms_total, est_ms_total_p95 (=
-// the mean: one analytic frame), est_ms_<pass>, shaded_fraction and the analytic counters.
-// Methods without an analytic model are left out and named in `notes`.
-ResultTable analytic_summary(const LoadedConfig& cfg, const std::string& models_dir,
-                             std::vector<std::string>* notes = nullptr);
+// analytic_summary, the analytic rung: sim/experiment/config_cost.h.
 
 // Error of each output of `rung` (a summary table) against `top` (its summary), per config_id
 // present in both: rows {rung, config_id, method, output, top, value, err (rung - top), err_rel
@@ -97,5 +91,11 @@ const std::vector<std::string>& fidelity_outputs();
 // Config ids ordered by `output` (descending mean; ties by id), per GPU, among configs with a
 // finite value. Two summaries rank alike when every GPU's order is the same.
 bool same_ranking(const ResultTable& a, const ResultTable& b, const std::string& output);
+
+// Pairs (a above b) ranked by the truth `top` whose paired interval over the truth's frames
+// (`top_frames`) excludes zero, that `rung` ranks the other way round (among configs finite in
+// both).
+int resolved_swaps(const ResultTable& rung, const ResultTable& top, const ResultTable& top_frames,
+                   const std::string& output);
 
 }  // namespace fovsim

@@ -1,4 +1,4 @@
-// 95% confidence intervals on a run's aggregates (issue 13): which summary columns carry a
+// 95% confidence intervals on a run's aggregates: which summary columns carry a
 // `<col>_ci95` half-width, and paired intervals for differences between the configs of one
 // run (same frames, same gaze). Estimator: batch means (sim/core/stats.h).
 #pragma once
@@ -39,7 +39,7 @@ void paired_columns(const std::vector<const ResultRow*>& a,
                     const std::map<double, const ResultRow*>& b_by_frame, const std::string& metric,
                     ResultRow& row);
 
-// ---- `fovsim run --target`: stop when the intervals are narrow enough (issue 13 item 3) ----
+// ---- `fovsim run --target`: stop when the intervals are narrow enough ----
 
 // One requested precision: the 95% half-width of `column`'s mean must be at most `value`
 // (absolute, in the column's unit) or `value` percent of |mean| (relative), for every config.

@@ -1,4 +1,4 @@
-// Latency what-if (issue 17, docs/latency.md): a method foveates around the gaze the system
+// Latency what-if (docs/latency.md): a method foveates around the gaze the system
 // had at t - latency while metrics use the true gaze at display time t; a velocity-threshold
 // saccade detector labels every frame (saccade / suppression / fixation) on the true gaze; an
 // optional main-sequence predictor moves the estimate to the predicted saccade landing point.

@@ -1,5 +1,5 @@
-// Per-phase timing of a run (issue 19 "scaling"): wall time, CPU time of the whole process and
-// CPU time of the thread that drives the frame loop, summed per named phase (setup, reference,
+// Per-phase timing of a run (serial fraction and scaling): wall time, CPU time of the whole process
+// and CPU time of the thread that drives the frame loop, summed per named phase (setup, reference,
 // methods, tonemap, metrics, images, rows). Written to manifest.json as "phases" by the engine.
 //
 // Serial-work estimate at T > 1 threads: a phase whose work S runs on the driving thread alone

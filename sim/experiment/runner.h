@@ -1,6 +1,6 @@
 // `fovsim run`: one config = scene + display + trace + methods + metrics + GPU profiles +
-// outputs (DESIGN §2, §8). Frames stream: the reference of a frame is rendered once and
-// shared by every method; no whole-trace image storage.
+// outputs (docs/architecture.md §2, §8). Frames stream: the reference of a frame is rendered once
+// and shared by every method; no whole-trace image storage.
 #pragma once
 #include <string>
 #include <vector>

@@ -1,5 +1,5 @@
-// Executing sweeps (DESIGN §9, docs/sweeps.md): cells run over shared references (one frame
-// loop per reference group), each cell's results in <out>/runs/<index>-<hash>/, completed
+// Executing sweeps (docs/architecture.md §9, docs/sweeps.md): cells run over shared references (one
+// frame loop per reference group), each cell's results in <out>/runs/<index>-<hash>/, completed
 // cells marked by cell.json (written last, atomically) so a rerun resumes and skips them; a
 // cell whose config changed has a new hash and is recomputed, never mixed with old results.
 // Shards (--shard i/N or SLURM_ARRAY_TASK_ID/COUNT) take contiguous index ranges; merge

@@ -1,5 +1,5 @@
-// Sweep configs (DESIGN §3, §9; docs/sweeps.md): a run config plus a "sweep" block whose
-// parameter axes expand to an ordered list of cells. Cell i is always the same run (same
+// Sweep configs (docs/architecture.md §3, §9; docs/sweeps.md): a run config plus a "sweep" block
+// whose parameter axes expand to an ordered list of cells. Cell i is always the same run (same
 // assignments, same hash) for a given config, so any engine can execute it by index.
 //
 // Axis kinds: grid (cartesian), list (explicit assignments), zip (advance together),

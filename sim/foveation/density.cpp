@@ -202,7 +202,7 @@ bool solve_iso_budget(const MappingSpec& s, const MappingView& v, double target,
   auto frac = [&](const MappingSpec& m) { return expected_shaded_samples(m, v) / total; };
   bool ok = true;
   if (s.method == "rmfr") {
-    out.sigma = std::max(1.0, 1.0 / std::sqrt(target));  // S = sigma^2 (seed 003 §3.2)
+    out.sigma = std::max(1.0, 1.0 / std::sqrt(target));  // S = sigma^2 (Ye et al. 2022 §3.2)
     ok = target <= 1.0;
   } else {
     // Monotone 1-D search on a log axis: kfr's fraction falls with sigma, the baselines'

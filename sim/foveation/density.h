@@ -1,5 +1,5 @@
 // Analytic sampling density of the mapping methods and baselines, and the sample counts their
-// render passes shade (the theoretical shading reduction, seed 003 §5.1 / Fig. 11). The same
+// render passes shade (the theoretical shading reduction, Ye et al. 2022 §5.1 / Fig. 11). The same
 // geometry functions (LP/RS buffer sizes, hyperbolic layers, linear probability, fvrs rates)
 // are used by the methods' render() so analytic counts and measured counts agree.
 #pragma once
@@ -23,9 +23,9 @@ struct MappingView {
   static MappingView at(const Camera& cam, glm::dvec2 gaze_px);
 };
 
-// Hyperbolic (Guenter et al. 2012 as set up in seed 003 §5.1): layer i covers the screen-aligned
-// square of half-side R_i around the gaze (R_i = pixel radius of eccentricity r_i, clipped to
-// the screen; the outer layer is the whole screen) at pixel size s_i.
+// Hyperbolic (Guenter et al. 2012 as set up in Ye et al. 2022 §5.1): layer i covers the
+// screen-aligned square of half-side R_i around the gaze (R_i = pixel radius of eccentricity r_i,
+// clipped to the screen; the outer layer is the whole screen) at pixel size s_i.
 struct HyperLayer {
   double x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // screen rectangle (pixels)
   double s = 1;                           // pixel size
@@ -52,12 +52,12 @@ void hyper_effective_weights(const MappingSpec& s, const std::vector<HyperLayer>
 double hyperbolic_needed(const MappingSpec& s, const MappingView& v,
                          const std::vector<HyperLayer>& layers, std::vector<uint8_t>* masks);
 
-// Linear fall-off (Weier et al. 2016, seed 003 §5.1): sampling probability 1 inside r1,
+// Linear fall-off (Weier et al. 2016, Ye et al. 2022 §5.1): sampling probability 1 inside r1,
 // falling linearly to p_min at r2, p_min beyond.
 double linear_probability(const MappingSpec& s, double ecc_deg);
 
-// fvrs (Patney et al. 2016 / seed 002 §8.4): shading rate (coarse pixel edge 1, 2 or 4) of
-// the 4x4 block whose top-left pixel is (bx*4, by*4), from the eccentricity at its centre.
+// fvrs (Patney et al. 2016 / Franke et al. 2021 §8.4): shading rate (coarse pixel edge 1, 2 or 4)
+// of the 4x4 block whose top-left pixel is (bx*4, by*4), from the eccentricity at its centre.
 int fvrs_rate(const MappingSpec& s, const MappingView& v, int bx, int by);
 
 // Sampling density (shading samples per screen pixel) at screen point (x, y):
@@ -69,10 +69,10 @@ double sample_density(const MappingSpec& s, const MappingView& v, double x, doub
 // hyperbolic and fvrs without edge-aware extras; expected value for linear).
 double expected_shaded_samples(const MappingSpec& s, const MappingView& v);
 
-// Iso-budget (seed 003 §5.1, DESIGN §9): returns a copy of s whose free parameter (sigma for
-// kfr/rmfr, radius_scale for the baselines) makes expected_shaded_samples / (W H) as close as
-// possible to `target`. `achieved` gets the resulting fraction; returns false (and the closest
-// reachable setting) when the target lies outside the method's range.
+// Iso-budget (Ye et al. 2022 §5.1, docs/architecture.md §9): returns a copy of s whose free
+// parameter (sigma for kfr/rmfr, radius_scale for the baselines) makes expected_shaded_samples / (W
+// H) as close as possible to `target`. `achieved` gets the resulting fraction; returns false (and
+// the closest reachable setting) when the target lies outside the method's range.
 bool solve_iso_budget(const MappingSpec& s, const MappingView& v, double target, MappingSpec& out,
                       double* achieved = nullptr);
 

@@ -1,6 +1,5 @@
 #include "sim/foveation/factory.h"
 
-#include "sim/core/cite.h"
 #include "sim/core/error.h"
 #include "sim/foveation/methods.h"
 
@@ -61,7 +60,7 @@ std::string methods_only_markdown() {
   };
   std::string md;
   for (const auto& e : method_table()) {
-    md += "#### `" + std::string(e.name) + "`\n\n" + cite_papers(e.summary) + ".\n\n";
+    md += "#### `" + std::string(e.name) + "`\n\n" + std::string(e.summary) + ".\n\n";
     const auto& ps = e.params();
     if (ps.empty()) {
       md += "No parameters.\n\n";
@@ -70,8 +69,7 @@ std::string methods_only_markdown() {
     md += "| key | type | default | range | source | meaning |\n|---|---|---|---|---|---|\n";
     for (const ParamInfo& p : ps)
       md += "| `" + std::string(p.name) + "` | " + cell(p.type) + " | " + cell(p.def) + " | " +
-            cell(p.range) + " | " + cell(cite_papers(p.source).c_str()) + " | " + cell(p.doc) +
-            " |\n";
+            cell(p.range) + " | " + cell(p.source) + " | " + cell(p.doc) + " |\n";
     md += "\n";
   }
   return md;

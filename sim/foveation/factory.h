@@ -1,4 +1,4 @@
-// The one explicit factory (DESIGN §5: no static self-registration).
+// The one explicit factory (docs/architecture.md §5: no static self-registration).
 #pragma once
 #include <memory>
 #include <string>

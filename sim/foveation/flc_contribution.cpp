@@ -1,4 +1,4 @@
-// FLC contribution estimation and stochastic culling (seed 001 §5, eqs. 10-14).
+// FLC contribution estimation and stochastic culling (Yang et al. 2021 §5, eqs. 10-14).
 #include "sim/foveation/flc_contribution.h"
 
 #include <tbb/blocked_range.h>

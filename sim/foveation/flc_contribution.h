@@ -1,5 +1,5 @@
-// FLC light culling (seed 001 §5): per-VPL contribution (eq. 14) over the importance samples
-// with BLSO visibility (eqs. 11-13), and stochastic culling of VPLs to a budget.
+// FLC light culling (Yang et al. 2021 §5): per-VPL contribution (eq. 14) over the importance
+// samples with BLSO visibility (eqs. 11-13), and stochastic culling of VPLs to a budget.
 #pragma once
 #include <cstdint>
 #include <vector>

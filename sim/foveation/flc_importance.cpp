@@ -1,4 +1,4 @@
-// FLC importance map (seed 001 §4.1, eqs. 3-9). See flc_importance.h.
+// FLC importance map (Yang et al. 2021 §4.1, eqs. 3-9). See flc_importance.h.
 #include "sim/foveation/flc_importance.h"
 
 #include <tbb/parallel_for.h>

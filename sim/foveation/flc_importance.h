@@ -1,4 +1,4 @@
-// FLC perceptual importance map (seed 001 §4.1): visual acuity (eqs. 3-6), geometry
+// FLC perceptual importance map (Yang et al. 2021 §4.1): visual acuity (eqs. 3-6), geometry
 // silhouette (eq. 7) and indirect brightness from history (eq. 8), combined by eq. 9.
 #pragma once
 #include <vector>

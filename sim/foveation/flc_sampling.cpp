@@ -1,4 +1,4 @@
-// FLC sample selection (seed 001 §4.2, Algorithm 1). See flc_sampling.h.
+// FLC sample selection (Yang et al. 2021 §4.2, Algorithm 1). See flc_sampling.h.
 #include "sim/foveation/flc_sampling.h"
 
 #include <tbb/parallel_for.h>
@@ -37,8 +37,9 @@ std::vector<glm::vec2> shuffled_halton(size_t n, uint64_t seed) {
 
 std::vector<ImportanceSample> flc_select_samples(const Image& P, const std::vector<glm::vec2>& H,
                                                  int n_s, int m) {
-  if (n_s < 0 || m < 1) throw Error("flc", "invalid chain count/length");
-  if (H.size() < size_t(n_s) * size_t(m)) throw Error("flc", "too few Halton points for N_s * M");
+  FOVSIM_CHECK(n_s >= 0 && m >= 1, "flc_select_samples: invalid chain count/length");
+  FOVSIM_CHECK(H.size() >= size_t(n_s) * size_t(m),
+               "flc_select_samples: too few Halton points for N_s * M");
   std::vector<ImportanceSample> out(static_cast<size_t>(n_s));
   if (P.width <= 0 || P.height <= 0) return out;
   const int W = P.width, Ht = P.height;

@@ -1,5 +1,5 @@
-// FLC shading-point selection (seed 001 §4.2): shuffled 2D Halton proposals and the modified
-// quasi-Metropolis-Hastings chains of its Algorithm 1.
+// FLC shading-point selection (Yang et al. 2021 §4.2): shuffled 2D Halton proposals and the
+// modified quasi-Metropolis-Hastings chains of its Algorithm 1.
 #pragma once
 #include <cstdint>
 #include <vector>

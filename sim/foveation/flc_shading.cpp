@@ -1,4 +1,4 @@
-// FLC shading passes (seed 001 §6). See flc_shading.h.
+// FLC shading passes (Yang et al. 2021 §6). See flc_shading.h.
 #include "sim/foveation/flc_shading.h"
 
 #include <tbb/blocked_range.h>

@@ -1,4 +1,4 @@
-// FLC shading with the kept VPLs (seed 001 §6): full resolution, interleaved sampling
+// FLC shading with the kept VPLs (Yang et al. 2021 §6): full resolution, interleaved sampling
 // (Keller & Heidrich 2001) with the 3x3 Gaussian, and shading in log-polar space (backward
 // transform of the G-buffer, KFR-style buffer of (W/sigma) x (H/sigma), inverse map with
 // bilinear filtering).

@@ -1,5 +1,5 @@
-// Shared per-frame inputs (DESIGN §2): camera, full-res G-buffer, reference shading and
-// eccentricity, computed once per frame and shared by every method and sweep cell.
+// Shared per-frame inputs (docs/architecture.md §2): camera, full-res G-buffer, reference shading
+// and eccentricity, computed once per frame and shared by every method and sweep cell.
 #pragma once
 #include <optional>
 #include <vector>

@@ -1,5 +1,5 @@
-// `fvrs`: foveated variable-rate / coarse pixel shading (Patney et al. 2016 as run in seed 002
-// §8.4): shading rate 1x1 inside r1 = 10 deg, 2x2 to r2 = 20 deg, 4x4 beyond, chosen per 4x4
+// `fvrs`: foveated variable-rate / coarse pixel shading (Patney et al. 2016 as run in Franke et al.
+// 2021 §8.4): shading rate 1x1 inside r1 = 10 deg, 2x2 to r2 = 20 deg, 4x4 beyond, chosen per 4x4
 // screen tile from the eccentricity at its centre. Visibility stays full resolution (the
 // G-buffer); each coarse pixel is shaded once at the sample next to its centre and that colour
 // is broadcast. With edge_aware, a pixel whose surface differs from its coarse sample (other
@@ -95,12 +95,13 @@ std::unique_ptr<FoveationMethod> create_fvrs(Params& p) {
 
 const std::vector<ParamInfo>& fvrs_params() {
   static const std::vector<ParamInfo> t = {
-      {"r1", "number", "10", "[0, 180]", "seed 002 §8.4", "1x1 shading inside (deg)"},
-      {"r2", "number", "20", "[r1, 180]", "seed 002 §8.4", "2x2 inside, 4x4 beyond (deg)"},
+      {"r1", "number", "10", "[0, 180]", "Franke et al. 2021 §8.4", "1x1 shading inside (deg)"},
+      {"r2", "number", "20", "[r1, 180]", "Franke et al. 2021 §8.4",
+       "2x2 inside, 4x4 beyond (deg)"},
       {"edge_aware", "bool", "true", "", "Vaidyanathan 2014",
        "pixels of another surface shade themselves"},
       {"radius_scale", "number", "1", "(0, inf)", "iso-budget", "multiplies r1 and r2"},
-      {"target_shaded_fraction", "number", "none", "(0, 1]", "seed 003 §5.1",
+      {"target_shaded_fraction", "number", "none", "(0, 1]", "Ye et al. 2022 §5.1",
        "iso-budget: solve radius_scale"},
   };
   return t;

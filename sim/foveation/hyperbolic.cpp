@@ -1,11 +1,11 @@
-// `hyperbolic`: Guenter et al. 2012 three-layer foveation with seed 003 §5.1's parameters.
+// `hyperbolic`: Guenter et al. 2012 three-layer foveation with Ye et al. 2022 §5.1's parameters.
 // Inner and middle layers are screen-aligned squares around the gaze whose half-side is the
 // pixel radius of eccentricity r1 / r2 (largest of the four axis directions, through the real
 // projection), the outer layer is the whole screen. Each layer is a G-buffer gathered at its
 // pixel size s_i (nearest full-res sample at the layer pixel centre), bilinearly upsampled and
 // blended with a smoothstep over the last blend_deg degrees inside each layer's eccentricity
 // limit. Only the layer pixels the composite reads are shaded (a stencil-masked layer pass):
-// Guenter shades whole layers, i.e. the fovea three times (seed 003 §2); masking keeps
+// Guenter shades whole layers, i.e. the fovea three times (Ye et al. 2022 §2); masking keeps
 // shaded_samples <= W H and charges only visible work.
 //
 // Parameters: the declaration hyperbolic_params() at the end of this file (name, type, default,
@@ -93,15 +93,15 @@ std::unique_ptr<FoveationMethod> create_hyperbolic(Params& p) {
 
 const std::vector<ParamInfo>& hyperbolic_params() {
   static const std::vector<ParamInfo> t = {
-      {"r1", "number", "10", "[0, 180]", "seed 003 §5.1", "inner layer eccentricity (deg)"},
-      {"r2", "number", "20", "[r1, 180]", "seed 003 §5.1", "middle layer eccentricity (deg)"},
-      {"s1", "number", "1", "[1, 1e4]", "seed 003 §5.1", "inner layer pixel size"},
-      {"s2", "number", "2", "[1, 1e4]", "seed 003 §5.1", "middle layer pixel size"},
-      {"s3", "number", "12.35", "[1, 1e4]", "seed 003 §5.1", "outer layer pixel size"},
+      {"r1", "number", "10", "[0, 180]", "Ye et al. 2022 §5.1", "inner layer eccentricity (deg)"},
+      {"r2", "number", "20", "[r1, 180]", "Ye et al. 2022 §5.1", "middle layer eccentricity (deg)"},
+      {"s1", "number", "1", "[1, 1e4]", "Ye et al. 2022 §5.1", "inner layer pixel size"},
+      {"s2", "number", "2", "[1, 1e4]", "Ye et al. 2022 §5.1", "middle layer pixel size"},
+      {"s3", "number", "12.35", "[1, 1e4]", "Ye et al. 2022 §5.1", "outer layer pixel size"},
       {"blend_deg", "number", "1", "[0, 90]", "Guenter 2012",
        "smoothstep blend band inside each layer edge (deg)"},
       {"radius_scale", "number", "1", "(0, inf)", "iso-budget", "multiplies r1 and r2"},
-      {"target_shaded_fraction", "number", "none", "(0, 1]", "seed 003 §5.1",
+      {"target_shaded_fraction", "number", "none", "(0, 1]", "Ye et al. 2022 §5.1",
        "iso-budget: solve radius_scale"},
   };
   return t;

@@ -1,4 +1,4 @@
-// `kfr`: Kernel Foveated Rendering (seed 004, ch. 2).
+// `kfr`: Kernel Foveated Rendering (Meng 2018, ch. 2).
 // Pass 1: every LP-buffer pixel (u, v) of the (W/sigma) x (H/sigma) buffer takes the nearest
 // G-buffer sample at its inverse-mapped screen point (Alg. 2, eqs. 2.10-2.13 inverted), only
 // samples landing on the screen are shaded (KFR leaves LP corners unused); a 3x3 Gaussian is
@@ -160,19 +160,19 @@ std::unique_ptr<FoveationMethod> create_kfr(Params& p) {
 
 const std::vector<ParamInfo>& kfr_params() {
   static const std::vector<ParamInfo> t = {
-      {"sigma", "number", "1.8", "[1, inf)", "seed 004 §2.1 eq. 2.8",
+      {"sigma", "number", "1.8", "[1, inf)", "Meng 2018 §2.1 eq. 2.8",
        "W / w = H / h of the LP-buffer"},
-      {"alpha", "number", "4", "[1e-3, 1e3]", "seed 004 §2.1 eq. 2.9",
+      {"alpha", "number", "4", "[1e-3, 1e3]", "Meng 2018 §2.1 eq. 2.9",
        "exponent of K(x) = x^alpha"},
-      {"kernel", "string", "power", "power | sine | exp", "seed 004 §2.1",
+      {"kernel", "string", "power", "power | sine | exp", "Meng 2018 §2.1",
        "K(x) = x^alpha, sin(x pi/2) or (e^x - 1)/(e - 1)"},
-      {"internal_aa", "bool", "true", "", "seed 004 §2.2.3",
+      {"internal_aa", "bool", "true", "", "Meng 2018 §2.2.3",
        "3x3 Gaussian on the peripheral LP part"},
-      {"internal_aa_start", "number", "0.5", "[0, 1]", "seed 004 §2.2.3",
+      {"internal_aa_start", "number", "0.5", "[0, 1]", "Meng 2018 §2.2.3",
        "u/w where the filtered part starts"},
-      {"post_aa", "bool", "true", "", "seed 004 §2.3.2 eq. 2.14",
+      {"post_aa", "bool", "true", "", "Meng 2018 §2.3.2 eq. 2.14",
        "eccentricity-sized Gaussian post filter"},
-      {"target_shaded_fraction", "number", "none", "(0, 1]", "seed 003 §5.1",
+      {"target_shaded_fraction", "number", "none", "(0, 1]", "Ye et al. 2022 §5.1",
        "iso-budget: solve sigma"},
   };
   return t;

@@ -81,8 +81,8 @@ glm::vec3 shade_vpls(const VplSoA& v, const glm::vec3& p, const glm::vec3& n, co
 
 void add_indirect(GBufferRef g, const VplSoA& v, const VplShading& s, const Renderer* r,
                   const uint8_t* mask, Image& col, Counters* c) {
-  if (col.width != g.width || col.height != g.height || col.channels != 3)
-    throw Error("add_indirect", "colour buffer does not match the G-buffer");
+  FOVSIM_CHECK(col.width == g.width && col.height == g.height && col.channels == 3,
+               "add_indirect: colour buffer does not match the G-buffer");
   std::atomic<uint64_t> shaded{0}, rays{0};
   const size_t N = g.size();
   const VplSumFn fn = vpl_sum_fn();
@@ -145,10 +145,10 @@ bool cache_all_indirect(const GBuffer& g, const Renderer* r, FrameVpls& vp) {
 
 void add_cached_indirect(GBufferRef g, const FrameVpls& vp, const uint8_t* mask, Image& col,
                          Counters* c) {
-  if (col.width != g.width || col.height != g.height || col.channels != 3)
-    throw Error("add_indirect", "colour buffer does not match the G-buffer");
-  if (g.g != vp.all_indirect_of || !vp.all_indirect_of)
-    throw Error("add_indirect", "the cached indirect light belongs to another G-buffer");
+  FOVSIM_CHECK(col.width == g.width && col.height == g.height && col.channels == 3,
+               "add_indirect: colour buffer does not match the G-buffer");
+  FOVSIM_CHECK(vp.all_indirect_of && g.g == vp.all_indirect_of,
+               "add_cached_indirect: the cached indirect light belongs to another G-buffer");
   std::atomic<uint64_t> shaded{0};
   const float* ind = vp.all_indirect.data.data();
   tbb::parallel_for(tbb::blocked_range<size_t>(0, g.size(), 1024),

@@ -1,9 +1,9 @@
-// `linear`: Weier et al. 2016 linear fall-off with seed 003 §5.1's parameters. Each pixel is
+// `linear`: Weier et al. 2016 linear fall-off with Ye et al. 2022 §5.1's parameters. Each pixel is
 // shaded with probability p(e): 1 inside r1, falling linearly to p_min at r2, p_min beyond
 // (stochastic sampling as in Weier's ray tracer; per-pixel hash of (seed, frame, pixel), so the
 // pattern is the same at any thread count and changes every frame). Unshaded pixels are
 // reconstructed from the shaded ones by push-pull interpolation (Gortler et al. 1996, the
-// sparse-sample fill seed 003 §2 names for this family).
+// sparse-sample fill Ye et al. 2022 §2 names for this family).
 //
 // Parameters: the declaration linear_params() at the end of this file (name, type, default,
 // range, seed section, meaning); docs/methods.md and configs/README.md are generated from it.
@@ -53,12 +53,13 @@ std::unique_ptr<FoveationMethod> create_linear(Params& p) {
 
 const std::vector<ParamInfo>& linear_params() {
   static const std::vector<ParamInfo> t = {
-      {"r1", "number", "10", "[0, 180]", "seed 003 §5.1", "full-rate region (deg)"},
-      {"r2", "number", "20", "[r1, 180]", "seed 003 §5.1", "end of the linear fall-off (deg)"},
-      {"p_min", "number", "0.047", "(0, 1]", "seed 003 §5.1", "minimum sampling probability"},
+      {"r1", "number", "10", "[0, 180]", "Ye et al. 2022 §5.1", "full-rate region (deg)"},
+      {"r2", "number", "20", "[r1, 180]", "Ye et al. 2022 §5.1",
+       "end of the linear fall-off (deg)"},
+      {"p_min", "number", "0.047", "(0, 1]", "Ye et al. 2022 §5.1", "minimum sampling probability"},
       {"seed", "integer", "0", "[0, 2^31)", "", "stochastic sample pattern seed"},
       {"radius_scale", "number", "1", "(0, inf)", "iso-budget", "multiplies r1 and r2"},
-      {"target_shaded_fraction", "number", "none", "(0, 1]", "seed 003 §5.1",
+      {"target_shaded_fraction", "number", "none", "(0, 1]", "Ye et al. 2022 §5.1",
        "iso-budget: solve radius_scale"},
   };
   return t;

@@ -20,7 +20,7 @@ inline double finite_or(double v, double d) {
 }
 }  // namespace
 
-// ---- kernels (seed 004 §2.1, eq. 2.9 and the two alternatives named after it) ----------
+// ---- kernels (Meng 2018 §2.1, eq. 2.9 and the two alternatives named after it) ----------
 double KernelFn::K(double x) const {
   x = clampd(x, 0.0, 1.0);
   switch (kind) {
@@ -134,7 +134,7 @@ double LogPolarMap::density(double x, double y) const {
   return w * h * k.K_deriv(t) / (2.0 * kPi * L * r * r);
 }
 
-// ---- rectangular map (seed 003 eqs. 4-7) -----------------------------------------------
+// ---- rectangular map (Ye et al. 2022 eqs. 4-7) -----------------------------------------------
 RectAxis RectAxis::make(int S, int s, double gaze, double f) {
   RectAxis a;
   a.S = S;

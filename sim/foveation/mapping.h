@@ -1,6 +1,6 @@
 // Image-mapping math shared by the mapping methods (kfr, rmfr) and the baselines
 // (hyperbolic, linear, fvrs): the forward/inverse maps with their Jacobians, the kernel
-// functions of seed 004 §2.1, and the buffer passes (gather from the G-buffer, bilinear
+// functions of Meng 2018 §2.1, and the buffer passes (gather from the G-buffer, bilinear
 // reconstruction, Gaussian filters, push-pull fill). Pure math + TBB loops; no renderer here.
 //
 // Coordinates: screen points in pixels with pixel i's centre at i + 0.5 (sim/core/math.h);
@@ -23,12 +23,12 @@
 
 namespace fovsim {
 
-// ---- Kernel functions K: [0,1] -> [0,1], monotonic, K(0) = 0, K(1) = 1 (seed 004 eq. 2.9).
+// ---- Kernel functions K: [0,1] -> [0,1], monotonic, K(0) = 0, K(1) = 1 (Meng 2018 eq. 2.9).
 enum class KernelKind { Power, Sine, Exp };
 struct KernelFn {
   KernelKind kind = KernelKind::Power;
   double alpha = 4.0;  // exponent of K(x) = x^alpha (Power only)
-  // K(x) = x^alpha (eq. 2.9 with one term), sin(x pi/2), (e^x - 1)/(e - 1) (seed 004 §2.1).
+  // K(x) = x^alpha (eq. 2.9 with one term), sin(x pi/2), (e^x - 1)/(e - 1) (Meng 2018 §2.1).
   double K(double x) const;
   double Kinv(double y) const;                    // inverse, y clamped to [0, 1]
   double Kinv_deriv(double y) const;              // d K^-1 / dy, finite (clamped away from 0 and 1)
@@ -37,7 +37,7 @@ struct KernelFn {
   static const char* name(KernelKind k);
 };
 
-// ---- Kernel log-polar map (seed 004 eqs. 2.10-2.13, Alg. 2) for a W x H screen and a
+// ---- Kernel log-polar map (Meng 2018 eqs. 2.10-2.13, Alg. 2) for a W x H screen and a
 // w x h LP-buffer around the gaze (gx, gy), which may lie anywhere (also off-screen).
 // Direction of the kernel: u = w K(log r / L), r = exp(L K^-1(u / w)). This is eq. 2.8's
 // density D ~ exp(-c K^-1(u/w)) / K^-1'(u/w) and the behaviour §2.1 and Figs. 1.14-1.17
@@ -60,7 +60,7 @@ struct LogPolarMap {
   double density(double x, double y) const;
 };
 
-// ---- Rectangular map (seed 003 eqs. 4-7) per axis, all four quadrants: the side of the
+// ---- Rectangular map (Ye et al. 2022 eqs. 4-7) per axis, all four quadrants: the side of the
 // gaze a pixel lies on selects the extent E (W - x^ or x^) of the normalisation N_X (eq. 5).
 struct RectAxis {
   double S = 0;  // screen extent (W or H), pixels
@@ -83,7 +83,7 @@ struct RectMap {
   double density(double x, double y) const { return ax.deriv(x) * ay.deriv(y); }
 };
 
-// Reduced-buffer size for a screen extent and sigma = W/w (seed 004 §2.1, seed 003 §3.2):
+// Reduced-buffer size for a screen extent and sigma = W/w (Meng 2018 §2.1, Ye et al. 2022 §3.2):
 // round(S / sigma), at least 1.
 int reduced_size(int S, double sigma);
 
@@ -136,7 +136,7 @@ size_t gather_index_rows(const GBuffer& src, int w, int h, AtFn&& at, std::vecto
   return n;
 }
 
-// Pass 1 gather (seed 004 §2.2.2, seed 003 §3.2 "TG-buffer"): slot i = (iu, iv) of a w x h
+// Pass 1 gather (Meng 2018 §2.2.2, Ye et al. 2022 §3.2 "TG-buffer"): slot i = (iu, iv) of a w x h
 // buffer takes the nearest full-res G-buffer sample at the screen point inv(iu + 0.5, iv + 0.5)
 // as an index into src (see gather_index_rows); points outside the screen (or not finite) leave
 // the slot cleared (kNone, a miss) and used[i] = 0. Returns the number of used slots. Parallel
@@ -243,7 +243,7 @@ inline double angle_0_2pi(double dy, double dx) {
 // bit-identical to the scalar function (vectorised loop of lp_reconstruct).
 void polar_angle_row(double* v, int n, double gx, double dy, double v_per_rad);
 
-// ---- KFR's two mapping passes (seed 004 §2.2-2.3), callable on their own (bench_methods).
+// ---- KFR's two mapping passes (Meng 2018 §2.2-2.3), callable on their own (bench_methods).
 // Forward map / pass 1 (§2.2.1-2.2.2): gathers the (map.w x map.h) LP-buffer from the
 // full-res G-buffer, slot (u, v) taking the nearest sample at map.inverse(u, v), as an index
 // into src (the LP G-buffer is GBufferRef(src, index.data(), w, h); see gather_index_rows).
@@ -279,7 +279,7 @@ double gaussian3x3_from(Image& img, int x0, bool wrap_y, Image* scratch = nullpt
 double variable_gaussian(Image& img, const std::vector<uint8_t>& eta, int max_eta,
                          Image* scratch = nullptr);
 
-// Push-pull hole filling (Gortler et al. 1996, as used by seed 003 §2 for sparse samples):
+// Push-pull hole filling (Gortler et al. 1996, as used by Ye et al. 2022 §2 for sparse samples):
 // pixels with valid[i] == 0 get an interpolation of valid neighbours at the coarsest needed
 // scale. Valid pixels are unchanged. Returns the number of filter taps read.
 double push_pull_fill(Image& img, const std::vector<uint8_t>& valid);

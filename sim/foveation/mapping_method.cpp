@@ -29,7 +29,7 @@ const MappingSpec& MappingMethodBase::resolve(const FrameContext& ctx, FrameOutp
   const int W = ctx.gbuffer->width, H = ctx.gbuffer->height;
   if (W != res_w_ || H != res_h_ || ctx.camera->tan_half_h != res_tan_h_ ||
       ctx.camera->tan_half_v != res_tan_v_) {
-    // Solve at the centre gaze (seed 003 §5.1 fixes the theoretical speedup per method, not
+    // Solve at the centre gaze (Ye et al. 2022 §5.1 fixes the theoretical speedup per method, not
     // per frame), with an eccentricity map for that gaze.
     MappingView v = MappingView::at(*ctx.camera, glm::dvec2(W * 0.5, H * 0.5));
     std::vector<float> ecc = eccentricity_map(*ctx.camera, v.gaze_dir);

@@ -14,7 +14,7 @@ namespace fovsim {
 
 struct MappingSpec {
   std::string method = "kfr";  // kfr | rmfr | hyperbolic | linear | fvrs
-  // kfr (seed 004 ch. 2) and rmfr (seed 003 §3.2)
+  // kfr (Meng 2018 ch. 2) and rmfr (Ye et al. 2022 §3.2)
   double sigma = 1.8;       // W / w (= H / h)
   KernelFn kernel;          // kfr kernel K and alpha
   bool internal_aa = true;  // kfr §2.2.3 3x3 Gaussian on the peripheral part of the LP-buffer
@@ -22,7 +22,7 @@ struct MappingSpec {
   bool post_aa = true;             // kfr §2.3.2 eq. 2.14 Gaussian post filter
   double fx = 0.38, fy = 0.38;     // rmfr, as fractions of W / H ...
   double fx_px = 0, fy_px = 0;     // ... or in pixels when > 0 (keys fx_px / fy_px)
-  // baselines (seed 003 §5.1)
+  // baselines (Ye et al. 2022 §5.1)
   double r1 = 10, r2 = 20;            // eccentricity thresholds, degrees
   double s1 = 1, s2 = 2, s3 = 12.35;  // hyperbolic layer pixel sizes
   double blend_deg = 1.0;     // hyperbolic: width of the smoothstep blend inside each layer edge

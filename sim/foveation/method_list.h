@@ -12,15 +12,17 @@
 // Mapping-family methods also expose their MappingSpec (FoveationMethod::mapping_spec), which
 // `fovsim density` and the analytic counters of `predict` evaluate.
 FOVSIM_METHOD(full, "full-resolution deferred shading (reference pipeline)", Full)
-FOVSIM_METHOD(flc, "foveated light culling of VPLs for indirect light (seed 001)", Flc)
-FOVSIM_METHOD(kfr, "kernel log-polar foveated rendering (seed 004 ch. 2)", Mapping)
-FOVSIM_METHOD(rmfr, "rectangular mapping-based foveated rendering (seed 003 §3.2)", Mapping)
-FOVSIM_METHOD(hyperbolic, "Guenter three-layer baseline (seed 003 §5.1)", Mapping)
-FOVSIM_METHOD(linear, "Weier linear fall-off baseline (seed 003 §5.1)", Mapping)
-FOVSIM_METHOD(fvrs, "foveated coarse-pixel shading baseline (seed 002 §8.4)", Fvrs)
-FOVSIM_METHOD(twfr, "time-warped foveated rendering: reprojection + confidence redraw (seed 002)",
-              Twfr)
-FOVSIM_METHOD(rmfr_auto,
-              "RMFR with f_x, f_y chosen per frame from peripheral edge orientation (seed 003 "
-              "§4.4.1, §7 future work)",
-              Mapping)
+FOVSIM_METHOD(flc, "foveated light culling of VPLs for indirect light (Yang et al. 2021)", Flc)
+FOVSIM_METHOD(kfr, "kernel log-polar foveated rendering (Meng 2018 ch. 2)", Mapping)
+FOVSIM_METHOD(rmfr, "rectangular mapping-based foveated rendering (Ye et al. 2022 §3.2)", Mapping)
+FOVSIM_METHOD(hyperbolic, "Guenter three-layer baseline (Ye et al. 2022 §5.1)", Mapping)
+FOVSIM_METHOD(linear, "Weier linear fall-off baseline (Ye et al. 2022 §5.1)", Mapping)
+FOVSIM_METHOD(fvrs, "foveated coarse-pixel shading baseline (Franke et al. 2021 §8.4)", Fvrs)
+FOVSIM_METHOD(
+    twfr, "time-warped foveated rendering: reprojection + confidence redraw (Franke et al. 2021)",
+    Twfr)
+FOVSIM_METHOD(
+    rmfr_auto,
+    "RMFR with f_x, f_y chosen per frame from peripheral edge orientation (Ye et al. 2022 "
+    "§4.4.1, §7 future work)",
+    Mapping)

@@ -1,4 +1,4 @@
-// `rmfr`: Rectangular Mapping-based Foveated Rendering (seed 003 §3.2).
+// `rmfr`: Rectangular Mapping-based Foveated Rendering (Ye et al. 2022 §3.2).
 // Pass 1: every RS-buffer pixel of the (W/sigma) x (H/sigma) buffer takes the nearest G-buffer
 // sample at its inverse-mapped screen point (eqs. 6-7, all four quadrants: the normalisation
 // of eq. 5 uses W - x^ right of the gaze and x^ left of it, likewise in y); the TG-buffer is
@@ -68,13 +68,17 @@ std::unique_ptr<FoveationMethod> create_rmfr(Params& p) {
 
 const std::vector<ParamInfo>& rmfr_params() {
   static const std::vector<ParamInfo> t = {
-      {"sigma", "number", "2.6", "[1, inf)", "seed 003 §3.2, §6.1",
+      {"sigma", "number", "2.6", "[1, inf)", "Ye et al. 2022 §3.2, §6.1",
        "W / w = H / h of the RS-buffer"},
-      {"fx", "number", "0.38", "(0, inf)", "seed 003 eq. 4, Fig. 7", "f_x as a fraction of W"},
-      {"fy", "number", "0.38", "(0, inf)", "seed 003 eq. 4, Fig. 7", "f_y as a fraction of H"},
-      {"fx_px", "number", "none", "(0, inf)", "seed 003 eq. 4", "f_x in pixels (instead of fx)"},
-      {"fy_px", "number", "none", "(0, inf)", "seed 003 eq. 4", "f_y in pixels (instead of fy)"},
-      {"target_shaded_fraction", "number", "none", "(0, 1]", "seed 003 §5.1",
+      {"fx", "number", "0.38", "(0, inf)", "Ye et al. 2022 eq. 4, Fig. 7",
+       "f_x as a fraction of W"},
+      {"fy", "number", "0.38", "(0, inf)", "Ye et al. 2022 eq. 4, Fig. 7",
+       "f_y as a fraction of H"},
+      {"fx_px", "number", "none", "(0, inf)", "Ye et al. 2022 eq. 4",
+       "f_x in pixels (instead of fx)"},
+      {"fy_px", "number", "none", "(0, inf)", "Ye et al. 2022 eq. 4",
+       "f_y in pixels (instead of fy)"},
+      {"target_shaded_fraction", "number", "none", "(0, 1]", "Ye et al. 2022 §5.1",
        "iso-budget: solve sigma"},
   };
   return t;

@@ -1,6 +1,6 @@
-// `rmfr_auto`: RMFR (seed 003 §3.2) with f_x and f_y chosen per frame from the image, the
-// automatic estimation of f_x* and f_y* that seed 003 leaves as future work (§7).
-// Seed 003 §4.4.1 reports that scenes dominated by flat (near-horizontal) lines tolerate
+// `rmfr_auto`: RMFR (Ye et al. 2022 §3.2) with f_x and f_y chosen per frame from the image, the
+// automatic estimation of f_x* and f_y* that Ye et al. 2022 leaves as future work (§7).
+// Ye et al. 2022 §4.4.1 reports that scenes dominated by flat (near-horizontal) lines tolerate
 // compression along X (small f_x*, large f_y*) and steep lines the reverse. We measure that
 // orientation in the periphery of the previous frame's output (what an engine has before
 // rendering the next frame): E_x = sum |dI/dx|^2 (energy of steep edges), E_y = sum |dI/dy|^2
@@ -119,12 +119,14 @@ std::unique_ptr<FoveationMethod> create_rmfr_auto(Params& p) {
 
 const std::vector<ParamInfo>& rmfr_auto_params() {
   static const std::vector<ParamInfo> t = {
-      {"sigma", "number", "2.6", "[1, inf)", "seed 003 §3.2, §4.4.2",
+      {"sigma", "number", "2.6", "[1, inf)", "Ye et al. 2022 §3.2, §4.4.2",
        "W / w = H / h of the RS-buffer"},
       {"f_sum", "number", "0.76", "(0, 2]", "ours (2 x RMFR's 0.38)",
        "f_x + f_y (fractions of W, H) split by edge orientation"},
-      {"f_min", "number", "0.1", "(0, 1]", "seed 003 Fig. 9 range", "lower clamp of f_x, f_y"},
-      {"f_max", "number", "0.8", "(0, 2]", "seed 003 Fig. 9 range", "upper clamp of f_x, f_y"},
+      {"f_min", "number", "0.1", "(0, 1]", "Ye et al. 2022 Fig. 9 range",
+       "lower clamp of f_x, f_y"},
+      {"f_max", "number", "0.8", "(0, 2]", "Ye et al. 2022 Fig. 9 range",
+       "upper clamp of f_x, f_y"},
       {"adapt", "number", "0.5", "(0, 1]", "ours",
        "weight of the newest estimate (temporal smoothing)"},
       {"periphery_deg", "number", "10", "[0, 180]", "ours",

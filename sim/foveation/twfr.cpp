@@ -1,4 +1,4 @@
-// `twfr`: time-warped foveated rendering (seed 002, Franke et al. 2021, §4-§8).
+// `twfr`: time-warped foveated rendering (Franke et al. 2021, §4-§8).
 //
 // Parameters: the declaration twfr_params() at the end of this file (name, type, default,
 // range, seed section, meaning); docs/methods.md and configs/README.md are generated from it.

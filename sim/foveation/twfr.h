@@ -1,5 +1,5 @@
-// `twfr`: time-warped foveated rendering (seed 002). The method class is exposed so tests and
-// bench/bench_twfr.cpp can inspect its per-frame buffers and stage timings; runs create it
+// `twfr`: time-warped foveated rendering (Franke et al. 2021). The method class is exposed so tests
+// and bench/bench_twfr.cpp can inspect its per-frame buffers and stage timings; runs create it
 // through the factory (create_twfr in methods.h).
 #pragma once
 #include <string>

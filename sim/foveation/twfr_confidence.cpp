@@ -1,4 +1,4 @@
-// TWFR confidence function, redraw map and OR-mipmap (seed 002 §5.2, §6.1, §7).
+// TWFR confidence function, redraw map and OR-mipmap (Franke et al. 2021 §5.2, §6.1, §7).
 #include "sim/foveation/twfr_confidence.h"
 
 #include <tbb/blocked_range.h>

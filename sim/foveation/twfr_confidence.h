@@ -1,4 +1,4 @@
-// TWFR confidence function and redraw map (seed 002 §5.2, §7) and the OR-mipmap of the
+// TWFR confidence function and redraw map (Franke et al. 2021 §5.2, §7) and the OR-mipmap of the
 // redraw map used for foveation culling (§6.1).
 //
 // Threshold convention (documented in docs/methods.md "## twfr"): a pixel is redrawn iff

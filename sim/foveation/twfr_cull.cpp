@@ -1,4 +1,4 @@
-// TWFR foveation culling (seed 002 §6.1). See twfr_cull.h.
+// TWFR foveation culling (Franke et al. 2021 §6.1). See twfr_cull.h.
 #include "sim/foveation/twfr_cull.h"
 
 #include <tbb/parallel_for.h>

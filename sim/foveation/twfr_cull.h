@@ -1,4 +1,4 @@
-// TWFR foveation culling (seed 002 §6.1): a sub-model (<= ~500 faces) is culled when the
+// TWFR foveation culling (Franke et al. 2021 §6.1): a sub-model (<= ~500 faces) is culled when the
 // screen-space rectangle of its world AABB covers no pixel of the redraw map, queried on the
 // OR-mipmap at the level matching the rectangle (four texel lookups).
 #pragma once

@@ -1,4 +1,4 @@
-// TWFR push-pull hole filling (seed 002 §5.1) and contrast confidence (§5.2).
+// TWFR push-pull hole filling (Franke et al. 2021 §5.1) and contrast confidence (§5.2).
 #include "sim/foveation/twfr_pushpull.h"
 
 #include <tbb/blocked_range.h>

@@ -1,4 +1,4 @@
-// TWFR hole filling (seed 002 §5.1) with the contrast confidence of §5.2.
+// TWFR hole filling (Franke et al. 2021 §5.1) with the contrast confidence of §5.2.
 // Push-pull [GGSC96]: a mip pyramid of the valid colours is built (average of the valid
 // children); each hole is filled at the finest level m >= 1 whose covering texel holds data
 // (the mip level is chosen per hole, relative to its size), bilinearly from the valid texels

@@ -1,4 +1,4 @@
-// TWFR forward reprojection (seed 002 §4, §7). See twfr_reproject.h.
+// TWFR forward reprojection (Franke et al. 2021 §4, §7). See twfr_reproject.h.
 #include "sim/foveation/twfr_reproject.h"
 
 #include <tbb/blocked_range.h>

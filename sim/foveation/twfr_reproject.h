@@ -1,7 +1,7 @@
-// TWFR forward reprojection (seed 002 §4, §7): one pixel-sized splat per source pixel, carrying
-// colour and the exact world position (not a depth-buffer reconstruction, Fig. 3), depth-tested
-// into the new view. Splats landing in the new fovea are discarded (§4, last paragraph); pixels
-// that were hole-filled carry no position and are never reprojected again (§4).
+// TWFR forward reprojection (Franke et al. 2021 §4, §7): one pixel-sized splat per source pixel,
+// carrying colour and the exact world position (not a depth-buffer reconstruction, Fig. 3),
+// depth-tested into the new view. Splats landing in the new fovea are discarded (§4, last
+// paragraph); pixels that were hole-filled carry no position and are never reprojected again (§4).
 #pragma once
 #include <atomic>
 #include <cstdint>

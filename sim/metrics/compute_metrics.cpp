@@ -1,5 +1,5 @@
-// compute_metrics: every enabled metric of one frame, by frames.csv column name (DESIGN §7-8).
-// Region RMSEs (over all channels of the region's pixels):
+// compute_metrics: every enabled metric of one frame, by frames.csv column name
+// (docs/architecture.md §7-8). Region RMSEs (over all channels of the region's pixels):
 //   rmse_fovea     = sqrt(mean err^2 over ecc <  fovea_deg)
 //   rmse_periphery = sqrt(mean err^2 over ecc >= fovea_deg)
 //   rmse_ecc_<a>_<b> = sqrt(mean err^2 over a <= ecc < b); NaN for an empty region.

@@ -1,5 +1,5 @@
-// Image-quality metrics (DESIGN §7), on display-encoded values in [0,1]. Each metric is
-// declared once here and defined once in sim/metrics/*.cpp. Formulas and config keys:
+// Image-quality metrics (docs/architecture.md §7), on display-encoded values in [0,1]. Each metric
+// is declared once here and defined once in sim/metrics/*.cpp. Formulas and config keys:
 // docs/metrics.md.
 #pragma once
 #include <string>

@@ -1,6 +1,6 @@
-// Shading (DESIGN §4): ambient + emission, Lambert + Blinn-Phong per light, shadow rays as
-// rtcOccluded16 packets with a portable occlusion decision (occlusion_filter). Deterministic
-// per sample: no sampling, the same bits at any thread count.
+// Shading (docs/architecture.md §4): ambient + emission, Lambert + Blinn-Phong per light, shadow
+// rays as rtcOccluded16 packets with a portable occlusion decision (occlusion_filter).
+// Deterministic per sample: no sampling, the same bits at any thread count.
 #include <tbb/parallel_for.h>
 
 #include "sim/render/render_internal.h"
@@ -287,9 +287,8 @@ glm::vec3 Renderer::shade_sample(const GBuffer& g, size_t i, const glm::vec3& ey
 // bench/README.md); software prefetching of the next block's sources did not measurably help.
 void Renderer::shade(GBufferRef g, const glm::dvec3& eye_d, Image& out, const uint8_t* mask,
                      Counters* c) const {
-  if (!g.g->has(kShadingChannels))
-    throw Error("renderer",
-                "shade() needs a G-buffer with depth, position, normal, albedo, material");
+  FOVSIM_CHECK(g.g->has(kShadingChannels),
+               "Renderer::shade needs a G-buffer with depth, position, normal, albedo, material");
   if (out.width != g.width || out.height != g.height || out.channels != 3)
     out.resize(g.width, g.height, 3);
   const glm::vec3 eye(eye_d);

@@ -1,5 +1,5 @@
-// Primary rays (DESIGN §4): Embree 4x4 packets (rtcIntersect16; coherent flag on static
-// scenes, incoherent on instanced ones, see renderer.cpp), one tile at a time; tiles run in
+// Primary rays (docs/architecture.md §4): Embree 4x4 packets (rtcIntersect16; coherent flag on
+// static scenes, incoherent on instanced ones, see renderer.cpp), one tile at a time; tiles run in
 // parallel with TBB. Every pixel is computed independently, so results are identical at any
 // thread count. Hit distance and barycentrics are recomputed portably (refine_hit). A packet's
 // samples are staged and copied to the G-buffer row by row (Packet::flush). Performance

@@ -1,4 +1,4 @@
-// Embree 3 ray caster (DESIGN §4): one BVH per scene (dynamic objects as instances),
+// Embree 3 ray caster (docs/architecture.md §4): one BVH per scene (dynamic objects as instances),
 // G-buffer channels on demand, deterministic Lambert + Blinn-Phong shading with shadow
 // rays, tone mapping and display encoding. Parallel over tiles with TBB; counts rays.
 #pragma once

@@ -1,4 +1,4 @@
-// Reflective shadow maps by ray casting from the light (seed 001 §3 S-1). See rsm.h.
+// Reflective shadow maps by ray casting from the light (Yang et al. 2021 §3 S-1). See rsm.h.
 #include "sim/render/rsm.h"
 
 #include <tbb/parallel_for.h>
@@ -182,8 +182,8 @@ AABB scene_bounds(const Renderer& r) {
 
 void setup_rsm(const Scene& scene, int light_index, double t, int size, const AABB& bounds,
                RSM& out) {
-  if (light_index < 0 || size_t(light_index) >= scene.lights.size())
-    throw Error("rsm", "light index " + std::to_string(light_index) + " out of range");
+  FOVSIM_CHECK(light_index >= 0 && size_t(light_index) < scene.lights.size(),
+               "setup_rsm: light index " + std::to_string(light_index) + " out of range");
   if (size < 1) throw Error("rsm", "RSM size must be >= 1, got " + std::to_string(size));
   out.size = size;
   out.light = light_index;

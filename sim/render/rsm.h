@@ -1,5 +1,5 @@
 // Reflective shadow maps (Dachsbacher & Stamminger 2005), rendered by casting one ray per
-// texel from the light with Embree (seed 001 §3, S-1 in its Fig. 1; 64x64 per light in §7).
+// texel from the light with Embree (Yang et al. 2021 §3, S-1 in its Fig. 1; 64x64 per light in §7).
 // Each texel stores the first hit (position, normal facing the light, light-space depth) and
 // the flux that the texel's patch reflects diffusely, from which VPLs are made (vpl.h).
 //
@@ -9,8 +9,8 @@
 //  1-|u|-|v|);
 //  - spot:        perspective map over the outer cone, d omega = dx dy / |p|^3, p = (x, y, 1);
 //  - directional: orthographic map over the scene bounds, texel area (extent / size)^2.
-// Light-space depth (for BLSO, seed 001 eq. 12) is the distance from the light for point and
-// spot lights and the distance along the light direction for directional lights.
+// Light-space depth (for BLSO, Yang et al. 2021 eq. 12) is the distance from the light for point
+// and spot lights and the distance along the light direction for directional lights.
 #pragma once
 #include <cstdint>
 #include <vector>

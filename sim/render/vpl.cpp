@@ -1,4 +1,4 @@
-// VPLs from RSMs and single-bounce diffuse VPL shading (seed 001 §3 S-2, S-7). See vpl.h.
+// VPLs from RSMs and single-bounce diffuse VPL shading (Yang et al. 2021 §3 S-2, S-7). See vpl.h.
 #include "sim/render/vpl.h"
 
 #include <tbb/blocked_range2d.h>

@@ -1,5 +1,5 @@
 // Virtual point lights from reflective shadow maps and single-bounce diffuse shading with
-// them (Keller 1997 instant radiosity; seed 001 §3 S-2 and S-7).
+// them (Keller 1997 instant radiosity; Yang et al. 2021 §3 S-2 and S-7).
 //
 // Units follow the renderer's direct shading, where a point light of intensity I gives
 // albedo * I * cos / d^2 (i.e. BRDF albedo/pi and a light of pi*I): a VPL made from an RSM

@@ -346,7 +346,7 @@ Scene make_atrium(Params& p) {
 }
 
 // ---- patterns -----------------------------------------------------------------------------
-// RMFR's rotating-patterns test (seed 003 §6.1, Fig. 12): a plane filling the view, facing
+// RMFR's rotating-patterns test (Ye et al. 2022 §6.1, Fig. 12): a plane filling the view, facing
 // the viewer at `distance`, with a high-frequency pattern rotated by `angle` degrees about
 // the view axis. The paper's three pattern images are not published; `pattern` selects a
 // procedural stand-in (stripes ~ (a), checker ~ (b), grating ~ (c)).

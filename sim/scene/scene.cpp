@@ -1,4 +1,4 @@
-// Scene model: animation, features, sub-model split (TWFR seed 002 §6.1) and textures.
+// Scene model: animation, features, sub-model split (TWFR Franke et al. 2021 §6.1) and textures.
 #include "sim/scene/scene.h"
 
 #include <algorithm>

@@ -1,5 +1,6 @@
-// Scene model (DESIGN §3): meshes, materials with procedural textures, objects (static or
-// keyframed), lights, sub-models for culling, and the features that decide which passes exist.
+// Scene model (docs/architecture.md §3): meshes, materials with procedural textures, objects
+// (static or keyframed), lights, sub-models for culling, and the features that decide which passes
+// exist.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -18,7 +19,7 @@ enum class TexKind : uint8_t {
   Grating,   // sum of sinusoids at 3 octaves from `scale`, 4 orientations starting at `angle`
   Bricks,    // brick pattern with mortar lines
   Noise,     // value-noise fBm (deterministic hash)
-  Radial,    // RMFR rotating-patterns (seed 003 §6.1): spokes + rings, rotated by `angle`
+  Radial,    // RMFR rotating-patterns (Ye et al. 2022 §6.1): spokes + rings, rotated by `angle`
   Image      // texture loaded from a file (assimp import), `image` index into Scene::images
 };
 
@@ -32,7 +33,7 @@ struct Material {
   float specular = 0.04f;  // Blinn-Phong ks
   float shininess = 32.f;  // Blinn-Phong exponent
   glm::vec3 emission{0.f};
-  bool transparent = false;  // alpha-blended (flagged: methods' limits, DESIGN §5)
+  bool transparent = false;  // alpha-blended (flagged: methods' limits, docs/architecture.md §5)
   int image = -1;
   // Imported materials (sim/scene/import.cpp): cut-out (glTF alphaMode MASK): a surface point
   // whose alpha = `alpha` x texture alpha is below alpha_cutoff is not there (rays pass it);
@@ -83,7 +84,7 @@ struct Object {  // an instance of a mesh
   glm::mat4 transform_at(double t) const;
 };
 
-struct SubModel {  // <= ~500 faces of one object, for culling (seed 002 §6.1)
+struct SubModel {  // <= ~500 faces of one object, for culling (Franke et al. 2021 §6.1)
   int object = 0;
   uint32_t first_tri = 0, tri_count = 0;  // range in the mesh's triangle list (after reordering)
   AABB bounds;                            // object space
@@ -101,7 +102,8 @@ struct Light {
   bool moving() const { return !keys.empty(); }
 };
 
-struct SceneFeatures {  // decides which passes exist (DESIGN §6: model only what a scene requires)
+struct SceneFeatures {  // decides which passes exist (docs/architecture.md §6: model only what a
+                        // scene requires)
   bool shadows = false, dynamic_objects = false, moving_lights = false, transparency = false,
        indirect = false, textures = false;
   size_t triangles = 0, submodels = 0;

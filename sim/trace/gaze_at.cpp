@@ -1,4 +1,4 @@
-// Gaze at an arbitrary time (issue 17, latency what-if): the same interpolation as resample()
+// Gaze at an arbitrary time (latency what-if): the same interpolation as resample()
 // (normalized lerp of the head-space gaze, `valid` from the nearest sample), clamped to the
 // first/last sample outside the trace, and the eye-in-head angular speed by a central difference.
 #include <algorithm>

@@ -344,13 +344,9 @@ bool cond_holds(const Map::Cond& c, const std::string& f) {
   }
 }
 
-}  // namespace
-
-Trace import_trace(const std::string& in, const std::string& map_path, const Display& display,
-                   ImportReport* report, const ImportOptions& opt) {
-  Params p = Params::from_file(map_path);
-  p.ignore("comment");
-  p.ignore("description");
+// ---- stage 1: the column map ------------------------------------------------------------------
+// The map's layout: delimiter, header, skipped lines, bad-row policy, source axes.
+Map read_map_layout(Params& p) {
   Map m;
   std::string d =
       p.string("delimiter", std::vector<std::string>{"comma", "tab", "semicolon", "space"});
@@ -373,12 +369,12 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
         "required: the source's axis convention (fovsim, opengl, unity, unreal or an axis object)");
   m.axes = axis_map_from(p.raw("coordinates"), p.where("coordinates"));
   m.gaze_axes = m.axes;
+  return m;
+}
 
-  // Data rows (the map's column references are resolved against the header).
-  // Rows are tokenized as they are imported, so a run that stops early (ImportOptions::
-  // stop_after_s) never reads the rest of the file.
-  CsvReader reader(in, m.delim, m.comment);
-  CsvRow row0;
+// Skips to the header (or first row, without a header) and indexes its column names; the map's
+// column references are resolved against it.
+Resolver read_header(CsvReader& reader, const Map& m, const std::string& in, CsvRow& row0) {
   bool got = false;
   // skip_lines counts physical lines: drop rows whose line number is <= skip_lines.
   while ((got = reader.next(row0)) && row0.line <= m.skip_lines) {
@@ -404,7 +400,10 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
   res.nfields = int(row0.fields.size());
   res.delim = m.delim;
   if (row0.fields.size() == 1) res.header_text = row0.fields[0].text;
+  return res;
+}
 
+void read_time_keys(Params& p, Resolver& res, Map& m) {
   Params tp = p.child("time");
   m.time = res.one(tp, "column");
   std::string tu = tp.string("unit", std::vector<std::string>{"s", "ms", "us", "ns", "100ns"});
@@ -419,7 +418,9 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
   m.on_burst = ob == "keep" ? Map::BurstKeep : ob == "drop" ? Map::BurstDrop : Map::BurstRetime;
   m.burst_pose_arrival = tp.string("burst_pose", "arrival", {"arrival", "sample"}) == "arrival";
   tp.ignore("comment");
+}
 
+void read_head_keys(Params& p, Resolver& res, Map& m) {
   if (!p.has("head_position"))
     p.fail("head_position",
            "required: {\"columns\": [x, y, z], \"unit\": \"m\"} or {\"constant\": [0, 1.6, 0]}");
@@ -489,7 +490,9 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
       }
     }
   }
+}
 
+void read_gaze_keys(Params& p, Resolver& res, Map& m) {
   Params gp = p.child("gaze");
   if (!p.has("gaze"))
     p.fail("gaze", "required: how the gaze is given (direction, screen or point)");
@@ -553,6 +556,10 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
     m.gaze = res.many(gp, "columns", 3);
     m.point_scale = length_unit(gp, "unit");
   }
+}
+
+// Validity conditions, the bad-sample and tracking-loss defaults, fused fields.
+void read_row_keys(Params& p, Resolver& res, Map& m) {
   const bool per_eye = !m.left.empty();
   for (Params& c : p.children("valid")) m.valid.push_back(read_cond(c, res, per_eye));
   if (p.has("on_bad")) {
@@ -595,60 +602,114 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
       f.fail("column", "the fused field must be followed by another header column");
     m.fused.push_back(std::move(fu));
   }
-  p.finish();
-  ImportOptions eff = opt;  // the map's on_bad unless the caller chose
-  if (m.has_on_bad && !opt.on_fov_explicit) eff.on_fov = m.on_bad;
+}
 
-  // ---- rows ---------------------------------------------------------------------------------
+// ---- stage 2: the row decoder ----------------------------------------------------------------
+// The imported samples and, per sample, its source line and its gaze in world axes (to re-derive
+// the head-space gaze after a later stage moves the head pose).
+struct Decoded {
   Trace tr;
-  tr.source = in;
-  IssueLog log;
-  ImportReport rep;
-  const size_t nf = size_t(res.nfields);
-  const size_t need = size_t(res.max_index + 1);  // fields a row must have with row_fields = used
+  std::vector<long> lines;
+  std::vector<glm::dvec3> world_gaze;
+};
+
+// Reads one row's numbers; the first unparsable field is remembered (`bad`, its message and
+// column) and reported once the row's group of values is read.
+struct RowReader {
+  explicit RowReader(const CsvRow& r) : row(r) {}
+  const CsvRow& row;
+  bool bad = false;
+  std::string err;
+  int err_col = 1;
+  double num(const ColRef& c) {
+    double v = 0;
+    std::string why;
+    if (!bad && !parse_number(row.fields[size_t(c.index)].text, v, why)) {
+      bad = true;
+      err = "column \"" + printable(c.name) + "\": " + why;
+      err_col = row.fields[size_t(c.index)].col;
+    }
+    return v;
+  }
+  glm::dvec3 vec(const std::vector<ColRef>& c) {
+    return glm::dvec3(num(c[0]), num(c[1]), num(c[2]));
+  }
+};
+
+// The time of one row, as read_time found it.
+struct RowTime {
+  const CsvField* tf = nullptr;  // the time field
+  long long row_wrap = 0;        // wrap_add + wrap_span when this row wraps the counter
+  double t = 0;                  // seconds (integer times already rebased)
+  long long ti = 0;              // the raw integer time, when is_int
+  bool is_int = false;
+};
+
+// One data row -> one sample in fovsim's conventions, or a skipped row (logged, counted), in
+// file order: the time bookkeeping (exact integer rebasing, counter wraps, jumps, monotonic
+// time) and the last valid gaze (held on invalid rows) need the rows in sequence.
+struct RowDecoder {
+  RowDecoder(const Map& m_, const Resolver& res_, const std::string& in_, const Display& display_,
+             const ImportOptions& opt_, IssueLog& log_, ImportReport& rep_, Decoded& out_)
+      : m(m_),
+        res(res_),
+        in(in_),
+        display(display_),
+        opt(opt_),
+        eff(opt_),
+        log(log_),
+        rep(rep_),
+        out(out_) {}
+  const Map& m;
+  const Resolver& res;
+  const std::string& in;
+  const Display& display;
+  const ImportOptions& opt;  // the caller's options
+  ImportOptions eff;         // with the map's on_bad unless the caller chose
+  IssueLog& log;
+  ImportReport& rep;
+  Decoded& out;
+  size_t nf = 0, need = 0;  // fields of the header; fields a row needs with row_fields = used
+  bool per_eye = false;
   bool have_t0 = false, int_time = false;
-  long long t0_int = 0, last_raw_int = 0, wrap_add = 0;
-  const long long wrap_span = m.wrap_bits ? (1LL << m.wrap_bits) : 0;
+  long long t0_int = 0, last_raw_int = 0, wrap_add = 0, wrap_span = 0;
   double t0 = 0, last_t = -INFINITY;
   long last_line = 0;
   std::string last_text;
-  glm::dvec3 last_gaze(0, 0, -1);
-  std::vector<long> lines;  // source line of each kept sample
-  std::vector<glm::dvec3>
-      world_gaze;            // gaze in world (for re-deriving it after pose interpolation)
-  bool pending = !m.header;  // without a header the first row is data
-  CsvRow prev_row;           // the last complete row (for a cut-off last line)
+  glm::dvec3 last_gaze{0, 0, -1};
+  CsvRow prev_row;  // the last complete row (for a cut-off last line)
   bool have_prev_row = false;
-  CsvRow cur;
-  while (true) {
-    if (pending) {
-      cur = std::move(row0);
-      pending = false;
-    } else if (!reader.next(cur)) {
-      break;
-    }
+
+  enum class Step { kept, skipped, stop };
+
+  void fail_row_at(const CsvRow& row, int col, const std::string& kind, const std::string& msg) {
+    std::string where = file_location(in, row.line, col);
+    if (!m.skip_bad)
+      throw Error(where, msg + " (set the map's on_bad_row to \"skip\" to drop such rows)");
+    log.add("skipped", kind, where, msg);
+    ++rep.skipped_rows;
+  }
+
+  void split_fused_fields(CsvRow& row) {
     // A fused field (`666.5324True`): split back into two, so later columns are in place.
     for (auto& f : m.fused) {
-      if (cur.fields.size() >= nf || size_t(f.col.index) >= cur.fields.size()) break;
+      if (row.fields.size() >= nf || size_t(f.col.index) >= row.fields.size()) break;
       std::string a, b;
-      CsvField& fld = cur.fields[size_t(f.col.index)];
+      CsvField& fld = row.fields[size_t(f.col.index)];
       if (!split_fused(f, fld.text, a, b)) continue;
       CsvField second{b, fld.col + int(a.size())};
       fld.text = a;
-      cur.fields.insert(cur.fields.begin() + f.col.index + 1, second);
+      row.fields.insert(row.fields.begin() + f.col.index + 1, second);
       ++rep.fused_rows;
     }
-    const CsvRow& row = cur;
-    ++rep.data_rows;
-    std::string err;
-    int err_col = 1;
+  }
+
+  // A cut-off last line, the field count.
+  Step check_shape(const CsvRow& row) {
     auto fail_row = [&](int col, const std::string& kind, const std::string& msg) {
-      std::string where = file_location(in, row.line, col);
-      if (!m.skip_bad)
-        throw Error(where, msg + " (set the map's on_bad_row to \"skip\" to drop such rows)");
-      log.add("skipped", kind, where, msg);
-      ++rep.skipped_rows;
+      fail_row_at(row, col, kind, msg);
     };
+    Trace& tr = out.tr;
     // A last line cut off by an interrupted write (no final newline): dropped, and said so.
     {
       std::string why;
@@ -656,7 +717,7 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
                           have_prev_row ? prev_row.fields.size() : nf, why)) {
         tr.warnings.push_back(file_location(in, row.line) + ": " + why + "; the line was dropped");
         ++rep.skipped_rows;
-        break;
+        return Step::stop;
       }
       if (!row.unterminated) {
         prev_row = row;
@@ -674,7 +735,7 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
                    std::to_string(miss ? miss->index + 1 : 0) + ") is missing: the row has " +
                    std::to_string(row.fields.size()) +
                    " fields (a shorter row, or fields fused before it)");
-      continue;
+      return Step::skipped;
     }
     if (row.fields.size() != nf && !(m.used_fields_only && row.fields.size() >= need)) {
       fail_row(row.fields.size() > nf ? row.fields[nf].col : row.fields.back().col,
@@ -687,24 +748,14 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
                           "accepts rows whose used "
                           "columns are present)"
                         : ""));
-      continue;
+      return Step::skipped;
     }
-    bool bad = false;
-    auto num = [&](const ColRef& c) -> double {
-      double v = 0;
-      std::string why;
-      if (!bad && !parse_number(row.fields[size_t(c.index)].text, v, why)) {
-        bad = true;
-        err = "column \"" + printable(c.name) + "\": " + why;
-        err_col = row.fields[size_t(c.index)].col;
-      }
-      return v;
-    };
-    auto vec = [&](const std::vector<ColRef>& c) {
-      return glm::dvec3(num(c[0]), num(c[1]), num(c[2]));
-    };
+    return Step::kept;
+  }
+
+  void read_validity(const CsvRow& row, bool& valid, bool& left_ok, bool& right_ok) const {
     // Validity flags first: rows flagged invalid keep their pose but may carry any gaze.
-    bool valid = true, left_ok = true, right_ok = true;
+
     for (auto& c : m.valid) {
       bool ok = cond_holds(c, row.fields[size_t(c.col.index)].text);
       if (c.eye == 0)
@@ -722,6 +773,16 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
       else
         valid = valid && (left_ok || right_ok);
     }
+  }
+
+  bool read_time(const CsvRow& row, RowReader& rr, RowTime& rt) {
+    bool& bad = rr.bad;
+    std::string& err = rr.err;
+    int& err_col = rr.err_col;
+    auto num = [&](const ColRef& c) { return rr.num(c); };
+    auto fail_row = [&](int col, const std::string& kind, const std::string& msg) {
+      fail_row_at(row, col, kind, msg);
+    };
     // Time (integers kept exact before rebasing, e.g. epoch nanoseconds).
     const CsvField& tf = row.fields[size_t(m.time.index)];
     long long row_wrap = wrap_add;  // wrap_add + wrap_span when this row wraps the counter
@@ -733,7 +794,7 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
       fail_row(tf.col, "bad time",
                "time value \"" + printable(tf.text) + "\" (" + std::to_string(tf.text.size()) +
                    " characters) does not fit a 64-bit integer: a corrupt or fused value?");
-      continue;
+      return false;
     }
     if (!have_t0) int_time = is_int;
     if (int_time && is_int) {
@@ -743,7 +804,7 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
           fail_row(tf.col, "bad time",
                    "time value " + tf.text + " is outside the " + std::to_string(m.wrap_bits) +
                        "-bit counter range of time.wrap_bits");
-          continue;
+          return false;
         }
         // A backward step of more than half the range is a wrap of the counter (counted when
         // the row is kept, so a dropped row does not unwrap twice).
@@ -754,7 +815,7 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
                      "time value out of range: unwrapping " + tf.text + " (wrap " +
                          std::to_string(rep.time_wraps + 1) + " of a " +
                          std::to_string(m.wrap_bits) + "-bit counter) overflows a 64-bit integer");
-            continue;
+            return false;
           }
         }
       }
@@ -764,14 +825,14 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
                  "time value out of range: " + tf.text + " minus the first time " +
                      std::to_string(t0_int) +
                      " overflows a 64-bit integer: a corrupt or sentinel value?");
-        continue;
+        return false;
       }
       t = double(rel) * m.time_scale;
     } else {
       t = num(m.time) * m.time_scale;
       if (bad) {
         fail_row(err_col, "bad number", err);
-        continue;
+        return false;
       }
       if (int_time) t -= double(t0_int) * m.time_scale;
     }
@@ -783,11 +844,25 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
                    printable(last_text) + " at line " + std::to_string(last_line) +
                    ", more than time.max_step_s = " + std::to_string(m.max_step_s) +
                    " s: a corrupt or sentinel time value?");
-      continue;
+      return false;
     }
-    TraceSample s;
-    s.t = t;
-    s.valid = valid;
+    rt.tf = &tf;
+    rt.row_wrap = row_wrap;
+    rt.t = t;
+    rt.ti = ti;
+    rt.is_int = is_int;
+    return true;
+  }
+
+  bool read_pose(const CsvRow& row, RowReader& rr, TraceSample& s) {
+    bool& bad = rr.bad;
+    std::string& err = rr.err;
+    int& err_col = rr.err_col;
+    auto num = [&](const ColRef& c) { return rr.num(c); };
+    auto vec = [&](const std::vector<ColRef>& c) { return rr.vec(c); };
+    auto fail_row = [&](int col, const std::string& kind, const std::string& msg) {
+      fail_row_at(row, col, kind, msg);
+    };
     // Head pose.
     s.head_pos = m.pos_const ? m.pos_value : m.axes.vec(vec(m.pos) * m.pos_scale);
     if (m.rot_kind == Map::ConstRot) {
@@ -818,8 +893,22 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
     if (m.inverse) s.head_rot = glm::conjugate(s.head_rot);
     if (bad) {
       fail_row(err_col, "bad number", err);
-      continue;
+      return false;
     }
+    return true;
+  }
+
+  bool read_gaze(const CsvRow& row, RowReader& rr, TraceSample& s, bool left_ok, bool right_ok,
+                 bool& one_eye_out) {
+    bool& bad = rr.bad;
+    std::string& err = rr.err;
+    int& err_col = rr.err_col;
+    auto num = [&](const ColRef& c) { return rr.num(c); };
+    auto vec = [&](const std::vector<ColRef>& c) { return rr.vec(c); };
+    auto fail_row = [&](int col, const std::string& kind, const std::string& msg) {
+      fail_row_at(row, col, kind, msg);
+    };
+    const bool valid = s.valid;
     // Gaze -> head space.
     glm::dvec3 g(0.0);
     std::string gerr;
@@ -859,7 +948,7 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
     if (bad) {
       if (valid) {
         fail_row(err_col, "bad number", err);
-        continue;
+        return false;
       }
       g = glm::dvec3(0.0);
     }
@@ -879,7 +968,7 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
       gerr = "gaze points behind the eye (not forward in head space: check coordinates)";
     if (!gerr.empty() && valid) {
       fail_row(gcol, gerr, gerr);
-      continue;
+      return false;
     }
     // Rows flagged invalid show the last valid gaze (traces/README.md): their own gaze, even
     // when finite and inside the FOV, is what the tracker reported while it had lost the eye.
@@ -900,12 +989,48 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
       if (eff.on_fov == BadSamplePolicy::Skip) {
         log.add("skipped", "gaze outside the display FOV", where, b);
         ++rep.skipped_rows;
-        continue;
+        return false;
       }
       log.add("held", "gaze outside the display FOV", where, b);
       s.gaze_dir = last_gaze;
     }
     if (valid) last_gaze = s.gaze_dir;
+    one_eye_out = one_eye;
+    return true;
+  }
+
+  Step decode(CsvRow& cur) {
+    split_fused_fields(cur);
+    const CsvRow& row = cur;
+    ++rep.data_rows;
+    const Step shape = check_shape(row);
+    if (shape != Step::kept) return shape;
+    RowReader rr(row);
+    bool valid = true, left_ok = true, right_ok = true;
+    read_validity(row, valid, left_ok, right_ok);
+    RowTime time;
+    if (!read_time(row, rr, time)) return Step::skipped;
+    TraceSample s;
+    s.t = time.t;
+    s.valid = valid;
+    if (!read_pose(row, rr, s)) return Step::skipped;
+    bool one_eye = false;
+    if (!read_gaze(row, rr, s, left_ok, right_ok, one_eye)) return Step::skipped;
+    return keep(row, time, s, one_eye);
+  }
+
+  // Monotonic time, then the sample is kept.
+  Step keep(const CsvRow& row, const RowTime& time, const TraceSample& s, bool one_eye) {
+    auto fail_row = [&](int col, const std::string& kind, const std::string& msg) {
+      fail_row_at(row, col, kind, msg);
+    };
+    const CsvField& tf = *time.tf;
+    const double t = time.t;
+    const bool valid = s.valid, is_int = time.is_int;
+    const long long ti = time.ti, row_wrap = time.row_wrap;
+    Trace& tr = out.tr;
+    std::vector<long>& lines = out.lines;
+    std::vector<glm::dvec3>& world_gaze = out.world_gaze;
     if (!have_t0) {
       have_t0 = true;
       t0 = t;
@@ -915,7 +1040,7 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
       fail_row(tf.col, "non-monotonic time",
                "time not strictly increasing: " + printable(tf.text) + " after " +
                    printable(last_text) + " at line " + std::to_string(last_line));
-      continue;
+      return Step::skipped;
     }
     if (!valid) ++rep.invalid_rows;
     if (valid && one_eye) ++rep.one_eye_rows;
@@ -930,27 +1055,23 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
     world_gaze.push_back(s.head_rot * s.gaze_dir);
     if (t - t0 > opt.stop_after_s) {
       rep.stopped_early = true;
-      break;
+      return Step::stop;
     }
+    return Step::kept;
   }
-  auto reasons = [&] {
-    std::string w;
-    for (auto& n : log.lines("on_bad_row=skip")) w += (w.empty() ? "" : "; ") + n;
-    return w;
-  };
-  if (tr.samples.empty())
-    throw Error(in, "no usable rows: all " + std::to_string(rep.data_rows) +
-                        " data rows were dropped" + (log.total() ? ": " + reasons() : ""));
-  if (m.skip_bad && rep.data_rows > 0 &&
-      double(rep.skipped_rows) > m.max_skipped * double(rep.data_rows)) {
-    char b[160];
-    std::snprintf(
-        b, sizeof b,
-        "%ld of %ld data rows (%.1f %%) were skipped, more than max_skipped_fraction = %g: ",
-        rep.skipped_rows, rep.data_rows, 100.0 * double(rep.skipped_rows) / double(rep.data_rows),
-        m.max_skipped);
-    throw Error(in, b + reasons());
-  }
+};
+
+// ---- stage 3: time fix-ups ------------------------------------------------------------------
+// Decimal times rebased (integer times were rebased exactly while decoding), then bursts of
+// samples flushed after a stall kept, dropped or retimed (time.on_burst).
+void fix_times(const Map& m, const std::string& in, const RowDecoder& dec, ImportReport& rep,
+               Decoded& d) {
+  Trace& tr = d.tr;
+  std::vector<long>& lines = d.lines;
+  std::vector<glm::dvec3>& world_gaze = d.world_gaze;
+  const bool int_time = dec.int_time;
+  const long long t0_int = dec.t0_int;
+  const double t0 = dec.t0;
   // Integer times were rebased exactly on the fly; decimal times are rebased here.
   rep.time_offset_s = int_time ? double(t0_int) * m.time_scale : t0;
   for (auto& s : tr.samples) {
@@ -1061,8 +1182,17 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
       }
     }
   }
-  // Head pose repeated exactly for several samples (pose updated per render frame, gaze per
-  // tracker sample). With a constant head there is nothing to detect.
+}
+
+// ---- stage 4: the repeated-pose filter --------------------------------------------------------
+// A head pose repeated exactly for several samples (pose updated per render frame, gaze per
+// tracker sample): kept and reported, or interpolated (repeated_pose).
+void filter_repeated_poses(const Map& m, const std::string& in, ImportReport& rep, Decoded& d) {
+  Trace& tr = d.tr;
+  auto& x = tr.samples;
+  const std::vector<long>& lines = d.lines;
+  const std::vector<glm::dvec3>& world_gaze = d.world_gaze;
+  // With a constant head there is nothing to detect.
   if (!(m.pos_const && m.rot_kind == Map::ConstRot)) {
     long first_rep = 0;
     for (size_t i = 1; i < x.size(); ++i)
@@ -1105,6 +1235,13 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
       }
     }
   }
+}
+
+// ---- stage 5: head-position recentring, dequantisation, and the notes of the earlier stages ----
+void finish_poses(const Map& m, const std::string& in, const ImportReport& rep, Decoded& d) {
+  Trace& tr = d.tr;
+  auto& x = tr.samples;
+  const std::vector<glm::dvec3>& world_gaze = d.world_gaze;
   if (rep.time_wraps > 0)
     tr.warnings.push_back(in + ": time counter wrapped " + std::to_string(rep.time_wraps) +
                           " times (" + std::to_string(m.wrap_bits) + " bits): unwrapped");
@@ -1153,15 +1290,81 @@ Trace import_trace(const std::string& in, const std::string& map_path, const Dis
     tr.warnings.push_back(in + ": " + std::to_string(rep.fused_rows) +
                           (rep.fused_rows == 1 ? " row had" : " rows had") +
                           " a fused field split back into two (the map's \"fused\")");
+}
+
+}  // namespace
+
+// The stages in order: column map -> row decoder -> time fix-ups -> repeated-pose filter ->
+// recentring/dequantisation (traces/README.md "Column maps").
+Trace import_trace(const std::string& in, const std::string& map_path, const Display& display,
+                   ImportReport* report, const ImportOptions& opt) {
+  Params p = Params::from_file(map_path);
+  p.ignore("comment");
+  p.ignore("description");
+  Map m = read_map_layout(p);
+  // Rows are tokenized as they are imported, so a run that stops early (ImportOptions::
+  // stop_after_s) never reads the rest of the file.
+  CsvReader reader(in, m.delim, m.comment);
+  CsvRow row0;
+  Resolver res = read_header(reader, m, in, row0);
+  read_time_keys(p, res, m);
+  read_head_keys(p, res, m);
+  read_gaze_keys(p, res, m);
+  read_row_keys(p, res, m);
+  p.finish();
+
+  Decoded d;
+  d.tr.source = in;
+  IssueLog log;
+  ImportReport rep;
+  RowDecoder dec(m, res, in, display, opt, log, rep, d);
+  if (m.has_on_bad && !opt.on_fov_explicit) dec.eff.on_fov = m.on_bad;
+  dec.nf = size_t(res.nfields);
+  dec.need = size_t(res.max_index + 1);
+  dec.per_eye = !m.left.empty();
+  dec.wrap_span = m.wrap_bits ? (1LL << m.wrap_bits) : 0;
+  bool pending = !m.header;  // without a header the first row is data
+  CsvRow cur;
+  while (true) {
+    if (pending) {
+      cur = std::move(row0);
+      pending = false;
+    } else if (!reader.next(cur)) {
+      break;
+    }
+    if (dec.decode(cur) == RowDecoder::Step::stop) break;
+  }
+  Trace& tr = d.tr;
+  auto reasons = [&] {
+    std::string w;
+    for (auto& n : log.lines("on_bad_row=skip")) w += (w.empty() ? "" : "; ") + n;
+    return w;
+  };
+  if (tr.samples.empty())
+    throw Error(in, "no usable rows: all " + std::to_string(rep.data_rows) +
+                        " data rows were dropped" + (log.total() ? ": " + reasons() : ""));
+  if (m.skip_bad && rep.data_rows > 0 &&
+      double(rep.skipped_rows) > m.max_skipped * double(rep.data_rows)) {
+    char b[160];
+    std::snprintf(
+        b, sizeof b,
+        "%ld of %ld data rows (%.1f %%) were skipped, more than max_skipped_fraction = %g: ",
+        rep.skipped_rows, rep.data_rows, 100.0 * double(rep.skipped_rows) / double(rep.data_rows),
+        m.max_skipped);
+    throw Error(in, b + reasons());
+  }
+  fix_times(m, in, dec, rep, d);
+  filter_repeated_poses(m, in, rep, d);
+  finish_poses(m, in, rep, d);
   rep.on_invalid = m.on_invalid;
-  tr.lines = lines;
+  tr.lines = d.lines;
   check_invalid_fraction(tr, m.valid.empty() ? ""
                                              : "check the map's valid conditions: a bitmask "
                                                "needs all_bits, a confidence a min");
   rep.notes = log.lines(m.skip_bad ? "on_bad_row=skip" : "on_bad_sample");
   for (auto& n : rep.notes) tr.warnings.push_back(in + ": " + n);
   if (report) *report = rep;
-  return tr;
+  return std::move(d.tr);
 }
 
 }  // namespace fovsim

@@ -1,4 +1,4 @@
-// Synthetic head + eye-movement traces (DESIGN §3; parameters and sources in
+// Synthetic head + eye-movement traces (docs/architecture.md §3; parameters and sources in
 // models/eyemodel/default.json and traces/README.md "Synthetic traces").
 #pragma once
 #include <cstdint>

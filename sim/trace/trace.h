@@ -1,4 +1,4 @@
-// Head+gaze traces (DESIGN §3). Canonical CSV documented in traces/README.md.
+// Head+gaze traces (docs/architecture.md §3). Canonical CSV documented in traces/README.md.
 #pragma once
 #include <cmath>
 #include <string>

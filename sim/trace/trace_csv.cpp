@@ -1,4 +1,4 @@
-// Canonical trace CSV (DESIGN §3, traces/README.md): reading with validation and a
+// Canonical trace CSV (docs/architecture.md §3, traces/README.md): reading with validation and a
 // bad-sample policy, and writing.
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,5 @@
 // Bad input gets one clear line naming what and where, exit code 2, and no results that
-// look complete (issue 2 item 9).
+// look complete.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -188,7 +188,7 @@ TEST(Cli, ImagesAreTheSameFilesAtAnyThreadCount) {
   EXPECT_EQ(n1, names.size());
 }
 
-// Issue 13: summary.csv carries `<col>_ci95` (nan below 20 frames or for an inf mean) and
+// `summary.csv` carries `<col>_ci95` (nan below 20 frames or for an inf mean) and
 // paired.csv compares the configs on the same frames.
 TEST(Cli, RunWritesIntervalsAndPairedDifferences) {
   std::string dir = temp_dir("intervals");

@@ -1,4 +1,4 @@
-// `fovsim fidelity` and `fovsim sweep --target` as a user runs them (issue 13).
+// `fovsim fidelity` and `fovsim sweep --target` as a user runs them.
 #include <gtest/gtest.h>
 
 #include <filesystem>

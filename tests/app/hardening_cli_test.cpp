@@ -1,4 +1,4 @@
-// Issue 20, as a user meets it: each input of the issue's table gives one clear line and
+// Bad input, as a user meets it: each kind of hostile input gives one clear line and
 // exit 2 (no signal, no "internal error", no attempt to allocate beyond a stated limit);
 // nothing is written outside --out; a full disk leaves no truncated image; two sweeps on one
 // --out are refused by a lock.
@@ -185,7 +185,7 @@ TEST(Hardening, SecondSweepOnTheSameOutIsRefused) {
   EXPECT_EQ(r.code, 0) << r.output;
 }
 
-// Issue 18's small things as a user meets them.
+// Small fixes to the CLI as a user meets them.
 TEST(Hardening, MistypedCommandGetsASuggestion) {
   expect_user_error(run_cmd(fovsim_bin() + " rn configs/quickstart.json"),
                     "unknown command 'rn' (did you mean `run`?)");

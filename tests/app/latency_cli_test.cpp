@@ -1,4 +1,4 @@
-// Latency what-if end to end (issue 17): zero latency reproduces the golden numbers, a steady
+// Latency what-if end to end: zero latency reproduces the golden numbers, a steady
 // gaze gives identical results at any latency, a large saccade raises foveal error with latency
 // during and just after the saccade but not in steady fixation, bad values exit 2 with a path.
 #include <gtest/gtest.h>

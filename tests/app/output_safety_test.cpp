@@ -1,4 +1,4 @@
-// Output safety (issue 20 item 6): `fovsim run` and `fovsim merge` killed by SIGKILL at
+// Output safety: `fovsim run` and `fovsim merge` killed by SIGKILL at
 // seeded random moments never leave a file that looks complete but is not (every output goes
 // through files.h write_atomic: temporary name, check, rename), and never lose a finished
 // cell; the command run again afterwards completes with the same results. The kill delays

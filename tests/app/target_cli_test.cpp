@@ -1,4 +1,4 @@
-// `fovsim run --target` (issue 13 item 3): stops early, deterministic for a seed, and every
+// `fovsim run --target`: stops early, deterministic for a seed, and every
 // recorded row equals the full run's row for that frame.
 #include <gtest/gtest.h>
 

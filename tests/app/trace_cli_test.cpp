@@ -41,7 +41,7 @@ TEST(TraceCli, MalformedTraceNamesLineAndColumn) {
   EXPECT_FALSE(std::filesystem::exists(dir + "/o.csv"));
 }
 
-// Issue 16: `trace import` never writes a file that `trace validate` rejects; --guess prints a map.
+// `trace import` never writes a file that `trace validate` rejects; --guess prints a map.
 TEST(TraceCli, ImportChecksTheFovAndGuessesAMap) {
   std::string dir = temp_dir("trace_import_fov");
   write_text(dir + "/map.json", R"({"delimiter": "comma", "header": true, "coordinates": "opengl",

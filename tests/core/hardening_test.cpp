@@ -1,4 +1,4 @@
-// Issue 20: every input-caused failure is a located fovsim::Error (never an exception that
+// Every input-caused failure is a located fovsim::Error (never an exception that
 // ends as "internal error"), input sizes are bounded before reading, names become file names
 // only through safe_file_name, images are never left truncated under their final name.
 #include <gtest/gtest.h>
@@ -255,7 +255,7 @@ TEST(Override, MethodLabelPaths) {
   EXPECT_THROW(apply_override(two, "methods[kfr].sigma=2"), Error);
 }
 
-// Issue 18: an override's mistake names the command line, not the config file it lands in.
+// An override's mistake names the command line, not the config file it lands in.
 TEST(Override, ErrorsNameTheCommandLine) {
   Json doc = Json::parse(R"({"render": {"scale": 1}, "methods": [{"method": "kfr", "sigma": 1}]})");
   std::vector<std::pair<std::string, std::string>> origins;

@@ -1,4 +1,4 @@
-// Calibration invariants (issue 7 item 6): the committed profiles reproduce the seeds'
+// Calibration invariants: the committed profiles reproduce the seeds'
 // tables within the residuals stored with them; KFR shading scales with 1/sigma^2.
 #include "sim/cost/calibration.h"
 
@@ -133,7 +133,7 @@ TEST(Calibration, BadTablesNameTheirLocation) {
   }
 }
 
-// ---------------------------------------------------------------- cost model v2 (issue 14)
+// ---------------------------------------------------------------- cost model v2
 namespace {
 double speedup(const GpuProfile& g, const std::string& wl, const std::string& method,
                const Json& params, int w, int h, int eyes, const std::string& display) {
@@ -156,7 +156,7 @@ double speedup(const GpuProfile& g, const std::string& wl, const std::string& me
 // The seeds' stated trends (TWFR speedup vs resolution, KFR speedup vs sigma, ...) are in
 // trends_test.cpp.
 
-// Seed 004 §4.0.2: the ray-marching scene is shading-bound, so KFR's speedup approaches
+// Meng 2018 §4.0.2: the ray-marching scene is shading-bound, so KFR's speedup approaches
 // sigma^2 (~3.2 at sigma 1.8) at every resolution; the workload is a documented prior.
 TEST(CostModelV2, RaymarchWorkloadIsShadingBound) {
   GpuProfile g = GpuProfile::load("gtx1080", kModels);
@@ -178,7 +178,7 @@ TEST(CostModelV2, CommittedProfilesAreRooflineWithIntervals) {
   }
 }
 
-// validate-cost's ranking (issue 14 "How it is checked"): held-out error of both models and
+// validate-cost's ranking (the cost model's acceptance check): held-out error of both models and
 // the nested coverage of the default model's 80% intervals.
 TEST(CostModelV2, ValidationComparesModelsAndIntervalsCover) {
   CalData data = load_calibration(kModels);
@@ -197,7 +197,7 @@ TEST(CostModelV2, ValidationComparesModelsAndIntervalsCover) {
   const ModelSummary& r = s[CostModelKind::Roofline];
   EXPECT_LT(r.leaveout_mean, s[CostModelKind::Linear].leaveout_mean);
   EXPECT_LT(r.leaveout_worst, s[CostModelKind::Linear].leaveout_worst);
-  EXPECT_GE(r.coverage, 0.70);  // issue 14: coverage of the 80% intervals in [70%, 90%]
+  EXPECT_GE(r.coverage, 0.70);  // coverage of the 80% intervals in [70%, 90%]
   EXPECT_LE(r.coverage, 0.90);
   // Held-out frame totals are scored too (their interval combines the passes'); it is
   // conservative (docs/cost_model.md), so only a floor is asserted.

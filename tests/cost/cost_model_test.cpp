@@ -1,4 +1,4 @@
-// Cost model invariants (issue 7): passes that do not exist cost nothing, every pass is
+// Cost model invariants: passes that do not exist cost nothing, every pass is
 // non-decreasing in each counter, predictions stay finite, errors name their location.
 #include "sim/cost/cost_model.h"
 
@@ -243,7 +243,7 @@ TEST(CostModel, WhatIfScalingDividesOneResource) {
   EXPECT_THROW(g.scaled(Resource::Memory, 0.0), Error);
 }
 
-// Roofline (issue 14): a pass costs its overhead plus the slowest resource's time; terms of
+// Roofline: a pass costs its overhead plus the slowest resource's time; terms of
 // the same resource add. Linear: everything adds.
 TEST(CostModel, RooflineTakesTheBottleneckResource) {
   Json j = Json::parse(R"({"name": "toy", "model": "roofline",

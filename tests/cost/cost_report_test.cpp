@@ -1,5 +1,5 @@
-// Per-pass prediction intervals (issue 14) and the library side of the cost commands (issue 15:
-// what-if maths, table lists, the profile writer, calibrate/validate orchestration).
+// Per-pass prediction intervals and the library side of the cost commands
+// (what-if maths, table lists, the profile writer, calibrate/validate orchestration).
 #include "sim/cost/cost_report.h"
 
 #include <gtest/gtest.h>

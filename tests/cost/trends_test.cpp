@@ -1,4 +1,4 @@
-// Trends the seed papers state in words hold in `fovsim predict` (issue 14, "How it is
+// Trends the seed papers state in words hold in `fovsim predict` (cost model v2, "How it is
 // checked"): each test computes what `predict` computes (analytic counters of the method on a
 // workload and display, then estimate_frame with a committed GPU profile) and checks the
 // stated direction, never a published number.

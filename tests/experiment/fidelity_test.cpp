@@ -1,5 +1,5 @@
-// `fovsim fidelity` (issue 13): the ladder on a tiny config, the analytic rung against a
-// rendered run (issue 13 item 4), rung parsing, and the ranking target of --target.
+// `fovsim fidelity`: the ladder on a tiny config, the analytic rung against a
+// rendered run, rung parsing, and the ranking target of --target.
 #include "sim/experiment/fidelity.h"
 
 #include <gtest/gtest.h>
@@ -152,7 +152,7 @@ TEST(Fidelity, BadRungsAreOneLocatedLine) {
   EXPECT_EQ(spp[0].skipped.empty(), render_spp_known());
 }
 
-// Issue 13 item 4: `predict`'s analytic counters and frame times against a rendered run of the
+// `predict`'s analytic counters and frame times against a rendered run of the
 // same config, on every built-in scene. RMFR's shaded fraction is exact up to rounding, KFR's an
 // upper bound; the baselines' analytic fractions assume the gaze at the screen centre.
 TEST(Fidelity, AnalyticAgreesWithRenderedRunOnBuiltInScenes) {

@@ -1,4 +1,4 @@
-// Latency what-if (issue 17): config validation with located errors, gaze at t - latency, the
+// Latency what-if: config validation with located errors, gaze at t - latency, the
 // saccade detector against the synthetic generator's ground truth, the main-sequence predictor.
 #include "sim/experiment/latency.h"
 

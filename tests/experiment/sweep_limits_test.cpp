@@ -1,4 +1,4 @@
-// Issue 20: sweep specs fail with located errors (never a std::exception that would end as
+// Sweep specs fail with located errors (never a std::exception that would end as
 // "internal error"), the cell product is capped before any cell is built, and shard
 // variables from the environment are parsed strictly.
 #include <gtest/gtest.h>

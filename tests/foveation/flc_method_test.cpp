@@ -1,4 +1,4 @@
-// FLC end to end on a small Cornell box (seed 001 §5-§7): budget >= #VPLs equals the ground
+// FLC end to end on a small Cornell box (Yang et al. 2021 §5-§7): budget >= #VPLs equals the ground
 // truth, foveal error falls with the budget (Fig. 7), tau > 1 (Table 1), extremes stay
 // finite, determinism across thread counts, parameter validation.
 #include <gtest/gtest.h>

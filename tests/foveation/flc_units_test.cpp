@@ -1,4 +1,4 @@
-// FLC building blocks (seed 001 §4-§5): Halton, Algorithm 1, acuity (eqs. 3-6), eq. 7,
+// FLC building blocks (Yang et al. 2021 §4-§5): Halton, Algorithm 1, acuity (eqs. 3-6), eq. 7,
 // BLSO's eq. 12, contribution (eq. 14) and stochastic culling.
 #include <gtest/gtest.h>
 
@@ -83,7 +83,7 @@ TEST(FlcSampling, ZeroMapGivesZeroWeightsAndRejectsShortInput) {
     EXPECT_EQ(e.weight, 0.f);
     EXPECT_LT(e.pixel, 256u);
   }
-  EXPECT_THROW(flc_select_samples(Z, H, 17, 4), Error);
+  EXPECT_THROW(flc_select_samples(Z, H, 17, 4), InternalError);  // a caller's bug
 }
 
 TEST(FlcImportance, AcuityFollowsEqs3To6) {

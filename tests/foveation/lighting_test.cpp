@@ -256,7 +256,7 @@ TEST(Lighting, CachedAllVplIndirectEqualsEvaluatingIt) {
   // Another G-buffer: refused by add_cached_indirect (the strategy evaluates instead).
   GBuffer other = g;
   Image o(g.width, g.height, 3);
-  EXPECT_THROW(add_cached_indirect(other, fv, nullptr, o, nullptr), Error);
+  EXPECT_THROW(add_cached_indirect(other, fv, nullptr, o, nullptr), InternalError);
   // Visibility on: no cache.
   FrameVpls vis = fv;
   vis.shading.visibility = true;

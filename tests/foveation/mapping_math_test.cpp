@@ -1,4 +1,4 @@
-// Property tests of the image-mapping math (seed 004 eqs. 2.10-2.13, seed 003 eqs. 4-7),
+// Property tests of the image-mapping math (Meng 2018 eqs. 2.10-2.13, Ye et al. 2022 eqs. 4-7),
 // kernels, densities, iso-budget and parameter validation. No rendering here.
 #include <gtest/gtest.h>
 
@@ -147,7 +147,8 @@ TEST(Rect, IdentityForHugeFAndSigmaOne) {
 }
 
 TEST(Rect, DensityIntegratesToBufferSize) {
-  // Sum over pixel centres of du/dx dv/dy ~ w h (the whole RS-buffer is used, seed 003 §3.3.3).
+  // Sum over pixel centres of du/dx dv/dy ~ w h (the whole RS-buffer is used, Ye et al. 2022
+  // §3.3.3).
   auto m = RectMap::make(kW, kH, 37, 31, {30.5, 20.5}, 0.38 * kW, 0.38 * kH);
   double sum = 0;
   const int n = 8;  // midpoint rule on 8x8 sub-cells per pixel

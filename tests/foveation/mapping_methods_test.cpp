@@ -244,7 +244,7 @@ TEST(MappingTrends, QualityNonIncreasingInSigma) {
   }
 }
 
-// Seed 003 §6.1 / seed 004 eq. 2.8: shaded samples fall as 1/sigma^2.
+// Ye et al. 2022 §6.1 / Meng 2018 eq. 2.8: shaded samples fall as 1/sigma^2.
 TEST(MappingTrends, ShadedSamplesFallAsInverseSigmaSquared) {
   World w({{"type", "patterns"}, {"pattern", "grating"}, {"frequency", 3.0}}, 192, 160);
   w.set_gaze({96, 80});
@@ -259,7 +259,7 @@ TEST(MappingTrends, ShadedSamplesFallAsInverseSigmaSquared) {
   }
 }
 
-// Seed 003 §6.1, Fig. 12: on rotating patterns (0..180 deg), RMFR's mean FPSNR exceeds KFR's
+// Ye et al. 2022 §6.1, Fig. 12: on rotating patterns (0..180 deg), RMFR's mean FPSNR exceeds KFR's
 // at sigma = 2.6 (KFR alpha = 4, RMFR fx = fy = 0.38, the Fig. 7 settings).
 TEST(MappingTrends, RmfrBeatsKfrOnRotatingPatterns) {
   double sum_k = 0, sum_r = 0;
@@ -278,7 +278,7 @@ TEST(MappingTrends, RmfrBeatsKfrOnRotatingPatterns) {
   EXPECT_GT(sum_r / n, sum_k / n);
 }
 
-// Seed 004 Fig. 1.17: at sigma = 1.8 on the atrium, KFR's peripheral error falls as alpha
+// Meng 2018 Fig. 1.17: at sigma = 1.8 on the atrium, KFR's peripheral error falls as alpha
 // grows from 1 to 4.
 TEST(MappingTrends, KfrPeripheralErrorFallsWithAlpha) {
   World w({{"type", "atrium"}, {"complexity", 1}}, 256, 144, 100.0);  // 2560x1440 / 10, FOVE FOV
@@ -327,7 +327,7 @@ TEST(MappingMethods, DebugBuffersAndDeterminism) {
 
 // rmfr_auto (f_x*, f_y* from the previous frame's peripheral edge orientation): the first
 // frame splits f_sum evenly; then stripes at 0 and 90 degrees get opposite axis preferences
-// (seed 003 §4.4.1: flat lines -> small f_x, steep lines -> small f_y); shading and counters
+// (Ye et al. 2022 §4.4.1: flat lines -> small f_x, steep lines -> small f_y); shading and counters
 // are RMFR's at the same sigma; the method exposes an RMFR sampling geometry.
 TEST(RmfrAuto, AxisPreferenceFollowsEdgeOrientation) {
   double fx[2], fy[2];
@@ -363,7 +363,7 @@ TEST(RmfrAuto, AxisPreferenceFollowsEdgeOrientation) {
   EXPECT_GT(std::fabs(fx[1] - fy[1]), 0.2);
 }
 
-// Seed 003 §6.1's rotating patterns: choosing f_x, f_y per frame from the image beats RMFR's
+// Ye et al. 2022 §6.1's rotating patterns: choosing f_x, f_y per frame from the image beats RMFR's
 // fixed 0.38 / 0.38 in mean FPSNR at the same sigma (the same shading cost).
 TEST(RmfrAuto, BeatsFixedRmfrOnRotatingPatterns) {
   double sum_a = 0, sum_r = 0;

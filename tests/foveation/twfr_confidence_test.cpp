@@ -1,4 +1,4 @@
-// Confidence function, redraw map (seed 002 §5.2, §7) and OR-mipmap queries (§6.1).
+// Confidence function, redraw map (Franke et al. 2021 §5.2, §7) and OR-mipmap queries (§6.1).
 #include "sim/foveation/twfr_confidence.h"
 
 #include <gtest/gtest.h>

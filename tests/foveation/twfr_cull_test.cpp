@@ -1,4 +1,4 @@
-// Screen rectangles of sub-model AABBs and foveation culling (seed 002 §6.1).
+// Screen rectangles of sub-model AABBs and foveation culling (Franke et al. 2021 §6.1).
 #include "sim/foveation/twfr_cull.h"
 
 #include <gtest/gtest.h>

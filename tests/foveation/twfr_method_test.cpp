@@ -1,4 +1,5 @@
-// The `twfr` method end to end on a small atrium (seed 002 §4-§8): small resolution, few frames.
+// The `twfr` method end to end on a small atrium (Franke et al. 2021 §4-§8): small resolution, few
+// frames.
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 

@@ -1,4 +1,4 @@
-// Push-pull hole filling (seed 002 §5.1) and contrast confidence (§5.2).
+// Push-pull hole filling (Franke et al. 2021 §5.1) and contrast confidence (§5.2).
 #include "sim/foveation/twfr_pushpull.h"
 
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// Forward reprojection with depth-tested splats (seed 002 §4, §7).
+// Forward reprojection with depth-tested splats (Franke et al. 2021 §4, §7).
 #include "sim/foveation/twfr_reproject.h"
 
 #include <gtest/gtest.h>

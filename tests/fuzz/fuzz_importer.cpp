@@ -1,4 +1,4 @@
-// libFuzzer target (issue 20 item 4): importer column map + recording -> import_trace, under
+// libFuzzer target: importer column map + recording -> import_trace, under
 // both bad-row policies and every FOV policy. The input is "<map JSON>\n%%\n<recording>"; an
 // input without the "\n%%\n" separator is a recording read with a fixed comma-separated map
 // (integer nanosecond times, so the exact integer rebasing is exercised). Every failure must

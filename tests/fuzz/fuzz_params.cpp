@@ -1,4 +1,4 @@
-// libFuzzer target (issue 20 item 4): JSON text -> parse_json_text -> Params getters and
+// libFuzzer target: JSON text -> parse_json_text -> Params getters and
 // finish(), plus command-line overrides. Every failure must be a fovsim::Error; any other
 // exception, a crash or a sanitizer report is a bug. Build: `make fuzz` (tests/fuzz/README.md).
 #include <cstddef>

@@ -1,4 +1,4 @@
-// libFuzzer target (issue 20 item 4): a sweep config -> expand_sweep -> validate_cells.
+// libFuzzer target: a sweep config -> expand_sweep -> validate_cells.
 // Every failure must be a fovsim::Error (no "internal error", no crash, no unbounded memory:
 // the cell cap applies before expansion).
 #include <cstddef>

@@ -1,4 +1,4 @@
-// libFuzzer target (issue 20 item 4): canonical trace CSV -> read_trace_csv (every bad-sample
+// libFuzzer target: canonical trace CSV -> read_trace_csv (every bad-sample
 // policy) -> resample over a bounded range. Every failure must be a fovsim::Error.
 #include <unistd.h>
 

@@ -1,4 +1,4 @@
-// Reflective shadow maps and VPL shading (seed 001 §3): octahedral mapping, texel measures,
+// Reflective shadow maps and VPL shading (Yang et al. 2021 §3): octahedral mapping, texel measures,
 // projection round trips, flux conservation on a floor, the 1/d^2 clamp, zero VPLs.
 #include <gtest/gtest.h>
 

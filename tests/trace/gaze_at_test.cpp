@@ -1,4 +1,4 @@
-// Gaze at any time (sim/trace/gaze_at.cpp, issue 17): agrees with resample(), holds the ends,
+// Gaze at any time (sim/trace/gaze_at.cpp): agrees with resample(), holds the ends,
 // keeps a steady gaze bit-identical, and measures angular speed.
 #include <cmath>
 

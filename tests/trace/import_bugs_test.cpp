@@ -1,4 +1,4 @@
-// Issue 16 item 7: bugs found importing real recordings, each on a small synthetic file.
+// Bugs found importing real recordings, each on a small synthetic file.
 #include <cmath>
 
 #include "sim/trace/importer.h"
@@ -166,7 +166,7 @@ TEST(ImportBugs, CanonicalReaderSharesLineEndsAndQuoting) {
   EXPECT_NE(w.find("canonical columns"), std::string::npos) << w;
 }
 
-// Issue 20: ±9e18 integer times are rebased and unwrapped in exact 64-bit arithmetic; what
+// ±9e18 integer times are rebased and unwrapped in exact 64-bit arithmetic; what
 // does not fit is a located "time value out of range", never a signed overflow (UBSan) or a
 // false "not strictly increasing".
 TEST(ImportBugs, TimeOutOfRangeIsLocated) {

@@ -1,4 +1,4 @@
-// Issue 16 items 1-6: map features for real exports, each on a small file made in the test.
+// Map features for real exports, each on a small file made in the test.
 #include <cmath>
 
 #include "sim/trace/importer.h"

@@ -1,4 +1,4 @@
-// Issue 20: a trace is resampled only over the range a run uses, and the resampled size is
+// A trace is resampled only over the range a run uses, and the resampled size is
 // checked against trace.max_samples before it is allocated; non-regular files are refused.
 #include "sim/trace/trace.h"
 #include "test_util.h"
@@ -66,7 +66,7 @@ TEST(TraceRange, NonRegularTraceFileRefused) {
   expect_error([&] { load(Json{{"file", "/dev/zero"}}, d); }, {"/dev/zero", "not a regular file"});
 }
 
-// Issue 20: `trace validate --max-gap` flags implausible gaps (located, counted, longest);
+// `trace validate --max-gap` flags implausible gaps (located, counted, longest);
 // a time beyond 2^53 us (where exact integer arithmetic on nanoseconds overflows) is a
 // located "time value out of range".
 TEST(TraceRange, GapsAreFlaggedWithTheirLocation) {
