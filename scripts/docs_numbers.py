@@ -25,6 +25,8 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 # Runs: name -> fovsim arguments (relative to the repository root).
 RUNS = {
     "pairs_tiny": ["run", "docs/examples/pairs_tiny.json", "-q", "--no-plots"],
+    "latency_tiny": ["sweep", "docs/examples/latency_tiny.json", "-q", "--no-plots"],
+    "converge_tiny": ["converge", "docs/examples/converge_tiny.json"],
 }
 
 # id -> (run, csv file, row filter, column, interval column or None, decimals)
@@ -49,7 +51,34 @@ NUMBERS = {
     "fid_full_ms": ("pairs_tiny", "summary.csv", {"label": "full"}, "est_ms_total", None, 3),
 }
 
-DOCS = ["docs/intervals.md", "docs/python.md", "docs/latency.md", "docs/fidelity.md"]
+# docs/latency.md "Checked table": the tiny latency sweep, per method and tracker latency.
+for _m in ("kfr", "rmfr", "fvrs"):
+    for _l in ("0", "20", "50", "80"):
+        _w = {"label": _m, "latency.tracker_ms": _l}
+        _i = f"lt_{_m}_{_l}"
+        NUMBERS[_i + "_rmse"] = ("latency_tiny", "summary.csv", _w, "rmse_fovea", "rmse_fovea_ci95", 4)
+        for _p, _s in (("saccade", "sac"), ("suppression", "sup"), ("fixation", "fix")):
+            NUMBERS[f"{_i}_{_s}"] = ("latency_tiny", "summary.csv", _w, "rmse_fovea_" + _p, None, 4)
+        NUMBERS[_i + "_fpsnr"] = ("latency_tiny", "summary.csv", _w, "fpsnr", None, 2)
+for _l in ("0", "20", "50", "80"):
+    NUMBERS[f"lt_gaze_{_l}"] = ("latency_tiny", "summary.csv", {"label": "kfr", "latency.tracker_ms": _l}, "gaze_error_deg", None, 2)
+for _p, _s in (("saccade", "sac"), ("suppression", "sup"), ("fixation", "fix")):
+    NUMBERS[f"lt_n_{_s}"] = ("latency_tiny", "summary.csv", {"label": "kfr", "latency.tracker_ms": "0"}, "frames_" + _p, None, 0)
+for _b in ("50", "80"):
+    NUMBERS[f"lt_kfr_fpsnr_0_{_b}"] = ("latency_tiny", "paired.csv", {"kind": "across", "config_a": "kfr", "metric": "fpsnr", "value_a": "0", "value_b": _b}, "diff", "diff_ci95", 2)
+
+# docs/metrics.md "Reference convergence": the tiny convergence study.
+for _m in ("full_tbds", "flc", "kfr", "rmfr", "fvrs", "twfr"):
+    for _s in ("1", "4", "16", "64"):
+        _w = {"label": _m, "spp": _s}
+        if not (_m == "full_tbds" and _s == "1"):  # inf: the reference itself
+            NUMBERS[f"cv_{_m}_{_s}_psnr"] = ("converge_tiny", "convergence.csv", _w, "psnr", None, 3)
+            NUMBERS[f"cv_{_m}_{_s}_fpsnr"] = ("converge_tiny", "convergence.csv", _w, "fpsnr", None, 3)
+        NUMBERS[f"cv_{_m}_{_s}_flip"] = ("converge_tiny", "convergence.csv", _w, "flip", None, 4)
+for _s in ("1", "4", "16"):
+    NUMBERS[f"cv_ok_{_s}"] = ("converge_tiny", "convergence.csv", {"label": "kfr", "spp": _s}, "level_ok", None, 0)
+
+DOCS = ["docs/intervals.md", "docs/python.md", "docs/latency.md", "docs/fidelity.md", "docs/metrics.md"]
 
 # A marker, the number (unicode or ASCII minus, optional +), optionally " ± interval".
 NUM = r"[+\-\u2212]?\d+(?:\.\d+)?"

@@ -17,6 +17,7 @@
 #include "sim/cost/cost_report.h"
 #include "sim/cost/gpu_profile.h"
 #include "sim/cost/passes.h"
+#include "sim/cost/tracking_cost.h"
 #include "sim/cost/validate.h"
 #include "sim/cost/workload.h"
 #include "sim/experiment/config.h"
@@ -233,6 +234,9 @@ struct PredictArgs {
   bool json = false;
   std::string results;  // re-cost a run's measured counters
   bool display_given = false, workload_given = false;
+  double tracking_loss = -1;  // < 0: not given
+  std::string on_invalid = "hold";
+  double widen_k = 1.75;
 };
 
 // `fovsim predict --results DIR` (logic: sim/experiment/recost.h): prints the re-costed means.
@@ -309,6 +313,15 @@ int do_predict(const PredictArgs& a) {
   header.push_back("total_ms");
   header.push_back("interval_ms");
   header.push_back("speedup");
+  // Tracking loss (docs/tracking.md "What each policy costs"): lost frames costed as the policy
+  // renders them, and the expected frame time with that loss fraction.
+  const bool loss = a.tracking_loss >= 0;
+  OnInvalid policy = OnInvalid::Hold;
+  parse_on_invalid(a.on_invalid, policy);
+  if (loss) {
+    header.push_back("lost_ms");
+    header.push_back("with_loss_ms");
+  }
   rows.push_back(header);
   for (auto& gname : res.gpus) {
     GpuProfile g = GpuProfile::load(gname, models);
@@ -351,6 +364,24 @@ int do_predict(const PredictArgs& a) {
       r.push_back(fc.interval_level > 0 ? fmt("%.2f-", fc.total_lo_ms) + fmt("%.2f", fc.total_hi_ms)
                                         : "-");
       r.push_back(fmt("%.2fx", fc.total_ms > 0 ? full_total / fc.total_ms : 0.0));
+      if (loss) {
+        MethodSpec lm = m;
+        lm.name = lost_frame_method(m.name, policy);
+        if (lm.name == "full" && m.name != "full") lm.params = Json::object();
+        bool modelled = true;
+        if (policy == OnInvalid::Widen)
+          lm.params = widened_method_params(lm.name, lm.params, a.widen_k, &modelled);
+        const double lost = modelled ? cost_for(g, lm, res).total_ms : double(NAN);
+        const double expect = expected_ms_with_loss(fc.total_ms, lost, a.tracking_loss);
+        j["tracking_loss"] = {{"fraction", a.tracking_loss},
+                              {"on_invalid", a.on_invalid},
+                              {"widen_k", policy == OnInvalid::Widen ? Json(a.widen_k) : Json()},
+                              {"lost_ms", modelled ? Json(lost) : Json()},
+                              {"est_ms_total_with_loss", modelled ? Json(expect) : Json()}};
+        out.back() = j;
+        r.push_back(modelled ? fmt("%.3f", lost) : "-");
+        r.push_back(modelled ? fmt("%.3f", expect) : "-");
+      }
       rows.push_back(r);
     }
   }
@@ -366,6 +397,12 @@ int do_predict(const PredictArgs& a) {
                                            (res.indirect ? " (indirect light)" : ""))
               << "\n";
     print_table(rows);
+    if (loss)
+      std::cout << "tracking loss: " << fmt("%.3g", a.tracking_loss) << " of the frames under "
+                << "trace.on_invalid = " << a.on_invalid
+                << (policy == OnInvalid::Widen ? " (k = " + fmt("%.3g", a.widen_k) + ")" : "")
+                << "; lost_ms: a lost frame as the policy renders it, with_loss_ms = (1 - f) "
+                   "total_ms + f lost_ms ('-': twfr's widened cost is not analytic; run it)\n";
     print_uncalibrated_note(used);
   }
   return 0;
@@ -610,6 +647,19 @@ void register_cost(CLI::App& app, Action& action) {
         "A results directory of `fovsim run`: re-cost its measured counters (frames.csv) for "
         "--gpu, and for "
         "--display/--width/--height/--eyes when given (default: the run's display); -m is ignored");
+    c->add_option("--tracking-loss", a->tracking_loss,
+                  "Fraction of frames with tracking lost: adds lost_ms and with_loss_ms "
+                  "(docs/tracking.md)")
+        ->check(finite_in(0.0, 1.0));
+    c->add_option("--on-invalid", a->on_invalid,
+                  "Policy on lost frames with --tracking-loss: hold, centre, full, widen")
+        ->check(CLI::IsMember({"hold", "centre", "full", "widen"}))
+        ->capture_default_str();
+    c->add_option("--widen-k", a->widen_k,
+                  "With --on-invalid widen: mean foveal growth factor k over the lost frames "
+                  "(default 1.75 = 1 + 10/s x 75 ms, the middle of a 150 ms blink)")
+        ->check(finite_in(1.0, 1000.0))
+        ->capture_default_str();
     c->callback([a, &action, c]() {
       a->display_given = c->get_option("--display")->count() > 0;
       a->workload_given = c->get_option("--workload")->count() > 0;

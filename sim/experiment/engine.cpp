@@ -31,6 +31,7 @@
 #include "sim/experiment/latency.h"
 #include "sim/experiment/phase_times.h"
 #include "sim/experiment/runner.h"
+#include "sim/experiment/tracking_summary.h"
 #include "sim/foveation/factory.h"
 #include "sim/foveation/frame.h"
 #include "sim/foveation/simd_kernels.h"
@@ -522,6 +523,7 @@ struct Cell {
     glm::dvec3 est_dir_cached(NAN);
     // Tracking loss (trace.on_invalid): the gaze the methods see on an invalid frame.
     const TrackedGaze tg = tracked_gaze(sh.trace, size_t(fi), sh.tracking);
+    ctx.widen = tg.valid ? 1.0 : tg.widen;  // kfr, rmfr, flc widen their own parameters
     bool trk_ecc_ready = false;
 
     for (size_t mi = 0; mi < methods.size(); ++mi) {
@@ -963,6 +965,8 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
     r.cell_ms = c->cell_ms;
     r.summary = summarize(c->frames, r.budget_ms);
     if (c->latency.enabled) r.summary = summarize_phases(c->frames, r.summary, c->metric_names);
+    // Tracking states (docs/tracking.md): means with intervals per state, next to the phases.
+    if (sh.tracking_column) r.summary = summarize_tracking(c->frames, r.summary);
     if (sampled) {  // what --target asked for and what it achieved (results/README.md)
       Json specs = Json::array(), achieved;
       for (auto& t : opt.targets) specs.push_back(t.spec);
@@ -981,7 +985,18 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
     }
     write_file_atomic(out + "/frames.csv", c->frames.to_csv());
     write_file_atomic(out + "/summary.csv", r.summary.to_csv());
-    write_file_atomic(out + "/paired.csv", paired_differences(c->frames).to_csv());
+    // Paired differences with the known bias of the run's fidelity (docs/intervals.md): a
+    // difference whose interval excludes 0 but that is smaller than the bias is named.
+    size_t n_below = 0;
+    const ResultTable paired =
+        with_fidelity_bias(paired_differences(c->frames), c->manifest["fidelity"], &n_below);
+    write_file_atomic(out + "/paired.csv", paired.to_csv());
+    if (c->manifest["fidelity"]["known_bias"].is_object())
+      c->manifest["fidelity"]["paired_real_below_bias"] = n_below;
+    if (n_below > 0)
+      r.fidelity_note += "; " + std::to_string(n_below) +
+                         " paired difference(s) in paired.csv exclude 0 but are smaller than "
+                         "that bias (paired.csv below_fidelity_bias = 1)";
     Json sj = Json::array();
     for (auto& row : r.summary.rows()) {
       Json o;

@@ -147,6 +147,42 @@ ResultTable paired_differences(const ResultTable& frames) {
   return out;
 }
 
+double fidelity_bias(const Json& fidelity, const std::string& metric, double mean_a,
+                     double mean_b) {
+  if (!fidelity.is_object() || !fidelity.contains("known_bias")) return NAN;
+  const Json& b = fidelity["known_bias"];
+  if (!b.is_object()) return NAN;
+  auto num = [&](const char* k) {
+    return b.contains(k) && b[k].is_number() ? b[k].get<double>() : double(NAN);
+  };
+  if (metric == "psnr") return num("psnr_db");
+  if (metric == "fpsnr") return num("fpsnr_db");
+  if (metric == "shaded_fraction") return num("shaded_fraction");
+  if (metric == "est_ms_total")
+    return num("est_ms_total_percent") / 100.0 * std::max(std::fabs(mean_a), std::fabs(mean_b));
+  return NAN;
+}
+
+ResultTable with_fidelity_bias(const ResultTable& paired, const Json& fidelity,
+                               size_t* n_real_but_below) {
+  size_t n = 0;
+  ResultTable out;
+  for (ResultRow r : paired.rows()) {
+    const std::string* m = r.text_of("metric");
+    const double bias =
+        m ? fidelity_bias(fidelity, *m, r.get("mean_a", NAN), r.get("mean_b", NAN)) : NAN;
+    const double d = r.get("diff", NAN);
+    const double below =
+        std::isfinite(bias) && std::isfinite(d) ? (std::fabs(d) < bias ? 1.0 : 0.0) : NAN;
+    r.set("fidelity_bias", bias);
+    r.set("below_fidelity_bias", below);
+    if (below == 1.0 && r.get("differs", NAN) == 1.0) ++n;
+    out.add(std::move(r));
+  }
+  if (n_real_but_below) *n_real_but_below = n;
+  return out;
+}
+
 IntervalTarget parse_target(const std::string& spec) {
   const std::string where = "--target " + spec;
   const std::string form =

@@ -28,6 +28,22 @@ const std::vector<std::string>& headline_metrics();
 // interval excludes 0, 0 when it contains it, nan when undefined).
 ResultTable paired_differences(const ResultTable& frames);
 
+// The known bias of `metric` at a run's fidelity, in the metric's unit: `fidelity` is the
+// manifest's fidelity record (fidelity.known_bias, measured by the fidelity ladder,
+// docs/fidelity.md): psnr and fpsnr in dB, shaded_fraction as a fraction, est_ms_total as the
+// ladder's percentage of max(|mean_a|, |mean_b|). nan when the record states no bias (a rung
+// the ladder did not measure, or render.scale >= 0.5) or the metric has none.
+double fidelity_bias(const Json& fidelity, const std::string& metric, double mean_a, double mean_b);
+
+// `paired` (paired_differences, a sweep's paired.csv) with, on every row, the columns
+// fidelity_bias (fidelity_bias() of the row's metric) and below_fidelity_bias: 1 when |diff|
+// is smaller than that bias (the difference may not hold at full resolution, whatever its
+// interval says), 0 when it is not, nan when no bias is known. `n_real_but_below` (optional)
+// gets the number of rows with below_fidelity_bias = 1 whose interval excludes 0 (differs =
+// 1): differences the run calls real that its fidelity cannot vouch for.
+ResultTable with_fidelity_bias(const ResultTable& paired, const Json& fidelity,
+                               size_t* n_real_but_below = nullptr);
+
 // The frames.csv column a paired difference of `metric` reads: the metric itself, or for a
 // sequence-pooled metric (sim/metrics/registry.h) its pooled column (fvvdp_jod -> fvvdp_q).
 std::string paired_source_column(const std::string& metric);

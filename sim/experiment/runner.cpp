@@ -14,6 +14,7 @@
 #include "sim/core/stats.h"
 #include "sim/experiment/engine.h"
 #include "sim/experiment/intervals.h"
+#include "sim/experiment/tracking_summary.h"
 #include "sim/metrics/registry.h"
 
 namespace fovsim {
@@ -85,6 +86,31 @@ RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt) {
       for (auto& [n, p] : shown)
         std::printf(" %16s", cell(r.get(n, NAN), r.get(n + "_ci95", NAN), p).c_str());
       std::printf("\n");
+    }
+    // Tracking loss (docs/tracking.md): the same means per tracking state, for the states
+    // that occur (summary.csv frames_<state>, <col>_<state>, <col>_<state>_ci95).
+    if (!result.summary.rows().empty() &&
+        !std::isnan(result.summary.rows().front().get("frames_valid", NAN))) {
+      std::printf("\nper tracking state (trace.on_invalid; docs/tracking.md):\n");
+      std::printf("%-16s %-10s %-6s %7s %9s %18s", "config", "gpu", "state", "frames", "shaded%",
+                  "est_ms");
+      for (auto& [n, p] : shown) std::printf(" %16s", n.c_str());
+      std::printf("\n");
+      for (auto& r : result.summary.rows())
+        for (const std::string& st : tracking_states()) {
+          const double nf = r.get("frames_" + st, 0);
+          if (!(nf > 0)) continue;
+          const std::string* id = r.text_of("label");
+          const std::string* g = r.text_of("gpu");
+          auto col = [&](const std::string& n) { return r.get(n + "_" + st, NAN); };
+          auto ci = [&](const std::string& n) { return r.get(n + "_" + st + "_ci95", NAN); };
+          std::printf("%-16s %-10s %-6s %7.0f %8.1f%% %18s", id ? id->c_str() : "?",
+                      g ? g->c_str() : "?", st.c_str(), nf, 100 * col("shaded_fraction"),
+                      cell(col("est_ms_total"), ci("est_ms_total"), 3).c_str());
+          for (auto& [n, p] : shown)
+            std::printf(" %16s", std::isnan(col(n)) ? "-" : cell(col(n), ci(n), p).c_str());
+          std::printf("\n");
+        }
     }
     std::printf("budget %.2f ms (%.0f Hz); results in %s\n", c.budget_ms, c.refresh_hz,
                 c.out_dir.c_str());

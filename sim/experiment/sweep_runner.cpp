@@ -187,6 +187,20 @@ ResultTable sweep_paired(const std::string& out, const SweepPlan& plan) {
   };
   for (auto& k : order) {
     const auto& cells = groups[k];
+    // The group's fidelity (render.scale is shared by a reference group): the known bias its
+    // cells' manifests state, for the fidelity_bias columns (docs/intervals.md).
+    Json fidelity;
+    for (auto* c : cells) {
+      const std::string mf = cell_dir(out, *c) + "/manifest.json";
+      if (!file_exists(mf)) continue;
+      try {
+        const Json mj = parse_json_text(read_file(mf), mf);
+        if (mj.contains("fidelity")) fidelity = mj["fidelity"];
+      } catch (...) {  // an unreadable manifest: no bias stated (columns nan)
+      }
+      break;
+    }
+    ResultTable group_rows;
     std::vector<ResultTable> frames;
     for (auto* c : cells) {
       std::string f = cell_dir(out, *c) + "/frames.csv";
@@ -218,7 +232,7 @@ ResultTable sweep_paired(const std::string& out, const SweepPlan& plan) {
         row.set("cell_a", a.index);
         row.set("cell_b", a.index);
         for (auto& [kk, v] : r.num) row.set(kk, v);
-        all.add(std::move(row));
+        group_rows.add(std::move(row));
       }
       for (size_t j = i + 1; j < cells.size(); ++j) {
         const SweepCell& b = *cells[j];
@@ -250,11 +264,13 @@ ResultTable sweep_paired(const std::string& out, const SweepPlan& plan) {
             row.set("cell_a", a.index);
             row.set("cell_b", b.index);
             paired_columns(by_cfg[i][id], b_by_frame, m, row);
-            all.add(std::move(row));
+            group_rows.add(std::move(row));
           }
         }
       }
     }
+    const ResultTable marked = with_fidelity_bias(group_rows, fidelity);
+    for (auto& r : marked.rows()) all.add(r);
   }
   return all;
 }

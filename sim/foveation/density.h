@@ -18,7 +18,13 @@ struct MappingView {
   glm::dvec2 gaze_px{0, 0};
   glm::dvec3 gaze_dir{0, 0, -1};
   const std::vector<float>* ecc = nullptr;
-  double ecc_deg(double x, double y) const { return cam->eccentricity_deg(x, y, gaze_dir); }
+  // Tracking loss (FrameContext::widen): eccentricities are divided by this, as the frame's
+  // eccentricity map already is, so every foveal radius of the baselines grows by it.
+  double widen = 1.0;
+  double ecc_deg(double x, double y) const {
+    const double e = cam->eccentricity_deg(x, y, gaze_dir);
+    return widen == 1.0 ? e : e / widen;
+  }
   // View with the gaze at screen point (gx, gy) pixels; gaze_dir from the camera.
   static MappingView at(const Camera& cam, glm::dvec2 gaze_px);
 };

@@ -97,7 +97,11 @@ class FlcMethod final : public FoveationMethod {
     const VplShading& sh = ctx.vpls->shading;
     Image lp_dbg;
     if (s_.log_polar)
-      flc_shade_logpolar(g, ctx.gaze_px, s_.lp_sigma, groups, n, sh, ctx.renderer, indirect_, &c,
+      // Tracking loss under trace.on_invalid = widen: the log-polar buffer grows by k per
+      // axis, lp_sigma' = max(1, lp_sigma / k), as kfr's sigma (docs/tracking.md).
+      flc_shade_logpolar(g, ctx.gaze_px,
+                         ctx.widen > 1 ? std::max(1.0, s_.lp_sigma / ctx.widen) : s_.lp_sigma,
+                         groups, n, sh, ctx.renderer, indirect_, &c,
                          ctx.want_debug ? &lp_dbg : nullptr, &scratch_);
     else
       flc_shade_cartesian(g, groups, n, sh, ctx.renderer, indirect_, &c, &scratch_);

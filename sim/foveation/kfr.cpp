@@ -67,7 +67,8 @@ class KfrMethod final : public MappingMethodBase {
   using MappingMethodBase::MappingMethodBase;
 
   void render(const FrameContext& ctx, FrameOutput& out) override {
-    const MappingSpec& s = resolve(ctx, out);
+    // Tracking loss under trace.on_invalid = widen: a larger buffer (widened_spec).
+    const MappingSpec& s = widened_spec(resolve(ctx, out), ctx.widen, widened_);
     const GBuffer& gb = *ctx.gbuffer;
     const int W = gb.width, H = gb.height;
     const int w = reduced_size(W, s.sigma), h = reduced_size(H, s.sigma);
@@ -146,6 +147,7 @@ class KfrMethod final : public MappingMethodBase {
   }
 
  private:
+  MappingSpec widened_;             // the spec of a frame under tracking loss (widened_spec)
   std::vector<uint32_t> lp_index_;  // LP-buffer: G-buffer sample per slot (reused across frames)
   Image lp_col_;
   std::vector<uint8_t> used_, eta_;

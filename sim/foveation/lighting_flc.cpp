@@ -106,8 +106,15 @@ void FlcLighting::begin_frame(const FrameContext& ctx, Counters& c) {
       std::sqrt(cam.tan_half_h * cam.tan_half_h + cam.tan_half_v * cam.tan_half_v);
   const bool hist_ok = history_.width == W && history_.height == H;
   keep_debug_ = ctx.want_debug;
+  // Tracking loss under trace.on_invalid = widen (docs/tracking.md): the foveal region of
+  // eq. 5 grows by k = ctx.widen (fovea_frac' = k fovea_frac), so the acuity importance, and
+  // with it the shading points and the VPL budget they select, covers a k times larger radius.
+  // With exact_eccentricity the eccentricity map is already divided by k.
+  FlcImportanceParams imp = s_.imp;
+  const bool widen = ctx.widen > 1;
+  if (widen && !(imp.exact_eccentricity && ctx.eccentricity)) imp.fovea_frac *= ctx.widen;
   flc_importance_map(g, color_, hist_ok ? &history_ : nullptr, ctx.gaze_px, tan_diag,
-                     ctx.eccentricity, s_.imp, maps_, ctx.want_debug);
+                     ctx.eccentricity, imp, maps_, ctx.want_debug);
   auto t1 = Clock::now();
   times_.importance = ms_between(t0, t1);
 
@@ -119,7 +126,7 @@ void FlcLighting::begin_frame(const FrameContext& ctx, Counters& c) {
   c.set("importance_samples", double(samples.size()));
   c.set("halton_proposals", double(halton.size()));
   const double half_diag = 0.5 * std::sqrt(double(W) * W + double(H) * H);
-  const double fovea_px = s_.imp.fovea_frac * half_diag;
+  const double fovea_px = s_.imp.fovea_frac * half_diag * (widen ? ctx.widen : 1.0);  // eq. 1
   std::vector<FlcShadingPoint> pts;
   pts.reserve(samples.size());
   for (const ImportanceSample& sm : samples) {

@@ -21,6 +21,7 @@ MappingView MappingMethodBase::view_of(const FrameContext& ctx) {
   v.gaze_px = ctx.gaze_px;
   v.gaze_dir = ctx.gaze_dir;
   v.ecc = ctx.eccentricity;
+  v.widen = ctx.widen;
   return v;
 }
 
@@ -42,6 +43,19 @@ const MappingSpec& MappingMethodBase::resolve(const FrameContext& ctx, FrameOutp
   }
   if (!reachable_) out.flags.push_back("iso_budget_unreachable");
   return active_;
+}
+
+const MappingSpec& widened_spec(const MappingSpec& s, double k, MappingSpec& tmp) {
+  if (!(k > 1) || (s.method != "kfr" && s.method != "rmfr")) return s;
+  tmp = s;
+  tmp.sigma = widened_sigma(s.sigma, k);
+  if (s.method == "rmfr") {
+    tmp.fx *= k;
+    tmp.fy *= k;
+    tmp.fx_px *= k;  // 0 (unset) stays 0
+    tmp.fy_px *= k;
+  }
+  return tmp;
 }
 
 void MappingMethodBase::set_counters(FrameOutput& out, double shaded, double gbuffer_samples,

@@ -2,6 +2,7 @@
 // MappingSpec, resolves an iso-budget target once per screen size, reports param_columns,
 // and helpers for counters and debug buffers.
 #pragma once
+#include <algorithm>
 #include <string>
 #include <utility>
 #include <vector>
@@ -45,6 +46,19 @@ class MappingMethodBase : public FoveationMethod {
   double achieved_ = -1;
   bool reachable_ = true;
 };
+
+// The spec a mapping method renders a frame with under tracking loss (FrameContext::widen,
+// docs/tracking.md): for k = ctx.widen > 1, kfr's and rmfr's reduced buffer grows by k per
+// axis, sigma' = max(1, sigma / k) (Meng et al. 2018 eq. 2.8 and Ye et al. 2022 §3.2: every
+// sampling rate of the map scales with 1 / sigma, so a region sampled at least at a given
+// rate grows), and rmfr's foveal extents grow, f' = k f (Ye et al. 2022 eq. 4: as f grows the
+// map tends to the uniform 1 / sigma). Returns `s` itself when k <= 1 or for other methods
+// (the baselines widen through the eccentricity map); else fills and returns `tmp`.
+const MappingSpec& widened_spec(const MappingSpec& s, double k, MappingSpec& tmp);
+// sigma' = max(1, sigma / k) for k > 1, sigma itself otherwise.
+inline double widened_sigma(double sigma, double k) {
+  return k > 1 ? std::max(1.0, sigma / k) : sigma;
+}
 
 // Shades the used slots of a gathered buffer (a G-buffer or an index view of the frame's) with the
 // frame's renderer (direct light) and the method's lighting strategy (indirect light, when the

@@ -45,7 +45,12 @@ struct FrameContext {
   // methods add its indirect light at their samples (shade_buffer does).
   const LightingStrategy* lighting = nullptr;
   const std::vector<float>* eccentricity = nullptr;  // degrees per pixel, W*H
-  bool want_debug = false;                           // fill FrameOutput::debug
+  // Tracking loss with trace.on_invalid = widen (docs/tracking.md): the foveal region's growth
+  // factor k = 1 + widen_per_s * (time since the last valid sample), 1 on tracked frames.
+  // `eccentricity` is then already divided by k (the methods that place their fovea by
+  // eccentricity widen through it); kfr, rmfr and flc read k to widen their own parameters.
+  double widen = 1.0;
+  bool want_debug = false;  // fill FrameOutput::debug
 };
 
 struct FrameOutput {

@@ -454,6 +454,14 @@ Json guess_map(const std::string& in) {
                  {"combine", "mean"}};
     gaze = true;
   }
+  if (!gaze && left.is_null() != right.is_null()) {
+    // One eye's direction only (a monocular tracker, or an export of one eye): that eye.
+    const Json& one = left.is_null() ? right : left;
+    m["gaze"] = {{"type", "direction"}, {"space", "head"}, {"columns", one}};
+    assume(std::string("gaze is the ") + (left.is_null() ? "right" : "left") + " eye's direction " +
+           one[0].dump() + "... (the only per-eye direction in the file)");
+    gaze = true;
+  }
   if (!gaze && !point.is_null()) {
     // Only when no gaze direction is given: a point may be in head space rather than world.
     m["gaze"] = point;

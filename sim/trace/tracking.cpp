@@ -62,7 +62,8 @@ TrackedGaze tracked_gaze(const Trace& trace, size_t i, const TrackingPolicy& p) 
     case OnInvalid::Widen:
       g.gaze_dir = held;
       g.state = "held";
-      g.ecc_scale = 1.0 / (1.0 + p.widen_per_s * g.since_valid_s);
+      g.widen = 1.0 + p.widen_per_s * g.since_valid_s;
+      g.ecc_scale = 1.0 / g.widen;
       break;
   }
   return g;

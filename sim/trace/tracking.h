@@ -17,8 +17,9 @@ enum class OnInvalid {
 
 struct TrackingPolicy {
   OnInvalid on_invalid = OnInvalid::Hold;
-  // Widen: eccentricities the method sees are divided by 1 + widen_per_s * (time since the
-  // last valid sample), so a foveal radius r becomes r (1 + widen_per_s * dt).
+  // Widen: k = 1 + widen_per_s * (time since the last valid sample); eccentricities the method
+  // sees are divided by k, so a foveal radius r becomes k r, and kfr, rmfr and flc widen their
+  // own parameters by k (FrameContext::widen, docs/tracking.md).
   double widen_per_s = 10.0;
 };
 
@@ -35,7 +36,8 @@ struct TrackedGaze {
   double since_valid_s = 0;  // time since the last valid sample (0 when valid; from the
                              // first sample when none was valid yet)
   bool render_full = false;  // policy full on an invalid frame
-  double ecc_scale = 1.0;    // multiply the eccentricity map by this (< 1 widens), widen only
+  double widen = 1.0;        // widen only: k = 1 + widen_per_s * since_valid_s (FrameContext)
+  double ecc_scale = 1.0;    // multiply the eccentricity map by this (1 / widen)
 };
 
 // The gaze of sample `i` of `trace` (a resampled run trace) under `p`. On a valid sample it

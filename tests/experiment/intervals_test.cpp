@@ -220,4 +220,40 @@ TEST(Targets, MetPerConfigWithAchievedRecord) {
 }
 
 }  // namespace
+// A paired difference smaller than the known bias of the run's fidelity is named
+// (paired.csv fidelity_bias, below_fidelity_bias; docs/fidelity.md known_bias).
+TEST(Intervals, PairedDifferencesBelowTheFidelityBiasAreMarked) {
+  ResultTable frames;
+  for (int f = 0; f < 40; ++f) {
+    frames.add(frame_row("a", "g", f, 30.0 + 0.1 * (f % 3), 10.0));
+    frames.add(frame_row("b", "g", f, 29.0 + 0.1 * (f % 3), 10.5));  // a - b = +1 dB, -0.5 ms
+  }
+  const ResultTable paired = paired_differences(frames);
+  const Json fid{{"render_scale", 0.25},
+                 {"known_bias", {{"psnr_db", 2.39}, {"est_ms_total_percent", 2.27}}}};
+  size_t n = 0;
+  const ResultTable marked = with_fidelity_bias(paired, fid, &n);
+  ASSERT_EQ(marked.rows().size(), paired.rows().size());
+  for (auto& r : marked.rows()) {
+    const std::string m = *r.text_of("metric");
+    EXPECT_DOUBLE_EQ(r.get("differs", NAN), 1.0) << m;
+    if (m == "psnr") {
+      EXPECT_DOUBLE_EQ(r.get("fidelity_bias", NAN), 2.39);
+      EXPECT_DOUBLE_EQ(r.get("below_fidelity_bias", NAN), 1.0);  // |1 dB| < 2.39 dB
+    } else if (m == "est_ms_total") {
+      EXPECT_NEAR(r.get("fidelity_bias", NAN), 0.0227 * 10.5, 1e-12);  // % of the larger mean
+      EXPECT_DOUBLE_EQ(r.get("below_fidelity_bias", NAN), 0.0);        // |0.5 ms| > 0.238 ms
+    }
+  }
+  EXPECT_EQ(n, 1u);
+  // No known bias (scale >= 0.5 or an unmeasured rung): the columns are nan.
+  size_t n0 = 7;
+  const ResultTable none = with_fidelity_bias(paired, Json{{"known_bias", nullptr}}, &n0);
+  EXPECT_EQ(n0, 0u);
+  for (auto& r : none.rows()) {
+    EXPECT_TRUE(std::isnan(r.get("fidelity_bias", 0)));
+    EXPECT_TRUE(std::isnan(r.get("below_fidelity_bias", 0)));
+  }
+}
+
 }  // namespace fovsim

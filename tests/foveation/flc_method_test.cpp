@@ -209,3 +209,44 @@ TEST(FlcMethod, ParameterErrorsNameTheKey) {
     EXPECT_NE(std::string(e.what()).find("scene.vpl.rsm_size"), std::string::npos) << e.what();
   }
 }
+
+// Tracking loss with trace.on_invalid = widen (docs/tracking.md): FLC's foveal region of
+// eq. 5 grows by k = FrameContext::widen (more acuity importance, so the shading points and
+// the VPL budget cover a larger region), and its log-polar shading buffer grows by k per axis
+// (more shaded samples). k = 1 is bit-identical to a frame without the policy.
+TEST(FlcMethod, WidenGrowsTheFovealRegionAndTheShadedFraction) {
+  Fixture& f = cornell();
+  auto run = [&](const Json& params, double k) {
+    Params p(params);
+    auto m = make_method("flc", p);
+    FrameContext ctx = f.fd.context(f.scene, *f.renderer, f.display, true);
+    ctx.widen = k;
+    FrameOutput out;
+    render_with_lighting(*m, ctx, out);
+    return out;
+  };
+  auto acuity_sum = [](const FrameOutput& o) {
+    for (auto& [name, img] : o.debug)
+      if (name == "acuity") {
+        double s = 0;
+        for (float v : img.data) s += v;
+        return s;
+      }
+    return -1.0;
+  };
+  const Json lp{{"log_polar", true}, {"lp_sigma", 2.0}, {"vpl_budget", 50}};
+  const FrameOutput base = f.run(lp);
+  const FrameOutput one = run(lp, 1.0);
+  EXPECT_EQ(one.image.data, base.image.data);
+  double prev_shaded = one.counters.get("shaded_samples"), prev_acuity = acuity_sum(one);
+  ASSERT_GT(prev_acuity, 0.0);
+  for (double k : {1.2, 1.5, 1.9}) {
+    const FrameOutput o = run(lp, k);
+    const double n = o.counters.get("shaded_samples"), a = acuity_sum(o);
+    std::printf("[widen] flc k=%.1f shaded %.0f acuity sum %.1f\n", k, n, a);
+    EXPECT_GT(n, prev_shaded) << k;
+    EXPECT_GT(a, prev_acuity) << k;
+    prev_shaded = n;
+    prev_acuity = a;
+  }
+}

@@ -14,6 +14,7 @@
 #include "sim/foveation/density.h"
 #include "sim/foveation/factory.h"
 #include "sim/foveation/frame.h"
+#include "sim/trace/tracking.h"
 
 using namespace fovsim;
 
@@ -389,4 +390,50 @@ TEST(RmfrAuto, BeatsFixedRmfrOnRotatingPatterns) {
   std::printf("[rmfr_auto] mean FPSNR over %d angles: rmfr_auto %.2f dB, rmfr %.2f dB\n", n,
               sum_a / n, sum_r / n);
   EXPECT_GT(sum_a / n, sum_r / n);
+}
+
+// Tracking loss with trace.on_invalid = widen (docs/tracking.md): every foveated method's
+// shaded fraction grows with the time since the last valid sample. kfr and rmfr (and
+// rmfr_auto, which renders through rmfr) shrink sigma (rmfr also grows fx, fy); the baselines
+// divide eccentricity by k (the map the engine hands them, and MappingView::ecc_deg). A valid
+// frame (k = 1) is bit-identical to a frame rendered without the policy.
+TEST(TrackingWiden, ShadedFractionGrowsWithTimeSinceLastValidSample) {
+  World w(kPatterns, kW, kH);
+  w.set_gaze({40.5, 35.5});
+  Trace tr;  // 90 Hz: samples 0-2 valid, then tracking is lost
+  for (int k = 0; k < 12; ++k) {
+    TraceSample s;
+    s.t = k / 90.0;
+    s.valid = k < 3;
+    tr.samples.push_back(s);
+  }
+  TrackingPolicy pol;
+  pol.on_invalid = OnInvalid::Widen;
+  pol.widen_per_s = 4;  // k = 1.1 ... 1.4 over the lost frames: kfr's sigma stays above 1
+  auto run = [&](const std::string& m, const TrackedGaze& g) {
+    std::vector<float> ecc = w.fd.eccentricity;
+    for (float& e : ecc) e = float(double(e) * g.ecc_scale);  // as the engine does
+    Params p(Json::object(), "test");
+    auto meth = make_method(m, p);
+    FrameContext ctx = w.fd.context(w.scene, *w.r, w.d, false);
+    ctx.widen = g.widen;
+    if (!g.valid) ctx.eccentricity = &ecc;
+    FrameOutput out;
+    meth->render(ctx, out);
+    return out;
+  };
+  for (const char* m : {"kfr", "rmfr", "rmfr_auto", "linear", "fvrs", "hyperbolic"}) {
+    const FrameOutput plain = w.run(m, Json::object());
+    const FrameOutput valid = run(m, tracked_gaze(tr, 2, pol));
+    EXPECT_EQ(valid.counters.get("shaded_samples"), plain.counters.get("shaded_samples")) << m;
+    EXPECT_EQ(valid.image.data, plain.image.data) << m;
+    double prev = plain.counters.get("shaded_samples");
+    for (size_t i : {3, 5, 8, 11}) {
+      const TrackedGaze g = tracked_gaze(tr, i, pol);
+      const double n = run(m, g).counters.get("shaded_samples");
+      std::printf("[widen] %s dt=%.3f s k=%.3f shaded %.0f\n", m, g.since_valid_s, g.widen, n);
+      EXPECT_GT(n, prev) << m << " k=" << g.widen;
+      prev = n;
+    }
+  }
 }

@@ -342,3 +342,56 @@ TEST(GuessLayouts, DuplicatedHeaderAndForwardWithConfidence) {
   EXPECT_NE(r.comment.find("gaze direction is in head space"), std::string::npos);
   expect_plausible(r, 120, "forward + confidence");
 }
+
+// Blinks as real exports write them: 150 ms dropouts every 1.1 s in which the tracker writes
+// junk gaze (SRanipal's (-1, -1, -1), Pupil's low-confidence random directions), with
+// main-sequence saccades between fixations. `--guess` alone must flag exactly the blink rows
+// invalid and keep the junk out of the statistics (eccentricity p95 < 35 deg, eye speed p99 <
+// 1000 deg/s, head speed max < 1000 deg/s).
+TEST(GuessLayouts, BlinkDropoutsWithJunkGaze) {
+  const double hz = 120, blink_s = 0.15, period_s = 1.1;
+  const int n = 1200;  // 10 s
+  auto in_blink = [&](double t) { return std::fmod(t + 0.5, period_s) < blink_s; };
+  // Eye: a new fixation target every 0.4 s (+-12 deg yaw), reached by a saccade of
+  // 21 ms + 2.2 ms/deg with a cosine velocity profile; head turning +-20 deg.
+  auto eye_deg = [](double t) {
+    auto target = [](int k) { return 12.0 * std::sin(1.7 * k + 0.3); };
+    const int k = int(t / 0.4);
+    const double a = target(k - 1), b = target(k), d = 0.021 + 0.0022 * std::fabs(b - a);
+    const double u = (t - 0.4 * k) / d;
+    return a + (u >= 1 ? 1.0 : 0.5 - 0.5 * std::cos(M_PI * u)) * (b - a);
+  };
+  int blinks = 0;
+  std::string htc =
+      "time(100ns),head_rot.x,head_rot.y,head_rot.z,head_rot.w,gaze_direction_L.x,"
+      "gaze_direction_L.y,gaze_direction_L.z,eye_valid\n";
+  std::string pupil =
+      "time,head_forward_x,head_forward_y,head_forward_z,gaze_direction_x,"
+      "gaze_direction_y,gaze_direction_z,confidence\n";
+  char b[400];
+  for (int i = 0; i < n; ++i) {
+    const double t = i / hz, yaw = deg2rad(20 * std::sin(0.7 * t)), e = deg2rad(eye_deg(t));
+    const bool bl = in_blink(t);
+    blinks += bl;
+    // Head space (SRanipal): eye to the right of forward.
+    const double gx = bl ? -1 : std::sin(e), gy = bl ? -1 : 0, gz = bl ? -1 : -std::cos(e);
+    std::snprintf(b, sizeof b, "%.0f,0,%.6f,0,%.6f,%.6f,%.6f,%.6f,%s\n", 6e14 + t * 1e7,
+                  std::sin(yaw / 2), std::cos(yaw / 2), gx, gy, gz, bl ? "0" : "31");
+    htc += b;
+    // World space with a head forward vector (Pupil-style); junk while blinking.
+    const double wa = yaw - e;
+    const double jx = std::sin(7.3 * i), jy = std::cos(5.1 * i);
+    const double jn = std::sqrt(jx * jx + jy * jy + 1);
+    std::snprintf(b, sizeof b, "%.6f,%.6f,0,%.6f,%.6f,%.6f,%.6f,%s\n", 1000 + t, -std::sin(yaw),
+                  -std::cos(yaw), bl ? jx / jn : -std::sin(wa), bl ? jy / jn : 0.0,
+                  bl ? -1 / jn : -std::cos(wa), bl ? "0.05" : "0.95");
+    pupil += b;
+  }
+  ASSERT_GT(blinks, 100);
+  for (auto [name, text] : std::vector<std::pair<std::string, std::string>>{
+           {"blink_htc.csv", htc}, {"blink_pupil.csv", pupil}}) {
+    Result r = guess_and_import(write_tmp(name, text));
+    EXPECT_NEAR(r.st.invalid_fraction, double(blinks) / n, 1e-9) << name << "\n" << r.map.dump(1);
+    expect_plausible(r, hz, name);
+  }
+}

@@ -1,0 +1,27 @@
+// What a tracking-loss policy costs (docs/tracking.md "What each policy costs"), for `fovsim
+// predict --tracking-loss F --on-invalid P`: the analytic frame of a method on tracked frames,
+// the frame it renders on lost frames under the policy, and the expected frame time of a
+// deployment that loses tracking on a fraction F of its frames.
+#pragma once
+#include <string>
+
+#include "sim/core/params.h"
+#include "sim/trace/tracking.h"
+
+namespace fovsim {
+
+// The method's parameters on a lost frame under `widen` with growth factor k (>= 1), as the
+// methods widen them in a run (FrameContext::widen): kfr sigma' = max(1, sigma / k); rmfr the
+// same and fx, fy (fx_px, fy_px) times k; hyperbolic, linear, fvrs radius_scale times k (their
+// eccentricity thresholds); flc with log_polar lp_sigma' = max(1, lp_sigma / k) (its foveal
+// region does not change its analytic cost: the VPL budget is a count). `modelled` is false
+// for methods whose widened cost the analytic counters cannot state (twfr: its redraw
+// fraction is measured, not derived from phi_f); `full` is unchanged.
+Json widened_method_params(const std::string& method, const Json& params, double k, bool* modelled);
+
+// The method a lost frame is costed as under `p` ("full" for OnInvalid::Full, else `method`),
+// and the expected frame time (1 - fraction) valid_ms + fraction lost_ms.
+std::string lost_frame_method(const std::string& method, OnInvalid p);
+double expected_ms_with_loss(double valid_ms, double lost_ms, double fraction);
+
+}  // namespace fovsim

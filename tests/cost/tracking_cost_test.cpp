@@ -1,0 +1,61 @@
+// What a tracking-loss policy costs (docs/tracking.md "What each policy costs"): the widened
+// parameters of each method, the lost frame of `full`, and the expected frame time.
+#include "sim/cost/tracking_cost.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "sim/cost/analytic.h"
+
+using namespace fovsim;
+
+namespace {
+const std::string kModels = std::string(FOVSIM_SOURCE_DIR) + "/models";
+}
+
+TEST(TrackingCost, WidenedParametersPerMethod) {
+  bool modelled = false;
+  Json k = widened_method_params("kfr", Json::object(), 1.5, &modelled);
+  EXPECT_TRUE(modelled);
+  EXPECT_DOUBLE_EQ(k["sigma"].get<double>(), 1.8 / 1.5);
+  EXPECT_DOUBLE_EQ(widened_method_params("kfr", Json{{"sigma", 1.2}}, 2, nullptr)["sigma"], 1.0);
+  Json r = widened_method_params("rmfr", Json{{"fy_px", 100}}, 2, nullptr);
+  EXPECT_DOUBLE_EQ(r["sigma"].get<double>(), 1.3);
+  EXPECT_DOUBLE_EQ(r["fx"].get<double>(), 0.76);
+  EXPECT_DOUBLE_EQ(r["fy_px"].get<double>(), 200);
+  EXPECT_FALSE(r.contains("fy"));
+  EXPECT_DOUBLE_EQ(widened_method_params("fvrs", Json::object(), 1.5, nullptr)["radius_scale"],
+                   1.5);
+  EXPECT_DOUBLE_EQ(widened_method_params("flc", Json{{"log_polar", true}}, 4, nullptr)["lp_sigma"],
+                   1.0);
+  widened_method_params("twfr", Json::object(), 1.5, &modelled);
+  EXPECT_FALSE(modelled);
+  // k = 1: the parameters as given.
+  const Json given{{"sigma", 2.0}};
+  EXPECT_EQ(widened_method_params("kfr", given, 1, nullptr), given);
+  EXPECT_EQ(lost_frame_method("kfr", OnInvalid::Full), "full");
+  EXPECT_EQ(lost_frame_method("kfr", OnInvalid::Widen), "kfr");
+  EXPECT_DOUBLE_EQ(expected_ms_with_loss(10, 16, 0.25), 11.5);
+}
+
+// A widened lost frame costs more than a tracked one and at most a full render, for every
+// foveated method with an analytic cost.
+TEST(TrackingCost, WidenedFramesCostMoreUpToAFullFrame) {
+  const GpuProfile g = GpuProfile::load("gtx1080", kModels);
+  const Workload w = Workload::load("kfr_bistro", kModels);
+  const Display d = Display::load("htc_vive_pro_eye", kModels);
+  const double full = analytic_frame(g, "full", Json::object(), w, d).total_ms;
+  for (const char* m : {"kfr", "rmfr", "hyperbolic", "linear", "fvrs"}) {
+    const double valid = analytic_frame(g, m, Json::object(), w, d).total_ms;
+    double prev = valid;
+    for (double k : {1.25, 1.5, 2.0}) {
+      const double lost =
+          analytic_frame(g, m, widened_method_params(m, Json::object(), k, nullptr), w, d).total_ms;
+      std::printf("[loss] %s k=%.2f %.3f ms (tracked %.3f, full %.3f)\n", m, k, lost, valid, full);
+      EXPECT_GT(lost, prev) << m << " k=" << k;
+      EXPECT_LE(lost, full * 1.05) << m << " k=" << k;
+      prev = lost;
+    }
+  }
+}
