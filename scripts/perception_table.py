@@ -44,16 +44,18 @@ def num(row, key):
 
 
 def stamp(d):
-    version, plan = "?", "?"
+    version, plan, extra = "?", "?", ""
     for m in sorted(glob.glob(os.path.join(d, "runs", "*", "manifest.json")))[:1]:
         with open(m) as f:
             j = json.load(f)
-        version = j.get("fovsim_version") or j.get("version") or "?"
+        version = f"{j.get('version', '?')} ({j.get('git_commit', '?')})"
+        fv = j.get("fvvdp", {})
+        extra = f"; {fv.get('mode', '?')} at {fv.get('fps', '?')} Hz; {fv.get('display', '')}"
     sj = os.path.join(d, "sweep_summary.json")
     if os.path.exists(sj):
         with open(sj) as f:
             plan = json.load(f).get("plan_hash", "?")
-    return version, plan
+    return version, plan + extra
 
 
 def table(d):
