@@ -219,6 +219,31 @@ TEST(Workflow, SearchOnJodConstraintAndObjective) {
   EXPECT_DOUBLE_EQ(std::stod(j.rows[0][size_t(j.col("fvvdp_jod_fl"))]), jod[size_t(best)]);
 }
 
+// Saved frames get FovVideoVDP heat maps against both references; a method with a full-rate
+// fovea is flagged at the reference's floor for rmse_fovea in the summary and on the console.
+TEST(Workflow, HeatMapsAndReferenceFloor) {
+  std::string d = temp_dir("wf_heat_floor");
+  write_text(d + "/a.json",
+             tiny(", \"methods\": [{\"method\": \"full\"}, {\"method\": \"fvrs\"}, {\"method\": "
+                  "\"kfr\"}], \"outputs\": {\"image_frames\": [1], \"print_summary\": true}"));
+  auto r = run_cmd(fovsim_bin() + " run " + d + "/a.json --no-plots --out " + d + "/o");
+  ASSERT_EQ(r.code, 0) << r.output;
+  for (const char* f : {"kfr_fvvdp.png", "kfr_fvvdp_fl.png", "fvrs_fvvdp.png", "full_fvvdp.png"})
+    EXPECT_TRUE(std::filesystem::exists(d + "/o/images/frame_1/" + std::string(f))) << f;
+  EXPECT_FALSE(std::filesystem::exists(d + "/o/images/frame_0/kfr_fvvdp.png"));
+  Csv s = read_csv(d + "/o/summary.csv");
+  ASSERT_GE(s.col("at_floor"), 0);
+  for (auto& row : s.rows) {
+    const std::string& label = row[size_t(s.col("label"))];
+    const std::string& at = row[size_t(s.col("at_floor"))];
+    if (label == "fvrs") EXPECT_NE(at.find("rmse_fovea"), std::string::npos) << at;
+    if (label == "full") EXPECT_NE(at.find("fvvdp_jod"), std::string::npos) << at;  // the floor
+    if (label == "kfr") EXPECT_EQ(at.find("fvvdp_jod"), std::string::npos) << at;
+  }
+  EXPECT_NE(r.output.find("at the reference's floor: fvrs: "), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("at the reference's floor: full"), std::string::npos) << r.output;
+}
+
 TEST(Workflow, SmallerMessages) {
   std::string d = temp_dir("wf_msgs");
   write_text(d + "/a.json", tiny(", \"methods\": [{\"method\": \"twfr\", \"phi_f\": 0.17, "
