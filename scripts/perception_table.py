@@ -65,7 +65,7 @@ def table(d):
         return
     axes = [k for k in rows[0] if k.startswith("methods[")]
     version, plan = stamp(d)
-    print(f"\n### {os.path.basename(os.path.normpath(d))} (fovsim {version}, plan {plan})\n")
+    print(f"\n#### {os.path.basename(os.path.normpath(d))} (fovsim {version}, plan {plan})\n")
     head = axes + ["shaded", "fpsnr_fl [dB]", "fvvdp_jod_fl", "ΔJOD [95%]", "P(prefer full)",
                    "verdict", "fvvdp_jod (vs 16 spp)"]
     print("| " + " | ".join(head) + " |")
