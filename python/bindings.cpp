@@ -302,8 +302,15 @@ class AskTell {
     d["space"] = dims;
     d["objective"] = spec_.objective.column;
     d["maximize"] = spec_.objective.maximize;
-    d["constraint_column"] = spec_.constraint_column;
-    d["constraint_max"] = spec_.constraint_max;
+    py::list cons;  // subject_to: [{"column", "min", "max"}] (absent bounds are -inf/inf)
+    for (auto& k : spec_.constraints) {
+      py::dict c;
+      c["column"] = k.column;
+      c["min"] = k.min;
+      c["max"] = k.max;
+      cons.append(c);
+    }
+    d["constraints"] = cons;
     d["label"] = spec_.select_label;
     d["evaluations"] = spec_.evaluations;
     d["batch"] = spec_.batch;

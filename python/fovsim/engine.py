@@ -106,10 +106,12 @@ class Evaluator:
 
 
 
-def _score(rows, objective, label, constraint, cmax):
+def _score(rows, objective, label, constraints):
     """(score, violation) of one evaluation's summary rows, as `fovsim search` scores them
     (sim/experiment/search_runner.cpp): the row labelled `label` (else the first); a missing or
-    non-finite objective is nan; a missing constraint value counts as infinitely violated."""
+    non-finite objective is nan; the violation is the sum over `constraints` ({"column", "min",
+    "max"}) of how far the value lies outside [min, max]; a missing or non-finite value counts
+    as infinitely violated."""
     row = None
     for r in rows:
         if not label or r.get("label") == label:
@@ -119,12 +121,13 @@ def _score(rows, objective, label, constraint, cmax):
         raise KeyError(f"no summary row labelled {label!r} (labels: {', '.join(str(r.get('label')) for r in rows)})")
     v = row.get(objective, math.nan)
     score = float(v) if isinstance(v, (int, float)) and math.isfinite(v) else math.nan
-    if not constraint:
-        return score, 0.0
-    c = row.get(constraint, math.nan)
-    if not (isinstance(c, (int, float)) and math.isfinite(c)):
-        return score, math.inf
-    return score, max(0.0, float(c) - cmax)
+    violation = 0.0
+    for k in constraints:
+        c = row.get(k["column"], math.nan)
+        if not (isinstance(c, (int, float)) and math.isfinite(c)):
+            return score, math.inf
+        violation += max(0.0, float(c) - k["max"]) + max(0.0, k["min"] - float(c))
+    return score, violation
 
 
 class AskTell:
@@ -196,7 +199,7 @@ class AskTell:
         feasible) computed elsewhere. Returns (score, violation)."""
         if result is not None:
             score, violation = _score(result, self.spec["objective"], self.spec["label"],
-                                      self.spec["constraint_column"], self.spec["constraint_max"])
+                                      self.spec["constraints"])
         elif score is None:
             raise ValueError("tell: give the run's summary rows or a score")
         self._at.tell([self._vec(x)], [float(score)], [float(violation)])

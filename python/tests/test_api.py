@@ -197,6 +197,22 @@ class AskTellTest(unittest.TestCase):
         self.assertAlmostEqual(viol, rows[0]["shaded_fraction"])  # every point violates max 0
         self.assertTrue(os.path.exists(os.path.join(self.d, "at", "eval_0", "summary.csv")))
 
+    def test_score_with_several_constraints(self):
+        # subject_to with min and max on several columns, scored like `fovsim search`.
+        rows = [{"label": "kfr", "est_ms_total": 5.0, "fvvdp_jod_fl": 9.25, "headroom_ms": -2.0}]
+        cons = [{"column": "fvvdp_jod_fl", "min": 9.5, "max": math.inf},
+                {"column": "headroom_ms", "min": 0.0, "max": math.inf}]
+        self.assertEqual(engine._score(rows, "est_ms_total", "kfr", cons), (5.0, 0.25 + 2.0))
+        rows[0]["fvvdp_jod_fl"], rows[0]["headroom_ms"] = 9.6, 1.0
+        self.assertEqual(engine._score(rows, "est_ms_total", "kfr", cons), (5.0, 0.0))
+        del rows[0]["headroom_ms"]
+        self.assertEqual(engine._score(rows, "est_ms_total", "kfr", cons)[1], math.inf)
+        opt = fovsim.AskTell(self.cfg, space=self.space(), minimize="est_ms_total",
+                             subject_to={"fvvdp_jod_fl": {"min": 9.5}, "headroom_ms": {"min": 0}})
+        self.assertEqual([c["column"] for c in opt.spec["constraints"]], ["fvvdp_jod_fl", "headroom_ms"])
+        self.assertEqual(opt.spec["constraints"][0]["min"], 9.5)
+        self.assertEqual(opt.spec["constraints"][0]["max"], math.inf)
+
     def test_errors(self):
         with self.assertRaises(fovsim.FovsimError) as cm:
             fovsim.AskTell(self.cfg, space={"methods[kfr].sigma": [1, 2]}, maximize="fpsnr")

@@ -35,7 +35,6 @@
 #include "sim/foveation/factory.h"
 #include "sim/foveation/frame.h"
 #include "sim/foveation/simd_kernels.h"
-#include "sim/metrics/fvvdp.h"
 #include "sim/metrics/metrics.h"
 #include "sim/metrics/registry.h"
 #include "sim/render/embree_device.h"
@@ -94,10 +93,10 @@ struct MethodRun {
   std::unique_ptr<FoveationMethod> full;  // trace.on_invalid = full: rendered while lost
   bool was_full = false;                  // the previous frame was rendered by `full`
   TemporalState temporal;
-  std::unique_ptr<FvvdpTestStream> fvvdp;  // this method's FovVideoVDP history (metrics.fvvdp)
-  // The same against `full` at the methods' sampling rate (metrics.foveation_loss).
+  // This method's history in each sequence metric of the cell (Cell::seq, same order; e.g.
+  // FovVideoVDP), and the same against `full` at the methods' sampling rate (foveation loss).
+  std::vector<std::unique_ptr<SequenceTest>> seq, seq_fl;
   TemporalState temporal_fl;
-  std::unique_ptr<FvvdpTestStream> fvvdp_fl;
   FrameOutput fo;            // reused every frame (its image keeps its storage)
   double prev_est_ms = NAN;  // latency.render_from_estimate: last frame's estimate (first GPU)
 };
@@ -371,12 +370,28 @@ struct Cell {
   LatencyConfig latency;  // the latency what-if (docs/latency.md)
   std::set<std::string> metric_names;
   std::vector<float> est_ecc;  // eccentricity around the estimated gaze, reused
-  // FovVideoVDP (metrics.fvvdp): the reference side of each frame, pushed once per frame and
-  // shared by the cell's methods. A video at the display's refresh rate when the frames are
-  // consecutive (frames.stride 1, trace order); the still-image path otherwise (set by
-  // run_cells before the first frame; manifest "fvvdp").
-  std::unique_ptr<FvvdpReferenceStream> fvvdp_ref;
-  bool fvvdp_video = true;
+  // Sequence (stateful) metrics of the registry (sim/metrics/registry.h SequenceMetric, e.g.
+  // FovVideoVDP): the reference side of each frame, pushed once per frame and shared by the
+  // cell's methods; against the converged reference (`ref`) and against `full` at the methods'
+  // sampling rate (`ref_fl`); `floor` scores that `full` against the converged reference (the
+  // reference's floor, at_floor below). A video at the display's refresh rate when the frames
+  // are consecutive (frames.stride 1, trace order); still images otherwise (seq_video, set by
+  // run_cells before the first frame; recorded in the manifest under the metric's key).
+  struct Seq {
+    const MetricDecl* decl = nullptr;
+    std::unique_ptr<SequenceReference> ref, ref_fl;
+    std::unique_ptr<SequenceTest> floor;
+  };
+  std::vector<Seq> seq;
+  bool seq_ready = false;
+  bool seq_video = true;
+  SequenceSetup seq_setup;
+  // The reference's floor (metrics.foveation_loss): every metric of `full` at the methods'
+  // sampling rate against the converged reference, per recorded frame (column -> frame ->
+  // value); summary `at_floor` names the metrics a method cannot be told from it by
+  // (mark_reference_floor, runner.h).
+  std::map<std::string, std::map<int, double>> floor_vals;
+  MetricsScratch floor_scratch;
   // metrics.foveation_loss: `full` at the methods' sampling rate (one sample per pixel of the
   // shared G-buffer, its default lighting), rendered once per frame; every method's `<metric>_fl`
   // is measured against it (docs/metrics.md "Two references").
@@ -385,7 +400,6 @@ struct Cell {
   Image fl_display;
   MetricsScratch fl_scratch;
   MetricsConfig fl_mcfg;
-  std::unique_ptr<FvvdpReferenceStream> fvvdp_ref_fl;
   std::vector<float> trk_ecc;  // eccentricity around the gaze shown while tracking is lost
   // --target (intervals.h): each cell stops on its own once its targets hold, so its frames do
   // not depend on the other cells of its group (sweep batches and shards give the same cell).
@@ -471,21 +485,24 @@ struct Cell {
     if (want_images) write_images(img_dir, "reference", ref_display, &fd.reference, io, image_jobs);
     pc = phases.lap("images", pc);
     FrameContext ctx = fd.context(*sh.scene, renderer, sh.sim_display, want_images && io.debug);
-    if (mcfg.fvvdp) {
-      if (!fvvdp_ref) {
-        FvvdpOptions fo;
-        fo.fps = fvvdp_video ? sh.display.refresh_hz : 0.0;
-        fo.foveated = mcfg.fvvdp_foveated;
-        fvvdp_ref = std::make_unique<FvvdpReferenceStream>(
-            FvvdpDisplay::from_display(sh.display)
-                .scaled_to(sh.sim_display.width, sh.sim_display.height),
-            sh.sim_display.width, sh.sim_display.height, fo);
-      }
-      // The true gaze (also under the latency what-if); fd.gaze_px is a screen point whose
-      // pixel centres are at i + 0.5, the metric's gaze a pixel index (Mantiuk et al. 2021).
-      fvvdp_ref->push(ref_display, fd.gaze_px.x - 0.5, fd.gaze_px.y - 0.5);
-      pc = phases.lap("metrics", pc);
+    if (!seq_ready) {
+      seq_ready = true;
+      seq_setup.display = &sh.display;
+      seq_setup.width = sh.sim_display.width;
+      seq_setup.height = sh.sim_display.height;
+      seq_setup.fps = seq_video ? sh.display.refresh_hz : 0.0;
+      seq_setup.config = &mcfg;
+      for (auto& d : metric_registry())
+        if (d.sequence && d.sequence->enabled(mcfg)) {
+          Seq q;
+          q.decl = &d;
+          q.ref = d.sequence->make_reference(seq_setup);
+          seq.push_back(std::move(q));
+        }
     }
+    // The true gaze (also under the latency what-if), a screen point (pixel centres at i + 0.5).
+    for (auto& q : seq) q.ref->push(ref_display, fd.gaze_px.x, fd.gaze_px.y);
+    if (!seq.empty()) pc = phases.lap("metrics", pc);
     if (mcfg.foveation_loss) {
       if (!fl_full) {
         Params fp(Json{{"method", "full"}}, job->file, "metrics.foveation_loss");
@@ -502,15 +519,23 @@ struct Cell {
       render_with_lighting(*fl_full, fctx, fl_fo);
       sh.tonemap.apply(fl_fo.image_is_reference ? fd.reference : fl_fo.image, fl_display);
       pc = phases.lap("methods", pc);
-      if (mcfg.fvvdp) {
-        if (!fvvdp_ref_fl)
-          fvvdp_ref_fl = std::make_unique<FvvdpReferenceStream>(
-              FvvdpDisplay::from_display(sh.display)
-                  .scaled_to(sh.sim_display.width, sh.sim_display.height),
-              sh.sim_display.width, sh.sim_display.height, fvvdp_ref->options());
-        fvvdp_ref_fl->push(fl_display, fd.gaze_px.x - 0.5, fd.gaze_px.y - 0.5);
-        pc = phases.lap("metrics", pc);
+      for (auto& q : seq) {
+        if (!q.ref_fl) q.ref_fl = q.decl->sequence->make_reference(seq_setup);
+        q.ref_fl->push(fl_display, fd.gaze_px.x, fd.gaze_px.y);
       }
+      // The reference's floor: `full` at the methods' sampling rate against the reference.
+      if (record) {
+        MetricsConfig floor_cfg = fl_mcfg;  // no temporal_error (against the reference only)
+        Counters fl = compute_metrics(floor_cfg, fl_display, ref_display, fd.camera,
+                                      fd.eccentricity, nullptr, &floor_scratch);
+        for (auto& [k, v] : fl.items()) floor_vals[k][fi] = v;
+      }
+      for (auto& q : seq) {
+        if (!q.floor) q.floor = q.decl->sequence->make_test(*q.ref);
+        const double v = q.floor->push(fl_display, *q.ref, nullptr);
+        if (record) floor_vals[q.decl->pooled_column][fi] = v;
+      }
+      pc = phases.lap("metrics", pc);
     }
     // Latency what-if: methods see the gaze at t - latency, metrics keep fd's true gaze.
     const double period = 1.0 / sh.display.refresh_hz;
@@ -610,21 +635,35 @@ struct Cell {
       pc = phases.lap("tonemap", pc);
       Counters metrics = compute_metrics(mcfg, out_display, *refd, fd.camera, fd.eccentricity,
                                          &m.temporal, &metrics_scratch);
-      if (fvvdp_ref) {
-        if (!m.fvvdp) m.fvvdp = std::make_unique<FvvdpTestStream>(*fvvdp_ref);
-        const double q = m.fvvdp->push(out_display, *fvvdp_ref);
-        metrics.set("fvvdp_q", q);  // pooled over the run into summary fvvdp_jod (registry)
-        metrics.set("fvvdp_jod", fvvdp_jod_from_q(q));
+      // Sequence metrics: the frame's pooled value (e.g. fvvdp_q, pooled over the run into
+      // summary fvvdp_jod by the registry) and the metric of this frame alone; heat maps of the
+      // saved frames.
+      std::vector<std::pair<std::string, Image>> heat;
+      for (size_t k = 0; k < seq.size(); ++k) {
+        const MetricDecl& d = *seq[k].decl;
+        if (m.seq.size() <= k) m.seq.push_back(d.sequence->make_test(*seq[k].ref));
+        const bool h = want_images && *d.sequence->heatmap_suffix;
+        Image img;
+        const double q = m.seq[k]->push(out_display, *seq[k].ref, h ? &img : nullptr);
+        metrics.set(d.pooled_column, q);
+        metrics.set(d.name, d.from_mean(q));
+        if (h) heat.emplace_back(m.stem + d.sequence->heatmap_suffix, std::move(img));
       }
       if (fl_full) {  // the foveation loss: every metric against full at the same sampling rate
         Counters fl = compute_metrics(fl_mcfg, out_display, fl_display, fd.camera, fd.eccentricity,
                                       &m.temporal_fl, &fl_scratch);
         for (auto& [k, v] : fl.items()) metrics.set(k + kFoveationLossSuffix, v);
-        if (fvvdp_ref_fl) {
-          if (!m.fvvdp_fl) m.fvvdp_fl = std::make_unique<FvvdpTestStream>(*fvvdp_ref_fl);
-          const double q = m.fvvdp_fl->push(out_display, *fvvdp_ref_fl);
-          metrics.set(std::string("fvvdp_q") + kFoveationLossSuffix, q);
-          metrics.set(std::string("fvvdp_jod") + kFoveationLossSuffix, fvvdp_jod_from_q(q));
+        for (size_t k = 0; k < seq.size(); ++k) {
+          const MetricDecl& d = *seq[k].decl;
+          if (m.seq_fl.size() <= k) m.seq_fl.push_back(d.sequence->make_test(*seq[k].ref_fl));
+          const bool h = want_images && *d.sequence->heatmap_suffix;
+          Image img;
+          const double q = m.seq_fl[k]->push(out_display, *seq[k].ref_fl, h ? &img : nullptr);
+          metrics.set(d.pooled_column + kFoveationLossSuffix, q);
+          metrics.set(d.name + kFoveationLossSuffix, d.from_mean(q));
+          if (h)
+            heat.emplace_back(m.stem + d.sequence->heatmap_suffix + kFoveationLossSuffix,
+                              std::move(img));
         }
       }
       for (auto& f : fo.flags) flags_seen.insert(m.label + ":" + f);
@@ -639,6 +678,8 @@ struct Cell {
         if (mcfg.flip)
           image_jobs.add(img_dir + "/" + safe_file_name(m.stem + "_flip") + ".png",
                          flip_colormap(metrics_scratch.flip_map));
+        for (auto& [name, img] : heat)
+          image_jobs.add(img_dir + "/" + safe_file_name(name) + ".png", std::move(img));
         for (auto& [dname, dimg] : fo.debug)
           image_jobs.add(img_dir + "/" + safe_file_name(m.stem + "_" + dname) + ".png",
                          std::move(dimg));
@@ -716,15 +757,18 @@ struct Cell {
 
   // Forget the frame history (temporal methods, temporal_error) before a non-contiguous frame.
   void reset_temporal() {
-    if (fvvdp_ref) fvvdp_ref->reset();
-    if (fvvdp_ref_fl) fvvdp_ref_fl->reset();
+    for (auto& q : seq) {
+      q.ref->reset();
+      if (q.ref_fl) q.ref_fl->reset();
+      if (q.floor) q.floor->reset();
+    }
     if (fl_full) fl_full->reset();
     for (auto& m : methods) {
       m.impl->reset();
       if (m.impl->lighting()) m.impl->lighting()->reset();
       m.temporal.reset();
-      if (m.fvvdp) m.fvvdp->reset();
-      if (m.fvvdp_fl) m.fvvdp_fl->reset();
+      for (auto& t : m.seq) t->reset();
+      for (auto& t : m.seq_fl) t->reset();
       m.temporal_fl.reset();
       m.prev_est_ms = NAN;
     }
@@ -894,21 +938,26 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
       temporal = temporal || m.impl->temporal() ||
                  (sh.scene->wants_indirect && m.impl->lighting() && m.impl->lighting()->temporal());
   const bool shuffled = sampled && !temporal;
-  // FovVideoVDP's mode (docs/metrics.md): a video of consecutive frames, else still images.
+  // Sequence metrics' mode (docs/metrics.md): a video of consecutive frames, else still images.
   for (auto& c : cells) {
-    c->fvvdp_video = sh.stride == 1 && !shuffled;
-    if (c->mcfg.fvvdp)
-      c->manifest["fvvdp"] = {
-          {"mode", c->fvvdp_video ? "video" : "image"},
-          {"fps", c->fvvdp_video ? sh.display.refresh_hz : 0.0},
-          {"foveated", c->mcfg.fvvdp_foveated},
-          {"why", c->fvvdp_video ? "consecutive frames at the display's refresh rate"
-                  : sh.stride != 1
-                      ? "frames.stride > 1: frames are not consecutive, each is a still image"
-                      : "--target evaluates units in random order: each frame a still image"},
-          {"display", FvvdpDisplay::from_display(sh.display)
-                          .scaled_to(sh.sim_display.width, sh.sim_display.height)
-                          .describe(c->mcfg.fvvdp_foveated)}};
+    c->seq_video = sh.stride == 1 && !shuffled;
+    SequenceSetup su;
+    su.display = &sh.display;
+    su.width = sh.sim_display.width;
+    su.height = sh.sim_display.height;
+    su.fps = c->seq_video ? sh.display.refresh_hz : 0.0;
+    su.config = &c->mcfg;
+    for (auto& d : metric_registry()) {
+      if (!d.sequence || !d.sequence->enabled(c->mcfg)) continue;
+      Json j = d.sequence->describe(su);
+      j["mode"] = c->seq_video ? "video" : "image";
+      j["fps"] = su.fps;
+      j["why"] = c->seq_video ? "consecutive frames at the display's refresh rate"
+                 : sh.stride != 1
+                     ? "frames.stride > 1: frames are not consecutive, each is a still image"
+                     : "--target evaluates units in random order: each frame a still image";
+      c->manifest[d.sequence->manifest_key] = j;
+    }
   }
   const int unit = sampled ? kTargetUnitFrames : std::max(sh.count, 1);
   const int units = (sh.count + unit - 1) / unit;
@@ -964,6 +1013,7 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
       r.fidelity_note = c->manifest["fidelity"]["note"].get<std::string>();
     r.cell_ms = c->cell_ms;
     r.summary = summarize(c->frames, r.budget_ms);
+    if (c->mcfg.foveation_loss) mark_reference_floor(r.summary, c->frames, c->floor_vals);
     if (c->latency.enabled) r.summary = summarize_phases(c->frames, r.summary, c->metric_names);
     // Tracking states (docs/tracking.md): means with intervals per state, next to the phases.
     if (sh.tracking_column) r.summary = summarize_tracking(c->frames, r.summary);

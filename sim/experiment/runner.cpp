@@ -114,6 +114,18 @@ RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt) {
     }
     std::printf("budget %.2f ms (%.0f Hz); results in %s\n", c.budget_ms, c.refresh_hz,
                 c.out_dir.c_str());
+    // summary `at_floor`: metrics that measure the reference comparison's 1-spp floor, not the
+    // method (a `full` row is that floor by construction and is not listed).
+    for (auto& r : result.summary.rows()) {
+      const std::string* at = r.text_of("at_floor");
+      const std::string* method = r.text_of("method");
+      const std::string* id = r.text_of("config_id");
+      if (!at || at->empty() || (method && *method == "full")) continue;
+      std::printf(
+          "at the reference's floor: %s: %s (indistinguishable from full at the same "
+          "sampling: the 1-spp aliasing, not the foveation; read the _fl columns)\n",
+          id ? id->c_str() : "?", at->c_str());
+    }
     for (auto& f : c.flags) std::printf("flag: %s\n", f.c_str());
     if (!c.fidelity_note.empty()) std::printf("fidelity: %s\n", c.fidelity_note.c_str());
     if (c.target.is_object())
@@ -204,6 +216,48 @@ ResultTable summarize(const ResultTable& frames, double budget_ms) {
     t.add(std::move(s));
   }
   return t;
+}
+
+}  // namespace fovsim
+
+namespace fovsim {
+
+void mark_reference_floor(ResultTable& summary, const ResultTable& frames,
+                          const std::map<std::string, std::map<int, double>>& floor) {
+  std::map<std::string, std::vector<const ResultRow*>> by_config;
+  for (auto& r : frames.rows()) {
+    const std::string* id = r.text_of("config_id");
+    by_config[id ? *id : ""].push_back(&r);
+  }
+  ResultTable out;
+  for (const ResultRow& row : summary.rows()) {
+    const std::string* id = row.text_of("config_id");
+    const auto& rows = by_config[id ? *id : ""];
+    std::string names;
+    for (auto& d : metric_registry()) {
+      if (d.family) continue;
+      const std::string col = d.pooling == Pooling::sequence ? d.pooled_column : d.name;
+      auto f = floor.find(col);
+      if (f == floor.end()) continue;
+      std::vector<double> diff;
+      bool exact = true;
+      for (const ResultRow* r : rows) {
+        auto it = f->second.find(int(r->get("frame", -1)));
+        const double v = r->get(col, NAN);
+        if (it == f->second.end() || !std::isfinite(v) || !std::isfinite(it->second)) continue;
+        diff.push_back(v - it->second);
+        exact = exact && std::fabs(v - it->second) <= 1e-9 * (1 + std::fabs(it->second));
+      }
+      if (diff.empty()) continue;
+      const MeanInterval mi = batch_means_interval(diff);
+      const bool at = std::isfinite(mi.half_width) ? std::fabs(mi.mean) <= mi.half_width : exact;
+      if (at) names += (names.empty() ? "" : " ") + d.name;
+    }
+    ResultRow r = row;
+    r.set_text("at_floor", names);
+    out.add(std::move(r));
+  }
+  summary = std::move(out);
 }
 
 }  // namespace fovsim

@@ -2,6 +2,7 @@
 // outputs (docs/architecture.md §2, §8). Frames stream: the reference of a frame is rendered once
 // and shared by every method; no whole-trace image storage.
 #pragma once
+#include <map>
 #include <string>
 #include <vector>
 
@@ -38,5 +39,15 @@ RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt);
 // batch-means half-width `<col>_ci95` (sim/experiment/intervals.h), frames, est_ms_total
 // p50/p95/p99, fits_budget (p95 <= budget_ms).
 ResultTable summarize(const ResultTable& frames, double budget_ms);
+
+// The reference's floor (docs/metrics.md "Two references"): `floor[column][frame]` holds each
+// metric of `full` at the methods' sampling rate against the converged reference. Adds the
+// text column `at_floor` to every summary row: the registry metrics (space-separated, e.g.
+// "rmse_fovea fpsnr") whose per-frame values for that configuration cannot be told from the
+// floor's: the 95% batch-means interval of the paired per-frame differences contains 0 (below
+// 20 frames: every difference within 1e-9 relative). Such a metric measures the 1-spp aliasing
+// of the reference comparison, not the method: read its `_fl` column instead.
+void mark_reference_floor(ResultTable& summary, const ResultTable& frames,
+                          const std::map<std::string, std::map<int, double>>& floor);
 
 }  // namespace fovsim

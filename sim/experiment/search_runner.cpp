@@ -25,6 +25,24 @@ const ResultRow* scored_row(const ResultTable& t, const std::string& label) {
   return nullptr;
 }
 
+// True when a cached evaluation holds every column this search scores (done.json is written
+// last, so its presence means the run completed; a run cached by a search with another
+// objective or constraint lacks their columns and is evaluated again).
+bool cached_eval_complete(const std::string& done_path, const SearchSpec& sp) {
+  if (!file_exists(done_path)) return false;
+  Json d;
+  try {
+    d = Json::parse(read_file(done_path));
+  } catch (const std::exception&) {
+    return false;
+  }
+  if (!d.is_object() || !d.contains("columns") || !d["columns"].is_object()) return false;
+  if (!d["columns"].contains(sp.objective.column)) return false;
+  for (auto& k : sp.constraints)
+    if (!d["columns"].contains(k.column)) return false;
+  return true;
+}
+
 }  // namespace
 
 SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const SweepOptions& opt) {
@@ -52,7 +70,8 @@ SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const Sw
     ++rep.contexts;
     Searcher s(sp.space, sp.objective.maximize, sp.seed + uint64_t(ci), sp.batch);
     int n = 0;
-    std::vector<std::pair<std::vector<double>, double>> seen_cv;  // (point, constraint value)
+    // (point, constraint values): the best point's values for search_best.csv
+    std::vector<std::pair<std::vector<double>, std::vector<double>>> seen_cv;
     while (n < sp.evaluations) {
       auto pts = s.ask();
       if (pts.empty()) break;
@@ -66,7 +85,7 @@ SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const Sw
         std::string h = short_hash(doc.dump());
         std::string dir = evals_dir + "/" + h;
         dirs.push_back(dir);
-        if (file_exists(dir + "/done.json")) {
+        if (cached_eval_complete(dir + "/done.json", sp)) {
           ++rep.cached;
           continue;
         }
@@ -92,10 +111,12 @@ SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const Sw
             throw Error(cfg.file + ": sweep.search.label",
                         "no method labelled \"" + sp.select_label + "\"");
           auto num = [](double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); };
-          Json done{{"score", num(r->get(sp.objective.column, NAN))},
-                    {"constraint", sp.constraint_column.empty()
-                                       ? Json(nullptr)
-                                       : num(r->get(sp.constraint_column, NAN))}};
+          // Every column a search may score, keyed by name: a rerun with another objective or
+          // constraint reuses the run when its columns are here (cached_eval_complete).
+          Json cols = Json::object();
+          cols[sp.objective.column] = num(r->get(sp.objective.column, NAN));
+          for (auto& k : sp.constraints) cols[k.column] = num(r->get(k.column, NAN));
+          Json done{{"score", cols[sp.objective.column]}, {"columns", cols}};
           write_file_atomic(js[i].out_dir + "/done.json", done.dump() + "\n");
         }
       }
@@ -104,11 +125,14 @@ SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const Sw
         Json done = Json::parse(read_file(dirs[i] + "/done.json"));
         SearchEval e;
         e.x = pts[i];
-        e.score = done["score"].is_number() ? done["score"].get<double>() : NAN;
-        double cv = done["constraint"].is_number() ? done["constraint"].get<double>() : NAN;
-        e.violation = sp.constraint_column.empty()
-                          ? 0.0
-                          : (std::isnan(cv) ? INFINITY : std::max(0.0, cv - sp.constraint_max));
+        const Json& cols = done["columns"];
+        auto col = [&](const std::string& c) {
+          return cols.contains(c) && cols[c].is_number() ? cols[c].get<double>() : NAN;
+        };
+        e.score = col(sp.objective.column);
+        std::vector<double> cv;
+        for (auto& k : sp.constraints) cv.push_back(col(k.column));
+        e.violation = sp.violation(cv);
         ev.push_back(e);
         seen_cv.emplace_back(e.x, cv);
         ResultRow h;
@@ -118,7 +142,7 @@ SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const Sw
         h.set("eval", n + int(i));
         for (size_t d = 0; d < e.x.size(); ++d) h.set(sp.space[d].path, e.x[d]);
         h.set(sp.objective.column, e.score);
-        if (!sp.constraint_column.empty()) h.set(sp.constraint_column, cv);
+        for (size_t k = 0; k < cv.size(); ++k) h.set(sp.constraints[k].column, cv[k]);
         h.set("feasible", e.violation <= 0 ? 1 : 0);
         history.add(std::move(h));
       }
@@ -138,11 +162,16 @@ SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const Sw
       for (size_t d = 0; d < s.best().x.size(); ++d) b.set(sp.space[d].path, s.best().x[d]);
       b.set(sp.objective.column, s.best().score);
       b.set("feasible", s.best().violation <= 0 ? 1 : 0);
-      if (!sp.constraint_column.empty()) {
-        double cv = NAN;
+      if (!sp.constraints.empty()) {
+        std::vector<double> cv(sp.constraints.size(), NAN);
         for (auto& [x, v] : seen_cv)
           if (x == s.best().x) cv = v;
-        b.set(sp.constraint_column, cv);
+        std::string limits, values;
+        for (size_t k = 0; k < cv.size(); ++k) {
+          b.set(sp.constraints[k].column, cv[k]);
+          limits += (k ? ", " : "") + sp.constraints[k].describe();
+          values += (k ? ", " : "") + sp.constraints[k].column + " = " + format_number(cv[k]);
+        }
         b.set("violation", s.best().violation);
         if (s.best().violation > 0) {
           // Nothing met the constraint: the "best" is the point of least violation, said so.
@@ -150,10 +179,9 @@ SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const Sw
           for (size_t d = 0; d < s.best().x.size(); ++d)
             at += (d ? ", " : "") + sp.space[d].path + " = " + format_number(s.best().x[d]);
           rep.notes.push_back("context " + ctx.id() + ": no feasible point in " +
-                              std::to_string(n) + " evaluations (" + sp.constraint_column +
-                              " <= " + format_number(sp.constraint_max) + "); least violation " +
-                              format_number(s.best().violation) + " (" + sp.constraint_column +
-                              " = " + format_number(cv) + ") at " + at +
+                              std::to_string(n) + " evaluations (" + limits +
+                              "); least violation " + format_number(s.best().violation) + " (" +
+                              values + ") at " + at +
                               ": widen sweep.search.space or relax the constraint");
         }
       }

@@ -143,7 +143,13 @@ ResultTable read_frames_for_pairs(const std::string& path) {
   ResultTable t;
   std::vector<CsvRow> rows = read_csv_rows(path, ',', 0);
   if (rows.empty()) return t;
-  const std::vector<std::string>& metrics = headline_metrics();  // metric list: registry
+  // The headline metrics and the per-frame columns their paired differences read (a sequence
+  // metric's pooled column, e.g. fvvdp_q for fvvdp_jod): metric list from the registry.
+  std::set<std::string> metrics;
+  for (auto& m : headline_metrics()) {
+    metrics.insert(m);
+    metrics.insert(paired_source_column(m));
+  }
   std::vector<std::string> header;
   for (auto& f : rows[0].fields) header.push_back(f.text);
   for (size_t i = 1; i < rows.size(); ++i) {
@@ -153,7 +159,7 @@ ResultTable read_frames_for_pairs(const std::string& path) {
       const std::string& v = rows[i].fields[k].text;
       if (h == "config_id" || h == "gpu") {
         r.set_text(h, v);
-      } else if (h == "frame" || std::find(metrics.begin(), metrics.end(), h) != metrics.end()) {
+      } else if (h == "frame" || metrics.count(h)) {
         r.set(h, std::strtod(v.c_str(), nullptr));  // "inf", "nan" as written by format_number
       }
     }

@@ -400,6 +400,23 @@ std::string apply_assignment(Json& doc, const std::string& path, const Json& val
   return concrete;
 }
 
+std::string SearchConstraint::describe() const {
+  if (std::isfinite(min) && std::isfinite(max))
+    return format_number(min) + " <= " + column + " <= " + format_number(max);
+  if (std::isfinite(min)) return column + " >= " + format_number(min);
+  return column + " <= " + format_number(max);
+}
+
+double SearchSpec::violation(const std::vector<double>& values) const {
+  double v = 0;
+  for (size_t i = 0; i < constraints.size(); ++i) {
+    const double x = i < values.size() ? values[i] : NAN;
+    if (std::isnan(x)) return INFINITY;
+    v += std::max(0.0, x - constraints[i].max) + std::max(0.0, constraints[i].min - x);
+  }
+  return v;
+}
+
 SweepPlan expand_sweep(const LoadedConfig& cfg) {
   SweepPlan plan;
   plan.file = cfg.file;
@@ -535,14 +552,25 @@ SweepPlan expand_sweep(const LoadedConfig& cfg) {
       if (s.contains("subject_to")) {
         const Json& c = s["subject_to"];
         std::string cw = w + ".subject_to";
-        if (!c.is_object() || c.size() != 1 || !c.begin().value().is_object() ||
-            !c.begin().value().contains("max"))
-          throw Error(
-              cw,
-              "expected {\"column\": {\"max\": value}}, e.g. {\"est_ms_total\": {\"max\": 11.1}}");
-        plan.search.constraint_column = c.begin().key();
-        only_keys(c.begin().value(), cw + "." + c.begin().key(), {"max"});
-        plan.search.constraint_max = num_of(c.begin().value(), cw + "." + c.begin().key(), "max");
+        const char* eg =
+            "expected {\"column\": {\"min\": value, \"max\": value}, ...}, e.g. "
+            "{\"fvvdp_jod_fl\": {\"min\": 9.5}, \"headroom_ms\": {\"min\": 0}}";
+        if (!c.is_object() || c.empty()) throw Error(cw, eg);
+        for (auto it = c.begin(); it != c.end(); ++it) {
+          const std::string kw = cw + "." + it.key();
+          if (!it.value().is_object() ||
+              (!it.value().contains("max") && !it.value().contains("min")))
+            throw Error(kw, eg);
+          only_keys(it.value(), kw, {"min", "max"});
+          SearchConstraint k;
+          k.column = it.key();
+          if (it.value().contains("min")) k.min = num_of(it.value(), kw, "min");
+          if (it.value().contains("max")) k.max = num_of(it.value(), kw, "max");
+          if (k.min > k.max)
+            throw Error(kw,
+                        "min " + format_number(k.min) + " is above max " + format_number(k.max));
+          plan.search.constraints.push_back(k);
+        }
       }
       if (s.contains("label")) {
         if (!s["label"].is_string()) throw Error(w + ".label", "expected a method label");

@@ -8,6 +8,7 @@
 // "methods[0].sigma", or method-scoped "methods[kfr].sigma" (the entry whose label, or
 // method name when it has no label, is kfr).
 #pragma once
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -57,11 +58,23 @@ struct SearchDim {
   bool integer = false;
   std::string where = {};
 };
+// One bound of `subject_to` on a summary column of the scored row: min <= value <= max (either
+// side may be absent, +-inf). E.g. "cheapest configuration whose JOD >= 9.5 within the frame
+// budget": minimize est_ms_total subject to fvvdp_jod_fl >= 9.5 and headroom_ms >= 0.
+struct SearchConstraint {
+  std::string column;
+  double min = -INFINITY, max = INFINITY;
+  std::string describe() const;  // "fvvdp_jod_fl >= 9.5", "est_ms_total <= 11.1", "a <= x <= b"
+};
 struct SearchSpec {
   std::vector<SearchDim> space;
-  Objective objective;            // maximize/minimize a summary column
-  std::string constraint_column;  // optional "value <= max" constraint
-  double constraint_max = 0;
+  Objective objective;  // maximize/minimize a summary column
+  // Optional constraints (subject_to), in column-name order; all must hold.
+  std::vector<SearchConstraint> constraints;
+  // The total violation of `values` (one per constraint, in order): the sum over constraints of
+  // how far the value lies outside [min, max], each in its column's unit; 0 = feasible, a
+  // missing (NaN) value is infinitely violated.
+  double violation(const std::vector<double>& values) const;
   std::string select_label;  // which summary row is scored (label); "" = first row
   int evaluations = 32;
   int batch = 8;

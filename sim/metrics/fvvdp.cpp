@@ -12,6 +12,8 @@
 #include <cstdio>
 
 #include "sim/core/error.h"
+#include "sim/metrics/metrics.h"
+#include "sim/metrics/registry.h"
 
 namespace fovsim {
 
@@ -977,6 +979,66 @@ FvvdpResult fvvdp(const std::vector<Image>& test, const std::vector<Image>& ref,
   res.jod = ts.jod();
   res.display_line = display.describe(foveated);
   return res;
+}
+
+// ---- In a run: the registry's sequence-metric interface (sim/metrics/registry.h) ----
+
+namespace {
+
+FvvdpDisplay run_display(const SequenceSetup& s) {
+  return FvvdpDisplay::from_display(*s.display).scaled_to(s.width, s.height);
+}
+
+class FvvdpRunReference final : public SequenceReference {
+ public:
+  explicit FvvdpRunReference(const SequenceSetup& s)
+      : stream(run_display(s), s.width, s.height,
+               FvvdpOptions{s.fps, s.config && s.config->fvvdp_foveated}) {}
+  // The run's gaze is a screen point (pixel centres at i + 0.5), the metric's a pixel index.
+  void push(const Image& ref, double gx, double gy) override {
+    stream.push(ref, gx - 0.5, gy - 0.5);
+  }
+  void reset() override { stream.reset(); }
+  FvvdpReferenceStream stream;
+};
+
+class FvvdpRunTest final : public SequenceTest {
+ public:
+  explicit FvvdpRunTest(const SequenceReference& r)
+      : stream(static_cast<const FvvdpRunReference&>(r).stream) {}
+  double push(const Image& test, const SequenceReference& r, Image* heat) override {
+    stream.enable_heatmap(heat != nullptr);
+    const double q = stream.push(test, static_cast<const FvvdpRunReference&>(r).stream);
+    // JOD-like units per pixel (0 = no visible difference), colour ramp 0 .. 1.
+    if (heat) *heat = heatmap(stream.heatmap(), 0.f, 1.f);
+    stream.enable_heatmap(false);
+    return q;
+  }
+  void reset() override { stream.reset(); }
+  FvvdpTestStream stream;
+};
+
+}  // namespace
+
+const SequenceMetric& fvvdp_sequence_metric() {
+  static const SequenceMetric m = [] {
+    SequenceMetric x;
+    x.enabled = [](const MetricsConfig& c) { return c.fvvdp; };
+    x.make_reference = [](const SequenceSetup& s) -> std::unique_ptr<SequenceReference> {
+      return std::make_unique<FvvdpRunReference>(s);
+    };
+    x.make_test = [](const SequenceReference& r) -> std::unique_ptr<SequenceTest> {
+      return std::make_unique<FvvdpRunTest>(r);
+    };
+    x.describe = [](const SequenceSetup& s) {
+      const bool fov = s.config && s.config->fvvdp_foveated;
+      return Json{{"foveated", fov}, {"display", run_display(s).describe(fov)}};
+    };
+    x.manifest_key = "fvvdp";
+    x.heatmap_suffix = "_fvvdp";
+    return x;
+  }();
+  return m;
 }
 
 }  // namespace fovsim

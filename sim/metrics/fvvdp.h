@@ -163,6 +163,13 @@ FvvdpResult fvvdp(const std::vector<Image>& test, const std::vector<Image>& ref,
                   const FvvdpDisplay& display, double fps, bool foveated,
                   const std::vector<std::pair<double, double>>& gaze_px = {});
 
+// FovVideoVDP in a run: the registry's sequence-metric interface (sim/metrics/registry.h),
+// registered in registry.cpp. Frames of the simulated size on the display scaled to it, the gaze
+// of each frame when metrics.fvvdp_foveated; heat maps `<label>_fvvdp.png` (JOD-like units per
+// pixel, colour ramp 0 .. 1).
+struct SequenceMetric;
+const SequenceMetric& fvvdp_sequence_metric();
+
 // Internals exposed for the unit tests (spec sanity values).
 namespace fvvdp_detail {
 // §8.2 formula (without the sensitivity correction), omega in Hz, rho cpd, L cd/m², e degrees.

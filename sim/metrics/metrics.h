@@ -52,8 +52,9 @@ struct MetricsConfig {
   bool psnr = true, ssim = true, fpsnr = true, regions = true, temporal = true;
   bool flip = true;  // LDR-FLIP mean `flip` (+ flip_ecc_<a>_<b> bands when `regions`)
   // FovVideoVDP (Mantiuk et al. 2021): per-frame `fvvdp_q`, `fvvdp_jod`; summary `fvvdp_jod`
-  // pooled over the run (sim/metrics/registry.h). Computed by the run engine's streams
-  // (sim/metrics/fvvdp.h), not by compute_metrics.
+  // pooled over the run (sim/metrics/registry.h). Computed by the run engine through the
+  // registry's SequenceMetric (fvvdp_sequence_metric, sim/metrics/fvvdp.h), not by
+  // compute_metrics.
   bool fvvdp = true;
   bool fvvdp_foveated = true;  // foveated around the frame's true gaze (false: non-foveated)
   // Every metric also against `full` at the methods' own sampling rate (one sample per pixel of

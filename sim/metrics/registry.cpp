@@ -47,6 +47,7 @@ std::vector<MetricDecl> make_registry() {
     d.pooling = Pooling::sequence;
     d.pooled_column = "fvvdp_q";
     d.from_mean = &fvvdp_jod_from_q;
+    d.sequence = &fvvdp_sequence_metric();
     d.show_fl = true;
     r.push_back(d);
   }

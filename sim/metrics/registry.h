@@ -5,12 +5,66 @@
 // the run's manifest, the Python loaders and the plots (viz/common.py). Adding a metric is its
 // file under sim/metrics/ plus one entry in registry.cpp.
 #pragma once
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "sim/core/image.h"
 #include "sim/core/params.h"
+#include "sim/display/display.h"
 
 namespace fovsim {
+
+struct MetricsConfig;
+
+// ---- Sequence (stateful) metrics ----
+// A metric whose value for a frame depends on the frames before it (FovVideoVDP's temporal
+// channels) cannot be a function of one image pair. The run engine drives such a metric only
+// through this interface, per cell: one reference stream per reference (the converged
+// reference, `full` at the methods' sampling rate), pushed once per frame, and one test stream
+// per method and reference. It names no metric: a new one is its file plus its registration.
+
+// What a sequence metric is told once per run.
+struct SequenceSetup {
+  const Display* display = nullptr;  // the real display (photometry, geometry, refresh rate)
+  int width = 0, height = 0;         // the simulated frames' size (render.scale applied)
+  // > 0: consecutive pushes are a video at fps Hz; 0: every push is a still image (frames not
+  // consecutive: frames.stride > 1, or --target units in random order).
+  double fps = 0;
+  const MetricsConfig* config = nullptr;
+};
+
+class SequenceReference {
+ public:
+  virtual ~SequenceReference() = default;
+  // The next reference frame (display-encoded RGB in [0, 1]) and the true gaze in pixels from
+  // the top-left of the frame (pixel centres at i + 0.5).
+  virtual void push(const Image& ref, double gaze_x, double gaze_y) = 0;
+  virtual void reset() = 0;  // forget the history: the next push is a first frame
+};
+
+class SequenceTest {
+ public:
+  virtual ~SequenceTest() = default;
+  // Scores the next test frame against the reference's current frame (pushed first) and
+  // returns the frame's value of the metric's `pooled_column`. With `heatmap` non-null, also
+  // writes the frame's visualisation (RGB, frame size) there.
+  virtual double push(const Image& test, const SequenceReference& ref, Image* heatmap) = 0;
+  virtual void reset() = 0;
+};
+
+struct SequenceMetric {
+  bool (*enabled)(const MetricsConfig&) = nullptr;  // from the run's `metrics` block
+  std::unique_ptr<SequenceReference> (*make_reference)(const SequenceSetup&) = nullptr;
+  std::unique_ptr<SequenceTest> (*make_test)(const SequenceReference&) = nullptr;
+  // What the run's manifest records under `manifest_key`, besides the engine's "mode", "fps"
+  // and "why" (video or still images, and why).
+  Json (*describe)(const SequenceSetup&) = nullptr;
+  const char* manifest_key = "";
+  // Saved frames get `<label><heatmap_suffix>.png` (and `<label><heatmap_suffix>_fl.png`
+  // against `full` at the same sampling); "" = no heat map.
+  const char* heatmap_suffix = "";
+};
 
 enum class Better { higher, lower };
 
@@ -41,6 +95,9 @@ struct MetricDecl {
   Pooling pooling = Pooling::frame_mean;
   std::string pooled_column;              // Pooling::sequence: the per-frame column pooled
   double (*from_mean)(double) = nullptr;  // Pooling::sequence: pooled mean -> summary value
+  // A stateful metric computed by the run engine through SequenceMetric (per frame it writes
+  // `pooled_column` and `name` = from_mean(value)); nullptr: computed by compute_metrics.
+  const SequenceMetric* sequence = nullptr;
   // Headline metrics are compared pairwise (paired.csv), shown in the console summary, the
   // fidelity ladder and the plots, and used as iso-budget quality columns.
   bool headline = false;

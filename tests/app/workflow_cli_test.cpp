@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "tests/app/app_util.h"
 
@@ -148,6 +149,99 @@ TEST(Workflow, SearchWithoutFeasiblePointSaysSo) {
   ASSERT_EQ(b.rows.size(), 1u);
   EXPECT_EQ(b.rows[0][b.col("feasible")], "0");
   EXPECT_GT(std::stod(b.rows[0][b.col("violation")]), 0);
+}
+
+// Design decisions in JOD: "the cheapest configuration whose JOD >= T within the frame budget"
+// and "the best JOD within a cost budget" find the answer a brute-force grid gives.
+TEST(Workflow, SearchOnJodConstraintAndObjective) {
+  std::string d = temp_dir("wf_search_jod");
+  const std::string common = "\"name\": \"s\", \"base\": \"" + kBase +
+                             "\", \"frames\": {\"count\": 3}, \"render\": {\"scale\": 0.08}, "
+                             "\"gpus\": [\"rtx4090\"], \"methods\": [{\"method\": \"kfr\"}]";
+  const std::vector<double> sigmas{1.2, 1.8, 2.4, 3.0};
+  write_text(d + "/g.json", "{" + common +
+                                ", \"sweep\": {\"grid\": {\"methods[kfr].sigma\": [1.2, 1.8, "
+                                "2.4, 3.0]}}}");
+  auto r = run_cmd(fovsim_bin() + " sweep " + d + "/g.json --no-plots --out " + d + "/g");
+  ASSERT_EQ(r.code, 0) << r.output;
+  Csv g = read_csv(d + "/g/summary.csv");
+  ASSERT_EQ(g.rows.size(), sigmas.size());
+  std::vector<double> jod, ms, head;
+  for (auto& row : g.rows) {
+    jod.push_back(std::stod(row[size_t(g.col("fvvdp_jod_fl"))]));
+    ms.push_back(std::stod(row[size_t(g.col("est_ms_total"))]));
+    head.push_back(std::stod(row[size_t(g.col("headroom_ms"))]));
+  }
+  // A JOD floor between the second and third grid values, the budget as the summary says it.
+  const double T = 0.5 * (jod[1] + jod[2]);
+  int cheapest = -1;
+  for (size_t i = 0; i < sigmas.size(); ++i)
+    if (jod[i] >= T && head[i] >= 0 && (cheapest < 0 || ms[i] < ms[size_t(cheapest)]))
+      cheapest = int(i);
+  ASSERT_GE(cheapest, 0) << "no grid point meets JOD >= " << T << " within the budget";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.10g", T);
+  auto search = [&](const std::string& objective, const std::string& subject_to,
+                    const std::string& out) {
+    write_text(d + "/" + out + ".json",
+               "{" + common +
+                   ", \"sweep\": {\"search\": {\"space\": [{\"methods[kfr].sigma\": {\"from\": "
+                   "1.2, \"to\": 3.0, \"step\": 0.6}}], " +
+                   objective + ", \"subject_to\": " + subject_to +
+                   ", \"label\": \"kfr\", \"evaluations\": 8, \"batch\": 4, \"seed\": 1}}}");
+    auto rr = run_cmd(fovsim_bin() + " search " + d + "/" + out + ".json --out " + d + "/" + out);
+    EXPECT_EQ(rr.code, 0) << rr.output;
+    return read_csv(d + "/" + out + "/search_best.csv");
+  };
+  Csv b = search(
+      "\"minimize\": \"est_ms_total\"",
+      std::string("{\"fvvdp_jod_fl\": {\"min\": ") + buf + "}, \"headroom_ms\": {\"min\": 0}}",
+      "cheapest");
+  ASSERT_EQ(b.rows.size(), 1u);
+  EXPECT_EQ(b.rows[0][size_t(b.col("feasible"))], "1");
+  EXPECT_DOUBLE_EQ(std::stod(b.rows[0][size_t(b.col("methods[kfr].sigma"))]),
+                   sigmas[size_t(cheapest)]);
+  EXPECT_GE(std::stod(b.rows[0][size_t(b.col("fvvdp_jod_fl"))]), T);
+  EXPECT_GE(std::stod(b.rows[0][size_t(b.col("headroom_ms"))]), 0);
+
+  // Best JOD whose frame time stays within a budget between the 2nd and 3rd grid values.
+  const double B = 0.5 * (ms[1] + ms[2]);
+  int best = -1;
+  for (size_t i = 0; i < sigmas.size(); ++i)
+    if (ms[i] <= B && (best < 0 || jod[i] > jod[size_t(best)])) best = int(i);
+  ASSERT_GE(best, 0);
+  std::snprintf(buf, sizeof buf, "%.10g", B);
+  Csv j = search("\"maximize\": \"fvvdp_jod_fl\"",
+                 std::string("{\"est_ms_total\": {\"max\": ") + buf + "}}", "bestjod");
+  ASSERT_EQ(j.rows.size(), 1u);
+  EXPECT_EQ(j.rows[0][size_t(j.col("feasible"))], "1");
+  EXPECT_DOUBLE_EQ(std::stod(j.rows[0][size_t(j.col("methods[kfr].sigma"))]), sigmas[size_t(best)]);
+  EXPECT_DOUBLE_EQ(std::stod(j.rows[0][size_t(j.col("fvvdp_jod_fl"))]), jod[size_t(best)]);
+}
+
+// Saved frames get FovVideoVDP heat maps against both references; a method with a full-rate
+// fovea is flagged at the reference's floor for rmse_fovea in the summary and on the console.
+TEST(Workflow, HeatMapsAndReferenceFloor) {
+  std::string d = temp_dir("wf_heat_floor");
+  write_text(d + "/a.json",
+             tiny(", \"methods\": [{\"method\": \"full\"}, {\"method\": \"fvrs\"}, {\"method\": "
+                  "\"kfr\"}], \"outputs\": {\"image_frames\": [1], \"print_summary\": true}"));
+  auto r = run_cmd(fovsim_bin() + " run " + d + "/a.json --no-plots --out " + d + "/o");
+  ASSERT_EQ(r.code, 0) << r.output;
+  for (const char* f : {"kfr_fvvdp.png", "kfr_fvvdp_fl.png", "fvrs_fvvdp.png", "full_fvvdp.png"})
+    EXPECT_TRUE(std::filesystem::exists(d + "/o/images/frame_1/" + std::string(f))) << f;
+  EXPECT_FALSE(std::filesystem::exists(d + "/o/images/frame_0/kfr_fvvdp.png"));
+  Csv s = read_csv(d + "/o/summary.csv");
+  ASSERT_GE(s.col("at_floor"), 0);
+  for (auto& row : s.rows) {
+    const std::string& label = row[size_t(s.col("label"))];
+    const std::string& at = row[size_t(s.col("at_floor"))];
+    if (label == "fvrs") EXPECT_NE(at.find("rmse_fovea"), std::string::npos) << at;
+    if (label == "full") EXPECT_NE(at.find("fvvdp_jod"), std::string::npos) << at;  // the floor
+    if (label == "kfr") EXPECT_EQ(at.find("fvvdp_jod"), std::string::npos) << at;
+  }
+  EXPECT_NE(r.output.find("at the reference's floor: fvrs: "), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("at the reference's floor: full"), std::string::npos) << r.output;
 }
 
 TEST(Workflow, SmallerMessages) {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "sim/core/error.h"
 #include "sim/core/stats.h"
@@ -161,6 +162,32 @@ TEST(Intervals, SequencePooledMetricSummaryAndPairedDifference) {
     EXPECT_EQ(r.get("differs", NAN), 1.0);  // Q 10-16 vs 30-38 on every frame
   }
   EXPECT_TRUE(seen);
+}
+
+// at_floor: a method whose per-frame rmse_fovea equals the floor's (full at the same sampling
+// against the reference) is flagged; one clearly apart is not; a sequence metric is compared
+// on its pooled column and named by its metric.
+TEST(Intervals, ReferenceFloorIsFlagged) {
+  ResultTable f;
+  std::map<std::string, std::map<int, double>> floor;
+  for (int i = 0; i < 40; ++i) {
+    const double base = 0.08 + 0.001 * (i % 5);
+    ResultRow a = frame_row("a", "g", i, 30, 5), b = frame_row("b", "g", i, 28, 4);
+    a.set("rmse_fovea", base);         // the floor exactly (full-rate fovea)
+    b.set("rmse_fovea", base + 0.02);  // worse on every frame
+    a.set("fvvdp_q", 20 + (i % 3));
+    b.set("fvvdp_q", 20 + (i % 3) + ((i % 2) ? 0.5 : -0.5));  // noise around the floor
+    f.add(a);
+    f.add(b);
+    floor["rmse_fovea"][i] = base;
+    floor["fvvdp_q"][i] = 20 + (i % 3);
+    floor["psnr"][i] = 20;  // both rows far above: not at the floor
+  }
+  ResultTable s = summarize(f, 11.1);
+  mark_reference_floor(s, f, floor);
+  ASSERT_EQ(s.rows().size(), 2u);
+  EXPECT_EQ(*s.rows()[0].text_of("at_floor"), "fvvdp_jod rmse_fovea");
+  EXPECT_EQ(*s.rows()[1].text_of("at_floor"), "fvvdp_jod");
 }
 
 TEST(Targets, ParseSpecs) {

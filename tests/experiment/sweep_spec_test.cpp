@@ -169,3 +169,29 @@ TEST(SweepSpec, BadSpecsNameTheJsonPath) {
     EXPECT_NE(e.find(c.expect), std::string::npos) << e;
   }
 }
+
+// subject_to: several columns, each with min and/or max (a JOD floor and the frame budget);
+// the violation is the sum of how far each value lies outside its bounds.
+TEST(SweepSpec, SearchConstraintsMinMaxAndViolation) {
+  auto p = expand_sweep(cfg_of(R"({"search": {"space": {"methods[kfr].sigma": {"from": 1.2,
+      "to": 3}}, "minimize": "est_ms_total", "subject_to": {"fvvdp_jod_fl": {"min": 9.5},
+      "headroom_ms": {"min": 0}, "shaded_fraction": {"min": 0.1, "max": 0.3}}}})"));
+  const SearchSpec& s = p.search;
+  ASSERT_EQ(s.constraints.size(), 3u);  // in column-name order
+  EXPECT_EQ(s.constraints[0].column, "fvvdp_jod_fl");
+  EXPECT_EQ(s.constraints[0].describe(), "fvvdp_jod_fl >= 9.5");
+  EXPECT_EQ(s.constraints[1].column, "headroom_ms");
+  EXPECT_EQ(s.constraints[2].describe(), "0.1 <= shaded_fraction <= 0.3");
+  EXPECT_EQ(s.violation({9.6, 0.5, 0.2}), 0.0);
+  EXPECT_NEAR(s.violation({9.25, 0.5, 0.2}), 0.25, 1e-12);
+  EXPECT_NEAR(s.violation({9.25, -2.0, 0.35}), 0.25 + 2.0 + 0.05, 1e-12);
+  EXPECT_EQ(s.violation({9.6, NAN, 0.2}), INFINITY);
+  EXPECT_NE(err_of(R"({"search": {"space": {"a": {"from": 0, "to": 1}}, "maximize": "q",
+                 "subject_to": {"fvvdp_jod": {"min": 9, "max": 8}}}})")
+                .find("sweep.search.subject_to.fvvdp_jod: min 9 is above max 8"),
+            std::string::npos);
+  EXPECT_NE(err_of(R"({"search": {"space": {"a": {"from": 0, "to": 1}}, "maximize": "q",
+                 "subject_to": {"fvvdp_jod": {"above": 9}}}})")
+                .find("sweep.search.subject_to.fvvdp_jod: expected"),
+            std::string::npos);
+}
