@@ -116,7 +116,9 @@ _extra_used = {}
 
 def method_color(method):
     """Colour of a method (factory name; a label `kfr_s2` or `kfr@gpu` falls back to its
-    method prefix when the row's method is unknown)."""
+    method prefix when the row's method is unknown). A registered method without a colour of
+    its own above gets one by its place in `fovsim info --json`'s method list, so it keeps that
+    colour in every plot and every process."""
     m = (method or "").strip()
     if m in METHOD_COLORS:
         return METHOD_COLORS[m]
@@ -124,8 +126,13 @@ def method_color(method):
         base = m.split(sep)[0]
         if base in METHOD_COLORS:
             return METHOD_COLORS[base]
+    new = [n for n in method_names() if n not in METHOD_COLORS]
+    for sep in ("", "@", ":", " "):
+        base = m.split(sep)[0] if sep else m
+        if base in new:
+            return _EXTRA[new.index(base) % len(_EXTRA)]
     if m not in _extra_used:
-        _extra_used[m] = _EXTRA[len(_extra_used) % len(_EXTRA)]
+        _extra_used[m] = _EXTRA[(len(new) + len(_extra_used)) % len(_EXTRA)]
     return _extra_used[m]
 
 
@@ -176,17 +183,36 @@ def load_metric_registry(manifest=None):
     if isinstance(manifest, dict) and manifest.get("metrics"):
         set_metric_registry(manifest["metrics"])
         return _REGISTRY
-    if not _REGISTRY:
+    if not _REGISTRY and fovsim_info().get("metrics"):
+        set_metric_registry(fovsim_info()["metrics"])
+    return _REGISTRY
+
+
+_INFO = None
+
+
+def fovsim_info():
+    """`fovsim info --json` of the build beside this repository (FOVSIM_BINARY overrides the
+    binary), read once: the method list, the metric registry, the CPU code paths. {} without a
+    binary."""
+    global _INFO
+    if _INFO is None:
         import subprocess
         here = os.path.dirname(os.path.abspath(__file__))
         binary = os.environ.get("FOVSIM_BINARY") or os.path.join(here, "..", "build", "fovsim")
         try:
             out = subprocess.run([binary, "info", "--json"], capture_output=True, text=True,
                                  timeout=30, check=True).stdout
-            set_metric_registry(json.loads(out).get("metrics"))
+            _INFO = json.loads(out)
         except (OSError, ValueError, subprocess.SubprocessError):
-            pass
-    return _REGISTRY
+            _INFO = {}
+    return _INFO
+
+
+def method_names():
+    """The registered methods in registration order (sim/foveation/method_list.h, through
+    `fovsim info --json`); [] without a binary."""
+    return list(fovsim_info().get("methods") or [])
 
 
 FL_SUFFIX = "_fl"  # against full at the method's sampling rate (registry.h kFoveationLossSuffix)

@@ -122,6 +122,13 @@ def make_sweep(d):
 
 
 class Palette(unittest.TestCase):
+    def test_every_registered_method_has_its_own_colour(self):
+        names = common.method_names()  # `fovsim info --json`, the C++ registration list
+        if not names:
+            self.skipTest("no fovsim binary (build/fovsim or FOVSIM_BINARY)")
+        colours = [common.method_color(n) for n in names]
+        self.assertEqual(len(set(colours)), len(names), dict(zip(names, colours)))
+
     def test_one_colour_per_method_everywhere(self):
         self.assertEqual(common.method_color("kfr"), common.method_color("kfr"))
         self.assertNotEqual(common.method_color("kfr"), common.method_color("rmfr"))
