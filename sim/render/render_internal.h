@@ -60,6 +60,7 @@ struct RenderState {
     const RenderState* I = nullptr;
     const Scene* scene = nullptr;
     int object = -1;
+    bool cutout = false;  // some triangle has a cut-out material (alpha_filter is attached)
   };
   std::vector<GeomUser> geom_user;  // per object; sized before any geometry is attached
   std::vector<LightNow> lights;

@@ -7,15 +7,22 @@
 
 namespace fovsim {
 
+// Without a cut-out material and with an interval [tnear <= 0, +inf] (directional lights) the
+// refined hit cannot change the decision, so it is not computed: refine_hit either leaves
+// Embree's t (accepted here only when t >= 0) or sets t = float(tt) with tt >= 0 and finite;
+// either way tnear <= 0 <= t < inf = tfar, and alpha_rejects is false for every triangle of the
+// geometry. The same hits are accepted as with the refinement, so the same bits.
 void occlusion_filter(const RTCFilterFunctionNArguments* args) {
   const auto* oc = reinterpret_cast<const OcclusionContext*>(args->context);
-  const int obj = static_cast<const RenderState::GeomUser*>(args->geometryUserPtr)->object;
+  const auto* gu = static_cast<const RenderState::GeomUser*>(args->geometryUserPtr);
+  const int obj = gu->object;
   for (unsigned i = 0; i < args->N; ++i) {
     if (args->valid[i] != -1) continue;
     const unsigned id = RTCRayN_id(args->ray, args->N, i);
+    float t = RTCRayN_tfar(args->ray, args->N, i);
+    if (!gu->cutout && oc->tfar[id] == kInf && !(oc->tnear[id] > 0.f) && t >= 0.f) continue;
     const uint32_t prim = RTCHitN_primID(args->hit, args->N, i);
-    float t = RTCRayN_tfar(args->ray, args->N, i), u = RTCHitN_u(args->hit, args->N, i),
-          v = RTCHitN_v(args->hit, args->N, i);
+    float u = RTCHitN_u(args->hit, args->N, i), v = RTCHitN_v(args->hit, args->N, i);
     refine_hit(*oc->I, *oc->scene, obj, prim, oc->org[id], oc->dir[id], t, u, v);
     if (!(t >= oc->tnear[id] && t <= oc->tfar[id]) ||
         alpha_rejects(*oc->I, *oc->scene, obj, prim, u, v))
