@@ -200,14 +200,13 @@ struct SampleWriter {
     const Material& mt = scene.materials[size_t(mat)];
     return !(mt.normal_image >= 0 && size_t(mt.normal_image) < scene.images.size());
   }
-  // The scalar part of hit() for a common-path lane: refine_hit, depth, object, sub-model,
-  // material, and the triangle's vertices, normals and uvs into F; finish() does the rest.
+  // The scalar part of hit() for a common-path lane: object, sub-model, material, and Embree's
+  // hit and the triangle's vertices, normals and uvs into F; finish() does the rest.
   void gather(FastLanes& F, GBuffer& g, int slot, const glm::vec3& org, const glm::vec3& dir,
               float t, int obj, uint32_t prim, float bu, float bv, float cone, const Mesh& m,
               int mat, int tex) const {
-    refine_hit(I, scene, obj, prim, org, dir, t, bu, bv);
+    (void)org;
     const size_t i = size_t(slot);
-    g.depth[i] = t;
     const RenderState::Obj& ob = I.objs[size_t(obj)];
     if (ch & kObjectId) g.object_id[i] = obj;
     if (ch & kSubModel) g.submodel[i] = ob.tri_sub.empty() ? -1 : ob.tri_sub[prim];
@@ -255,6 +254,45 @@ struct SampleWriter {
     F.u2x[j] = u2.x;
     F.u2y[j] = u2.y;
   }
+  // refine_hit for the common-path lanes (static: world space), two lanes at a time in double
+  // (SSE2, refine_hit's operations in its order): F.t, F.bu, F.bv become the refined values,
+  // or stay Embree's where refine_hit keeps them (degenerate determinant, t < 0 or not finite).
+  static void refine(FastLanes& F, const glm::vec3& org) {
+    typedef double vd __attribute__((vector_size(16)));
+    typedef int64_t vl __attribute__((vector_size(16)));
+    auto two = [](const float* a, int o) { return vd{double(a[o]), double(a[o + 1])}; };
+    auto sp = [](double v) { return vd{v, v}; };
+    auto vabs = [](vd x) { return (vd)((vl)x & vl{0x7fffffffffffffffll, 0x7fffffffffffffffll}); };
+    const vd zero = sp(0.0), one = sp(1.0);
+    const vd ox = sp(double(org.x)), oy = sp(double(org.y)), oz = sp(double(org.z));
+    for (int o = 0; o < F.m; o += 2) {
+      const vd dx = two(F.dx, o), dy = two(F.dy, o), dz = two(F.dz, o);
+      const vd p0x = two(F.p0x, o), p0y = two(F.p0y, o), p0z = two(F.p0z, o);
+      const vd e1x = two(F.p1x, o) - p0x, e1y = two(F.p1y, o) - p0y, e1z = two(F.p1z, o) - p0z;
+      const vd e2x = two(F.p2x, o) - p0x, e2y = two(F.p2y, o) - p0y, e2z = two(F.p2z, o) - p0z;
+      // pv = cross(d, e2), det = dot(e1, pv)
+      const vd pvx = dy * e2z - e2y * dz, pvy = dz * e2x - e2z * dx, pvz = dx * e2y - e2x * dy;
+      const vd det = (e1x * pvx + e1y * pvy) + e1z * pvz;
+      const vd inv_det = one / det;
+      // tv = o - p0, qv = cross(tv, e1)
+      const vd tx = ox - p0x, ty = oy - p0y, tz = oz - p0z;
+      const vd qx = ty * e1z - e1y * tz, qy = tz * e1x - e1z * tx, qz = tx * e1y - e1x * ty;
+      vd uu = ((tx * pvx + ty * pvy) + tz * pvz) * inv_det;
+      uu = uu < zero ? zero : (one < uu ? one : uu);  // std::clamp(uu, 0, 1)
+      const vd hi = one - uu;
+      vd vv = ((dx * qx + dy * qy) + dz * qz) * inv_det;
+      vv = vv < zero ? zero : (hi < vv ? hi : vv);  // std::clamp(vv, 0, 1 - uu)
+      const vd tt = ((e2x * qx + e2y * qy) + e2z * qz) * inv_det;
+      const vl ok = (vabs(det) > sp(1e-300)) & (tt >= zero) & (vabs(tt) < sp(HUGE_VAL));
+      for (int j = 0; j < 2; ++j)
+        if (ok[j]) {
+          F.t[o + j] = float(tt[j]);
+          F.bu[o + j] = float(uu[j]);
+          F.bv[o + j] = float(vv[j]);
+        }
+    }
+  }
+
   // hit()'s float part for the common-path lanes, 4 at a time with hit()'s and footprint()'s
   // operations in their order (static objects: world space, ngw = ng, a_world = a_own = |ng|,
   // the same cross product; nv the same dot product as dot(ng, dir)). Lanes past F.m compute
@@ -267,6 +305,8 @@ struct SampleWriter {
       F.n1x[j] = F.n1y[j] = F.n1z[j] = F.n2x[j] = F.n2y[j] = F.n2z[j] = 0.f;
       F.u0x[j] = F.u0y[j] = F.u1x[j] = F.u1y[j] = F.u2x[j] = F.u2y[j] = 0.f;
     }
+    refine(F, org);
+    for (int j = 0; j < F.m; ++j) g.depth[size_t(F.slot[j])] = F.t[j];
     const vf zero = splat(0.f), one = splat(1.f);
     for (int o = 0; o < F.m; o += 4) {
       const vf t = ld4(F.t + o), bu = ld4(F.bu + o), bv = ld4(F.bv + o);
