@@ -765,8 +765,8 @@ void Renderer::trace_gbuffer(const Camera& cam, uint32_t channels, GBuffer& out,
   // Camera::dir_head's terms per column and row (same operations, so the same bits).
   // Their squares too: glm::normalize(v) is v * (1 / sqrt((v.x*v.x + v.y*v.y) + v.z*v.z)), so
   // (hx2 + hy2) + 1.0 below is the same sum, operation for operation.
-  std::vector<double> hx(size_t(cam.width)), hy(size_t(cam.height));
-  std::vector<double> hx2(size_t(cam.width)), hy2(size_t(cam.height));
+  std::vector<double> hx(size_t(cam.width) + 1, 0.0), hy(size_t(cam.height));
+  std::vector<double> hx2(size_t(cam.width) + 1, 0.0), hy2(size_t(cam.height));
   for (int x = 0; x < cam.width; ++x) {
     hx[size_t(x)] = (2.0 * (x + 0.5) / cam.width - 1.0) * cam.tan_half_h;
     hx2[size_t(x)] = hx[size_t(x)] * hx[size_t(x)];
@@ -777,6 +777,11 @@ void Renderer::trace_gbuffer(const Camera& cam, uint32_t channels, GBuffer& out,
   }
   SampleWriter w{scene_, I, prev, channels};
   const double cone1 = cone_scale(cam, 1.f);
+  auto sp = [](double v) { return vd{v, v}; };
+  const vd one = sp(1.0), cone1v = sp(cone1);
+  const vd R00 = sp(R[0][0]), R10 = sp(R[1][0]), R20 = sp(R[2][0]);
+  const vd R01 = sp(R[0][1]), R11 = sp(R[1][1]), R21 = sp(R[2][1]);
+  const vd R02 = sp(R[0][2]), R12 = sp(R[1][2]), R22 = sp(R[2][2]);
   tbb::parallel_for(
       tbb::blocked_range<int>(0, tx * ty, 1),
       [&](const tbb::blocked_range<int>& r) {
@@ -786,14 +791,36 @@ void Renderer::trace_gbuffer(const Camera& cam, uint32_t channels, GBuffer& out,
           const int x1 = std::min(x0 + T, cam.width), y1 = std::min(y0 + T, cam.height);
           for (int by = y0; by < y1; by += 4)
             for (int bx = x0; bx < x1; bx += 4) {
-              for (int y = by; y < std::min(by + 4, y1); ++y)
-                for (int x = bx; x < std::min(bx + 4, x1); ++x) {
-                  // == Camera::dir_world(x + 0.5, y + 0.5)
-                  const double s = 1.0 / std::sqrt((hx2[size_t(x)] + hy2[size_t(y)]) + 1.0);
-                  const glm::dvec3 d = R * glm::dvec3(hx[size_t(x)] * s, hy[size_t(y)] * s, -s);
-                  pk.add(org, glm::vec3(d), size_t(y) * size_t(cam.width) + size_t(x),
-                         glm::vec2(float(x) + 0.5f, float(y) + 0.5f), cone_width(cone1, s));
+              for (int y = by; y < std::min(by + 4, y1); ++y) {
+                // == Camera::dir_world(x + 0.5, y + 0.5) and cone_width(cone1, s), two pixels
+                // at a time in double (SSE2, the same operations per lane; hx, hx2 are padded
+                // so the pair past the right edge reads valid, unused values).
+                const int xe = std::min(bx + 4, x1);
+                const vd hyv = sp(hy[size_t(y)]), hy2v = sp(hy2[size_t(y)]);
+                alignas(16) double dx[4], dy[4], dz[4], cw[4];
+                for (int x = bx; x < xe; x += 2) {
+                  vd hxv, hx2v;
+                  __builtin_memcpy(&hxv, &hx[size_t(x)], sizeof hxv);
+                  __builtin_memcpy(&hx2v, &hx2[size_t(x)], sizeof hx2v);
+                  const vd s = one / __builtin_ia32_sqrtpd((hx2v + hy2v) + one);
+                  const vd ux = hxv * s, uy = hyv * s, uz = -s;
+                  const vd ox = (R00 * ux + R10 * uy) + R20 * uz;
+                  const vd oy = (R01 * ux + R11 * uy) + R21 * uz;
+                  const vd oz = (R02 * ux + R12 * uy) + R22 * uz;
+                  const vd c = cone1v * s * __builtin_ia32_sqrtpd(s);
+                  const int j = x - bx;
+                  __builtin_memcpy(dx + j, &ox, sizeof ox);
+                  __builtin_memcpy(dy + j, &oy, sizeof oy);
+                  __builtin_memcpy(dz + j, &oz, sizeof oz);
+                  __builtin_memcpy(cw + j, &c, sizeof c);
                 }
+                for (int x = bx; x < xe; ++x) {
+                  const int j = x - bx;
+                  pk.add(org, glm::vec3(float(dx[j]), float(dy[j]), float(dz[j])),
+                         size_t(y) * size_t(cam.width) + size_t(x),
+                         glm::vec2(float(x) + 0.5f, float(y) + 0.5f), float(cw[j]));
+                }
+              }
               pk.trace(I, w, org, out);
             }
         }
