@@ -1,7 +1,10 @@
 // Primary rays (DESIGN §4): Embree 4x4 packets (rtcIntersect16; coherent flag on static
 // scenes, incoherent on instanced ones, see renderer.cpp), one tile at a time; tiles run in
 // parallel with TBB. Every pixel is computed independently, so results are identical at any
-// thread count. Hit distance and barycentrics are recomputed portably (refine_hit). A packet's
+// thread count. Hit distance and barycentrics are recomputed portably (refine_hit). Ray
+// generation, and for the common hits (static, uvs, no normal map) refinement, normals, uvs and
+// footprints, run several lanes of a packet at a time with the per-sample code's operations
+// (SampleWriter::gather / refine / finish; other hits take SampleWriter::hit). A packet's
 // samples are staged and copied to the G-buffer row by row (Packet::flush). Performance
 // against Embree's own packet rate: bench/README.md.
 #include <tbb/parallel_for.h>
