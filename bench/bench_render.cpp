@@ -20,6 +20,9 @@
 //     (render_reference), the frame's VPLs (RSMs) and the indirect light of all VPLs at pixel
 //     centres (add_indirect); counters gbuffer_ms, direct_ms, supersample_ms, vpls_ms,
 //     indirect_ms, frame_ms.
+//   BM_ReferenceVsPacket: the quickstart's 16-spp shared reference (render_reference, one
+//     thread) per sample against Embree's bare rtcIntersect16 over the same sub-sample rays in
+//     the same packets; counters ref_ns_per_sample, packet_ns_per_ray, ratio_ref_packet.
 // Run: build/bench_render [--benchmark_filter=...] [--benchmark_min_time=...] (no MinTime is
 // fixed in the code, so the command-line minimum applies). <threads> 1 = one TBB thread, timed
 // by the calling thread's CPU time (meaningful on a busy machine); 0 = all cores, wall clock.
@@ -30,6 +33,8 @@
 #include <tbb/parallel_for.h>
 
 #include <chrono>
+#include <cmath>
+#include <cstring>
 #include <ctime>
 #include <limits>
 #include <map>
@@ -311,8 +316,9 @@ BENCHMARK(BM_ReferenceFrame)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
-// Arg: threads (0 = all cores, wall clock; 1 = one TBB thread, thread CPU time).
-void BM_ReferencePhase(benchmark::State& st) {
+// The quickstart's reference setting: the atrium (complexity 1, indirect light, 16x16 RSMs) at
+// render.scale 0.25 of the Vive Pro Eye (360x400), 16 spp.
+Fixture& quickstart() {
   static std::unique_ptr<Fixture> f;
   if (!f) {
     f = std::make_unique<Fixture>();
@@ -329,6 +335,12 @@ void BM_ReferencePhase(benchmark::State& st) {
     f->cam = Camera::from_pose(f->display, glm::dvec3(f->scene.default_eye),
                                glm::angleAxis(deg2rad(-8.0), glm::dvec3(0, 1, 0)));
   }
+  return *f;
+}
+
+// Arg: threads (0 = all cores, wall clock; 1 = one TBB thread, thread CPU time).
+void BM_ReferencePhase(benchmark::State& st) {
+  Fixture* f = &quickstart();
   const bool single = st.range(0) == 1;
   std::unique_ptr<tbb::global_control> gc;
   if (single)
@@ -369,6 +381,253 @@ void BM_ReferencePhase(benchmark::State& st) {
   st.counters["vpls"] = double(vpls.vpls.size());
 }
 BENCHMARK(BM_ReferencePhase)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The reference's sub-sample rays in its own packet order (render_reference: 16 consecutive
+// pixels a packet, all strata of a packet before the next), as floats, for the bare baseline.
+struct SampleRays {
+  glm::vec3 org{0.f};
+  std::vector<float> dx, dy, dz;  // packet after packet, 16 slots each (idle slots: lane 0)
+  std::vector<uint8_t> n;         // active lanes of each packet
+};
+
+SampleRays make_sample_rays(const Camera& cam, int spp) {
+  SampleRays s;
+  s.org = glm::vec3(cam.position);
+  const int sn = int(std::lround(std::sqrt(double(spp))));
+  const glm::dmat3 R = glm::mat3_cast(cam.orientation);
+  const size_t np = size_t(cam.width) * size_t(cam.height);
+  for (size_t i0 = 0; i0 < np; i0 += 16) {
+    const int m = int(std::min<size_t>(16, np - i0));
+    for (int st = 0; st < spp; ++st) {
+      for (int k = 0; k < 16; ++k) {
+        const size_t i = i0 + size_t(k < m ? k : 0);
+        const int x = int(i % size_t(cam.width)), y = int(i / size_t(cam.width));
+        const glm::vec2 o = stratified_offset(x, y, st, sn);
+        const glm::vec3 d(R * cam.dir_head(double(float(x) + o.x), double(float(y) + o.y)));
+        s.dx.push_back(d.x);
+        s.dy.push_back(d.y);
+        s.dz.push_back(d.z);
+      }
+      s.n.push_back(uint8_t(m));
+    }
+  }
+  return s;
+}
+
+// rtcIntersect16 over the prepared packets (coherent flag, as the renderer's static scenes).
+void sample_packets_embree(RTCScene sc, const SampleRays& s, std::vector<float>& depth) {
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  alignas(64) RTCRayHit16 rh;
+  alignas(64) int valid[16];
+  for (size_t p = 0; p < s.n.size(); ++p) {
+    const size_t j = p * 16;
+    for (int k = 0; k < 16; ++k) {
+      valid[k] = k < s.n[p] ? -1 : 0;
+      rh.ray.org_x[k] = s.org.x;
+      rh.ray.org_y[k] = s.org.y;
+      rh.ray.org_z[k] = s.org.z;
+      rh.ray.dir_x[k] = s.dx[j + size_t(k)];
+      rh.ray.dir_y[k] = s.dy[j + size_t(k)];
+      rh.ray.dir_z[k] = s.dz[j + size_t(k)];
+      rh.ray.tnear[k] = 0.f;
+      rh.ray.tfar[k] = std::numeric_limits<float>::infinity();
+      rh.ray.time[k] = 0.f;
+      rh.ray.mask[k] = ~0u;
+      rh.ray.id[k] = unsigned(k);
+      rh.ray.flags[k] = 0;
+      rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+      rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+    }
+    rtcIntersect16(valid, sc, &ctx, &rh);
+    depth[p] = rh.ray.tfar[0];
+  }
+  benchmark::DoNotOptimize(depth.data());
+}
+
+// rtcOccluded16's valid mask (64-byte aligned, as Embree reads it).
+struct alignas(64) Valid16 {
+  int v[16];
+};
+
+// A filter-free copy of a static scene's triangles in world space (the renderer's static BVH
+// quality), so rtcOccluded16 runs without the renderer's portable occlusion filter: Embree
+// alone, for the bare shadow-ray baseline. scale: the renderer's scene scale (ray offsets).
+struct BareScene {
+  RTCDevice dev = nullptr;
+  RTCScene sc = nullptr;
+  float scale = 1.f;
+  explicit BareScene(const Scene& s) {
+    dev = rtcNewDevice(nullptr);
+    sc = rtcNewScene(dev);
+    rtcSetSceneBuildQuality(sc, RTC_BUILD_QUALITY_HIGH);
+    glm::vec3 lo(std::numeric_limits<float>::infinity()), hi(-lo);
+    for (const Object& o : s.objects) {
+      const Mesh& m = s.meshes[size_t(o.mesh)];
+      const glm::mat4 xf = o.dynamic() ? o.transform_at(0.0) : o.transform;
+      RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
+      auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+          g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), m.positions.size()));
+      for (size_t i = 0; i < m.positions.size(); ++i) {
+        const glm::vec3 w(xf * glm::vec4(m.positions[i], 1.f));
+        v[3 * i] = w.x;
+        v[3 * i + 1] = w.y;
+        v[3 * i + 2] = w.z;
+        lo = glm::min(lo, w);
+        hi = glm::max(hi, w);
+      }
+      auto* ix = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+          g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), m.triangles.size()));
+      std::memcpy(ix, m.triangles.data(), m.triangles.size() * 3 * sizeof(unsigned));
+      rtcCommitGeometry(g);
+      rtcAttachGeometry(sc, g);
+      rtcReleaseGeometry(g);
+    }
+    rtcCommitScene(sc);
+    const glm::vec3 e = glm::max(glm::abs(lo), glm::abs(hi));
+    scale = std::max(1.f, std::max(e.x, std::max(e.y, e.z)));
+  }
+  ~BareScene() {
+    rtcReleaseScene(sc);
+    rtcReleaseDevice(dev);
+  }
+};
+
+// The shadow rays of stratum `st` of the reference, as the renderer forms them (its packets of
+// 16 consecutive pixels, one packet per light that some lane tests; lights at t = 0): origins
+// offset along the normal, towards the light, to its distance), from a G-buffer of the
+// stratum's sub-sample points. Appends the packets to `out`, `valid` alongside.
+void stratum_shadow_packets(const Renderer& r, const Camera& cam, const BareScene& bs, int st,
+                            std::vector<RTCRay16>& out, std::vector<Valid16>& valid) {
+  const Scene& scene = r.scene();
+  const int spp = r.settings().spp, sn = int(std::lround(std::sqrt(double(spp))));
+  const size_t np = size_t(cam.width) * size_t(cam.height);
+  std::vector<glm::vec2> pts(np);
+  for (size_t i = 0; i < np; ++i) {
+    const int x = int(i % size_t(cam.width)), y = int(i / size_t(cam.width));
+    const glm::vec2 o = stratified_offset(x, y, st, sn);
+    pts[i] = glm::vec2(float(x) + o.x, float(y) + o.y);
+  }
+  GBuffer g;
+  r.trace_points(cam, pts, kShadingChannels, g, nullptr, 1.f / float(sn));
+  const float eps = 2e-4f * bs.scale, slack = 1e-4f * bs.scale;
+  for (size_t i0 = 0; i0 < np; i0 += 16) {
+    for (const Light& l : scene.lights) {
+      if (!(l.shadows && r.settings().shadows)) continue;
+      const glm::vec3 ldir = glm::normalize(l.direction);
+      const float ci = float(std::cos(deg2rad(std::min(l.spot_inner_deg, l.spot_outer_deg))));
+      const float co = float(std::cos(deg2rad(l.spot_outer_deg)));
+      alignas(64) RTCRay16 ray;
+      Valid16 val{};
+      int nv = 0;
+      for (int k = 0; k < 16; ++k) {
+        const size_t i = i0 + size_t(k);
+        glm::vec3 O(0.f), L(0.f, 1.f, 0.f);
+        float tfar = 0.f;
+        bool on = i < np && g.hit(i);
+        if (on) {
+          const glm::vec3 P = g.position[i], N = g.normal[i];
+          O = P + N * eps;
+          if (l.type == Light::Type::Directional) {
+            L = -ldir;
+            tfar = std::numeric_limits<float>::infinity();
+          } else {
+            const glm::vec3 d = l.position - P;
+            const float dist = glm::length(d);
+            on = dist > 0.f;
+            L = on ? d / dist : L;
+            tfar = std::max(0.f, dist - 2.f * eps) + slack;
+            if (on && l.type == Light::Type::Spot && ci > co)
+              on = glm::dot(-L, ldir) > co;  // outside the outer cone: no light, no ray
+          }
+          on = on && glm::dot(N, L) > 0.f;
+        }
+        ray.org_x[k] = O.x;
+        ray.org_y[k] = O.y;
+        ray.org_z[k] = O.z;
+        ray.dir_x[k] = L.x;
+        ray.dir_y[k] = L.y;
+        ray.dir_z[k] = L.z;
+        ray.tnear[k] = 0.f;
+        ray.tfar[k] = on ? tfar : std::numeric_limits<float>::infinity();
+        ray.time[k] = 0.f;
+        ray.mask[k] = ~0u;
+        ray.id[k] = unsigned(k);
+        ray.flags[k] = 0;
+        val.v[k] = on ? -1 : 0;
+        nv += on;
+      }
+      if (nv == 0) continue;
+      out.push_back(ray);
+      valid.push_back(val);
+    }
+  }
+}
+
+// The shared reference per sample against Embree's bare packet traversal of the same primary
+// rays, one thread (thread CPU time), interleaved in every iteration: render_reference of the
+// quickstart's frame (16 spp at 360x400: per sample a primary ray, its shadow rays, texture
+// filtering and shading) and rtcIntersect16 over the same 16-spp sub-sample rays in the same
+// packets (precomputed, writing one float per packet); then, stratum by stratum (the rays
+// prepared outside the timing), rtcOccluded16 over the reference's shadow rays in its packets
+// on a filter-free copy of the scene (BareScene). Counters: ref_ns_per_sample,
+// packet_ns_per_ray, ratio_ref_packet = ref / packet (per sample over per primary ray),
+// shadow_rays_per_sample, bare_shadow_ns_per_sample (the shadow packets' traversal per sample),
+// bare_shadow_rays_per_sample (the rays the baseline formed: shadow_rays_per_sample's check),
+// ratio_ref_bare = ref / (packet + bare shadow) (per sample over all its rays' bare traversal).
+void BM_ReferenceVsPacket(benchmark::State& st) {
+  Fixture& f = quickstart();
+  tbb::global_control gc(tbb::global_control::max_allowed_parallelism, 1);
+  const Renderer& r = *f.renderer;
+  const int spp = r.settings().spp;
+  GBuffer g;
+  Image ref;
+  r.trace_gbuffer(f.cam, kShadingChannels, g);
+  const SampleRays rays = make_sample_rays(f.cam, spp);
+  std::vector<float> depth(rays.n.size());
+  RTCScene sc = RTCScene(r.embree_scene());
+  const BareScene bare(f.scene);
+  std::vector<RTCRay16> srays;
+  std::vector<Valid16> svalid;
+  double tr = 0, tp = 0, ts = 0, shadow = 0, bare_rays = 0;
+  for (auto _ : st) {
+    Counters c;
+    const double t0 = thread_cpu_s();
+    r.render_reference(f.cam, g, ref, &c);
+    const double t1 = thread_cpu_s();
+    sample_packets_embree(sc, rays, depth);
+    tr += t1 - t0;
+    tp += thread_cpu_s() - t1;
+    shadow += c.get("shadow_rays");
+    benchmark::DoNotOptimize(ref.data.data());
+    for (int s = 0; s < spp; ++s) {
+      srays.clear();
+      svalid.clear();
+      stratum_shadow_packets(r, f.cam, bare, s, srays, svalid);
+      RTCIntersectContext ctx;
+      rtcInitIntersectContext(&ctx);
+      ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+      const double t2 = thread_cpu_s();
+      for (size_t p = 0; p < srays.size(); ++p)
+        rtcOccluded16(svalid[p].v, bare.sc, &ctx, &srays[p]);
+      ts += thread_cpu_s() - t2;
+      for (const Valid16& v : svalid)
+        for (int k = 0; k < 16; ++k) bare_rays += v.v[k] != 0;
+      benchmark::DoNotOptimize(srays.data());
+    }
+  }
+  const double samples =
+      double(f.cam.width) * double(f.cam.height) * double(spp) * double(st.iterations());
+  st.counters["ref_ns_per_sample"] = tr / samples * 1e9;
+  st.counters["packet_ns_per_ray"] = tp / samples * 1e9;
+  st.counters["ratio_ref_packet"] = tr / tp;
+  st.counters["shadow_rays_per_sample"] = shadow / samples;
+  st.counters["bare_shadow_ns_per_sample"] = ts / samples * 1e9;
+  st.counters["bare_shadow_rays_per_sample"] = bare_rays / samples;
+  st.counters["ratio_ref_bare"] = tr / (tp + ts);
+}
+BENCHMARK(BM_ReferenceVsPacket)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 

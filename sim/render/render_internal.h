@@ -60,6 +60,7 @@ struct RenderState {
     const RenderState* I = nullptr;
     const Scene* scene = nullptr;
     int object = -1;
+    bool cutout = false;  // some triangle has a cut-out material (alpha_filter is attached)
   };
   std::vector<GeomUser> geom_user;  // per object; sized before any geometry is attached
   std::vector<LightNow> lights;
@@ -149,7 +150,9 @@ struct OcclusionContext {
   RTCIntersectContext ctx;  // first member: Embree passes &ctx back to the filter
   const RenderState* I;
   const Scene* scene;
-  glm::vec3 org[16], dir[16];
+  // The world-space rays by ray id, one array per component (shade_packet fills them 4 lanes
+  // at a time).
+  float org_x[16], org_y[16], org_z[16], dir_x[16], dir_y[16], dir_z[16];
   float tnear[16], tfar[16];
 };
 static_assert(std::is_standard_layout<OcclusionContext>::value, "context must be standard layout");
@@ -173,14 +176,13 @@ class PointPacketTracer {
   std::unique_ptr<Impl> p_;
 };
 
-// Scratch of shade_packet (per thread).
-struct ShadeScratch {
-  std::vector<glm::vec3> contrib;
-  std::vector<uint8_t> state;
-};
+// Scratch of shade_packet (per thread; it needs none at present, the packet's state lives on
+// the stack).
+struct ShadeScratch {};
 // Direct lighting of up to 16 samples of g (slots idx[0..n)), one rtcOccluded16 shadow packet
 // per light (render_shade.cpp, the kernel of Renderer::shade): the colour of slot idx[k] goes to
-// out[idx[k] * 3 + 0..2]. Adds the shadow rays traced to shadow_rays.
+// out[idx[k] * 3 + 0..2]. Adds the shadow rays traced to shadow_rays. The lanes are computed 4
+// at a time with the same IEEE operations per lane as shade_one, so both give the same bits.
 void shade_packet(const Scene& scene, const RenderState& I, bool shadows, const GBufferRef& g,
                   const size_t* idx, int n, const glm::vec3& eye, float* out, uint64_t& shadow_rays,
                   ShadeScratch& scratch);

@@ -1,22 +1,32 @@
 // Shading (docs/architecture.md §4): ambient + emission, Lambert + Blinn-Phong per light, shadow
-// rays as rtcOccluded16 packets with a portable occlusion decision (occlusion_filter).
-// Deterministic per sample: no sampling, the same bits at any thread count.
+// rays as rtcOccluded16 packets with a portable occlusion decision (occlusion_filter), the lights
+// of a packet computed 4 lanes at a time (shade_packet). Deterministic per sample: no sampling, the
+// same bits at any thread count.
 #include <tbb/parallel_for.h>
 
 #include "sim/render/render_internal.h"
 
 namespace fovsim {
 
+// Without a cut-out material and with an interval [tnear <= 0, +inf] (directional lights) the
+// refined hit cannot change the decision, so it is not computed: refine_hit either leaves
+// Embree's t (accepted here only when t >= 0) or sets t = float(tt) with tt >= 0 and finite;
+// either way tnear <= 0 <= t < inf = tfar, and alpha_rejects is false for every triangle of the
+// geometry. The same hits are accepted as with the refinement, so the same bits.
 void occlusion_filter(const RTCFilterFunctionNArguments* args) {
   const auto* oc = reinterpret_cast<const OcclusionContext*>(args->context);
-  const int obj = static_cast<const RenderState::GeomUser*>(args->geometryUserPtr)->object;
+  const auto* gu = static_cast<const RenderState::GeomUser*>(args->geometryUserPtr);
+  const int obj = gu->object;
   for (unsigned i = 0; i < args->N; ++i) {
     if (args->valid[i] != -1) continue;
     const unsigned id = RTCRayN_id(args->ray, args->N, i);
+    float t = RTCRayN_tfar(args->ray, args->N, i);
+    if (!gu->cutout && oc->tfar[id] == kInf && !(oc->tnear[id] > 0.f) && t >= 0.f) continue;
     const uint32_t prim = RTCHitN_primID(args->hit, args->N, i);
-    float t = RTCRayN_tfar(args->ray, args->N, i), u = RTCHitN_u(args->hit, args->N, i),
-          v = RTCHitN_v(args->hit, args->N, i);
-    refine_hit(*oc->I, *oc->scene, obj, prim, oc->org[id], oc->dir[id], t, u, v);
+    float u = RTCHitN_u(args->hit, args->N, i), v = RTCHitN_v(args->hit, args->N, i);
+    const glm::vec3 org(oc->org_x[id], oc->org_y[id], oc->org_z[id]);
+    const glm::vec3 dir(oc->dir_x[id], oc->dir_y[id], oc->dir_z[id]);
+    refine_hit(*oc->I, *oc->scene, obj, prim, org, dir, t, u, v);
     if (!(t >= oc->tnear[id] && t <= oc->tfar[id]) ||
         alpha_rejects(*oc->I, *oc->scene, obj, prim, u, v))
       args->valid[i] = 0;
@@ -37,8 +47,12 @@ inline bool occluded_ray(const Scene& scene, const RenderState& I, const glm::ve
   rtcInitIntersectContext(&oc.ctx);
   oc.I = &I;
   oc.scene = &scene;
-  oc.org[0] = o;
-  oc.dir[0] = d;
+  oc.org_x[0] = o.x;
+  oc.org_y[0] = o.y;
+  oc.org_z[0] = o.z;
+  oc.dir_x[0] = d.x;
+  oc.dir_y[0] = d.y;
+  oc.dir_z[0] = d.z;
   oc.tnear[0] = tnear;
   oc.tfar[0] = tfar;
   const float slack = occlusion_slack(I);
@@ -180,22 +194,76 @@ static glm::vec3 shade_one(const Scene& scene, const RenderState& I, bool shadow
   return col;
 }
 
+// 4 floats (SSE2, the x86-64 baseline): +, -, *, / and sqrt are the IEEE operations of the
+// scalar code lane by lane; comparisons give lane masks (-1 / 0, false on NaN as in C++), and
+// `m ? a : b` selects per lane. No FMA: the portable build does not contract a * b + c.
+typedef float vf __attribute__((vector_size(16)));
+typedef int32_t vi __attribute__((vector_size(16)));
+
+namespace {
+
+inline vf ld4(const float* p) {
+  vf v;
+  __builtin_memcpy(&v, p, sizeof v);
+  return v;
+}
+inline void st4(float* p, vf v) {
+  __builtin_memcpy(p, &v, sizeof v);
+}
+inline vi ldi4(const int32_t* p) {
+  vi v;
+  __builtin_memcpy(&v, p, sizeof v);
+  return v;
+}
+inline void sti4(int32_t* p, vi v) {
+  __builtin_memcpy(p, &v, sizeof v);
+}
+inline vf splat(float x) {
+  return vf{x, x, x, x};
+}
+inline vf vsqrt(vf x) {
+  return __builtin_ia32_sqrtps(x);
+}
+
+}  // namespace
+
 // The same for up to 16 samples at once, with one rtcOccluded16 packet per light (shadow
-// rays from neighbouring samples towards one light are coherent). Accumulates in the same
-// order as shade_one, so both give the same bits.
+// rays from neighbouring samples towards one light are coherent). The lanes' surfaces are read
+// into per-component arrays (surface(), scalar: the G-buffer reads go through the view), then
+// every light's geometry (light_geom), the shadow-ray fields and the BRDF (light_value) run 4
+// lanes at a time with light_geom's and light_value's operations in their order; only powf
+// stays scalar, on the lanes the light reaches. Inactive lanes (past n, misses, early returns
+// of light_geom) compute throw-away values that are never selected. Each lane's colour adds the
+// lights in order, as shade_one does, so both give the same bits.
 void shade_packet(const Scene& scene, const RenderState& I, bool shadows, const GBufferRef& g,
                   const size_t* idx, int n, const glm::vec3& eye, float* out, uint64_t& shadow_rays,
                   ShadeScratch& scratch) {
-  std::vector<glm::vec3>& contrib = scratch.contrib;
-  std::vector<uint8_t>& state = scratch.state;
-  const size_t nl = I.lights.size();
-  contrib.resize(16 * nl);
-  state.resize(16 * nl);
-  SurfacePoint sp[16];
-  glm::vec3 col[16];
-  bool hit[16];
+  (void)scratch;
+  alignas(16) float Px[16], Py[16], Pz[16], Nx[16], Ny[16], Nz[16], Ax[16], Ay[16], Az[16];
+  alignas(16) float Vx[16], Vy[16], Vz[16], Cx[16], Cy[16], Cz[16], spec[16], shin[16];
+  alignas(16) int32_t act[16];
   const float eps = 2e-4f * I.scene_scale;
-  for (int k = 0; k < n; ++k) hit[k] = surface(scene, I, g, idx[k], eye, sp[k], col[k]);
+  const float off = 2e-4f * I.scene_scale;  // surface(): O = P + N * off
+  for (int k = 0; k < 16; ++k) {
+    SurfacePoint sp;
+    glm::vec3 c(0.f);
+    const bool on = k < n && surface(scene, I, g, idx[k], eye, sp, c);
+    act[k] = on ? -1 : 0;
+    Px[k] = on ? sp.P.x : 0.f;
+    Py[k] = on ? sp.P.y : 0.f;
+    Pz[k] = on ? sp.P.z : 0.f;
+    Nx[k] = on ? sp.N.x : 0.f;
+    Ny[k] = on ? sp.N.y : 0.f;
+    Nz[k] = on ? sp.N.z : 0.f;
+    Ax[k] = on ? sp.A.x : 0.f;
+    Ay[k] = on ? sp.A.y : 0.f;
+    Az[k] = on ? sp.A.z : 0.f;
+    Cx[k] = c.x;
+    Cy[k] = c.y;
+    Cz[k] = c.z;
+    spec[k] = on && sp.m ? sp.m->specular : 0.f;
+    shin[k] = on && sp.m ? sp.m->shininess : 0.f;
+  }
   alignas(64) RTCRay16 ray;
   alignas(64) int valid[16];
   OcclusionContext oc;
@@ -204,74 +272,148 @@ void shade_packet(const Scene& scene, const RenderState& I, bool shadows, const 
   const float slack = occlusion_slack(I);
   // The fields that do not depend on the light, once per packet (rtcOccluded16 writes tfar only).
   // Inactive lanes get a harmless ray too (Debian's Embree asserts on all lanes' fields).
+  const vf ex = splat(eye.x), ey = splat(eye.y), ez = splat(eye.z), voff = splat(off);
+  for (int o = 0; o < 16; o += 4) {
+    const vi on = ldi4(act + o);
+    const vf px = ld4(Px + o), py = ld4(Py + o), pz = ld4(Pz + o);
+    // V = normalize(eye - P) = v * (1 / sqrt((x x + y y) + z z)) (glm), O = P + N * off.
+    const vf vx = ex - px, vy = ey - py, vz = ez - pz;
+    const vf iv = splat(1.f) / vsqrt((vx * vx + vy * vy) + vz * vz);
+    st4(Vx + o, vx * iv);
+    st4(Vy + o, vy * iv);
+    st4(Vz + o, vz * iv);
+    const vf zero = splat(0.f);
+    const vf ox = on ? px + ld4(Nx + o) * voff : zero;
+    const vf oy = on ? py + ld4(Ny + o) * voff : zero;
+    const vf oz = on ? pz + ld4(Nz + o) * voff : zero;
+    st4(ray.org_x + o, ox);
+    st4(ray.org_y + o, oy);
+    st4(ray.org_z + o, oz);
+    st4(oc.org_x + o, ox);
+    st4(oc.org_y + o, oy);
+    st4(oc.org_z + o, oz);
+    st4(ray.tnear + o, zero);
+    st4(ray.time + o, zero);
+    st4(oc.tnear + o, zero);
+  }
   for (int k = 0; k < 16; ++k) {
-    const bool on = k < n && hit[k];
-    const float ox = on ? sp[k].O.x : 0.f, oy = on ? sp[k].O.y : 0.f, oz = on ? sp[k].O.z : 0.f;
-    ray.org_x[k] = ox;
-    ray.org_y[k] = oy;
-    ray.org_z[k] = oz;
-    ray.tnear[k] = 0.f;
-    ray.time[k] = 0.f;
     ray.mask[k] = 0xffffffffu;
     ray.id[k] = unsigned(k);
     ray.flags[k] = 0;
-    oc.org[k].x = ox;
-    oc.org[k].y = oy;
-    oc.org[k].z = oz;
-    oc.tnear[k] = 0.f;
   }
-  for (size_t li = 0; li < nl; ++li) {
-    const LightNow& l = I.lights[li];
-    glm::vec3 E[16];
-    float ndl[16];
+  for (const LightNow& l : I.lights) {
+    const bool directional = l.type == Light::Type::Directional;
+    const bool spot = l.type == Light::Type::Spot;
+    const bool test = shadows && l.shadows;
+    alignas(16) float Ex[16], Ey[16], Ez[16], ndl[16];
+    alignas(16) int32_t lit[16];
     int tests = 0;
-    for (int k = 0; k < 16; ++k) {
-      uint8_t st = 0;
-      glm::vec3 L(0.f, 1.f, 0.f);
-      float tfar = kInf;
-      if (k < n && hit[k]) st = uint8_t(light_geom(l, sp[k], shadows, eps, L, E[k], ndl[k], tfar));
-      state[size_t(k) * nl + li] = st;
-      ray.dir_x[k] = L.x;
-      ray.dir_y[k] = L.y;
-      ray.dir_z[k] = L.z;
-      ray.tfar[k] = st == 2 ? tfar + slack : kInf;
-      // Component-wise: a glm::vec3 copy goes through a stack slot whose 8-byte reload waits
-      // for its 4-byte stores (render_trace.cpp's put()).
-      oc.dir[k].x = L.x;
-      oc.dir[k].y = L.y;
-      oc.dir[k].z = L.z;
-      oc.tfar[k] = st == 2 ? tfar : kInf;
-      valid[k] = st == 2 ? -1 : 0;
-      tests += st == 2;
-    }
-    if (tests > 0) {
-      shadow_rays += uint64_t(tests);
-      rtcInitIntersectContext(&oc.ctx);
-      oc.ctx.flags = I.packet_flags;
-      rtcOccluded16(valid, I.top, &oc.ctx, &ray);
-      for (int k = 0; k < n; ++k)
-        if (state[size_t(k) * nl + li] == 2 && ray.tfar[k] < 0.f) state[size_t(k) * nl + li] = 0;
-    }
-    // The BRDF (its powf) only where the light arrives; the same operations as light_term.
-    for (int k = 0; k < n; ++k)
-      if (state[size_t(k) * nl + li]) {
-        const glm::vec3 L(ray.dir_x[k], ray.dir_y[k], ray.dir_z[k]);
-        const glm::vec3 v = light_value(sp[k], L, E[k], ndl[k]);
-        glm::vec3& d = contrib[size_t(k) * nl + li];
-        d.x = v.x;
-        d.y = v.y;
-        d.z = v.z;
+    const vf inf = splat(kInf), zero = splat(0.f), one = splat(1.f);
+    for (int o = 0; o < 16; o += 4) {
+      vi ok = ldi4(act + o);
+      vf lx, ly, lz, e_x, e_y, e_z, tfar;
+      if (directional) {
+        lx = splat(-l.dir.x);
+        ly = splat(-l.dir.y);
+        lz = splat(-l.dir.z);
+        e_x = splat(l.radiance.x);
+        e_y = splat(l.radiance.y);
+        e_z = splat(l.radiance.z);
+        tfar = inf;
+      } else {
+        const vf dx = splat(l.pos.x) - ld4(Px + o), dy = splat(l.pos.y) - ld4(Py + o),
+                 dz = splat(l.pos.z) - ld4(Pz + o);
+        const vf r2 = (dx * dx + dy * dy) + dz * dz;
+        ok &= r2 > zero;
+        const vf dist = vsqrt(r2);
+        lx = dx / dist;
+        ly = dy / dist;
+        lz = dz / dist;
+        e_x = splat(l.radiance.x) / r2;
+        e_y = splat(l.radiance.y) / r2;
+        e_z = splat(l.radiance.z) / r2;
+        if (spot) {
+          // smooth01(cos_outer, cos_inner, dot(-L, dir))
+          const vf x = ((-lx) * splat(l.dir.x) + (-ly) * splat(l.dir.y)) + (-lz) * splat(l.dir.z);
+          vf f;
+          if (l.cos_inner <= l.cos_outer) {
+            f = x >= splat(l.cos_inner) ? one : zero;
+          } else {
+            vf t = (x - splat(l.cos_outer)) / splat(l.cos_inner - l.cos_outer);
+            t = t < zero ? zero : (t > one ? one : t);  // clamp01
+            f = t * t * (splat(3.f) - splat(2.f) * t);
+          }
+          ok &= ~(f <= zero);
+          e_x *= f;
+          e_y *= f;
+          e_z *= f;
+        }
+        // tfar = isinf(dist) ? inf : max(0, dist - 2 eps) (max(0, inf - c) is inf too).
+        const vf y = dist - splat(2.f * eps);
+        tfar = zero < y ? y : zero;
       }
+      const vf nd = (ld4(Nx + o) * lx + ld4(Ny + o) * ly) + ld4(Nz + o) * lz;
+      ok &= ~(nd <= zero);
+      st4(Ex + o, e_x);
+      st4(Ey + o, e_y);
+      st4(Ez + o, e_z);
+      st4(ndl + o, nd);
+      sti4(lit + o, ok);
+      // Lanes the light does not reach keep a harmless direction (light_geom's default).
+      const vf dirx = ok ? lx : zero, diry = ok ? ly : one, dirz = ok ? lz : zero;
+      st4(ray.dir_x + o, dirx);
+      st4(ray.dir_y + o, diry);
+      st4(ray.dir_z + o, dirz);
+      st4(oc.dir_x + o, dirx);
+      st4(oc.dir_y + o, diry);
+      st4(oc.dir_z + o, dirz);
+      const vi sh = test ? ok : vi{0, 0, 0, 0};
+      st4(ray.tfar + o, sh ? tfar + splat(slack) : inf);
+      st4(oc.tfar + o, sh ? tfar : inf);
+      sti4(valid + o, sh);
+    }
+    if (test) {
+      for (int k = 0; k < 16; ++k) tests += valid[k] != 0;
+      if (tests > 0) {
+        shadow_rays += uint64_t(tests);
+        rtcInitIntersectContext(&oc.ctx);
+        oc.ctx.flags = I.packet_flags;
+        rtcOccluded16(valid, I.top, &oc.ctx, &ray);
+        for (int k = 0; k < 16; ++k)
+          if (valid[k] && ray.tfar[k] < 0.f) lit[k] = 0;
+      }
+    }
+    // light_value: brdf = A (+ ks (n.h)^s where the material is specular), times E, times
+    // ndl; added where the light arrives. powf per lane, only where lit and specular.
+    for (int o = 0; o < 16; o += 4) {
+      const vi on = ldi4(lit + o);
+      if (!(on[0] | on[1] | on[2] | on[3])) continue;
+      const vf lx = ld4(ray.dir_x + o), ly = ld4(ray.dir_y + o), lz = ld4(ray.dir_z + o);
+      const vf hx = lx + ld4(Vx + o), hy = ly + ld4(Vy + o), hz = lz + ld4(Vz + o);
+      const vf ih = one / vsqrt((hx * hx + hy * hy) + hz * hz);
+      const vf ndh0 = (ld4(Nx + o) * (hx * ih) + ld4(Ny + o) * (hy * ih)) + ld4(Nz + o) * (hz * ih);
+      const vf ndh = zero < ndh0 ? ndh0 : zero;  // std::max(0, ndh)
+      const vf ks = ld4(spec + o);
+      const vi specular = on & (ks > zero);
+      vf s = zero;
+      for (int j = 0; j < 4; ++j)
+        if (specular[j]) s[j] = ks[j] * std::pow(ndh[j], shin[o + j]);
+      vf bx = ld4(Ax + o), by = ld4(Ay + o), bz = ld4(Az + o);
+      bx = specular ? bx + s : bx;
+      by = specular ? by + s : by;
+      bz = specular ? bz + s : bz;
+      const vf nd = ld4(ndl + o);
+      const vf cx = ld4(Cx + o), cy = ld4(Cy + o), cz = ld4(Cz + o);
+      st4(Cx + o, on ? cx + (bx * ld4(Ex + o)) * nd : cx);
+      st4(Cy + o, on ? cy + (by * ld4(Ey + o)) * nd : cy);
+      st4(Cz + o, on ? cz + (bz * ld4(Ez + o)) * nd : cz);
+    }
   }
   for (int k = 0; k < n; ++k) {
-    glm::vec3 c = col[k];
-    if (hit[k])
-      for (size_t li = 0; li < nl; ++li)
-        if (state[size_t(k) * nl + li]) c += contrib[size_t(k) * nl + li];
     float* o = out + idx[k] * 3;
-    o[0] = c.x;
-    o[1] = c.y;
-    o[2] = c.z;
+    o[0] = Cx[k];
+    o[1] = Cy[k];
+    o[2] = Cz[k];
   }
 }
 

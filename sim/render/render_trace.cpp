@@ -1,7 +1,10 @@
 // Primary rays (docs/architecture.md §4): Embree 4x4 packets (rtcIntersect16; coherent flag on
 // static scenes, incoherent on instanced ones, see renderer.cpp), one tile at a time; tiles run in
 // parallel with TBB. Every pixel is computed independently, so results are identical at any
-// thread count. Hit distance and barycentrics are recomputed portably (refine_hit). A packet's
+// thread count. Hit distance and barycentrics are recomputed portably (refine_hit). Ray
+// generation, and for the common hits (static, uvs, no normal map) refinement, normals, uvs and
+// footprints, run several lanes of a packet at a time with the per-sample code's operations
+// (SampleWriter::gather / refine / finish; other hits take SampleWriter::hit). A packet's
 // samples are staged and copied to the G-buffer row by row (Packet::flush). Performance
 // against Embree's own packet rate: bench/README.md.
 #include <tbb/parallel_for.h>
@@ -75,6 +78,43 @@ inline void put(glm::vec2& d, const glm::vec2& s) {
   d.y = s.y;
 }
 
+// 4 floats (SSE2, the x86-64 baseline): +, -, *, / and sqrt are the scalar code's IEEE
+// operations lane by lane, comparisons give lane masks (false on NaN, as in C++), `m ? a : b`
+// selects per lane. The portable build has no FMA, so nothing is contracted.
+typedef float vf __attribute__((vector_size(16)));
+typedef int32_t vi __attribute__((vector_size(16)));
+inline vf ld4(const float* p) {
+  vf v;
+  __builtin_memcpy(&v, p, sizeof v);
+  return v;
+}
+inline void st4(float* p, vf v) {
+  __builtin_memcpy(p, &v, sizeof v);
+}
+inline vf splat(float x) {
+  return vf{x, x, x, x};
+}
+inline vf vsqrt(vf x) {
+  return __builtin_ia32_sqrtps(x);
+}
+inline vf vabs(vf x) {  // std::fabs: clears the sign bit
+  return (vf)((vi)x & vi{0x7fffffff, 0x7fffffff, 0x7fffffff, 0x7fffffff});
+}
+
+// Hits of a packet on the common path (SampleWriter::gather / finish): static objects with
+// per-vertex uvs and no normal map. Per-component arrays, lane j = the j-th such hit.
+struct FastLanes {
+  int m = 0;
+  int slot[16];  // staging slot (packet lane)
+  int tex[16];   // index into the packet's deferred texture inputs, or -1
+  alignas(16) float t[16], bu[16], bv[16], dx[16], dy[16], dz[16], cone[16], hasn[16];
+  alignas(16) float p0x[16], p0y[16], p0z[16], p1x[16], p1y[16], p1z[16], p2x[16], p2y[16], p2z[16];
+  alignas(16) float n0x[16], n0y[16], n0z[16], n1x[16], n1y[16], n1z[16], n2x[16], n2y[16], n2z[16];
+  alignas(16) float u0x[16], u0y[16], u1x[16], u1y[16], u2x[16], u2y[16];
+  // Results.
+  alignas(16) float Px[16], Py[16], Pz[16], Nx[16], Ny[16], Nz[16], U[16], V[16], fw[16];
+};
+
 struct SampleWriter {
   const Scene& scene;
   const RenderState& I;
@@ -141,6 +181,216 @@ struct SampleWriter {
     return lr > 0.f && std::isfinite(lr) ? r / lr : n;
   }
 
+  // A sample's texture inputs, for a packet's texture loop after its geometry (hit(), finish()).
+  struct Deferred {
+    glm::vec2 uv;
+    int mat;
+    float fw;
+  };
+
+  // Whether a packet's hits may take the common path (gather / finish): the channels it writes
+  // (not kMotion), and at least one that needs the surface attributes.
+  bool fast_channels() const {
+    return !(ch & kMotion) && (ch & (kNormal | kAlbedo | kUV | kFootprint));
+  }
+  // Whether the hit takes the common path: a static object, per-vertex uvs, no normal map.
+  bool fast_hit(int obj, uint32_t prim, const Mesh*& mesh, int& mat) const {
+    const Object& o = scene.objects[size_t(obj)];
+    const Mesh& m = scene.meshes[size_t(o.mesh)];
+    mesh = &m;
+    mat = m.tri_material.empty() ? m.material : m.tri_material[prim];
+    if (I.objs[size_t(obj)].dynamic || m.uvs.empty()) return false;
+    const Material& mt = scene.materials[size_t(mat)];
+    return !(mt.normal_image >= 0 && size_t(mt.normal_image) < scene.images.size());
+  }
+  // The scalar part of hit() for a common-path lane: object, sub-model, material, and Embree's
+  // hit and the triangle's vertices, normals and uvs into F; finish() does the rest.
+  void gather(FastLanes& F, GBuffer& g, int slot, const glm::vec3& org, const glm::vec3& dir,
+              float t, int obj, uint32_t prim, float bu, float bv, float cone, const Mesh& m,
+              int mat, int tex) const {
+    (void)org;
+    const size_t i = size_t(slot);
+    const RenderState::Obj& ob = I.objs[size_t(obj)];
+    if (ch & kObjectId) g.object_id[i] = obj;
+    if (ch & kSubModel) g.submodel[i] = ob.tri_sub.empty() ? -1 : ob.tri_sub[prim];
+    if (ch & kMaterial) g.material[i] = mat;
+    const glm::uvec3 tri = m.triangles[prim];
+    const int j = F.m++;
+    F.slot[j] = slot;
+    F.tex[j] = tex;
+    F.t[j] = t;
+    F.bu[j] = bu;
+    F.bv[j] = bv;
+    F.dx[j] = dir.x;
+    F.dy[j] = dir.y;
+    F.dz[j] = dir.z;
+    F.cone[j] = cone;
+    const glm::vec3 &p0 = ob.pos[tri.x], &p1 = ob.pos[tri.y], &p2 = ob.pos[tri.z];
+    F.p0x[j] = p0.x;
+    F.p0y[j] = p0.y;
+    F.p0z[j] = p0.z;
+    F.p1x[j] = p1.x;
+    F.p1y[j] = p1.y;
+    F.p1z[j] = p1.z;
+    F.p2x[j] = p2.x;
+    F.p2y[j] = p2.y;
+    F.p2z[j] = p2.z;
+    const bool hasn = !ob.nrm.empty();
+    F.hasn[j] = hasn ? 1.f : 0.f;
+    const glm::vec3 z(0.f);
+    const glm::vec3 &n0 = hasn ? ob.nrm[tri.x] : z, &n1 = hasn ? ob.nrm[tri.y] : z,
+                    &n2 = hasn ? ob.nrm[tri.z] : z;
+    F.n0x[j] = n0.x;
+    F.n0y[j] = n0.y;
+    F.n0z[j] = n0.z;
+    F.n1x[j] = n1.x;
+    F.n1y[j] = n1.y;
+    F.n1z[j] = n1.z;
+    F.n2x[j] = n2.x;
+    F.n2y[j] = n2.y;
+    F.n2z[j] = n2.z;
+    const glm::vec2 &u0 = m.uvs[tri.x], &u1 = m.uvs[tri.y], &u2 = m.uvs[tri.z];
+    F.u0x[j] = u0.x;
+    F.u0y[j] = u0.y;
+    F.u1x[j] = u1.x;
+    F.u1y[j] = u1.y;
+    F.u2x[j] = u2.x;
+    F.u2y[j] = u2.y;
+  }
+  // refine_hit for the common-path lanes (static: world space), two lanes at a time in double
+  // (SSE2, refine_hit's operations in its order): F.t, F.bu, F.bv become the refined values,
+  // or stay Embree's where refine_hit keeps them (degenerate determinant, t < 0 or not finite).
+  static void refine(FastLanes& F, const glm::vec3& org) {
+    typedef double vd __attribute__((vector_size(16)));
+    typedef int64_t vl __attribute__((vector_size(16)));
+    auto two = [](const float* a, int o) { return vd{double(a[o]), double(a[o + 1])}; };
+    auto sp = [](double v) { return vd{v, v}; };
+    auto vabs = [](vd x) { return (vd)((vl)x & vl{0x7fffffffffffffffll, 0x7fffffffffffffffll}); };
+    const vd zero = sp(0.0), one = sp(1.0);
+    const vd ox = sp(double(org.x)), oy = sp(double(org.y)), oz = sp(double(org.z));
+    for (int o = 0; o < F.m; o += 2) {
+      const vd dx = two(F.dx, o), dy = two(F.dy, o), dz = two(F.dz, o);
+      const vd p0x = two(F.p0x, o), p0y = two(F.p0y, o), p0z = two(F.p0z, o);
+      const vd e1x = two(F.p1x, o) - p0x, e1y = two(F.p1y, o) - p0y, e1z = two(F.p1z, o) - p0z;
+      const vd e2x = two(F.p2x, o) - p0x, e2y = two(F.p2y, o) - p0y, e2z = two(F.p2z, o) - p0z;
+      // pv = cross(d, e2), det = dot(e1, pv)
+      const vd pvx = dy * e2z - e2y * dz, pvy = dz * e2x - e2z * dx, pvz = dx * e2y - e2x * dy;
+      const vd det = (e1x * pvx + e1y * pvy) + e1z * pvz;
+      const vd inv_det = one / det;
+      // tv = o - p0, qv = cross(tv, e1)
+      const vd tx = ox - p0x, ty = oy - p0y, tz = oz - p0z;
+      const vd qx = ty * e1z - e1y * tz, qy = tz * e1x - e1z * tx, qz = tx * e1y - e1x * ty;
+      vd uu = ((tx * pvx + ty * pvy) + tz * pvz) * inv_det;
+      uu = uu < zero ? zero : (one < uu ? one : uu);  // std::clamp(uu, 0, 1)
+      const vd hi = one - uu;
+      vd vv = ((dx * qx + dy * qy) + dz * qz) * inv_det;
+      vv = vv < zero ? zero : (hi < vv ? hi : vv);  // std::clamp(vv, 0, 1 - uu)
+      const vd tt = ((e2x * qx + e2y * qy) + e2z * qz) * inv_det;
+      const vl ok = (vabs(det) > sp(1e-300)) & (tt >= zero) & (vabs(tt) < sp(HUGE_VAL));
+      for (int j = 0; j < 2; ++j)
+        if (ok[j]) {
+          F.t[o + j] = float(tt[j]);
+          F.bu[o + j] = float(uu[j]);
+          F.bv[o + j] = float(vv[j]);
+        }
+    }
+  }
+
+  // hit()'s float part for the common-path lanes, 4 at a time with hit()'s and footprint()'s
+  // operations in their order (static objects: world space, ngw = ng, a_world = a_own = |ng|,
+  // the same cross product; nv the same dot product as dot(ng, dir)). Lanes past F.m compute
+  // throw-away values (their inputs are zero-filled) that are never stored.
+  void finish(FastLanes& F, GBuffer& g, const glm::vec3& org, Deferred* tex) const {
+    for (int j = F.m; j < (F.m + 3) / 4 * 4; ++j) {
+      F.t[j] = F.bu[j] = F.bv[j] = F.dx[j] = F.dy[j] = F.dz[j] = F.cone[j] = F.hasn[j] = 0.f;
+      F.p0x[j] = F.p0y[j] = F.p0z[j] = F.p1x[j] = F.p1y[j] = F.p1z[j] = 0.f;
+      F.p2x[j] = F.p2y[j] = F.p2z[j] = F.n0x[j] = F.n0y[j] = F.n0z[j] = 0.f;
+      F.n1x[j] = F.n1y[j] = F.n1z[j] = F.n2x[j] = F.n2y[j] = F.n2z[j] = 0.f;
+      F.u0x[j] = F.u0y[j] = F.u1x[j] = F.u1y[j] = F.u2x[j] = F.u2y[j] = 0.f;
+    }
+    refine(F, org);
+    for (int j = 0; j < F.m; ++j) g.depth[size_t(F.slot[j])] = F.t[j];
+    const vf zero = splat(0.f), one = splat(1.f);
+    for (int o = 0; o < F.m; o += 4) {
+      const vf t = ld4(F.t + o), bu = ld4(F.bu + o), bv = ld4(F.bv + o);
+      const vf dx = ld4(F.dx + o), dy = ld4(F.dy + o), dz = ld4(F.dz + o);
+      // P = org + t * dir
+      st4(F.Px + o, splat(org.x) + t * dx);
+      st4(F.Py + o, splat(org.y) + t * dy);
+      st4(F.Pz + o, splat(org.z) + t * dz);
+      const vf bw = (one - bu) - bv;
+      // ng = cross(p1 - p0, p2 - p0)
+      const vf p0x = ld4(F.p0x + o), p0y = ld4(F.p0y + o), p0z = ld4(F.p0z + o);
+      const vf e1x = ld4(F.p1x + o) - p0x, e1y = ld4(F.p1y + o) - p0y, e1z = ld4(F.p1z + o) - p0z;
+      const vf e2x = ld4(F.p2x + o) - p0x, e2y = ld4(F.p2y + o) - p0y, e2z = ld4(F.p2z + o) - p0z;
+      vf gx = e1y * e2z - e2y * e1z, gy = e1z * e2x - e2z * e1x, gz = e1x * e2y - e2x * e1y;
+      // uv = bw uv0 + bu uv1 + bv uv2
+      const vf u0x = ld4(F.u0x + o), u0y = ld4(F.u0y + o), u1x = ld4(F.u1x + o),
+               u1y = ld4(F.u1y + o), u2x = ld4(F.u2x + o), u2y = ld4(F.u2y + o);
+      st4(F.U + o, (bw * u0x + bu * u1x) + bv * u2x);
+      st4(F.V + o, (bw * u0y + bu * u1y) + bv * u2y);
+      // footprint(): cone > 0, ln = |ng| > 0, cosn = max(1e-3, |ng . dir| / ln),
+      // density = sqrt(|uv area| / a_world), fw = t cone / sqrt(cosn) density, finite or 0.
+      const vf cone = ld4(F.cone + o);
+      const vf ln = vsqrt((gx * gx + gy * gy) + gz * gz);
+      const vf gd = (gx * dx + gy * dy) + gz * dz;
+      vf cosn = vabs(gd) / ln;
+      cosn = splat(1e-3f) < cosn ? cosn : splat(1e-3f);
+      const vf a1x = u1x - u0x, a1y = u1y - u0y, a2x = u2x - u0x, a2y = u2y - u0y;
+      const vf density = vsqrt(vabs(a1x * a2y - a1y * a2x) / ln);
+      vf fw = t * cone / vsqrt(cosn) * density;
+      fw = vabs(fw) < splat(kInf) ? fw : zero;
+      fw = (cone > zero) & (ln > zero) ? fw : zero;
+      st4(F.fw + o, fw);
+      // Normal: interpolated (or ng), facing the viewer, normalised, bent past the
+      // view-perpendicular.
+      const vi hasn = ld4(F.hasn + o) > zero;
+      vf nx = (bw * ld4(F.n0x + o) + bu * ld4(F.n1x + o)) + bv * ld4(F.n2x + o);
+      vf ny = (bw * ld4(F.n0y + o) + bu * ld4(F.n1y + o)) + bv * ld4(F.n2y + o);
+      vf nz = (bw * ld4(F.n0z + o) + bu * ld4(F.n1z + o)) + bv * ld4(F.n2z + o);
+      nx = hasn ? nx : gx;
+      ny = hasn ? ny : gy;
+      nz = hasn ? nz : gz;
+      const vi away = gd > zero;
+      gx = away ? -gx : gx;
+      gy = away ? -gy : gy;
+      gz = away ? -gz : gz;
+      const vi flip = (nx * gx + ny * gy) + nz * gz < zero;
+      nx = flip ? -nx : nx;
+      ny = flip ? -ny : ny;
+      nz = flip ? -nz : nz;
+      vf l = vsqrt((nx * nx + ny * ny) + nz * nz);
+      const vi zl = ~(l > zero);
+      nx = zl ? gx : nx;
+      ny = zl ? gy : ny;
+      nz = zl ? gz : nz;
+      l = zl ? vsqrt((nx * nx + ny * ny) + nz * nz) : l;
+      const vi pos = l > zero;
+      nx = pos ? nx / l : -dx;
+      ny = pos ? ny / l : -dy;
+      nz = pos ? nz / l : -dz;
+      const vf nv = (nx * dx + ny * dy) + nz * dz;
+      const vi bend = nv > zero;
+      const vf k = nv + splat(1e-3f);
+      const vf mx = nx - dx * k, my = ny - dy * k, mz = nz - dz * k;
+      const vf im = one / vsqrt((mx * mx + my * my) + mz * mz);
+      st4(F.Nx + o, bend ? mx * im : nx);
+      st4(F.Ny + o, bend ? my * im : ny);
+      st4(F.Nz + o, bend ? mz * im : nz);
+    }
+    for (int j = 0; j < F.m; ++j) {
+      const size_t i = size_t(F.slot[j]);
+      if (ch & kPosition) put(g.position[i], glm::vec3(F.Px[j], F.Py[j], F.Pz[j]));
+      if (ch & kUV) put(g.uv[i], glm::vec2(F.U[j], F.V[j]));
+      if (ch & kFootprint) g.footprint[i] = F.fw[j];
+      if (ch & kNormal) put(g.normal[i], glm::vec3(F.Nx[j], F.Ny[j], F.Nz[j]));
+      if (F.tex[j] >= 0) {
+        tex[F.tex[j]].uv = glm::vec2(F.U[j], F.V[j]);
+        tex[F.tex[j]].fw = F.fw[j];
+      }
+    }
+  }
+
   void miss(GBuffer& g, size_t i) const {
     g.depth[i] = kInf;
     if (ch & kPosition) g.position[i] = glm::vec3(0.f);
@@ -156,11 +406,6 @@ struct SampleWriter {
 
   // With `deferred` (a packet's pass), the albedo is not evaluated here: the texture inputs
   // go to deferred->uv / mat and the caller runs eval_albedo for the packet afterwards.
-  struct Deferred {
-    glm::vec2 uv;
-    int mat;
-    float fw;
-  };
   // `cone`: the sample's ray-cone width in radians (its angular spacing, see cone_width), for
   // the texture footprint.
   void hit(GBuffer& g, size_t i, const glm::vec3& org, const glm::vec3& dir, float t, int obj,
@@ -324,9 +569,13 @@ struct Packet {
     rtcIntersect16(valid, I.top, &ctx, &rh);
     // Geometry of every lane first, then the packet's textures (libm sin/cos calls) in a loop
     // of their own; each sample's operations are unchanged.
+    // Hits on the common path (static, uvs, no normal map) go through gather / finish (the
+    // same operations, 4 lanes at a time), the others through hit().
     SampleWriter::Deferred tex[16];
     int hits[16], nh = 0;
     const bool albedo = (w.ch & kAlbedo) != 0;
+    const bool fast = w.fast_channels();
+    FastLanes F;
     for (int k = 0; k < n; ++k) {
       if (rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) {
         w.miss(st, size_t(k));
@@ -335,11 +584,22 @@ struct Packet {
       RTCHit h;
       h.geomID = rh.hit.geomID[k];
       h.instID[0] = rh.hit.instID[0][k];
+      const int obj = hit_object(I, h);
+      const uint32_t prim = rh.hit.primID[k];
       glm::vec3 d(rh.ray.dir_x[k], rh.ray.dir_y[k], rh.ray.dir_z[k]);
-      w.hit(st, size_t(k), o, d, rh.ray.tfar[k], hit_object(I, h), rh.hit.primID[k], rh.hit.u[k],
-            rh.hit.v[k], px[k], cone[k], albedo ? &tex[nh] : nullptr);
+      const Mesh* mesh = nullptr;
+      int mat = 0;
+      if (fast && w.fast_hit(obj, prim, mesh, mat)) {
+        if (albedo) tex[nh].mat = mat;
+        w.gather(F, st, k, o, d, rh.ray.tfar[k], obj, prim, rh.hit.u[k], rh.hit.v[k], cone[k],
+                 *mesh, mat, albedo ? nh : -1);
+      } else {
+        w.hit(st, size_t(k), o, d, rh.ray.tfar[k], obj, prim, rh.hit.u[k], rh.hit.v[k], px[k],
+              cone[k], albedo ? &tex[nh] : nullptr);
+      }
       hits[nh++] = k;
     }
+    if (F.m > 0) w.finish(F, st, o, tex);
     if (albedo)
       for (int j = 0; j < nh; ++j) w.albedo(st, size_t(hits[j]), tex[j].uv, tex[j].mat, tex[j].fw);
   }
@@ -449,10 +709,47 @@ PointPacketTracer::PointPacketTracer(const Scene& scene, const RenderState& I, c
 PointPacketTracer::~PointPacketTracer() = default;
 PointPacketTracer::PointPacketTracer(PointPacketTracer&&) noexcept = default;
 
+// The packet's rays as add_point computes them (Camera::dir_head, R * dh, cone_width), two
+// lanes at a time in double (SSE2: the same IEEE operations per lane in the same order; the
+// normalisation's z * z is (-1) * (-1) = 1 exactly, and -dh.z = s).
+typedef double vd __attribute__((vector_size(16)));
+
 const GBuffer& PointPacketTracer::trace(const glm::vec2* pts, int n) {
   Impl& m = *p_;
   m.pk.reset();
-  for (int k = 0; k < n; ++k) add_point(m.pk, m.cam, m.R, m.org, m.cone_s, pts[k], size_t(k));
+  const Camera& c = m.cam;
+  const glm::dmat3& R = m.R;
+  alignas(16) double px[16], py[16], dx[16], dy[16], dz[16], cs[16];
+  for (int k = 0; k < n; ++k) {
+    px[k] = double(pts[k].x);
+    py[k] = double(pts[k].y);
+  }
+  if (n & 1) px[n] = py[n] = 0.5;  // a throw-away lane
+  const vd one = {1.0, 1.0}, two = {2.0, 2.0};
+  const vd W = {double(c.width), double(c.width)}, H = {double(c.height), double(c.height)};
+  const vd th = {c.tan_half_h, c.tan_half_h}, tv = {c.tan_half_v, c.tan_half_v};
+  const vd cone_s = {m.cone_s, m.cone_s};
+  auto sp = [](double v) { return vd{v, v}; };
+  for (int k = 0; k < n; k += 2) {
+    vd x, y;
+    __builtin_memcpy(&x, px + k, sizeof x);
+    __builtin_memcpy(&y, py + k, sizeof y);
+    x = (two * x / W - one) * th;
+    y = (one - two * y / H) * tv;
+    const vd s = one / __builtin_ia32_sqrtpd((x * x + y * y) + one);
+    const vd hx = x * s, hy = y * s, hz = -s;
+    const vd ox = (sp(R[0][0]) * hx + sp(R[1][0]) * hy) + sp(R[2][0]) * hz;
+    const vd oy = (sp(R[0][1]) * hx + sp(R[1][1]) * hy) + sp(R[2][1]) * hz;
+    const vd oz = (sp(R[0][2]) * hx + sp(R[1][2]) * hy) + sp(R[2][2]) * hz;
+    const vd cw = cone_s * s * __builtin_ia32_sqrtpd(s);
+    __builtin_memcpy(dx + k, &ox, sizeof ox);
+    __builtin_memcpy(dy + k, &oy, sizeof oy);
+    __builtin_memcpy(dz + k, &oz, sizeof oz);
+    __builtin_memcpy(cs + k, &cw, sizeof cw);
+  }
+  for (int k = 0; k < n; ++k)
+    m.pk.add(m.org, glm::vec3(float(dx[k]), float(dy[k]), float(dz[k])), size_t(k), pts[k],
+             float(cs[k]));
   if (n > 0) m.pk.stage(m.I, m.w, m.org);
   m.pk.reset();
   return m.pk.st;
@@ -471,8 +768,8 @@ void Renderer::trace_gbuffer(const Camera& cam, uint32_t channels, GBuffer& out,
   // Camera::dir_head's terms per column and row (same operations, so the same bits).
   // Their squares too: glm::normalize(v) is v * (1 / sqrt((v.x*v.x + v.y*v.y) + v.z*v.z)), so
   // (hx2 + hy2) + 1.0 below is the same sum, operation for operation.
-  std::vector<double> hx(size_t(cam.width)), hy(size_t(cam.height));
-  std::vector<double> hx2(size_t(cam.width)), hy2(size_t(cam.height));
+  std::vector<double> hx(size_t(cam.width) + 1, 0.0), hy(size_t(cam.height));
+  std::vector<double> hx2(size_t(cam.width) + 1, 0.0), hy2(size_t(cam.height));
   for (int x = 0; x < cam.width; ++x) {
     hx[size_t(x)] = (2.0 * (x + 0.5) / cam.width - 1.0) * cam.tan_half_h;
     hx2[size_t(x)] = hx[size_t(x)] * hx[size_t(x)];
@@ -483,6 +780,11 @@ void Renderer::trace_gbuffer(const Camera& cam, uint32_t channels, GBuffer& out,
   }
   SampleWriter w{scene_, I, prev, channels};
   const double cone1 = cone_scale(cam, 1.f);
+  auto sp = [](double v) { return vd{v, v}; };
+  const vd one = sp(1.0), cone1v = sp(cone1);
+  const vd R00 = sp(R[0][0]), R10 = sp(R[1][0]), R20 = sp(R[2][0]);
+  const vd R01 = sp(R[0][1]), R11 = sp(R[1][1]), R21 = sp(R[2][1]);
+  const vd R02 = sp(R[0][2]), R12 = sp(R[1][2]), R22 = sp(R[2][2]);
   tbb::parallel_for(
       tbb::blocked_range<int>(0, tx * ty, 1),
       [&](const tbb::blocked_range<int>& r) {
@@ -492,14 +794,36 @@ void Renderer::trace_gbuffer(const Camera& cam, uint32_t channels, GBuffer& out,
           const int x1 = std::min(x0 + T, cam.width), y1 = std::min(y0 + T, cam.height);
           for (int by = y0; by < y1; by += 4)
             for (int bx = x0; bx < x1; bx += 4) {
-              for (int y = by; y < std::min(by + 4, y1); ++y)
-                for (int x = bx; x < std::min(bx + 4, x1); ++x) {
-                  // == Camera::dir_world(x + 0.5, y + 0.5)
-                  const double s = 1.0 / std::sqrt((hx2[size_t(x)] + hy2[size_t(y)]) + 1.0);
-                  const glm::dvec3 d = R * glm::dvec3(hx[size_t(x)] * s, hy[size_t(y)] * s, -s);
-                  pk.add(org, glm::vec3(d), size_t(y) * size_t(cam.width) + size_t(x),
-                         glm::vec2(float(x) + 0.5f, float(y) + 0.5f), cone_width(cone1, s));
+              for (int y = by; y < std::min(by + 4, y1); ++y) {
+                // == Camera::dir_world(x + 0.5, y + 0.5) and cone_width(cone1, s), two pixels
+                // at a time in double (SSE2, the same operations per lane; hx, hx2 are padded
+                // so the pair past the right edge reads valid, unused values).
+                const int xe = std::min(bx + 4, x1);
+                const vd hyv = sp(hy[size_t(y)]), hy2v = sp(hy2[size_t(y)]);
+                alignas(16) double dx[4], dy[4], dz[4], cw[4];
+                for (int x = bx; x < xe; x += 2) {
+                  vd hxv, hx2v;
+                  __builtin_memcpy(&hxv, &hx[size_t(x)], sizeof hxv);
+                  __builtin_memcpy(&hx2v, &hx2[size_t(x)], sizeof hx2v);
+                  const vd s = one / __builtin_ia32_sqrtpd((hx2v + hy2v) + one);
+                  const vd ux = hxv * s, uy = hyv * s, uz = -s;
+                  const vd ox = (R00 * ux + R10 * uy) + R20 * uz;
+                  const vd oy = (R01 * ux + R11 * uy) + R21 * uz;
+                  const vd oz = (R02 * ux + R12 * uy) + R22 * uz;
+                  const vd c = cone1v * s * __builtin_ia32_sqrtpd(s);
+                  const int j = x - bx;
+                  __builtin_memcpy(dx + j, &ox, sizeof ox);
+                  __builtin_memcpy(dy + j, &oy, sizeof oy);
+                  __builtin_memcpy(dz + j, &oz, sizeof oz);
+                  __builtin_memcpy(cw + j, &c, sizeof c);
                 }
+                for (int x = bx; x < xe; ++x) {
+                  const int j = x - bx;
+                  pk.add(org, glm::vec3(float(dx[j]), float(dy[j]), float(dz[j])),
+                         size_t(y) * size_t(cam.width) + size_t(x),
+                         glm::vec2(float(x) + 0.5f, float(y) + 0.5f), float(cw[j]));
+                }
+              }
               pk.trace(I, w, org, out);
             }
         }

@@ -47,6 +47,7 @@ void attach_mesh(RTCDevice dev, RTCScene sc, const std::vector<glm::vec3>& pos, 
   rtcSetGeometryOccludedFilterFunction(g, occlusion_filter);
   bool cutout = scene.materials[size_t(m.material)].cutout();
   for (int mi : m.tri_material) cutout = cutout || scene.materials[size_t(mi)].cutout();
+  user->cutout = cutout;
   if (cutout) rtcSetGeometryIntersectFilterFunction(g, alpha_filter);
   rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, pos.data(), 0,
                              sizeof(glm::vec3), pos.size() - 1);
