@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <cstdlib>
@@ -29,6 +30,10 @@ constexpr char kEnd[8] = {'F', 'O', 'V', 'S', 'I', 'M', 'E', 'N'};
 constexpr int kFormat = 1;
 constexpr size_t kMaxWarnings = 20;
 constexpr const char* kExt = ".fce";
+
+// Temporaries of every DiskCache of this process get distinct numbers (two caches on one
+// folder in one process never open the same name).
+std::atomic<uint64_t> g_tmp_counter{0};
 
 std::string host_name() {
   char h[256] = {0};
@@ -255,7 +260,7 @@ void DiskCache::put(const std::string& key, const CacheItem& item) {
   }
   const std::string tmp =
       (folder / (".tmp." + host_name() + "." + std::to_string(::getpid()) + "." +
-                 std::to_string(tmp_counter_++) + "." + fs::path(path).filename().string()))
+                 std::to_string(g_tmp_counter++) + "." + fs::path(path).filename().string()))
           .string();
   int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
   if (fd < 0) {

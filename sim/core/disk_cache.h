@@ -95,7 +95,6 @@ class DiskCache {
   uint64_t since_trim_ = 0;  // bytes written since the last trim
   bool trimmed_ = false;
   bool write_disabled_ = false;  // after a failure to create the folder
-  uint64_t tmp_counter_ = 0;
   DiskCacheStats stats_;
   std::vector<std::string> warnings_;
   int dropped_ = 0;
