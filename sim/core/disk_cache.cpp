@@ -92,6 +92,12 @@ const std::vector<float>* CacheItem::array(const std::string& name) const {
   return nullptr;
 }
 
+std::vector<float>* CacheItem::array(const std::string& name) {
+  for (auto& [n, v] : arrays)
+    if (n == name) return &v;
+  return nullptr;
+}
+
 uint64_t CacheItem::payload_bytes() const {
   uint64_t b = 0;
   for (auto& a : arrays) b += a.second.size() * sizeof(float);

@@ -38,6 +38,7 @@ struct CacheItem {
   std::vector<std::pair<std::string, std::vector<float>>> arrays;
   // The array called `name`, or nullptr.
   const std::vector<float>* array(const std::string& name) const;
+  std::vector<float>* array(const std::string& name);
   uint64_t payload_bytes() const;
 };
 

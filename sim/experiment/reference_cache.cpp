@@ -80,14 +80,14 @@ bool ReferenceCache::load(const std::string& key, int width, int height, FrameRe
   std::optional<CacheItem> item = disk_.get(key);
   if (!item) return false;
   const size_t n = size_t(width) * size_t(height) * 3;
-  const std::vector<float>* ref = item->array("reference");
-  const std::vector<float>* dir = item->array("direct");
-  const std::vector<float>* ind = item->array("all_indirect");
+  std::vector<float>* ref = item->array("reference");
+  std::vector<float>* dir = item->array("direct");
+  std::vector<float>* ind = item->array("all_indirect");
   const Json& c = item->meta.contains("counters") ? item->meta["counters"] : Json();
   // Sizes follow from the key (the camera); checked anyway, so a wrong entry is a miss.
   auto fits = [&](const std::vector<float>* v) { return !v || v->empty() || v->size() == n; };
   if (!ref || ref->size() != n || !fits(dir) || !fits(ind) || !c.is_array()) return false;
-  auto image = [&](const std::vector<float>* v, Image& im) {
+  auto image = [&](std::vector<float>* v, Image& im) {
     if (!v || v->empty()) {
       im = Image();
       return;
@@ -95,7 +95,7 @@ bool ReferenceCache::load(const std::string& key, int width, int height, FrameRe
     im.width = width;
     im.height = height;
     im.channels = 3;
-    im.data = *v;
+    im.data = std::move(*v);
   };
   image(ref, out.reference);
   image(dir, out.direct);

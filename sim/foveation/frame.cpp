@@ -1,6 +1,7 @@
 #include "sim/foveation/frame.h"
 
 #include <algorithm>
+#include <utility>
 
 namespace fovsim {
 
@@ -24,8 +25,7 @@ FrameReference frame_reference_of(const FrameData& fd) {
 }
 
 void prepare_frame(const Renderer& r, const Display& d, const TraceSample& s, int frame,
-                   uint32_t channels, const Camera* prev, FrameData& out,
-                   const FrameReference* cached) {
+                   uint32_t channels, const Camera* prev, FrameData& out, FrameReference* cached) {
   out.frame = frame;
   out.t = s.t;
   out.camera = Camera::from_pose(d, s.head_pos, s.head_rot);
@@ -43,19 +43,20 @@ void prepare_frame(const Renderer& r, const Display& d, const TraceSample& s, in
   if (cached) {
     // The VPL set is rebuilt (the methods' strategies select from it; cheap next to shading
     // all of it at every pixel, which `cached` holds).
-    out.reference = cached->reference;
-    out.direct = cached->direct;
+    std::swap(out.reference, cached->reference);
+    std::swap(out.direct, cached->direct);
     if (out.has_vpls) {
       build_frame_vpls(r, out.vpls, nullptr);
       if (!cached->all_indirect.data.empty()) {
-        out.vpls.all_indirect = cached->all_indirect;
+        std::swap(out.vpls.all_indirect, cached->all_indirect);
         out.vpls.all_indirect_of = &out.gbuffer;
       } else {
         out.vpls.all_indirect = Image();
         out.vpls.all_indirect_of = nullptr;
       }
     }
-    out.counters = cached->counters;  // those of the pass that computed it (the same passes)
+    std::swap(out.counters,
+              cached->counters);  // those of the pass that computed it (the same passes)
   } else if (!out.has_vpls && !supersampled) {
     r.shade(out.gbuffer, out.camera.position, out.reference, nullptr, &out.counters);
   } else {

@@ -44,10 +44,11 @@ FrameReference frame_reference_of(const FrameData& fd);
 // nullptr). The renderer's time must already be set to s.t.
 // `cached` (optional): the frame's FrameReference from an earlier run with the same inputs;
 // then only the G-buffer, the VPL set and the eccentricity map are computed and the rest is
-// taken from it: the same FrameData, bit for bit (tests/experiment/reference_cache_test.cpp).
+// moved from it (it is left empty): the same FrameData, bit for bit
+// (tests/experiment/reference_cache_test.cpp).
 void prepare_frame(const Renderer& r, const Display& d, const TraceSample& s, int frame,
                    uint32_t channels, const Camera* prev, FrameData& out,
-                   const FrameReference* cached = nullptr);
+                   FrameReference* cached = nullptr);
 
 // Gaze pixel of a head-space gaze direction (may be outside the screen; a direction behind
 // the eye maps far outside, at +-1e6).
