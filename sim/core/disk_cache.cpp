@@ -168,12 +168,9 @@ std::optional<CacheItem> DiskCache::get(const std::string& key) {
     ::close(fd);
     return ignore("is not a regular file");
   }
+  // No bound from the cap here: a cap lowered since an entry was written still reads it (the
+  // next write's trim removes it). The size is the file's, in a folder the cache owns.
   const uint64_t size = uint64_t(st.st_size);
-  // A file larger than the cap was never written by a DiskCache with this cap.
-  if (size > max_bytes_ + (uint64_t(1) << 20)) {
-    ::close(fd);
-    return ignore("is larger than the cache's size cap");
-  }
   std::string buf(size, '\0');
   size_t got = 0;
   while (got < size) {
