@@ -844,9 +844,17 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
   for (auto& c : cells) channels |= c->channels;
   Renderer renderer(*sh.scene, sh.rs);
   std::unique_ptr<ReferenceCache> rcache;
-  if (opt.use_cache && sh.cache.enabled)
-    rcache = std::make_unique<ReferenceCache>(sh.cache, *sh.scene, sh.scene_config, sh.sim_display,
-                                              sh.rs);
+  std::string no_cache_dir;  // the cache is on but has no folder (a warning, not an error)
+  if (opt.use_cache && sh.cache.enabled) {
+    if (sh.cache.dir.empty()) sh.cache.dir = default_cache_dir();
+    if (sh.cache.dir.empty())
+      no_cache_dir =
+          "reference cache: no folder (cache.dir, FOVSIM_CACHE_DIR, XDG_CACHE_HOME and HOME are "
+          "unset): not used";
+    else
+      rcache = std::make_unique<ReferenceCache>(sh.cache, *sh.scene, sh.scene_config,
+                                                sh.sim_display, sh.rs);
+  }
   // Slot 0: the frame's reference; slot 1 + i: cell i's methods (watchdog.h).
   Watchdog watchdog(cells.size() + 1, opt.watchdog);
   for (size_t i = 0; i < cells.size(); ++i) {
@@ -985,6 +993,9 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
     if (rcache) {  // entries found unusable (recomputed), a cache that could not be written
       for (auto& w : rcache->warnings()) c->warnings.push_back(w);
       if (!c->warnings.empty()) c->manifest["warnings"] = c->warnings;
+    } else if (!no_cache_dir.empty()) {
+      c->warnings.push_back(no_cache_dir);
+      c->manifest["warnings"] = c->warnings;
     }
     r.warnings = c->warnings;
     if (c->manifest["fidelity"].contains("note"))

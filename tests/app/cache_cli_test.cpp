@@ -69,6 +69,13 @@ TEST(CacheCli, SecondRunReadsEveryReferenceAndMatches) {
                    " run " + dir + "/c.json -q --no-plots -o " + dir + "/d");
   ASSERT_EQ(d.code, 0) << d.output;
   EXPECT_FALSE(fs::exists(dir + "/cache2"));
+  // No folder at all (no HOME): a warning, the run goes on without the cache.
+  auto e =
+      run_cmd("cd " + dir + " && env -u FOVSIM_NO_CACHE -u FOVSIM_CACHE_DIR -u XDG_CACHE_HOME " +
+              "-u HOME " + fovsim_bin() + " run " + dir + "/c.json -q --no-plots -o " + dir + "/e");
+  ASSERT_EQ(e.code, 0) << e.output;
+  EXPECT_NE(e.output.find("warning: reference cache: no folder"), std::string::npos) << e.output;
+  EXPECT_FALSE(fs::exists(dir + "/references"));
   fs::remove_all(dir);
 }
 
