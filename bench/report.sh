@@ -17,7 +17,11 @@
 #     per-phase CPU times (manifest.json "phases", sim/experiment/phase_times.h) and the
 #     Amdahl speed-up it allows at 2 threads;
 #   - `fovsim sweep configs/sweeps/bench_100_cells.json` (100 RMFR cells, 60 frames) at 1 and 2
-#     threads: wall time and the 2-thread speed-up.
+#     threads: wall time and the 2-thread speed-up;
+#   - the reference cache (configs/README.md "cache"): the quickstart at 2 threads into an empty
+#     cache, then again with one method parameter changed (methods[kfr].sigma=2.2): wall and CPU
+#     time of the second run over the first (target <= 0.5).
+# The runs above the last one use --no-cache, so they time the rendering, not the cache.
 # Usage: bench/report.sh BUILD_DIR [MIN_TIME_S]   (make bench-report). Not covered: peak RSS
 # (measured flat when the performance targets were set).
 set -euo pipefail
@@ -90,7 +94,7 @@ PY
 
 # fovsim run configs/quickstart.json at 1 and 2 threads (no plots, images as configured).
 for j in 1 2; do
-  timed "$tmp/time$j.json" run configs/quickstart.json -o "$tmp/qs$j" -j "$j" --no-plots
+  timed "$tmp/time$j.json" run configs/quickstart.json -o "$tmp/qs$j" -j "$j" --no-plots --no-cache
 done
 python3 - "$tmp" "$B" <<'PY'
 import json, sys
@@ -114,7 +118,7 @@ PY
 # fovsim sweep configs/sweeps/bench_100_cells.json at 1 and 2 threads.
 for j in 1 2; do
   timed "$tmp/swtime$j.json" sweep configs/sweeps/bench_100_cells.json -o "$tmp/sw$j" -j "$j" \
-    --no-plots -q
+    --no-plots -q --no-cache
 done
 python3 - "$tmp" "$B" <<'PY'
 import json, sys
@@ -125,4 +129,24 @@ for j in (1, 2):
           f"CPU {t[j]['cpu_s']:.1f} s   [{B}/fovsim sweep configs/sweeps/bench_100_cells.json -j {j}]")
 print(f"sweep 2-thread speed-up (wall 1 / wall 2): {t[1]['wall_s'] / t[2]['wall_s']:.2f} "
       f"(target >= 1.8; idle machine only)")
+PY
+
+# The reference cache: first run into an empty cache folder, second run with a method parameter
+# changed (its references all come from the cache; results identical to a run without it).
+FOVSIM_CACHE_DIR="$tmp/cache" timed "$tmp/cache1.json" run configs/quickstart.json -o "$tmp/qc1" \
+  -j 2 --no-plots
+FOVSIM_CACHE_DIR="$tmp/cache" timed "$tmp/cache2.json" run configs/quickstart.json -o "$tmp/qc2" \
+  -j 2 --no-plots 'methods[kfr].sigma=2.2'
+python3 - "$tmp" "$B" <<'PY'
+import json, sys
+d, B = sys.argv[1], sys.argv[2]
+t = {j: json.load(open(f"{d}/cache{j}.json")) for j in (1, 2)}
+rc = {j: json.load(open(f"{d}/qc{j}/manifest.json")).get("reference_cache", {}) for j in (1, 2)}
+print(f"reference cache, quickstart -j 2: first run (empty cache) wall {t[1]['wall_s']:.1f} s, "
+      f"CPU {t[1]['cpu_s']:.1f} s; second run (methods[kfr].sigma=2.2, "
+      f"{rc[2].get('frames_from_cache', 0)} of {rc[2].get('frames_from_cache', 0) + rc[2].get('frames_computed', 0)} "
+      f"references from the cache) wall {t[2]['wall_s']:.1f} s, CPU {t[2]['cpu_s']:.1f} s")
+print(f"reference cache second run / first: wall {t[2]['wall_s'] / t[1]['wall_s']:.2f} (target <= 0.5), "
+      f"CPU {t[2]['cpu_s'] / t[1]['cpu_s']:.2f}; {rc[1].get('bytes_written', 0) / 1e6:.0f} MB written   "
+      f"[FOVSIM_CACHE_DIR=DIR {B}/fovsim run configs/quickstart.json -j 2, twice]")
 PY

@@ -3,6 +3,7 @@
 #include <memory>
 
 #include "sim/app/commands.h"
+#include "sim/core/disk_cache.h"
 #include "sim/experiment/plots.h"
 #include "sim/experiment/runner.h"
 
@@ -13,7 +14,7 @@ struct RunArgs {
   std::string config, out, models;
   std::vector<std::string> overrides, targets;
   int threads = 0;
-  bool quiet = false, no_plots = false;
+  bool quiet = false, no_plots = false, no_cache = false;
   double watchdog_s = 60;
   PlotFlags plot;
 };
@@ -40,6 +41,9 @@ void register_run(CLI::App& app, Action& action) {
               "run.mp4 (with ffmpeg) and index.html in <out>/plots/, skipped with a message when "
               "/usr/bin/python3 has no matplotlib");
   add_plot_flags(c, a->plot);
+  c->add_flag("--no-cache", a->no_cache,
+              "Do not read or write the reference cache (cache.dir, default "
+              "~/.cache/fovsim; configs/README.md \"cache\"); FOVSIM_NO_CACHE=1 does the same");
   c->add_option("--watchdog", a->watchdog_s,
                 "Seconds: stop with an error naming the frame and method when one method's frame "
                 "runs longer than\n"
@@ -67,6 +71,7 @@ void register_run(CLI::App& app, Action& action) {
       for (auto& o : a->overrides) opt.command_line += " " + o;
       for (auto& t : a->targets) opt.command_line += " --target " + t;
       opt.targets = a->targets;
+      opt.use_cache = !a->no_cache && !cache_disabled_by_env();
       RunResult r = run_experiment(cfg, opt);
       for (auto& w : r.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
       if (!r.printed_summary) {

@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "sim/app/commands.h"
+#include "sim/core/disk_cache.h"
 #include "sim/core/error.h"
 #include "sim/core/files.h"
 #include "sim/experiment/intervals.h"
@@ -23,7 +24,8 @@ struct SweepArgs {
   std::vector<std::string> overrides;
   int threads = 0, batch = 0;
   double watchdog_s = 60;
-  bool bench = false, no_plots = false, quiet = false, json = false, allow_partial = false;
+  bool bench = false, no_plots = false, quiet = false, json = false, allow_partial = false,
+       no_cache = false;
   PlotFlags plot;
   std::vector<std::string> sources;
   std::vector<std::string> targets;
@@ -81,6 +83,9 @@ void register_sweep(CLI::App& app, Action& action) {
   c->add_flag("--no-plots,!--plots", a->no_plots,
               "--no-plots: do not run viz/plot_sweep.py at the end; --plots: the default");
   c->add_flag("-q,--quiet", a->quiet, "Print only errors");
+  c->add_flag("--no-cache", a->no_cache,
+              "Do not read or write the reference cache (cache.dir, default "
+              "~/.cache/fovsim; configs/README.md \"cache\"); FOVSIM_NO_CACHE=1 does the same");
   c->add_option("--watchdog", a->watchdog_s,
                 "Seconds: stop with an error naming the frame and method when one method's frame "
                 "runs longer than\n"
@@ -139,6 +144,7 @@ void register_sweep(CLI::App& app, Action& action) {
       opt.batch = a->batch;
       opt.targets = a->targets;
       opt.watchdog_s = a->watchdog_s;
+      opt.use_cache = !a->no_cache && !cache_disabled_by_env();
       opt.command_line = command_line("sweep", *a);
       if (!a->shard.empty())
         parse_shard(a->shard, opt.shard, opt.shards);
@@ -149,10 +155,12 @@ void register_sweep(CLI::App& app, Action& action) {
         std::printf("sweep %s: %d cells", plan.name.c_str(), r.cells_total);
         if (opt.shards > 1)
           std::printf(", shard %d/%d holds %d", opt.shard, opt.shards, r.cells_in_shard);
-        std::printf(
-            "; %d already complete (skipped), %d run in %d reference pass%s (%d references)\n",
-            r.cells_done_before, r.cells_run, r.reference_passes,
-            r.reference_passes == 1 ? "" : "es", r.reference_frames);
+        std::printf("; %d already complete (skipped), %d run in %d reference pass%s (%d references",
+                    r.cells_done_before, r.cells_run, r.reference_passes,
+                    r.reference_passes == 1 ? "" : "es", r.reference_frames);
+        if (r.reference_frames_from_cache > 0)
+          std::printf(", %d from the reference cache", r.reference_frames_from_cache);
+        std::printf(")\n");
         if (r.stale_dirs)
           std::printf(
               "note: %d folder%s in %s/runs belong to cells no longer in this config (ignored)\n",
@@ -175,6 +183,7 @@ void register_sweep(CLI::App& app, Action& action) {
         Json b{{"cells_run", r.cells_run},
                {"reference_passes", r.reference_passes},
                {"reference_frames", r.reference_frames},
+               {"reference_frames_from_cache", r.reference_frames_from_cache},
                {"threads", threads},
                {"wall_ms", r.wall_ms},
                {"cpu_ms", r.cpu_ms},

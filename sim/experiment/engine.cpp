@@ -30,6 +30,7 @@
 #include "sim/experiment/intervals.h"
 #include "sim/experiment/latency.h"
 #include "sim/experiment/phase_times.h"
+#include "sim/experiment/reference_cache.h"
 #include "sim/experiment/runner.h"
 #include "sim/experiment/tracking_summary.h"
 #include "sim/foveation/factory.h"
@@ -153,7 +154,9 @@ struct Shared {
   int start = 0, stride = 1, count = 0;
   int warmup = 0;  // frames.warmup: rendered before `start`, not recorded
   double pixel_scale = 1;
-  Json resolved;  // resolved shared keys (for every cell's manifest)
+  Json resolved;                 // resolved shared keys (for every cell's manifest)
+  ReferenceCacheSettings cache;  // the `cache` block (reference_cache.h)
+  Json scene_config;             // the resolved `scene` block (the reference cache's key)
 
   void parse(Params& root, const std::string& cfg_file, const std::string& base_dir) {
     seed = uint64_t(root.integer("seed", 1, Range::closed(0, 2e9)));
@@ -254,6 +257,11 @@ struct Shared {
     tracking_column = policy_given;
     for (int k = 0; k < count && !tracking_column; ++k)
       tracking_column = !trace.samples[size_t(start + k * stride)].valid;
+    {
+      Params cp = root.child("cache");
+      cache = ReferenceCacheSettings::from_params(cp);
+    }
+    scene_config = root.resolved().contains("scene") ? root.resolved()["scene"] : Json::object();
     (void)cfg_file;
   }
 };
@@ -881,6 +889,18 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
   uint32_t channels = kShadingChannels;
   for (auto& c : cells) channels |= c->channels;
   Renderer renderer(*sh.scene, sh.rs);
+  std::unique_ptr<ReferenceCache> rcache;
+  std::string no_cache_dir;  // the cache is on but has no folder (a warning, not an error)
+  if (opt.use_cache && sh.cache.enabled) {
+    if (sh.cache.dir.empty()) sh.cache.dir = default_cache_dir();
+    if (sh.cache.dir.empty())
+      no_cache_dir =
+          "reference cache: no folder (cache.dir, FOVSIM_CACHE_DIR, XDG_CACHE_HOME and HOME are "
+          "unset): not used";
+    else
+      rcache = std::make_unique<ReferenceCache>(sh.cache, *sh.scene, sh.scene_config,
+                                                sh.sim_display, sh.rs);
+  }
   // Slot 0: the frame's reference; slot 1 + i: cell i's methods (watchdog.h).
   Watchdog watchdog(cells.size() + 1, opt.watchdog);
   for (size_t i = 0; i < cells.size(); ++i) {
@@ -903,7 +923,20 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
     PhaseClock rpc = PhaseClock::now();
     watchdog.begin(0, "frame " + std::to_string(fi) + ", reference rendering");
     renderer.set_time(s.t);
-    prepare_frame(renderer, sh.sim_display, s, fi, channels, prev_cam ? &*prev_cam : nullptr, fd);
+    const Camera* prev = prev_cam ? &*prev_cam : nullptr;
+    if (rcache) {  // a frame whose reference an earlier run computed: only G-buffer and VPLs
+      const std::string key =
+          rcache->key(fi, s, Camera::from_pose(sh.sim_display, s.head_pos, s.head_rot));
+      FrameReference cached;
+      if (rcache->load(key, sh.sim_display.width, sh.sim_display.height, cached)) {
+        prepare_frame(renderer, sh.sim_display, s, fi, channels, prev, fd, &cached);
+      } else {
+        prepare_frame(renderer, sh.sim_display, s, fi, channels, prev, fd);
+        rcache->store(key, fd);
+      }
+    } else {
+      prepare_frame(renderer, sh.sim_display, s, fi, channels, prev, fd);
+    }
     watchdog.end(0);
     sh.tonemap.apply(fd.reference, ref_display);
     double ref_ms = ms_since(t0);
@@ -1008,6 +1041,13 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
     r.refresh_hz = sh.display.refresh_hz;
     r.print_summary = c->print_table;
     r.flags.assign(c->flags_seen.begin(), c->flags_seen.end());
+    if (rcache) {  // entries found unusable (recomputed), a cache that could not be written
+      for (auto& w : rcache->warnings()) c->warnings.push_back(w);
+      if (!c->warnings.empty()) c->manifest["warnings"] = c->warnings;
+    } else if (!no_cache_dir.empty()) {
+      c->warnings.push_back(no_cache_dir);
+      c->manifest["warnings"] = c->warnings;
+    }
     r.warnings = c->warnings;
     if (c->manifest["fidelity"].contains("note"))
       r.fidelity_note = c->manifest["fidelity"]["note"].get<std::string>();
@@ -1061,6 +1101,9 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
     c->manifest["status"] = "complete";
     c->manifest["end_time"] = iso_now();
     c->manifest["rays_traced"] = renderer.rays_traced();
+    // How many frames' references came from the reference cache (reference_cache.h).
+    c->manifest["reference_cache"] = rcache ? Json(rcache->manifest()) : Json{{"used", false}};
+    if (rcache) c->manifest["reference_cache"]["used"] = true;
     PhaseTimes ph = group_phases;
     ph.merge(c->phases);
     ph.lap("outputs", gpc);  // this cell's output files so far (one cell: all of them)
@@ -1075,6 +1118,7 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
     stats->setup_ms += setup_ms;
     stats->wall_ms += ms_since(g0);
     stats->rays += renderer.rays_traced();
+    if (rcache) stats->frames_from_cache += int(rcache->manifest()["frames_from_cache"].get<int>());
   }
   return results;
 }

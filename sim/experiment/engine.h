@@ -36,6 +36,10 @@ struct EngineOptions {
   int threads = 0;            // recorded in manifests (the caller sets TBB's limit)
   WatchdogLimits watchdog;    // a frame far slower than its neighbours is reported (watchdog.h)
   std::vector<IntervalTarget> targets;  // --target: sampled order; each cell stops when its hold
+  // The reference cache (reference_cache.h) when the config's cache.enabled is true too.
+  // Off by default: library callers and tests opt in; `fovsim run`/`sweep` do unless
+  // --no-cache or FOVSIM_NO_CACHE.
+  bool use_cache = false;
 };
 
 struct CellResult {
@@ -58,6 +62,7 @@ struct GroupStats {
   double wall_ms = 0;   // whole group, including setup
   double setup_ms = 0;  // scene build, trace load, BVH
   uint64_t rays = 0;
+  int frames_from_cache = 0;  // references read from the reference cache (of `frames`)
 };
 
 // Runs `jobs`, which must share one reference_key (checked). Every cell's config is fully

@@ -45,6 +45,7 @@ RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt) {
   eo.print_summary = opt.print_summary;
   eo.threads = opt.threads;
   eo.watchdog.min_s = opt.watchdog_s;
+  eo.use_cache = opt.use_cache;
   for (auto& t : opt.targets) eo.targets.push_back(parse_target(t));
   auto cells = run_cells({job}, eo);
   CellResult& c = cells.front();

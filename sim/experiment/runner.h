@@ -21,6 +21,9 @@ struct RunOptions {
   // --target specs ("est_ms_total:1%", "fpsnr:0.2dB"): evaluate frames in a seeded random
   // order of sampling units and stop once every 95% half-width is within its target.
   std::vector<std::string> targets;
+  // The reference cache (sim/experiment/reference_cache.h), when the config's cache.enabled
+  // is true too. Off by default (library use, tests); `fovsim run` turns it on.
+  bool use_cache = false;
 };
 
 struct RunResult {

@@ -464,6 +464,7 @@ SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const Swee
   eo.print_summary = false;
   eo.threads = opt.threads;
   eo.watchdog.min_s = opt.watchdog_s;
+  eo.use_cache = opt.use_cache;
   for (auto& t : opt.targets) eo.targets.push_back(parse_target(t));  // per cell (engine.h)
   for (auto& k : order) {
     auto& cells = groups[k];
@@ -498,6 +499,7 @@ SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const Swee
       rep.cells_run += int(res.size());
       rep.reference_passes += 1;
       rep.reference_frames += gs.frames;
+      rep.reference_frames_from_cache += gs.frames_from_cache;
       rep.ref_ms += gs.ref_ms;
       rep.setup_ms += gs.setup_ms;
     }

@@ -25,6 +25,10 @@ struct SweepOptions {
   // --target specs (sim/experiment/intervals.h): every cell stops on its own once its
   // intervals hold; its manifest and cell.json record frames used and achieved half-widths.
   std::vector<std::string> targets;
+  // The reference cache (sim/experiment/reference_cache.h), when the config's cache.enabled
+  // is true too: shards on a shared file system reuse each other's references. Off by
+  // default; `fovsim sweep` turns it on.
+  bool use_cache = false;
 };
 
 struct SweepReport {
@@ -36,7 +40,8 @@ struct SweepReport {
   int stale_dirs = 0;        // runs/ folders of cells that no longer exist in this config
   int groups = 0;            // distinct reference keys among cells run
   int reference_passes = 0;  // frame loops (groups x batches)
-  int reference_frames = 0;  // references rendered
+  int reference_frames = 0;  // references rendered (or read from the reference cache)
+  int reference_frames_from_cache = 0;
   // Wall times of this call (wall_ms) and its parts: ref_ms, cell_ms and setup_ms are sums of
   // per-group / per-cell wall times, which overlap when cells run in parallel.
   double wall_ms = 0, ref_ms = 0, cell_ms = 0, setup_ms = 0;

@@ -626,7 +626,11 @@ SweepPlan expand_sweep(const LoadedConfig& cfg) {
                                  concrete + ")");
       if (seen_paths.insert(a.path).second) plan.axis_paths.push_back(a.path);
     }
-    c.hash = short_hash(c.doc.dump());
+    // The reference cache's settings (`cache`) change where references are kept, not a
+    // cell's results: they are not part of its hash, so changing them resumes a sweep.
+    Json hashed = c.doc;
+    if (hashed.is_object()) hashed.erase("cache");
+    c.hash = short_hash(hashed.dump());
     all += c.hash;
     plan.cells.push_back(std::move(c));
   }

@@ -1,6 +1,7 @@
 #include "sim/foveation/frame.h"
 
 #include <algorithm>
+#include <utility>
 
 namespace fovsim {
 
@@ -14,8 +15,17 @@ glm::dvec2 gaze_pixel(const Camera& cam, const glm::dvec3& gaze_dir) {
   return px;
 }
 
+FrameReference frame_reference_of(const FrameData& fd) {
+  FrameReference f;
+  f.reference = fd.reference;
+  f.direct = fd.direct;
+  if (fd.has_vpls && fd.vpls.all_indirect_of == &fd.gbuffer) f.all_indirect = fd.vpls.all_indirect;
+  f.counters = fd.counters;
+  return f;
+}
+
 void prepare_frame(const Renderer& r, const Display& d, const TraceSample& s, int frame,
-                   uint32_t channels, const Camera* prev, FrameData& out) {
+                   uint32_t channels, const Camera* prev, FrameData& out, FrameReference* cached) {
   out.frame = frame;
   out.t = s.t;
   out.camera = Camera::from_pose(d, s.head_pos, s.head_rot);
@@ -30,7 +40,24 @@ void prepare_frame(const Renderer& r, const Display& d, const TraceSample& s, in
   r.trace_gbuffer(out.camera, channels | kShadingChannels, out.gbuffer, &out.counters, prev);
   out.has_vpls = r.scene().wants_indirect;
   const bool supersampled = r.settings().spp > 1;
-  if (!out.has_vpls && !supersampled) {
+  if (cached) {
+    // The VPL set is rebuilt (the methods' strategies select from it; cheap next to shading
+    // all of it at every pixel, which `cached` holds).
+    std::swap(out.reference, cached->reference);
+    std::swap(out.direct, cached->direct);
+    if (out.has_vpls) {
+      build_frame_vpls(r, out.vpls, nullptr);
+      if (!cached->all_indirect.data.empty()) {
+        std::swap(out.vpls.all_indirect, cached->all_indirect);
+        out.vpls.all_indirect_of = &out.gbuffer;
+      } else {
+        out.vpls.all_indirect = Image();
+        out.vpls.all_indirect_of = nullptr;
+      }
+    }
+    std::swap(out.counters,
+              cached->counters);  // those of the pass that computed it (the same passes)
+  } else if (!out.has_vpls && !supersampled) {
     r.shade(out.gbuffer, out.camera.position, out.reference, nullptr, &out.counters);
   } else {
     // `direct`: one sample per pixel centre, what every full-sampling method starts from.
