@@ -29,7 +29,7 @@ namespace fovsim {
 
 class Renderer;
 struct FrameContext;  // method.h
-struct ParamInfo;     // method.h
+struct ParamInfo;     // sim/core/param_info.h
 
 // The VPL set of one frame (computed once, shared by the reference and every method).
 struct FrameVpls {

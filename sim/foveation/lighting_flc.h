@@ -6,6 +6,7 @@
 #pragma once
 #include <vector>
 
+#include "sim/core/param_info.h"
 #include "sim/foveation/flc_contribution.h"
 #include "sim/foveation/flc_importance.h"
 #include "sim/foveation/lighting.h"
@@ -24,6 +25,7 @@ struct FlcLightingSettings {
   static FlcLightingSettings from_params(Params& p);
 };
 // The parameter declaration of the flc strategy (also part of the `flc` method's).
+const ParamTable<FlcLightingSettings>& flc_lighting_table();
 const std::vector<ParamInfo>& flc_lighting_params();
 
 // Wall-clock ms of the strategy's stages in the last begin_frame (benchmarks; not in results).

@@ -7,6 +7,7 @@
 
 #include "sim/core/counters.h"
 #include "sim/core/image.h"
+#include "sim/core/param_info.h"
 #include "sim/core/params.h"
 #include "sim/display/display.h"
 #include "sim/metrics/flip.h"
@@ -68,6 +69,8 @@ struct MetricsConfig {
   double ppd_scale = 1.0;
   static MetricsConfig from_params(Params& p);
 };
+// The declaration of the `metrics` block's keys (parsing, defaults, ranges, docs).
+const ParamTable<MetricsConfig>& metrics_config_table();
 
 // Column name of the eccentricity band [a, b): "rmse_ecc_<a>_<b>", numbers printed
 // shortest ("0", "5", "2.5" -> "2p5"); flip_band_column gives "flip_ecc_<a>_<b>".
