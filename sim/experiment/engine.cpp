@@ -365,6 +365,7 @@ struct Cell {
   std::vector<GpuProfile> gpus;
   Workload workload;
   ImageOutputs io;
+  OutputsBlock outputs;  // the `outputs` block as read (run_config.h)
   bool print_table = false;
   uint32_t channels = 0;
   Json manifest;
@@ -460,14 +461,13 @@ struct Cell {
     workload = Workload::load(keys.workload, models);
 
     Params op = root.child("outputs");
-    OutputsBlock ob;
-    ob.print_summary = default_print;  // the default
-    outputs_block_table().read_into(op, ob);
-    for (double f : ob.image_frames) io.frames.insert(int(f));
-    io.png = ob.png;
-    io.exr = ob.exr;
-    io.debug = ob.debug_images;
-    print_table = ob.print_summary;
+    outputs.print_summary = default_print;  // the default
+    outputs_block_table().read_into(op, outputs);
+    for (double f : outputs.image_frames) io.frames.insert(int(f));
+    io.png = outputs.png;
+    io.exr = outputs.exr;
+    io.debug = outputs.debug_images;
+    print_table = outputs.print_summary;
     latency = LatencyConfig::from_params(root);
   }
 
