@@ -646,8 +646,9 @@ struct Cell {
 
       if (want_images) {
         write_images(img_dir, m.stem, out_display, &lin, io, image_jobs);
-        image_jobs.add(img_dir + "/" + safe_file_name(m.stem + "_error") + ".png",
-                       error_heatmap(out_display, *refd));
+        if (outputs.error_images)
+          image_jobs.add(img_dir + "/" + safe_file_name(m.stem + "_error") + ".png",
+                         error_heatmap(out_display, *refd));
         if (mcfg.flip)
           image_jobs.add(img_dir + "/" + safe_file_name(m.stem + "_flip") + ".png",
                          flip_colormap(metrics_scratch.flip_map));

@@ -112,6 +112,8 @@ const ParamTable<OutputsBlock>& outputs_block_table() {
           .doc("", "write display-encoded PNGs")
           .boolean("exr", false, &B::exr)
           .doc("", "also write linear float EXRs")
+          .boolean("error_images", true, &B::error_images)
+          .doc("", "write `<label>_error.png` (luma error heat map) for each image frame")
           .boolean("debug_images", false, &B::debug_images)
           .doc("", "methods' debug buffers (LP/RS buffer, redraw map, importance map, ...)")
           .boolean("print_summary", true, &B::print_summary)

@@ -53,7 +53,7 @@ const ParamTable<FramesBlock>& frames_block_table();
 // `outputs`.
 struct OutputsBlock {
   std::vector<double> image_frames;
-  bool png = true, exr = false, debug_images = false;
+  bool png = true, exr = false, debug_images = false, error_images = true;
   bool print_summary = true;  // default: the command's (set before reading)
 };
 const ParamTable<OutputsBlock>& outputs_block_table();
