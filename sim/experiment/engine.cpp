@@ -649,7 +649,7 @@ struct Cell {
         if (outputs.error_images)
           image_jobs.add(img_dir + "/" + safe_file_name(m.stem + "_error") + ".png",
                          error_heatmap(out_display, *refd));
-        if (mcfg.flip)
+        if (mcfg.flip && mcfg.flip_images)
           image_jobs.add(img_dir + "/" + safe_file_name(m.stem + "_flip") + ".png",
                          flip_colormap(metrics_scratch.flip_map));
         for (auto& [dname, dimg] : fo.debug)

@@ -51,7 +51,8 @@ double local_ppd(const Camera& cam, double px, double py);
 
 struct MetricsConfig {
   bool psnr = true, ssim = true, fpsnr = true, regions = true, temporal = true;
-  bool flip = true;  // LDR-FLIP mean `flip` (+ flip_ecc_<a>_<b> bands when `regions`)
+  bool flip = true;         // LDR-FLIP mean `flip` (+ flip_ecc_<a>_<b> bands when `regions`)
+  bool flip_images = true;  // <label>_flip.png error maps of image frames (with `flip`)
   // FovVideoVDP (Mantiuk et al. 2021): per-frame `fvvdp_q`, `fvvdp_jod`; summary `fvvdp_jod`
   // pooled over the run (sim/metrics/registry.h). Computed by the run engine's streams
   // (sim/metrics/fvvdp.h), not by compute_metrics.

@@ -23,8 +23,9 @@ const ParamTable<MetricsConfig>& metrics_config_table() {
           .boolean("temporal", true, &C::temporal)
           .doc("", "write `temporal_error`")
           .boolean("flip", true, &C::flip)
-          .doc("Andersson et al. 2020",
-               "write `flip`, with `regions` also `flip_ecc_*`, and `<label>_flip.png` images")
+          .doc("Andersson et al. 2020", "write `flip`, with `regions` also `flip_ecc_*`")
+          .boolean("flip_images", true, &C::flip_images)
+          .doc("", "with `flip`: write `<label>_flip.png` (the FLIP error map) for image frames")
           .boolean("fvvdp", true, &C::fvvdp)
           .doc("Mantiuk et al. 2021", "write `fvvdp_q`, `fvvdp_jod` (FovVideoVDP)")
           .boolean("fvvdp_foveated", true, &C::fvvdp_foveated)
