@@ -157,12 +157,9 @@ Counters analytic_counters(const std::string& method, const Json& params, const 
     c.set("vpls_total", total);
     if (L && !L->uses_all_vpls()) {
       kept = std::min(total, column(cols, "vpl_budget", w.vpl_budget));
-      if (L->name() == "flc") {  // eq. 14 for every VPL and importance sample
-        c.set("importance_samples", w.importance_samples);
-        c.set("contribution_evals", total * w.importance_samples);
-      } else {
-        c.set("contribution_evals", total);  // fir: one visibility-based importance per VPL
-      }
+      // The strategy's own selection passes (flc: importance + eq. 14 contributions; fir: one
+      // importance per VPL), declared by the strategy.
+      L->analytic_selection_counters(c, total, w.importance_samples);
     }
     c.set("vpls_kept", kept);
     c.set("shaded_sample_vpls", c.get("shaded_samples") * kept);

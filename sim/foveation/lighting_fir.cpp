@@ -42,6 +42,10 @@ class FirLighting final : public LightingStrategy {
     return {{"vpl_budget", s_.vpl_budget}};
   }
   const VplSoA& selected(const FrameContext&) const override { return selected_; }
+  // One visibility-based importance per VPL.
+  void analytic_selection_counters(Counters& c, double vpls, double) const override {
+    c.set("contribution_evals", vpls);
+  }
 
   void begin_frame(const FrameContext& ctx, Counters& c) override {
     const FrameVpls& fv = *ctx.vpls;

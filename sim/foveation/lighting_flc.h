@@ -43,6 +43,12 @@ class FlcLighting final : public LightingStrategy {
   const VplSoA& selected(const FrameContext&) const override { return selected_; }
   void end_frame(const FrameContext& ctx, const Image& linear) override;
   std::vector<std::pair<std::string, double>> param_columns() const override;
+  // eq. 14 for every VPL and importance sample.
+  void analytic_selection_counters(Counters& c, double vpls,
+                                   double importance_samples) const override {
+    c.set("importance_samples", importance_samples);
+    c.set("contribution_evals", vpls * importance_samples);
+  }
   void debug_images(std::vector<std::pair<std::string, Image>>& out) override;
 
   const FlcLightingSettings& settings() const { return s_; }
