@@ -701,6 +701,14 @@ struct Cell {
         for (auto& [cn, cv] : fo.counters.items())
           if (cn != "shaded_samples" && cn != "prims_submitted" && cn != "prims_culled")
             row.set(cn, cv);
+        // A counter the cost model needed and the method did not fill (its pass was charged 0 or
+        // a fallback) is a flag of the row, never silence (results/README.md).
+        if (!cost.missing_counters.empty()) {
+          std::string mc;
+          for (const auto& n : cost.missing_counters) mc += (mc.empty() ? "" : ";") + n;
+          row.set_text("missing_counters", mc);
+          flags_seen.insert(m.label + ":missing_counters");
+        }
         row.set("est_ms_total", cost.total_ms);
         if (cost.interval_level > 0) {  // the profile's prediction interval (docs/cost_model.md)
           row.set("est_ms_total_lo", cost.total_lo_ms);
