@@ -1,6 +1,7 @@
 #include "sim/experiment/run_config.h"
 
 #include "sim/cost/gpu_profile.h"
+#include "sim/display/display_keys.h"
 #include "sim/experiment/latency.h"
 #include "sim/metrics/metrics.h"
 #include "sim/render/renderer.h"
@@ -17,10 +18,9 @@ const ParamTable<RunSharedKeys>& run_shared_table() {
           .doc("",
                "seed for every stochastic part (synthetic traces, FLC sampling, the frame "
                "order of `fovsim run --target`)")
-          .documented(
-              "display", "string or object", "`\"htc_vive_pro_eye\"`", "", "",
-              "a model name from `models/displays/` or an inline display object (\"Display keys\" "
-              "above)")
+          .documented("display", "string or object", "`\"htc_vive_pro_eye\"`", "", "",
+                      "a model name from `models/displays/` or an inline display object (keys: "
+                      "\"Display\" below)")
           .text("trace_placement", "scene", {"scene", "absolute"}, &K::trace_placement)
           .doc("",
                "`scene`: the trace's first head position is placed at the scene's default "
@@ -138,6 +138,7 @@ std::string config_keys_markdown() {
         std::string s = render_settings_table().markdown(false);
         return s.substr(s.find('\n', s.find('\n') + 1) + 1);
       }());
+  md += section("Display (`display` object, `models/displays/*.json`)", display_table().markdown());
   md += section("`render.tonemap`", tonemap_block_table().markdown(false));
   md += section("`frames`", frames_block_table().markdown(false));
   md += section("`outputs`", outputs_block_table().markdown(false));

@@ -2,6 +2,7 @@
 // declared defaults and ranges.
 #include <gtest/gtest.h>
 
+#include "sim/display/display_keys.h"
 #include "sim/experiment/latency.h"
 #include "sim/experiment/run_config.h"
 #include "tests/common/param_table_check.h"
@@ -13,6 +14,7 @@ TEST(RunConfigDecl, EveryTableReadsItsOwnDefaults) {
   RunCellKeys cell;
   cell.name = "stem";
   table_check::expect_table_reads_own_defaults(run_cell_table(), "", cell);
+  table_check::expect_table_reads_own_defaults(display_table(), "display");
   table_check::expect_table_reads_own_defaults(render_block_table(), "render");
   table_check::expect_table_reads_own_defaults(tonemap_block_table(), "render.tonemap");
   table_check::expect_table_reads_own_defaults(frames_block_table(), "frames");
@@ -40,8 +42,9 @@ TEST(RunConfigDecl, DefaultsTheCallerSetsAreKept) {
 
 TEST(RunConfigDecl, MarkdownHasEveryKey) {
   const std::string md = config_keys_markdown();
-  for (const char* k : {"`seed`", "`display`", "`gpus`", "`max_pixels`", "`spp`", "`curve`",
-                        "`warmup`", "`print_summary`", "`band_edges_deg`", "`jitter_ms`",
-                        "`velocity_threshold_deg_s`", "`slope_ms_per_deg`", "`l2_mb`"})
+  for (const char* k :
+       {"`seed`", "`display`", "`gpus`", "`max_pixels`", "`spp`", "`curve`", "`warmup`",
+        "`print_summary`", "`band_edges_deg`", "`jitter_ms`", "`velocity_threshold_deg_s`",
+        "`slope_ms_per_deg`", "`l2_mb`", "`peak_luminance`", "`fov_h_deg`"})
     EXPECT_NE(md.find(k), std::string::npos) << k;
 }
