@@ -25,6 +25,7 @@
 #include <cstdio>
 #include <deque>
 #include <functional>
+#include <mutex>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -282,6 +283,8 @@ class ParamTable {
 
   // The rows as text descriptors (stable addresses: the table is built once, then read-only).
   const std::vector<ParamInfo>& info() const {
+    static std::mutex m;  // built on first use, possibly from several threads
+    std::lock_guard<std::mutex> lock(m);
     if (info_.size() != rows_.size()) {
       text_.clear();
       info_.clear();
