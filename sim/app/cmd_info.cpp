@@ -5,6 +5,7 @@
 #include "sim/app/commands.h"
 #include "sim/core/version.h"
 #include "sim/experiment/code_paths.h"
+#include "sim/experiment/run_config.h"
 #include "sim/foveation/factory.h"
 #include "sim/metrics/registry.h"
 
@@ -52,11 +53,19 @@ void register_info(CLI::App& app, Action& action) {
 void register_methods(CLI::App& app, Action& action) {
   auto* cmd = app.add_subcommand(
       "methods", "List the foveation methods and their parameters (from their declarations)");
-  auto md = std::make_shared<bool>(false);
+  auto md = std::make_shared<bool>(false), keys = std::make_shared<bool>(false);
   cmd->add_flag("--markdown", *md,
                 "Print the parameter tables as Markdown (embedded in docs/methods.md)");
-  cmd->callback([&action, md]() {
-    action = [md]() {
+  cmd->add_flag("--config-keys", *keys,
+                "With --markdown: print the run config's other key tables instead (top level, "
+                "render, frames, outputs, metrics, latency, GPU spec; embedded in "
+                "configs/README.md)");
+  cmd->callback([&action, md, keys]() {
+    action = [md, keys]() {
+      if (*md && *keys) {
+        std::printf("%s", config_keys_markdown().c_str());
+        return 0;
+      }
       if (*md) {
         std::printf("%s", methods_markdown().c_str());
         return 0;

@@ -51,12 +51,6 @@ double column(const std::vector<std::pair<std::string, double>>& cols, const std
   return def;
 }
 
-// kfr/rmfr-style buffers (a whole (W/sigma) x (H/sigma) buffer is shaded) vs baselines whose
-// shaded samples follow their layers / probability.
-bool shades_whole_buffer(const std::string& kind) {
-  return kind == "kfr" || kind == "rmfr";
-}
-
 }  // namespace
 
 Counters analytic_counters(const std::string& method, const Json& params, const Workload& w,
@@ -78,7 +72,10 @@ Counters analytic_counters(const std::string& method, const Json& params, const 
   std::vector<std::pair<std::string, double>> cols = inst->param_columns();
   if (inst->lighting())  // the lighting strategy's columns (flc: vpl_budget)
     for (auto& c : inst->lighting()->param_columns()) cols.push_back(c);
-  const std::string kind = inst->mapping_spec() ? inst->mapping_spec()->method : std::string();
+  // kfr/rmfr-style buffers (a whole (W/sigma) x (H/sigma) buffer is shaded) vs baselines whose
+  // shaded samples follow their layers / probability: the method's SamplingGeometry says.
+  const bool whole_buffer =
+      inst->mapping_spec() && inst->mapping_spec()->geometry->shades_whole_buffer;
   Params p(extra, where, "");
   const double P = double(std::max(0, d.width)) * double(std::max(0, d.height));
   Counters c;
@@ -110,10 +107,10 @@ Counters analytic_counters(const std::string& method, const Json& params, const 
     // Ye et al. 2022 §3.2); the baselines shade what their layers / sample pattern need.
     const double sigma = column(cols, "sigma", 1.0);
     const double buf = P / (sigma * sigma);
-    const double s = shades_whole_buffer(kind) ? buf : baseline_fraction(1.0) * P;
+    const double s = whole_buffer ? buf : baseline_fraction(1.0) * P;
     c.set("shaded_samples", s);
     c.set("gbuffer_samples", s);
-    c.set("buffer_pixels_allocated", shades_whole_buffer(kind) ? buf : s);
+    c.set("buffer_pixels_allocated", whole_buffer ? buf : s);
     c.set("buffer_pixels_used", s);
     c.set("fullres_pixels", P);
     // Total taps of pass 2 (bilinear inverse map: 4 per full-resolution pixel).
@@ -160,12 +157,9 @@ Counters analytic_counters(const std::string& method, const Json& params, const 
     c.set("vpls_total", total);
     if (L && !L->uses_all_vpls()) {
       kept = std::min(total, column(cols, "vpl_budget", w.vpl_budget));
-      if (L->name() == "flc") {  // eq. 14 for every VPL and importance sample
-        c.set("importance_samples", w.importance_samples);
-        c.set("contribution_evals", total * w.importance_samples);
-      } else {
-        c.set("contribution_evals", total);  // fir: one visibility-based importance per VPL
-      }
+      // The strategy's own selection passes (flc: importance + eq. 14 contributions; fir: one
+      // importance per VPL), declared by the strategy.
+      L->analytic_selection_counters(c, total, w.importance_samples);
     }
     c.set("vpls_kept", kept);
     c.set("shaded_sample_vpls", c.get("shaded_samples") * kept);

@@ -9,6 +9,8 @@
 #include "sim/cost/analytic.h"
 #include "sim/cost/passes.h"
 #include "sim/cost/workload.h"
+#include "sim/foveation/factory.h"
+#include "sim/foveation/mapping_spec.h"
 
 namespace fovsim {
 
@@ -62,9 +64,20 @@ std::vector<BudgetChange> fitting_changes(const BudgetQuery& q, double budget_ms
     return out;
   }
   // 1. The method's own quality knob.
+  // Methods that shade a whole (W / sigma) x (H / sigma) buffer with sigma as their free
+  // parameter (their SamplingGeometry says so: kfr, rmfr, rmfr_auto) raise sigma from the
+  // configured or declared value.
   const CostFamily fam = cost_family(q.method);
-  if (fam == CostFamily::Mapping && (q.method == "kfr" || q.method == "rmfr")) {
-    const double s0 = q.params.value("sigma", q.method == "kfr" ? 1.8 : 2.6);
+  const MappingSpec* spec = nullptr;
+  std::unique_ptr<FoveationMethod> inst;
+  if (fam == CostFamily::Mapping) {
+    Params dp(Json::object(), "budget", "");
+    inst = make_method(q.method, dp);
+    spec = inst->mapping_spec();
+  }
+  if (spec && spec->geometry->shades_whole_buffer &&
+      spec->geometry->free_param == &MappingSpec::sigma) {
+    const double s0 = q.params.value("sigma", spec->sigma);
     for (int k = 1; s0 + 0.1 * k <= 4.0 + 1e-9; ++k) {
       const double s = std::round((s0 + 0.1 * k) * 10) / 10;
       Json p = q.params;

@@ -7,6 +7,7 @@
 
 #include "sim/core/error.h"
 #include "sim/core/files.h"
+#include "sim/core/param_table.h"
 #include "sim/cost/passes.h"
 
 namespace fovsim {
@@ -42,6 +43,32 @@ Resource resource_from_name(const std::string& s, const std::string& where) {
 double l2_miss_fraction(const GpuSpec& s, double working_set_bytes) {
   if (!(s.l2_mb > 0) || !(working_set_bytes > 0)) return 1.0;
   return std::max(0.0, 1.0 - s.l2_mb * 1024.0 * 1024.0 / working_set_bytes);
+}
+
+const ParamTable<GpuSpec>& gpu_spec_table() {
+  using S = GpuSpec;
+  // A new spec field: its member in GpuSpec and one row here (parsing, docs, profile files).
+  static const auto t =
+      ParamTable<S>()
+          .number("fp32_gflops", 0, Range::above(0), &S::fp32_gflops)
+          .required()
+          .doc("vendor spec sheet", "FP32 throughput, GFLOP/s (shading)")
+          .number("mem_gbps", 0, Range::above(0), &S::mem_gbps)
+          .required()
+          .doc("vendor spec sheet", "memory bandwidth, GB/s")
+          .number("fill_gpix", 0, Range::above(0), &S::fill_gpix)
+          .required()
+          .doc("vendor spec sheet", "ROP fill rate, Gpixel/s (raster)")
+          .number("tri_gtris", 0, Range::above(0), &S::tri_gtris)
+          .required()
+          .doc("vendor spec sheet", "primitive rate, Gtriangles/s (geometry)")
+          .number("boost_mhz", 0, Range::at_least(0), &S::boost_mhz)
+          .doc("vendor spec sheet", "boost clock, MHz (0: unknown)")
+          .number("l2_mb", 0, Range::at_least(0), &S::l2_mb)
+          .doc("vendor spec sheet", "last-level (L2) cache, MB (0: unknown: no working-set effect)")
+          .text("source", "", {}, &S::source)
+          .doc("", "where the numbers come from");
+  return t;
 }
 
 double GpuSpec::rate_per_ms(Resource r) const {
@@ -140,14 +167,7 @@ GpuProfile GpuProfile::from_json(const Json& j, const std::string& file) {
   }
   {
     Params s = p.child("spec");
-    auto pos = Range::above(0);
-    g.spec.fp32_gflops = s.number("fp32_gflops", pos);
-    g.spec.mem_gbps = s.number("mem_gbps", pos);
-    g.spec.fill_gpix = s.number("fill_gpix", pos);
-    g.spec.tri_gtris = s.number("tri_gtris", pos);
-    g.spec.boost_mhz = s.number("boost_mhz", 0, Range::at_least(0));
-    g.spec.l2_mb = s.number("l2_mb", 0, Range::at_least(0));
-    g.spec.source = s.string("source", "");
+    gpu_spec_table().read_into(s, g.spec);
   }
   if (!p.has("passes")) p.fail("passes", "missing required key (per-pass coefficients)");
   Params ps = p.child("passes");
@@ -220,13 +240,9 @@ Json GpuProfile::to_json() const {
     }
     j["interval"] = iv;
   }
-  j["spec"] = {{"fp32_gflops", spec.fp32_gflops},
-               {"mem_gbps", spec.mem_gbps},
-               {"fill_gpix", spec.fill_gpix},
-               {"tri_gtris", spec.tri_gtris},
-               {"boost_mhz", spec.boost_mhz},
-               {"l2_mb", spec.l2_mb},
-               {"source", spec.source}};
+  Json sp = Json::object();
+  for (const auto& row : gpu_spec_table().rows()) sp[row.key] = row.get(spec);
+  j["spec"] = sp;
   Json ps = Json::object();
   for (auto& [pass, pc] : passes) {
     Json t = Json::object();
@@ -266,9 +282,8 @@ std::string GpuProfile::to_file_text() const {
   }
   if (o.contains("spec")) {
     nlohmann::ordered_json sp;
-    for (const char* k :
-         {"fp32_gflops", "mem_gbps", "fill_gpix", "tri_gtris", "boost_mhz", "l2_mb", "source"})
-      if (j.at("spec").contains(k)) sp[k] = j.at("spec").at(k);
+    for (const auto& row : gpu_spec_table().rows())  // in the declaration's order
+      if (j.at("spec").contains(row.key)) sp[row.key] = j.at("spec").at(row.key);
     o["spec"] = sp;
   }
   nlohmann::ordered_json ps = nlohmann::ordered_json::object();

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "sim/core/param_info.h"
 #include "sim/core/params.h"
 
 namespace fovsim {
@@ -29,6 +30,8 @@ struct GpuSpec {
   // Peak rate of a class in units per millisecond (flop, byte, pixel, triangle).
   double rate_per_ms(Resource r) const;
 };
+// The declaration of a profile's `spec` keys (parsing, docs, the order profile files write).
+const ParamTable<GpuSpec>& gpu_spec_table();
 
 // How a pass combines its terms (docs/architecture.md §6). Linear: overhead + Σ coef·value.
 // Roofline: overhead + max over resources of Σ_{terms of that resource} coef·value, i.e. the

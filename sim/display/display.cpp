@@ -7,33 +7,91 @@
 #include <filesystem>
 
 #include "sim/core/error.h"
+#include "sim/core/param_table.h"
+#include "sim/display/display_keys.h"
 
 namespace fovsim {
 
+namespace {
+// A flat screen given by its diagonal (inches or degrees) without fov_h_deg: the FOV follows
+// from its size at the viewing distance instead of being read.
+bool fov_from_diagonal(const Params& p) {
+  auto positive = [&](const char* k) {
+    const Json& j = p.json();
+    return j.contains(k) && j.at(k).is_number() && j.at(k).get<double>() > 0;
+  };
+  return (positive("diagonal_inches") || positive("fov_diagonal_deg")) && !p.has("fov_h_deg");
+}
+}  // namespace
+
+const ParamTable<Display>& display_table() {
+  using D = Display;
+  auto read_fov = [](const Params& p) { return !fov_from_diagonal(p); };
+  static const auto t =
+      ParamTable<D>()
+          .text("name", "custom", {}, &D::name)
+          .doc("", "display name (results, manifest)")
+          .integer("width", 0, Range::closed(1, 16384), &D::width)
+          .required()
+          .doc("", "pixels per eye, horizontal")
+          .integer("height", 0, Range::closed(1, 16384), &D::height)
+          .required()
+          .doc("", "pixels per eye, vertical")
+          .number("refresh_hz", 90.0, Range::above(0, 1000), &D::refresh_hz)
+          .doc("", "refresh rate; the trace is resampled to it")
+          .integer("eyes", 1, Range::closed(1, 2), &D::eyes)
+          .doc("", "eyes rendered per frame (the cost model charges each)")
+          .text("source", "", {}, &D::source)
+          .doc("", "where the numbers come from")
+          // Photometry and physical geometry (FovVideoVDP's display model).
+          .number("peak_luminance", 100.0, Range::above(0, 1e5), &D::peak_luminance)
+          .doc("Mantiuk et al. 2021", "peak (white) luminance, cd/m^2")
+          .number("black_luminance", 0.0, Range::closed(0, 1e4), &D::black_luminance)
+          .shown("0", "[0, peak_luminance)")
+          .doc("Mantiuk et al. 2021", "black level, cd/m^2; 0 = `peak_luminance / contrast`")
+          .number("contrast", 500.0, Range::above(1, 1e9), &D::contrast)
+          .doc("Mantiuk et al. 2021", "panel contrast, used when `black_luminance` is 0")
+          .number("ambient_lux", 0.0, Range::closed(0, 1e6), &D::ambient_lux)
+          .doc("Mantiuk et al. 2021",
+               "ambient illuminance; adds `ambient_lux/pi reflectivity` to the black level")
+          .number("reflectivity", 0.005, Range::closed(0, 1), &D::reflectivity)
+          .doc("Mantiuk et al. 2021", "panel reflectivity")
+          .number("viewing_distance_m", 0.0, Range::closed(0, 100), &D::viewing_distance_m)
+          .doc("Mantiuk et al. 2021",
+               "viewing distance; 0 = unknown (FovVideoVDP assumes 3 m, "
+               "the virtual screen of a headset)")
+          .number("diagonal_inches", 0.0, Range::closed(0, 1000), &D::diagonal_inches)
+          .doc("", "physical diagonal of a flat screen (0 = absent)")
+          .number("fov_diagonal_deg", 0.0, Range::closed(0, 179), &D::fov_diagonal_deg)
+          .doc("", "diagonal FOV (0 = absent); not with `diagonal_inches`")
+          .number("fov_h_deg", 0, Range::above(0, 179), &D::fov_h_deg)
+          .required()
+          .read_if(read_fov)
+          .shown("required", "(0, 179]")
+          .doc("",
+               "horizontal FOV (symmetric); derived from the diagonal when that is given "
+               "instead")
+          .number("fov_v_deg", 0, Range::above(0, 179), &D::fov_v_deg)
+          .required()
+          .read_if(read_fov)
+          .shown("required", "(0, 179]")
+          .doc("", "vertical FOV (symmetric); derived with `fov_h_deg`")
+          .validate([](const D& d, Params& p) {
+            if (d.black_luminance >= d.peak_luminance)
+              throw Error(
+                  p.where("black_luminance"),
+                  "must be below peak_luminance (" + std::to_string(d.peak_luminance) + " cd/m2)");
+            if (d.diagonal_inches > 0 && d.fov_diagonal_deg > 0)
+              throw Error(p.where("diagonal_inches"),
+                          "give diagonal_inches or fov_diagonal_deg, not both");
+          });
+  return t;
+}
+
 Display Display::from_params(Params& p) {
   Display d;
-  d.name = p.string("name", "custom");
-  d.width = p.integer("width", Range::closed(1, 16384));
-  d.height = p.integer("height", Range::closed(1, 16384));
-  d.refresh_hz = p.number("refresh_hz", 90.0, Range::above(0, 1000));
-  d.eyes = p.integer("eyes", 1, Range::closed(1, 2));
-  d.source = p.string("source", "");
-  // Photometry and physical geometry (FovVideoVDP's display model, Mantiuk et al. 2021).
-  d.peak_luminance = p.number("peak_luminance", 100.0, Range::above(0, 1e5));
-  d.black_luminance = p.number("black_luminance", 0.0, Range::closed(0, 1e4));
-  d.contrast = p.number("contrast", 500.0, Range::above(1, 1e9));
-  d.ambient_lux = p.number("ambient_lux", 0.0, Range::closed(0, 1e6));
-  d.reflectivity = p.number("reflectivity", 0.005, Range::closed(0, 1));
-  d.viewing_distance_m = p.number("viewing_distance_m", 0.0, Range::closed(0, 100));
-  d.diagonal_inches = p.number("diagonal_inches", 0.0, Range::closed(0, 1000));
-  d.fov_diagonal_deg = p.number("fov_diagonal_deg", 0.0, Range::closed(0, 179));
-  if (d.black_luminance >= d.peak_luminance)
-    throw Error(p.where("black_luminance"),
-                "must be below peak_luminance (" + std::to_string(d.peak_luminance) + " cd/m2)");
-  if (d.diagonal_inches > 0 && d.fov_diagonal_deg > 0)
-    throw Error(p.where("diagonal_inches"), "give diagonal_inches or fov_diagonal_deg, not both");
-  const bool geometry = d.diagonal_inches > 0 || d.fov_diagonal_deg > 0;
-  if (geometry && !p.has("fov_h_deg")) {
+  display_table().read_into(p, d);
+  if (fov_from_diagonal(p)) {
     // A flat screen: FOV from its physical size at the viewing distance (3 m when unknown).
     const double dist = d.viewing_distance_m > 0 ? d.viewing_distance_m : 3.0;
     const double a = double(d.width) / double(d.height);
@@ -48,9 +106,6 @@ Display Display::from_params(Params& p) {
     }
     d.fov_h_deg = rad2deg(2.0 * std::atan(a * h_m / (2.0 * dist)));
     d.fov_v_deg = rad2deg(2.0 * std::atan(h_m / (2.0 * dist)));
-  } else {
-    d.fov_h_deg = p.number("fov_h_deg", Range::above(0, 179));
-    d.fov_v_deg = p.number("fov_v_deg", Range::above(0, 179));
   }
   p.ignore("comment");
   return d;

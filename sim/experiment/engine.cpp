@@ -20,6 +20,7 @@
 #include "sim/core/files.h"
 #include "sim/core/hash.h"
 #include "sim/core/limits.h"
+#include "sim/core/param_table.h"
 #include "sim/core/progress.h"
 #include "sim/core/version.h"
 #include "sim/core/watchdog.h"
@@ -31,6 +32,7 @@
 #include "sim/experiment/latency.h"
 #include "sim/experiment/phase_times.h"
 #include "sim/experiment/reference_cache.h"
+#include "sim/experiment/run_config.h"
 #include "sim/experiment/runner.h"
 #include "sim/experiment/tracking_summary.h"
 #include "sim/foveation/factory.h"
@@ -159,7 +161,8 @@ struct Shared {
   Json scene_config;             // the resolved `scene` block (the reference cache's key)
 
   void parse(Params& root, const std::string& cfg_file, const std::string& base_dir) {
-    seed = uint64_t(root.integer("seed", 1, Range::closed(0, 2e9)));
+    const RunSharedKeys top = run_shared_table().read(root);
+    seed = uint64_t(top.seed);
     if (root.has("display") && root.json()["display"].is_object()) {
       Params dp = root.child("display");
       display = Display::from_params(dp);
@@ -168,12 +171,13 @@ struct Shared {
       display = Display::load(dname, models);
     }
     Params rp = root.child("render");
-    scale = rp.number("scale", 1.0, Range::above(0, 4));
+    const RenderBlock rb = render_block_table().read(rp);
+    scale = rb.scale;
     rs = RenderSettings::from_params(rp);
     Params tp = rp.child("tonemap");
     sim_display = display.scaled(scale);
     // Images and G-buffers scale with the simulated pixel count: refuse before allocating.
-    const double max_px = rp.number("max_pixels", 5e7, Range::closed(1, 1e10));
+    const double max_px = rb.max_pixels;
     const double px = double(sim_display.width) * double(sim_display.height);
     if (px > max_px)
       rp.fail("scale",
@@ -184,8 +188,11 @@ struct Shared {
 
     Params sp = root.child("scene");
     scene = std::make_unique<Scene>(make_scene(sp, models));
-    tonemap.exposure = tp.number("exposure", scene->exposure, Range::above(0, 1e6));
-    std::string curve = tp.string("curve", "aces", {"aces", "reinhard", "clamp"});
+    ToneMapBlock tb;
+    tb.exposure = scene->exposure;  // the default
+    tonemap_block_table().read_into(tp, tb);
+    tonemap.exposure = tb.exposure;
+    const std::string& curve = tb.curve;
     tonemap.curve = curve == "aces"
                         ? ToneMap::Curve::Aces
                         : (curve == "reinhard" ? ToneMap::Curve::Reinhard : ToneMap::Curve::Clamp);
@@ -193,13 +200,14 @@ struct Shared {
     // The frame range is read first so that only the part of the trace it uses is resampled
     // (a trace spanning 1e7 s with frames.count = 2 resamples 2 frames, not 1e7 s).
     Params fp = root.child("frames");
-    start = fp.integer("start", 0, Range::at_least(0));
-    stride = fp.integer("stride", 1, Range::closed(1, 1e6));
-    count = fp.integer("count", 0, Range::at_least(0));  // 0 = all available
+    const FramesBlock fb = frames_block_table().read(fp);
+    start = fb.start;
+    stride = fb.stride;
+    count = fb.count;  // 0 = all available
     // Warm-up frames (frames.warmup): the first `warmup` frames of the range are rendered and
     // fed to every method (TWFR's cold first frame, temporal history) but not recorded; the
     // recorded frames, frames.count of them, follow.
-    warmup = fp.integer("warmup", 0, Range::closed(0, 1e6));
+    warmup = fb.warmup;
     start += warmup * stride;
     const double needed_s =
         count > 0 ? (double(start) + double(count - 1) * stride + 2.0) / display.refresh_hz
@@ -207,7 +215,7 @@ struct Shared {
     Params trp = root.child("trace");
     const bool policy_given = trp.has("on_invalid");
     Trace raw_trace = load_trace(trp, display, base_dir, needed_s, &tracking);
-    std::string placement = root.string("trace_placement", "scene", {"scene", "absolute"});
+    const std::string& placement = top.trace_placement;
     trace = resample(raw_trace, display.refresh_hz,
                      raw_trace.samples.empty() ? INFINITY : raw_trace.samples.front().t + needed_s);
     this->raw_trace = raw_trace;
@@ -234,7 +242,7 @@ struct Shared {
         }
 
     int avail = int(trace.samples.size());
-    std::string on_short = fp.string("on_short_trace", "fail", {"fail", "truncate"});
+    const std::string& on_short = fb.on_short_trace;
     if (start >= avail)
       fp.fail(warmup > 0 ? "warmup" : "start",
               "frame " + std::to_string(start) +
@@ -365,6 +373,7 @@ struct Cell {
   std::vector<GpuProfile> gpus;
   Workload workload;
   ImageOutputs io;
+  OutputsBlock outputs;  // the `outputs` block as read (run_config.h)
   bool print_table = false;
   uint32_t channels = 0;
   Json manifest;
@@ -416,7 +425,10 @@ struct Cell {
   std::vector<std::string> warnings;  // config_warnings(): manifest "warnings", printed by the CLI
 
   void parse(Params& root, const std::string& models, bool default_print) {
-    name = root.string("name", fs::path(job->file).stem().string());
+    RunCellKeys keys;
+    keys.name = fs::path(job->file).stem().string();  // the default
+    run_cell_table().read_into(root, keys);
+    name = keys.name;
     std::set<std::string> labels;
     // Labels become image file names through safe_file_name (sim/core/files.h); two labels
     // that map to one name, or to the reference image's, are reported, never overwritten.
@@ -469,14 +481,16 @@ struct Cell {
     }
     for (auto& n : names) gpus.push_back(GpuProfile::load(n, models));
     // Workload descriptor for what the scene does not say (overdraw, bytes, flops per sample).
-    workload = Workload::load(root.string("workload", "generic"), models);
+    workload = Workload::load(keys.workload, models);
 
     Params op = root.child("outputs");
-    for (double f : op.numbers("image_frames", {}, Range::closed(0, 2e9))) io.frames.insert(int(f));
-    io.png = op.boolean("png", true);
-    io.exr = op.boolean("exr", false);
-    io.debug = op.boolean("debug_images", false);
-    print_table = op.boolean("print_summary", default_print);
+    outputs.print_summary = default_print;  // the default
+    outputs_block_table().read_into(op, outputs);
+    for (double f : outputs.image_frames) io.frames.insert(int(f));
+    io.png = outputs.png;
+    io.exr = outputs.exr;
+    io.debug = outputs.debug_images;
+    print_table = outputs.print_summary;
     latency = LatencyConfig::from_params(root);
   }
 
@@ -681,9 +695,10 @@ struct Cell {
 
       if (want_images) {
         write_images(img_dir, m.stem, out_display, &lin, io, image_jobs);
-        image_jobs.add(img_dir + "/" + safe_file_name(m.stem + "_error") + ".png",
-                       error_heatmap(out_display, *refd));
-        if (mcfg.flip)
+        if (outputs.error_images)
+          image_jobs.add(img_dir + "/" + safe_file_name(m.stem + "_error") + ".png",
+                         error_heatmap(out_display, *refd));
+        if (mcfg.flip && mcfg.flip_images)
           image_jobs.add(img_dir + "/" + safe_file_name(m.stem + "_flip") + ".png",
                          flip_colormap(metrics_scratch.flip_map));
         for (auto& [name, img] : heat)
@@ -737,6 +752,14 @@ struct Cell {
         for (auto& [cn, cv] : fo.counters.items())
           if (cn != "shaded_samples" && cn != "prims_submitted" && cn != "prims_culled")
             row.set(cn, cv);
+        // A counter the cost model needed and the method did not fill (its pass was charged 0 or
+        // a fallback) is a flag of the row, never silence (results/README.md).
+        if (!cost.missing_counters.empty()) {
+          std::string mc;
+          for (const auto& n : cost.missing_counters) mc += (mc.empty() ? "" : ";") + n;
+          row.set_text("missing_counters", mc);
+          flags_seen.insert(m.label + ":missing_counters");
+        }
         row.set("est_ms_total", cost.total_ms);
         if (cost.interval_level > 0) {  // the profile's prediction interval (docs/cost_model.md)
           row.set("est_ms_total_lo", cost.total_lo_ms);

@@ -3,33 +3,85 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sim/core/param_table.h"
 #include "sim/core/rng.h"
 
 namespace fovsim {
+
+const ParamTable<LatencyConfig>& latency_table() {
+  using C = LatencyConfig;
+  const Range ms = Range::closed(0, 1000);
+  static const auto t =
+      ParamTable<C>()
+          .number("tracker_ms", 0.0, ms, &C::tracker_ms)
+          .doc("", "eye-tracker latency (sample to application)")
+          .number("render_ms", 0.0, ms, &C::render_ms)
+          .doc("",
+               "render pipeline part (ignored when `render_from_estimate` has a previous "
+               "frame)")
+          .number("display_ms", 0.0, ms, &C::display_ms)
+          .doc("", "display part (scan-out, panel response)")
+          .text("jitter", "none", {"none", "normal", "uniform"}, &C::jitter)
+          .doc("", "per-frame jitter added to L")
+          .number("jitter_ms", 0.0, Range::closed(0, 500), &C::jitter_ms)
+          .doc("", "`normal`: standard deviation; `uniform`: width of [0, jitter_ms)")
+          .integer("seed", 1, Range::closed(0, 2e9), &C::seed)
+          .doc("",
+               "jitter seed (one stream per frame: same numbers at any thread count or frame "
+               "order)")
+          .boolean("render_from_estimate", false, &C::render_from_estimate)
+          .doc("",
+               "render part = the method's previous-frame `est_ms_total` (first GPU profile) "
+               "rounded up to whole refresh periods: a frame that misses the budget is "
+               "displayed a period later")
+          .text("predictor", "none", {"none", "main_sequence"}, &C::predictor)
+          .doc("", "landing-position predictor for saccades in flight at t - L")
+          .number("predictor_min_deg", 1.0, Range::closed(0, 90), &C::predictor_min_deg)
+          .doc("", "angle a saccade must have travelled before the predictor acts")
+          .documented("saccade", "object", "", "", "", "saccade detector: `latency.saccade` below")
+          .documented("main_sequence", "object", "", "", "",
+                      "main-sequence model: `latency.main_sequence` below");
+  return t;
+}
+
+const ParamTable<LatencyConfig>& latency_saccade_table() {
+  using C = LatencyConfig;
+  static const auto t =
+      ParamTable<C>()
+          .number("velocity_threshold_deg_s", 75.0, Range::above(0, 5000), &C::saccade_deg_s)
+          .doc("",
+               "eye-in-head speed above which a frame is `saccade` (detector on the true "
+               "gaze)")
+          .number("suppression_ms", 50.0, Range::closed(0, 1000), &C::suppression_ms)
+          .doc("", "window after the last saccade sample labelled `suppression`");
+  return t;
+}
+
+const ParamTable<LatencyConfig>& latency_main_sequence_table() {
+  using C = LatencyConfig;
+  static const auto t =
+      ParamTable<C>()
+          .number("vmax_deg_s", 600.0, Range::above(0, 5000), &C::ms_vmax_deg_s)
+          .doc("Baloh et al. 1975", "V_peak = vmax (1 - e^(-A/c)), deg/s")
+          .number("c_deg", 10.0, Range::above(0, 1000), &C::ms_c_deg)
+          .doc("Baloh et al. 1975", "c of V_peak, deg")
+          .number("intercept_ms", 21.0, Range::closed(0, 1000), &C::ms_intercept_ms)
+          .doc("Carpenter 1988", "duration = intercept + slope A")
+          .number("slope_ms_per_deg", 2.2, Range::above(0, 100), &C::ms_slope_ms_per_deg)
+          .doc("Carpenter 1988", "slope of the duration");
+  return t;
+}
 
 LatencyConfig LatencyConfig::from_params(Params& root) {
   LatencyConfig c;
   if (!root.has("latency")) return c;
   c.enabled = true;
   Params p = root.child("latency");
-  const Range ms = Range::closed(0, 1000);
-  c.tracker_ms = p.number("tracker_ms", 0.0, ms);
-  c.render_ms = p.number("render_ms", 0.0, ms);
-  c.display_ms = p.number("display_ms", 0.0, ms);
-  c.jitter = p.string("jitter", "none", {"none", "normal", "uniform"});
-  c.jitter_ms = p.number("jitter_ms", 0.0, Range::closed(0, 500));
-  c.seed = uint64_t(p.integer("seed", 1, Range::closed(0, 2e9)));
-  c.render_from_estimate = p.boolean("render_from_estimate", false);
-  c.predictor = p.string("predictor", "none", {"none", "main_sequence"});
-  c.predictor_min_deg = p.number("predictor_min_deg", 1.0, Range::closed(0, 90));
+  latency_table().read_into(p, c);
   Params s = p.child("saccade");
-  c.saccade_deg_s = s.number("velocity_threshold_deg_s", 75.0, Range::above(0, 5000));
-  c.suppression_ms = s.number("suppression_ms", 50.0, Range::closed(0, 1000));
+  latency_saccade_table().read_into(s, c);
   Params m = p.child("main_sequence");
-  c.ms_vmax_deg_s = m.number("vmax_deg_s", 600.0, Range::above(0, 5000));
-  c.ms_c_deg = m.number("c_deg", 10.0, Range::above(0, 1000));
-  c.ms_intercept_ms = m.number("intercept_ms", 21.0, Range::closed(0, 1000));
-  c.ms_slope_ms_per_deg = m.number("slope_ms_per_deg", 2.2, Range::above(0, 100));
+  latency_main_sequence_table().read_into(m, c);
   return c;
 }
 

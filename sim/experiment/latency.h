@@ -6,6 +6,7 @@
 #include <set>
 #include <string>
 
+#include "sim/core/param_info.h"
 #include "sim/core/params.h"
 #include "sim/experiment/table.h"
 #include "sim/trace/trace.h"
@@ -31,6 +32,11 @@ struct LatencyConfig {
   // Fixed part plus this frame's jitter (seeded per frame: same at any thread count / order).
   double total_ms(int frame, double render_part_ms) const;
 };
+
+// The `latency` block's keys and those of its `saccade` and `main_sequence` objects.
+const ParamTable<LatencyConfig>& latency_table();
+const ParamTable<LatencyConfig>& latency_saccade_table();
+const ParamTable<LatencyConfig>& latency_main_sequence_table();
 
 enum class GazePhase { Fixation, Saccade, Suppression };
 const char* phase_name(GazePhase p);

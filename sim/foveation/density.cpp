@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 namespace fovsim {
 
@@ -110,88 +111,30 @@ int fvrs_rate(const MappingSpec& s, const MappingView& v, int bx, int by) {
 }
 
 double sample_density(const MappingSpec& s, const MappingView& v, double x, double y) {
-  if (s.method == "kfr") {
-    auto m = LogPolarMap::make(v.W, v.H, reduced_size(v.W, s.sigma), reduced_size(v.H, s.sigma),
-                               v.gaze_px, s.kernel);
-    return m.density(x, y);
-  }
-  if (s.method == "rmfr") {
-    auto m = RectMap::make(v.W, v.H, reduced_size(v.W, s.sigma), reduced_size(v.H, s.sigma),
-                           v.gaze_px, s.fx_pixels(v.W), s.fy_pixels(v.H));
-    return m.density(x, y);
-  }
-  const double e = v.ecc_deg(x, y);
-  if (s.method == "linear") return linear_probability(s, e);
-  if (s.method == "fvrs") {
-    int bx = std::clamp(int(std::floor(x / 4)), 0, std::max(0, (v.W - 1) / 4));
-    int by = std::clamp(int(std::floor(y / 4)), 0, std::max(0, (v.H - 1) / 4));
-    int r = fvrs_rate(s, v, bx, by);
-    return 1.0 / (r * r);
-  }
-  // hyperbolic: the finest layer that covers the point within its eccentricity limit
-  auto layers = hyperbolic_layers(s, v);
-  for (auto& L : layers)
-    if (L.w > 0 && e < L.ecc_limit && x >= L.x0 && x < L.x1 && y >= L.y0 && y < L.y1)
-      return 1.0 / (L.s * L.s);
-  return 1.0 / (s.s3 * s.s3);
+  return s.geometry->density(s, v, x, y);
 }
 
-namespace {
-double kfr_count(const MappingSpec& s, const MappingView& v) {
-  const int w = reduced_size(v.W, s.sigma), h = reduced_size(v.H, s.sigma);
-  auto m = LogPolarMap::make(v.W, v.H, w, h, v.gaze_px, s.kernel);
-  std::vector<double> rows(size_t(h), 0.0);
-  parallel_rows(h, [&](int iv) {
-    double n = 0;
-    for (int iu = 0; iu < w; ++iu) {
-      glm::dvec2 p = m.inverse(iu + 0.5, iv + 0.5);
-      if (p.x >= 0 && p.y >= 0 && p.x < v.W && p.y < v.H) n += 1;
-    }
-    rows[size_t(iv)] = n;
+void density_image(const MappingSpec& s, const MappingView& v, Image& d) {
+  d = Image(v.W, v.H, 1);
+  if (s.geometry->density_image) {
+    s.geometry->density_image(s, v, d);
+    return;
+  }
+  parallel_rows(v.H, [&](int y) {
+    for (int x = 0; x < v.W; ++x) d.at(x, y)[0] = float(sample_density(s, v, x + 0.5, y + 0.5));
   });
-  double n = 0;
-  for (double r : rows) n += r;
-  return n;
 }
-}  // namespace
 
 double expected_shaded_samples(const MappingSpec& s, const MappingView& v) {
-  if (s.method == "kfr") return kfr_count(s, v);
-  if (s.method == "rmfr") return double(reduced_size(v.W, s.sigma)) * reduced_size(v.H, s.sigma);
-  if (s.method == "hyperbolic") {
-    return hyperbolic_needed(s, v, hyperbolic_layers(s, v), nullptr);
-  }
-  if (s.method == "linear") {
-    std::vector<double> rows(size_t(v.H), 0.0);
-    parallel_rows(v.H, [&](int y) {
-      double n = 0;
-      for (int x = 0; x < v.W; ++x) {
-        double e = v.ecc ? double((*v.ecc)[size_t(y) * size_t(v.W) + size_t(x)])
-                         : v.ecc_deg(x + 0.5, y + 0.5);
-        n += linear_probability(s, e);
-      }
-      rows[size_t(y)] = n;
-    });
-    double n = 0;
-    for (double r : rows) n += r;
-    return n;
-  }
-  // fvrs: coarse pixels per 4x4 block (partial blocks at the screen edge count their coarse
-  // pixels that intersect the screen).
-  const int bw = (v.W + 3) / 4, bh = (v.H + 3) / 4;
-  std::vector<double> rows(size_t(bh), 0.0);
-  parallel_rows(bh, [&](int by) {
-    double n = 0;
-    for (int bx = 0; bx < bw; ++bx) {
-      const int r = fvrs_rate(s, v, bx, by);
-      const int ex = std::min(4, v.W - bx * 4), ey = std::min(4, v.H - by * 4);
-      n += double((ex + r - 1) / r) * double((ey + r - 1) / r);
-    }
-    rows[size_t(by)] = n;
-  });
-  double n = 0;
-  for (double r : rows) n += r;
-  return n;
+  return s.geometry->expected_samples(s, v);
+}
+
+double sum_rows(int n, const std::function<double(int)>& row) {
+  std::vector<double> rows(size_t(std::max(n, 0)), 0.0);
+  parallel_rows(n, [&](int i) { rows[size_t(i)] = row(i); });
+  double t = 0;
+  for (double r : rows) t += r;  // in row order: the same sum at any thread count
+  return t;
 }
 
 bool solve_iso_budget(const MappingSpec& s, const MappingView& v, double target, MappingSpec& out,
@@ -201,34 +144,32 @@ bool solve_iso_budget(const MappingSpec& s, const MappingView& v, double target,
   const double total = double(v.W) * double(v.H);
   auto frac = [&](const MappingSpec& m) { return expected_shaded_samples(m, v) / total; };
   bool ok = true;
-  if (s.method == "rmfr") {
-    out.sigma = std::max(1.0, 1.0 / std::sqrt(target));  // S = sigma^2 (Ye et al. 2022 §3.2)
-    ok = target <= 1.0;
+  const SamplingGeometry& g = *s.geometry;
+  double MappingSpec::*free = g.free_param;
+  if (g.free_closed_form) {
+    ok = g.free_closed_form(target, &(out.*free));
   } else {
-    // Monotone 1-D search on a log axis: kfr's fraction falls with sigma, the baselines'
-    // rises with radius_scale.
-    const bool is_kfr = s.method == "kfr";
-    double lo = is_kfr ? 0.0 : std::log(1e-4), hi = is_kfr ? std::log(1e4) : std::log(1e3);
+    // Monotone 1-D search on a log axis of the free parameter (kfr's fraction falls with
+    // sigma, the baselines' rises with radius_scale: the direction is read off the ends).
+    double lo = std::log(g.free_lo), hi = std::log(g.free_hi);
     auto set = [&](double t) {
-      if (is_kfr)
-        out.sigma = std::exp(t);
-      else
-        out.radius_scale = std::exp(t);
+      out.*free = std::exp(t);
       return frac(out);
     };
     const double f_lo = set(lo), f_hi = set(hi);
     const double f_min = std::min(f_lo, f_hi), f_max = std::max(f_lo, f_hi);
+    const bool falls = f_lo > f_hi;
     if (target >= f_max || target <= f_min) {
       ok = (target == f_max || target == f_min);
       const bool want_max = target >= f_max;
-      set((f_lo > f_hi) == want_max ? lo : hi);
+      set(falls == want_max ? lo : hi);
     } else {
       for (int it = 0; it < 36; ++it) {
         const double mid = 0.5 * (lo + hi);
         const double f = set(mid);
         const bool above = f > target;
-        // kfr: too many samples -> larger sigma; baselines: too many -> smaller radius.
-        if (above == is_kfr)
+        // Too many samples: move towards the end with fewer.
+        if (above == falls)
           lo = mid;
         else
           hi = mid;

@@ -3,6 +3,7 @@
 // geometry functions (LP/RS buffer sizes, hyperbolic layers, linear probability, fvrs rates)
 // are used by the methods' render() so analytic counts and measured counts agree.
 #pragma once
+#include <functional>
 #include <vector>
 
 #include "sim/display/display.h"
@@ -66,19 +67,26 @@ double linear_probability(const MappingSpec& s, double ecc_deg);
 // of the 4x4 block whose top-left pixel is (bx*4, by*4), from the eccentricity at its centre.
 int fvrs_rate(const MappingSpec& s, const MappingView& v, int bx, int by);
 
-// Sampling density (shading samples per screen pixel) at screen point (x, y):
-// Jacobian of the forward map for kfr/rmfr, 1/s^2 of the finest covering layer for hyperbolic,
-// p(e) for linear, 1/rate^2 for fvrs.
+// Sampling density (shading samples per screen pixel) at screen point (x, y), from the
+// method's SamplingGeometry (kfr.cpp, rmfr.cpp, ...): Jacobian of the forward map for
+// kfr/rmfr, 1/s^2 of the finest covering layer for hyperbolic, p(e) for linear, 1/rate^2
+// for fvrs.
 double sample_density(const MappingSpec& s, const MappingView& v, double x, double y);
+// The density at every pixel centre (v.W x v.H, 1 channel).
+void density_image(const MappingSpec& s, const MappingView& v, Image& d);
 
 // Number of samples the method's render pass shades for this view (exact for kfr, rmfr,
 // hyperbolic and fvrs without edge-aware extras; expected value for linear).
 double expected_shaded_samples(const MappingSpec& s, const MappingView& v);
 
-// Iso-budget (Ye et al. 2022 §5.1, docs/architecture.md §9): returns a copy of s whose free
-// parameter (sigma for kfr/rmfr, radius_scale for the baselines) makes expected_shaded_samples / (W
-// H) as close as possible to `target`. `achieved` gets the resulting fraction; returns false (and
-// the closest reachable setting) when the target lies outside the method's range.
+// Sum of row(i) for i in [0, n), rows evaluated in parallel and added in order.
+double sum_rows(int n, const std::function<double(int)>& row);
+
+// Iso-budget (Ye et al. 2022 §5.1): returns a copy of s whose free parameter (the geometry's
+// free_param: sigma for kfr/rmfr, radius_scale for the baselines) makes
+// expected_shaded_samples / (W H) as close as possible to `target`. `achieved` gets the resulting
+// fraction; returns false (and the closest reachable setting) when the target lies outside the
+// method's range.
 bool solve_iso_budget(const MappingSpec& s, const MappingView& v, double target, MappingSpec& out,
                       double* achieved = nullptr);
 

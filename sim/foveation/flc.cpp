@@ -16,6 +16,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "sim/core/param_table.h"
 #include "sim/foveation/flc_shading.h"
 #include "sim/foveation/lighting_flc.h"
 #include "sim/foveation/methods.h"
@@ -151,6 +152,22 @@ const FlcStageTimes* flc_stage_times(const FoveationMethod& m) {
   return f ? &f->times() : nullptr;
 }
 
+namespace {
+// The method's own keys (log-polar shading, §6); the strategy's keys come first
+// (flc_lighting_table).
+const ParamTable<FlcShadeSettings>& flc_shade_table() {
+  using S = FlcShadeSettings;
+  static const auto t = ParamTable<S>()
+                            .boolean("log_polar", false, &S::log_polar)
+                            .doc("§6", "log-polar shading")
+                            .number("lp_sigma", 2.0, Range::closed(1, 32), &S::lp_sigma)
+                            .doc("§6", "log-polar buffer reduction")
+                            .integer("interleave", 1, Range::closed(1, 2), &S::interleave)
+                            .doc("§6", "interleaved sampling n");
+  return t;
+}
+}  // namespace
+
 std::unique_ptr<FoveationMethod> create_flc(Params& p) {
   for (const char* moved : {"rsm_size", "min_dist", "shading_visibility"})
     if (p.has(moved))
@@ -158,19 +175,13 @@ std::unique_ptr<FoveationMethod> create_flc(Params& p) {
                         (std::string(moved) == "shading_visibility" ? "shadow_rays" : moved) +
                         " (models/scenes/README.md)");
   const FlcLightingSettings ls = FlcLightingSettings::from_params(p);
-  FlcShadeSettings s;
-  s.log_polar = p.boolean("log_polar", false);
-  s.lp_sigma = p.number("lp_sigma", 2.0, Range::closed(1, 32));
-  s.interleave = p.integer("interleave", 1, Range::closed(1, 2));
-  return std::make_unique<FlcMethod>(ls, s);
+  return std::make_unique<FlcMethod>(ls, flc_shade_table().read(p));
 }
 
 const std::vector<ParamInfo>& flc_params() {
   static const std::vector<ParamInfo> t = [] {
     std::vector<ParamInfo> v = flc_lighting_params();
-    v.push_back({"log_polar", "bool", "false", "", "§6", "log-polar shading"});
-    v.push_back({"lp_sigma", "number", "2", "[1, 32]", "§6", "log-polar buffer reduction"});
-    v.push_back({"interleave", "int", "1", "[1, 2]", "§6", "interleaved sampling n"});
+    for (const ParamInfo& i : flc_shade_table().info()) v.push_back(i);
     return v;
   }();
   return t;

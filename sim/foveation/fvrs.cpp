@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sim/core/param_table.h"
 #include "sim/foveation/mapping_method.h"
 #include "sim/foveation/methods.h"
 
@@ -87,24 +88,62 @@ class FvrsMethod final : public MappingMethodBase {
   std::vector<uint32_t> rep_;
 };
 
+// The geometry (density, samples, iso-budget free parameter) and the keys of fvrs.
+double fvrs_density(const MappingSpec& s, const MappingView& v, double x, double y) {
+  int bx = std::clamp(int(std::floor(x / 4)), 0, std::max(0, (v.W - 1) / 4));
+  int by = std::clamp(int(std::floor(y / 4)), 0, std::max(0, (v.H - 1) / 4));
+  int r = fvrs_rate(s, v, bx, by);
+  return 1.0 / (r * r);
+}
+
+// Coarse pixels per 4x4 block (partial blocks at the screen edge count their coarse pixels
+// that intersect the screen).
+double fvrs_samples(const MappingSpec& s, const MappingView& v) {
+  const int bw = (v.W + 3) / 4, bh = (v.H + 3) / 4;
+  return sum_rows(bh, [&](int by) {
+    double n = 0;
+    for (int bx = 0; bx < bw; ++bx) {
+      const int r = fvrs_rate(s, v, bx, by);
+      const int ex = std::min(4, v.W - bx * 4), ey = std::min(4, v.H - by * 4);
+      n += double((ex + r - 1) / r) * double((ey + r - 1) / r);
+    }
+    return n;
+  });
+}
+
+const ParamTable<MappingSpec>& fvrs_table() {
+  using S = MappingSpec;
+  static const ParamTable<S> t = [] {
+    ParamTable<S> t;
+    add_radius_rows(t, "Franke et al. 2021 §8.4", "1x1 shading inside (deg)",
+                    "2x2 inside, 4x4 beyond (deg)");
+    t.boolean("edge_aware", true, &S::edge_aware)
+        .doc("Vaidyanathan 2014", "pixels of another surface shade themselves");
+    add_target_row(t, "radius_scale");
+    return t;
+  }();
+  return t;
+}
+
+const SamplingGeometry kFvrsGeometry = {"fvrs",
+                                        fvrs_table,
+                                        fvrs_density,
+                                        nullptr,
+                                        fvrs_samples,
+                                        /*shades_whole_buffer=*/false,
+                                        &MappingSpec::radius_scale,
+                                        1e-4,
+                                        1e3,
+                                        nullptr};
+
 }  // namespace
 
 std::unique_ptr<FoveationMethod> create_fvrs(Params& p) {
-  return std::make_unique<FvrsMethod>(MappingSpec::from_params("fvrs", p));
+  return std::make_unique<FvrsMethod>(read_mapping_spec(kFvrsGeometry, p));
 }
 
 const std::vector<ParamInfo>& fvrs_params() {
-  static const std::vector<ParamInfo> t = {
-      {"r1", "number", "10", "[0, 180]", "Franke et al. 2021 §8.4", "1x1 shading inside (deg)"},
-      {"r2", "number", "20", "[r1, 180]", "Franke et al. 2021 §8.4",
-       "2x2 inside, 4x4 beyond (deg)"},
-      {"edge_aware", "bool", "true", "", "Vaidyanathan 2014",
-       "pixels of another surface shade themselves"},
-      {"radius_scale", "number", "1", "(0, inf)", "iso-budget", "multiplies r1 and r2"},
-      {"target_shaded_fraction", "number", "none", "(0, 1]", "Ye et al. 2022 §5.1",
-       "iso-budget: solve radius_scale"},
-  };
-  return t;
+  return fvrs_table().info();
 }
 
 }  // namespace fovsim

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sim/core/param_table.h"
 #include "sim/foveation/mapping_method.h"
 #include "sim/foveation/methods.h"
 
@@ -85,26 +86,83 @@ class HyperbolicMethod final : public MappingMethodBase {
   std::vector<uint8_t> used_[3], needed_[3];
 };
 
+// The geometry (density, samples, iso-budget free parameter) and the keys of hyperbolic.
+double hyper_density_in(const MappingSpec& s, const std::vector<HyperLayer>& layers, double x,
+                        double y, double e) {
+  // The finest layer that covers the point within its eccentricity limit.
+  for (auto& L : layers)
+    if (L.w > 0 && e < L.ecc_limit && x >= L.x0 && x < L.x1 && y >= L.y0 && y < L.y1)
+      return 1.0 / (L.s * L.s);
+  return 1.0 / (s.s3 * s.s3);
+}
+
+double hyper_density(const MappingSpec& s, const MappingView& v, double x, double y) {
+  return hyper_density_in(s, hyperbolic_layers(s, v), x, y, v.ecc_deg(x, y));
+}
+
+// Layer geometry once, then per pixel (hyper_density would rebuild it per call).
+void hyper_density_image(const MappingSpec& s, const MappingView& v, Image& d) {
+  const auto layers = hyperbolic_layers(s, v);
+  parallel_rows(v.H, [&](int y) {
+    for (int x = 0; x < v.W; ++x) {
+      double e = (*v.ecc)[size_t(y) * size_t(v.W) + size_t(x)], val = 1.0 / (s.s3 * s.s3);
+      for (auto& L : layers)
+        if (L.w > 0 && e < L.ecc_limit && x + 0.5 >= L.x0 && x + 0.5 < L.x1 && y + 0.5 >= L.y0 &&
+            y + 0.5 < L.y1) {
+          val = 1.0 / (L.s * L.s);
+          break;
+        }
+      d.at(x, y)[0] = float(val);
+    }
+  });
+}
+
+double hyper_samples(const MappingSpec& s, const MappingView& v) {
+  return hyperbolic_needed(s, v, hyperbolic_layers(s, v), nullptr);
+}
+
+const ParamTable<MappingSpec>& hyperbolic_table() {
+  using S = MappingSpec;
+  static const ParamTable<S> t = [] {
+    ParamTable<S> t;
+    add_radius_rows(t, "Ye et al. 2022 §5.1", "inner layer eccentricity (deg)",
+                    "middle layer eccentricity (deg)");
+    t.number("s1", 1.0, Range::closed(1, 1e4), &S::s1)
+        .doc("Ye et al. 2022 §5.1", "inner layer pixel size")
+        .column()
+        .number("s2", 2.0, Range::closed(1, 1e4), &S::s2)
+        .doc("Ye et al. 2022 §5.1", "middle layer pixel size")
+        .column()
+        .number("s3", 12.35, Range::closed(1, 1e4), &S::s3)
+        .doc("Ye et al. 2022 §5.1", "outer layer pixel size")
+        .column()
+        .number("blend_deg", 1.0, Range::closed(0, 90), &S::blend_deg)
+        .doc("Guenter 2012", "smoothstep blend band inside each layer edge (deg)");
+    add_target_row(t, "radius_scale");
+    return t;
+  }();
+  return t;
+}
+
+const SamplingGeometry kHyperbolicGeometry = {"hyperbolic",
+                                              hyperbolic_table,
+                                              hyper_density,
+                                              hyper_density_image,
+                                              hyper_samples,
+                                              /*shades_whole_buffer=*/false,
+                                              &MappingSpec::radius_scale,
+                                              1e-4,
+                                              1e3,
+                                              nullptr};
+
 }  // namespace
 
 std::unique_ptr<FoveationMethod> create_hyperbolic(Params& p) {
-  return std::make_unique<HyperbolicMethod>(MappingSpec::from_params("hyperbolic", p));
+  return std::make_unique<HyperbolicMethod>(read_mapping_spec(kHyperbolicGeometry, p));
 }
 
 const std::vector<ParamInfo>& hyperbolic_params() {
-  static const std::vector<ParamInfo> t = {
-      {"r1", "number", "10", "[0, 180]", "Ye et al. 2022 §5.1", "inner layer eccentricity (deg)"},
-      {"r2", "number", "20", "[r1, 180]", "Ye et al. 2022 §5.1", "middle layer eccentricity (deg)"},
-      {"s1", "number", "1", "[1, 1e4]", "Ye et al. 2022 §5.1", "inner layer pixel size"},
-      {"s2", "number", "2", "[1, 1e4]", "Ye et al. 2022 §5.1", "middle layer pixel size"},
-      {"s3", "number", "12.35", "[1, 1e4]", "Ye et al. 2022 §5.1", "outer layer pixel size"},
-      {"blend_deg", "number", "1", "[0, 90]", "Guenter 2012",
-       "smoothstep blend band inside each layer edge (deg)"},
-      {"radius_scale", "number", "1", "(0, inf)", "iso-budget", "multiplies r1 and r2"},
-      {"target_shaded_fraction", "number", "none", "(0, 1]", "Ye et al. 2022 §5.1",
-       "iso-budget: solve radius_scale"},
-  };
-  return t;
+  return hyperbolic_table().info();
 }
 
 }  // namespace fovsim

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sim/core/param_table.h"
 #include "sim/foveation/mapping_method.h"
 #include "sim/foveation/methods.h"
 
@@ -154,30 +155,76 @@ class KfrMethod final : public MappingMethodBase {
   Image tmp_lp_, tmp_full_;  // scratch of the two Gaussian passes (kept: no per-frame allocation)
 };
 
+// The geometry (density, samples, iso-budget free parameter) and the keys of kfr.
+double kfr_density(const MappingSpec& s, const MappingView& v, double x, double y) {
+  auto m = LogPolarMap::make(v.W, v.H, reduced_size(v.W, s.sigma), reduced_size(v.H, s.sigma),
+                             v.gaze_px, s.kernel);
+  return m.density(x, y);
+}
+
+// LP-buffer pixels whose inverse map lands on the screen (the ones pass 1 shades).
+double kfr_samples(const MappingSpec& s, const MappingView& v) {
+  const int w = reduced_size(v.W, s.sigma), h = reduced_size(v.H, s.sigma);
+  auto m = LogPolarMap::make(v.W, v.H, w, h, v.gaze_px, s.kernel);
+  return sum_rows(h, [&](int iv) {
+    double n = 0;
+    for (int iu = 0; iu < w; ++iu) {
+      glm::dvec2 p = m.inverse(iu + 0.5, iv + 0.5);
+      if (p.x >= 0 && p.y >= 0 && p.x < v.W && p.y < v.H) n += 1;
+    }
+    return n;
+  });
+}
+
+const ParamTable<MappingSpec>& kfr_table() {
+  using S = MappingSpec;
+  static const ParamTable<S> t = [] {
+    ParamTable<S> t;
+    t.number("sigma", 1.8, Range::at_least(1), &S::sigma)
+        .doc("Meng 2018 §2.1 eq. 2.8", "W / w = H / h of the LP-buffer")
+        .column()
+        .number(
+            "alpha", 4.0, Range::closed(1e-3, 1e3), [](auto& s) -> auto& { return s.kernel.alpha; })
+        .doc("Meng 2018 §2.1 eq. 2.9", "exponent of K(x) = x^alpha")
+        .column()
+        .choice(
+            "kernel", "power",
+            std::vector<std::pair<std::string, KernelKind>>{
+                {"power", KernelKind::Power}, {"sine", KernelKind::Sine}, {"exp", KernelKind::Exp}},
+            [](auto& s) -> auto& { return s.kernel.kind; })
+        .doc("Meng 2018 §2.1", "K(x) = x^alpha, sin(x pi/2) or (e^x - 1)/(e - 1)")
+        .column()
+        .boolean("internal_aa", true, &S::internal_aa)
+        .doc("Meng 2018 §2.2.3", "3x3 Gaussian on the peripheral LP part")
+        .number("internal_aa_start", 0.5, Range::closed(0, 1), &S::internal_aa_start)
+        .doc("Meng 2018 §2.2.3", "u/w where the filtered part starts")
+        .boolean("post_aa", true, &S::post_aa)
+        .doc("Meng 2018 §2.3.2 eq. 2.14", "eccentricity-sized Gaussian post filter");
+    add_target_row(t, "sigma");
+    return t;
+  }();
+  return t;
+}
+
+const SamplingGeometry kKfrGeometry = {"kfr",
+                                       kfr_table,
+                                       kfr_density,
+                                       nullptr,
+                                       kfr_samples,
+                                       /*shades_whole_buffer=*/true,
+                                       &MappingSpec::sigma,
+                                       1.0,
+                                       1e4,
+                                       nullptr};
+
 }  // namespace
 
 std::unique_ptr<FoveationMethod> create_kfr(Params& p) {
-  return std::make_unique<KfrMethod>(MappingSpec::from_params("kfr", p));
+  return std::make_unique<KfrMethod>(read_mapping_spec(kKfrGeometry, p));
 }
 
 const std::vector<ParamInfo>& kfr_params() {
-  static const std::vector<ParamInfo> t = {
-      {"sigma", "number", "1.8", "[1, inf)", "Meng 2018 §2.1 eq. 2.8",
-       "W / w = H / h of the LP-buffer"},
-      {"alpha", "number", "4", "[1e-3, 1e3]", "Meng 2018 §2.1 eq. 2.9",
-       "exponent of K(x) = x^alpha"},
-      {"kernel", "string", "power", "power | sine | exp", "Meng 2018 §2.1",
-       "K(x) = x^alpha, sin(x pi/2) or (e^x - 1)/(e - 1)"},
-      {"internal_aa", "bool", "true", "", "Meng 2018 §2.2.3",
-       "3x3 Gaussian on the peripheral LP part"},
-      {"internal_aa_start", "number", "0.5", "[0, 1]", "Meng 2018 §2.2.3",
-       "u/w where the filtered part starts"},
-      {"post_aa", "bool", "true", "", "Meng 2018 §2.3.2 eq. 2.14",
-       "eccentricity-sized Gaussian post filter"},
-      {"target_shaded_fraction", "number", "none", "(0, 1]", "Ye et al. 2022 §5.1",
-       "iso-budget: solve sigma"},
-  };
-  return t;
+  return kfr_table().info();
 }
 
 }  // namespace fovsim

@@ -29,7 +29,7 @@ namespace fovsim {
 
 class Renderer;
 struct FrameContext;  // method.h
-struct ParamInfo;     // method.h
+struct ParamInfo;     // sim/core/param_info.h
 
 // The VPL set of one frame (computed once, shared by the reference and every method).
 struct FrameVpls {
@@ -93,6 +93,12 @@ class LightingStrategy {
   virtual void debug_images(std::vector<std::pair<std::string, Image>>&) {}
   // Parameter columns for frames.csv (vpl_budget, ...).
   virtual std::vector<std::pair<std::string, double>> param_columns() const { return {}; }
+  // The counters of its VPL-selection passes for `vpls` VPLs when nothing was rendered (the
+  // analytic counters of `predict`/`budget`): each strategy declares its own passes, so the
+  // cost model never infers them from the strategy's name. `importance_samples` is the
+  // workload's per-frame importance sample count. Default: no selection passes.
+  virtual void analytic_selection_counters(Counters&, double /*vpls*/,
+                                           double /*importance_samples*/) const {}
 
   // Adds the selected VPLs' indirect light at the samples of g (see add_indirect).
   void shade(const FrameContext& ctx, GBufferRef g, const uint8_t* mask, Image& col,

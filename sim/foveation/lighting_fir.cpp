@@ -16,6 +16,7 @@
 #include <cmath>
 
 #include "sim/core/hash.h"
+#include "sim/core/param_table.h"
 #include "sim/core/rng.h"
 #include "sim/foveation/flc_contribution.h"
 #include "sim/foveation/flc_importance.h"
@@ -41,6 +42,10 @@ class FirLighting final : public LightingStrategy {
     return {{"vpl_budget", s_.vpl_budget}};
   }
   const VplSoA& selected(const FrameContext&) const override { return selected_; }
+  // One visibility-based importance per VPL.
+  void analytic_selection_counters(Counters& c, double vpls, double) const override {
+    c.set("contribution_evals", vpls);
+  }
 
   void begin_frame(const FrameContext& ctx, Counters& c) override {
     const FrameVpls& fv = *ctx.vpls;
@@ -79,30 +84,38 @@ class FirLighting final : public LightingStrategy {
   VplSoA selected_;
 };
 
+const ParamTable<FirSettings>& fir_table() {
+  using S = FirSettings;
+  static const auto t =
+      ParamTable<S>()
+          .integer("vpl_budget", 1024, Range::closed(0, 1e6), &S::vpl_budget)
+          .doc("FLC §7", "VPLs kept for shading")
+          .number(
+              "omega_p", 0.2, Range::closed(0, 1), [](auto& s) -> auto& { return s.imp.omega_p; })
+          .doc("FLC eq. 3", "acuity floor")
+          .number(
+              "acuity_slope", 2.25, Range::closed(0, 1e3),
+              [](auto& s) -> auto& { return s.imp.slope; })
+          .doc("FLC eq. 4", "acuity slope s (1/rad)")
+          .number(
+              "fovea_frac", 150.0 / (512.0 * std::sqrt(2.0)), Range::above(0, 10),
+              [](auto& s) -> auto& { return s.imp.fovea_frac; })
+          .doc("FLC eq. 5", "foveal radius / half diagonal (150 px at 1024x1024)")
+          .number("culling_floor", 0.02, Range::closed(0, 1), &S::culling_floor)
+          .doc("FLC §5", "uniform share of culling probabilities")
+          .integer("seed", 1, Range::closed(0, 2e9), &S::seed)
+          .doc("", "random seed");
+  return t;
+}
+
 }  // namespace
 
 std::unique_ptr<LightingStrategy> create_lighting_fir(Params& p) {
-  FirSettings s;
-  s.vpl_budget = p.integer("vpl_budget", 1024, Range::closed(0, 1e6));
-  s.imp.omega_p = p.number("omega_p", 0.2, Range::closed(0, 1));
-  s.imp.slope = p.number("acuity_slope", 2.25, Range::closed(0, 1e3));
-  s.imp.fovea_frac = p.number("fovea_frac", 150.0 / (512.0 * std::sqrt(2.0)), Range::above(0, 10));
-  s.culling_floor = p.number("culling_floor", 0.02, Range::closed(0, 1));
-  s.seed = uint64_t(p.integer("seed", 1, Range::closed(0, 2e9)));
-  return std::make_unique<FirLighting>(s);
+  return std::make_unique<FirLighting>(fir_table().read(p));
 }
 
 const std::vector<ParamInfo>& lighting_fir_params() {
-  static const std::vector<ParamInfo> t = {
-      {"vpl_budget", "int", "1024", "[0, 1e6]", "FLC §7", "VPLs kept for shading"},
-      {"omega_p", "number", "0.2", "[0, 1]", "FLC eq. 3", "acuity floor"},
-      {"acuity_slope", "number", "2.25", "[0, 1e3]", "FLC eq. 4", "acuity slope s (1/rad)"},
-      {"fovea_frac", "number", "0.2072", "(0, 10]", "FLC eq. 5", "foveal radius / half diagonal"},
-      {"culling_floor", "number", "0.02", "[0, 1]", "FLC §5",
-       "uniform share of culling probabilities"},
-      {"seed", "int", "1", "[0, 2e9]", "", "random seed"},
-  };
-  return t;
+  return fir_table().info();
 }
 
 }  // namespace fovsim

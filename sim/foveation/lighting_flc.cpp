@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "sim/core/hash.h"
+#include "sim/core/param_table.h"
 #include "sim/core/rng.h"
 #include "sim/foveation/flc_sampling.h"
 #include "sim/foveation/method.h"
@@ -18,67 +19,104 @@ double ms_between(Clock::time_point a, Clock::time_point b) {
 }
 }  // namespace
 
+const ParamTable<FlcLightingSettings>& flc_lighting_table() {
+  using S = FlcLightingSettings;
+  static const auto t =
+      ParamTable<S>()
+          .integer("vpl_budget", 1024, Range::closed(0, 1e6), &S::vpl_budget)
+          .doc("§7 Fig. 7", "VPLs kept for shading")
+          .column()
+          .integer("samples", 256, Range::closed(1, 1e6), &S::samples)
+          .doc("Alg. 1", "N_s importance samples")
+          .column()
+          .integer("chain_length", 16, Range::closed(1, 4096), &S::chain_length)
+          .doc("Alg. 1", "M proposals per chain")
+          .column()
+          .number(
+              "omega_p", 0.2, Range::closed(0, 1), [](auto& s) -> auto& { return s.imp.omega_p; })
+          .doc("eq. 3", "acuity floor")
+          .number(
+              "acuity_slope", 2.25, Range::closed(0, 1e3),
+              [](auto& s) -> auto& { return s.imp.slope; })
+          .doc("eq. 4", "acuity slope s (1/rad)")
+          .number(
+              "fovea_frac", 150.0 / (512.0 * std::sqrt(2.0)), Range::above(0, 10),
+              [](auto& s) -> auto& { return s.imp.fovea_frac; })
+          .doc("eq. 5", "foveal radius / half diagonal (150 px at 1024x1024)")
+          .choice(
+              "eccentricity", "seed",
+              std::vector<std::pair<std::string, bool>>{{"seed", false}, {"exact", true}},
+              [](auto& s) -> auto& { return s.imp.exact_eccentricity; })
+          .doc("eq. 6", "eccentricity model")
+          .number(
+              "silhouette_value", 1.0, Range::closed(0, 1),
+              [](auto& s) -> auto& { return s.imp.silhouette_value; })
+          .doc("§4.1.2", "p_g on silhouettes")
+          .number(
+              "depth_threshold", 0.05, Range::above(0, 1e6),
+              [](auto& s) -> auto& { return s.imp.depth_threshold; })
+          .doc("§4.1.2", "relative depth jump")
+          .number(
+              "normal_threshold_deg", 30.0, Range::closed(0, 180),
+              [](auto& s) -> auto& { return s.imp.normal_threshold_deg; })
+          .doc("§4.1.2", "normal angle")
+          .number(
+              "color_threshold", 48.0, Range::closed(0, 1e6),
+              [](auto& s) -> auto& { return s.imp.color_threshold; })
+          .doc("eq. 7", "colour difference")
+          .number(
+              "delta", 20.0, Range::closed(0, 1e6), [](auto& s) -> auto& { return s.imp.delta; })
+          .doc("eq. 8", "indirect brightness factor")
+          .number("history_blend", 0.5, Range::above(0, 1), &S::history_blend)
+          .doc("eq. 8", "weight of the newest frame in b(p)")
+          .number("w_fovea", 1.0, Range::closed(0, 1e6), &S::w_fovea)
+          .doc("eq. 1", "fovea sample weight")
+          .number("w_periphery", 1.0, Range::closed(0, 1e6), &S::w_periphery)
+          .doc("eq. 1", "periphery sample weight")
+          .number("epsilon", 0.02, Range::above(0, 1), &S::epsilon)
+          .doc("eq. 10", "sqrt(eps) / scene diagonal")
+          .choice(
+              "visibility", "blso",
+              std::vector<std::pair<std::string, FlcVisibility>>{{"none", FlcVisibility::None},
+                                                                 {"blso", FlcVisibility::Blso},
+                                                                 {"exact", FlcVisibility::Exact}},
+              &S::visibility)
+          .doc("eq. 11", "visibility in eq. 14")
+          .number(
+              "blso_lambda", 0.5, Range::closed(0, 1),
+              [](auto& s) -> auto& { return s.blso.lambda; })
+          .doc("eq. 11", "mix coefficient")
+          .number(
+              "blso_k", 34.0, Range::above(0, 1e6), [](auto& s) -> auto& { return s.blso.k; })
+          .doc("eq. 12", "attenuation factor")
+          .number(
+              "blso_xi", 0.01, Range::above(0, 1), [](auto& s) -> auto& { return s.blso.xi; })
+          .doc("eq. 12", "threshold / scene diagonal")
+          .number(
+              "blso_radius", 0.1, Range::above(0, 10),
+              [](auto& s) -> auto& { return s.blso.radius; })
+          .doc("§5", "local radius / scene diagonal")
+          .number(
+              "blso_cone_deg", 30.0, Range::above(0, 90),
+              [](auto& s) -> auto& { return s.blso.cone_deg; })
+          .doc("§5", "local cone half-angle")
+          .integer(
+              "blso_samples", 4, Range::closed(1, 256),
+              [](auto& s) -> auto& { return s.blso.samples; })
+          .doc("eq. 13", "N' per side")
+          .number("culling_floor", 0.02, Range::closed(0, 1), &S::culling_floor)
+          .doc("§5", "uniform share of culling probabilities")
+          .integer("seed", 1, Range::closed(0, 2e9), &S::seed)
+          .doc("", "random seed");
+  return t;
+}
+
 FlcLightingSettings FlcLightingSettings::from_params(Params& p) {
-  FlcLightingSettings s;
-  s.vpl_budget = p.integer("vpl_budget", 1024, Range::closed(0, 1e6));
-  s.samples = p.integer("samples", 256, Range::closed(1, 1e6));
-  s.chain_length = p.integer("chain_length", 16, Range::closed(1, 4096));
-  s.imp.omega_p = p.number("omega_p", 0.2, Range::closed(0, 1));
-  s.imp.slope = p.number("acuity_slope", 2.25, Range::closed(0, 1e3));
-  s.imp.fovea_frac = p.number("fovea_frac", 150.0 / (512.0 * std::sqrt(2.0)), Range::above(0, 10));
-  s.imp.exact_eccentricity = p.string("eccentricity", "seed", {"seed", "exact"}) == "exact";
-  s.imp.silhouette_value = p.number("silhouette_value", 1.0, Range::closed(0, 1));
-  s.imp.depth_threshold = p.number("depth_threshold", 0.05, Range::above(0, 1e6));
-  s.imp.normal_threshold_deg = p.number("normal_threshold_deg", 30.0, Range::closed(0, 180));
-  s.imp.color_threshold = p.number("color_threshold", 48.0, Range::closed(0, 1e6));
-  s.imp.delta = p.number("delta", 20.0, Range::closed(0, 1e6));
-  s.history_blend = p.number("history_blend", 0.5, Range::above(0, 1));
-  s.w_fovea = p.number("w_fovea", 1.0, Range::closed(0, 1e6));
-  s.w_periphery = p.number("w_periphery", 1.0, Range::closed(0, 1e6));
-  s.epsilon = p.number("epsilon", 0.02, Range::above(0, 1));
-  const std::string vis = p.string("visibility", "blso", {"none", "blso", "exact"});
-  s.visibility = vis == "none" ? FlcVisibility::None
-                               : (vis == "exact" ? FlcVisibility::Exact : FlcVisibility::Blso);
-  s.blso.lambda = p.number("blso_lambda", 0.5, Range::closed(0, 1));
-  s.blso.k = p.number("blso_k", 34.0, Range::above(0, 1e6));
-  s.blso.xi = p.number("blso_xi", 0.01, Range::above(0, 1));
-  s.blso.radius = p.number("blso_radius", 0.1, Range::above(0, 10));
-  s.blso.cone_deg = p.number("blso_cone_deg", 30.0, Range::above(0, 90));
-  s.blso.samples = p.integer("blso_samples", 4, Range::closed(1, 256));
-  s.culling_floor = p.number("culling_floor", 0.02, Range::closed(0, 1));
-  s.seed = uint64_t(p.integer("seed", 1, Range::closed(0, 2e9)));
-  return s;
+  return flc_lighting_table().read(p);
 }
 
 const std::vector<ParamInfo>& flc_lighting_params() {
-  static const std::vector<ParamInfo> t = {
-      {"vpl_budget", "int", "1024", "[0, 1e6]", "§7 Fig. 7", "VPLs kept for shading"},
-      {"samples", "int", "256", "[1, 1e6]", "Alg. 1", "N_s importance samples"},
-      {"chain_length", "int", "16", "[1, 4096]", "Alg. 1", "M proposals per chain"},
-      {"omega_p", "number", "0.2", "[0, 1]", "eq. 3", "acuity floor"},
-      {"acuity_slope", "number", "2.25", "[0, 1e3]", "eq. 4", "acuity slope s (1/rad)"},
-      {"fovea_frac", "number", "0.2072", "(0, 10]", "eq. 5", "foveal radius / half diagonal"},
-      {"eccentricity", "string", "seed", "seed, exact", "eq. 6", "eccentricity model"},
-      {"silhouette_value", "number", "1", "[0, 1]", "§4.1.2", "p_g on silhouettes"},
-      {"depth_threshold", "number", "0.05", "(0, 1e6]", "§4.1.2", "relative depth jump"},
-      {"normal_threshold_deg", "number", "30", "[0, 180]", "§4.1.2", "normal angle"},
-      {"color_threshold", "number", "48", "[0, 1e6]", "eq. 7", "colour difference"},
-      {"delta", "number", "20", "[0, 1e6]", "eq. 8", "indirect brightness factor"},
-      {"history_blend", "number", "0.5", "(0, 1]", "eq. 8", "weight of the newest frame in b(p)"},
-      {"w_fovea", "number", "1", "[0, 1e6]", "eq. 1", "fovea sample weight"},
-      {"w_periphery", "number", "1", "[0, 1e6]", "eq. 1", "periphery sample weight"},
-      {"epsilon", "number", "0.02", "(0, 1]", "eq. 10", "sqrt(eps) / scene diagonal"},
-      {"visibility", "string", "blso", "none, blso, exact", "eq. 11", "visibility in eq. 14"},
-      {"blso_lambda", "number", "0.5", "[0, 1]", "eq. 11", "mix coefficient"},
-      {"blso_k", "number", "34", "(0, 1e6]", "eq. 12", "attenuation factor"},
-      {"blso_xi", "number", "0.01", "(0, 1]", "eq. 12", "threshold / scene diagonal"},
-      {"blso_radius", "number", "0.1", "(0, 10]", "§5", "local radius / scene diagonal"},
-      {"blso_cone_deg", "number", "30", "(0, 90]", "§5", "local cone half-angle"},
-      {"blso_samples", "int", "4", "[1, 256]", "eq. 13", "N' per side"},
-      {"culling_floor", "number", "0.02", "[0, 1]", "§5", "uniform share of culling probabilities"},
-      {"seed", "int", "1", "[0, 2e9]", "", "random seed"},
-  };
-  return t;
+  return flc_lighting_table().info();
 }
 
 std::vector<std::pair<std::string, double>> FlcLighting::param_columns() const {

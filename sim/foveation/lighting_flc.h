@@ -6,6 +6,7 @@
 #pragma once
 #include <vector>
 
+#include "sim/core/param_info.h"
 #include "sim/foveation/flc_contribution.h"
 #include "sim/foveation/flc_importance.h"
 #include "sim/foveation/lighting.h"
@@ -24,6 +25,7 @@ struct FlcLightingSettings {
   static FlcLightingSettings from_params(Params& p);
 };
 // The parameter declaration of the flc strategy (also part of the `flc` method's).
+const ParamTable<FlcLightingSettings>& flc_lighting_table();
 const std::vector<ParamInfo>& flc_lighting_params();
 
 // Wall-clock ms of the strategy's stages in the last begin_frame (benchmarks; not in results).
@@ -41,6 +43,12 @@ class FlcLighting final : public LightingStrategy {
   const VplSoA& selected(const FrameContext&) const override { return selected_; }
   void end_frame(const FrameContext& ctx, const Image& linear) override;
   std::vector<std::pair<std::string, double>> param_columns() const override;
+  // eq. 14 for every VPL and importance sample.
+  void analytic_selection_counters(Counters& c, double vpls,
+                                   double importance_samples) const override {
+    c.set("importance_samples", importance_samples);
+    c.set("contribution_evals", vpls * importance_samples);
+  }
   void debug_images(std::vector<std::pair<std::string, Image>>& out) override;
 
   const FlcLightingSettings& settings() const { return s_; }

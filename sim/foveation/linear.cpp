@@ -7,6 +7,7 @@
 //
 // Parameters: the declaration linear_params() at the end of this file (name, type, default,
 // range, seed section, meaning); docs/methods.md and configs/README.md are generated from it.
+#include "sim/core/param_table.h"
 #include "sim/foveation/mapping_method.h"
 #include "sim/foveation/methods.h"
 
@@ -45,24 +46,61 @@ class LinearMethod final : public MappingMethodBase {
   std::vector<uint8_t> mask_;
 };
 
+// The geometry (density, samples, iso-budget free parameter) and the keys of linear.
+double linear_density(const MappingSpec& s, const MappingView& v, double x, double y) {
+  return linear_probability(s, v.ecc_deg(x, y));
+}
+
+// Expected samples: the sum of p(e) over the pixels.
+double linear_samples(const MappingSpec& s, const MappingView& v) {
+  return sum_rows(v.H, [&](int y) {
+    double n = 0;
+    for (int x = 0; x < v.W; ++x) {
+      double e = v.ecc ? double((*v.ecc)[size_t(y) * size_t(v.W) + size_t(x)])
+                       : v.ecc_deg(x + 0.5, y + 0.5);
+      n += linear_probability(s, e);
+    }
+    return n;
+  });
+}
+
+const ParamTable<MappingSpec>& linear_table() {
+  using S = MappingSpec;
+  static const ParamTable<S> t = [] {
+    ParamTable<S> t;
+    add_radius_rows(t, "Ye et al. 2022 §5.1", "full-rate region (deg)",
+                    "end of the linear fall-off (deg)");
+    t.number("p_min", 0.047, Range::above(0, 1), &S::p_min)
+        .doc("Ye et al. 2022 §5.1", "minimum sampling probability")
+        .column()
+        .integer("seed", 0, Range::closed(0, 2147483647), &S::seed)
+        .doc("", "stochastic sample pattern seed")
+        .shown("0", "[0, 2^31)");
+    add_target_row(t, "radius_scale");
+    return t;
+  }();
+  return t;
+}
+
+const SamplingGeometry kLinearGeometry = {"linear",
+                                          linear_table,
+                                          linear_density,
+                                          nullptr,
+                                          linear_samples,
+                                          /*shades_whole_buffer=*/false,
+                                          &MappingSpec::radius_scale,
+                                          1e-4,
+                                          1e3,
+                                          nullptr};
+
 }  // namespace
 
 std::unique_ptr<FoveationMethod> create_linear(Params& p) {
-  return std::make_unique<LinearMethod>(MappingSpec::from_params("linear", p));
+  return std::make_unique<LinearMethod>(read_mapping_spec(kLinearGeometry, p));
 }
 
 const std::vector<ParamInfo>& linear_params() {
-  static const std::vector<ParamInfo> t = {
-      {"r1", "number", "10", "[0, 180]", "Ye et al. 2022 §5.1", "full-rate region (deg)"},
-      {"r2", "number", "20", "[r1, 180]", "Ye et al. 2022 §5.1",
-       "end of the linear fall-off (deg)"},
-      {"p_min", "number", "0.047", "(0, 1]", "Ye et al. 2022 §5.1", "minimum sampling probability"},
-      {"seed", "integer", "0", "[0, 2^31)", "", "stochastic sample pattern seed"},
-      {"radius_scale", "number", "1", "(0, inf)", "iso-budget", "multiplies r1 and r2"},
-      {"target_shaded_fraction", "number", "none", "(0, 1]", "Ye et al. 2022 §5.1",
-       "iso-budget: solve radius_scale"},
-  };
-  return t;
+  return linear_table().info();
 }
 
 }  // namespace fovsim

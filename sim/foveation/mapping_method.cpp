@@ -71,27 +71,8 @@ void MappingMethodBase::set_counters(FrameOutput& out, double shaded, double gbu
 void MappingMethodBase::debug_density(const FrameContext& ctx, const MappingSpec& s,
                                       FrameOutput& out) const {
   MappingView v = view_of(ctx);
-  Image d(v.W, v.H, 1);
-  if (s.method == "hyperbolic") {
-    // Layer geometry once, then per pixel (sample_density would rebuild it per call).
-    auto layers = hyperbolic_layers(s, v);
-    parallel_rows(v.H, [&](int y) {
-      for (int x = 0; x < v.W; ++x) {
-        double e = (*v.ecc)[size_t(y) * size_t(v.W) + size_t(x)], val = 1.0 / (s.s3 * s.s3);
-        for (auto& L : layers)
-          if (L.w > 0 && e < L.ecc_limit && x + 0.5 >= L.x0 && x + 0.5 < L.x1 && y + 0.5 >= L.y0 &&
-              y + 0.5 < L.y1) {
-            val = 1.0 / (L.s * L.s);
-            break;
-          }
-        d.at(x, y)[0] = float(val);
-      }
-    });
-  } else {
-    parallel_rows(v.H, [&](int y) {
-      for (int x = 0; x < v.W; ++x) d.at(x, y)[0] = float(sample_density(s, v, x + 0.5, y + 0.5));
-    });
-  }
+  Image d;
+  density_image(s, v, d);
   out.debug.emplace_back("sample_density", std::move(d));
 }
 

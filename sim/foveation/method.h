@@ -11,6 +11,7 @@
 
 #include "sim/core/counters.h"
 #include "sim/core/image.h"
+#include "sim/core/param_info.h"
 #include "sim/core/params.h"
 #include "sim/display/display.h"
 #include "sim/foveation/lighting.h"
@@ -87,16 +88,6 @@ class FoveationMethod {
 
  protected:
   std::unique_ptr<LightingStrategy> lighting_;
-};
-
-// Descriptor of one parameter (the table at the top of each method file).
-struct ParamInfo {
-  const char* name;
-  const char* type;
-  const char* def;
-  const char* range;
-  const char* source;  // seed section
-  const char* doc;
 };
 
 }  // namespace fovsim

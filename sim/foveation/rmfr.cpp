@@ -8,6 +8,10 @@
 //
 // Parameters: the declaration rmfr_params() at the end of this file (name, type, default,
 // range, seed section, meaning); docs/methods.md and configs/README.md are generated from it.
+#include <algorithm>
+#include <cmath>
+
+#include "sim/core/param_table.h"
 #include "sim/foveation/mapping_method.h"
 #include "sim/foveation/methods.h"
 
@@ -62,28 +66,80 @@ class RmfrMethod final : public MappingMethodBase {
   std::vector<uint8_t> used_;
 };
 
+// The geometry (density, samples, iso-budget free parameter) and the keys of rmfr.
+double rmfr_density(const MappingSpec& s, const MappingView& v, double x, double y) {
+  auto m = RectMap::make(v.W, v.H, reduced_size(v.W, s.sigma), reduced_size(v.H, s.sigma),
+                         v.gaze_px, s.fx_pixels(v.W), s.fy_pixels(v.H));
+  return m.density(x, y);
+}
+
+// The whole RS-buffer is shaded (§3.3.3).
+double rmfr_samples(const MappingSpec& s, const MappingView& v) {
+  return double(reduced_size(v.W, s.sigma)) * reduced_size(v.H, s.sigma);
+}
+
+// S = sigma^2 (§3.2): sigma = 1 / sqrt(target), at least 1.
+bool rmfr_sigma_for(double target, double* sigma) {
+  *sigma = std::max(1.0, 1.0 / std::sqrt(target));
+  return target <= 1.0;
+}
+
+const ParamTable<MappingSpec>& rmfr_table() {
+  using S = MappingSpec;
+  static const ParamTable<S> t = [] {
+    auto px_given = [](const S& s) { return s.fx_px > 0; };
+    ParamTable<S> t;
+    t.number("sigma", 2.6, Range::at_least(1), &S::sigma)
+        .doc("Ye et al. 2022 §3.2, §6.1", "W / w = H / h of the RS-buffer")
+        .column()
+        // fx, fy as fractions of W / H, or fx_px, fy_px in pixels (one of each pair).
+        .number("fx", 0.38, Range::above(0), &S::fx)
+        .doc("Ye et al. 2022 eq. 4, Fig. 7", "f_x as a fraction of W")
+        .read_if([](const Params& p) { return !p.has("fx_px"); })
+        .column(nullptr, {}, [](const S& s) { return !(s.fx_px > 0); })
+        .number("fx_px", 0, Range::above(0), &S::fx_px)
+        .optional()
+        .doc("Ye et al. 2022 eq. 4", "f_x in pixels (instead of fx)")
+        .column(nullptr, {}, px_given)
+        .number("fy", 0.38, Range::above(0), &S::fy)
+        .doc("Ye et al. 2022 eq. 4, Fig. 7", "f_y as a fraction of H")
+        .read_if([](const Params& p) { return !p.has("fy_px"); })
+        .column(nullptr, {}, [](const S& s) { return !(s.fy_px > 0); })
+        .number("fy_px", 0, Range::above(0), &S::fy_px)
+        .optional()
+        .doc("Ye et al. 2022 eq. 4", "f_y in pixels (instead of fy)")
+        .column(nullptr, {}, [](const S& s) { return s.fy_px > 0; })
+        .validate([](const S&, Params& p) {
+          if (p.has("fx") && p.has("fx_px"))
+            p.fail("fx_px", "give either fx (fraction of W) or fx_px, not both");
+          if (p.has("fy") && p.has("fy_px"))
+            p.fail("fy_px", "give either fy (fraction of H) or fy_px, not both");
+        });
+    add_target_row(t, "sigma");
+    return t;
+  }();
+  return t;
+}
+
+const SamplingGeometry kRmfrGeometry = {"rmfr",
+                                        rmfr_table,
+                                        rmfr_density,
+                                        nullptr,
+                                        rmfr_samples,
+                                        /*shades_whole_buffer=*/true,
+                                        &MappingSpec::sigma,
+                                        1.0,
+                                        1e4,
+                                        rmfr_sigma_for};
+
 }  // namespace
 
 std::unique_ptr<FoveationMethod> create_rmfr(Params& p) {
-  return std::make_unique<RmfrMethod>(MappingSpec::from_params("rmfr", p));
+  return std::make_unique<RmfrMethod>(read_mapping_spec(kRmfrGeometry, p));
 }
 
 const std::vector<ParamInfo>& rmfr_params() {
-  static const std::vector<ParamInfo> t = {
-      {"sigma", "number", "2.6", "[1, inf)", "Ye et al. 2022 §3.2, §6.1",
-       "W / w = H / h of the RS-buffer"},
-      {"fx", "number", "0.38", "(0, inf)", "Ye et al. 2022 eq. 4, Fig. 7",
-       "f_x as a fraction of W"},
-      {"fy", "number", "0.38", "(0, inf)", "Ye et al. 2022 eq. 4, Fig. 7",
-       "f_y as a fraction of H"},
-      {"fx_px", "number", "none", "(0, inf)", "Ye et al. 2022 eq. 4",
-       "f_x in pixels (instead of fx)"},
-      {"fy_px", "number", "none", "(0, inf)", "Ye et al. 2022 eq. 4",
-       "f_y in pixels (instead of fy)"},
-      {"target_shaded_fraction", "number", "none", "(0, 1]", "Ye et al. 2022 §5.1",
-       "iso-budget: solve sigma"},
-  };
-  return t;
+  return rmfr_table().info();
 }
 
 }  // namespace fovsim

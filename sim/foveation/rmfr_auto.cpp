@@ -16,6 +16,7 @@
 #include <map>
 
 #include "sim/core/math.h"
+#include "sim/core/param_table.h"
 #include "sim/foveation/mapping_spec.h"
 #include "sim/foveation/methods.h"
 
@@ -37,6 +38,7 @@ class RmfrAutoMethod final : public FoveationMethod {
     has_prev_ = false;
     select();
   }
+  // sigma, the f_x, f_y in use (not keys), f_sum.
   std::vector<std::pair<std::string, double>> param_columns() const override {
     return {{"sigma", p_.sigma}, {"fx", qx_}, {"fy", qy_}, {"f_sum", p_.f_sum}};
   }
@@ -103,36 +105,38 @@ class RmfrAutoMethod final : public FoveationMethod {
   FoveationMethod* current_ = nullptr;
 };
 
+// The declaration of every key (parsing, defaults, ranges, docs, columns).
+const ParamTable<AutoParams>& auto_table() {
+  static const auto t =
+      ParamTable<AutoParams>()
+          .number("sigma", 2.6, Range::at_least(1), &AutoParams::sigma)
+          .doc("Ye et al. 2022 §3.2, §4.4.2", "W / w = H / h of the RS-buffer")
+          .column()
+          .number("f_sum", 0.76, Range::above(0, 2), &AutoParams::f_sum)
+          .doc("ours (2 x RMFR's 0.38)", "f_x + f_y (fractions of W, H) split by edge orientation")
+          .column()
+          .number("f_min", 0.1, Range::above(0, 1), &AutoParams::f_min)
+          .doc("Ye et al. 2022 Fig. 9 range", "lower clamp of f_x, f_y")
+          .number("f_max", 0.8, Range::above(0, 2), &AutoParams::f_max)
+          .doc("Ye et al. 2022 Fig. 9 range", "upper clamp of f_x, f_y")
+          .number("adapt", 0.5, Range::above(0, 1), &AutoParams::adapt)
+          .doc("ours", "weight of the newest estimate (temporal smoothing)")
+          .number("periphery_deg", 10.0, Range::closed(0, 180), &AutoParams::periphery_deg)
+          .doc("ours", "edges counted beyond this eccentricity (deg)")
+          .validate([](const AutoParams& a, Params& p) {
+            if (a.f_max < a.f_min) p.fail("f_max", "must be >= f_min");
+          });
+  return t;
+}
+
 }  // namespace
 
 std::unique_ptr<FoveationMethod> create_rmfr_auto(Params& p) {
-  AutoParams a;
-  a.sigma = p.number("sigma", 2.6, Range::at_least(1));
-  a.f_sum = p.number("f_sum", 0.76, Range::above(0, 2));
-  a.f_min = p.number("f_min", 0.1, Range::above(0, 1));
-  a.f_max = p.number("f_max", 0.8, Range::above(0, 2));
-  if (a.f_max < a.f_min) p.fail("f_max", "must be >= f_min");
-  a.adapt = p.number("adapt", 0.5, Range::above(0, 1));
-  a.periphery_deg = p.number("periphery_deg", 10.0, Range::closed(0, 180));
-  return std::make_unique<RmfrAutoMethod>(a);
+  return std::make_unique<RmfrAutoMethod>(auto_table().read(p));
 }
 
 const std::vector<ParamInfo>& rmfr_auto_params() {
-  static const std::vector<ParamInfo> t = {
-      {"sigma", "number", "2.6", "[1, inf)", "Ye et al. 2022 §3.2, §4.4.2",
-       "W / w = H / h of the RS-buffer"},
-      {"f_sum", "number", "0.76", "(0, 2]", "ours (2 x RMFR's 0.38)",
-       "f_x + f_y (fractions of W, H) split by edge orientation"},
-      {"f_min", "number", "0.1", "(0, 1]", "Ye et al. 2022 Fig. 9 range",
-       "lower clamp of f_x, f_y"},
-      {"f_max", "number", "0.8", "(0, 2]", "Ye et al. 2022 Fig. 9 range",
-       "upper clamp of f_x, f_y"},
-      {"adapt", "number", "0.5", "(0, 1]", "ours",
-       "weight of the newest estimate (temporal smoothing)"},
-      {"periphery_deg", "number", "10", "[0, 180]", "ours",
-       "edges counted beyond this eccentricity (deg)"},
-  };
-  return t;
+  return auto_table().info();
 }
 
 }  // namespace fovsim

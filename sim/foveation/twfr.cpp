@@ -20,6 +20,7 @@
 #include <cmath>
 #include <string>
 
+#include "sim/core/param_table.h"
 #include "sim/foveation/methods.h"
 
 namespace fovsim {
@@ -40,27 +41,60 @@ bool finite_mat(const glm::mat4& m) {
 
 }  // namespace
 
-TwfrParams TwfrParams::from_params(Params& p) {
-  TwfrParams t;
-  // The confidence maths runs in float; the values as given (double) go to the CSV columns so
-  // a swept epsilon = 0.2 prints as 0.2, not 0.200000003.
-  auto num = [&](const char* key, double def, Range r) {
-    const double v = p.number(key, def, r);
-    t.given.emplace_back(key, v);
-    return float(v);
+namespace {
+// The declaration of every key (parsing, defaults, ranges, docs, columns). The confidence maths
+// runs in float; the values as given (double) go to the CSV columns so a swept epsilon = 0.2
+// prints as 0.2, not 0.200000003.
+const ParamTable<TwfrParams>& twfr_table() {
+  using T = TwfrParams;
+  // A confidence parameter: kept as given (double) and as the float the maths uses.
+  auto conf = [](double T::Given::*g, float twfr::ConfidenceParams::*c) {
+    return std::make_pair(
+        std::function<void(T&, const Json&)>([g, c](T& t, const Json& v) {
+          t.given.*g = v.get<double>();
+          t.conf.*c = float(v.get<double>());
+        }),
+        std::function<Json(const T&)>([g](const T& t) { return Json(t.given.*g); }));
   };
-  t.conf.epsilon = num("epsilon", 0.2, Range::closed(0, 1));
-  t.conf.phi_f = num("phi_f", 10.0, Range::closed(0, 180));
-  t.conf.phi_0 = num("phi_0", 30.0, Range::closed(0, 180));
-  if (t.conf.phi_0 < t.conf.phi_f)
-    p.fail("phi_0", "must be >= phi_f (" + std::to_string(t.conf.phi_f) + " deg), got " +
-                        std::to_string(t.conf.phi_0));
-  t.conf.A = num("A", 0.6, Range::above(0, 1));
-  t.conf.D = num("D", 0.75, Range::above(0, 1));
-  t.taa = p.boolean("taa", false);
-  t.taa_alpha = float(p.number("taa_alpha", 0.1, Range::above(0, 1)));
-  t.redraw_transparent = p.boolean("redraw_transparent", true);
+  auto row = [&](ParamTable<T>& t, const char* key, double def, Range r, double T::Given::*g,
+                 float twfr::ConfidenceParams::*c) -> ParamTable<T>& {
+    auto [set, get] = conf(g, c);
+    return t.custom(key, ParamKind::Number, Json(def), r, set, get).column();
+  };
+  static const ParamTable<T> t = [&] {
+    ParamTable<T> t;
+    row(t, "epsilon", 0.2, Range::closed(0, 1), &T::Given::epsilon,
+        &twfr::ConfidenceParams::epsilon)
+        .doc("§5.2, §8.1", "confidence threshold: a pixel is redrawn iff c <= epsilon");
+    row(t, "phi_f", 10.0, Range::closed(0, 180), &T::Given::phi_f, &twfr::ConfidenceParams::phi_f)
+        .doc("§5.2", "fovea angle phi_F (c_e = 0 inside; reprojected splats discarded inside)")
+        .shown("10", "[0, 180] deg");
+    row(t, "phi_0", 30.0, Range::closed(0, 180), &T::Given::phi_0, &twfr::ConfidenceParams::phi_0)
+        .doc("§5.2", "eccentricity fully in the periphery (c_e = 1 beyond)")
+        .shown("30", "[phi_f, 180] deg");
+    row(t, "A", 0.6, Range::above(0, 1), &T::Given::A, &twfr::ConfidenceParams::A)
+        .doc("§5.2", "hole-size confidence c_s(m) = A^m");
+    row(t, "D", 0.75, Range::above(0, 1), &T::Given::D, &twfr::ConfidenceParams::D)
+        .doc("§7", "dynamic confidence c_d(t) = D^t");
+    t.boolean("taa", false, &T::taa)
+        .doc("§6.2", "TAA on redrawn pixels and motion smoothing on reprojected ones")
+        .number("taa_alpha", 0.1, Range::above(0, 1), &T::taa_alpha)
+        .doc("§6.2", "TAA / motion-smoothing accumulation factor")
+        .boolean("redraw_transparent", true, &T::redraw_transparent)
+        .doc("§8.5", "transparent surfaces are redrawn every frame")
+        .validate([](const T& t, Params& p) {
+          if (t.conf.phi_0 < t.conf.phi_f)
+            p.fail("phi_0", "must be >= phi_f (" + std::to_string(t.conf.phi_f) + " deg), got " +
+                                std::to_string(t.conf.phi_0));
+        });
+    return t;
+  }();
   return t;
+}
+}  // namespace
+
+TwfrParams TwfrParams::from_params(Params& p) {
+  return twfr_table().read(p);
 }
 
 TwfrMethod::TwfrMethod(const TwfrParams& p) : p_(p) {}
@@ -77,8 +111,9 @@ std::vector<std::pair<std::string, double>> TwfrMethod::param_columns() const {
                                                    {"A", p_.conf.A},
                                                    {"D", p_.conf.D}};
   // The value as given when the float in use still equals it (mutable_params may change it).
+  const auto given = twfr_table().columns(p_);
   for (auto& [k, v] : c)
-    for (auto& [gk, gv] : p_.given)
+    for (auto& [gk, gv] : given)
       if (gk == k && float(gv) == float(v)) v = gv;
   return c;
 }
@@ -416,23 +451,7 @@ std::unique_ptr<FoveationMethod> create_twfr(Params& p) {
 }
 
 const std::vector<ParamInfo>& twfr_params() {
-  static const std::vector<ParamInfo> t = {
-      {"epsilon", "number", "0.2", "[0, 1]", "§5.2, §8.1",
-       "confidence threshold: a pixel is redrawn iff c <= epsilon"},
-      {"phi_f", "number", "10", "[0, 180] deg", "§5.2",
-       "fovea angle phi_F (c_e = 0 inside; reprojected splats discarded inside)"},
-      {"phi_0", "number", "30", "[phi_f, 180] deg", "§5.2",
-       "eccentricity fully in the periphery (c_e = 1 beyond)"},
-      {"A", "number", "0.6", "(0, 1]", "§5.2", "hole-size confidence c_s(m) = A^m"},
-      {"D", "number", "0.75", "(0, 1]", "§7", "dynamic confidence c_d(t) = D^t"},
-      {"taa", "bool", "false", "", "§6.2",
-       "TAA on redrawn pixels and motion smoothing on reprojected ones"},
-      {"taa_alpha", "number", "0.1", "(0, 1]", "§6.2",
-       "TAA / motion-smoothing accumulation factor"},
-      {"redraw_transparent", "bool", "true", "", "§8.5",
-       "transparent surfaces are redrawn every frame"},
-  };
-  return t;
+  return twfr_table().info();
 }
 
 }  // namespace fovsim

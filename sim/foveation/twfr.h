@@ -19,8 +19,10 @@ struct TwfrParams {
   bool taa = false;                // §6.2 TAA on redrawn + motion smoothing on reprojected pixels
   float taa_alpha = 0.1f;          // §6.2 accumulation factor
   bool redraw_transparent = true;  // §8.5: transparent surfaces rendered every frame
-  std::vector<std::pair<std::string, double>>
-      given;  // epsilon, phi_f, phi_0, A, D as parsed (CSV columns)
+  // epsilon, phi_f, phi_0, A, D as parsed (double; the CSV columns), conf holds them as float.
+  struct Given {
+    double epsilon = 0.2, phi_f = 10, phi_0 = 30, A = 0.6, D = 0.75;
+  } given;
   static TwfrParams from_params(Params& p);
 };
 

@@ -7,6 +7,7 @@
 
 #include "sim/core/counters.h"
 #include "sim/core/image.h"
+#include "sim/core/param_info.h"
 #include "sim/core/params.h"
 #include "sim/display/display.h"
 #include "sim/metrics/flip.h"
@@ -50,7 +51,8 @@ double local_ppd(const Camera& cam, double px, double py);
 
 struct MetricsConfig {
   bool psnr = true, ssim = true, fpsnr = true, regions = true, temporal = true;
-  bool flip = true;  // LDR-FLIP mean `flip` (+ flip_ecc_<a>_<b> bands when `regions`)
+  bool flip = true;         // LDR-FLIP mean `flip` (+ flip_ecc_<a>_<b> bands when `regions`)
+  bool flip_images = true;  // <label>_flip.png error maps of image frames (with `flip`)
   // FovVideoVDP (Mantiuk et al. 2021): per-frame `fvvdp_q`, `fvvdp_jod`; summary `fvvdp_jod`
   // pooled over the run (sim/metrics/registry.h). Computed by the run engine through the
   // registry's SequenceMetric (fvvdp_sequence_metric, sim/metrics/fvvdp.h), not by
@@ -69,6 +71,8 @@ struct MetricsConfig {
   double ppd_scale = 1.0;
   static MetricsConfig from_params(Params& p);
 };
+// The declaration of the `metrics` block's keys (parsing, defaults, ranges, docs).
+const ParamTable<MetricsConfig>& metrics_config_table();
 
 // Column name of the eccentricity band [a, b): "rmse_ecc_<a>_<b>", numbers printed
 // shortest ("0", "5", "2.5" -> "2p5"); flip_band_column gives "flip_ecc_<a>_<b>".

@@ -4,6 +4,7 @@
 // level. Tracing is in render_trace.cpp, shading in render_shade.cpp (render_internal.h).
 #include "sim/render/renderer.h"
 
+#include "sim/core/param_table.h"
 #include "sim/render/embree_device.h"
 #include "sim/render/render_internal.h"
 
@@ -19,21 +20,40 @@ void embree_error(void*, RTCError code, const char* str) {
 
 }  // namespace
 
+const ParamTable<RenderSettings>& render_settings_table() {
+  using S = RenderSettings;
+  static const auto t =
+      ParamTable<S>()
+          .boolean("shadows", true, &S::shadows)
+          .doc("", "shadow rays for lights with shadows")
+          .integer("tile", 32, Range::closed(4, 256), &S::tile)
+          .doc("", "TBB tile edge in pixels")
+          // Default from the convergence study (docs/metrics.md "Reference convergence"): at 16
+          // spp every quickstart method's means move by < 0.06 dB (FLIP < 0.0011) to 64 spp
+          // and the ranking no longer changes; 4 spp still moves TWFR by 0.32 dB.
+          .integer("spp", kDefaultReferenceSpp, Range::closed(1, 1024), &S::spp)
+          .shown("16", "1, 4, 9, ..., 1024 (n^2)")
+          .doc("",
+               "samples per pixel of the shared **reference**: n x n stratified sub-pixel "
+               "samples (each jittered inside its stratum by a fixed hash of pixel and "
+               "stratum), each shaded once, reconstructed with a box filter over the pixel "
+               "in linear light (tone mapping after). Methods are not supersampled: they "
+               "shade each of their own samples once. The default comes from the "
+               "convergence study in `docs/metrics.md`; tests and quick looks may use "
+               "`render.spp=1`")
+          .validate([](const S& s, Params& p) {
+            const int n = int(std::lround(std::sqrt(double(s.spp))));
+            if (n * n != s.spp)
+              p.fail("spp",
+                     "must be a perfect square (1, 4, 9, 16, 25, ..., 1024: n x n stratified "
+                     "samples per pixel), got " +
+                         std::to_string(s.spp));
+          });
+  return t;
+}
+
 RenderSettings RenderSettings::from_params(Params& p) {
-  RenderSettings s;
-  s.shadows = p.boolean("shadows", true);
-  s.tile = p.integer("tile", 32, Range::closed(4, 256));
-  // Default from the convergence study (docs/metrics.md "Reference convergence"): at 16 spp
-  // every quickstart method's means move by < 0.06 dB (FLIP < 0.0011) to 64 spp and the
-  // ranking no longer changes; 4 spp still moves TWFR by 0.32 dB.
-  s.spp = p.integer("spp", kDefaultReferenceSpp, Range::closed(1, 1024));
-  const int n = int(std::lround(std::sqrt(double(s.spp))));
-  if (n * n != s.spp)
-    p.fail("spp",
-           "must be a perfect square (1, 4, 9, 16, 25, ..., 1024: n x n stratified "
-           "samples per pixel), got " +
-               std::to_string(s.spp));
-  return s;
+  return render_settings_table().read(p);
 }
 
 namespace {

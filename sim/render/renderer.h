@@ -9,6 +9,7 @@
 
 #include "sim/core/counters.h"
 #include "sim/core/image.h"
+#include "sim/core/param_info.h"
 #include "sim/core/params.h"
 #include "sim/display/display.h"
 #include "sim/render/gbuffer.h"
@@ -30,6 +31,8 @@ struct RenderSettings {
   int spp = 1;
   static RenderSettings from_params(Params& p);
 };
+// The renderer's keys of the `render` block (shadows, tile, spp).
+const ParamTable<RenderSettings>& render_settings_table();
 
 // Sub-pixel position of stratum s (of n x n) of pixel (x, y): the stratum's cell, jittered by
 // a fixed hash; in [0, 1)^2 (render_reference).

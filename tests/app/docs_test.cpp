@@ -8,16 +8,18 @@
 #include <regex>
 #include <sstream>
 
+#include "sim/experiment/run_config.h"
 #include "sim/foveation/factory.h"
 
 namespace {
-std::string generated_section(const std::string& rel) {
+std::string generated_section(const std::string& rel, const char* begin = fovsim::kMethodDocsBegin,
+                              const char* end = fovsim::kMethodDocsEnd) {
   std::ifstream f(std::string(FOVSIM_SOURCE_DIR) + "/" + rel);
   std::stringstream ss;
   ss << f.rdbuf();
   const std::string s = ss.str();
-  auto b = s.find(fovsim::kMethodDocsBegin);
-  auto e = s.find(fovsim::kMethodDocsEnd);
+  auto b = s.find(begin);
+  auto e = s.find(end);
   if (b == std::string::npos || e == std::string::npos || e < b)
     return "<markers missing in " + rel + ">";
   b = s.find('\n', b) + 1;
@@ -39,6 +41,19 @@ const std::regex& handle_pattern() {
   return bad;
 }
 
+// Every other run-config key (top level, render, frames, outputs, metrics, latency, GPU spec)
+// is documented in configs/README.md by the tables generated from its declaration.
+TEST(Docs, ConfigKeyTablesMatchDeclarations) {
+  const std::string want = "\n" + fovsim::config_keys_markdown();
+  EXPECT_EQ(
+      generated_section("configs/README.md", fovsim::kConfigDocsBegin, fovsim::kConfigDocsEnd),
+      want)
+      << "configs/README.md differs from the declarations: run `make docs`";
+  EXPECT_FALSE(std::regex_search(want, handle_pattern()));
+}
+
+// User-facing docs and --help name papers by author and year (README.md "References"), never
+// by internal handles a reader cannot resolve.
 TEST(Docs, UserDocsCitePapersNotInternalHandles) {
   const std::regex& bad = handle_pattern();
   std::vector<std::string> files{"README.md", "configs/README.md", "traces/README.md",

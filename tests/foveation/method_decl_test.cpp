@@ -1,14 +1,21 @@
-// Each method's declaration (MethodEntry::params, the table docs are generated from) agrees
-// with the parser that run/sweep/predict/density use: every declared key is accepted at its
-// declared default, the parsed default equals the declared one wherever the method reports it
-// as a CSV column, and an undeclared key is an error naming it.
+// Each method's and lighting strategy's declaration (its ParamTable: the rows the parser
+// reads and the docs are generated from) reads its own defaults: every declared key is
+// accepted at its declared default, the value an empty block resolves to is the declared
+// default (the resolved document records every read), the parsed default equals the declared
+// one wherever the method reports it as a CSV column, a value below a declared range is an
+// error naming the key, and an undeclared key is an error naming it.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 
 #include "sim/core/error.h"
 #include "sim/foveation/factory.h"
+#include "sim/foveation/lighting_flc.h"
+#include "sim/foveation/mapping_spec.h"
+#include "tests/common/param_table_check.h"
 
 using namespace fovsim;
 
@@ -67,5 +74,50 @@ TEST(MethodDecl, UndeclaredKeyIsAnErrorNamingIt) {
     } catch (const Error& err) {
       EXPECT_NE(std::string(err.what()).find("sigam"), std::string::npos) << err.what();
     }
+  }
+}
+
+TEST(MethodDecl, MappingAndLightingTablesReadTheirOwnDefaults) {
+  int tables = 0;
+  for (const auto& e : method_table()) {
+    Params params(Json::object(), "test", e.name);
+    const auto m = make_method(e.name, params);
+    const MappingSpec* s = m->mapping_spec();
+    if (!s || std::string(e.name) == "rmfr_auto") continue;  // rmfr_auto: rmfr inside
+    fovsim::table_check::expect_table_reads_own_defaults(s->geometry->params(), e.name, *s);
+    ++tables;
+  }
+  EXPECT_EQ(tables, 5);  // kfr, rmfr, hyperbolic, linear, fvrs
+  fovsim::table_check::expect_table_reads_own_defaults(flc_lighting_table(), "lighting");
+}
+
+// Every key with a declared default resolves to it when the block is empty (the resolved
+// document is what manifest.json records), for every method and lighting strategy.
+TEST(MethodDecl, EmptyBlockResolvesToDeclaredDefaults) {
+  auto check = [](const std::string& what, const Json& resolved,
+                  const std::vector<ParamInfo>& decl) {
+    for (const ParamInfo& p : decl) {
+      if (no_default(p.def)) continue;
+      SCOPED_TRACE(what + "." + p.name);
+      ASSERT_TRUE(resolved.contains(p.name)) << resolved.dump();
+      const Json& v = resolved[p.name];
+      if (v.is_number())
+        EXPECT_NEAR(v.get<double>(), std::strtod(p.def, nullptr),
+                    1e-5 * std::max(1.0, std::fabs(v.get<double>())));
+      else if (v.is_boolean())
+        EXPECT_EQ(v.get<bool>() ? "true" : "false", std::string(p.def));
+      else
+        EXPECT_EQ(v.get<std::string>(), std::string(p.def));
+    }
+  };
+  for (const auto& e : method_table()) {
+    Params params(Json::object(), "test", "");
+    make_method(e.name, params);
+    check(e.name, params.resolved(), e.params());
+  }
+  for (const auto& e : lighting_table()) {
+    Params params(Json{{"method", e.name}}, "test", "");
+    make_lighting(params);
+    check(std::string("lighting ") + e.name, params.resolved(), e.params());
   }
 }

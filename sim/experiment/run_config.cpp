@@ -1,0 +1,154 @@
+#include "sim/experiment/run_config.h"
+
+#include "sim/cost/gpu_profile.h"
+#include "sim/display/display_keys.h"
+#include "sim/experiment/latency.h"
+#include "sim/metrics/metrics.h"
+#include "sim/render/renderer.h"
+
+namespace fovsim {
+
+// Each table: one row per key (type, default, range, source, meaning, the member it fills).
+
+const ParamTable<RunSharedKeys>& run_shared_table() {
+  using K = RunSharedKeys;
+  static const auto t =
+      ParamTable<K>()
+          .integer("seed", 1, Range::closed(0, 2e9), &K::seed)
+          .doc("",
+               "seed for every stochastic part (synthetic traces, FLC sampling, the frame "
+               "order of `fovsim run --target`)")
+          .documented("display", "string or object", "`\"htc_vive_pro_eye\"`", "", "",
+                      "a model name from `models/displays/` or an inline display object (keys: "
+                      "\"Display\" below)")
+          .text("trace_placement", "scene", {"scene", "absolute"}, &K::trace_placement)
+          .doc("",
+               "`scene`: the trace's first head position is placed at the scene's default "
+               "eye (recordings use their own world origin); `absolute`: head positions are "
+               "used as recorded");
+  return t;
+}
+
+const ParamTable<RunCellKeys>& run_cell_table() {
+  using K = RunCellKeys;
+  static const auto t =
+      ParamTable<K>()
+          .text("name", nullptr, {}, &K::name)
+          .default_from_member("file stem")
+          .doc("",
+               "results go to `results/<name>/` unless `--out` is given; the name becomes "
+               "one folder name through the same rule as labels, so `\"../../x\"` writes to "
+               "`results/_._.._x/`")
+          .text("workload", "generic", {}, &K::workload)
+          .doc("",
+               "workload descriptor from `models/workloads/` for what the scene does not say "
+               "(overdraw, G-buffer bytes, flops per shaded sample and per VPL pair, post "
+               "passes); see `docs/cost_model.md`")
+          .documented("gpus", "array of strings", "`[\"gtx1080\"]`", "", "",
+                      "GPU profiles from `models/gpus/` (see `docs/cost_model.md`); one row per "
+                      "frame x method x GPU; each profile once");
+  return t;
+}
+
+const ParamTable<RenderBlock>& render_block_table() {
+  using B = RenderBlock;
+  static const auto t =
+      ParamTable<B>()
+          .number("scale", 1.0, Range::above(0, 4), &B::scale)
+          .doc("",
+               "simulated resolution = display resolution x scale (same FOV). Pixel counters "
+               "are scaled back to the real display for the cost model and "
+               "`shaded_samples`; `shaded_fraction` is resolution-independent")
+          .number("max_pixels", 5e7, Range::closed(1, 1e10), &B::max_pixels)
+          .doc("",
+               "largest simulated resolution (width x height after `scale`); a larger one "
+               "is refused before any image or G-buffer is allocated");
+  return t;
+}
+
+const ParamTable<ToneMapBlock>& tonemap_block_table() {
+  using B = ToneMapBlock;
+  static const auto t =
+      ParamTable<B>()
+          .number("exposure", 1.0, Range::above(0, 1e6), &B::exposure)
+          .default_from_member("scene's")
+          .doc("", "linear scale before the curve")
+          .text("curve", "aces", {"aces", "reinhard", "clamp"}, &B::curve)
+          .doc("", "tone curve, then sRGB encoding; metrics are computed on the encoded values");
+  return t;
+}
+
+const ParamTable<FramesBlock>& frames_block_table() {
+  using B = FramesBlock;
+  static const auto t =
+      ParamTable<B>()
+          .integer("start", 0, Range::at_least(0), &B::start)
+          .doc("", "first frame of the trace resampled to the display's refresh rate")
+          .integer("stride", 1, Range::closed(1, 1e6), &B::stride)
+          .doc("",
+               "simulate every stride-th frame (a speed/fidelity knob; temporal methods see "
+               "the larger step)")
+          .integer("count", 0, Range::at_least(0), &B::count)
+          .doc("", "number of frames, 0 = all (recorded ones; warm-up frames come on top)")
+          .integer("warmup", 0, Range::closed(0, 1e6), &B::warmup)
+          .doc("",
+               "frames rendered before the recorded ones and fed to every method (TWFR's "
+               "cold first frame, temporal history), but not recorded: no rows, no images")
+          .text("on_short_trace", "fail", {"fail", "truncate"}, &B::on_short_trace)
+          .doc("", "what to do when the trace has fewer frames than requested");
+  return t;
+}
+
+const ParamTable<OutputsBlock>& outputs_block_table() {
+  using B = OutputsBlock;
+  static const auto t =
+      ParamTable<B>()
+          .numbers("image_frames", {}, Range::closed(0, 2e9), &B::image_frames)
+          .doc("",
+               "frames for which images are written to `images/frame_<n>/`: "
+               "`reference.png`, `<label>.png`, `<label>_error.png` (heat map of the "
+               "absolute luma error, 0-0.25), debug buffers")
+          .boolean("png", true, &B::png)
+          .doc("", "write display-encoded PNGs")
+          .boolean("exr", false, &B::exr)
+          .doc("", "also write linear float EXRs")
+          .boolean("error_images", true, &B::error_images)
+          .doc("", "write `<label>_error.png` (luma error heat map) for each image frame")
+          .boolean("debug_images", false, &B::debug_images)
+          .doc("", "methods' debug buffers (LP/RS buffer, redraw map, importance map, ...)")
+          .boolean("print_summary", true, &B::print_summary)
+          .default_from_member("true")
+          .doc("", "print the summary table on stdout at the end");
+  return t;
+}
+
+std::string config_keys_markdown() {
+  auto section = [](const std::string& title, const std::string& md) {
+    return "#### " + title + "\n\n" + md + "\n";
+  };
+  std::string md;
+  md += section(
+      "Top-level keys", run_shared_table().markdown(false) + [] {
+        // continuation rows of the same table
+        std::string s = run_cell_table().markdown(false);
+        return s.substr(s.find('\n', s.find('\n') + 1) + 1);
+      }());
+  md += section(
+      "`render`", render_block_table().markdown(false) + [] {
+        std::string s = render_settings_table().markdown(false);
+        return s.substr(s.find('\n', s.find('\n') + 1) + 1);
+      }());
+  md += section("Display (`display` object, `models/displays/*.json`)", display_table().markdown());
+  md += section("`render.tonemap`", tonemap_block_table().markdown(false));
+  md += section("`frames`", frames_block_table().markdown(false));
+  md += section("`outputs`", outputs_block_table().markdown(false));
+  md += section("`metrics` (docs/metrics.md)", metrics_config_table().markdown());
+  md += section("`latency` (docs/latency.md)", latency_table().markdown(false));
+  md += section("`latency.saccade`", latency_saccade_table().markdown(false));
+  md += section("`latency.main_sequence`", latency_main_sequence_table().markdown(false));
+  md += section("GPU profile `spec` (`models/gpus/*.json`, docs/cost_model.md)",
+                gpu_spec_table().markdown());
+  return md;
+}
+
+}  // namespace fovsim

@@ -1,0 +1,50 @@
+// Every run-config table (top level, render, tonemap, frames, outputs, latency) reads its own
+// declared defaults and ranges.
+#include <gtest/gtest.h>
+
+#include "sim/display/display_keys.h"
+#include "sim/experiment/latency.h"
+#include "sim/experiment/run_config.h"
+#include "tests/common/param_table_check.h"
+
+using namespace fovsim;
+
+TEST(RunConfigDecl, EveryTableReadsItsOwnDefaults) {
+  table_check::expect_table_reads_own_defaults(run_shared_table(), "");
+  RunCellKeys cell;
+  cell.name = "stem";
+  table_check::expect_table_reads_own_defaults(run_cell_table(), "", cell);
+  table_check::expect_table_reads_own_defaults(display_table(), "display");
+  table_check::expect_table_reads_own_defaults(render_block_table(), "render");
+  table_check::expect_table_reads_own_defaults(tonemap_block_table(), "render.tonemap");
+  table_check::expect_table_reads_own_defaults(frames_block_table(), "frames");
+  table_check::expect_table_reads_own_defaults(outputs_block_table(), "outputs");
+  table_check::expect_table_reads_own_defaults(latency_table(), "latency");
+  table_check::expect_table_reads_own_defaults(latency_saccade_table(), "latency.saccade");
+  table_check::expect_table_reads_own_defaults(latency_main_sequence_table(),
+                                               "latency.main_sequence");
+}
+
+TEST(RunConfigDecl, DefaultsTheCallerSetsAreKept) {
+  // name, tonemap.exposure, outputs.print_summary default to what the caller knows.
+  Params p(Json::object(), "run.json", "");
+  RunCellKeys k;
+  k.name = "quickstart";
+  run_cell_table().read_into(p, k);
+  EXPECT_EQ(k.name, "quickstart");
+  EXPECT_EQ(p.resolved()["name"], "quickstart");
+  Params q(Json::object(), "run.json", "outputs");
+  OutputsBlock o;
+  o.print_summary = false;
+  outputs_block_table().read_into(q, o);
+  EXPECT_FALSE(o.print_summary);
+}
+
+TEST(RunConfigDecl, MarkdownHasEveryKey) {
+  const std::string md = config_keys_markdown();
+  for (const char* k :
+       {"`seed`", "`display`", "`gpus`", "`max_pixels`", "`spp`", "`curve`", "`warmup`",
+        "`print_summary`", "`band_edges_deg`", "`jitter_ms`", "`velocity_threshold_deg_s`",
+        "`slope_ms_per_deg`", "`l2_mb`", "`peak_luminance`", "`fov_h_deg`"})
+    EXPECT_NE(md.find(k), std::string::npos) << k;
+}
