@@ -21,7 +21,7 @@ inline CLI::Validator finite_range(double lo, double hi, bool lo_open) {
       [r](std::string& s) -> std::string {
         double v = 0;
         if (!CLI::detail::lexical_cast(s, v))
-          return "value \"" + s.substr(0, 40) + "\" is not a number in " + r.str();
+          return "value \"" + escape_control(s, 40) + "\" is not a number in " + r.str();
         try {
           check_number("", v, r);
         } catch (const Error& e) {
@@ -30,6 +30,24 @@ inline CLI::Validator finite_range(double lo, double hi, bool lo_open) {
         return "";
       },
       "FLOAT in " + r.str());
+}
+// An integer flag in [lo, hi] through check_integer: "1e20", "2.5", "nan" and values past the
+// range are errors (CLI11's integer conversion would clamp 2^64 to the largest long long).
+inline CLI::Validator integer_in(double lo, double hi) {
+  const Range r = Range::closed(lo, hi);
+  return CLI::Validator(
+      [r](std::string& s) -> std::string {
+        double v = 0;
+        if (!CLI::detail::lexical_cast(s, v))
+          return "value \"" + escape_control(s, 40) + "\" is not an integer in " + r.str();
+        try {
+          check_integer("", v, r);
+        } catch (const Error& e) {
+          return e.message();
+        }
+        return "";
+      },
+      "INT in " + r.str());
 }
 inline CLI::Validator finite_in(double lo, double hi) {
   return finite_range(lo, hi, false);

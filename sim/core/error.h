@@ -1,6 +1,7 @@
 // The one error type of fovsim (DESIGN §10). Library code throws it with a location
 // (JSON path, file:line:column, parameter); only sim/app catches, prints one line, exits 2.
 #pragma once
+#include <new>
 #include <stdexcept>
 #include <string>
 
@@ -23,5 +24,24 @@ class Error : public std::runtime_error {
 
 // Formats "file:line" or "file:line:col" (col <= 0 omitted).
 std::string file_location(const std::string& file, long line, long col = 0);
+
+// User text as it may appear in a message, a CSV cell or the terminal: control bytes (C0,
+// DEL) become \xNN, so no NUL, ESC sequence or line break from a label, path or value reaches
+// an output raw; longer than `max_len` bytes is cut and ends in "...".
+std::string escape_control(const std::string& text, size_t max_len = std::string::npos);
+
+// Runs f(); a std::bad_alloc inside becomes fovsim::Error(where, "out of memory while <what>
+// (<advice>)"), so the one out-of-memory message names what was being allocated and the key
+// or flag that sizes it. Wrapped around the phases that hold large buffers (scene, trace,
+// frames of a run or a sweep's cells).
+template <class F>
+decltype(auto) with_memory_context(const std::string& where, const std::string& what,
+                                   const std::string& advice, F&& f) {
+  try {
+    return f();
+  } catch (const std::bad_alloc&) {
+    throw Error(where, "out of memory while " + what + " (" + advice + ")");
+  }
+}
 
 }  // namespace fovsim
