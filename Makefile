@@ -125,6 +125,8 @@ fuzz: deps
 	cmake --build $(SAN_BUILD) -j$(JOBS) --target $(addprefix fuzz_,$(FUZZ_TARGETS))
 	@set -e; for f in $(FUZZ_TARGETS); do echo "== fuzz_$$f for $(FUZZ_SECONDS) s"; \
 	  mkdir -p $(FUZZ_OUT)/corpus/$$f $(FUZZ_OUT)/crashes/$$f; \
-	  UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 $(SAN_BUILD)/fuzz_$$f -max_total_time=$(FUZZ_SECONDS) \
+	  UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 ASAN_OPTIONS=fast_unwind_on_malloc=0 \
+	  LSAN_OPTIONS=suppressions=$(CURDIR)/tests/fuzz/lsan.supp \
+	  $(SAN_BUILD)/fuzz_$$f -max_total_time=$(FUZZ_SECONDS) \
 	    -timeout=10 -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 -dict=tests/fuzz/$$f.dict \
 	    -artifact_prefix=$(FUZZ_OUT)/crashes/$$f/ $(FUZZ_OUT)/corpus/$$f tests/fuzz/corpus/$$f; done
