@@ -159,11 +159,7 @@ py::dict estimate_py(const std::string& gpu, const std::string& workload, const 
                      const std::string& models_in) {
   // The checks `fovsim predict` / `budget` make on their flags (params.h check_number): 0
   // keeps the display's own value, anything else must be in the flag's range.
-  if (width) check_integer("width", width, Range::closed(1, 1 << 20));
-  if (height) check_integer("height", height, Range::closed(1, 1 << 20));
-  if (eyes) check_integer("eyes", eyes, Range::closed(1, 2));
-  if (budget_ms != 0) check_number("budget_ms", budget_ms, Range::above(0, 1e6));
-  for (auto& [k, f] : scale) check_number("scale." + k, f, Range::closed(1e-6, 1e6));
+  check_cost_args(width, height, eyes, budget_ms, scale);  // the CLI flags' ranges (budget.h)
   const std::string models = models_in.empty() ? default_models_dir() : models_in;
   MethodArg m = parse_method_arg(method, "method");
   if (!is_cost_method(m.name))
