@@ -204,6 +204,12 @@ class AskTellTest(unittest.TestCase):
             fovsim.AskTell(self.cfg)  # no sweep.search in the config, no space given
         with self.assertRaises(ValueError):
             fovsim.AskTell(self.cfg, space=self.space())  # no objective
+        # An objective column the summary rows lack is refused, not scored NaN.
+        opt = fovsim.AskTell(self.cfg, space=self.space(), maximize="fpsnr_typo", batch=2)
+        x = opt.ask()[0]
+        with self.assertRaises(KeyError) as cm:
+            opt.tell(x, [{"label": "kfr", "fpsnr": 30.0}])
+        self.assertIn("fpsnr_typo", str(cm.exception))
 
 
 class ExampleScript(unittest.TestCase):

@@ -444,6 +444,12 @@ Scene load_file_scene(Params& p, const std::string& models_dir) {
       p.number("max_texture_pixels", kDefaultMaxTexturePixels, Range::closed(1, 1e10));
   p.ignore("comment");
   if (tr.size() != 3) p.fail("translate", "expected 3 numbers [x, y, z]");
+  for (double t : tr)  // a translation past the bound moves every vertex past it
+    if (!(std::fabs(t) <= kMaxCoordinateM)) {
+      char b[160];
+      std::snprintf(b, sizeof b, "translation %.6g m is beyond the coordinate bound +-1e5 m", t);
+      p.fail("translate", b);
+    }
   if (rot.size() != 3)
     p.fail("rotate_deg", "expected 3 numbers [x, y, z] (degrees, applied x, y, z)");
   if (!eye.empty() && eye.size() != 3) p.fail("default_eye", "expected 3 numbers [x, y, z]");

@@ -205,7 +205,7 @@ TEST(Reliability, BadScenesAreRefused) {
   expect_user_error(scene_run("flat.obj"), "all 1 triangles have zero area");
   write_text(d + "/ok.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
   expect_user_error(scene_run("ok.obj", R"(, "translate": [1e300, 0, 0])"),
-                    "non-finite coordinate");
+                    "scene.translate: translation 1e+300 m is beyond the coordinate bound +-1e5 m");
   // glTF buffer URIs stay inside the model's folder.
   write_text(
       d + "/esc.gltf",
