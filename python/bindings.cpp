@@ -154,7 +154,7 @@ py::object from_json(const Json& j) {
 // speedup column) and, with budget_ms > 0, `fovsim budget`'s verdict. `scale` multiplies a
 // resource's throughput (shading, geometry, raster, memory, fixed) as `budget --shading` etc.
 py::dict estimate_py(const std::string& gpu, const std::string& workload, const std::string& method,
-                     const std::string& display, int width, int height, int eyes,
+                     const std::string& display, double width, double height, double eyes,
                      const std::map<std::string, double>& scale, double budget_ms,
                      const std::string& models_in) {
   // The checks `fovsim predict` / `budget` make on their flags (params.h check_number): 0
@@ -166,9 +166,9 @@ py::dict estimate_py(const std::string& gpu, const std::string& workload, const 
     throw Error("method " + method, "no cost model for method \"" + m.name + "\"");
   Workload w = Workload::load(workload, models);
   Display d = Display::load(display, models);
-  if (width) d.width = width;
-  if (height) d.height = height;
-  if (eyes) d.eyes = eyes;
+  if (width) d.width = int(width);  // integers in range: check_cost_args above
+  if (height) d.height = int(height);
+  if (eyes) d.eyes = int(eyes);
   GpuProfile g = GpuProfile::load(gpu, models);
   for (auto& [k, f] : scale) {
     bool known = false;
@@ -220,16 +220,17 @@ py::dict estimate_py(const std::string& gpu, const std::string& workload, const 
 
 // `fovsim predict --results DIR`: a finished run's measured counters re-costed (recost.h).
 py::list recost_py(const std::string& results, const std::vector<std::string>& gpus,
-                   const std::string& display, int width, int height, int eyes,
+                   const std::string& display, double width, double height, double eyes,
                    const std::string& workload, const std::string& models) {
+  check_cost_args(width, height, eyes, 0, {});  // the flags' ranges, as predict --results
   RecostOptions o;
   o.results = results;
   o.models = models.empty() ? default_models_dir() : models;
   o.gpus = gpus;
   o.display = display;
-  o.width = width;
-  o.height = height;
-  o.eyes = eyes;
+  o.width = int(width);
+  o.height = int(height);
+  o.eyes = int(eyes);
   o.workload = workload;
   RecostResult res;
   {

@@ -84,6 +84,14 @@ class CostTest(unittest.TestCase):
         self.assertIn("shadin", str(cm.exception))
         with self.assertRaises(ValueError):
             fovsim.predict(gpu="gtx1080", methods=["full"])  # a workload is required
+        # The CLI flags' ranges (CostArgRanges through check_cost_args): what `fovsim predict`
+        # refuses, Python refuses, with the same message.
+        for kw, msg in (({"width": -5}, "width: value -5 is out of range [1, 1048576]"),
+                        ({"eyes": 5}, "eyes: value 5 is out of range [1, 2]"),
+                        ({"height": float("nan")}, "height: value nan is out of range")):
+            with self.assertRaises(fovsim.FovsimError) as cm:
+                fovsim.predict(gpu="gtx1080", workload="kfr_bistro", methods=["full"], **kw)
+            self.assertIn(msg, str(cm.exception))
 
     def test_dataframe_when_pandas(self):
         try:
