@@ -340,13 +340,16 @@ void check_plan_columns(const SweepPlan& plan, const ResultTable& summary, bool 
   if (!search_only) {
     for (size_t i = 0; i < plan.objectives.size(); ++i)
       numeric(plan.objectives[i].column, W + ".objectives[" + std::to_string(i) + "]");
-    // pareto.group_by's default "gpu" is always a column of a run's summary.
-    for (auto& g : plan.pareto_group_by) any(g, W + ".pareto.group_by");
+    // group_by's default ["gpu"] is not checked (a run costed for no GPU has no gpu column).
+    const std::vector<std::string> def_group{"gpu"};
+    if (plan.pareto_group_by != def_group)
+      for (auto& g : plan.pareto_group_by) any(g, W + ".pareto.group_by");
     if (plan.iso.enabled()) {
       numeric(plan.iso.column, W + ".iso_budget.column");
       if (plan.iso.quality_given)
         for (auto& q : plan.iso.quality) numeric(q, W + ".iso_budget.quality");
-      for (auto& g : plan.iso.group_by) any(g, W + ".iso_budget.group_by");
+      if (plan.iso.group_by != def_group)
+        for (auto& g : plan.iso.group_by) any(g, W + ".iso_budget.group_by");
     }
   }
   if (plan.search.enabled()) {
