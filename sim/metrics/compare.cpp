@@ -81,11 +81,14 @@ Image read_display_encoded(const std::string& path, bool fvvdp) {
 
 }  // namespace
 
+// Out of memory while decoding names the image and the limit that sizes it.
 Image read_ldr_rgb(const std::string& path) {
-  return read_display_encoded(path, false);
+  return with_memory_context(path, "decoding the image", "lower FOVSIM_MAX_IMAGE_MPIXELS",
+                             [&] { return read_display_encoded(path, false); });
 }
 Image read_fvvdp_image(const std::string& path) {
-  return read_display_encoded(path, true);
+  return with_memory_context(path, "decoding the image", "lower FOVSIM_MAX_IMAGE_MPIXELS",
+                             [&] { return read_display_encoded(path, true); });
 }
 
 ImageComparison compare_images(const Image& ref, const Image& test, double ppd,
