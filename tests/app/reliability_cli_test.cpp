@@ -266,7 +266,7 @@ TEST(Reliability, NaNAndZeroOnFlagsAreErrors) {
   expect_user_error(run_cmd(bin + " frobnicate"), "unknown command 'frobnicate' (commands: ");
 }
 
-// ---- reliability v3, second part: bounds with their key, plan columns, point-9 messages ----
+// ---- bounds that name their key, plan columns checked like --target, messages that help ----
 
 TEST(Reliability, VplAndDensityWorkHaveNamedLimits) {
   const std::string d = temp_dir("rel_vpl"), bin = fovsim_bin();
