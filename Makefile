@@ -110,13 +110,14 @@ test-sanitize: deps
 	@echo "== test_app --gtest_filter='$(SAN_APP_FILTER)' (ASan+UBSan)"
 	$(SAN_ENV) FOVSIM_SOURCE_DIR=$(CURDIR) $(SAN_BUILD)/test_app --gtest_filter='$(SAN_APP_FILTER)'
 
-# libFuzzer targets for the four parsers (configs/Params, canonical trace CSV, importer map +
-# recording, sweep specs), each run for FUZZ_SECONDS with its committed seed corpus and
+# libFuzzer targets for the parsers (configs/Params, canonical trace CSV, importer map +
+# recording, sweep specs, scene files, images, the Python API's arguments), each run for FUZZ_SECONDS with its committed seed corpus and
 # dictionary (tests/fuzz/README.md). New corpus entries and crash inputs stay under
 # $(SAN_BUILD)/fuzz/; a crash fails the target and becomes a regression test.
-# fuzz_scene and fuzz_png build with FOVSIM_FUZZ but are not yet in CI's list: they have not had
-# a first 60 s run under ASan/LSan (assimp); add them here once they have (tests/fuzz/README.md).
-FUZZ_TARGETS ?= params trace_csv importer sweep
+# scene (OBJ/glTF + textures), png (compare's image reader) and args (the argument layer of the
+# Python API) had their first runs under ASan/LSan with the suppression file for a leak inside
+# OpenImageIO (tests/fuzz/lsan.supp; full stacks so that it matches).
+FUZZ_TARGETS ?= params trace_csv importer sweep scene png args
 FUZZ_SECONDS ?= 60
 FUZZ_OUT := $(SAN_BUILD)/fuzz
 .PHONY: fuzz
@@ -125,6 +126,8 @@ fuzz: deps
 	cmake --build $(SAN_BUILD) -j$(JOBS) --target $(addprefix fuzz_,$(FUZZ_TARGETS))
 	@set -e; for f in $(FUZZ_TARGETS); do echo "== fuzz_$$f for $(FUZZ_SECONDS) s"; \
 	  mkdir -p $(FUZZ_OUT)/corpus/$$f $(FUZZ_OUT)/crashes/$$f; \
-	  UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 $(SAN_BUILD)/fuzz_$$f -max_total_time=$(FUZZ_SECONDS) \
+	  UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 ASAN_OPTIONS=fast_unwind_on_malloc=0 \
+	  LSAN_OPTIONS=suppressions=$(CURDIR)/tests/fuzz/lsan.supp \
+	  $(SAN_BUILD)/fuzz_$$f -max_total_time=$(FUZZ_SECONDS) \
 	    -timeout=10 -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 -dict=tests/fuzz/$$f.dict \
 	    -artifact_prefix=$(FUZZ_OUT)/crashes/$$f/ $(FUZZ_OUT)/corpus/$$f tests/fuzz/corpus/$$f; done

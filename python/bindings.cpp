@@ -154,25 +154,21 @@ py::object from_json(const Json& j) {
 // speedup column) and, with budget_ms > 0, `fovsim budget`'s verdict. `scale` multiplies a
 // resource's throughput (shading, geometry, raster, memory, fixed) as `budget --shading` etc.
 py::dict estimate_py(const std::string& gpu, const std::string& workload, const std::string& method,
-                     const std::string& display, int width, int height, int eyes,
+                     const std::string& display, double width, double height, double eyes,
                      const std::map<std::string, double>& scale, double budget_ms,
                      const std::string& models_in) {
   // The checks `fovsim predict` / `budget` make on their flags (params.h check_number): 0
   // keeps the display's own value, anything else must be in the flag's range.
-  if (width) check_integer("width", width, Range::closed(1, 1 << 20));
-  if (height) check_integer("height", height, Range::closed(1, 1 << 20));
-  if (eyes) check_integer("eyes", eyes, Range::closed(1, 2));
-  if (budget_ms != 0) check_number("budget_ms", budget_ms, Range::above(0, 1e6));
-  for (auto& [k, f] : scale) check_number("scale." + k, f, Range::closed(1e-6, 1e6));
+  check_cost_args(width, height, eyes, budget_ms, scale);  // the CLI flags' ranges (budget.h)
   const std::string models = models_in.empty() ? default_models_dir() : models_in;
   MethodArg m = parse_method_arg(method, "method");
   if (!is_cost_method(m.name))
     throw Error("method " + method, "no cost model for method \"" + m.name + "\"");
   Workload w = Workload::load(workload, models);
   Display d = Display::load(display, models);
-  if (width) d.width = width;
-  if (height) d.height = height;
-  if (eyes) d.eyes = eyes;
+  if (width) d.width = int(width);  // integers in range: check_cost_args above
+  if (height) d.height = int(height);
+  if (eyes) d.eyes = int(eyes);
   GpuProfile g = GpuProfile::load(gpu, models);
   for (auto& [k, f] : scale) {
     bool known = false;
@@ -224,16 +220,17 @@ py::dict estimate_py(const std::string& gpu, const std::string& workload, const 
 
 // `fovsim predict --results DIR`: a finished run's measured counters re-costed (recost.h).
 py::list recost_py(const std::string& results, const std::vector<std::string>& gpus,
-                   const std::string& display, int width, int height, int eyes,
+                   const std::string& display, double width, double height, double eyes,
                    const std::string& workload, const std::string& models) {
+  check_cost_args(width, height, eyes, 0, {});  // the flags' ranges, as predict --results
   RecostOptions o;
   o.results = results;
   o.models = models.empty() ? default_models_dir() : models;
   o.gpus = gpus;
   o.display = display;
-  o.width = width;
-  o.height = height;
-  o.eyes = eyes;
+  o.width = int(width);
+  o.height = int(height);
+  o.eyes = int(eyes);
   o.workload = workload;
   RecostResult res;
   {

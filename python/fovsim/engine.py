@@ -108,10 +108,10 @@ class Evaluator:
 
 def _score(rows, objective, label, constraints):
     """(score, violation) of one evaluation's summary rows, as `fovsim search` scores them
-    (sim/experiment/search_runner.cpp): the row labelled `label` (else the first); a missing or
-    non-finite objective is nan; the violation is the sum over `constraints` ({"column", "min",
-    "max"}) of how far the value lies outside [min, max]; a missing or non-finite value counts
-    as infinitely violated."""
+    (sim/experiment/search_runner.cpp): the row labelled `label` (else the first); an objective
+    or constraint column the row does not have is a KeyError; a non-finite objective is nan; the
+    violation is the sum over `constraints` ({"column", "min", "max"}) of how far the value lies
+    outside [min, max]; a non-finite constraint value counts as infinitely violated."""
     row = None
     for r in rows:
         if not label or r.get("label") == label:
@@ -119,6 +119,12 @@ def _score(rows, objective, label, constraints):
             break
     if row is None:
         raise KeyError(f"no summary row labelled {label!r} (labels: {', '.join(str(r.get('label')) for r in rows)})")
+    # A column the summary does not have is an error (as `fovsim search` refuses it), never a
+    # NaN score that would make an arbitrary point "best".
+    for col, what in ((objective, "objective"), (constraint, "constraint")):
+        if col and col not in row:
+            raise KeyError(f"{what} column {col!r} is not in the summary "
+                           f"(columns: {', '.join(sorted(str(k) for k in row))})")
     v = row.get(objective, math.nan)
     score = float(v) if isinstance(v, (int, float)) and math.isfinite(v) else math.nan
     violation = 0.0

@@ -85,6 +85,14 @@ class CostTest(unittest.TestCase):
         self.assertIn("shadin", str(cm.exception))
         with self.assertRaises(ValueError):
             fovsim.predict(gpu="gtx1080", methods=["full"])  # a workload is required
+        # The CLI flags' ranges (CostArgRanges through check_cost_args): what `fovsim predict`
+        # refuses, Python refuses, with the same message.
+        for kw, msg in (({"width": -5}, "width: value -5 is out of range [1, 1048576]"),
+                        ({"eyes": 5}, "eyes: value 5 is out of range [1, 2]"),
+                        ({"height": float("nan")}, "height: value nan is out of range")):
+            with self.assertRaises(fovsim.FovsimError) as cm:
+                fovsim.predict(gpu="gtx1080", workload="kfr_bistro", methods=["full"], **kw)
+            self.assertIn(msg, str(cm.exception))
 
     def test_dataframe_when_pandas(self):
         try:
@@ -221,6 +229,12 @@ class AskTellTest(unittest.TestCase):
             fovsim.AskTell(self.cfg)  # no sweep.search in the config, no space given
         with self.assertRaises(ValueError):
             fovsim.AskTell(self.cfg, space=self.space())  # no objective
+        # An objective column the summary rows lack is refused, not scored NaN.
+        opt = fovsim.AskTell(self.cfg, space=self.space(), maximize="fpsnr_typo", batch=2)
+        x = opt.ask()[0]
+        with self.assertRaises(KeyError) as cm:
+            opt.tell(x, [{"label": "kfr", "fpsnr": 30.0}])
+        self.assertIn("fpsnr_typo", str(cm.exception))
 
 
 class ExampleScript(unittest.TestCase):

@@ -73,11 +73,11 @@ void add_target_options(CLI::App* c, Target& t, const std::string& default_metho
   c->add_option("--display", t.display, "Display name or path (models/displays/NAME.json)")
       ->capture_default_str();
   c->add_option("--width", t.width, "Override the per-eye width in pixels")
-      ->check(CLI::Range(1, 1 << 20));
+      ->check(integer_checked(CostArgRanges::pixels()));
   c->add_option("--height", t.height, "Override the per-eye height in pixels")
-      ->check(CLI::Range(1, 1 << 20));
+      ->check(integer_checked(CostArgRanges::pixels()));
   c->add_option("--eyes", t.eyes, "Override the number of eyes rendered (1 or 2)")
-      ->check(CLI::Range(1, 2));
+      ->check(integer_checked(CostArgRanges::eyes()));
   c->add_option(
       "-m,--method", t.methods,
       "Method and parameters, e.g. full, kfr:sigma=1.8, rmfr:sigma=2.6, twfr:redraw_fraction=0.06, "
@@ -676,21 +676,21 @@ void register_cost(CLI::App& app, Action& action) {
     c->add_option("--hz", a->hz,
                   "Refresh rate whose frame time is the budget (e.g. 72, 90, 120, 144)")
         ->capture_default_str()
-        ->check(finite_in(1.0, 10000.0));
+        ->check(checked(CostArgRanges::hz()));
     c->add_option("--budget-ms", a->budget_ms, "Frame budget in ms (overrides --hz)")
-        ->check(finite_above(0.0, 1e6));
+        ->check(checked(CostArgRanges::budget_ms()));
     c->add_option("--scale-shading", a->s_shading, "What-if: multiply shading (FP32) throughput")
-        ->check(finite_in(1e-6, 1e6));
+        ->check(checked(CostArgRanges::scale()));
     c->add_option("--scale-geometry", a->s_geometry,
                   "What-if: multiply geometry (triangle) throughput")
-        ->check(finite_in(1e-6, 1e6));
+        ->check(checked(CostArgRanges::scale()));
     c->add_option("--scale-raster", a->s_raster, "What-if: multiply raster (fill) throughput")
-        ->check(finite_in(1e-6, 1e6));
+        ->check(checked(CostArgRanges::scale()));
     c->add_option("--scale-memory", a->s_memory, "What-if: multiply memory bandwidth")
-        ->check(finite_in(1e-6, 1e6));
+        ->check(checked(CostArgRanges::scale()));
     c->add_option("--scale-fixed", a->s_fixed,
                   "What-if: divide fixed per-pass overheads by this factor")
-        ->check(finite_in(1e-6, 1e6));
+        ->check(checked(CostArgRanges::scale()));
     c->add_flag("--json", a->json, "Print JSON");
     c->add_option("--p", a->target_p,
                   "Probability of fitting the cheapest change must reach (default 0.8)")

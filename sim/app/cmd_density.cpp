@@ -18,13 +18,13 @@
 namespace fovsim::app {
 
 namespace {
-// Most rows `fovsim density` writes (configs/README.md "Limits on input").
+// Default of --max-rows: most rows `fovsim density` writes (configs/README.md "Limits on input").
 constexpr double kMaxDensityRows = 2e6;
 struct DensityArgs {
   std::vector<std::string> methods{"kfr", "rmfr", "hyperbolic", "linear"};
   std::vector<std::string> params;  // METHOD.key=value
   std::string display = "htc_vive_pro_eye", models, out = "results/density/density";
-  double gaze_u = 0.5, gaze_v = 0.5, target = 0;
+  double gaze_u = 0.5, gaze_v = 0.5, target = 0, max_rows = kMaxDensityRows;
   int directions = 8, samples = 200;
   bool plot = false;
 };
@@ -57,12 +57,12 @@ int run_density(const DensityArgs& a) {
   }
   // Rows written: bounded before any is computed (about 100 bytes and one density solve each).
   const double rows = double(a.methods.size()) * a.directions * a.samples;
-  if (rows > kMaxDensityRows)
+  if (rows > a.max_rows)
     throw Error("--samples",
                 "--directions " + std::to_string(a.directions) + " x --samples " +
                     std::to_string(a.samples) + " x " + std::to_string(a.methods.size()) +
                     " methods = " + std::to_string(int64_t(rows)) + " rows, over the limit of " +
-                    std::to_string(int64_t(kMaxDensityRows)));
+                    std::to_string(int64_t(a.max_rows)) + " (--max-rows)");
   check_output_target(a.out + ".csv");
   check_output_target(a.out + ".json");
   for (const std::string& arg : a.methods) {
@@ -173,6 +173,10 @@ void register_density(CLI::App& app, Action& action) {
   c->add_option("--samples", a->samples, "Samples per direction")
       ->check(CLI::Range(1, 100000))
       ->capture_default_str();
+  c->add_option("--max-rows", a->max_rows,
+                "Most rows (methods x --directions x --samples), checked before any is computed")
+      ->capture_default_str()
+      ->check(finite_in(1.0, 1e9));
   c->add_option("--out", a->out, "Output prefix (writes PREFIX.csv, PREFIX.json)")
       ->capture_default_str();
   c->add_flag("--plot", a->plot, "Plot with viz/plot_density.py (PREFIX.png)");

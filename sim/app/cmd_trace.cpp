@@ -21,7 +21,7 @@ struct TraceArgs {
   std::string in, map, out, display = "htc_vive_pro_eye", models, on_bad = "fail";
   std::string scenario, params;
   bool guess = false;
-  long long seed = 1;
+  double seed = 1;
   double duration = 10, rate = 0;
   double max_gap = 1;
   double max_samples = kDefaultMaxTraceSamples;
@@ -176,9 +176,9 @@ void register_trace(CLI::App& app, Action& action) {
   syn->add_option("--scenario", a->scenario, "Scenario: " + names)
       ->required()
       ->check(CLI::IsMember(synth_scenarios()));
-  syn->add_option("--seed", a->seed, "Random seed (same seed, same trace)")
+  syn->add_option("--seed", a->seed, "Random seed, an integer in [0, 2^53] (same seed, same trace)")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(integer_in(0.0, kMaxSynthSeed));
   syn->add_option("--duration", a->duration, "Duration in seconds")
       ->capture_default_str()
       ->check(finite_above(0.0, 36000.0));

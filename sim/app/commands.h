@@ -15,13 +15,12 @@ namespace fovsim::app {
 // Flag validators that refuse NaN, infinities and values outside the range (CLI11's Range
 // and PositiveNumber let NaN through), through the library's check_number (params.h), the
 // check the Python bindings make too: "[lo, hi]" and "(lo, hi]".
-inline CLI::Validator finite_range(double lo, double hi, bool lo_open) {
-  const Range r = lo_open ? Range::above(lo, hi) : Range::closed(lo, hi);
+inline CLI::Validator checked(const Range& r) {
   return CLI::Validator(
       [r](std::string& s) -> std::string {
         double v = 0;
         if (!CLI::detail::lexical_cast(s, v))
-          return "value \"" + s.substr(0, 40) + "\" is not a number in " + r.str();
+          return "value \"" + escape_control(s, 40) + "\" is not a number in " + r.str();
         try {
           check_number("", v, r);
         } catch (const Error& e) {
@@ -30,6 +29,29 @@ inline CLI::Validator finite_range(double lo, double hi, bool lo_open) {
         return "";
       },
       "FLOAT in " + r.str());
+}
+// An integer flag in [lo, hi] through check_integer: "1e20", "2.5", "nan" and values past the
+// range are errors (CLI11's integer conversion would clamp 2^64 to the largest long long).
+inline CLI::Validator integer_checked(const Range& r) {
+  return CLI::Validator(
+      [r](std::string& s) -> std::string {
+        double v = 0;
+        if (!CLI::detail::lexical_cast(s, v))
+          return "value \"" + escape_control(s, 40) + "\" is not an integer in " + r.str();
+        try {
+          check_integer("", v, r);
+        } catch (const Error& e) {
+          return e.message();
+        }
+        return "";
+      },
+      "INT in " + r.str());
+}
+inline CLI::Validator integer_in(double lo, double hi) {
+  return integer_checked(Range::closed(lo, hi));
+}
+inline CLI::Validator finite_range(double lo, double hi, bool lo_open) {
+  return checked(lo_open ? Range::above(lo, hi) : Range::closed(lo, hi));
 }
 inline CLI::Validator finite_in(double lo, double hi) {
   return finite_range(lo, hi, false);

@@ -42,7 +42,11 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // A mistyped command ("fovsim rn", "fovsim trace valdate") gets a suggestion.
     CLI::App* cur = &app;
-    for (int i = 1; i < argc && argv[i][0] != '-'; ++i) {
+    for (int i = 1; i < argc; ++i) {
+      if (argv[i][0] == '-') {  // a flag: a later word may still be an unknown command
+        if (cur->get_require_subcommand_min() > 0) continue;
+        break;
+      }
       std::vector<std::string> names;
       CLI::App* next = nullptr;
       for (CLI::App* s : cur->get_subcommands({})) {
@@ -63,14 +67,23 @@ int main(int argc, char** argv) {
           cur->get_require_subcommand_min() > 0) {
         std::string list;
         for (auto& n : names) list += (list.empty() ? "" : ", ") + n;
-        std::string word = std::string(argv[i]).substr(0, 40);
-        for (char& ch : word)
-          if ((unsigned char)ch < 0x20 || ch == 0x7f) ch = '?';
+        const std::string word = fovsim::escape_control(argv[i], 40);
         std::fprintf(stderr, "fovsim: error: unknown command '%s' (commands: %s)\n", word.c_str(),
                      list.c_str());
         return 2;
       }
       break;
+    }
+    // A command group given without its subcommand ("fovsim trace"): name the group and list
+    // its subcommands instead of CLI11's "A subcommand is required".
+    if (cur->get_require_subcommand_min() > 0 && dynamic_cast<const CLI::RequiredError*>(&e)) {
+      std::string list;
+      for (CLI::App* s : cur->get_subcommands({}))
+        list += (list.empty() ? "" : ", ") + s->get_name();
+      const std::string name = cur == &app ? std::string("fovsim") : "fovsim " + cur->get_name();
+      std::fprintf(stderr, "fovsim: error: %s needs a command (one of: %s; see --help)\n",
+                   name.c_str(), list.c_str());
+      return 2;
     }
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
     // Bad flags and values are one line like every other input error (the usage hint of
@@ -78,21 +91,42 @@ int main(int argc, char** argv) {
     std::string msg = e.what();
     for (char& ch : msg)
       if (ch == '\n' || ch == '\r') ch = ' ';
-    std::fprintf(stderr, "fovsim: error: %s (see --help)\n", msg.c_str());
+    std::fprintf(stderr, "fovsim: error: %s (see --help)\n", fovsim::escape_control(msg).c_str());
     return 2;
+  }
+  // An output path given as "" is an error, not "the default folder" or the current one.
+  for (CLI::App* sub = &app; sub;) {
+    for (const CLI::Option* o : sub->get_options()) {
+      const std::string& n = o->get_name();
+      const bool out = n == "--out" || n == "-o,--output" || n == "-o,--out" || n == "--output";
+      if (!out || o->count() == 0) continue;
+      for (const std::string& v : o->results())
+        if (v.empty()) {
+          std::fprintf(stderr,
+                       "fovsim: error: %s: output path is empty (give a path, or omit the flag "
+                       "for the default)\n",
+                       o->get_name().c_str());
+          return 2;
+        }
+    }
+    auto parsed = sub->get_subcommands();
+    sub = parsed.empty() ? nullptr : parsed.front();
   }
   try {
     return action ? action() : 0;
   } catch (const fovsim::Error& e) {
-    std::fprintf(stderr, "fovsim: error: %s\n", e.what());
+    std::fprintf(stderr, "fovsim: error: %s\n", fovsim::escape_control(e.what()).c_str());
     return 2;
   } catch (const fovsim::InternalError& e) {  // FOVSIM_CHECK: a bug, not the input
     std::fprintf(stderr, "fovsim: internal error: %s (a bug in fovsim, not in the input)\n",
                  e.what());
     return 3;
   } catch (const std::bad_alloc&) {
+    // The phases that hold large buffers name what they allocate and the key that sizes it
+    // (with_memory_context, an Error above); this one is not attributed to any.
     std::fprintf(stderr,
-                 "fovsim: error: out of memory (try a smaller render.scale or fewer frames)\n");
+                 "fovsim: error: out of memory (not attributed to a phase that names its key; "
+                 "give the process more memory)\n");
     return 3;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "fovsim: internal error: %s\n", e.what());

@@ -42,6 +42,44 @@ void internal_error(const char* file, int line, const std::string& what) {
   throw InternalError(file_location(f, line), what);
 }
 
+std::string escape_control(const std::string& text, size_t max_len) {
+  std::string out;
+  for (size_t i = 0; i < text.size(); ++i) {
+    if (out.size() >= max_len) {
+      out += "...";
+      break;
+    }
+    const unsigned char c = (unsigned char)text[i];
+    if (c < 0x20 || c == 0x7F) {
+      char b[8];
+      std::snprintf(b, sizeof b, "\\x%02X", c);
+      out += b;
+    } else {
+      out += char(c);
+    }
+  }
+  return out;
+}
+
+QuietStderr::QuietStderr() {
+  std::fflush(stderr);
+  const int null_fd = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
+  if (null_fd < 0) return;
+  saved_ = ::fcntl(2, F_DUPFD_CLOEXEC, 3);
+  if (saved_ >= 0 && ::dup2(null_fd, 2) < 0) {
+    ::close(saved_);
+    saved_ = -1;
+  }
+  ::close(null_fd);
+}
+
+QuietStderr::~QuietStderr() {
+  if (saved_ < 0) return;
+  std::fflush(stderr);
+  ::dup2(saved_, 2);
+  ::close(saved_);
+}
+
 std::string closest_name(const std::string& word, const std::vector<std::string>& names) {
   // Optimal string alignment distance (Damerau-Levenshtein without repeated edits).
   auto dist = [](const std::string& a, const std::string& b) {

@@ -3,6 +3,7 @@
 // exits 2. A broken invariant of the code itself is an InternalError (FOVSIM_CHECK): exit 3 with
 // the source file:line, so a bug is never reported as the user's mistake.
 #pragma once
+#include <new>
 #include <stdexcept>
 #include <string>
 
@@ -45,6 +46,25 @@ class InternalError : public std::logic_error {
 // Throws InternalError at `file` (shortened to the path from the repository's sim/, tests/ or
 // python/ folder) and `line`.
 [[noreturn]] void internal_error(const char* file, int line, const std::string& what);
+
+// User text as it may appear in a message, a CSV cell or the terminal: control bytes (C0,
+// DEL) become \xNN, so no NUL, ESC sequence or line break from a label, path or value reaches
+// an output raw; longer than `max_len` bytes is cut and ends in "...".
+std::string escape_control(const std::string& text, size_t max_len = std::string::npos);
+
+// Runs f(); a std::bad_alloc inside becomes fovsim::Error(where, "out of memory while <what>
+// (<advice>)"), so the one out-of-memory message names what was being allocated and the key
+// or flag that sizes it. Wrapped around the phases that hold large buffers (scene, trace,
+// frames of a run or a sweep's cells).
+template <class F>
+decltype(auto) with_memory_context(const std::string& where, const std::string& what,
+                                   const std::string& advice, F&& f) {
+  try {
+    return f();
+  } catch (const std::bad_alloc&) {
+    throw Error(where, "out of memory while " + what + " (" + advice + ")");
+  }
+}
 
 }  // namespace fovsim
 

@@ -69,6 +69,21 @@ class DirLock {
  private:
   int fd_ = -1;
 };
+// While alive, the process's stderr (fd 2) goes to /dev/null. Image decoding is wrapped in it:
+// libpng, called through OpenImageIO, prints its own "libpng error: ..." line to stderr before
+// OpenImageIO reports the same error, which fovsim then gives in its one error line. Open it
+// only on the thread that orchestrates (stderr output of other threads is dropped meanwhile).
+class QuietStderr {
+ public:
+  QuietStderr();
+  ~QuietStderr();
+  QuietStderr(const QuietStderr&) = delete;
+  QuietStderr& operator=(const QuietStderr&) = delete;
+
+ private:
+  int saved_ = -1;
+};
+
 bool file_exists(const std::string& path);
 void make_dirs(const std::string& path);
 

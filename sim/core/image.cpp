@@ -88,6 +88,7 @@ void write_image(const std::string& path, const Image& img) {
 }
 
 Image read_image(const std::string& path) {
+  QuietStderr quiet;  // libpng's own error line: the thrown error says it once
   auto in = OIIO::ImageInput::open(path);
   if (!in) throw Error(path, "cannot read image: " + OIIO::geterror());
   const OIIO::ImageSpec& spec = in->spec();

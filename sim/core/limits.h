@@ -19,4 +19,10 @@ constexpr double kDefaultMaxTriangles = 2e7;
 // an image may claim in its header before it is decoded (8192 x 8192).
 constexpr double kDefaultMaxTexturePixels = 67108864;
 
+// Default of scene.vpl.max_vpls: most VPLs a frame may have, counted as lights x
+// scene.vpl.rsm_size^2 before any reflective shadow map is rendered. Every reference pixel is
+// shaded by every VPL (the FLC paper's TBDS ground truth), so the reference's work per frame is
+// pixels x VPLs: 2^18 VPLs are 4 lights at rsm_size 256 (the default 64 gives 4096 per light).
+constexpr double kDefaultMaxVpls = 262144;
+
 }  // namespace fovsim

@@ -19,12 +19,13 @@ bool Range::contains(double v) const {
   return true;
 }
 
+// A bound as it is: the default upper bound 1e300 prints "1e+300" (a value of 1e301 is out of
+// it, which "inf" would hide); only a true infinity prints "inf".
 static std::string fmt_num(double v) {
-  if (v >= 1e299) return "inf";
-  if (v <= -1e299) return "-inf";
-  std::ostringstream o;
-  o << v;
-  return o.str();
+  char b[40];
+  std::snprintf(b, sizeof b, "%.6g", v);
+  if (std::strtod(b, nullptr) != v) std::snprintf(b, sizeof b, "%.17g", v);  // e.g. 2^53
+  return b;
 }
 
 std::string Range::str() const {
@@ -45,7 +46,7 @@ double check_number(const std::string& where, double v, const Range& r) {
 
 long check_integer(const std::string& where, double v, const Range& r) {
   check_number(where, v, r);
-  if (v != std::floor(v) || std::fabs(v) > 9e15)
+  if (v != std::floor(v) || std::fabs(v) > 9007199254740992.0)
     throw Error(where, "value " + short_num(v) + " is not an integer in " + r.str());
   return long(v);
 }
@@ -306,7 +307,7 @@ std::string Params::locate(const std::string& path) const {
     const std::string& o = it->first;
     if (path.compare(0, o.size(), o) == 0 &&
         (path.size() == o.size() || path[o.size()] == '.' || path[o.size()] == '['))
-      return "override '" + it->second + "': " + path;
+      return "override '" + escape_control(it->second, 80) + "': " + path;
   }
   std::string p = path.empty() ? "(root)" : path;
   if (const std::string* f = inherited_from(path)) p += " (inherited from " + *f + ")";
@@ -342,11 +343,7 @@ void Params::ignore(const std::string& key) {
 }
 
 void Params::check_range(const std::string& key, double v, const Range& r) const {
-  if (!r.contains(v)) {
-    std::ostringstream o;
-    o << "value " << v << " is out of range " << r.str();
-    fail(key, o.str());
-  }
+  if (!r.contains(v)) fail(key, "value " + short_num(v) + " is out of range " + r.str());
 }
 
 double Params::number(const std::string& key, double def, Range r) {
@@ -377,12 +374,16 @@ int Params::integer(const std::string& key, int def, Range r) {
 }
 
 int Params::integer(const std::string& key, Range r) {
+  // Integer keys are ints: their range is the declared one within [-2e9, 2e9] (so "[1, inf]"
+  // never appears for a bound that is 2e9).
+  r.lo = std::max(r.lo, -2e9);
+  r.hi = std::min(r.hi, 2e9);
   const Json* v = find(key);
   if (!v) fail(key, "required integer is missing (allowed range " + r.str() + ")");
   if (!v->is_number())
     fail(key, "expected an integer in " + r.str() + ", got " + describe_json(*v));
   double d = v->get<double>();
-  if (d != std::floor(d) || std::fabs(d) > 2e9) fail(key, "expected an integer, got " + v->dump());
+  if (d != std::floor(d)) fail(key, "expected an integer in " + r.str() + ", got " + short_num(d));
   check_range(key, d, r);
   mark(key, *v);
   return int(d);
@@ -558,9 +559,7 @@ std::string apply_override(Json& doc, const std::string& assignment) {
     throw Error("override \"" + assignment + "\"", "expected key.path=value");
   std::string key = assignment.substr(0, eq), val = assignment.substr(eq + 1);
   // Errors name the command-line text, not the config file it was applied to.
-  const std::string W = "override '" +
-                        (assignment.size() > 200 ? assignment.substr(0, 200) + "..." : assignment) +
-                        "'";
+  const std::string W = "override '" + escape_control(assignment, 80) + "'";
   Json value = parse_value_or_string(val, W);
   if (!doc.is_object()) throw Error(W, "the config is not a JSON object");
   Json* node = &doc;

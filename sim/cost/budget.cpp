@@ -14,6 +14,20 @@
 
 namespace fovsim {
 
+void check_cost_args(double width, double height, double eyes, double budget_ms,
+                     const std::map<std::string, double>& scale) {
+  if (width != 0) check_integer("width", width, CostArgRanges::pixels());
+  if (height != 0) check_integer("height", height, CostArgRanges::pixels());
+  if (eyes != 0) check_integer("eyes", eyes, CostArgRanges::eyes());
+  if (budget_ms != 0) check_number("budget_ms", budget_ms, CostArgRanges::budget_ms());
+  for (auto& [k, f] : scale) {
+    if (k != "shading" && k != "geometry" && k != "raster" && k != "memory" && k != "fixed")
+      throw Error("scale." + escape_control(k, 40),
+                  "unknown resource (shading, geometry, raster, memory, fixed)");
+    check_number("scale." + k, f, CostArgRanges::scale());
+  }
+}
+
 GpuProfile apply_what_if(const GpuProfile& g, const WhatIf& w) {
   return g.scaled(Resource::Shading, w.shading)
       .scaled(Resource::Geometry, w.geometry)

@@ -6,11 +6,29 @@
 #include <string>
 #include <vector>
 
+#include "sim/core/params.h"
 #include "sim/cost/cost_model.h"
 #include "sim/cost/gpu_profile.h"
 #include "sim/display/display.h"
 
 namespace fovsim {
+
+// The ranges of the what-if arguments, one declaration for `fovsim predict`/`budget` (their
+// flags) and the Python API (fovsim.estimate/budget through the bindings): both check with
+// check_number/check_integer (sim/core/params.h), so NaN, 0 and out-of-range values fail alike.
+struct CostArgRanges {
+  static Range pixels() { return Range::closed(1, 1 << 20); }  // --width, --height
+  static Range eyes() { return Range::closed(1, 2); }
+  static Range budget_ms() { return Range::above(0, 1e6); }
+  static Range hz() { return Range::closed(1, 1e4); }
+  static Range scale() { return Range::closed(1e-6, 1e6); }  // --scale-shading etc.
+};
+// The check of one estimate's overrides as the Python API passes them: 0 keeps the display's
+// width/height/eyes and means "no budget"; anything else must be in its range above; every
+// `scale` entry must name a resource (shading, geometry, raster, memory, fixed) and be in range.
+// Throws fovsim::Error naming the argument ("width", "scale.shading").
+void check_cost_args(double width, double height, double eyes, double budget_ms,
+                     const std::map<std::string, double>& scale);
 
 // Throughput multipliers per resource class (1 = the profile as calibrated); `fixed` divides
 // the per-pass overheads.

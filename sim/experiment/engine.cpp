@@ -187,7 +187,10 @@ struct Shared {
                   " (lower render.scale or raise render.max_pixels)");
 
     Params sp = root.child("scene");
-    scene = std::make_unique<Scene>(make_scene(sp, models));
+    scene = with_memory_context(
+        root.where("scene"), "building the scene",
+        "lower scene.complexity, use a coarser scene or lower scene.max_triangles",
+        [&] { return std::make_unique<Scene>(make_scene(sp, models)); });
     ToneMapBlock tb;
     tb.exposure = scene->exposure;  // the default
     tonemap_block_table().read_into(tp, tb);
@@ -214,10 +217,15 @@ struct Shared {
                   : INFINITY;
     Params trp = root.child("trace");
     const bool policy_given = trp.has("on_invalid");
-    Trace raw_trace = load_trace(trp, display, base_dir, needed_s, &tracking);
     const std::string& placement = top.trace_placement;
-    trace = resample(raw_trace, display.refresh_hz,
-                     raw_trace.samples.empty() ? INFINITY : raw_trace.samples.front().t + needed_s);
+    Trace raw_trace = with_memory_context(
+        root.where("trace"), "reading and resampling the trace",
+        "lower trace.max_samples, frames.count or the trace's length", [&] {
+          Trace raw = load_trace(trp, display, base_dir, needed_s, &tracking);
+          trace = resample(raw, display.refresh_hz,
+                           raw.samples.empty() ? INFINITY : raw.samples.front().t + needed_s);
+          return raw;
+        });
     this->raw_trace = raw_trace;
     if (trace.samples.empty())
       throw Error(root.where("trace"), "trace has no samples after resampling");
@@ -808,8 +816,30 @@ struct Cell {
 
 }  // namespace
 
+namespace {
+std::vector<CellResult> run_cells_impl(const std::vector<CellJob>& jobs, const EngineOptions& opt,
+                                       GroupStats* stats);
+}
+
 std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const EngineOptions& opt,
                                   GroupStats* stats) {
+  // Out of memory outside the scene and the trace (which say so themselves): the frames, whose
+  // buffers scale with the simulated resolution and the number of cells run side by side.
+  const std::string where = jobs.empty() ? std::string() : jobs.front().file + ": render.scale";
+  const std::string what = "rendering and measuring " + std::to_string(jobs.size()) +
+                           (jobs.size() == 1 ? " configuration's frames"
+                                             : " cells side by side over one shared reference");
+  return with_memory_context(where, what,
+                             jobs.size() > 1
+                                 ? "run fewer cells at once with `fovsim sweep --batch N`, or "
+                                   "lower render.scale"
+                                 : "lower render.scale, or run fewer methods at once",
+                             [&] { return run_cells_impl(jobs, opt, stats); });
+}
+
+namespace {
+std::vector<CellResult> run_cells_impl(const std::vector<CellJob>& jobs, const EngineOptions& opt,
+                                       GroupStats* stats) {
   auto g0 = Clock::now();
   PhaseTimes group_phases;  // setup, reference, outputs (shared by the cells)
   PhaseClock gpc = PhaseClock::now();
@@ -1145,5 +1175,6 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
   }
   return results;
 }
+}  // namespace
 
 }  // namespace fovsim

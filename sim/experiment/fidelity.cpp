@@ -39,6 +39,7 @@ FidelityRung parse_rung(const std::string& token, const std::string& flag) {
     r.analytic = true;
     return r;
   }
+  std::set<std::string> knobs;
   for (auto& part : split(r.name, ',')) {
     std::string p = trim(part);
     size_t eq = p.find('=');
@@ -46,6 +47,11 @@ FidelityRung parse_rung(const std::string& token, const std::string& flag) {
       throw Error(where, "expected analytic, scale=X, stride=N, spp=N or key.path=value, got \"" +
                              p + "\"");
     std::string key = p.substr(0, eq), val = p.substr(eq + 1);
+    // Each knob once per rung ("scale" and "render.scale" are one knob): a repeat would
+    // silently keep only the last value.
+    const std::string knob = key == "scale" ? "render.scale" : key == "spp" ? "render.spp" : key;
+    if (!knobs.insert(knob).second)
+      throw Error(where, "\"" + knob + "\" is given twice in one rung (each knob once)");
     auto number = [&](double lo, double hi, bool integer) {
       char* end = nullptr;
       double v = std::strtod(val.c_str(), &end);

@@ -83,7 +83,13 @@ RecostResult recost_one(const RecostOptions& o) {
     }
     // frames.csv reports shaded_samples at the real display's resolution; counters are
     // costed at the simulated one (like every other pixel counter in the file).
-    if (c.has("shaded_fraction")) c.set("shaded_samples", c.get("shaded_fraction") * sim_px);
+    // Without shaded_fraction the display-resolution shaded_samples would be costed as if
+    // simulated: an error, as for any other missing counter (below).
+    if (!c.has("shaded_fraction"))
+      throw Error(file_location(csv_path, row.line),
+                  "counter shaded_fraction missing or empty (the cost model needs it; "
+                  "re-costing would use display-resolution samples): use the run's own frames.csv");
+    c.set("shaded_samples", c.get("shaded_fraction") * sim_px);
     std::string id = cell(c_id);
     if (auto at = id.find('@'); at != std::string::npos) id = id.substr(0, at);
     for (size_t gi = 0; gi < gpus.size(); ++gi) {
@@ -95,6 +101,18 @@ RecostResult recost_one(const RecostOptions& o) {
       ci.pixel_scale = double(d.width) * double(d.height) / sim_px;
       ci.workload = &w;
       const FrameCost fc = estimate_frame(gpus[gi], ci);
+      // A counter the cost model needs for this method but the row lacks (its column removed
+      // or its cell empty) would be costed as 0: an error naming it, never a cheaper frame.
+      if (!fc.missing_counters.empty()) {
+        std::string list;
+        for (auto& m : fc.missing_counters) list += (list.empty() ? "" : ", ") + m;
+        throw Error(file_location(csv_path, row.line),
+                    "method \"" + escape_control(ci.method, 40) + "\": counter" +
+                        (fc.missing_counters.size() == 1 ? " " : "s ") + list +
+                        " missing or empty (the cost model needs " +
+                        (fc.missing_counters.size() == 1 ? "it" : "them") +
+                        "; re-costing would count 0): use the run's own frames.csv");
+      }
       RecostRow* r = nullptr;
       for (auto& x : acc[gi])
         if (x.config_id == id) r = &x;

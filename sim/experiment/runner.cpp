@@ -81,8 +81,10 @@ RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt) {
     for (auto& r : result.summary.rows()) {
       const std::string* id = r.text_of("label");
       const std::string* g = r.text_of("gpu");
-      std::printf("%-16s %-10s %7.0f %8.1f%% %18s", id ? id->c_str() : "?", g ? g->c_str() : "?",
-                  r.get("frames", 0), 100 * r.get("shaded_fraction", NAN),
+      // Labels are user text: control bytes are escaped, never sent to the terminal raw.
+      std::printf("%-16s %-10s %7.0f %8.1f%% %18s", id ? escape_control(*id).c_str() : "?",
+                  g ? escape_control(*g).c_str() : "?", r.get("frames", 0),
+                  100 * r.get("shaded_fraction", NAN),
                   cell(r.get("est_ms_total", NAN), r.get("est_ms_total_ci95", NAN), 3).c_str());
       for (auto& [n, p] : shown)
         std::printf(" %16s", cell(r.get(n, NAN), r.get(n + "_ci95", NAN), p).c_str());

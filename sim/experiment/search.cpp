@@ -30,7 +30,7 @@ std::vector<double> Searcher::to_real(const std::vector<double>& u) const {
     double v = d.log ? std::exp(std::log(d.lo) + t * (std::log(d.hi) - std::log(d.lo)))
                      : d.lo + t * (d.hi - d.lo);
     if (d.step > 0) v = std::min(d.hi, d.lo + std::round((v - d.lo) / d.step) * d.step);
-    if (d.integer) v = std::round(v);
+    if (d.integer) v = std::min(std::floor(d.hi), std::max(std::ceil(d.lo), std::round(v)));
     x[i] = tidy(std::clamp(v, d.lo, d.hi));
   }
   return x;

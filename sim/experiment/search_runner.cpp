@@ -110,6 +110,9 @@ SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const Sw
           if (!r)
             throw Error(cfg.file + ": sweep.search.label",
                         "no method labelled \"" + sp.select_label + "\"");
+          // The objective and constraint name columns of the summary (else every score would
+          // be NaN and the "best" arbitrary): checked on the first evaluation.
+          check_plan_columns(plan, res[i].summary, true);
           auto num = [](double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); };
           // Every column a search may score, keyed by name: a rerun with another objective or
           // constraint reuses the run when its columns are here (cached_eval_complete).

@@ -441,13 +441,21 @@ SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const Swee
   auto [first, last] = shard_range(int(plan.cells.size()), opt.shard, opt.shards);
   rep.cells_in_shard = last - first;
   std::vector<const SweepCell*> pending;
+  bool columns_checked = false;  // objectives & co. name columns of the cells' summary
   for (int i = first; i < last; ++i) {
     const SweepCell& c = plan.cells[size_t(i)];
     if (cell_complete(cell_dir(out, c), c.hash) &&
-        cell_targets_match(cell_dir(out, c), opt.targets))
+        cell_targets_match(cell_dir(out, c), opt.targets)) {
       ++rep.cells_done_before;
-    else
+      if (!columns_checked) {
+        ResultTable t;
+        add_cell_rows(t, c, read_cell_summary(cell_dir(out, c)));
+        check_plan_columns(plan, t);
+        columns_checked = true;
+      }
+    } else {
       pending.push_back(&c);
+    }
   }
 
   // Group pending cells by reference key, groups in order of their first cell.
@@ -492,6 +500,12 @@ SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const Swee
       }
       GroupStats gs;
       auto res = run_cells(jobs, eo, &gs);
+      if (!columns_checked && !res.empty()) {  // before any cell is recorded as complete
+        ResultTable t;
+        add_cell_rows(t, *batch[0], res[0].summary);
+        check_plan_columns(plan, t);
+        columns_checked = true;
+      }
       for (size_t i = 0; i < res.size(); ++i) {
         write_cell_json(jobs[i].out_dir, *batch[i], res[i].summary, res[i].cell_ms, res[i].target);
         rep.cell_ms += res[i].cell_ms;
@@ -521,6 +535,22 @@ SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const Swee
 MergeReport merge_sweep(const std::string& out_dir, const std::vector<std::string>& sources,
                         bool allow_partial) {
   SweepPlan plan = load_sweep_plan(out_dir);
+  // Every --from folder is an output folder of this same sweep: a typo is an error, not
+  // "no cells found there".
+  for (const std::string& s : sources) {
+    std::error_code ec;
+    if (!fs::is_directory(s, ec))
+      throw Error("--from " + s, fs::exists(s, ec) ? "not a folder" : "no such folder");
+    if (!file_exists(s + "/sweep.json"))
+      throw Error("--from " + s, "no sweep.json: not an output folder of a sweep");
+    const Json j = Params::parse_json_file(s + "/sweep.json");
+    const std::string h = j.is_object() && j.contains("plan_hash") && j["plan_hash"].is_string()
+                              ? j["plan_hash"].get<std::string>()
+                              : "?";
+    if (h != plan.hash)
+      throw Error("--from " + s,
+                  "a different sweep (plan hash " + h + ", " + out_dir + " has " + plan.hash + ")");
+  }
   MergeReport rep;
   rep.cells = int(plan.cells.size());
   ResultTable summary;
@@ -563,6 +593,7 @@ MergeReport merge_sweep(const std::string& out_dir, const std::vector<std::strin
                              "): run the remaining shards, or rerun `fovsim sweep` to resume");
   }
 
+  check_plan_columns(plan, summary);
   // Pareto front over the declared objectives (per pareto.group_by, default per GPU).
   std::vector<std::string> params;
   for (auto& col : summary.numeric_columns())

@@ -12,6 +12,7 @@
 #include "sim/core/rng.h"
 #include "sim/experiment/table.h"
 #include "sim/foveation/factory.h"
+#include "sim/trace/csv_table.h"
 
 namespace fovsim {
 
@@ -50,6 +51,17 @@ Json number_json(double v) {
   v = tidy(v);
   if (std::fabs(v) < 9e15 && v == std::floor(v)) return Json(int64_t(v));
   return Json(v);
+}
+
+// The values of a range axis are rounded to 12 significant digits (tidy): values closer than
+// that would become identical cells, which is an error naming the first two.
+void distinct_after_rounding(const std::vector<Json>& values, const std::string& where) {
+  for (size_t k = 1; k < values.size(); ++k)
+    if (values[k] == values[k - 1])
+      throw Error(where, "values " + std::to_string(k - 1) + " and " + std::to_string(k) +
+                             " of the range are both " + values[k].dump() +
+                             " after rounding to 12 significant digits (identical cells): "
+                             "widen the range or use fewer values");
 }
 
 // Ordered (path, spec) axes of a grid or zip block: an object (keys in sorted order, as JSON
@@ -164,7 +176,9 @@ struct Dim {
     double v =
         log ? std::exp(std::log(lo) + u * (std::log(hi) - std::log(lo))) : lo + u * (hi - lo);
     if (step > 0) v = std::min(hi, lo + std::round((v - lo) / step) * step);
-    if (integer) v = std::round(v);
+    // Integers stay inside [from, to]: rounding 0.6 of [0.5, 1.5] up to 1 is fine, rounding
+    // 1.4 of [1.3, 3] down to 1 is not (parse_dim checks that an integer exists).
+    if (integer) v = std::min(std::floor(hi), std::max(std::ceil(lo), std::round(v)));
     return number_json(v);
   }
 };
@@ -194,6 +208,9 @@ Dim parse_dim(const std::string& path, const Json& j, const std::string& where) 
   d.log = j.value("log", false);
   d.integer = j.value("integer", false);
   if (d.log && d.lo <= 0) throw Error(key_where(where, "from"), "a log axis needs from > 0");
+  if (d.integer && std::ceil(d.lo) > std::floor(d.hi))
+    throw Error(key_where(where, "integer"),
+                "no integer in [" + format_number(d.lo) + ", " + format_number(d.hi) + "]");
   return d;
 }
 
@@ -295,6 +312,55 @@ bool all_digits(const std::string& s) {
 
 }  // namespace
 
+void check_plan_columns(const SweepPlan& plan, const ResultTable& summary, bool search_only) {
+  if (summary.rows().empty()) return;
+  const std::vector<std::string> num = summary.numeric_columns(), text = summary.text_columns();
+  const std::set<std::string> nums(num.begin(), num.end()), texts(text.begin(), text.end());
+  const std::string W = plan.file.empty() ? "sweep" : plan.file + ": sweep";
+  auto list = [](const std::vector<std::string>& cols) {
+    std::string l;
+    for (auto& c : cols) l += (l.empty() ? "" : ", ") + c;
+    return l;
+  };
+  // A number to optimise or bound: a numeric column.
+  auto numeric = [&](const std::string& col, const std::string& where) {
+    if (nums.count(col)) return;
+    throw Error(where, "no numeric column \"" + printable(col) +
+                           "\" in the cells' summary (columns: " + list(num) +
+                           "; results/README.md; is the metric enabled?)");
+  };
+  // A grouping: any column.
+  auto any = [&](const std::string& col, const std::string& where) {
+    if (nums.count(col) || texts.count(col)) return;
+    std::vector<std::string> all = text;
+    all.insert(all.end(), num.begin(), num.end());
+    throw Error(where, "no column \"" + printable(col) +
+                           "\" in the cells' summary (columns: " + list(all) + ")");
+  };
+  if (!search_only) {
+    for (size_t i = 0; i < plan.objectives.size(); ++i)
+      numeric(plan.objectives[i].column, W + ".objectives[" + std::to_string(i) + "]");
+    // group_by's default ["gpu"] is not checked (a run costed for no GPU has no gpu column).
+    const std::vector<std::string> def_group{"gpu"};
+    if (plan.pareto_group_by != def_group)
+      for (auto& g : plan.pareto_group_by) any(g, W + ".pareto.group_by");
+    if (plan.iso.enabled()) {
+      numeric(plan.iso.column, W + ".iso_budget.column");
+      if (plan.iso.quality_given)
+        for (auto& q : plan.iso.quality) numeric(q, W + ".iso_budget.quality");
+      if (plan.iso.group_by != def_group)
+        for (auto& g : plan.iso.group_by) any(g, W + ".iso_budget.group_by");
+    }
+  }
+  if (plan.search.enabled()) {
+    const SearchSpec& sp = plan.search;
+    numeric(sp.objective.column,
+            W + ".search." + (sp.objective.maximize ? "maximize" : "minimize"));
+    if (!sp.constraint_column.empty())
+      numeric(sp.constraint_column, W + ".search.subject_to." + sp.constraint_column);
+  }
+}
+
 double tidy(double v) {
   if (!std::isfinite(v) || v == 0) return v;
   char buf[40];
@@ -330,6 +396,7 @@ std::vector<Json> axis_values(const Json& spec, const std::string& where) {
       double n = std::floor((b - a) / s + 1e-9);
       if (n > 1e6) throw Error(where, "range has more than a million values");
       for (int64_t k = 0; k <= int64_t(n); ++k) out.push_back(number_json(a + double(k) * s));
+      distinct_after_rounding(out, where);
     } else {
       double c = num_of(spec, where, "count");
       if (c < 1 || c != std::floor(c) || c > 1e6)
@@ -337,6 +404,7 @@ std::vector<Json> axis_values(const Json& spec, const std::string& where) {
       int n = int(c);
       for (int k = 0; k < n; ++k)
         out.push_back(number_json(n == 1 ? a : a + (b - a) * double(k) / double(n - 1)));
+      distinct_after_rounding(out, where);
     }
   } else {
     throw Error(
@@ -510,6 +578,7 @@ SweepPlan expand_sweep(const LoadedConfig& cfg) {
       plan.iso.quality = {"fpsnr", "ssim", "psnr"};
       if (ib.contains("quality")) {
         plan.iso.quality.clear();
+        plan.iso.quality_given = true;
         const Json& q = ib["quality"];
         if (!q.is_array() || q.empty())
           throw Error(w + ".quality", "expected a non-empty array of column names");

@@ -15,6 +15,7 @@
 
 #include "sim/core/params.h"
 #include "sim/experiment/config.h"
+#include "sim/experiment/table.h"
 
 namespace fovsim {
 
@@ -44,6 +45,7 @@ struct IsoBudgetSpec {
   std::vector<double> budgets;
   double tolerance = 0.0;            // relative slack: value <= budget * (1 + tolerance)
   std::vector<std::string> quality;  // first one ranks; all are reported
+  bool quality_given = false;        // false: the default list (columns absent are skipped)
   std::vector<std::string> group_by;
   bool enabled() const { return !column.empty(); }
 };
@@ -112,6 +114,13 @@ std::string apply_assignment(Json& doc, const std::string& path, const Json& val
 // Values of one axis spec: a JSON array, {"values": [...]}, {"from","to","step"} (inclusive)
 // or {"from","to","count"} (evenly spaced). `where` locates errors.
 std::vector<Json> axis_values(const Json& spec, const std::string& where);
+
+// Every column the plan names (objectives, pareto.group_by, iso_budget, search objective and
+// constraint) must be a column of the cells' summary rows `summary` (as a --target column must
+// be one of the frames'): throws fovsim::Error at the key's JSON path naming the column and
+// listing the columns there are. `search_only`: check only the search's columns.
+void check_plan_columns(const SweepPlan& plan, const ResultTable& summary,
+                        bool search_only = false);
 
 // Rounds to 12 significant digits so 1.2 + 0.2*k prints and hashes as typed.
 double tidy(double v);

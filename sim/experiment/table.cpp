@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <unordered_set>
 
+#include "sim/core/error.h"
+
 namespace fovsim {
 
 void ResultRow::set_text(const std::string& k, const std::string& v) {
@@ -67,8 +69,11 @@ std::string format_number(double v) {
   return buf;
 }
 
-std::string csv_escape(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+std::string csv_escape(const std::string& raw) {
+  // Control bytes (NUL, ESC, CR, LF, ...) of user text are written as \xNN: a CSV cell never
+  // carries them raw to a terminal, a spreadsheet or a line-based reader.
+  const std::string s = escape_control(raw);
+  if (s.find_first_of(",\"") == std::string::npos) return s;
   std::string o = "\"";
   for (char c : s) o += (c == '"') ? std::string("\"\"") : std::string(1, c);
   return o + "\"";

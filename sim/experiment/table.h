@@ -29,6 +29,7 @@ class ResultTable {
 };
 
 std::string format_number(double v);
+// A CSV cell: quoted when it holds ',' or '"'; control bytes written as \\xNN.
 std::string csv_escape(const std::string& s);
 
 }  // namespace fovsim

@@ -14,6 +14,7 @@
 
 #include "sim/core/error.h"
 #include "sim/core/files.h"
+#include "sim/core/params.h"
 #include "sim/metrics/flip.h"
 #include "sim/metrics/metrics.h"
 
@@ -26,6 +27,7 @@ namespace {
 Image read_display_encoded(const std::string& path, bool fvvdp) {
   if (!std::filesystem::exists(path)) throw Error(path, "no such file");
   check_input_file(path);  // a FIFO or /dev/zero is refused before the decoder blocks on it
+  QuietStderr quiet;       // libpng's own error line: the thrown error says it once
   // Raw colour values: OpenImageIO premultiplies PNG colour by alpha unless asked not to; the
   // FLIP tool drops alpha without compositing.
   OIIO::ImageSpec config;
@@ -79,11 +81,14 @@ Image read_display_encoded(const std::string& path, bool fvvdp) {
 
 }  // namespace
 
+// Out of memory while decoding names the image and the limit that sizes it.
 Image read_ldr_rgb(const std::string& path) {
-  return read_display_encoded(path, false);
+  return with_memory_context(path, "decoding the image", "lower FOVSIM_MAX_IMAGE_MPIXELS",
+                             [&] { return read_display_encoded(path, false); });
 }
 Image read_fvvdp_image(const std::string& path) {
-  return read_display_encoded(path, true);
+  return with_memory_context(path, "decoding the image", "lower FOVSIM_MAX_IMAGE_MPIXELS",
+                             [&] { return read_display_encoded(path, true); });
 }
 
 ImageComparison compare_images(const Image& ref, const Image& test, double ppd,
@@ -161,22 +166,21 @@ std::vector<std::string> frame_files(const std::string& path) {
 }
 
 std::pair<double, double> parse_gaze(const std::string& s) {
+  // "X,Y": each a number, then the one numeric check of every flag (params.h check_number:
+  // NaN and infinities are refused there, as for --ppd and --fps).
   const size_t comma = s.find(',');
-  double v[2];
+  double v[2] = {0, 0};
   bool ok = comma != std::string::npos;
   for (int i = 0; ok && i < 2; ++i) {
     const std::string part = i == 0 ? s.substr(0, comma) : s.substr(comma + 1);
-    try {
-      size_t used = 0;
-      v[i] = std::stod(part, &used);
-      ok = used == part.size() && std::isfinite(v[i]);
-    } catch (const std::exception&) {
-      ok = false;
-    }
+    char* end = nullptr;
+    v[i] = std::strtod(part.c_str(), &end);
+    ok = !part.empty() && end == part.c_str() + part.size();
   }
   if (!ok)
-    throw Error("--gaze",
-                "expected X,Y in pixels from the top-left (e.g. 640,360), got '" + s + "'");
+    throw Error("--gaze", "expected X,Y in pixels from the top-left (e.g. 640,360), got '" +
+                              escape_control(s, 60) + "'");
+  for (int i = 0; i < 2; ++i) check_number(i == 0 ? "--gaze X" : "--gaze Y", v[i], Range::any());
   return {v[0], v[1]};
 }
 
@@ -209,11 +213,15 @@ FvvdpComparison compare_fvvdp(const std::string& ref_path, const std::string& te
     throw Error("compare", ref_path + " has " + std::to_string(rf.size()) + " frames, " +
                                test_path + " has " + std::to_string(tf.size()));
   const size_t N = rf.size();
-  if (N >= 2 && !(opt.fps > 0))
+  if (N >= 2 && opt.fps == 0)
     throw Error("--fps", "a sequence of " + std::to_string(N) +
                              " frames needs its frame rate: --fps F (Hz, > 4)");
-  if (N >= 2 && fvvdp_detail::filter_length(opt.fps) < 2)
-    throw Error("--fps", "frame rate must be > 4 Hz, got " + std::to_string(opt.fps));
+  if (N >= 2) check_number("--fps", opt.fps, Range::above(4, 1e4));
+  if (N >= 2 && fvvdp_detail::filter_length(opt.fps) < 2) {
+    char b[64];
+    std::snprintf(b, sizeof b, "frame rate must be > 4 Hz, got %.6g", opt.fps);
+    throw Error("--fps", b);
+  }
   std::vector<Image> ref, test;
   for (size_t i = 0; i < N; ++i) {
     ref.push_back(read_fvvdp_image(rf[i]));

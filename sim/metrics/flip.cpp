@@ -27,6 +27,7 @@
 
 #include "sim/core/error.h"
 #include "sim/core/math.h"
+#include "sim/core/params.h"
 
 namespace fovsim {
 
@@ -575,8 +576,7 @@ static std::string short_number(double v) {
 }
 
 void check_flip_ppd(double ppd, int width, int height, const std::string& where) {
-  if (!(std::isfinite(ppd) && ppd > 0))
-    throw Error(where, "pixels per degree must be finite and > 0, got " + short_number(ppd));
+  check_number(where, ppd, Range::above(0, 1e300));  // the one numeric check (params.h)
   const double mx = flip_max_ppd(width, height);
   if (ppd > mx)
     throw Error(where, "pixels per degree " + short_number(ppd) + " is over the FLIP limit of " +

@@ -559,6 +559,21 @@ Scene make_scene(Params& p, const std::string& models_dir) {
     s.vpl.min_dist = vp.number("min_dist", 0.01, Range::above(0, 1));
     s.vpl.shadow_rays = vp.boolean("shadow_rays", false);
   }
+  // Work bounded before it is spent: every reference pixel is shaded by every VPL, and a
+  // frame has up to lights x rsm_size^2 of them (configs/README.md "Limits on input").
+  if (s.wants_indirect) {
+    Params vp = p.child("vpl");
+    const double max_vpls = vp.number("max_vpls", kDefaultMaxVpls, Range::closed(1, 1e9));
+    const double lights = double(std::max<size_t>(1, s.lights.size()));
+    const double vpls = lights * double(s.vpl.rsm_size) * double(s.vpl.rsm_size);
+    if (vpls > max_vpls)
+      vp.fail(p.has("vpl") && vp.has("rsm_size") ? "rsm_size" : "max_vpls",
+              "rsm_size " + std::to_string(s.vpl.rsm_size) + " gives up to " + num(lights) +
+                  " light(s) x " + std::to_string(s.vpl.rsm_size) + "^2 = " + num(vpls) +
+                  " VPLs per frame, over scene.vpl.max_vpls = " + num(max_vpls) +
+                  " (every reference pixel is shaded by every VPL: lower scene.vpl.rsm_size or "
+                  "raise scene.vpl.max_vpls)");
+  }
   s.build_submodels(500);
   return s;
 }

@@ -94,9 +94,20 @@ void check_references(const fs::path& model, const std::string& where) {
   for (char& c : ext) c = char(std::tolower((unsigned char)c));
   const std::string dir = model.parent_path().string();
   if (ext == ".gltf") {
-    Json j = Json::parse(read_file(model.string()), nullptr, false);
-    if (j.is_discarded() || !j.is_object())
-      throw Error(where, model.string() + ": not a glTF file (the JSON does not parse)");
+    Json j;
+    try {
+      j = Json::parse(read_file(model.string()));
+    } catch (const Json::parse_error& e) {
+      // "[json.exception.parse_error.101] parse error at line 1, column 38: ..." -> the part
+      // after the bracket, which says where and why.
+      std::string why = e.what();
+      if (why.rfind('[', 0) == 0 && why.find("] ") != std::string::npos)
+        why = why.substr(why.find("] ") + 2);
+      throw Error(where, model.string() + ": not a glTF file, its JSON does not parse: " +
+                             escape_control(why, 200));
+    }
+    if (!j.is_object())
+      throw Error(where, model.string() + ": not a glTF file (the JSON is not an object)");
     for (const char* list : {"buffers", "images"}) {
       if (!j.contains(list) || !j[list].is_array()) continue;
       for (const Json& e : j[list]) {
@@ -166,6 +177,7 @@ std::string check_header(const OIIO::ImageSpec& spec, double max_pixels) {
 // "" on success, else why the image could not be used.
 std::string load_image_file(const std::string& path, bool srgb, double max_pixels,
                             TextureImage& out) {
+  QuietStderr quiet;  // libpng's own error line: the error is returned (and printed once)
   auto in = OIIO::ImageInput::open(path);
   if (!in) return "cannot read image: " + one_line(OIIO::geterror());
   const OIIO::ImageSpec& spec = in->spec();
@@ -185,6 +197,7 @@ std::string load_image_file(const std::string& path, bool srgb, double max_pixel
 }
 
 std::string load_image_memory(const aiTexture* t, bool srgb, double max_pixels, TextureImage& out) {
+  QuietStderr quiet;
   if (t->mHeight == 0) {  // compressed (png/jpg) bytes in memory
     OIIO::Filesystem::IOMemReader mem(t->pcData, t->mWidth);
     void* ptr = &mem;
@@ -431,6 +444,12 @@ Scene load_file_scene(Params& p, const std::string& models_dir) {
       p.number("max_texture_pixels", kDefaultMaxTexturePixels, Range::closed(1, 1e10));
   p.ignore("comment");
   if (tr.size() != 3) p.fail("translate", "expected 3 numbers [x, y, z]");
+  for (double t : tr)  // a translation past the bound moves every vertex past it
+    if (!(std::fabs(t) <= kMaxCoordinateM)) {
+      char b[160];
+      std::snprintf(b, sizeof b, "translation %.6g m is beyond the coordinate bound +-1e5 m", t);
+      p.fail("translate", b);
+    }
   if (rot.size() != 3)
     p.fail("rotate_deg", "expected 3 numbers [x, y, z] (degrees, applied x, y, z)");
   if (!eye.empty() && eye.size() != 3) p.fail("default_eye", "expected 3 numbers [x, y, z]");
@@ -455,8 +474,19 @@ Scene load_file_scene(Params& p, const std::string& models_dir) {
                          aiProcess_GenSmoothNormals | aiProcess_SortByPType |
                          aiProcess_ValidateDataStructure;
   const aiScene* ai = imp.ReadFile(path.string(), flags);
-  if (!ai || !ai->mRootNode || (ai->mFlags & AI_SCENE_FLAGS_INCOMPLETE))
-    throw Error(p.where("path"), "cannot import " + path.string() + ": " + imp.GetErrorString());
+  if (!ai || !ai->mRootNode || (ai->mFlags & AI_SCENE_FLAGS_INCOMPLETE)) {
+    std::string why = imp.GetErrorString();
+    // assimp says "No suitable reader found" when no importer recognises the content (a
+    // corrupt .glb, a binary file named .obj): say that, naming the file and its extension.
+    if (why.find("No suitable reader found") != std::string::npos)
+      why = "its contents are not a readable " +
+            (path.extension().empty() ? std::string("model") : path.extension().string()) +
+            " file (malformed or truncated; no importer recognises them)";
+    else if (why.empty())
+      why = "the importer returned an incomplete scene";
+    throw Error(p.where("path"),
+                "cannot import " + path.string() + ": " + escape_control(why, 300));
+  }
 
   Scene s;
   s.name = path.stem().string();

@@ -129,22 +129,7 @@ std::vector<CsvRow> read_csv_rows(const std::string& path, char delim, char comm
 }
 
 std::string printable(const std::string& text, size_t max_len) {
-  std::string out;
-  for (size_t i = 0; i < text.size(); ++i) {
-    if (out.size() >= max_len) {
-      out += "...";
-      break;
-    }
-    unsigned char c = (unsigned char)text[i];
-    if (c < 0x20 || c == 0x7F) {
-      char b[8];
-      std::snprintf(b, sizeof b, "\\x%02X", c);
-      out += b;
-    } else {
-      out += char(c);
-    }
-  }
-  return out;
+  return escape_control(text, max_len);
 }
 
 bool parse_number(const std::string& text, double& out, std::string& why) {

@@ -83,7 +83,9 @@ Trace load_trace(Params& p, const Display& display, const std::string& base_dir,
     Params s = p.child("synthetic");
     SynthOptions so;
     so.scenario = s.string("scenario", synth_scenarios());
-    so.seed = uint64_t(s.integer("seed", 1, Range::at_least(0)));
+    so.seed = uint64_t(check_integer(s.where("seed"),
+                                     s.number("seed", 1, Range::closed(0, kMaxSynthSeed)),
+                                     Range::closed(0, kMaxSynthSeed)));
     so.duration_s =
         s.number("duration", start + (duration > 0 ? duration : 10.0), Range::above(0, 36000));
     so.rate_hz = rate;

@@ -84,55 +84,50 @@ TraceStats trace_stats(const Trace& tr) {
       s.head_jumps.push_back(where + jb);
     }
   }
-  char b[300];
-  if (s.speed_p99 > kPlausibleSpeedP99) {
-    std::snprintf(b, sizeof b,
-                  "eye-speed p99 %.0f deg/s is above %.0f deg/s (saccades rarely exceed ~700 "
-                  "deg/s): check the time "
-                  "unit, bursts of samples, and the gaze coordinates",
-                  s.speed_p99, kPlausibleSpeedP99);
-    s.warnings.push_back(b);
-  }
-  if (s.ecc_p95 > kPlausibleEccP95) {
-    std::snprintf(b, sizeof b,
-                  "gaze eccentricity p95 %.1f deg is above %.0f deg (gaze rarely goes beyond ~35 "
-                  "deg in a headset): "
-                  "check the gaze space (head/world), coordinates and head orientation",
-                  s.ecc_p95, kPlausibleEccP95);
-    s.warnings.push_back(b);
-  }
-  if (s.head_speed_p50 > kPlausibleHeadSpeedP50) {
-    std::snprintf(b, sizeof b,
-                  "head-speed median %.0f deg/s is above %.0f deg/s (a head at rest or turning "
-                  "moves well below that most of the time): check the orientation unit (a map's "
-                  "\"unit\": \"rad\" on degrees multiplies by 57.3) and the time unit",
-                  s.head_speed_p50, kPlausibleHeadSpeedP50);
-    s.warnings.push_back(b);
-  }
-  if (s.head_speed_max > kPlausibleHeadSpeed) {
-    std::snprintf(b, sizeof b,
-                  "head speed max %.0f deg/s is above %.0f deg/s (head turns rarely exceed "
-                  "~800 deg/s): check the pose time in bursts (time.burst_pose), the orientation "
-                  "order and unit; largest at %s",
-                  s.head_speed_max, kPlausibleHeadSpeed,
-                  s.head_jumps.empty() ? "?" : s.head_jumps.front().c_str());
-    s.warnings.push_back(b);
+  // Plausibility (one check, one row each): a value above its human-range limit is one
+  // warning line, "<what> V <unit> is above L <unit> (<why>): <hint>".
+  struct Check {
+    double value, limit;
+    const char* what;
+    int precision;  // digits after the point of the value
+    const char* unit;
+    std::string why_hint;
+  };
+  const Check checks[] = {
+      {s.speed_p99, kPlausibleSpeedP99, "eye-speed p99", 0, "deg/s",
+       "saccades rarely exceed ~700 deg/s): check the time unit, bursts of samples, and the gaze "
+       "coordinates"},
+      {s.ecc_p95, kPlausibleEccP95, "gaze eccentricity p95", 1, "deg",
+       "gaze rarely goes beyond ~35 deg in a headset): check the gaze space (head/world), "
+       "coordinates and head orientation"},
+      {s.head_speed_p50, kPlausibleHeadSpeedP50, "head-speed median", 0, "deg/s",
+       "a head at rest or turning moves well below that most of the time): check the "
+       "orientation unit (a map's \"unit\": \"rad\" on degrees multiplies by 57.3) and the "
+       "time unit"},
+      {s.head_speed_max, kPlausibleHeadSpeed, "head speed max", 0, "deg/s",
+       "head turns rarely exceed ~800 deg/s): check the pose time in bursts (time.burst_pose), "
+       "the orientation order and unit; largest at " +
+           (s.head_jumps.empty() ? std::string("?") : s.head_jumps.front())},
+  };
+  for (const Check& c : checks) {
+    if (!(c.value > c.limit)) continue;
+    char b[160];
+    std::snprintf(b, sizeof b, "%s %.*f %s is above %.0f %s (", c.what, c.precision, c.value,
+                  c.unit, c.limit, c.unit);
+    s.warnings.push_back(b + c.why_hint);
   }
   if (s.invalid_fraction > kWarnInvalidFraction) {
+    char b[200];
     std::snprintf(b, sizeof b,
                   "%.1f %% of samples are flagged invalid (more than %.0f %%): check the "
                   "validity conditions",
                   100.0 * s.invalid_fraction, 100.0 * kWarnInvalidFraction);
     s.warnings.push_back(b);
   }
-  if (s.bursts > 0) {
-    std::snprintf(b, sizeof b,
-                  "%ld intervals shorter than a quarter of the median (bursts after a stall) "
-                  "inflate the eye speed: "
-                  "see the map's time.on_burst",
-                  s.bursts);
-    s.warnings.push_back(b);
-  }
+  if (s.bursts > 0)
+    s.warnings.push_back(std::to_string(s.bursts) +
+                         " intervals shorter than a quarter of the median (bursts after a stall) "
+                         "inflate the eye speed: see the map's time.on_burst");
   return s;
 }
 

@@ -66,6 +66,10 @@ struct EyeModel {
 // Scenario names: fixate, free-viewing, reading, pursuit, walk-through, head-sweep.
 const std::vector<std::string>& synth_scenarios();
 
+// Seeds of synthetic traces (trace.synthetic.seed, `trace synth --seed`): integers in
+// [0, 2^53], exact as JSON numbers and doubles, so distinct seeds are distinct traces.
+constexpr double kMaxSynthSeed = 9007199254740992.0;
+
 struct SynthOptions {
   std::string scenario = "free-viewing";
   uint64_t seed = 1;

@@ -205,7 +205,7 @@ TEST(Reliability, BadScenesAreRefused) {
   expect_user_error(scene_run("flat.obj"), "all 1 triangles have zero area");
   write_text(d + "/ok.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
   expect_user_error(scene_run("ok.obj", R"(, "translate": [1e300, 0, 0])"),
-                    "non-finite coordinate");
+                    "scene.translate: translation 1e+300 m is beyond the coordinate bound +-1e5 m");
   // glTF buffer URIs stay inside the model's folder.
   write_text(
       d + "/esc.gltf",
@@ -264,4 +264,223 @@ TEST(Reliability, NaNAndZeroOnFlagsAreErrors) {
   expect_user_error(run_cmd(bin + " run " + d + "/dup.json"),
                     "dup.json:2:25: duplicate key \"render.scale\"");
   expect_user_error(run_cmd(bin + " frobnicate"), "unknown command 'frobnicate' (commands: ");
+}
+
+// ---- bounds that name their key, plan columns checked like --target, messages that help ----
+
+TEST(Reliability, VplAndDensityWorkHaveNamedLimits) {
+  const std::string d = temp_dir("rel_vpl"), bin = fovsim_bin();
+  write_text(d + "/vpl.json", small_config(R"({"type": "atrium", "complexity": 1, "indirect": true,
+                              "vpl": {"rsm_size": 1024}})"));
+  expect_user_error(run_cmd(bin + " run " + d + "/vpl.json --out " + d + "/o"),
+                    "scene.vpl.rsm_size: rsm_size 1024 gives up to 3 light(s) x 1024^2 = "
+                    "3.14573e+06 VPLs per frame, over scene.vpl.max_vpls = 262144");
+  // The limit is overridable and names the key also when rsm_size is the default.
+  expect_user_error(run_cmd(bin + " run " + d + "/vpl.json --out " + d +
+                            "/o scene.vpl.rsm_size=64 scene.vpl.max_vpls=100"),
+                    "over scene.vpl.max_vpls = 100");
+  expect_user_error(run_cmd(bin + " density -m kfr --samples 100 --max-rows 10 --out " + d + "/x"),
+                    "= 800 rows, over the limit of 10 (--max-rows)");
+  EXPECT_FALSE(fs::exists(d + "/x.csv"));
+}
+
+TEST(Reliability, PlanColumnsAreCheckedLikeTarget) {
+  const std::string d = temp_dir("rel_cols"), bin = fovsim_bin();
+  const std::string base = small_config(R"({"type": "atrium", "complexity": 1})");
+  auto with_sweep = [&](const std::string& sweep) {
+    std::string cfg = base;
+    cfg.insert(cfg.rfind('}'), ", \"sweep\": " + sweep);
+    return cfg;
+  };
+  write_text(d + "/obj.json", with_sweep(R"({"grid": {"render.scale": [0.05]},
+                            "objectives": [{"minimize": "est_ms_total"}, {"maximize": "fpsnr_x"}]})"));
+  expect_user_error(run_cmd(bin + " sweep " + d + "/obj.json --out " + d + "/so --no-plots"),
+                    "sweep.objectives[1]: no numeric column \"fpsnr_x\" in the cells' summary "
+                    "(columns: ");
+  EXPECT_FALSE(fs::exists(d + "/so/pareto.csv"));
+  write_text(d + "/iso.json", with_sweep(R"({"grid": {"render.scale": [0.05]},
+                            "iso_budget": {"column": "shaded", "budgets": [0.5]}})"));
+  expect_user_error(run_cmd(bin + " sweep " + d + "/iso.json --out " + d + "/si --no-plots"),
+                    "sweep.iso_budget.column: no numeric column \"shaded\"");
+  // search: objective and constraint, refused on the first evaluation (no NaN "best").
+  std::string s = base;
+  s.replace(s.find(R"([{"method": "full"}])"), std::string(R"([{"method": "full"}])").size(),
+            R"([{"method": "kfr", "sigma": 1.8}])");
+  s.insert(s.rfind('}'), R"(, "sweep": {"search": {"space": {"methods[0].sigma": {"from": 1.5,
+           "to": 2.5}}, "maximize": "psnr_typo", "evaluations": 1, "batch": 1}})");
+  write_text(d + "/search.json", s);
+  expect_user_error(run_cmd(bin + " search " + d + "/search.json --out " + d + "/se"),
+                    "sweep.search.maximize: no numeric column \"psnr_typo\"");
+  EXPECT_FALSE(fs::exists(d + "/se/search_best.csv"));
+  write_text(d + "/search2.json",
+             s.replace(s.find("\"maximize\": \"psnr_typo\""), 23,
+                       R"("maximize": "psnr", "subject_to": {"ms": {"max": 11.1}})"));
+  expect_user_error(run_cmd(bin + " search " + d + "/search2.json --out " + d + "/se2"),
+                    "sweep.search.subject_to.ms: no numeric column \"ms\"");
+}
+
+TEST(Reliability, SweepAxesAndRungsSaySilentChoicesAloud) {
+  const std::string d = temp_dir("rel_axes"), bin = fovsim_bin();
+  std::string cfg = small_config(R"({"type": "atrium", "complexity": 1})");
+  cfg.replace(cfg.find(R"({"method": "full"})"), 18, R"({"method": "kfr"})");
+  cfg.insert(cfg.rfind('}'), R"(, "sweep": {"lhs": {"count": 6, "seed": 3, "axes":
+    {"methods[0].sigma": {"from": 1.3, "to": 2.9, "integer": true}}}})");
+  write_text(d + "/lhs.json", cfg);
+  // Integer lhs values stay inside [from, to]: only 2 is there.
+  auto r = run_cmd(bin + " sweep expand " + d + "/lhs.json");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(r.output.find("sigma=1\n"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("sigma=3\n"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("sigma=2\n"), std::string::npos) << r.output;
+  expect_user_error(
+      run_cmd(
+          bin + " sweep expand " + d + "/lhs.json " +
+          R"('sweep.lhs.axes={"methods[0].sigma": {"from": 1.2, "to": 1.8, "integer": true}}')"),
+      "sweep.lhs.axes.methods[0].sigma.integer: no integer in [1.2, 1.8]");
+  // Ranges whose values coincide after the 12-digit rounding would be identical cells.
+  expect_user_error(
+      run_cmd(
+          bin + " sweep expand " + d + "/lhs.json " +
+          R"('sweep={"grid": {"methods[0].sigma": {"from": 1, "to": 1.0000000000001, "count": 10}}}')"),
+      "values 0 and 1 of the range are both 1 after rounding to 12 significant "
+      "digits (identical cells)");
+  // A fidelity rung sets each knob once ("scale" and "render.scale" are one).
+  write_text(d + "/one.json", small_config());
+  expect_user_error(run_cmd(bin + " fidelity " + d + "/one.json --rungs " +
+                            "'scale=0.25,render.scale=0.5' --out " + d + "/f"),
+                    "--rungs scale=0.25,render.scale=0.5: \"render.scale\" is given twice in one "
+                    "rung");
+}
+
+TEST(Reliability, MisleadingMessagesAreFixed) {
+  const std::string d = temp_dir("rel_msgs"), bin = fovsim_bin();
+  write_text(d + "/cfg.json", small_config());
+  // Seeds past 2^53 are errors, not clamped to one value.
+  expect_user_error(run_cmd(bin +
+                            " trace synth --scenario fixate --duration 1 --seed "
+                            "18446744073709551616 -o " +
+                            d + "/t.csv"),
+                    "--seed: value 1.84467e+19 is out of range [0, 9007199254740992]");
+  expect_user_error(
+      run_cmd(bin + " run " + d + "/cfg.json --out " + d +
+              R"(/o 'trace={"synthetic": {"scenario": "fixate", "duration": 1, "seed": 1e20}}')"),
+      "trace.synthetic.seed: value 1e+20 is out of range [0, 9007199254740992]");
+  // --out "" is an error, not the default folder or the current one.
+  expect_user_error(run_cmd(bin + " run " + d + "/cfg.json --out ''"),
+                    "--out: output path is empty");
+  expect_user_error(run_cmd(bin + " trace synth --scenario fixate --duration 1 -o ''"),
+                    "--output: output path is empty");
+  expect_user_error(run_cmd(bin + " density --out ''"), "--out: output path is empty");
+  // Integer keys state their real range; a 300-digit value is not echoed in full.
+  expect_user_error(run_cmd(bin + " run " + d + "/cfg.json --out " + d + "/o frames.count=1e301"),
+                    "frames.count: value 1e+301 is out of range [0, 2e+09]");
+  auto big = run_cmd(bin + " run " + d + "/cfg.json --out " + d + "/o frames.count=1" +
+                     std::string(299, '0'));
+  expect_user_error(big, "...': frames.count: value 1e+299 is out of range [0, 2e+09]");
+  EXPECT_LT(big.output.size(), 250u) << big.output;
+  // A command group without its command names the group and its commands.
+  expect_user_error(run_cmd(bin + " trace"),
+                    "fovsim trace needs a command (one of: import, validate, stats, synth");
+  expect_user_error(run_cmd(bin + " trace --json frobnicate"),
+                    "unknown command 'frobnicate' (commands: import, validate, stats, synth)");
+  // Scene files obey FOVSIM_MAX_INPUT_MB like every other input.
+  write_text(d + "/big.obj", std::string(2 << 20, '#'));
+  write_text(d + "/big.json", small_config(R"({"type": "file", "path": ")" + d + R"(/big.obj"})"));
+  expect_user_error(
+      run_cmd("FOVSIM_MAX_INPUT_MB=1 " + bin + " run " + d + "/big.json --out " + d + "/o"),
+      "big.obj: file is 2 MiB, over the input limit of 1 MiB");
+  // Malformed models name the file and the parse error (not "No suitable reader found").
+  write_text(d + "/bad.gltf", "{\"asset\": {\"version\": \"2.0\"}, \"meshes\": [\n");
+  write_text(d + "/gltf.json",
+             small_config(R"({"type": "file", "path": ")" + d + R"(/bad.gltf"})"));
+  expect_user_error(run_cmd(bin + " run " + d + "/gltf.json --out " + d + "/o"),
+                    "bad.gltf: not a glTF file, its JSON does not parse: parse error at line 2");
+  write_text(d + "/bad.glb", "garbage\x01\x02");
+  write_text(d + "/glb.json", small_config(R"({"type": "file", "path": ")" + d + R"(/bad.glb"})"));
+  expect_user_error(run_cmd(bin + " run " + d + "/glb.json --out " + d + "/o"),
+                    "cannot import " + d + "/bad.glb: its contents are not a readable .glb file");
+  // A broken PNG is one line: libpng's own stderr line is not printed.
+  const std::string zero_png(
+      "\x89PNG\r\n\x1a\n\0\0\0\x0dIHDR\0\0\0\0\0\0\0\0\x08\x02\0\0\0\0\0\0\0\0\0\0\0IEND\xae\x42"
+      "\x60\x82",
+      45);
+  write_text(d + "/zero.png", zero_png);
+  expect_user_error(run_cmd(bin + " compare " + d + "/zero.png " + d + "/zero.png"),
+                    "zero.png: cannot read image");
+}
+
+TEST(Reliability, MergeAndPredictRefuseWhatTheyCannotUse) {
+  const std::string d = temp_dir("rel_merge"), bin = fovsim_bin();
+  std::string cfg = small_config();
+  cfg.insert(cfg.rfind('}'), R"(, "sweep": {"grid": {"render.scale": [0.05]}})");
+  write_text(d + "/sw.json", cfg);
+  auto r = run_cmd(bin + " sweep " + d + "/sw.json --out " + d + "/sw --no-plots -q");
+  ASSERT_EQ(r.code, 0) << r.output;
+  expect_user_error(run_cmd(bin + " merge " + d + "/sw --from " + d + "/missing --no-plots"),
+                    "--from " + d + "/missing: no such folder");
+  fs::create_directories(d + "/empty");
+  expect_user_error(run_cmd(bin + " merge " + d + "/sw --from " + d + "/empty --no-plots"),
+                    "no sweep.json: not an output folder of a sweep");
+  // predict --results: a counter the cost model needs, missing from frames.csv, is an error
+  // (it used to be costed as 0: a cheaper frame).
+  write_text(d + "/run.json", small_config());
+  r = run_cmd(bin + " run " + d + "/run.json --out " + d + "/run --no-plots -q");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const std::string csv = read_text(d + "/run/frames.csv");
+  std::vector<std::string> lines;
+  for (size_t a = 0, b; a < csv.size(); a = b + 1) {
+    b = csv.find('\n', a);
+    if (b == std::string::npos) b = csv.size();
+    lines.push_back(csv.substr(a, b - a));
+  }
+  const auto head = split_csv_line(lines[0]);
+  size_t drop = 0;
+  while (drop < head.size() && head[drop] != "shaded_fraction") ++drop;
+  ASSERT_LT(drop, head.size());
+  std::string out;
+  for (auto& l : lines) {
+    if (l.empty()) continue;
+    auto f = split_csv_line(l);
+    std::string row;
+    for (size_t i = 0; i < f.size(); ++i)
+      if (i != drop) row += (row.empty() ? "" : ",") + f[i];
+    out += row + "\n";
+  }
+  write_text(d + "/run/frames.csv", out);
+  expect_user_error(run_cmd(bin + " predict --results " + d + "/run --gpu gtx1080"),
+                    "frames.csv:2: counter shaded_fraction missing or empty");
+}
+
+TEST(Reliability, ControlBytesAreEscapedInOutputs) {
+  const std::string d = temp_dir("rel_ctl"), bin = fovsim_bin();
+  write_text(d + "/cfg.json", small_config());
+  auto r =
+      run_cmd(bin + " run " + d + "/cfg.json --out " + d +
+              R"(/o --no-plots 'methods=[{"method": "full", "label": "a\u001b[31mred\u0007"}]')" +
+              " outputs.print_summary=true");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(r.output.find('\x1b'), std::string::npos);
+  EXPECT_EQ(r.output.find('\x07'), std::string::npos);
+  EXPECT_NE(r.output.find("a\\x1B[31mred\\x07"), std::string::npos) << r.output;
+  for (const char* f : {"/o/summary.csv", "/o/frames.csv"}) {
+    const std::string s = read_text(d + f);
+    EXPECT_EQ(s.find('\x1b'), std::string::npos) << f;
+    EXPECT_EQ(s.find('\x07'), std::string::npos) << f;
+    EXPECT_NE(s.find("a\\x1B[31mred\\x07"), std::string::npos) << f;
+  }
+}
+
+TEST(Reliability, OutOfMemoryNamesWhatWasAllocated) {
+  // 256 cells of one reference group side by side under a 4 GB address-space limit: the
+  // message names the cells and --batch (not render.scale alone, not a bare bad_alloc).
+  const std::string d = temp_dir("rel_oom"), bin = fovsim_bin();
+  auto r = run_cmd("ulimit -v 4000000; " + bin + " sweep configs/sweeps/rmfr_fx_fy.json --out " +
+                   d + "/sw -q --no-plots");
+  EXPECT_EQ(count_lines(r.output), 1) << r.output;
+  EXPECT_NE(r.output.find("out of memory while rendering and measuring 256 cells side by side "
+                          "over one shared reference (run fewer cells at once with `fovsim sweep "
+                          "--batch N`"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.code, 2) << r.output;
 }
