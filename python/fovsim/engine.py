@@ -121,7 +121,8 @@ def _score(rows, objective, label, constraints):
         raise KeyError(f"no summary row labelled {label!r} (labels: {', '.join(str(r.get('label')) for r in rows)})")
     # A column the summary does not have is an error (as `fovsim search` refuses it), never a
     # NaN score that would make an arbitrary point "best".
-    for col, what in ((objective, "objective"), (constraint, "constraint")):
+    checks = [(objective, "objective")] + [(k["column"], "constraint") for k in constraints]
+    for col, what in checks:
         if col and col not in row:
             raise KeyError(f"{what} column {col!r} is not in the summary "
                            f"(columns: {', '.join(sorted(str(k) for k in row))})")

@@ -3,7 +3,6 @@
 #include <cstdio>
 #include <string>
 
-#include "sim/core/cite.h"
 
 namespace fovsim {
 
@@ -66,7 +65,7 @@ std::string param_markdown(const std::vector<ParamInfo>& rows, bool with_source)
   for (const ParamInfo& p : rows) {
     md += "| `" + std::string(p.name) + "` | " + cell(p.type) + " | " + cell(p.def) + " | " +
           cell(p.range) + " | ";
-    if (with_source) md += cell(cite_papers(p.source)) + " | ";
+    if (with_source) md += cell(p.source) + " | ";
     md += cell(p.doc) + " |\n";
   }
   return md;

@@ -356,8 +356,8 @@ void check_plan_columns(const SweepPlan& plan, const ResultTable& summary, bool 
     const SearchSpec& sp = plan.search;
     numeric(sp.objective.column,
             W + ".search." + (sp.objective.maximize ? "maximize" : "minimize"));
-    if (!sp.constraint_column.empty())
-      numeric(sp.constraint_column, W + ".search.subject_to." + sp.constraint_column);
+    for (const SearchConstraint& c : sp.constraints)
+      numeric(c.column, W + ".search.subject_to." + c.column);
   }
 }
 
