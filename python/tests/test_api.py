@@ -213,8 +213,11 @@ class AskTellTest(unittest.TestCase):
         self.assertEqual(engine._score(rows, "est_ms_total", "kfr", cons), (5.0, 0.25 + 2.0))
         rows[0]["fvvdp_jod_fl"], rows[0]["headroom_ms"] = 9.6, 1.0
         self.assertEqual(engine._score(rows, "est_ms_total", "kfr", cons), (5.0, 0.0))
-        del rows[0]["headroom_ms"]
+        rows[0]["headroom_ms"] = math.nan  # a non-finite value is infinitely violated
         self.assertEqual(engine._score(rows, "est_ms_total", "kfr", cons)[1], math.inf)
+        del rows[0]["headroom_ms"]  # a column the summary lacks is an error, as in `fovsim search`
+        with self.assertRaises(KeyError):
+            engine._score(rows, "est_ms_total", "kfr", cons)
         opt = fovsim.AskTell(self.cfg, space=self.space(), minimize="est_ms_total",
                              subject_to={"fvvdp_jod_fl": {"min": 9.5}, "headroom_ms": {"min": 0}})
         self.assertEqual([c["column"] for c in opt.spec["constraints"]], ["fvvdp_jod_fl", "headroom_ms"])

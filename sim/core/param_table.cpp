@@ -3,7 +3,6 @@
 #include <cstdio>
 #include <string>
 
-
 namespace fovsim {
 
 std::string param_doc_number(double v) {
