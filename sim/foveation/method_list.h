@@ -1,6 +1,6 @@
 // The registration list of every foveation method: one line per method, read by the factory
 // table (factory.cpp) and the constructor declarations (methods.h). Adding a method = its own
-// file (which defines create_<name> and <name>_params, the declaration of its parameters) +
+// file (which defines create_<name> and <name>_params, the ParamInfo view of its ParamTable) +
 // one line here + its test.
 //   FOVSIM_METHOD(name, summary, cost family)
 // The cost family names the pass structure the GPU cost model charges (sim/cost/passes.cpp):
