@@ -52,8 +52,11 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 const std::vector<std::string>& per_cell_keys() {
-  static const std::vector<std::string> k = {"name",    "methods", "metrics",     "gpus",
-                                             "outputs", "comment", "description", "latency"};
+  // Keys a cell reads for itself (Cell::parse); everything else is shared by the group and
+  // enters reference_key. `workload` only changes the cost model's charges, never the images.
+  static const std::vector<std::string> k = {"name",        "methods", "metrics",
+                                             "gpus",        "outputs", "comment",
+                                             "description", "latency", "workload"};
   return k;
 }
 

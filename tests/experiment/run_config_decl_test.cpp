@@ -2,7 +2,10 @@
 // declared defaults and ranges.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "sim/display/display_keys.h"
+#include "sim/experiment/engine.h"
 #include "sim/experiment/latency.h"
 #include "sim/experiment/run_config.h"
 #include "tests/common/param_table_check.h"
@@ -47,4 +50,18 @@ TEST(RunConfigDecl, MarkdownHasEveryKey) {
         "`print_summary`", "`band_edges_deg`", "`jitter_ms`", "`velocity_threshold_deg_s`",
         "`slope_ms_per_deg`", "`l2_mb`", "`peak_luminance`", "`fov_h_deg`"})
     EXPECT_NE(md.find(k), std::string::npos) << k;
+}
+
+// Cells of one reference group that differ only in the cost model's workload share the
+// reference, and every cell reads its own workload (a key missing from per_cell_keys() was
+// dropped from the second cell on, which then fell back to the generic workload).
+TEST(RunConfigDecl, WorkloadIsReadPerCell) {
+  const auto& keys = fovsim::per_cell_keys();
+  EXPECT_NE(std::find(keys.begin(), keys.end(), "workload"), keys.end());
+  fovsim::Json a = {{"workload", "kfr_bistro"}, {"render", {{"scale", 0.1}}}};
+  fovsim::Json b = a;
+  b["workload"] = "generic";
+  EXPECT_EQ(fovsim::reference_key(a), fovsim::reference_key(b));
+  b["render"]["scale"] = 0.2;
+  EXPECT_NE(fovsim::reference_key(a), fovsim::reference_key(b));
 }
