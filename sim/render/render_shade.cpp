@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 
 #include "sim/render/render_internal.h"
+#include "sim/render/vec4.h"
 
 namespace fovsim {
 
@@ -194,38 +195,7 @@ static glm::vec3 shade_one(const Scene& scene, const RenderState& I, bool shadow
   return col;
 }
 
-// 4 floats (SSE2, the x86-64 baseline): +, -, *, / and sqrt are the IEEE operations of the
-// scalar code lane by lane; comparisons give lane masks (-1 / 0, false on NaN as in C++), and
-// `m ? a : b` selects per lane. No FMA: the portable build does not contract a * b + c.
-typedef float vf __attribute__((vector_size(16)));
-typedef int32_t vi __attribute__((vector_size(16)));
-
-namespace {
-
-inline vf ld4(const float* p) {
-  vf v;
-  __builtin_memcpy(&v, p, sizeof v);
-  return v;
-}
-inline void st4(float* p, vf v) {
-  __builtin_memcpy(p, &v, sizeof v);
-}
-inline vi ldi4(const int32_t* p) {
-  vi v;
-  __builtin_memcpy(&v, p, sizeof v);
-  return v;
-}
-inline void sti4(int32_t* p, vi v) {
-  __builtin_memcpy(p, &v, sizeof v);
-}
-inline vf splat(float x) {
-  return vf{x, x, x, x};
-}
-inline vf vsqrt(vf x) {
-  return __builtin_ia32_sqrtps(x);
-}
-
-}  // namespace
+// 4-float helpers (vf, ld4, st4, splat, vsqrt, ...): sim/render/vec4.h.
 
 // The same for up to 16 samples at once, with one rtcOccluded16 packet per light (shadow
 // rays from neighbouring samples towards one light are coherent). The lanes' surfaces are read

@@ -12,6 +12,7 @@
 #include <cstring>
 
 #include "sim/render/render_internal.h"
+#include "sim/render/vec4.h"
 
 namespace fovsim {
 
@@ -78,25 +79,7 @@ inline void put(glm::vec2& d, const glm::vec2& s) {
   d.y = s.y;
 }
 
-// 4 floats (SSE2, the x86-64 baseline): +, -, *, / and sqrt are the scalar code's IEEE
-// operations lane by lane, comparisons give lane masks (false on NaN, as in C++), `m ? a : b`
-// selects per lane. The portable build has no FMA, so nothing is contracted.
-typedef float vf __attribute__((vector_size(16)));
-typedef int32_t vi __attribute__((vector_size(16)));
-inline vf ld4(const float* p) {
-  vf v;
-  __builtin_memcpy(&v, p, sizeof v);
-  return v;
-}
-inline void st4(float* p, vf v) {
-  __builtin_memcpy(p, &v, sizeof v);
-}
-inline vf splat(float x) {
-  return vf{x, x, x, x};
-}
-inline vf vsqrt(vf x) {
-  return __builtin_ia32_sqrtps(x);
-}
+// 4-float helpers (vf, ld4, st4, splat, vsqrt, ...): sim/render/vec4.h.
 inline vf vabs(vf x) {  // std::fabs: clears the sign bit
   return (vf)((vi)x & vi{0x7fffffff, 0x7fffffff, 0x7fffffff, 0x7fffffff});
 }
