@@ -5,6 +5,7 @@
 
 #include "sim/core/error.h"
 #include "sim/core/version.h"
+#include "sim/experiment/run_config.h"
 #include "sim/scene/scene_hash.h"
 
 namespace fovsim {
@@ -26,20 +27,9 @@ constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
 
 }  // namespace
 
-// | key | type | default | range | meaning |
-// | cache.enabled | bool | true | | use the reference cache (when the command allows it) |
-// | cache.dir | string | "" | | folder; "" = $FOVSIM_CACHE_DIR, $XDG_CACHE_HOME/fovsim,
-// ~/.cache/fovsim | | cache.max_gb | number | 20 | (0, 1e6] | size cap of the reference entries,
-// least recently used first |
+// The keys and their checks: cache_block_table() (run_config.cpp).
 ReferenceCacheSettings ReferenceCacheSettings::from_params(Params& p) {
-  ReferenceCacheSettings s;
-  s.enabled = p.boolean("enabled", s.enabled);
-  // A relative folder is relative to the current directory (as --out is): one cache for
-  // every config.
-  s.dir = p.string("dir", "");
-  if (s.dir.find('\0') != std::string::npos) p.fail("dir", "contains a NUL character");
-  s.max_gb = p.number("max_gb", s.max_gb, Range::closed(1e-6, 1e6));
-  return s;
+  return cache_block_table().read(p);
 }
 
 ReferenceCache::ReferenceCache(const ReferenceCacheSettings& s, const Scene& scene,

@@ -3,8 +3,11 @@
 #include "sim/cost/gpu_profile.h"
 #include "sim/display/display_keys.h"
 #include "sim/experiment/latency.h"
+#include "sim/experiment/reference_cache.h"
 #include "sim/metrics/metrics.h"
 #include "sim/render/renderer.h"
+#include "sim/scene/scene_keys.h"
+#include "sim/trace/trace_keys.h"
 
 namespace fovsim {
 
@@ -46,7 +49,34 @@ const ParamTable<RunCellKeys>& run_cell_table() {
                "passes); see `docs/cost_model.md`")
           .documented("gpus", "array of strings", "`[\"gtx1080\"]`", "", "",
                       "GPU profiles from `models/gpus/` (see `docs/cost_model.md`); one row per "
-                      "frame x method x GPU; each profile once");
+                      "frame x method x GPU; each profile once")
+          // Objects read by their own tables (sections below) and free text.
+          .documented("methods", "array of objects", "required", "", "",
+                      "one entry per configuration: `method`, `label`, the method's keys and "
+                      "its `lighting` block (tables under \"Methods\")")
+          .documented("render", "object", "", "", "", "`render` and `render.tonemap` below")
+          .documented("scene", "object", "", "", "",
+                      "built-in or imported scene: `scene` below, one table per `type`")
+          .documented("trace", "object", "", "", "",
+                      "`{\"file\": ...}` or `{\"synthetic\": {...}}`: `trace` below, with the "
+                      "tracking-loss policy")
+          .documented("frames", "object", "", "", "", "`frames` below")
+          .documented("metrics", "object", "", "", "", "`metrics` below")
+          .documented("outputs", "object", "", "", "", "`outputs` below")
+          .documented("cache", "object", "", "", "", "the reference cache: `cache` below")
+          .documented("latency", "object", "absent", "", "",
+                      "latency what-if (`docs/latency.md`): methods foveate around the gaze at "
+                      "t - latency, metrics use the true gaze at t; adds the columns of "
+                      "`results/README.md` \"Latency what-if\"; a per-cell key (sweeps over it "
+                      "share references). Keys: `latency` below")
+          .documented("sweep", "object", "", "", "",
+                      "makes the config a sweep, run with `fovsim sweep` (`sweep` below, "
+                      "docs/sweeps.md); `fovsim run` refuses it")
+          .documented("base", "string", "", "", "",
+                      "a config loaded first, this one merged over it (\"Inheritance and "
+                      "overrides\" above)")
+          .documented("description", "string", "", "", "", "free text, ignored")
+          .documented("comment", "string", "", "", "", "free text, ignored");
   return t;
 }
 
@@ -122,6 +152,34 @@ const ParamTable<OutputsBlock>& outputs_block_table() {
   return t;
 }
 
+const ParamTable<ReferenceCacheSettings>& cache_block_table() {
+  using B = ReferenceCacheSettings;
+  static const auto t =
+      ParamTable<B>()
+          .boolean("enabled", true, &B::enabled)
+          .doc("",
+               "use the cache (when the command does: `--no-cache`, or the environment "
+               "`FOVSIM_NO_CACHE=1`, turns it off for one command; the Python module and "
+               "library callers leave it off unless they ask)")
+          .text("dir", "", {}, &B::dir)
+          .shown("`\"\"`")
+          .doc("",
+               "folder of the cache; `\"\"` = `$FOVSIM_CACHE_DIR`, else "
+               "`$XDG_CACHE_HOME/fovsim`, else `~/.cache/fovsim`. A relative path is relative "
+               "to the current directory (as `--out` is: one cache for every config). Runs "
+               "and sweep shards that point at one folder (also on a shared file system) "
+               "reuse each other's frames")
+          .number("max_gb", 20, Range::closed(1e-6, 1e6), &B::max_gb)
+          .doc("",
+               "size cap of the cached references; the least recently used entries (by "
+               "mtime; a read renews it) are removed first. The quickstart writes 5.2 MB per "
+               "frame (470 MB for its 90 frames); size grows with render.scale^2")
+          .validate([](const B& b, Params& p) {
+            if (b.dir.find('\0') != std::string::npos) p.fail("dir", "contains a NUL character");
+          });
+  return t;
+}
+
 std::string config_keys_markdown() {
   auto section = [](const std::string& title, const std::string& md) {
     return "#### " + title + "\n\n" + md + "\n";
@@ -142,6 +200,15 @@ std::string config_keys_markdown() {
   md += section("`render.tonemap`", tonemap_block_table().markdown(false));
   md += section("`frames`", frames_block_table().markdown(false));
   md += section("`outputs`", outputs_block_table().markdown(false));
+  md += section("`trace` (traces/README.md)", trace_block_table().markdown(false));
+  md += section("`trace.synthetic`", synth_block_table().markdown(false));
+  md += section("`scene` (models/scenes/README.md)", scene_table().markdown(false));
+  md += section("`scene.vpl` (scenes with indirect light)", vpl_table().markdown());
+  md += section("`scene` of `\"type\": \"atrium\"`", atrium_table().markdown(false));
+  md += section("`scene` of `\"type\": \"patterns\"`", patterns_table().markdown());
+  md += section("`scene` of `\"type\": \"cornell\"`", cornell_table().markdown(false));
+  md += section("`scene` of `\"type\": \"file\"`", file_scene_table().markdown(false));
+  md += section("`cache` (the reference cache)", cache_block_table().markdown(false));
   md += section("`metrics` (docs/metrics.md)", metrics_config_table().markdown());
   md += section("`latency` (docs/latency.md)", latency_table().markdown(false));
   md += section("`latency.saccade`", latency_saccade_table().markdown(false));

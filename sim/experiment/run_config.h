@@ -58,6 +58,10 @@ struct OutputsBlock {
 };
 const ParamTable<OutputsBlock>& outputs_block_table();
 
+// `cache` (the reference cache, reference_cache.h).
+struct ReferenceCacheSettings;
+const ParamTable<ReferenceCacheSettings>& cache_block_table();
+
 // Every run-config table as Markdown sections, for configs/README.md (between the markers
 // kConfigDocsBegin / kConfigDocsEnd).
 std::string config_keys_markdown();

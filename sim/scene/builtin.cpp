@@ -1,5 +1,5 @@
-// Built-in procedural scenes and the make_scene factory. Every key is documented in
-// models/scenes/README.md (key, type, default, range, meaning).
+// Built-in procedural scenes and the make_scene factory. Their keys are declared in
+// scene_keys.cpp (one table per scene type; configs/README.md is generated from them).
 #include "sim/scene/builtin.h"
 
 #include <algorithm>
@@ -9,6 +9,7 @@
 #include "sim/core/error.h"
 #include "sim/core/limits.h"
 #include "sim/scene/mesh_builder.h"
+#include "sim/scene/scene_keys.h"
 
 namespace fovsim {
 
@@ -92,19 +93,14 @@ AtriumTess atrium_tess(int c) {
 // pedestal with a (optionally rotating) sculpture, a warm point light under the left arcade
 // and a spot light on the sculpture.
 Scene make_atrium(Params& p) {
-  const int complexity = p.integer("complexity", 3, Range::closed(1, kAtriumMaxComplexity));
-  const bool dynamic = p.boolean("dynamic", false);
-  const bool moving_light = p.boolean("moving_light", false);
-  const bool indirect = p.boolean("indirect", false);
-  const bool sun = p.boolean("sun", true);
-  const double sun_elev = p.number("sun_elevation_deg", 62.0, Range::closed(5, 90));
-  const double sun_azim = p.number("sun_azimuth_deg", 35.0, Range::closed(-360, 360));
-  const double sun_int = p.number("sun_intensity", 2.2, Range::closed(0, 1e4));
-  const double lamp_int = p.number("lamp_intensity", 6.0, Range::closed(0, 1e6));
-  const double spot_int = p.number("spot_intensity", 40.0, Range::closed(0, 1e6));
-  const double duration = p.number("anim_duration", 60.0, Range::above(0, 3600));
-  const double period = p.number("anim_period", 8.0, Range::above(0, 3600));
-  const double tex_scale = p.number("texture_scale", 1.0, Range::above(0, 100));
+  const AtriumKeys k = atrium_table().read(p);
+  const int complexity = k.complexity;
+  const bool dynamic = k.dynamic, moving_light = k.moving_light, indirect = k.indirect;
+  const bool sun = k.sun;
+  const double sun_elev = k.sun_elevation_deg, sun_azim = k.sun_azimuth_deg;
+  const double sun_int = k.sun_intensity, lamp_int = k.lamp_intensity;
+  const double spot_int = k.spot_intensity, duration = k.anim_duration, period = k.anim_period;
+  const double tex_scale = k.texture_scale;
   p.ignore("comment");
 
   const AtriumTess ts = atrium_tess(complexity);
@@ -351,13 +347,10 @@ Scene make_atrium(Params& p) {
 // the view axis. The paper's three pattern images are not published; `pattern` selects a
 // procedural stand-in (stripes ~ (a), checker ~ (b), grating ~ (c)).
 Scene make_patterns(Params& p) {
-  const double angle = p.number("angle", 0.0, Range::closed(-3600, 3600));
-  const std::string pattern = p.string(
-      "pattern", "stripes", {"stripes", "checker", "grating", "bricks", "noise", "radial"});
-  const double freq = p.number("frequency", 40.0, Range::above(0, 1e4));
-  const double dist = p.number("distance", 1.0, Range::above(0, 1e4));
-  const double size = p.number("size", 0.0, Range::at_least(0));
-  const double contrast = p.number("contrast", 1.0, Range::closed(0, 1));
+  const PatternsKeys keys = patterns_table().read(p);
+  const double angle = keys.angle, freq = keys.frequency, dist = keys.distance, size = keys.size;
+  const double contrast = keys.contrast;
+  const std::string& pattern = keys.pattern;
   p.ignore("comment");
 
   Scene s;
@@ -401,10 +394,10 @@ Scene make_patterns(Params& p) {
 
 // ---- cornell ------------------------------------------------------------------------------
 Scene make_cornell(Params& p, double max_triangles) {
-  const double light_int = p.number("light_intensity", 1.6, Range::closed(0, 1e6));
-  const std::string light_type = p.string("light", "point", {"point", "spot"});
-  const double tess = p.number("cell", 0.25, Range::above(0, 10));
-  const bool textured = p.boolean("textured", false);
+  const CornellKeys k = cornell_table().read(p);
+  const double light_int = k.light_intensity, tess = k.cell;
+  const std::string& light_type = k.light;
+  const bool textured = k.textured;
   p.ignore("comment");
   {
     // Counted before anything is tessellated: five 2 m walls and two boxes of 1.2 m at most
@@ -529,8 +522,9 @@ void check_geometry(const Scene& s, Params& p, const std::string& key) {
 
 // ---- factory ------------------------------------------------------------------------------
 Scene make_scene(Params& p, const std::string& models_dir) {
-  const std::string type = p.string("type", {"atrium", "patterns", "cornell", "file"});
-  const double max_tris = p.number("max_triangles", kDefaultMaxTriangles, Range::closed(1, 2e9));
+  const SceneKeys keys = scene_table().read(p);
+  const std::string& type = keys.type;
+  const double max_tris = keys.max_triangles;
   Scene s;
   if (type == "atrium")
     s = make_atrium(p);
@@ -555,15 +549,20 @@ Scene make_scene(Params& p, const std::string& models_dir) {
     if (!s.wants_indirect)
       p.fail("vpl", "this scene has no indirect light (atrium: set \"indirect\": true)");
     Params vp = p.child("vpl");
-    s.vpl.rsm_size = vp.integer("rsm_size", 64, Range::closed(1, 1024));
-    s.vpl.min_dist = vp.number("min_dist", 0.01, Range::above(0, 1));
-    s.vpl.shadow_rays = vp.boolean("shadow_rays", false);
+    VplKeys v;
+    for (const char* key : {"rsm_size", "min_dist", "shadow_rays"})
+      vpl_table().find(key)->read(vp, v);
+    s.vpl.rsm_size = v.rsm_size;
+    s.vpl.min_dist = v.min_dist;
+    s.vpl.shadow_rays = v.shadow_rays;
   }
   // Work bounded before it is spent: every reference pixel is shaded by every VPL, and a
   // frame has up to lights x rsm_size^2 of them (configs/README.md "Limits on input").
   if (s.wants_indirect) {
     Params vp = p.child("vpl");
-    const double max_vpls = vp.number("max_vpls", kDefaultMaxVpls, Range::closed(1, 1e9));
+    VplKeys v;  // max_vpls is read for every scene with indirect light, `vpl` given or not
+    vpl_table().find("max_vpls")->read(vp, v);
+    const double max_vpls = v.max_vpls;
     const double lights = double(std::max<size_t>(1, s.lights.size()));
     const double vpls = lights * double(s.vpl.rsm_size) * double(s.vpl.rsm_size);
     if (vpls > max_vpls)

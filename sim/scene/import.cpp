@@ -18,6 +18,7 @@
 #include "sim/core/files.h"
 #include "sim/core/limits.h"
 #include "sim/scene/builtin.h"
+#include "sim/scene/scene_keys.h"
 
 namespace fovsim {
 
@@ -432,27 +433,15 @@ struct Loader {
 }  // namespace
 
 Scene load_file_scene(Params& p, const std::string& models_dir) {
-  const std::string rel = p.string("path");
-  const double scale = p.number("scale", 1.0, Range::above(0, 1e9));
-  const std::vector<double> tr = p.numbers("translate", {0, 0, 0});
-  const std::vector<double> rot = p.numbers("rotate_deg", {0, 0, 0});
-  const std::vector<double> eye = p.numbers("default_eye", {});
-  const bool want_default_lights = p.boolean("default_lights", true);
-  const double exposure = p.number("exposure", 1.0, Range::above(0, 1e6));
-  const std::string on_missing = p.string("on_missing_texture", "fail", {"fail", "base_color"});
-  const double max_texture_pixels =
-      p.number("max_texture_pixels", kDefaultMaxTexturePixels, Range::closed(1, 1e10));
+  const FileSceneKeys k = file_scene_table().read(p);
+  const std::string& rel = k.path;
+  const double scale = k.scale;
+  const std::vector<double>&tr = k.translate, &rot = k.rotate_deg, &eye = k.default_eye;
+  const bool want_default_lights = k.default_lights;
+  const double exposure = k.exposure;
+  const std::string& on_missing = k.on_missing_texture;
+  const double max_texture_pixels = k.max_texture_pixels;
   p.ignore("comment");
-  if (tr.size() != 3) p.fail("translate", "expected 3 numbers [x, y, z]");
-  for (double t : tr)  // a translation past the bound moves every vertex past it
-    if (!(std::fabs(t) <= kMaxCoordinateM)) {
-      char b[160];
-      std::snprintf(b, sizeof b, "translation %.6g m is beyond the coordinate bound +-1e5 m", t);
-      p.fail("translate", b);
-    }
-  if (rot.size() != 3)
-    p.fail("rotate_deg", "expected 3 numbers [x, y, z] (degrees, applied x, y, z)");
-  if (!eye.empty() && eye.size() != 3) p.fail("default_eye", "expected 3 numbers [x, y, z]");
 
   // Relative paths: next to the config file first, then under models/scenes/.
   fs::path path(rel);

@@ -7,6 +7,7 @@
 #include "sim/display/display_keys.h"
 #include "sim/experiment/engine.h"
 #include "sim/experiment/latency.h"
+#include "sim/experiment/reference_cache.h"
 #include "sim/experiment/run_config.h"
 #include "tests/common/param_table_check.h"
 
@@ -26,6 +27,7 @@ TEST(RunConfigDecl, EveryTableReadsItsOwnDefaults) {
   table_check::expect_table_reads_own_defaults(latency_saccade_table(), "latency.saccade");
   table_check::expect_table_reads_own_defaults(latency_main_sequence_table(),
                                                "latency.main_sequence");
+  table_check::expect_table_reads_own_defaults(cache_block_table(), "cache");
 }
 
 TEST(RunConfigDecl, DefaultsTheCallerSetsAreKept) {
@@ -45,10 +47,30 @@ TEST(RunConfigDecl, DefaultsTheCallerSetsAreKept) {
 
 TEST(RunConfigDecl, MarkdownHasEveryKey) {
   const std::string md = config_keys_markdown();
-  for (const char* k :
-       {"`seed`", "`display`", "`gpus`", "`max_pixels`", "`spp`", "`curve`", "`warmup`",
-        "`print_summary`", "`band_edges_deg`", "`jitter_ms`", "`velocity_threshold_deg_s`",
-        "`slope_ms_per_deg`", "`l2_mb`", "`peak_luminance`", "`fov_h_deg`"})
+  for (const char* k : {"`seed`",
+                        "`display`",
+                        "`gpus`",
+                        "`max_pixels`",
+                        "`spp`",
+                        "`curve`",
+                        "`warmup`",
+                        "`print_summary`",
+                        "`band_edges_deg`",
+                        "`jitter_ms`",
+                        "`velocity_threshold_deg_s`",
+                        "`slope_ms_per_deg`",
+                        "`l2_mb`",
+                        "`peak_luminance`",
+                        "`fov_h_deg`",
+                        "`max_samples`",
+                        "`scenario`",
+                        "`max_triangles`",
+                        "`max_vpls`",
+                        "`complexity`",
+                        "`pattern`",
+                        "`cell`",
+                        "`max_texture_pixels`",
+                        "`max_gb`"})
     EXPECT_NE(md.find(k), std::string::npos) << k;
 }
 
