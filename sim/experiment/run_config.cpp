@@ -4,6 +4,7 @@
 #include "sim/display/display_keys.h"
 #include "sim/experiment/latency.h"
 #include "sim/experiment/reference_cache.h"
+#include "sim/experiment/sweep_spec.h"
 #include "sim/metrics/metrics.h"
 #include "sim/render/renderer.h"
 #include "sim/scene/scene_keys.h"
@@ -209,6 +210,9 @@ std::string config_keys_markdown() {
   md += section("`scene` of `\"type\": \"cornell\"`", cornell_table().markdown(false));
   md += section("`scene` of `\"type\": \"file\"`", file_scene_table().markdown(false));
   md += section("`cache` (the reference cache)", cache_block_table().markdown(false));
+  md += section("`sweep` (docs/sweeps.md)", sweep_table().markdown(false));
+  md += section("`sweep.iso_budget`", iso_budget_table().markdown());
+  md += section("`sweep.search`", search_table().markdown(false));
   md += section("`metrics` (docs/metrics.md)", metrics_config_table().markdown());
   md += section("`latency` (docs/latency.md)", latency_table().markdown(false));
   md += section("`latency.saccade`", latency_saccade_table().markdown(false));

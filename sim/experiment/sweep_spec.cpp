@@ -485,187 +485,142 @@ double SearchSpec::violation(const std::vector<double>& values) const {
   return v;
 }
 
-SweepPlan expand_sweep(const LoadedConfig& cfg) {
-  SweepPlan plan;
-  plan.file = cfg.file;
-  plan.base_dir = cfg.base_dir;
-  if (!cfg.doc.is_object())
-    throw Error(cfg.file.empty() ? "sweep" : cfg.file,
-                "a config must be a JSON object, got " + describe_json(cfg.doc));
-  plan.base = cfg.doc;
-  plan.base.erase("sweep");
-  plan.name = plan.base.contains("name") && plan.base["name"].is_string()
-                  ? plan.base["name"].get<std::string>()
-                  : fs::path(cfg.file).stem().string();
-  const std::string W = cfg.file.empty() ? "sweep" : cfg.file + ": sweep";
-  std::vector<std::vector<Row>> blocks;
-  double cap = kDefaultMaxCells;
-  if (cfg.doc.contains("sweep")) {
-    const Json& sw = cfg.doc["sweep"];
-    if (!sw.is_object()) throw Error(W, "expected an object, got " + describe_json(sw));
-    only_keys(sw, W,
-              {"axes", "grid", "list", "zip", "random", "lhs", "objectives", "pareto", "iso_budget",
-               "search", "comment", "max_cells"});
-    if (sw.contains("max_cells")) {
-      cap = num_of(sw, W, "max_cells");
-      if (cap < 1 || cap > kMaxMaxCells || cap != std::floor(cap))
-        throw Error(W + ".max_cells",
-                    "expected an integer in [1, " + std::to_string(size_t(kMaxMaxCells)) + "]");
-    }
-    int direct = 0;
-    for (auto& k : kBlockKinds)
-      if (sw.contains(k)) {
-        ++direct;
-        blocks.push_back(block_rows(Json{{k, sw[k]}}, W, cap));
-      }
-    if (direct > 1 || (direct && sw.contains("axes")))
-      throw Error(W,
-                  "give one block directly, or several under \"axes\": [...] (their order is the "
-                  "loop order)");
-    if (sw.contains("axes")) {
-      const Json& ax = sw["axes"];
-      if (!ax.is_array() || ax.empty())
-        throw Error(W + ".axes", "expected a non-empty array of blocks");
-      for (size_t i = 0; i < ax.size(); ++i)
-        blocks.push_back(block_rows(ax[i], W + ".axes[" + std::to_string(i) + "]", cap));
-    }
-    // Objectives: [{"minimize": "est_ms_total"}, {"maximize": "fpsnr"}].
-    if (sw.contains("objectives")) {
-      const Json& ob = sw["objectives"];
-      if (!ob.is_array())
-        throw Error(
-            W + ".objectives",
-            "expected an array like [{\"minimize\": \"est_ms_total\"}, {\"maximize\": \"fpsnr\"}]");
-      for (size_t i = 0; i < ob.size(); ++i) {
-        std::string w = W + ".objectives[" + std::to_string(i) + "]";
-        if (!ob[i].is_object() || ob[i].size() != 1 || !ob[i].begin().value().is_string() ||
-            (ob[i].begin().key() != "minimize" && ob[i].begin().key() != "maximize"))
-          throw Error(w, "expected {\"minimize\": \"column\"} or {\"maximize\": \"column\"}");
-        plan.objectives.push_back(
-            {ob[i].begin().value().get<std::string>(), ob[i].begin().key() == "maximize"});
-      }
-    }
-    plan.pareto_group_by = {"gpu"};
-    if (sw.contains("pareto")) {
-      const Json& p = sw["pareto"];
-      if (!p.is_object()) throw Error(W + ".pareto", "expected an object {\"group_by\": [...]}");
-      only_keys(p, W + ".pareto", {"group_by"});
-      if (p.contains("group_by")) {
-        plan.pareto_group_by.clear();
-        if (!p["group_by"].is_array())
-          throw Error(W + ".pareto.group_by", "expected an array of column names");
-        for (auto& g : p["group_by"]) {
-          if (!g.is_string())
-            throw Error(W + ".pareto.group_by", "expected column names (strings)");
-          plan.pareto_group_by.push_back(g.get<std::string>());
-        }
-      }
-    }
-    if (sw.contains("iso_budget")) {
-      const Json& ib = sw["iso_budget"];
-      std::string w = W + ".iso_budget";
-      if (!ib.is_object()) throw Error(w, "expected an object");
-      only_keys(ib, w, {"column", "budgets", "tolerance", "quality", "group_by"});
-      if (!ib.contains("column") || !ib["column"].is_string())
-        throw Error(w + ".column", "expected a column name, e.g. \"shaded_fraction\"");
-      plan.iso.column = ib["column"].get<std::string>();
-      if (!ib.contains("budgets")) throw Error(w, "missing \"budgets\"");
-      for (auto& v : axis_values(ib["budgets"], w + ".budgets")) {
-        if (!v.is_number()) throw Error(w + ".budgets", "budgets must be numbers");
-        plan.iso.budgets.push_back(v.get<double>());
-      }
-      if (ib.contains("tolerance")) plan.iso.tolerance = num_of(ib, w, "tolerance");
-      plan.iso.quality = {"fpsnr", "ssim", "psnr"};
-      if (ib.contains("quality")) {
-        plan.iso.quality.clear();
-        plan.iso.quality_given = true;
-        const Json& q = ib["quality"];
-        if (!q.is_array() || q.empty())
-          throw Error(w + ".quality", "expected a non-empty array of column names");
-        for (auto& c : q) {
-          if (!c.is_string()) throw Error(w + ".quality", "expected column names (strings)");
-          plan.iso.quality.push_back(c.get<std::string>());
-        }
-      }
-      plan.iso.group_by = {"gpu"};
-      if (ib.contains("group_by")) {
-        plan.iso.group_by.clear();
-        if (!ib["group_by"].is_array())
-          throw Error(w + ".group_by", "expected an array of column names");
-        for (auto& c : ib["group_by"]) {
-          if (!c.is_string()) throw Error(w + ".group_by", "expected column names (strings)");
-          plan.iso.group_by.push_back(c.get<std::string>());
-        }
-      }
-    }
-    if (sw.contains("search")) {
-      const Json& s = sw["search"];
-      std::string w = W + ".search";
-      if (!s.is_object()) throw Error(w, "expected an object");
-      only_keys(
-          s, w,
-          {"space", "maximize", "minimize", "subject_to", "label", "evaluations", "batch", "seed"});
-      if (!s.contains("space"))
-        throw Error(w, "missing \"space\": {\"config.path\": {\"from\": a, \"to\": b}, ...}");
-      for (auto& [path, sv] : ordered_axes(s["space"], w + ".space")) {
-        Dim d = parse_dim(path, sv.first, sv.second);
-        if (!d.choices.empty())
-          throw Error(sv.second, "a search dimension must be a range {\"from\": a, \"to\": b}");
-        plan.search.space.push_back({path, d.lo, d.hi, d.step, d.log, d.integer, d.where});
-      }
-      if (s.contains("maximize") == s.contains("minimize"))
-        throw Error(w, "give exactly one of \"maximize\" or \"minimize\": \"column\"");
-      const Json& oc = s.contains("maximize") ? s["maximize"] : s["minimize"];
-      if (!oc.is_string()) throw Error(w, "the objective must be a column name");
-      plan.search.objective = {oc.get<std::string>(), s.contains("maximize")};
-      if (s.contains("subject_to")) {
-        const Json& c = s["subject_to"];
-        std::string cw = w + ".subject_to";
-        const char* eg =
-            "expected {\"column\": {\"min\": value, \"max\": value}, ...}, e.g. "
-            "{\"fvvdp_jod_fl\": {\"min\": 9.5}, \"headroom_ms\": {\"min\": 0}}";
-        if (!c.is_object() || c.empty()) throw Error(cw, eg);
-        for (auto it = c.begin(); it != c.end(); ++it) {
-          const std::string kw = cw + "." + it.key();
-          if (!it.value().is_object() ||
-              (!it.value().contains("max") && !it.value().contains("min")))
-            throw Error(kw, eg);
-          only_keys(it.value(), kw, {"min", "max"});
-          SearchConstraint k;
-          k.column = it.key();
-          if (it.value().contains("min")) k.min = num_of(it.value(), kw, "min");
-          if (it.value().contains("max")) k.max = num_of(it.value(), kw, "max");
-          if (k.min > k.max)
-            throw Error(kw,
-                        "min " + format_number(k.min) + " is above max " + format_number(k.max));
-          plan.search.constraints.push_back(k);
-        }
-      }
-      if (s.contains("label")) {
-        if (!s["label"].is_string()) throw Error(w + ".label", "expected a method label");
-        plan.search.select_label = s["label"].get<std::string>();
-      }
-      // Range-checked as doubles before any integer conversion (no overflow on 1e300).
-      auto int_in = [&](const char* k, double lo, double hi) {
-        double v = num_of(s, w, k);
-        if (v < lo || v > hi || v != std::floor(v))
-          throw Error(w + "." + k, "expected an integer in [" + format_number(lo) + ", " +
-                                       format_number(hi) + "]");
-        return v;
-      };
-      if (s.contains("evaluations"))
-        plan.search.evaluations = int(int_in("evaluations", 1, 100000));
-      if (s.contains("batch")) plan.search.batch = int(int_in("batch", 1, 1024));
-      if (s.contains("seed")) plan.search.seed = uint64_t(int_in("seed", 0, 9007199254740992.0));
-      if (plan.search.evaluations < 1 || plan.search.evaluations > 100000)
-        throw Error(w + ".evaluations", "expected 1..100000");
-      if (plan.search.batch < 1 || plan.search.batch > 1024)
-        throw Error(w + ".batch", "expected 1..1024");
-    }
-  }
-  if (plan.pareto_group_by.empty() && !cfg.doc.contains("sweep")) plan.pareto_group_by = {"gpu"};
+namespace {
 
-  // Cartesian product of blocks, first block slowest.
+// Stages of expand_sweep: the sweep's blocks, objectives, pareto, iso_budget and search, then
+// the cells (the blocks' cartesian product applied to the base config).
+
+std::vector<std::vector<Row>> parse_blocks(const Json& sw, const std::string& W, double cap) {
+  std::vector<std::vector<Row>> blocks;
+  int direct = 0;
+  for (auto& k : kBlockKinds)
+    if (sw.contains(k)) {
+      ++direct;
+      blocks.push_back(block_rows(Json{{k, sw[k]}}, W, cap));
+    }
+  if (direct > 1 || (direct && sw.contains("axes")))
+    throw Error(W,
+                "give one block directly, or several under \"axes\": [...] (their order is the "
+                "loop order)");
+  if (sw.contains("axes")) {
+    const Json& ax = sw["axes"];
+    if (!ax.is_array() || ax.empty())
+      throw Error(W + ".axes", "expected a non-empty array of blocks");
+    for (size_t i = 0; i < ax.size(); ++i)
+      blocks.push_back(block_rows(ax[i], W + ".axes[" + std::to_string(i) + "]", cap));
+  }
+  return blocks;
+}
+
+// Objectives: [{"minimize": "est_ms_total"}, {"maximize": "fpsnr"}].
+std::vector<Objective> parse_objectives(const Json& ob, const std::string& w) {
+  if (!ob.is_array())
+    throw Error(
+        w, "expected an array like [{\"minimize\": \"est_ms_total\"}, {\"maximize\": \"fpsnr\"}]");
+  std::vector<Objective> out;
+  for (size_t i = 0; i < ob.size(); ++i) {
+    std::string wi = w + "[" + std::to_string(i) + "]";
+    if (!ob[i].is_object() || ob[i].size() != 1 || !ob[i].begin().value().is_string() ||
+        (ob[i].begin().key() != "minimize" && ob[i].begin().key() != "maximize"))
+      throw Error(wi, "expected {\"minimize\": \"column\"} or {\"maximize\": \"column\"}");
+    out.push_back({ob[i].begin().value().get<std::string>(), ob[i].begin().key() == "maximize"});
+  }
+  return out;
+}
+
+// An array of column names (pareto.group_by, iso_budget.quality and .group_by).
+std::vector<std::string> column_names(const Json& j, const std::string& w, bool non_empty) {
+  if (!j.is_array() || (non_empty && j.empty()))
+    throw Error(w, non_empty ? "expected a non-empty array of column names"
+                             : "expected an array of column names");
+  std::vector<std::string> out;
+  for (auto& c : j) {
+    if (!c.is_string()) throw Error(w, "expected column names (strings)");
+    out.push_back(c.get<std::string>());
+  }
+  return out;
+}
+
+std::vector<std::string> parse_pareto(const Json& p, const std::string& w) {
+  if (!p.is_object()) throw Error(w, "expected an object {\"group_by\": [...]}");
+  only_keys(p, w, {"group_by"});
+  if (!p.contains("group_by")) return {"gpu"};
+  return column_names(p["group_by"], w + ".group_by", false);
+}
+
+IsoBudgetSpec parse_iso_budget(Params& ip, const std::string& w) {
+  const Json& ib = ip.json();
+  if (!ib.is_object()) throw Error(w, "expected an object");
+  only_keys(ib, w, {"column", "budgets", "tolerance", "quality", "group_by"});
+  IsoBudgetSpec iso = iso_budget_table().read(ip);
+  if (!ib.contains("budgets")) throw Error(w, "missing \"budgets\"");
+  for (auto& v : axis_values(ib["budgets"], w + ".budgets")) {
+    if (!v.is_number()) throw Error(w + ".budgets", "budgets must be numbers");
+    iso.budgets.push_back(v.get<double>());
+  }
+  iso.quality = {"fpsnr", "ssim", "psnr"};
+  if (ib.contains("quality")) {
+    iso.quality_given = true;
+    iso.quality = column_names(ib["quality"], w + ".quality", true);
+  }
+  iso.group_by = {"gpu"};
+  if (ib.contains("group_by")) iso.group_by = column_names(ib["group_by"], w + ".group_by", false);
+  return iso;
+}
+
+// subject_to: {"column": {"min": value, "max": value}, ...}, in column-name order.
+std::vector<SearchConstraint> parse_constraints(const Json& c, const std::string& cw) {
+  const char* eg =
+      "expected {\"column\": {\"min\": value, \"max\": value}, ...}, e.g. "
+      "{\"fvvdp_jod_fl\": {\"min\": 9.5}, \"headroom_ms\": {\"min\": 0}}";
+  if (!c.is_object() || c.empty()) throw Error(cw, eg);
+  std::vector<SearchConstraint> out;
+  for (auto it = c.begin(); it != c.end(); ++it) {
+    const std::string kw = cw + "." + it.key();
+    if (!it.value().is_object() || (!it.value().contains("max") && !it.value().contains("min")))
+      throw Error(kw, eg);
+    only_keys(it.value(), kw, {"min", "max"});
+    SearchConstraint k;
+    k.column = it.key();
+    if (it.value().contains("min")) k.min = num_of(it.value(), kw, "min");
+    if (it.value().contains("max")) k.max = num_of(it.value(), kw, "max");
+    if (k.min > k.max)
+      throw Error(kw, "min " + format_number(k.min) + " is above max " + format_number(k.max));
+    out.push_back(k);
+  }
+  return out;
+}
+
+SearchSpec parse_search(Params& sp, const std::string& w) {
+  const Json& s = sp.json();
+  if (!s.is_object()) throw Error(w, "expected an object");
+  only_keys(
+      s, w,
+      {"space", "maximize", "minimize", "subject_to", "label", "evaluations", "batch", "seed"});
+  SearchSpec out;
+  if (!s.contains("space"))
+    throw Error(w, "missing \"space\": {\"config.path\": {\"from\": a, \"to\": b}, ...}");
+  for (auto& [path, sv] : ordered_axes(s["space"], w + ".space")) {
+    Dim d = parse_dim(path, sv.first, sv.second);
+    if (!d.choices.empty())
+      throw Error(sv.second, "a search dimension must be a range {\"from\": a, \"to\": b}");
+    out.space.push_back({path, d.lo, d.hi, d.step, d.log, d.integer, d.where});
+  }
+  if (s.contains("maximize") == s.contains("minimize"))
+    throw Error(w, "give exactly one of \"maximize\" or \"minimize\": \"column\"");
+  const Json& oc = s.contains("maximize") ? s["maximize"] : s["minimize"];
+  if (!oc.is_string()) throw Error(w, "the objective must be a column name");
+  out.objective = {oc.get<std::string>(), s.contains("maximize")};
+  if (s.contains("subject_to"))
+    out.constraints = parse_constraints(s["subject_to"], w + ".subject_to");
+  search_table().read_into(sp, out);  // label, evaluations, batch, seed
+  return out;
+}
+
+// The cells: the blocks' cartesian product (first block slowest), each applied to the base
+// config and hashed.
+void expand_cells(SweepPlan& plan, const std::vector<std::vector<Row>>& blocks, double cap,
+                  const std::string& W) {
   std::vector<Row> rows{Row{}};
   for (auto& b : blocks) {
     if (double(rows.size()) * double(b.size()) > cap)
@@ -704,7 +659,143 @@ SweepPlan expand_sweep(const LoadedConfig& cfg) {
     plan.cells.push_back(std::move(c));
   }
   plan.hash = short_hash(all);
+}
+
+}  // namespace
+
+SweepPlan expand_sweep(const LoadedConfig& cfg) {
+  SweepPlan plan;
+  plan.file = cfg.file;
+  plan.base_dir = cfg.base_dir;
+  if (!cfg.doc.is_object())
+    throw Error(cfg.file.empty() ? "sweep" : cfg.file,
+                "a config must be a JSON object, got " + describe_json(cfg.doc));
+  plan.base = cfg.doc;
+  plan.base.erase("sweep");
+  plan.name = plan.base.contains("name") && plan.base["name"].is_string()
+                  ? plan.base["name"].get<std::string>()
+                  : fs::path(cfg.file).stem().string();
+  const std::string W = cfg.file.empty() ? "sweep" : cfg.file + ": sweep";
+  std::vector<std::vector<Row>> blocks;
+  double cap = kDefaultMaxCells;
+  plan.pareto_group_by = {"gpu"};
+  if (cfg.doc.contains("sweep")) {
+    const Json& sw = cfg.doc["sweep"];
+    if (!sw.is_object()) throw Error(W, "expected an object, got " + describe_json(sw));
+    only_keys(sw, W,
+              {"axes", "grid", "list", "zip", "random", "lhs", "objectives", "pareto", "iso_budget",
+               "search", "comment", "max_cells"});
+    Params sp(sw, cfg.file, "sweep");
+    cap = sweep_table().read(sp).max_cells;
+    blocks = parse_blocks(sw, W, cap);
+    if (sw.contains("objectives"))
+      plan.objectives = parse_objectives(sw["objectives"], W + ".objectives");
+    if (sw.contains("pareto")) plan.pareto_group_by = parse_pareto(sw["pareto"], W + ".pareto");
+    if (sw.contains("iso_budget")) {
+      Params ip = sp.child("iso_budget");
+      plan.iso = parse_iso_budget(ip, W + ".iso_budget");
+    }
+    if (sw.contains("search")) {
+      Params ss = sp.child("search");
+      plan.search = parse_search(ss, W + ".search");
+    }
+  }
+  expand_cells(plan, blocks, cap, W);
   return plan;
+}
+
+const ParamTable<SweepKeys>& sweep_table() {
+  using K = SweepKeys;
+  static const auto t =
+      ParamTable<K>()
+          .documented(
+              "grid", "object", "", "", "",
+              "`{\"config.path\": values, ...}`: every combination (cartesian product, "
+              "first axis slowest); values: an array, `{\"values\": [...]}`, "
+              "`{\"from\", \"to\", \"step\"}` (inclusive) or `{\"from\", \"to\", \"count\"}`")
+          .documented("list", "array of objects", "", "", "",
+                      "explicit cells, each an object of assignments")
+          .documented("zip", "object", "", "", "", "axes of equal length advancing together")
+          .documented(
+              "random", "object", "", "", "",
+              "`{\"count\": n, \"seed\": s, \"axes\": {\"path\": {\"from\", \"to\"[, \"step\", "
+              "\"log\", \"integer\"]} or choices}}`: n uniform samples (seed an integer in "
+              "[0, 2^53], default 1)")
+          .documented("lhs", "object", "", "", "",
+                      "as `random`, a Latin hypercube (McKay et al. 1979): each axis's n strata "
+                      "used once")
+          .documented("axes", "array of blocks", "", "", "",
+                      "several of the blocks above, combined as a cartesian product (first "
+                      "block slowest); one block may also be given directly")
+          .documented("objectives", "array", "", "", "",
+                      "`[{\"minimize\": \"est_ms_total\"}, {\"maximize\": \"fpsnr\"}]`: the "
+                      "summary columns of the Pareto front")
+          .documented("pareto", "object", "", "", "",
+                      "`{\"group_by\": [columns]}`: one front per group (default `[\"gpu\"]`)")
+          .documented("iso_budget", "object", "", "", "",
+                      "best cell per method within each budget: `sweep.iso_budget` below")
+          .documented("search", "object", "", "", "",
+                      "per-context ask/tell search: `sweep.search` below")
+          .documented("comment", "any", "", "", "", "ignored")
+          .integer("max_cells", int(kDefaultMaxCells), Range::closed(1, kMaxMaxCells),
+                   &K::max_cells)
+          .doc("",
+               "most cells the sweep may expand to, counted before any cell is built (each "
+               "block's size and their product)");
+  return t;
+}
+
+const ParamTable<IsoBudgetSpec>& iso_budget_table() {
+  using K = IsoBudgetSpec;
+  static const auto t =
+      ParamTable<K>()
+          .text("column", nullptr, {}, &K::column)
+          .required()
+          .doc("Ye et al. 2022 §5.1",
+               "the budgeted summary column, e.g. `shaded_fraction` or `est_ms_total`")
+          .documented("budgets", "array or range", "required", "", "",
+                      "the budgets: an array, `{\"values\": [...]}`, `{\"from\", \"to\", "
+                      "\"step\"}` or `{\"from\", \"to\", \"count\"}`")
+          .number("tolerance", 0.0, Range::any(), &K::tolerance)
+          .doc("",
+               "relative slack: a cell is within a budget when value <= budget x (1 + tolerance)")
+          .documented("quality", "array of strings", "`[\"fpsnr\", \"ssim\", \"psnr\"]`", "", "",
+                      "quality columns reported; the first ranks (columns absent from the "
+                      "default list are skipped)")
+          .documented("group_by", "array of strings", "`[\"gpu\"]`", "", "",
+                      "one comparison per group");
+  return t;
+}
+
+const ParamTable<SearchSpec>& search_table() {
+  using K = SearchSpec;
+  static const auto t =
+      ParamTable<K>()
+          .documented("space", "object", "required", "", "",
+                      "`{\"config.path\": {\"from\": a, \"to\": b[, \"step\", \"log\", "
+                      "\"integer\"]}, ...}`: the searched dimensions (ranges only)")
+          .documented("maximize", "string", "", "", "",
+                      "the summary column to maximize (exactly one of `maximize` / `minimize`)")
+          .documented("minimize", "string", "", "", "", "the summary column to minimize")
+          .documented("subject_to", "object", "", "", "",
+                      "`{\"column\": {\"min\": a, \"max\": b}, ...}`: constraints on summary "
+                      "columns, all of which must hold")
+          .text("label", nullptr, {}, &K::select_label)
+          .optional()
+          .doc("", "the method label whose summary row is scored (default: the first row)")
+          .integer("evaluations", 32, Range::closed(1, 100000), &K::evaluations)
+          .doc("", "cells evaluated per context")
+          .integer("batch", 8, Range::closed(1, 1024), &K::batch)
+          .doc("", "cells proposed at once (run side by side)")
+          .number("seed", 1, Range::closed(0, 9007199254740992.0), &K::seed)
+          .shown("1", "[0, 2^53], an integer")
+          .doc("", "seed of the searcher")
+          .validate([](const K&, Params& p) {
+            if (p.has("seed"))
+              check_integer(p.where("seed"), p.json()["seed"].get<double>(),
+                            Range::closed(0, 9007199254740992.0));
+          });
+  return t;
 }
 
 void validate_cells(const SweepPlan& plan) {

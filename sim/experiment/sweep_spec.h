@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "sim/core/param_table.h"
 #include "sim/core/params.h"
 #include "sim/experiment/config.h"
 #include "sim/experiment/table.h"
@@ -96,6 +97,16 @@ struct SweepPlan {
   SearchSpec search;
   std::string hash;  // of all cell hashes in order
 };
+
+// The sweep block's own keys (`sweep.max_cells`) and the declared keys of `sweep.iso_budget`
+// and `sweep.search` (sim/core/param_table.h); the axes are documented rows (their keys are
+// config paths). configs/README.md's `sweep` tables are generated from these.
+struct SweepKeys {
+  int max_cells = 100000;
+};
+const ParamTable<SweepKeys>& sweep_table();
+const ParamTable<IsoBudgetSpec>& iso_budget_table();
+const ParamTable<SearchSpec>& search_table();
 
 // Expands cfg.doc's "sweep" block (a config without one is a single cell). Every error
 // names the sweep's JSON path.
