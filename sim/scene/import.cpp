@@ -430,23 +430,14 @@ struct Loader {
   }
 };
 
-}  // namespace
+// ---- load_file_scene stages
 
-Scene load_file_scene(Params& p, const std::string& models_dir) {
-  const FileSceneKeys k = file_scene_table().read(p);
-  const std::string& rel = k.path;
-  const double scale = k.scale;
-  const std::vector<double>&tr = k.translate, &rot = k.rotate_deg, &eye = k.default_eye;
-  const bool want_default_lights = k.default_lights;
-  const double exposure = k.exposure;
-  const std::string& on_missing = k.on_missing_texture;
-  const double max_texture_pixels = k.max_texture_pixels;
-  p.ignore("comment");
-
-  // Relative paths: next to the config file first, then under models/scenes/.
+// The model file: relative to the config that wrote `path` (a "base" config's folder for an
+// inherited path), else under models/scenes/; checked to be a regular file within the input
+// limits whose references stay inside its folder.
+fs::path resolve_model_path(Params& p, const std::string& rel, const std::string& models_dir) {
   fs::path path(rel);
   if (!path.is_absolute()) {
-    // Relative to the config that wrote it (a "base" config's folder for an inherited path).
     const std::string inherited = p.source_dir("path");
     fs::path base = !inherited.empty() ? fs::path(inherited)
                     : p.file().empty() ? fs::current_path()
@@ -457,8 +448,10 @@ Scene load_file_scene(Params& p, const std::string& models_dir) {
   if (!fs::exists(path)) throw Error(p.where("path"), "scene file not found: " + path.string());
   check_input_file(path.string(), p.where("path"));
   check_references(path, p.where("path"));
+  return path;
+}
 
-  Assimp::Importer imp;
+const aiScene* read_model(Assimp::Importer& imp, const fs::path& path, const std::string& where) {
   const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
                          aiProcess_GenSmoothNormals | aiProcess_SortByPType |
                          aiProcess_ValidateDataStructure;
@@ -473,42 +466,28 @@ Scene load_file_scene(Params& p, const std::string& models_dir) {
             " file (malformed or truncated; no importer recognises them)";
     else if (why.empty())
       why = "the importer returned an incomplete scene";
-    throw Error(p.where("path"),
-                "cannot import " + path.string() + ": " + escape_control(why, 300));
+    throw Error(where, "cannot import " + path.string() + ": " + escape_control(why, 300));
   }
+  return ai;
+}
 
-  Scene s;
-  s.name = path.stem().string();
-  Loader L;
-  L.ai = ai;
-  L.s = &s;
-  L.dir = path.parent_path().string();
-  L.where = p.where("path");
-  L.max_pixels = max_texture_pixels;
-  L.fail_on_missing = on_missing == "fail";
-  L.materials();
-  L.meshes();
+// translate x rotate (x, then y, then z) x scale: applied to the whole model.
+glm::mat4 root_transform(const FileSceneKeys& k) {
+  const std::vector<double>&tr = k.translate, &rot = k.rotate_deg;
   glm::mat4 root(1.f);
   root[3] = glm::vec4(float(tr[0]), float(tr[1]), float(tr[2]), 1.f);
   glm::quat q = glm::angleAxis(float(deg2rad(rot[2])), glm::vec3(0, 0, 1)) *
                 glm::angleAxis(float(deg2rad(rot[1])), glm::vec3(0, 1, 0)) *
                 glm::angleAxis(float(deg2rad(rot[0])), glm::vec3(1, 0, 0));
   root = root * glm::mat4_cast(q);
-  root[0] *= float(scale);
-  root[1] *= float(scale);
-  root[2] *= float(scale);
-  L.nodes(ai->mRootNode, glm::mat4(1.f), root);
-  if (s.objects.empty()) throw Error(p.where("path"), "no triangles in " + path.string());
+  root[0] *= float(k.scale);
+  root[1] *= float(k.scale);
+  root[2] *= float(k.scale);
+  return root;
+}
 
-  // World bounds, for default lights and viewpoint.
-  AABB wb;
-  for (const Object& o : s.objects)
-    for (const glm::vec3& v : s.meshes[size_t(o.mesh)].positions)
-      wb.extend(glm::vec3(o.transform * glm::vec4(v, 1.f)));
-  glm::vec3 ctr = 0.5f * (wb.lo + wb.hi);
-  float radius = std::max(1e-3f, 0.5f * glm::length(wb.hi - wb.lo));
-
-  // Lights from the file (point/spot/directional), in world space.
+// Lights from the file (point/spot/directional), in world space.
+void add_file_lights(const aiScene* ai, const glm::mat4& root, Scene& s) {
   for (unsigned i = 0; i < ai->mNumLights; ++i) {
     const aiLight* al = ai->mLights[i];
     Light l;
@@ -545,24 +524,65 @@ Scene load_file_scene(Params& p, const std::string& models_dir) {
     }
     s.lights.push_back(l);
   }
-  if (s.lights.empty() && want_default_lights) {
-    // A key light (directional, shadowed) from above-front-right and a fill point light.
-    Light key;
-    key.type = Light::Type::Directional;
-    key.direction = glm::normalize(glm::vec3(-0.4f, -1.f, -0.6f));
-    key.intensity = 2.5f;
-    key.shadows = true;
-    s.lights.push_back(key);
-    Light fill;
-    fill.type = Light::Type::Point;
-    fill.position = ctr + glm::vec3(-1.5f, 1.2f, 2.0f) * radius;
-    fill.intensity = 0.6f * glm::dot(fill.position - ctr, fill.position - ctr);
-    fill.shadows = false;
-    s.lights.push_back(fill);
-  }
+}
+
+// A key light (directional, shadowed) from above-front-right and a fill point light, placed
+// by the model's world bounds (centre `ctr`, radius `radius`).
+void add_default_lights(Scene& s, const glm::vec3& ctr, float radius) {
+  Light key;
+  key.type = Light::Type::Directional;
+  key.direction = glm::normalize(glm::vec3(-0.4f, -1.f, -0.6f));
+  key.intensity = 2.5f;
+  key.shadows = true;
+  s.lights.push_back(key);
+  Light fill;
+  fill.type = Light::Type::Point;
+  fill.position = ctr + glm::vec3(-1.5f, 1.2f, 2.0f) * radius;
+  fill.intensity = 0.6f * glm::dot(fill.position - ctr, fill.position - ctr);
+  fill.shadows = false;
+  s.lights.push_back(fill);
+}
+
+}  // namespace
+
+// Stages: the keys (file_scene_table), the model path, assimp's import, materials and meshes
+// (Loader), the root transform, lights (the file's or the defaults), the viewpoint.
+Scene load_file_scene(Params& p, const std::string& models_dir) {
+  const FileSceneKeys k = file_scene_table().read(p);
+  p.ignore("comment");
+  const fs::path path = resolve_model_path(p, k.path, models_dir);
+  Assimp::Importer imp;
+  const aiScene* ai = read_model(imp, path, p.where("path"));
+
+  Scene s;
+  s.name = path.stem().string();
+  Loader L;
+  L.ai = ai;
+  L.s = &s;
+  L.dir = path.parent_path().string();
+  L.where = p.where("path");
+  L.max_pixels = k.max_texture_pixels;
+  L.fail_on_missing = k.on_missing_texture == "fail";
+  L.materials();
+  L.meshes();
+  const glm::mat4 root = root_transform(k);
+  L.nodes(ai->mRootNode, glm::mat4(1.f), root);
+  if (s.objects.empty()) throw Error(p.where("path"), "no triangles in " + path.string());
+
+  // World bounds, for default lights and viewpoint.
+  AABB wb;
+  for (const Object& o : s.objects)
+    for (const glm::vec3& v : s.meshes[size_t(o.mesh)].positions)
+      wb.extend(glm::vec3(o.transform * glm::vec4(v, 1.f)));
+  glm::vec3 ctr = 0.5f * (wb.lo + wb.hi);
+  float radius = std::max(1e-3f, 0.5f * glm::length(wb.hi - wb.lo));
+
+  add_file_lights(ai, root, s);
+  if (s.lights.empty() && k.default_lights) add_default_lights(s, ctr, radius);
   s.ambient = glm::vec3(0.06f);
   s.background = glm::vec3(0.05f, 0.05f, 0.07f);
-  s.exposure = exposure;
+  s.exposure = k.exposure;
+  const std::vector<double>& eye = k.default_eye;
   if (eye.size() == 3)
     s.default_eye = {float(eye[0]), float(eye[1]), float(eye[2])};
   else  // in front of the model (+z), far enough to see it whole with a ~90 deg FOV

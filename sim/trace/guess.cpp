@@ -162,45 +162,62 @@ bool timeish(const std::string& name) {
   return n.size() > 3 && n.compare(n.size() - 3, 3, "_ts") == 0;
 }
 
-}  // namespace
-
-Json guess_map(const std::string& in) {
-  std::string text = read_file(in);
-  size_t nl = text.find_first_of("\r\n");
-  std::string line0 = text.substr(0, nl);
+// One guess in progress: the rows read, the map being written and its ASSUMPTION notes.
+struct MapGuess {
+  std::string in;
+  std::vector<CsvRow> rows;
+  Json m = Json::object();
   std::vector<std::string> notes;
-  auto assume = [&](const std::string& s) { notes.push_back("ASSUMPTION: " + s); };
-  // Delimiter: tab, else the more frequent of ';' and ',', else space (names may contain spaces).
+  std::map<std::string, int> name_count;
+  bool dup_noted = false;
+
+  const std::vector<CsvField>& names() const { return rows[0].fields; }
+  void assume(const std::string& s) { notes.push_back("ASSUMPTION: " + s); }
+  // A column reference: its name, or its 1-based index when the name occurs twice in the
+  // header (the importer refuses a duplicated name).
+  Json ref(int i) {
+    const std::string& n = names()[size_t(i)].text;
+    if (name_count[n] < 2) return n;
+    if (!dup_noted) {
+      assume("column \"" + n +
+             "\" appears more than once in the header: referred to by its "
+             "1-based index");
+      dup_noted = true;
+    }
+    return i + 1;
+  }
+  Json xyz(const Group& g) {
+    return Json::array({ref(g.idx.at('x')), ref(g.idx.at('y')), ref(g.idx.at('z'))});
+  }
+  // A quaternion's columns in the file's order (w first or last).
+  Json quat(const Group& g) {
+    return g.first_comp == 'w' ? Json::array({ref(g.idx.at('w')), ref(g.idx.at('x')),
+                                              ref(g.idx.at('y')), ref(g.idx.at('z'))})
+                               : Json::array({ref(g.idx.at('x')), ref(g.idx.at('y')),
+                                              ref(g.idx.at('z')), ref(g.idx.at('w'))});
+  }
+};
+
+bool is3(const Group& g) {
+  return g.cols.count('x') && g.cols.count('y') && g.cols.count('z');
+}
+
+// Tab, else the more frequent of ';' and ',', else space (names may contain spaces).
+char guess_delimiter(const std::string& line0, const char*& dname) {
   auto count = [&](char c) { return long(std::count(line0.begin(), line0.end(), c)); };
   char delim = ' ';
-  const char* dname = "space";
+  dname = "space";
   if (count('\t') > 0)
     delim = '\t', dname = "tab";
   else if (count(';') > 0 && count(';') >= count(','))
     delim = ';', dname = "semicolon";
   else if (count(',') > 0)
     delim = ',', dname = "comma";
-  assume(std::string("the delimiter is ") + dname);
-  std::vector<CsvRow> rows = read_csv_rows(in, delim, 0);
-  if (rows.size() < 2)
-    throw Error(in, "too few rows to guess a map (need a header or first row and data)");
-  Json m = Json::object();
-  m["delimiter"] = dname;
-  // Header: the first row has a non-numeric field.
-  bool header = false;
-  for (auto& f : rows[0].fields) {
-    double v;
-    std::string why;
-    if (!parse_number(f.text, v, why)) header = true;
-  }
-  m["header"] = header;
-  if (!header) {
-    assume("no header row: columns are numbered; name them in the map by 1-based index");
-    m["comment"] = notes;
-    return m;
-  }
-  const auto& names = rows[0].fields;
-  // Vector groups by common base name.
+  return delim;
+}
+
+// Vector groups by common base name ("head_pos.x", "head_pos.y", ...).
+std::vector<Group> vector_groups(const std::vector<CsvField>& names) {
   std::vector<Group> groups;
   for (size_t i = 0; i < names.size(); ++i) {
     std::string base;
@@ -217,306 +234,300 @@ Json guess_map(const std::string& in) {
       it->idx[c] = int(i);
     }
   }
-  // A column reference: its name, or its 1-based index when the name occurs twice in the
-  // header (the importer refuses a duplicated name).
-  std::map<std::string, int> name_count;
-  for (auto& f : names) ++name_count[f.text];
-  bool dup_noted = false;
-  auto ref = [&](int i) -> Json {
-    const std::string& n = names[size_t(i)].text;
-    if (name_count[n] < 2) return n;
-    if (!dup_noted) {
-      assume("column \"" + n +
-             "\" appears more than once in the header: referred to by its "
-             "1-based index");
-      dup_noted = true;
-    }
-    return i + 1;
-  };
-  auto xyz = [&](const Group& g) {
-    return Json::array({ref(g.idx.at('x')), ref(g.idx.at('y')), ref(g.idx.at('z'))});
-  };
-  auto is3 = [](const Group& g) {
-    return g.cols.count('x') && g.cols.count('y') && g.cols.count('z');
-  };
-  bool unity_hint = false;
-  for (auto& f : names)
-    unity_hint = unity_hint || has(lower(f.text), {"unity", "euler", "eulerangles"});
+  return groups;
+}
 
-  // Time: the first time-like column whose values increase (an eye-tracker clock next to an
-  // engine clock: the first one).
+// Time: the first time-like column whose values increase (an eye-tracker clock next to an
+// engine clock: the first one); its unit from the name, else from the median step.
+void guess_time(MapGuess& G) {
+  const auto& names = G.names();
   int tcol = -1;
   for (size_t i = 0; i < names.size() && tcol < 0; ++i) {
     if (!timeish(names[i].text)) continue;
-    std::vector<double> v = column_values(rows, i, 50);
+    std::vector<double> v = column_values(G.rows, i, 50);
     bool inc = v.size() >= 2;
     for (size_t k = 1; k < v.size() && inc; ++k) inc = v[k] >= v[k - 1];
     if (inc) tcol = int(i);
   }
-  if (tcol >= 0) {
-    const std::string& tn = names[size_t(tcol)].text;
-    double step = median_step(rows, size_t(tcol));
-    std::string unit = unit_from_name(tn);
-    char b[300];
-    if (!unit.empty()) {
-      std::snprintf(b, sizeof b, "time is column \"%s\" in %s (from its name; median step %.6g)",
-                    tn.c_str(), unit.c_str(), step);
-    } else {
-      unit = "s";
-      if (std::isfinite(step))
-        unit = step < 0.5 ? "s" : step < 500 ? "ms" : step < 5e5 ? "us" : "ns";
-      std::snprintf(b, sizeof b,
-                    "time is column \"%s\" in %s, guessed from its median step %.6g (no unit in "
-                    "the name: check the rate in the summary)",
-                    tn.c_str(), unit.c_str(), step);
-    }
-    m["time"] = {{"column", ref(tcol)}, {"unit", unit}, {"rebase", true}};
-    assume(b);
-  } else {
-    m["time"] = {{"column", "?"}, {"unit", "s"}};
-    assume("no time column recognised: set time.column and time.unit");
+  if (tcol < 0) {
+    G.m["time"] = {{"column", "?"}, {"unit", "s"}};
+    G.assume("no time column recognised: set time.column and time.unit");
+    return;
   }
+  const std::string& tn = names[size_t(tcol)].text;
+  double step = median_step(G.rows, size_t(tcol));
+  std::string unit = unit_from_name(tn);
+  char b[300];
+  if (!unit.empty()) {
+    std::snprintf(b, sizeof b, "time is column \"%s\" in %s (from its name; median step %.6g)",
+                  tn.c_str(), unit.c_str(), step);
+  } else {
+    unit = "s";
+    if (std::isfinite(step)) unit = step < 0.5 ? "s" : step < 500 ? "ms" : step < 5e5 ? "us" : "ns";
+    std::snprintf(b, sizeof b,
+                  "time is column \"%s\" in %s, guessed from its median step %.6g (no unit in "
+                  "the name: check the rate in the summary)",
+                  tn.c_str(), unit.c_str(), step);
+  }
+  G.m["time"] = {{"column", G.ref(tcol)}, {"unit", unit}, {"rebase", true}};
+  G.assume(b);
+}
 
-  // Head pose and gaze from the vector groups.
-  bool pos = false, rot = false, gaze = false;
+// What the vector groups and named columns say about head pose and gaze so far.
+struct PoseGuess {
+  bool pos = false, rot = false, gaze = false, unity_hint = false;
   Json left, right, point, combined;
   VecStats combined_st;
   std::string combined_name;
   std::vector<const Group*> other;  // x/y/z triples no name hint classifies ("C_x", "F_x")
+  bool per_eye() const { return !left.is_null() && !right.is_null(); }
+};
+
+// Head position, head orientation and gaze from the groups' names.
+void classify_groups(MapGuess& G, const std::vector<Group>& groups, PoseGuess& P) {
+  Json& m = G.m;
   for (auto& g : groups) {
     const std::string& b = g.base;
     bool headish = has(b, {"head", "hmd", "cam", "camera", "pose"});
     bool eyeish = has(b, {"gaze", "eye"});
-    if (!pos && headish && is3(g) && !g.cols.count('w') && has(b, {"pos", "_p", "translation"})) {
-      m["head_position"] = {{"columns", xyz(g)}, {"unit", "m"}};
-      assume("head position from \"" + g.cols.at('x') + "\"...: metres");
-      pos = true;
-    } else if (!gaze && eyeish && is3(g) && g.cols.count('w')) {
+    if (!P.pos && headish && is3(g) && !g.cols.count('w') && has(b, {"pos", "_p", "translation"})) {
+      m["head_position"] = {{"columns", G.xyz(g)}, {"unit", "m"}};
+      G.assume("head position from \"" + g.cols.at('x') + "\"...: metres");
+      P.pos = true;
+    } else if (!P.gaze && eyeish && is3(g) && g.cols.count('w')) {
       // A gaze pose (OpenXR eye gaze): its -Z axis.
-      bool wfirst = g.first_comp == 'w';
-      Json cols = wfirst ? Json::array({ref(g.idx.at('w')), ref(g.idx.at('x')), ref(g.idx.at('y')),
-                                        ref(g.idx.at('z'))})
-                         : Json::array({ref(g.idx.at('x')), ref(g.idx.at('y')), ref(g.idx.at('z')),
-                                        ref(g.idx.at('w'))});
       m["gaze"] = {{"type", "orientation"},
                    {"space", "world"},
-                   {"columns", cols},
-                   {"order", wfirst ? "wxyz" : "xyzw"},
+                   {"columns", G.quat(g)},
+                   {"order", g.first_comp == 'w' ? "wxyz" : "xyzw"},
                    {"forward", "-z"}};
-      assume("gaze is the -Z axis of the world-space gaze pose \"" + g.cols.at('x') + "\"...");
-      gaze = true;
-    } else if (!rot && headish && is3(g) &&
+      G.assume("gaze is the -Z axis of the world-space gaze pose \"" + g.cols.at('x') + "\"...");
+      P.gaze = true;
+    } else if (!P.rot && headish && is3(g) &&
                has(b, {"rot", "quat", "orient", "_q", "_r", "euler"})) {
       if (g.cols.count('w')) {
-        bool wfirst = g.first_comp == 'w';
-        Json cols = wfirst ? Json::array({ref(g.idx.at('w')), ref(g.idx.at('x')),
-                                          ref(g.idx.at('y')), ref(g.idx.at('z'))})
-                           : Json::array({ref(g.idx.at('x')), ref(g.idx.at('y')),
-                                          ref(g.idx.at('z')), ref(g.idx.at('w'))});
-        m["head_orientation"] = {
-            {"type", "quaternion"}, {"columns", cols}, {"order", wfirst ? "wxyz" : "xyzw"}};
-        assume("head orientation is a world-from-head quaternion (not head-from-world)");
+        m["head_orientation"] = {{"type", "quaternion"},
+                                 {"columns", G.quat(g)},
+                                 {"order", g.first_comp == 'w' ? "wxyz" : "xyzw"}};
+        G.assume("head orientation is a world-from-head quaternion (not head-from-world)");
       } else {
         m["head_orientation"] = {{"type", "euler"},
-                                 {"columns", xyz(g)},
+                                 {"columns", G.xyz(g)},
                                  {"order", "ZXY"},
                                  {"sequence", "extrinsic"},
                                  {"unit", "deg"}};
-        assume("head orientation is Euler angles in degrees applied Z, X, Y (Unity eulerAngles)");
-        unity_hint = true;
+        G.assume("head orientation is Euler angles in degrees applied Z, X, Y (Unity eulerAngles)");
+        P.unity_hint = true;
       }
-      rot = true;
-    } else if (headish && is3(g) && has(b, {"forward", "fwd"}) && !rot) {
-      m["head_orientation"] = {{"type", "forward"}, {"forward", xyz(g)}};
-      assume("head orientation from the forward vector \"" + g.cols.at('x') + "\"..., no roll");
-      rot = true;
+      P.rot = true;
+    } else if (headish && is3(g) && has(b, {"forward", "fwd"}) && !P.rot) {
+      m["head_orientation"] = {{"type", "forward"}, {"forward", G.xyz(g)}};
+      G.assume("head orientation from the forward vector \"" + g.cols.at('x') + "\"..., no roll");
+      P.rot = true;
     } else if (eyeish && is3(g) && has(b, {"dir", "vector", "forward", "normal"}) &&
                !has(b, {"origin"})) {
       bool l = has(b, {"left", "_l.", "_l_", " l."}) && !has(b, {"right"});
       bool r = has(b, {"right", "_r.", "_r_", " r."}) && !l;
-      if (l && left.is_null())
-        left = xyz(g);
-      else if (r && right.is_null())
-        right = xyz(g);
-      else if (!l && !r && combined.is_null()) {
-        combined = {{"type", "direction"}, {"space", "head"}, {"columns", xyz(g)}};
-        combined_st = vec_stats(rows, g.idx.at('x'), g.idx.at('y'), g.idx.at('z'));
-        combined_name = g.cols.at('x');
+      if (l && P.left.is_null())
+        P.left = G.xyz(g);
+      else if (r && P.right.is_null())
+        P.right = G.xyz(g);
+      else if (!l && !r && P.combined.is_null()) {
+        P.combined = {{"type", "direction"}, {"space", "head"}, {"columns", G.xyz(g)}};
+        P.combined_st = vec_stats(G.rows, g.idx.at('x'), g.idx.at('y'), g.idx.at('z'));
+        P.combined_name = g.cols.at('x');
       }
-    } else if (eyeish && is3(g) && has(b, {"point"}) && point.is_null()) {
-      point = {{"type", "point"}, {"columns", xyz(g)}, {"unit", has(b, {"3d"}) ? "mm" : "m"}};
+    } else if (eyeish && is3(g) && has(b, {"point"}) && P.point.is_null()) {
+      P.point = {{"type", "point"}, {"columns", G.xyz(g)}, {"unit", has(b, {"3d"}) ? "mm" : "m"}};
     } else if (is3(g) && !g.cols.count('w') && !eyeish) {
-      other.push_back(&g);
+      P.other.push_back(&g);
     }
   }
-  // Gaze angles (Pupil Cloud): "azimuth [deg]", "elevation [deg]".
-  if (!gaze) {
-    int az = -1, el = -1;
-    for (size_t i = 0; i < names.size(); ++i) {
-      std::string n = lower(names[i].text);
-      if (az < 0 && has(n, {"azimuth"})) az = int(i);
-      if (el < 0 && has(n, {"elevation"})) el = int(i);
-    }
-    if (az >= 0 && el >= 0) {
-      bool rad = has(lower(names[size_t(az)].text), {"rad"});
-      m["gaze"] = {{"type", "angles"},
-                   {"columns", {ref(az), ref(el)}},
-                   {"unit", rad ? "rad" : "deg"},
-                   {"signs", {1, 1}}};
-      assume(std::string("gaze is azimuth (right +) and elevation (up +) in ") +
-             (rad ? "radians" : "degrees") + " in the head");
-      gaze = true;
-    }
+}
+
+// Gaze angles (Pupil Cloud): "azimuth [deg]", "elevation [deg]".
+void guess_gaze_angles(MapGuess& G, PoseGuess& P) {
+  if (P.gaze) return;
+  const auto& names = G.names();
+  int az = -1, el = -1;
+  for (size_t i = 0; i < names.size(); ++i) {
+    std::string n = lower(names[i].text);
+    if (az < 0 && has(n, {"azimuth"})) az = int(i);
+    if (el < 0 && has(n, {"elevation"})) el = int(i);
   }
-  // A combined gaze whose values are not directions (zero, sentinel or broken in most rows)
-  // loses to per-eye directions.
-  const bool per_eye = !left.is_null() && !right.is_null();
-  if (!combined.is_null()) {
-    bool plausible = combined_st.unit_frac >= 0.5 ||
-                     (combined_st.median_len > 1e-6 && combined_st.median_len < 1e3 &&
-                      combined_st.unit_frac > 0 && !per_eye);
-    if (plausible || !per_eye) {
-      m["gaze"] = combined;
-      gaze = true;
-      if (!plausible) {
-        char b[200];
-        std::snprintf(b, sizeof b,
-                      "the combined gaze \"%s\"... is a unit vector in only %.0f %% of the first "
-                      "rows: check it",
-                      combined_name.c_str(), 100.0 * combined_st.unit_frac);
-        assume(b);
-      }
-    } else {
-      char b[240];
+  if (az < 0 || el < 0) return;
+  bool rad = has(lower(names[size_t(az)].text), {"rad"});
+  G.m["gaze"] = {{"type", "angles"},
+                 {"columns", {G.ref(az), G.ref(el)}},
+                 {"unit", rad ? "rad" : "deg"},
+                 {"signs", {1, 1}}};
+  G.assume(std::string("gaze is azimuth (right +) and elevation (up +) in ") +
+           (rad ? "radians" : "degrees") + " in the head");
+  P.gaze = true;
+}
+
+// A combined gaze whose values are not directions (zero, sentinel or broken in most rows)
+// loses to per-eye directions.
+void choose_combined_gaze(MapGuess& G, PoseGuess& P) {
+  if (P.combined.is_null()) return;
+  const bool per_eye = P.per_eye();
+  const VecStats& st = P.combined_st;
+  bool plausible = st.unit_frac >= 0.5 ||
+                   (st.median_len > 1e-6 && st.median_len < 1e3 && st.unit_frac > 0 && !per_eye);
+  if (plausible || !per_eye) {
+    G.m["gaze"] = P.combined;
+    P.gaze = true;
+    if (!plausible) {
+      char b[200];
       std::snprintf(b, sizeof b,
                     "the combined gaze \"%s\"... is a unit vector in only %.0f %% of the first "
-                    "rows: the per-eye directions are used instead",
-                    combined_name.c_str(), 100.0 * combined_st.unit_frac);
-      assume(b);
+                    "rows: check it",
+                    P.combined_name.c_str(), 100.0 * st.unit_frac);
+      G.assume(b);
     }
+  } else {
+    char b[240];
+    std::snprintf(b, sizeof b,
+                  "the combined gaze \"%s\"... is a unit vector in only %.0f %% of the first "
+                  "rows: the per-eye directions are used instead",
+                  P.combined_name.c_str(), 100.0 * st.unit_frac);
+    G.assume(b);
   }
-  // Triples named only by an x/y/z suffix: unit vectors are directions, others positions.
-  if (!other.empty()) {
-    std::vector<std::pair<const Group*, VecStats>> dirs, poss;
-    for (const Group* g : other) {
-      VecStats st = vec_stats(rows, g->idx.at('x'), g->idx.at('y'), g->idx.at('z'));
-      if (st.rows == 0) continue;
-      (st.unit_frac >= 0.9 ? dirs : poss).push_back({g, st});
-    }
-    for (auto& [g, st] : poss) {
-      if (pos) break;
-      m["head_position"] = {{"columns", xyz(*g)}, {"unit", "m"}};
-      char b[260];
-      std::snprintf(b, sizeof b,
-                    "head position from \"%s\"... (not unit vectors: median distance from the "
-                    "origin %.3g), in metres",
-                    g->cols.at('x').c_str(), st.median_len);
-      assume(b);
-      pos = true;
-    }
-    if (!rot && dirs.size() >= 2) {
-      // Head forward: named so ("F_", "forward"), else the direction that turns slower (the
-      // gaze moves with the head and the eye).
-      size_t f = 0;
-      bool named = false;
-      for (size_t k = 0; k < dirs.size(); ++k) {
-        const std::string& b = dirs[k].first->base;
-        if (has(b, {"forward", "fwd"}) || b == "f_" || b == "f" || b == "f.") {
-          f = k;
-          named = true;
-        }
+}
+
+// Triples named only by an x/y/z suffix: unit vectors are directions, others positions.
+void guess_unnamed_triples(MapGuess& G, PoseGuess& P) {
+  if (P.other.empty()) return;
+  Json& m = G.m;
+  std::vector<std::pair<const Group*, VecStats>> dirs, poss;
+  for (const Group* g : P.other) {
+    VecStats st = vec_stats(G.rows, g->idx.at('x'), g->idx.at('y'), g->idx.at('z'));
+    if (st.rows == 0) continue;
+    (st.unit_frac >= 0.9 ? dirs : poss).push_back({g, st});
+  }
+  for (auto& [g, st] : poss) {
+    if (P.pos) break;
+    m["head_position"] = {{"columns", G.xyz(*g)}, {"unit", "m"}};
+    char b[260];
+    std::snprintf(b, sizeof b,
+                  "head position from \"%s\"... (not unit vectors: median distance from the "
+                  "origin %.3g), in metres",
+                  g->cols.at('x').c_str(), st.median_len);
+    G.assume(b);
+    P.pos = true;
+  }
+  if (!P.rot && dirs.size() >= 2) {
+    // Head forward: named so ("F_", "forward"), else the direction that turns slower (the
+    // gaze moves with the head and the eye).
+    size_t f = 0;
+    bool named = false;
+    for (size_t k = 0; k < dirs.size(); ++k) {
+      const std::string& b = dirs[k].first->base;
+      if (has(b, {"forward", "fwd"}) || b == "f_" || b == "f" || b == "f.") {
+        f = k;
+        named = true;
       }
-      if (!named)
-        for (size_t k = 1; k < dirs.size(); ++k)
-          if (dirs[k].second.median_step_deg < dirs[f].second.median_step_deg) f = k;
-      size_t gk = f == 0 ? 1 : 0;
-      m["head_orientation"] = {{"type", "forward"}, {"forward", xyz(*dirs[f].first)}};
-      assume("head orientation from the unit vectors \"" + dirs[f].first->cols.at('x') + "\"... (" +
+    }
+    if (!named)
+      for (size_t k = 1; k < dirs.size(); ++k)
+        if (dirs[k].second.median_step_deg < dirs[f].second.median_step_deg) f = k;
+    size_t gk = f == 0 ? 1 : 0;
+    m["head_orientation"] = {{"type", "forward"}, {"forward", G.xyz(*dirs[f].first)}};
+    G.assume("head orientation from the unit vectors \"" + dirs[f].first->cols.at('x') + "\"... (" +
              (named ? "named forward" : "the slower-turning direction") + "), no roll");
-      rot = true;
-      if (!gaze) {
-        m["gaze"] = {{"type", "direction"}, {"space", "world"}, {"columns", xyz(*dirs[gk].first)}};
-        assume("gaze is the world direction \"" + dirs[gk].first->cols.at('x') +
+    P.rot = true;
+    if (!P.gaze) {
+      m["gaze"] = {{"type", "direction"}, {"space", "world"}, {"columns", G.xyz(*dirs[gk].first)}};
+      G.assume("gaze is the world direction \"" + dirs[gk].first->cols.at('x') +
                "\"... (unit vectors, turning faster than the head forward)");
-        gaze = true;
-      }
-    } else if (!gaze && !dirs.empty()) {
-      m["gaze"] = {{"type", "direction"}, {"space", "head"}, {"columns", xyz(*dirs[0].first)}};
-      assume("gaze is the unit vector \"" + dirs[0].first->cols.at('x') + "\"...");
-      gaze = true;
+      P.gaze = true;
     }
+  } else if (!P.gaze && !dirs.empty()) {
+    m["gaze"] = {{"type", "direction"}, {"space", "head"}, {"columns", G.xyz(*dirs[0].first)}};
+    G.assume("gaze is the unit vector \"" + dirs[0].first->cols.at('x') + "\"...");
+    P.gaze = true;
   }
-  if (!gaze && per_eye) {
+}
+
+// What is still missing: per-eye or one-eye directions, a gaze point, then constants and
+// placeholders; the coordinate convention.
+void guess_fallbacks(MapGuess& G, PoseGuess& P) {
+  Json& m = G.m;
+  if (!P.gaze && P.per_eye()) {
     m["gaze"] = {{"type", "direction"},
                  {"space", "head"},
-                 {"left", left},
-                 {"right", right},
+                 {"left", P.left},
+                 {"right", P.right},
                  {"combine", "mean"}};
-    gaze = true;
+    P.gaze = true;
   }
-  if (!gaze && left.is_null() != right.is_null()) {
+  if (!P.gaze && P.left.is_null() != P.right.is_null()) {
     // One eye's direction only (a monocular tracker, or an export of one eye): that eye.
-    const Json& one = left.is_null() ? right : left;
+    const Json& one = P.left.is_null() ? P.right : P.left;
     m["gaze"] = {{"type", "direction"}, {"space", "head"}, {"columns", one}};
-    assume(std::string("gaze is the ") + (left.is_null() ? "right" : "left") + " eye's direction " +
-           one[0].dump() + "... (the only per-eye direction in the file)");
-    gaze = true;
+    G.assume(std::string("gaze is the ") + (P.left.is_null() ? "right" : "left") +
+             " eye's direction " + one[0].dump() + "... (the only per-eye direction in the file)");
+    P.gaze = true;
   }
-  if (!gaze && !point.is_null()) {
+  if (!P.gaze && !P.point.is_null()) {
     // Only when no gaze direction is given: a point may be in head space rather than world.
-    m["gaze"] = point;
-    assume("gaze is a world point looked at (" + point["columns"][0].dump() + "...), in " +
-           point["unit"].get<std::string>());
-    gaze = true;
+    m["gaze"] = P.point;
+    G.assume("gaze is a world point looked at (" + P.point["columns"][0].dump() + "...), in " +
+             P.point["unit"].get<std::string>());
+    P.gaze = true;
   }
-  if (gaze && m["gaze"]["type"] == "direction" && m["gaze"]["space"] == "head")
-    assume(
+  if (P.gaze && m["gaze"]["type"] == "direction" && m["gaze"]["space"] == "head")
+    G.assume(
         "gaze direction is in head space (set gaze.space to \"world\" if it follows the head's "
         "turns)");
-  if (!pos) {
+  if (!P.pos) {
     // A gaze point without a head pose is in the eye camera's frame: the head at the origin.
-    const bool pt = gaze && m["gaze"]["type"] == "point";
+    const bool pt = P.gaze && m["gaze"]["type"] == "point";
     m["head_position"] = {{"constant", pt ? Json::array({0, 0, 0}) : Json::array({0, 1.6, 0})}};
-    assume(pt ? "no head position columns: the gaze point is relative to the eye, head at the "
-                "origin"
-              : "no head position columns: constant (0, 1.6, 0) m");
+    G.assume(pt ? "no head position columns: the gaze point is relative to the eye, head at the "
+                  "origin"
+                : "no head position columns: constant (0, 1.6, 0) m");
   }
-  if (!rot) {
+  if (!P.rot) {
     m["head_orientation"] = {{"constant", {1, 0, 0, 0}}};
-    assume("no head orientation columns: constant identity");
+    G.assume("no head orientation columns: constant identity");
   }
-  if (!gaze) {
+  if (!P.gaze) {
     m["gaze"] = {{"type", "direction"}, {"space", "head"}, {"columns", {"?", "?", "?"}}};
-    assume("no gaze columns recognised: set gaze");
+    G.assume("no gaze columns recognised: set gaze");
   }
-  m["coordinates"] = unity_hint ? "unity" : "opengl";
-  assume(unity_hint ? "coordinates are Unity's (left-handed, +Y up, +Z forward)"
-                    : "coordinates are OpenGL/OpenXR (right-handed, +Y up, -Z forward): check a "
-                      "frame where the user "
-                      "looks right (fovsim gx > 0)");
+  m["coordinates"] = P.unity_hint ? "unity" : "opengl";
+  G.assume(P.unity_hint ? "coordinates are Unity's (left-handed, +Y up, +Z forward)"
+                        : "coordinates are OpenGL/OpenXR (right-handed, +Y up, -Z forward): "
+                          "check a frame where the user "
+                          "looks right (fovsim gx > 0)");
+}
 
-  // Validity columns.
+// Validity columns: blink flags, confidences, valid flags, bitmasks and status codes.
+void guess_validity(MapGuess& G, bool per_eye) {
+  const auto& names = G.names();
+  Json& m = G.m;
   Json valid = Json::array();
   for (auto& f : names) {
     std::string n = lower(f.text);
     if (has(n, {"blink"})) {
       valid.push_back(
-          {{"column", ref(int(&f - &names[0]))}, {"valid_values", {"False", "false", "0"}}});
-      assume("\"" + f.text + "\" True/1 means blinking (invalid)");
+          {{"column", G.ref(int(&f - &names[0]))}, {"valid_values", {"False", "false", "0"}}});
+      G.assume("\"" + f.text + "\" True/1 means blinking (invalid)");
     } else if (has(n, {"confidence"})) {
-      valid.push_back({{"column", ref(int(&f - &names[0]))}, {"min", 0.6}});
-      assume("\"" + f.text + "\" >= 0.6 is a valid sample");
+      valid.push_back({{"column", G.ref(int(&f - &names[0]))}, {"min", 0.6}});
+      G.assume("\"" + f.text + "\" >= 0.6 is a valid sample");
     } else if (has(n, {"valid"})) {
       // A bitmask (SRanipal eye_valid = 31 with every bit set) has integer values above 1.
       const int ci = int(&f - &names[0]);
-      std::vector<double> v = column_values(rows, size_t(ci));
+      std::vector<double> v = column_values(G.rows, size_t(ci));
       double mx = 0;
       bool ints = !v.empty();
       for (double x : v) {
         ints = ints && x == std::floor(x) && x >= 0 && x < 2147483648.0;
         mx = std::max(mx, x);
       }
-      Json cond = {{"column", ref(ci)}};
+      Json cond = {{"column", G.ref(ci)}};
       if (per_eye && m["gaze"].contains("left")) {
         bool l = has(n, {"left", "_l"}) && !has(n, {"right"});
         bool r = has(n, {"right", "_r"}) && !l;
@@ -533,26 +544,72 @@ Json guess_map(const std::string& in) {
                         "\"%s\" is a bitmask: valid when all bits of %lld are set (the largest "
                         "value in the file; SRanipal's gaze-direction bit alone is all_bits 2)",
                         f.text.c_str(), all);
-          assume(b);
+          G.assume(b);
         } else {
           cond["valid_values"] = {std::to_string(all)};
-          assume("\"" + f.text + "\" is a status code: " + std::to_string(all) +
-                 " (its largest value) is valid");
+          G.assume("\"" + f.text + "\" is a status code: " + std::to_string(all) +
+                   " (its largest value) is valid");
         }
       } else {
         cond["valid_values"] = {"1", "True", "true"};
-        assume("\"" + f.text + "\" = 1/True is valid");
+        G.assume("\"" + f.text + "\" = 1/True is valid");
       }
       valid.push_back(cond);
     }
   }
   if (!valid.empty()) m["valid"] = valid;
+}
+
+}  // namespace
+
+// Stages: the delimiter and header, vector groups, time, head pose and gaze by name
+// (classify_groups), gaze angles, the combined-versus-per-eye gaze choice, unnamed triples,
+// fallbacks, validity columns; each assumption is a note in the map's "comment".
+Json guess_map(const std::string& in) {
+  std::string text = read_file(in);
+  size_t nl = text.find_first_of("\r\n");
+  std::string line0 = text.substr(0, nl);
+  MapGuess G;
+  G.in = in;
+  const char* dname = "space";
+  const char delim = guess_delimiter(line0, dname);
+  G.assume(std::string("the delimiter is ") + dname);
+  G.rows = read_csv_rows(in, delim, 0);
+  if (G.rows.size() < 2)
+    throw Error(in, "too few rows to guess a map (need a header or first row and data)");
+  Json& m = G.m;
+  m["delimiter"] = dname;
+  // Header: the first row has a non-numeric field.
+  bool header = false;
+  for (auto& f : G.rows[0].fields) {
+    double v;
+    std::string why;
+    if (!parse_number(f.text, v, why)) header = true;
+  }
+  m["header"] = header;
+  if (!header) {
+    G.assume("no header row: columns are numbered; name them in the map by 1-based index");
+    m["comment"] = G.notes;
+    return m;
+  }
+  const std::vector<Group> groups = vector_groups(G.names());
+  for (auto& f : G.names()) ++G.name_count[f.text];
+  PoseGuess P;
+  for (auto& f : G.names())
+    P.unity_hint = P.unity_hint || has(lower(f.text), {"unity", "euler", "eulerangles"});
+  guess_time(G);
+  classify_groups(G, groups, P);
+  guess_gaze_angles(G, P);
+  choose_combined_gaze(G, P);
+  guess_unnamed_triples(G, P);
+  guess_fallbacks(G, P);
+  guess_validity(G, P.per_eye());
   m["on_bad_row"] = "fail";
   Json c = Json::array();
   c.push_back("Guessed by fovsim trace import --guess from " + in +
               ": check every ASSUMPTION, then run "
               "fovsim trace import with this map and read its summary (eccentricity, eye speed)");
-  for (auto& n : notes) c.push_back(n);
+  for (auto& n : G.notes) c.push_back(n);
   m["comment"] = c;
   return m;
 }

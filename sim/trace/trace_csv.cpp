@@ -41,15 +41,17 @@ const char* policy_name(BadSamplePolicy p) {
                                       : "on_bad_sample=hold";
 }
 
-}  // namespace
-
-Trace read_trace_csv(const std::string& path, const Display& display, const TraceReadOptions& opt) {
-  std::vector<CsvRow> rows = read_csv_rows(path, ',', '#');
-  if (rows.empty())
-    throw Error(path, "empty trace file: expected a header row (see traces/README.md)");
-  const CsvRow& head = rows[0];
+// The header: which field holds each canonical column, and whether gaze is a direction
+// (gx,gy,gz) or a screen point (gaze_u,gaze_v).
+struct Header {
   int idx[NCOL];
-  for (int& i : idx) i = -1;
+  bool dir_gaze = false;
+};
+
+Header read_header(const std::string& path, const CsvRow& head) {
+  Header h;
+  int* idx = h.idx;
+  for (int k = 0; k < NCOL; ++k) idx[k] = -1;
   for (size_t f = 0; f < head.fields.size(); ++f) {
     const std::string& name = head.fields[f].text;
     int c = -1;
@@ -83,6 +85,158 @@ Trace read_trace_csv(const std::string& path, const Display& display, const Trac
   for (int k : dir_gaze ? std::vector<int>{GX, GY, GZ} : std::vector<int>{GU, GV})
     if (idx[k] < 0)
       throw Error(header_loc, std::string("missing column \"") + kCols[k] + "\" in the header");
+  h.dir_gaze = dir_gaze;
+  return h;
+}
+
+// One row's fields parsed as numbers, with the problems each part of the sample has.
+struct RowFields {
+  const CsvRow& row;
+  const Header& h;
+  double v[NCOL] = {};
+  bool ok[NCOL] = {};
+  std::string why[NCOL];
+  RowFields(const CsvRow& r, const Header& hd) : row(r), h(hd) {
+    for (int k = 0; k < NCOL; ++k)
+      if (h.idx[k] >= 0) ok[k] = parse_number(row.fields[size_t(h.idx[k])].text, v[k], why[k]);
+  }
+  int col_of(int k) const { return row.fields[size_t(h.idx[k])].col; }
+  const std::string& text(int k) const { return row.fields[size_t(h.idx[k])].text; }
+  Problem bad_number(int k, Part part) const {
+    return {part, col_of(k), why[k].rfind("empty", 0) == 0 ? "empty field" : "bad number",
+            std::string("column \"") + kCols[k] + "\": " + why[k]};
+  }
+};
+
+// Time (finite, within the exact range, strictly increasing after `last_t`) and the validity
+// flag: problems of the whole row, which cannot be held.
+void decode_time_and_valid(const RowFields& f, double last_t, const std::string& last_t_text,
+                           long last_t_line, TraceSample& s, std::vector<Problem>& probs) {
+  if (!f.ok[T]) {
+    probs.push_back(f.bad_number(T, Part::Row));
+  } else if (!(std::fabs(f.v[T]) <= kMaxTraceTimeS)) {
+    probs.push_back({Part::Row, f.col_of(T), "time out of range",
+                     "time value out of range: t=" + printable(f.text(T)) +
+                         " is beyond +-9.007e9 s (2^53 us), where times are no longer exact "
+                         "to the microsecond and nanosecond integers overflow"});
+  } else if (!(f.v[T] > last_t)) {
+    probs.push_back({Part::Row, f.col_of(T), "non-monotonic time",
+                     "time not strictly increasing: t=" + printable(f.text(T)) + " after t=" +
+                         printable(last_t_text) + " (line " + std::to_string(last_t_line) + ")"});
+  }
+  s.t = f.v[T];
+  if (f.h.idx[VALID] >= 0) {
+    const std::string& t = f.text(VALID);
+    if (t == "1" || t == "true")
+      s.valid = true;
+    else if (t == "0" || t == "false")
+      s.valid = false;
+    else
+      probs.push_back({Part::Row, f.col_of(VALID), "bad valid flag",
+                       "column \"valid\": expected 0 or 1, got \"" + t + "\""});
+  }
+}
+
+// Head position (within the coordinate bound) and a unit quaternion.
+void decode_pose(const RowFields& f, const TraceReadOptions& opt, TraceSample& s,
+                 std::vector<Problem>& probs) {
+  bool pose_ok = true;
+  for (int k = PX; k <= QZ; ++k)
+    if (!f.ok[k]) {
+      probs.push_back(f.bad_number(k, Part::Pose));
+      pose_ok = false;
+    }
+  if (pose_ok) {
+    for (int k = PX; k <= PZ; ++k)
+      if (!(std::fabs(f.v[k]) <= kMaxCoordinateM)) {
+        probs.push_back({Part::Pose, f.col_of(k), "head position out of range",
+                         std::string("column \"") + kCols[k] + "\": head position " +
+                             printable(f.text(k)) + " m is beyond the coordinate bound +-1e5 m"});
+        pose_ok = false;
+        break;
+      }
+  }
+  if (!pose_ok) return;
+  const double* v = f.v;
+  s.head_pos = {v[PX], v[PY], v[PZ]};
+  glm::dquat q(v[QW], v[QX], v[QY], v[QZ]);
+  double n = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
+  if (std::fabs(n - 1.0) > opt.quat_tolerance) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "quaternion (qw,qx,qy,qz) has norm %.6g, not unit within %.3g",
+                  n, opt.quat_tolerance);
+    probs.push_back({Part::Pose, f.col_of(QW), "non-unit quaternion", buf});
+  } else {
+    s.head_rot = q / n;
+  }
+}
+
+// The gaze direction in head space (a unit direction, or a screen point), inside the display's
+// FOV. Returns false with the problems in `gprobs` when the row's gaze is unusable.
+bool decode_gaze(const RowFields& f, const Display& display, const TraceReadOptions& opt,
+                 glm::dvec3& g, std::vector<Problem>& gprobs) {
+  const double* v = f.v;
+  const bool dir_gaze = f.h.dir_gaze;
+  bool gaze_ok = true;
+  for (int k : dir_gaze ? std::vector<int>{GX, GY, GZ} : std::vector<int>{GU, GV})
+    if (!f.ok[k]) {
+      gprobs.push_back({Part::Gaze, f.col_of(k),
+                        f.why[k] == "empty field" ? "empty field" : "bad number",
+                        std::string("column \"") + kCols[k] + "\": " + f.why[k]});
+      gaze_ok = false;
+    }
+  if (!gaze_ok) return false;
+  if (dir_gaze) {
+    g = {v[GX], v[GY], v[GZ]};
+    double n = glm::length(g);
+    if (std::fabs(n - 1.0) > opt.quat_tolerance) {
+      char buf[160];
+      std::snprintf(buf, sizeof buf,
+                    "gaze direction (gx,gy,gz) has length %.6g, not unit within %.3g", n,
+                    opt.quat_tolerance);
+      gprobs.push_back({Part::Gaze, f.col_of(GX), "non-unit gaze", buf});
+      return false;
+    }
+    g /= n;
+  } else {
+    if (v[GU] < 0 || v[GU] > 1 || v[GV] < 0 || v[GV] > 1) {
+      char buf[160];
+      std::snprintf(buf, sizeof buf,
+                    "gaze outside the display FOV: screen point (%.4g, %.4g) not in [0,1]^2", v[GU],
+                    v[GV]);
+      gprobs.push_back({Part::Gaze, f.col_of(GU), "gaze outside the display FOV", buf});
+      return false;
+    }
+    g = gaze_dir_from_screen(display, v[GU], v[GV]);
+  }
+  if (dir_gaze && !gaze_inside_fov(display, g)) {
+    double u = 0, w = 0;
+    bool front = gaze_screen_from_dir(display, g, u, w);
+    char buf[200];
+    if (front)
+      std::snprintf(buf, sizeof buf,
+                    "gaze outside the display FOV (%s %.1fx%.1f deg): screen point (%.3f, %.3f) "
+                    "not in [0,1]^2",
+                    display.name.c_str(), display.fov_h_deg, display.fov_v_deg, u, w);
+    else
+      std::snprintf(buf, sizeof buf,
+                    "gaze outside the display FOV: direction points behind the eye (gz >= 0)");
+    gprobs.push_back({Part::Gaze, f.col_of(GX), "gaze outside the display FOV", buf});
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+// Stages: the header (read_header), each row decoded (decode_time_and_valid, decode_pose,
+// decode_gaze), the bad-sample policy (fail, skip, hold the last good part), gap statistics.
+Trace read_trace_csv(const std::string& path, const Display& display, const TraceReadOptions& opt) {
+  std::vector<CsvRow> rows = read_csv_rows(path, ',', '#');
+  if (rows.empty())
+    throw Error(path, "empty trace file: expected a header row (see traces/README.md)");
+  const CsvRow& head = rows[0];
+  const Header h = read_header(path, head);
 
   Trace tr;
   tr.source = path;
@@ -111,140 +265,15 @@ Trace read_trace_csv(const std::string& path, const Display& display, const Trac
                                                           " fields as in the header, got " +
                                                           std::to_string(row.fields.size()));
     }
+    const RowFields f(row, h);
     std::vector<Problem> probs;
-    double v[NCOL] = {};
-    bool ok[NCOL] = {};
-    std::string why[NCOL];
-    for (int k = 0; k < NCOL; ++k)
-      if (idx[k] >= 0) ok[k] = parse_number(row.fields[idx[k]].text, v[k], why[k]);
-    auto col_of = [&](int k) { return row.fields[idx[k]].col; };
-    auto bad_number = [&](int k, Part part) {
-      probs.push_back({part, col_of(k),
-                       why[k].rfind("empty", 0) == 0 ? "empty field" : "bad number",
-                       std::string("column \"") + kCols[k] + "\": " + why[k]});
-    };
     TraceSample s;
-    // Time.
-    if (!ok[T]) {
-      bad_number(T, Part::Row);
-    } else if (!(std::fabs(v[T]) <= kMaxTraceTimeS)) {
-      probs.push_back({Part::Row, col_of(T), "time out of range",
-                       "time value out of range: t=" + printable(row.fields[idx[T]].text) +
-                           " is beyond +-9.007e9 s (2^53 us), where times are no longer exact "
-                           "to the microsecond and nanosecond integers overflow"});
-    } else if (!(v[T] > last_t)) {
-      probs.push_back({Part::Row, col_of(T), "non-monotonic time",
-                       "time not strictly increasing: t=" + printable(row.fields[idx[T]].text) +
-                           " after t=" + printable(last_t_text) + " (line " +
-                           std::to_string(last_t_line) + ")"});
-    }
-    s.t = v[T];
-    // Validity flag.
-    if (idx[VALID] >= 0) {
-      const std::string& f = row.fields[idx[VALID]].text;
-      if (f == "1" || f == "true")
-        s.valid = true;
-      else if (f == "0" || f == "false")
-        s.valid = false;
-      else
-        probs.push_back({Part::Row, col_of(VALID), "bad valid flag",
-                         "column \"valid\": expected 0 or 1, got \"" + f + "\""});
-    }
-    // Head pose.
-    bool pose_ok = true;
-    for (int k = PX; k <= QZ; ++k)
-      if (!ok[k]) {
-        bad_number(k, Part::Pose);
-        pose_ok = false;
-      }
-    if (pose_ok) {
-      for (int k = PX; k <= PZ; ++k)
-        if (!(std::fabs(v[k]) <= kMaxCoordinateM)) {
-          probs.push_back({Part::Pose, col_of(k), "head position out of range",
-                           std::string("column \"") + kCols[k] + "\": head position " +
-                               printable(row.fields[idx[k]].text) +
-                               " m is beyond the coordinate bound +-1e5 m"});
-          pose_ok = false;
-          break;
-        }
-    }
-    if (pose_ok) {
-      s.head_pos = {v[PX], v[PY], v[PZ]};
-      glm::dquat q(v[QW], v[QX], v[QY], v[QZ]);
-      double n = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
-      if (std::fabs(n - 1.0) > opt.quat_tolerance) {
-        char buf[160];
-        std::snprintf(buf, sizeof buf,
-                      "quaternion (qw,qx,qy,qz) has norm %.6g, not unit within %.3g", n,
-                      opt.quat_tolerance);
-        probs.push_back({Part::Pose, col_of(QW), "non-unit quaternion", buf});
-      } else {
-        s.head_rot = q / n;
-      }
-    }
+    decode_time_and_valid(f, last_t, last_t_text, last_t_line, s, probs);
+    decode_pose(f, opt, s, probs);
     // Gaze. Rows flagged valid=0 may carry any gaze (or none): the last valid gaze is shown.
     std::vector<Problem> gprobs;
     glm::dvec3 g(0.0);
-    bool gaze_ok = true;
-    if (dir_gaze) {
-      for (int k : {GX, GY, GZ})
-        if (!ok[k]) {
-          gprobs.push_back({Part::Gaze, col_of(k),
-                            why[k] == "empty field" ? "empty field" : "bad number",
-                            std::string("column \"") + kCols[k] + "\": " + why[k]});
-          gaze_ok = false;
-        }
-      if (gaze_ok) {
-        g = {v[GX], v[GY], v[GZ]};
-        double n = glm::length(g);
-        if (std::fabs(n - 1.0) > opt.quat_tolerance) {
-          char buf[160];
-          std::snprintf(buf, sizeof buf,
-                        "gaze direction (gx,gy,gz) has length %.6g, not unit within %.3g", n,
-                        opt.quat_tolerance);
-          gprobs.push_back({Part::Gaze, col_of(GX), "non-unit gaze", buf});
-          gaze_ok = false;
-        } else {
-          g /= n;
-        }
-      }
-    } else {
-      for (int k : {GU, GV})
-        if (!ok[k]) {
-          gprobs.push_back({Part::Gaze, col_of(k),
-                            why[k] == "empty field" ? "empty field" : "bad number",
-                            std::string("column \"") + kCols[k] + "\": " + why[k]});
-          gaze_ok = false;
-        }
-      if (gaze_ok) {
-        if (v[GU] < 0 || v[GU] > 1 || v[GV] < 0 || v[GV] > 1) {
-          char buf[160];
-          std::snprintf(buf, sizeof buf,
-                        "gaze outside the display FOV: screen point (%.4g, %.4g) not in [0,1]^2",
-                        v[GU], v[GV]);
-          gprobs.push_back({Part::Gaze, col_of(GU), "gaze outside the display FOV", buf});
-          gaze_ok = false;
-        } else {
-          g = gaze_dir_from_screen(display, v[GU], v[GV]);
-        }
-      }
-    }
-    if (gaze_ok && dir_gaze && !gaze_inside_fov(display, g)) {
-      double u = 0, w = 0;
-      bool front = gaze_screen_from_dir(display, g, u, w);
-      char buf[200];
-      if (front)
-        std::snprintf(buf, sizeof buf,
-                      "gaze outside the display FOV (%s %.1fx%.1f deg): screen point (%.3f, %.3f) "
-                      "not in [0,1]^2",
-                      display.name.c_str(), display.fov_h_deg, display.fov_v_deg, u, w);
-      else
-        std::snprintf(buf, sizeof buf,
-                      "gaze outside the display FOV: direction points behind the eye (gz >= 0)");
-      gprobs.push_back(
-          {Part::Gaze, col_of(dir_gaze ? GX : GU), "gaze outside the display FOV", buf});
-      gaze_ok = false;
-    }
+    const bool gaze_ok = decode_gaze(f, display, opt, g, gprobs);
     if (s.valid) {
       for (auto& p : gprobs) probs.push_back(p);
       if (gaze_ok) s.gaze_dir = g;
@@ -283,13 +312,13 @@ Trace read_trace_csv(const std::string& path, const Display& display, const Trac
         char b[200];
         std::snprintf(b, sizeof b, "t=%.9g after t=%.9g (line %ld): a gap of %.6g s", s.t, last_t,
                       last_t_line, s.t - last_t);
-        first_gap = file_location(path, row.line, col_of(T)) + ": " + b;
+        first_gap = file_location(path, row.line, f.col_of(T)) + ": " + b;
       }
       longest_gap = std::max(longest_gap, s.t - last_t);
     }
     last_t = s.t;
     last_t_line = row.line;
-    last_t_text = row.fields[size_t(idx[T])].text;
+    last_t_text = f.text(T);
     last_good = s;
     have_last = true;
     tr.samples.push_back(s);
