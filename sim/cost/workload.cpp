@@ -1,4 +1,5 @@
-// Workload descriptors (models/workloads/*.json); keys in docs/cost_model.md.
+// Workload descriptors (models/workloads/*.json): the keys are workload_table() and
+// pipeline_table() (configs/README.md "Workload" is generated from them).
 #include "sim/cost/workload.h"
 
 #include <algorithm>
@@ -9,46 +10,103 @@
 
 namespace fovsim {
 
+const ParamTable<Workload>& workload_table() {
+  using W = Workload;
+  const Range from_scene = Range::at_least(-1), nonneg = Range::at_least(0);
+  static const auto t =
+      ParamTable<W>()
+          .text("name", "generic", {}, &W::name)
+          .doc("", "workload name (results, manifest)")
+          .text("source", "", {}, &W::source)
+          .shown("\"\"")
+          .doc("", "where the numbers come from")
+          .documented("comment", "any", "", "", "", "ignored")
+          .documented("assumptions", "any", "", "", "", "free text: what the numbers assume")
+          .documented("fitted_by", "any", "", "", "", "free text: what fitted the numbers")
+          .number("triangles", -1, from_scene, &W::triangles)
+          .doc("", "triangles of the scene; -1: from the scene's features")
+          .number("lights", -1, from_scene, &W::lights)
+          .doc("", "lights evaluated per shaded sample; -1: from the scene's features")
+          .number("shadowed_lights", -1, from_scene, &W::shadowed_lights)
+          .doc("", "shadow maps rendered per frame; -1: from the scene's features")
+          .number("submitted_fraction", 1.0, Range::closed(0, 1), &W::submitted_fraction)
+          .doc("", "triangles left after frustum culling")
+          .number("overdraw", 1.5, Range::closed(0, 100), &W::overdraw)
+          .doc("", "rasterised fragments per pixel")
+          .number("gbuffer_bytes", 16, nonneg, &W::gbuffer_bytes)
+          .doc("", "bytes written per G-buffer fragment")
+          .number("shadow_map_res", 2048, nonneg, &W::shadow_map_res)
+          .doc("", "texels per side of a shadow map")
+          .number("shading_flops", 3000, nonneg, &W::shading_flops)
+          .doc("",
+               "effective FP32 operations per shaded sample and light at the GPU's peak rate "
+               "(fitted by `fovsim calibrate`; the default is the mean of the fitted scenes)")
+          .number("tri_cost", 1.0, Range::closed(0, 1e6), &W::tri_cost)
+          .doc("",
+               "cost of a submitted triangle in the G-buffer pass relative to the mean of the "
+               "calibrated scenes (fitted; 1 = the mean)")
+          .number("vpl_flops", -1, from_scene, &W::vpl_flops)
+          .doc("Yang et al. 2021 §6", "per-VPL shading cost (fitted); -1: `shading_flops`")
+          .number("rsm_res", 64, nonneg, &W::rsm_res)
+          .doc("Yang et al. 2021 §6", "RSM texels per side")
+          .number("importance_samples", 4096, nonneg, &W::importance_samples)
+          .doc("Yang et al. 2021 Alg. 1", "importance samples N_s")
+          .number("chain_length", 8, nonneg, &W::chain_length)
+          .doc("Yang et al. 2021 Alg. 1", "proposals per chain M")
+          .number("vpl_budget", 1024, nonneg, &W::vpl_budget)
+          .doc("Yang et al. 2021 §7", "VPLs kept for shading")
+          .number("vpl_exponent", 1.0, Range::closed(1, 3), &W::vpl_exponent)
+          .doc("Yang et al. 2021 §7, Fig. 7",
+               "VPL shading work per VPL grows as (kept / vpl_ref)^(vpl_exponent - 1); 1 = "
+               "linear in the VPLs kept")
+          .number("vpl_ref", 1024, Range::above(0), &W::vpl_ref)
+          .doc("Yang et al. 2021 §7", "reference VPL count of `vpl_exponent`")
+          .number("interleave", 4, Range::at_least(1), &W::interleave)
+          .doc("Yang et al. 2021 §6",
+               "interleaved-sampling factor (each pixel shades 1/interleave of the VPLs)")
+          .number("lpt_fraction", 1.0, Range::closed(0, 1), &W::lpt_fraction)
+          .doc("Yang et al. 2021 §6", "shaded samples / pixels with the log-polar transform")
+          .number("twfr_redraw_fraction", 0.059, Range::closed(0, 1), &W::twfr_redraw_fraction)
+          .doc("Franke et al. 2021 §8.4", "redrawn fragments (108K / 1.84M)")
+          .number("twfr_prims_fraction", 0.667, Range::closed(0, 1), &W::twfr_prims_fraction)
+          .doc("Franke et al. 2021 §8.4", "redrawn primitives (1.8M / 2.7M)")
+          .number("shaded_fraction", -1, Range::closed(-1, 1), &W::shaded_fraction)
+          .doc("",
+               "fVRS and the baselines: shaded fraction when no density model is given; -1: "
+               "computed")
+          .documented("pipeline", "object", "", "", "", "optional passes: `pipeline` below");
+  return t;
+}
+
+const ParamTable<PipelineOptions>& pipeline_table() {
+  using P = PipelineOptions;
+  static const auto t =
+      ParamTable<P>()
+          .boolean("depth_prepass", true, &P::depth_prepass)
+          .doc("", "a depth pre-pass before the G-buffer")
+          .boolean("skybox", false, &P::skybox)
+          .doc("", "a skybox pass")
+          .boolean("ssao", false, &P::ssao)
+          .doc("", "screen-space ambient occlusion")
+          .boolean("tonemap", true, &P::tonemap)
+          .doc("", "a tone-mapping pass")
+          .boolean("taa", false, &P::taa)
+          .doc("", "temporal anti-aliasing")
+          .boolean("post_aa", false, &P::post_aa)
+          .doc("Yang et al. 2021 §6", "FLC's Gaussian blur + TAA")
+          .boolean("frame", false, &P::frame)
+          .doc("Meng 2018 Table 4.1", "fixed per-frame GPU work outside the passes");
+  return t;
+}
+
 Workload Workload::from_params(Params& p) {
   Workload w;
-  auto any = Range::at_least(-1);
-  auto nonneg = Range::at_least(0);
-  w.name = p.string("name", w.name);
-  w.source = p.string("source", "");
   p.ignore("comment");
   p.ignore("assumptions");
   p.ignore("fitted_by");
-  w.triangles = p.number("triangles", w.triangles, any);
-  w.lights = p.number("lights", w.lights, any);
-  w.shadowed_lights = p.number("shadowed_lights", w.shadowed_lights, any);
-  w.submitted_fraction = p.number("submitted_fraction", w.submitted_fraction, Range::closed(0, 1));
-  w.overdraw = p.number("overdraw", w.overdraw, Range::closed(0, 100));
-  w.gbuffer_bytes = p.number("gbuffer_bytes", w.gbuffer_bytes, nonneg);
-  w.shadow_map_res = p.number("shadow_map_res", w.shadow_map_res, nonneg);
-  w.shading_flops = p.number("shading_flops", w.shading_flops, nonneg);
-  w.tri_cost = p.number("tri_cost", w.tri_cost, Range::closed(0, 1e6));
-  w.vpl_flops = p.number("vpl_flops", w.vpl_flops, any);
-  w.rsm_res = p.number("rsm_res", w.rsm_res, nonneg);
-  w.importance_samples = p.number("importance_samples", w.importance_samples, nonneg);
-  w.chain_length = p.number("chain_length", w.chain_length, nonneg);
-  w.vpl_budget = p.number("vpl_budget", w.vpl_budget, nonneg);
-  w.vpl_exponent = p.number("vpl_exponent", w.vpl_exponent, Range::closed(1, 3));
-  w.vpl_ref = p.number("vpl_ref", w.vpl_ref, Range::above(0));
-  w.interleave = p.number("interleave", w.interleave, Range::at_least(1));
-  w.lpt_fraction = p.number("lpt_fraction", w.lpt_fraction, Range::closed(0, 1));
-  w.twfr_redraw_fraction =
-      p.number("twfr_redraw_fraction", w.twfr_redraw_fraction, Range::closed(0, 1));
-  w.twfr_prims_fraction =
-      p.number("twfr_prims_fraction", w.twfr_prims_fraction, Range::closed(0, 1));
-  w.shaded_fraction = p.number("shaded_fraction", w.shaded_fraction, Range::closed(-1, 1));
+  workload_table().read_into(p, w);
   Params pl = p.child("pipeline");
-  w.pipeline.depth_prepass = pl.boolean("depth_prepass", w.pipeline.depth_prepass);
-  w.pipeline.skybox = pl.boolean("skybox", w.pipeline.skybox);
-  w.pipeline.ssao = pl.boolean("ssao", w.pipeline.ssao);
-  w.pipeline.tonemap = pl.boolean("tonemap", w.pipeline.tonemap);
-  w.pipeline.taa = pl.boolean("taa", w.pipeline.taa);
-  w.pipeline.post_aa = pl.boolean("post_aa", w.pipeline.post_aa);
-  w.pipeline.frame = pl.boolean("frame", w.pipeline.frame);
+  pipeline_table().read_into(pl, w.pipeline);
   return w;
 }
 
@@ -74,37 +132,13 @@ std::vector<std::string> Workload::available(const std::string& models_dir) {
 }
 
 Json Workload::to_json() const {
-  return {{"name", name},
-          {"source", source},
-          {"triangles", triangles},
-          {"lights", lights},
-          {"shadowed_lights", shadowed_lights},
-          {"submitted_fraction", submitted_fraction},
-          {"overdraw", overdraw},
-          {"gbuffer_bytes", gbuffer_bytes},
-          {"shadow_map_res", shadow_map_res},
-          {"shading_flops", shading_flops},
-          {"tri_cost", tri_cost},
-          {"vpl_flops", vpl_flops},
-          {"rsm_res", rsm_res},
-          {"importance_samples", importance_samples},
-          {"chain_length", chain_length},
-          {"vpl_budget", vpl_budget},
-          {"vpl_exponent", vpl_exponent},
-          {"vpl_ref", vpl_ref},
-          {"interleave", interleave},
-          {"lpt_fraction", lpt_fraction},
-          {"twfr_redraw_fraction", twfr_redraw_fraction},
-          {"twfr_prims_fraction", twfr_prims_fraction},
-          {"shaded_fraction", shaded_fraction},
-          {"pipeline",
-           {{"depth_prepass", pipeline.depth_prepass},
-            {"skybox", pipeline.skybox},
-            {"ssao", pipeline.ssao},
-            {"tonemap", pipeline.tonemap},
-            {"taa", pipeline.taa},
-            {"post_aa", pipeline.post_aa},
-            {"frame", pipeline.frame}}}};
+  Json j = Json::object();
+  for (const auto& r : workload_table().rows())
+    if (!r.doc_only) j[r.key] = r.get(*this);
+  Json pl = Json::object();
+  for (const auto& r : pipeline_table().rows()) pl[r.key] = r.get(pipeline);
+  j["pipeline"] = pl;
+  return j;
 }
 
 }  // namespace fovsim

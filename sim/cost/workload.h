@@ -1,11 +1,12 @@
 // Workload descriptor (models/workloads/*.json): what a scene costs the GPU beyond the
 // counters a method measures -- triangles, lights, overdraw, shading cost per sample,
 // which post-processing passes exist -- so the cost model can run without rendering.
-// Keys are documented in docs/cost_model.md.
+// Its keys are declared once, in workload_table() and pipeline_table() below.
 #pragma once
 #include <string>
 #include <vector>
 
+#include "sim/core/param_table.h"
 #include "sim/core/params.h"
 #include "sim/scene/scene.h"
 
@@ -78,5 +79,9 @@ struct Workload {
   static std::vector<std::string> available(const std::string& models_dir);
   Json to_json() const;
 };
+
+// The declared keys of a workload file and of its `pipeline` object (sim/core/param_table.h).
+const ParamTable<Workload>& workload_table();
+const ParamTable<PipelineOptions>& pipeline_table();
 
 }  // namespace fovsim

@@ -1,6 +1,7 @@
 #include "sim/experiment/run_config.h"
 
 #include "sim/cost/gpu_profile.h"
+#include "sim/cost/workload.h"
 #include "sim/display/display_keys.h"
 #include "sim/experiment/latency.h"
 #include "sim/experiment/reference_cache.h"
@@ -219,6 +220,9 @@ std::string config_keys_markdown() {
   md += section("`latency.main_sequence`", latency_main_sequence_table().markdown(false));
   md += section("GPU profile `spec` (`models/gpus/*.json`, docs/cost_model.md)",
                 gpu_spec_table().markdown());
+  md += section("Workload (`models/workloads/*.json`, the top-level `workload` key)",
+                workload_table().markdown());
+  md += section("Workload `pipeline`", pipeline_table().markdown());
   return md;
 }
 

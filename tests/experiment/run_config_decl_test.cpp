@@ -4,11 +4,13 @@
 
 #include <algorithm>
 
+#include "sim/cost/workload.h"
 #include "sim/display/display_keys.h"
 #include "sim/experiment/engine.h"
 #include "sim/experiment/latency.h"
 #include "sim/experiment/reference_cache.h"
 #include "sim/experiment/run_config.h"
+#include "sim/experiment/sweep_spec.h"
 #include "tests/common/param_table_check.h"
 
 using namespace fovsim;
@@ -28,6 +30,26 @@ TEST(RunConfigDecl, EveryTableReadsItsOwnDefaults) {
   table_check::expect_table_reads_own_defaults(latency_main_sequence_table(),
                                                "latency.main_sequence");
   table_check::expect_table_reads_own_defaults(cache_block_table(), "cache");
+  table_check::expect_table_reads_own_defaults(sweep_table(), "sweep");
+  table_check::expect_table_reads_own_defaults(iso_budget_table(), "sweep.iso_budget");
+  table_check::expect_table_reads_own_defaults(search_table(), "sweep.search");
+  table_check::expect_table_reads_own_defaults(workload_table(), "");
+  table_check::expect_table_reads_own_defaults(pipeline_table(), "pipeline");
+}
+
+// A workload file read through its table writes back the same document (calibrate writes
+// workloads with to_json and reads them with from_params).
+TEST(RunConfigDecl, WorkloadRoundTrips) {
+  Params p(Json{{"name", "w"}, {"overdraw", 2.5}, {"pipeline", {{"taa", true}}}}, "w.json", "");
+  const Workload w = Workload::from_params(p);
+  EXPECT_NO_THROW(p.finish());
+  EXPECT_EQ(w.overdraw, 2.5);
+  EXPECT_TRUE(w.pipeline.taa);
+  Params q(w.to_json(), "w2.json", "");
+  const Workload v = Workload::from_params(q);
+  EXPECT_EQ(v.to_json(), w.to_json());
+  EXPECT_EQ(w.to_json()["pipeline"]["depth_prepass"], true);
+  EXPECT_EQ(w.to_json()["shading_flops"], 3000);
 }
 
 TEST(RunConfigDecl, DefaultsTheCallerSetsAreKept) {
