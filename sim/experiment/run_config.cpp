@@ -182,6 +182,30 @@ const ParamTable<ReferenceCacheSettings>& cache_block_table() {
   return t;
 }
 
+const ParamTable<MethodEntryKeys>& method_entry_table() {
+  static const auto t =
+      ParamTable<MethodEntryKeys>()
+          .documented("method", "string", "required", "", "",
+                      "factory name: `full`, and the methods in `docs/methods.md`")
+          .documented(
+              "label", "string", "the method name", "", "",
+              "unique name of this configuration (`config_id` in the results). In image file "
+              "names every character other than `A-Z a-z 0-9 . _ + -` becomes `_`, and a "
+              "leading `.` becomes `_` (one function, `safe_file_name` in `sim/core/files.h`, "
+              "so nothing is written outside the output folder); two labels that give the same "
+              "file name, or the name `reference`, are an error")
+          .documented("lighting", "object", "`{\"method\": \"all_vpls\"}`", "", "",
+                      "the lighting strategy for the scene's indirect light (only used when the "
+                      "scene has it, `scene.indirect`): `{\"method\": \"flc\", \"vpl_budget\": "
+                      "1024, ...}`; its keys are the strategy tables at the end of the methods' "
+                      "section below; sweepable as `methods[kfr].lighting.vpl_budget`. Not "
+                      "allowed on `flc`, which brings its own")
+          .documented("other keys", "", "", "", "",
+                      "the method's parameters: the tables below (generated from the methods' "
+                      "declarations; `docs/methods.md` explains each method)");
+  return t;
+}
+
 std::string config_keys_markdown() {
   auto section = [](const std::string& title, const std::string& md) {
     return "#### " + title + "\n\n" + md + "\n";
@@ -223,6 +247,8 @@ std::string config_keys_markdown() {
   md += section("Workload (`models/workloads/*.json`, the top-level `workload` key)",
                 workload_table().markdown());
   md += section("Workload `pipeline`", pipeline_table().markdown());
+  md += section("`methods[i]` (read by the run engine; each method's keys: \"Methods\" below)",
+                method_entry_table().markdown(false));
   return md;
 }
 

@@ -62,6 +62,11 @@ const ParamTable<OutputsBlock>& outputs_block_table();
 struct ReferenceCacheSettings;
 const ParamTable<ReferenceCacheSettings>& cache_block_table();
 
+// `methods[i]`: the entry's own keys, documented rows (the engine reads them; a method's
+// parameters are its own table).
+struct MethodEntryKeys {};
+const ParamTable<MethodEntryKeys>& method_entry_table();
+
 // Every run-config table as Markdown sections, for configs/README.md (between the markers
 // kConfigDocsBegin / kConfigDocsEnd).
 std::string config_keys_markdown();
