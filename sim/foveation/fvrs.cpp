@@ -40,6 +40,7 @@ struct FvrsGeometry final : GeometryOf<FvrsGeometry>, RadialThresholds {
   bool shades_whole_buffer() const override { return false; }
   FreeParam free_param() const override { return {"radius_scale", 1e-4, 1e3, nullptr}; }
   double& free_ref() override { return radius_scale; }
+  void widen_keys(double k, Json& p) const override { widen_radius_keys(k, p); }
 };
 
 // fvrs (Patney et al. 2016 / Franke et al. 2021 §8.4): shading rate (coarse pixel edge 1, 2 or 4)

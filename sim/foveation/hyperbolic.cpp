@@ -44,6 +44,7 @@ struct HyperbolicGeometry final : GeometryOf<HyperbolicGeometry>, RadialThreshol
   bool shades_whole_buffer() const override { return false; }
   FreeParam free_param() const override { return {"radius_scale", 1e-4, 1e3, nullptr}; }
   double& free_ref() override { return radius_scale; }
+  void widen_keys(double k, Json& p) const override { widen_radius_keys(k, p); }
 };
 
 std::vector<HyperLayer> hyperbolic_layers(const HyperbolicGeometry& s, const MappingView& v);

@@ -83,6 +83,7 @@ struct KfrGeometry final : GeometryOf<KfrGeometry> {
   // eq. 2.8: every sampling rate of the map scales with 1 / sigma, so a region sampled at
   // least at a given rate grows).
   void widen(double k) override { sigma = widened_sigma(sigma, k); }
+  void widen_keys(double k, Json& p) const override { p["sigma"] = widened_sigma(sigma, k); }
 };
 
 class KfrMethod final : public MappingMethod<KfrGeometry> {

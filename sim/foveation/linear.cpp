@@ -27,6 +27,7 @@ struct LinearGeometry final : GeometryOf<LinearGeometry>, RadialThresholds {
   bool shades_whole_buffer() const override { return false; }
   FreeParam free_param() const override { return {"radius_scale", 1e-4, 1e3, nullptr}; }
   double& free_ref() override { return radius_scale; }
+  void widen_keys(double k, Json& p) const override { widen_radius_keys(k, p); }
 };
 
 // Linear fall-off (Weier et al. 2016, Ye et al. 2022 §5.1): sampling probability 1 inside r1,

@@ -61,6 +61,10 @@ class SamplingGeometry {
   // renders with, changed in place. Default: unchanged (the baselines widen through the
   // eccentricity map, MappingView::widen).
   virtual void widen(double k) { (void)k; }
+  // The same widening written as config keys, for the analytic cost of a lost frame
+  // (`fovsim predict --tracking-loss`, which costs keys, not a render): sets in p the widened
+  // value of every key the widening changes. Default: none.
+  virtual void widen_keys(double k, Json& p) const { (void)k, (void)p; }
 
   // Shared by every mapping method: > 0 asks the iso-budget solver for this shaded fraction.
   double target_shaded_fraction = 0;
@@ -152,6 +156,9 @@ struct RadialThresholds {
   double radius_scale = 1.0;  // multiplies r1 and r2 (the iso-budget free parameter)
   double r1_eff() const { return r1 * radius_scale; }
   double r2_eff() const { return r2 * radius_scale; }
+  // A render divides the frame's eccentricities by k (MappingView::widen); on the keys that is
+  // radius_scale' = k radius_scale (SamplingGeometry::widen_keys of the baselines).
+  void widen_radius_keys(double k, Json& p) const { p["radius_scale"] = radius_scale * k; }
 };
 
 // Rows shared by the baselines, in column order: r1, r2 (columns: the radius-scaled values),

@@ -47,6 +47,19 @@ struct RmfrGeometry final : GeometryOf<RmfrGeometry> {
     fx_px *= k;  // 0 (unset) stays 0
     fy_px *= k;
   }
+  void widen_keys(double k, Json& p) const override {
+    RmfrGeometry g = *this;
+    g.widen(k);
+    p["sigma"] = g.sigma;
+    if (fx_px > 0)  // the form given (fx_px or fx) is the one widened
+      p["fx_px"] = g.fx_px;
+    else
+      p["fx"] = g.fx;
+    if (fy_px > 0)
+      p["fy_px"] = g.fy_px;
+    else
+      p["fy"] = g.fy;
+  }
   // S = sigma^2 (§3.2): sigma = 1 / sqrt(target), at least 1.
   static bool sigma_for(double target, double* s) {
     *s = std::max(1.0, 1.0 / std::sqrt(target));
