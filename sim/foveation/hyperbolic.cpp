@@ -47,7 +47,6 @@ struct HyperbolicGeometry final : GeometryOf<HyperbolicGeometry>, RadialThreshol
   void widen_keys(double k, Json& p) const override { widen_radius_keys(k, p); }
 };
 
-std::vector<HyperLayer> hyperbolic_layers(const HyperbolicGeometry& s, const MappingView& v);
 // Blend weight of an inner layer at eccentricity e: 1 inside limit - band, smoothstep to 0 at
 // the limit (Guenter's blend between layers).
 inline float hyper_weight(double e, double limit, double band) {
@@ -56,17 +55,8 @@ inline float hyper_weight(double e, double limit, double band) {
   const double t = (limit - e) / band;
   return float(t * t * (3 - 2 * t));
 }
-// Effective weights (inner, middle, outer) of the three layers at screen pixel centre (px, py)
-// with eccentricity e; they sum to 1.
-void hyper_effective_weights(const HyperbolicGeometry& s, const std::vector<HyperLayer>& layers,
-                             double px, double py, double e, float eff[3]);
-// Marks the layer pixels the composite reads (bilinear footprints of pixels with a non-zero
-// effective weight): only those are shaded, like a stencil-masked layer pass, so hidden parts
-// of coarser layers cost nothing. masks (optional) receives one w*h mask per layer.
-// Returns the number of marked layer pixels.
-double hyperbolic_needed(const HyperbolicGeometry& s, const MappingView& v,
-                         const std::vector<HyperLayer>& layers, std::vector<uint8_t>* masks);
 
+// The three layers for this view (pixel sizes s1, s2, s3; inner radii r1, r2 scaled).
 std::vector<HyperLayer> hyperbolic_layers(const HyperbolicGeometry& s, const MappingView& v) {
   std::vector<HyperLayer> out;
   const double max_px = 4.0 * (v.W + v.H) + std::abs(v.gaze_px.x) + std::abs(v.gaze_px.y);
@@ -97,6 +87,8 @@ std::vector<HyperLayer> hyperbolic_layers(const HyperbolicGeometry& s, const Map
   return out;
 }
 
+// Effective weights (inner, middle, outer) of the three layers at screen pixel centre (px, py)
+// with eccentricity e; they sum to 1.
 void hyper_effective_weights(const HyperbolicGeometry& s, const std::vector<HyperLayer>& layers,
                              double px, double py, double e, float eff[3]) {
   float rem = 1.f;
@@ -111,6 +103,10 @@ void hyper_effective_weights(const HyperbolicGeometry& s, const std::vector<Hype
   }
 }
 
+// Marks the layer pixels the composite reads (bilinear footprints of pixels with a non-zero
+// effective weight): only those are shaded, like a stencil-masked layer pass, so hidden parts
+// of coarser layers cost nothing. masks (optional) receives one w*h mask per layer.
+// Returns the number of marked layer pixels.
 double hyperbolic_needed(const HyperbolicGeometry& s, const MappingView& v,
                          const std::vector<HyperLayer>& layers, std::vector<uint8_t>* masks) {
   std::vector<uint8_t> local[3];
