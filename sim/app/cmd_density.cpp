@@ -92,7 +92,7 @@ int run_density(const DensityArgs& a) {
               "\" has no analytic sampling density (only image-mapping methods and baselines)");
     MappingSpec s = *inst->mapping_spec();
     bool reachable = true;
-    const double target = a.target > 0 ? a.target : s.target_shaded_fraction;
+    const double target = a.target > 0 ? a.target : s.target_shaded_fraction();
     if (target > 0) {
       MappingSpec r;
       reachable = solve_iso_budget(s, v, target, r);

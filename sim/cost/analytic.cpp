@@ -75,7 +75,7 @@ Counters analytic_counters(const std::string& method, const Json& params, const 
   // kfr/rmfr-style buffers (a whole (W/sigma) x (H/sigma) buffer is shaded) vs baselines whose
   // shaded samples follow their layers / probability: the method's SamplingGeometry says.
   const bool whole_buffer =
-      inst->mapping_spec() && inst->mapping_spec()->geometry->shades_whole_buffer;
+      inst->mapping_spec() && inst->mapping_spec()->geometry().shades_whole_buffer();
   Params p(extra, where, "");
   const double P = double(std::max(0, d.width)) * double(std::max(0, d.height));
   Counters c;
@@ -96,7 +96,7 @@ Counters analytic_counters(const std::string& method, const Json& params, const 
     Camera cam = Camera::from_pose(d, glm::dvec3(0), glm::dquat(1, 0, 0, 0));
     MappingView v = MappingView::at(cam, {gu * d.width, gv * d.height});
     if (fam == CostFamily::Fvrs)
-      return fvrs_shaded_fraction(d, gu, gv, spec->r1_eff(), spec->r2_eff());
+      return fvrs_shaded_fraction(d, gu, gv, column(cols, "r1", 10), column(cols, "r2", 20));
     return expected_shaded_samples(*spec, v) / P;
   };
   if (fam == CostFamily::Full) {

@@ -89,9 +89,9 @@ std::vector<BudgetChange> fitting_changes(const BudgetQuery& q, double budget_ms
     inst = make_method(q.method, dp);
     spec = inst->mapping_spec();
   }
-  if (spec && spec->geometry->shades_whole_buffer &&
-      spec->geometry->free_param == &MappingSpec::sigma) {
-    const double s0 = q.params.value("sigma", spec->sigma);
+  if (spec && spec->geometry().shades_whole_buffer() &&
+      std::string(spec->geometry().free_param().key) == "sigma") {
+    const double s0 = q.params.value("sigma", spec->geometry().free_value());
     for (int k = 1; s0 + 0.1 * k <= 4.0 + 1e-9; ++k) {
       const double s = std::round((s0 + 0.1 * k) * 10) / 10;
       Json p = q.params;

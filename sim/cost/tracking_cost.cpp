@@ -2,6 +2,11 @@
 
 #include <algorithm>
 
+#include "sim/core/error.h"
+#include "sim/foveation/factory.h"
+#include "sim/foveation/mapping_spec.h"
+#include "sim/foveation/method.h"
+
 namespace fovsim {
 
 Json widened_method_params(const std::string& method, const Json& params, double k,
@@ -12,19 +17,21 @@ Json widened_method_params(const std::string& method, const Json& params, double
   auto num = [&](const char* key, double def) {
     return p.contains(key) && p[key].is_number() ? p[key].get<double>() : def;
   };
-  if (method == "kfr" || method == "rmfr") {
-    p["sigma"] = std::max(1.0, num("sigma", method == "kfr" ? 1.8 : 2.6) / k);
-    if (method == "rmfr") {
-      for (const char* f : {"fx_px", "fy_px"})
-        if (p.contains(f) && p[f].is_number()) p[f] = p[f].get<double>() * k;
-      if (!p.contains("fx_px")) p["fx"] = num("fx", 0.38) * k;
-      if (!p.contains("fy_px")) p["fy"] = num("fy", 0.38) * k;
-    }
-  } else if (method == "hyperbolic" || method == "linear" || method == "fvrs") {
-    p["radius_scale"] = num("radius_scale", 1.0) * k;
-  } else if (method == "flc") {
+  if (method == "flc") {
     if (p.contains("log_polar") && p["log_polar"].is_boolean() && p["log_polar"].get<bool>())
       p["lp_sigma"] = std::max(1.0, num("lp_sigma", 2.0) / k);
+    return p;
+  }
+  // A mapping method widens its own keys (its SamplingGeometry, read from the same keys with
+  // its defaults). A method whose geometry is another's (rmfr_auto renders through rmfr) has
+  // keys of its own that the geometry cannot write: left as given. Invalid keys are left to
+  // the analytic parse that follows, which reports them at their location.
+  try {
+    Params mp(p, "widen", "");
+    const std::unique_ptr<FoveationMethod> inst = make_method(method, mp);
+    const MappingSpec* spec = inst->mapping_spec();
+    if (spec && spec->method() == method) spec->geometry().widen_keys(k, p);
+  } catch (const Error&) {
   }
   return p;
 }

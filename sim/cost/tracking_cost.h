@@ -11,9 +11,10 @@
 namespace fovsim {
 
 // The method's parameters on a lost frame under `widen` with growth factor k (>= 1), as the
-// methods widen them in a run (FrameContext::widen): kfr sigma' = max(1, sigma / k); rmfr the
-// same and fx, fy (fx_px, fy_px) times k; hyperbolic, linear, fvrs radius_scale times k (their
-// eccentricity thresholds); flc with log_polar lp_sigma' = max(1, lp_sigma / k) (its foveal
+// methods widen them in a run (FrameContext::widen). A mapping method's geometry writes them
+// (SamplingGeometry::widen_keys, in the method's file): kfr sigma' = max(1, sigma / k); rmfr
+// the same and fx, fy (fx_px, fy_px) times k; hyperbolic, linear, fvrs radius_scale times k
+// (their eccentricity thresholds); flc with log_polar lp_sigma' = max(1, lp_sigma / k) (its foveal
 // region does not change its analytic cost: the VPL budget is a count). `modelled` is false
 // for methods whose widened cost the analytic counters cannot state (twfr: its redraw
 // fraction is measured, not derived from phi_f); `full` is unchanged.

@@ -28,12 +28,39 @@ inline bool same_surface(const GBuffer& g, size_t a, size_t b) {
   return true;
 }
 
-class FvrsMethod final : public MappingMethodBase {
+// fvrs's parameters and sampling geometry (density, samples, iso-budget free parameter); the
+// keys are the table params_table() at the end of this file.
+struct FvrsGeometry final : GeometryOf<FvrsGeometry>, RadialThresholds {
+  static constexpr const char* kMethod = "fvrs";
+  bool edge_aware = true;  // pixels on another surface than their coarse sample shade themselves
+
+  static const ParamTable<MappingSpec>& params_table();
+  double density(const MappingView& v, double x, double y) const override;
+  double expected_samples(const MappingView& v) const override;
+  bool shades_whole_buffer() const override { return false; }
+  FreeParam free_param() const override { return {"radius_scale", 1e-4, 1e3, nullptr}; }
+  double& free_ref() override { return radius_scale; }
+  void widen_keys(double k, Json& p) const override { widen_radius_keys(k, p); }
+};
+
+// fvrs (Patney et al. 2016 / Franke et al. 2021 §8.4): shading rate (coarse pixel edge 1, 2 or 4)
+// of the 4x4 block whose top-left pixel is (bx*4, by*4), from the eccentricity at its centre.
+int fvrs_rate(const FvrsGeometry& s, const MappingView& v, int bx, int by) {
+  const double x0 = bx * 4.0, y0 = by * 4.0;
+  const double cx = 0.5 * (x0 + std::min(x0 + 4.0, double(v.W)));
+  const double cy = 0.5 * (y0 + std::min(y0 + 4.0, double(v.H)));
+  const double e = v.ecc_deg(cx, cy);
+  if (e < s.r1_eff()) return 1;
+  if (e < s.r2_eff()) return 2;
+  return 4;
+}
+
+class FvrsMethod final : public MappingMethod<FvrsGeometry> {
  public:
-  using MappingMethodBase::MappingMethodBase;
+  using MappingMethod::MappingMethod;
 
   void render(const FrameContext& ctx, FrameOutput& out) override {
-    const MappingSpec& s = resolve(ctx, out);
+    const FvrsGeometry& s = frame_geometry(ctx, out);
     const GBuffer& gb = *ctx.gbuffer;
     const int W = gb.width, H = gb.height;
     const MappingView view = view_of(ctx);
@@ -88,22 +115,21 @@ class FvrsMethod final : public MappingMethodBase {
   std::vector<uint32_t> rep_;
 };
 
-// The geometry (density, samples, iso-budget free parameter) and the keys of fvrs.
-double fvrs_density(const MappingSpec& s, const MappingView& v, double x, double y) {
+double FvrsGeometry::density(const MappingView& v, double x, double y) const {
   int bx = std::clamp(int(std::floor(x / 4)), 0, std::max(0, (v.W - 1) / 4));
   int by = std::clamp(int(std::floor(y / 4)), 0, std::max(0, (v.H - 1) / 4));
-  int r = fvrs_rate(s, v, bx, by);
+  int r = fvrs_rate(*this, v, bx, by);
   return 1.0 / (r * r);
 }
 
 // Coarse pixels per 4x4 block (partial blocks at the screen edge count their coarse pixels
 // that intersect the screen).
-double fvrs_samples(const MappingSpec& s, const MappingView& v) {
+double FvrsGeometry::expected_samples(const MappingView& v) const {
   const int bw = (v.W + 3) / 4, bh = (v.H + 3) / 4;
   return sum_rows(bh, [&](int by) {
     double n = 0;
     for (int bx = 0; bx < bw; ++bx) {
-      const int r = fvrs_rate(s, v, bx, by);
+      const int r = fvrs_rate(*this, v, bx, by);
       const int ex = std::min(4, v.W - bx * 4), ey = std::min(4, v.H - by * 4);
       n += double((ex + r - 1) / r) * double((ey + r - 1) / r);
     }
@@ -111,13 +137,13 @@ double fvrs_samples(const MappingSpec& s, const MappingView& v) {
   });
 }
 
-const ParamTable<MappingSpec>& fvrs_table() {
-  using S = MappingSpec;
-  static const ParamTable<S> t = [] {
-    ParamTable<S> t;
-    add_radius_rows(t, "Franke et al. 2021 §8.4", "1x1 shading inside (deg)",
-                    "2x2 inside, 4x4 beyond (deg)");
-    t.boolean("edge_aware", true, &S::edge_aware)
+const ParamTable<MappingSpec>& FvrsGeometry::params_table() {
+  using G = FvrsGeometry;
+  static const ParamTable<MappingSpec> t = [] {
+    ParamTable<MappingSpec> t;
+    add_radius_rows<G>(t, "Franke et al. 2021 §8.4", "1x1 shading inside (deg)",
+                       "2x2 inside, 4x4 beyond (deg)");
+    t.boolean("edge_aware", true, field<G>(&G::edge_aware))
         .doc("Vaidyanathan 2014", "pixels of another surface shade themselves");
     add_target_row(t, "radius_scale");
     return t;
@@ -125,25 +151,14 @@ const ParamTable<MappingSpec>& fvrs_table() {
   return t;
 }
 
-const SamplingGeometry kFvrsGeometry = {"fvrs",
-                                        fvrs_table,
-                                        fvrs_density,
-                                        nullptr,
-                                        fvrs_samples,
-                                        /*shades_whole_buffer=*/false,
-                                        &MappingSpec::radius_scale,
-                                        1e-4,
-                                        1e3,
-                                        nullptr};
-
 }  // namespace
 
 std::unique_ptr<FoveationMethod> create_fvrs(Params& p) {
-  return std::make_unique<FvrsMethod>(read_mapping_spec(kFvrsGeometry, p));
+  return std::make_unique<FvrsMethod>(read_mapping_spec<FvrsGeometry>(p));
 }
 
 const std::vector<ParamInfo>& fvrs_params() {
-  return fvrs_table().info();
+  return FvrsGeometry::params_table().info();
 }
 
 }  // namespace fovsim

@@ -63,13 +63,36 @@ void extend_unused(Image& img, const std::vector<uint8_t>& used) {
   }
 }
 
-class KfrMethod final : public MappingMethodBase {
+// kfr's parameters and sampling geometry (density, samples, iso-budget free parameter, widening);
+// the keys are the table params_table() at the end of this file.
+struct KfrGeometry final : GeometryOf<KfrGeometry> {
+  static constexpr const char* kMethod = "kfr";
+  double sigma = 1.8;              // W / w (= H / h), Meng 2018 eq. 2.8
+  KernelFn kernel;                 // kernel K and alpha
+  bool internal_aa = true;         // §2.2.3 3x3 Gaussian on the peripheral part of the LP-buffer
+  double internal_aa_start = 0.5;  // fraction of the LP-buffer width where "the right part" starts
+  bool post_aa = true;             // §2.3.2 eq. 2.14 Gaussian post filter
+
+  static const ParamTable<MappingSpec>& params_table();
+  double density(const MappingView& v, double x, double y) const override;
+  double expected_samples(const MappingView& v) const override;
+  bool shades_whole_buffer() const override { return true; }
+  FreeParam free_param() const override { return {"sigma", 1.0, 1e4, nullptr}; }
+  double& free_ref() override { return sigma; }
+  // Under tracking loss the LP-buffer grows by k per axis: sigma' = max(1, sigma / k) (Meng 2018
+  // eq. 2.8: every sampling rate of the map scales with 1 / sigma, so a region sampled at
+  // least at a given rate grows).
+  void widen(double k) override { sigma = widened_sigma(sigma, k); }
+  void widen_keys(double k, Json& p) const override { p["sigma"] = widened_sigma(sigma, k); }
+};
+
+class KfrMethod final : public MappingMethod<KfrGeometry> {
  public:
-  using MappingMethodBase::MappingMethodBase;
+  using MappingMethod::MappingMethod;
 
   void render(const FrameContext& ctx, FrameOutput& out) override {
-    // Tracking loss under trace.on_invalid = widen: a larger buffer (widened_spec).
-    const MappingSpec& s = widened_spec(resolve(ctx, out), ctx.widen, widened_);
+    // Tracking loss under trace.on_invalid = widen: a larger buffer (KfrGeometry::widen).
+    const KfrGeometry& s = frame_geometry(ctx, out);
     const GBuffer& gb = *ctx.gbuffer;
     const int W = gb.width, H = gb.height;
     const int w = reduced_size(W, s.sigma), h = reduced_size(H, s.sigma);
@@ -148,24 +171,22 @@ class KfrMethod final : public MappingMethodBase {
   }
 
  private:
-  MappingSpec widened_;             // the spec of a frame under tracking loss (widened_spec)
   std::vector<uint32_t> lp_index_;  // LP-buffer: G-buffer sample per slot (reused across frames)
   Image lp_col_;
   std::vector<uint8_t> used_, eta_;
   Image tmp_lp_, tmp_full_;  // scratch of the two Gaussian passes (kept: no per-frame allocation)
 };
 
-// The geometry (density, samples, iso-budget free parameter) and the keys of kfr.
-double kfr_density(const MappingSpec& s, const MappingView& v, double x, double y) {
-  auto m = LogPolarMap::make(v.W, v.H, reduced_size(v.W, s.sigma), reduced_size(v.H, s.sigma),
-                             v.gaze_px, s.kernel);
+double KfrGeometry::density(const MappingView& v, double x, double y) const {
+  auto m = LogPolarMap::make(v.W, v.H, reduced_size(v.W, sigma), reduced_size(v.H, sigma),
+                             v.gaze_px, kernel);
   return m.density(x, y);
 }
 
 // LP-buffer pixels whose inverse map lands on the screen (the ones pass 1 shades).
-double kfr_samples(const MappingSpec& s, const MappingView& v) {
-  const int w = reduced_size(v.W, s.sigma), h = reduced_size(v.H, s.sigma);
-  auto m = LogPolarMap::make(v.W, v.H, w, h, v.gaze_px, s.kernel);
+double KfrGeometry::expected_samples(const MappingView& v) const {
+  const int w = reduced_size(v.W, sigma), h = reduced_size(v.H, sigma);
+  auto m = LogPolarMap::make(v.W, v.H, w, h, v.gaze_px, kernel);
   return sum_rows(h, [&](int iv) {
     double n = 0;
     for (int iu = 0; iu < w; ++iu) {
@@ -176,29 +197,30 @@ double kfr_samples(const MappingSpec& s, const MappingView& v) {
   });
 }
 
-const ParamTable<MappingSpec>& kfr_table() {
-  using S = MappingSpec;
-  static const ParamTable<S> t = [] {
-    ParamTable<S> t;
-    t.number("sigma", 1.8, Range::at_least(1), &S::sigma)
+const ParamTable<MappingSpec>& KfrGeometry::params_table() {
+  using G = KfrGeometry;
+  static const ParamTable<MappingSpec> t = [] {
+    ParamTable<MappingSpec> t;
+    t.number("sigma", 1.8, Range::at_least(1), field<G>(&G::sigma))
         .doc("Meng 2018 §2.1 eq. 2.8", "W / w = H / h of the LP-buffer")
         .column()
         .number(
-            "alpha", 4.0, Range::closed(1e-3, 1e3), [](auto& s) -> auto& { return s.kernel.alpha; })
+            "alpha", 4.0, Range::closed(1e-3, 1e3),
+            [](auto& s) -> auto& { return s.template as<G>().kernel.alpha; })
         .doc("Meng 2018 §2.1 eq. 2.9", "exponent of K(x) = x^alpha")
         .column()
         .choice(
             "kernel", "power",
             std::vector<std::pair<std::string, KernelKind>>{
                 {"power", KernelKind::Power}, {"sine", KernelKind::Sine}, {"exp", KernelKind::Exp}},
-            [](auto& s) -> auto& { return s.kernel.kind; })
+            [](auto& s) -> auto& { return s.template as<G>().kernel.kind; })
         .doc("Meng 2018 §2.1", "K(x) = x^alpha, sin(x pi/2) or (e^x - 1)/(e - 1)")
         .column()
-        .boolean("internal_aa", true, &S::internal_aa)
+        .boolean("internal_aa", true, field<G>(&G::internal_aa))
         .doc("Meng 2018 §2.2.3", "3x3 Gaussian on the peripheral LP part")
-        .number("internal_aa_start", 0.5, Range::closed(0, 1), &S::internal_aa_start)
+        .number("internal_aa_start", 0.5, Range::closed(0, 1), field<G>(&G::internal_aa_start))
         .doc("Meng 2018 §2.2.3", "u/w where the filtered part starts")
-        .boolean("post_aa", true, &S::post_aa)
+        .boolean("post_aa", true, field<G>(&G::post_aa))
         .doc("Meng 2018 §2.3.2 eq. 2.14", "eccentricity-sized Gaussian post filter");
     add_target_row(t, "sigma");
     return t;
@@ -206,25 +228,14 @@ const ParamTable<MappingSpec>& kfr_table() {
   return t;
 }
 
-const SamplingGeometry kKfrGeometry = {"kfr",
-                                       kfr_table,
-                                       kfr_density,
-                                       nullptr,
-                                       kfr_samples,
-                                       /*shades_whole_buffer=*/true,
-                                       &MappingSpec::sigma,
-                                       1.0,
-                                       1e4,
-                                       nullptr};
-
 }  // namespace
 
 std::unique_ptr<FoveationMethod> create_kfr(Params& p) {
-  return std::make_unique<KfrMethod>(read_mapping_spec(kKfrGeometry, p));
+  return std::make_unique<KfrMethod>(read_mapping_spec<KfrGeometry>(p));
 }
 
 const std::vector<ParamInfo>& kfr_params() {
-  return kfr_table().info();
+  return KfrGeometry::params_table().info();
 }
 
 }  // namespace fovsim

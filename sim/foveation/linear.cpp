@@ -14,12 +14,37 @@
 namespace fovsim {
 namespace {
 
-class LinearMethod final : public MappingMethodBase {
+// linear's parameters and sampling geometry (density, samples, iso-budget free parameter); the
+// keys are the table params_table() at the end of this file.
+struct LinearGeometry final : GeometryOf<LinearGeometry>, RadialThresholds {
+  static constexpr const char* kMethod = "linear";
+  double p_min = 0.047;  // minimum sampling probability
+  uint64_t seed = 0;     // stochastic sample pattern
+
+  static const ParamTable<MappingSpec>& params_table();
+  double density(const MappingView& v, double x, double y) const override;
+  double expected_samples(const MappingView& v) const override;
+  bool shades_whole_buffer() const override { return false; }
+  FreeParam free_param() const override { return {"radius_scale", 1e-4, 1e3, nullptr}; }
+  double& free_ref() override { return radius_scale; }
+  void widen_keys(double k, Json& p) const override { widen_radius_keys(k, p); }
+};
+
+// Linear fall-off (Weier et al. 2016, Ye et al. 2022 §5.1): sampling probability 1 inside r1,
+// falling linearly to p_min at r2, p_min beyond.
+double linear_probability(const LinearGeometry& s, double e) {
+  const double r1 = s.r1_eff(), r2 = s.r2_eff();
+  if (!(e > r1)) return 1.0;
+  if (!(e < r2)) return s.p_min;
+  return 1.0 - (1.0 - s.p_min) * (e - r1) / (r2 - r1);
+}
+
+class LinearMethod final : public MappingMethod<LinearGeometry> {
  public:
-  using MappingMethodBase::MappingMethodBase;
+  using MappingMethod::MappingMethod;
 
   void render(const FrameContext& ctx, FrameOutput& out) override {
-    const MappingSpec& s = resolve(ctx, out);
+    const LinearGeometry& s = frame_geometry(ctx, out);
     const GBuffer& gb = *ctx.gbuffer;
     const int W = gb.width, H = gb.height;
     const std::vector<float>& ecc = *ctx.eccentricity;
@@ -46,34 +71,33 @@ class LinearMethod final : public MappingMethodBase {
   std::vector<uint8_t> mask_;
 };
 
-// The geometry (density, samples, iso-budget free parameter) and the keys of linear.
-double linear_density(const MappingSpec& s, const MappingView& v, double x, double y) {
-  return linear_probability(s, v.ecc_deg(x, y));
+double LinearGeometry::density(const MappingView& v, double x, double y) const {
+  return linear_probability(*this, v.ecc_deg(x, y));
 }
 
 // Expected samples: the sum of p(e) over the pixels.
-double linear_samples(const MappingSpec& s, const MappingView& v) {
+double LinearGeometry::expected_samples(const MappingView& v) const {
   return sum_rows(v.H, [&](int y) {
     double n = 0;
     for (int x = 0; x < v.W; ++x) {
       double e = v.ecc ? double((*v.ecc)[size_t(y) * size_t(v.W) + size_t(x)])
                        : v.ecc_deg(x + 0.5, y + 0.5);
-      n += linear_probability(s, e);
+      n += linear_probability(*this, e);
     }
     return n;
   });
 }
 
-const ParamTable<MappingSpec>& linear_table() {
-  using S = MappingSpec;
-  static const ParamTable<S> t = [] {
-    ParamTable<S> t;
-    add_radius_rows(t, "Ye et al. 2022 §5.1", "full-rate region (deg)",
-                    "end of the linear fall-off (deg)");
-    t.number("p_min", 0.047, Range::above(0, 1), &S::p_min)
+const ParamTable<MappingSpec>& LinearGeometry::params_table() {
+  using G = LinearGeometry;
+  static const ParamTable<MappingSpec> t = [] {
+    ParamTable<MappingSpec> t;
+    add_radius_rows<G>(t, "Ye et al. 2022 §5.1", "full-rate region (deg)",
+                       "end of the linear fall-off (deg)");
+    t.number("p_min", 0.047, Range::above(0, 1), field<G>(&G::p_min))
         .doc("Ye et al. 2022 §5.1", "minimum sampling probability")
         .column()
-        .integer("seed", 0, Range::closed(0, 2147483647), &S::seed)
+        .integer("seed", 0, Range::closed(0, 2147483647), field<G>(&G::seed))
         .doc("", "stochastic sample pattern seed")
         .shown("0", "[0, 2^31)");
     add_target_row(t, "radius_scale");
@@ -82,25 +106,14 @@ const ParamTable<MappingSpec>& linear_table() {
   return t;
 }
 
-const SamplingGeometry kLinearGeometry = {"linear",
-                                          linear_table,
-                                          linear_density,
-                                          nullptr,
-                                          linear_samples,
-                                          /*shades_whole_buffer=*/false,
-                                          &MappingSpec::radius_scale,
-                                          1e-4,
-                                          1e3,
-                                          nullptr};
-
 }  // namespace
 
 std::unique_ptr<FoveationMethod> create_linear(Params& p) {
-  return std::make_unique<LinearMethod>(read_mapping_spec(kLinearGeometry, p));
+  return std::make_unique<LinearMethod>(read_mapping_spec<LinearGeometry>(p));
 }
 
 const std::vector<ParamInfo>& linear_params() {
-  return linear_table().info();
+  return LinearGeometry::params_table().info();
 }
 
 }  // namespace fovsim

@@ -6,8 +6,8 @@ namespace fovsim {
 
 std::vector<std::pair<std::string, double>> MappingMethodBase::param_columns() const {
   auto c = active_.columns();
-  if (spec_.target_shaded_fraction > 0) {
-    c.push_back({"target_shaded_fraction", spec_.target_shaded_fraction});
+  if (spec_.target_shaded_fraction() > 0) {
+    c.push_back({"target_shaded_fraction", spec_.target_shaded_fraction()});
     c.push_back({"iso_achieved_fraction", achieved_});
   }
   return c;
@@ -26,7 +26,7 @@ MappingView MappingMethodBase::view_of(const FrameContext& ctx) {
 }
 
 const MappingSpec& MappingMethodBase::resolve(const FrameContext& ctx, FrameOutput& out) {
-  if (!(spec_.target_shaded_fraction > 0)) return active_;
+  if (!(spec_.target_shaded_fraction() > 0)) return active_;
   const int W = ctx.gbuffer->width, H = ctx.gbuffer->height;
   if (W != res_w_ || H != res_h_ || ctx.camera->tan_half_h != res_tan_h_ ||
       ctx.camera->tan_half_v != res_tan_v_) {
@@ -35,7 +35,7 @@ const MappingSpec& MappingMethodBase::resolve(const FrameContext& ctx, FrameOutp
     MappingView v = MappingView::at(*ctx.camera, glm::dvec2(W * 0.5, H * 0.5));
     std::vector<float> ecc = eccentricity_map(*ctx.camera, v.gaze_dir);
     v.ecc = &ecc;
-    reachable_ = solve_iso_budget(spec_, v, spec_.target_shaded_fraction, active_, &achieved_);
+    reachable_ = solve_iso_budget(spec_, v, spec_.target_shaded_fraction(), active_, &achieved_);
     res_w_ = W;
     res_h_ = H;
     res_tan_h_ = ctx.camera->tan_half_h;
@@ -43,19 +43,6 @@ const MappingSpec& MappingMethodBase::resolve(const FrameContext& ctx, FrameOutp
   }
   if (!reachable_) out.flags.push_back("iso_budget_unreachable");
   return active_;
-}
-
-const MappingSpec& widened_spec(const MappingSpec& s, double k, MappingSpec& tmp) {
-  if (!(k > 1) || (s.method != "kfr" && s.method != "rmfr")) return s;
-  tmp = s;
-  tmp.sigma = widened_sigma(s.sigma, k);
-  if (s.method == "rmfr") {
-    tmp.fx *= k;
-    tmp.fy *= k;
-    tmp.fx_px *= k;  // 0 (unset) stays 0
-    tmp.fy_px *= k;
-  }
-  return tmp;
 }
 
 void MappingMethodBase::set_counters(FrameOutput& out, double shaded, double gbuffer_samples,
@@ -68,11 +55,11 @@ void MappingMethodBase::set_counters(FrameOutput& out, double shaded, double gbu
   out.counters.set("filter_taps", taps);
 }
 
-void MappingMethodBase::debug_density(const FrameContext& ctx, const MappingSpec& s,
+void MappingMethodBase::debug_density(const FrameContext& ctx, const SamplingGeometry& g,
                                       FrameOutput& out) const {
   MappingView v = view_of(ctx);
-  Image d;
-  density_image(s, v, d);
+  Image d(v.W, v.H, 1);
+  g.density_image(v, d);
   out.debug.emplace_back("sample_density", std::move(d));
 }
 

@@ -1,6 +1,7 @@
 // Common plumbing of the mapping methods and baselines: a base class that holds the
 // MappingSpec, resolves an iso-budget target once per screen size, reports param_columns,
-// and helpers for counters and debug buffers.
+// and helpers for counters and debug buffers; MappingMethod<G> hands render() the method's
+// own geometry struct G for the frame (resolved, widened), once per frame.
 #pragma once
 #include <algorithm>
 #include <string>
@@ -16,7 +17,7 @@ namespace fovsim {
 class MappingMethodBase : public FoveationMethod {
  public:
   explicit MappingMethodBase(MappingSpec s) : spec_(std::move(s)), active_(spec_) {}
-  std::string name() const override { return spec_.method; }
+  std::string name() const override { return spec_.method(); }
   uint32_t required_channels() const override { return kShadingChannels; }
   // The spec's columns with the free parameter as resolved (iso-budget), plus
   // iso_achieved_fraction when a target was given.
@@ -37,7 +38,7 @@ class MappingMethodBase : public FoveationMethod {
   static void set_counters(FrameOutput& out, double shaded, double gbuffer_samples,
                            double allocated, double used, double fullres, double taps);
   // Appends a 1-channel "sample_density" debug image (samples per pixel, analytic).
-  void debug_density(const FrameContext& ctx, const MappingSpec& s, FrameOutput& out) const;
+  void debug_density(const FrameContext& ctx, const SamplingGeometry& g, FrameOutput& out) const;
 
   MappingSpec spec_;    // as configured
   MappingSpec active_;  // as rendered (free parameter resolved)
@@ -47,14 +48,28 @@ class MappingMethodBase : public FoveationMethod {
   bool reachable_ = true;
 };
 
-// The spec a mapping method renders a frame with under tracking loss (FrameContext::widen,
-// docs/tracking.md): for k = ctx.widen > 1, kfr's and rmfr's reduced buffer grows by k per
-// axis, sigma' = max(1, sigma / k) (Meng et al. 2018 eq. 2.8 and Ye et al. 2022 §3.2: every
-// sampling rate of the map scales with 1 / sigma, so a region sampled at least at a given
-// rate grows), and rmfr's foveal extents grow, f' = k f (Ye et al. 2022 eq. 4: as f grows the
-// map tends to the uniform 1 / sigma). Returns `s` itself when k <= 1 or for other methods
-// (the baselines widen through the eccentricity map); else fills and returns `tmp`.
-const MappingSpec& widened_spec(const MappingSpec& s, double k, MappingSpec& tmp);
+// A mapping method over its geometry struct G (its file's GeometryOf<G>).
+template <class G>
+class MappingMethod : public MappingMethodBase {
+ public:
+  using MappingMethodBase::MappingMethodBase;
+
+ protected:
+  // The geometry this frame renders with: the configured one with the iso-budget's free
+  // parameter resolved (resolve()) and, under tracking loss (ctx.widen = k > 1,
+  // docs/tracking.md), widened by G::widen. Plain data for the render loops.
+  const G& frame_geometry(const FrameContext& ctx, FrameOutput& out) {
+    const G& g = resolve(ctx, out).template as<G>();
+    if (!(ctx.widen > 1)) return g;
+    widened_ = g;
+    widened_.G::widen(ctx.widen);
+    return widened_;
+  }
+
+ private:
+  G widened_;  // the geometry of a frame under tracking loss
+};
+
 // sigma' = max(1, sigma / k) for k > 1, sigma itself otherwise.
 inline double widened_sigma(double sigma, double k) {
   return k > 1 ? std::max(1.0, sigma / k) : sigma;

@@ -18,13 +18,62 @@
 namespace fovsim {
 namespace {
 
-class RmfrMethod final : public MappingMethodBase {
+// rmfr's parameters and sampling geometry (density, samples, iso-budget free parameter, widening);
+// the keys are the table params_table() at the end of this file.
+struct RmfrGeometry final : GeometryOf<RmfrGeometry> {
+  static constexpr const char* kMethod = "rmfr";
+  double sigma = 2.6;           // W / w (= H / h)
+  double fx = 0.38, fy = 0.38;  // as fractions of W / H ...
+  double fx_px = 0, fy_px = 0;  // ... or in pixels when > 0 (keys fx_px / fy_px)
+  double fx_pixels(int W) const { return fx_px > 0 ? fx_px : fx * W; }
+  double fy_pixels(int H) const { return fy_px > 0 ? fy_px : fy * H; }
+
+  static const ParamTable<MappingSpec>& params_table();
+  double density(const MappingView& v, double x, double y) const override;
+  // The whole RS-buffer is shaded (§3.3.3).
+  double expected_samples(const MappingView& v) const override {
+    return double(reduced_size(v.W, sigma)) * reduced_size(v.H, sigma);
+  }
+  bool shades_whole_buffer() const override { return true; }
+  FreeParam free_param() const override { return {"sigma", 1.0, 1e4, sigma_for}; }
+  double& free_ref() override { return sigma; }
+  // Under tracking loss the RS-buffer grows by k per axis, sigma' = max(1, sigma / k) (§3.2:
+  // every sampling rate of the map scales with 1 / sigma), and the foveal extents grow,
+  // f' = k f (eq. 4: as f grows the map tends to the uniform 1 / sigma).
+  void widen(double k) override {
+    sigma = widened_sigma(sigma, k);
+    fx *= k;
+    fy *= k;
+    fx_px *= k;  // 0 (unset) stays 0
+    fy_px *= k;
+  }
+  void widen_keys(double k, Json& p) const override {
+    RmfrGeometry g = *this;
+    g.widen(k);
+    p["sigma"] = g.sigma;
+    if (fx_px > 0)  // the form given (fx_px or fx) is the one widened
+      p["fx_px"] = g.fx_px;
+    else
+      p["fx"] = g.fx;
+    if (fy_px > 0)
+      p["fy_px"] = g.fy_px;
+    else
+      p["fy"] = g.fy;
+  }
+  // S = sigma^2 (§3.2): sigma = 1 / sqrt(target), at least 1.
+  static bool sigma_for(double target, double* s) {
+    *s = std::max(1.0, 1.0 / std::sqrt(target));
+    return target <= 1.0;
+  }
+};
+
+class RmfrMethod final : public MappingMethod<RmfrGeometry> {
  public:
-  using MappingMethodBase::MappingMethodBase;
+  using MappingMethod::MappingMethod;
 
   void render(const FrameContext& ctx, FrameOutput& out) override {
-    // Tracking loss under trace.on_invalid = widen: a larger buffer (widened_spec).
-    const MappingSpec& s = widened_spec(resolve(ctx, out), ctx.widen, widened_);
+    // Tracking loss under trace.on_invalid = widen: a larger buffer (RmfrGeometry::widen).
+    const RmfrGeometry& s = frame_geometry(ctx, out);
     const GBuffer& gb = *ctx.gbuffer;
     const int W = gb.width, H = gb.height;
     const int w = reduced_size(W, s.sigma), h = reduced_size(H, s.sigma);
@@ -60,55 +109,43 @@ class RmfrMethod final : public MappingMethodBase {
   }
 
  private:
-  MappingSpec widened_;             // the spec of a frame under tracking loss (widened_spec)
   std::vector<uint32_t> rs_index_;  // TG-buffer: G-buffer sample per slot
   Image rs_col_;
   std::vector<uint8_t> used_;
 };
 
-// The geometry (density, samples, iso-budget free parameter) and the keys of rmfr.
-double rmfr_density(const MappingSpec& s, const MappingView& v, double x, double y) {
-  auto m = RectMap::make(v.W, v.H, reduced_size(v.W, s.sigma), reduced_size(v.H, s.sigma),
-                         v.gaze_px, s.fx_pixels(v.W), s.fy_pixels(v.H));
+double RmfrGeometry::density(const MappingView& v, double x, double y) const {
+  auto m = RectMap::make(v.W, v.H, reduced_size(v.W, sigma), reduced_size(v.H, sigma), v.gaze_px,
+                         fx_pixels(v.W), fy_pixels(v.H));
   return m.density(x, y);
 }
 
-// The whole RS-buffer is shaded (§3.3.3).
-double rmfr_samples(const MappingSpec& s, const MappingView& v) {
-  return double(reduced_size(v.W, s.sigma)) * reduced_size(v.H, s.sigma);
-}
-
-// S = sigma^2 (§3.2): sigma = 1 / sqrt(target), at least 1.
-bool rmfr_sigma_for(double target, double* sigma) {
-  *sigma = std::max(1.0, 1.0 / std::sqrt(target));
-  return target <= 1.0;
-}
-
-const ParamTable<MappingSpec>& rmfr_table() {
+const ParamTable<MappingSpec>& RmfrGeometry::params_table() {
+  using G = RmfrGeometry;
   using S = MappingSpec;
   static const ParamTable<S> t = [] {
-    auto px_given = [](const S& s) { return s.fx_px > 0; };
+    auto px_given = [](const S& s) { return s.as<G>().fx_px > 0; };
     ParamTable<S> t;
-    t.number("sigma", 2.6, Range::at_least(1), &S::sigma)
+    t.number("sigma", 2.6, Range::at_least(1), field<G>(&G::sigma))
         .doc("Ye et al. 2022 §3.2, §6.1", "W / w = H / h of the RS-buffer")
         .column()
         // fx, fy as fractions of W / H, or fx_px, fy_px in pixels (one of each pair).
-        .number("fx", 0.38, Range::above(0), &S::fx)
+        .number("fx", 0.38, Range::above(0), field<G>(&G::fx))
         .doc("Ye et al. 2022 eq. 4, Fig. 7", "f_x as a fraction of W")
         .read_if([](const Params& p) { return !p.has("fx_px"); })
-        .column(nullptr, {}, [](const S& s) { return !(s.fx_px > 0); })
-        .number("fx_px", 0, Range::above(0), &S::fx_px)
+        .column(nullptr, {}, [](const S& s) { return !(s.as<G>().fx_px > 0); })
+        .number("fx_px", 0, Range::above(0), field<G>(&G::fx_px))
         .optional()
         .doc("Ye et al. 2022 eq. 4", "f_x in pixels (instead of fx)")
         .column(nullptr, {}, px_given)
-        .number("fy", 0.38, Range::above(0), &S::fy)
+        .number("fy", 0.38, Range::above(0), field<G>(&G::fy))
         .doc("Ye et al. 2022 eq. 4, Fig. 7", "f_y as a fraction of H")
         .read_if([](const Params& p) { return !p.has("fy_px"); })
-        .column(nullptr, {}, [](const S& s) { return !(s.fy_px > 0); })
-        .number("fy_px", 0, Range::above(0), &S::fy_px)
+        .column(nullptr, {}, [](const S& s) { return !(s.as<G>().fy_px > 0); })
+        .number("fy_px", 0, Range::above(0), field<G>(&G::fy_px))
         .optional()
         .doc("Ye et al. 2022 eq. 4", "f_y in pixels (instead of fy)")
-        .column(nullptr, {}, [](const S& s) { return s.fy_px > 0; })
+        .column(nullptr, {}, [](const S& s) { return s.as<G>().fy_px > 0; })
         .validate([](const S&, Params& p) {
           if (p.has("fx") && p.has("fx_px"))
             p.fail("fx_px", "give either fx (fraction of W) or fx_px, not both");
@@ -121,25 +158,14 @@ const ParamTable<MappingSpec>& rmfr_table() {
   return t;
 }
 
-const SamplingGeometry kRmfrGeometry = {"rmfr",
-                                        rmfr_table,
-                                        rmfr_density,
-                                        nullptr,
-                                        rmfr_samples,
-                                        /*shades_whole_buffer=*/true,
-                                        &MappingSpec::sigma,
-                                        1.0,
-                                        1e4,
-                                        rmfr_sigma_for};
-
 }  // namespace
 
 std::unique_ptr<FoveationMethod> create_rmfr(Params& p) {
-  return std::make_unique<RmfrMethod>(read_mapping_spec(kRmfrGeometry, p));
+  return std::make_unique<RmfrMethod>(read_mapping_spec<RmfrGeometry>(p));
 }
 
 const std::vector<ParamInfo>& rmfr_params() {
-  return rmfr_table().info();
+  return RmfrGeometry::params_table().info();
 }
 
 }  // namespace fovsim

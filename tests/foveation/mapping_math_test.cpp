@@ -263,12 +263,9 @@ TEST(Density, RmfrAndKfrScaleAsInverseSigmaSquared) {
   Camera cam = Camera::from_pose(d, glm::dvec3(0), glm::dquat(1, 0, 0, 0));
   MappingView v = MappingView::at(cam, {144, 160});
   for (std::string m : {"kfr", "rmfr"}) {
-    Params p(Json::object());
-    MappingSpec s = MappingSpec::from_params(m, p);
-    s.sigma = 1.5;
-    double a = expected_shaded_samples(s, v);
-    s.sigma = 3.0;
-    double b = expected_shaded_samples(s, v);
+    Params p(Json{{"sigma", 1.5}}), q(Json{{"sigma", 3.0}});
+    double a = expected_shaded_samples(MappingSpec::from_params(m, p), v);
+    double b = expected_shaded_samples(MappingSpec::from_params(m, q), v);
     EXPECT_NEAR(a / b, 4.0, 0.12) << m;  // 1/sigma^2 up to buffer rounding
   }
 }

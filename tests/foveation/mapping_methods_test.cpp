@@ -352,7 +352,7 @@ TEST(RmfrAuto, AxisPreferenceFollowsEdgeOrientation) {
     EXPECT_GE(std::min(fx[k], fy[k]), 0.1);  // f_min, f_max clamps
     EXPECT_LE(std::max(fx[k], fy[k]), 0.8);
     ASSERT_NE(m->mapping_spec(), nullptr);
-    EXPECT_EQ(m->mapping_spec()->method, "rmfr");
+    EXPECT_EQ(m->mapping_spec()->method(), "rmfr");
     const FrameOutput r = w.run("rmfr", {{"sigma", 2.6}, {"fx", fx[k]}, {"fy", fy[k]}});
     EXPECT_EQ(o1.counters.get("shaded_samples"), r.counters.get("shaded_samples"));
     EXPECT_EQ(o1.image.data, r.image.data);
