@@ -16,6 +16,9 @@
 //   image             mip pyramid (2x2 box) built at load, trilinear between the two levels
 //                     around log2(fw * max(width, height))
 // fw <= kPointFw evaluates the unfiltered pattern, bit for bit the former point sampling.
+// eval_albedo_packet (texture_packet.h) evaluates a renderer packet's lookups together, a
+// material's lanes at a time, with eval_albedo's operations; the grating's sines and cosines
+// come from sincos_det / sincos_packet (below), not libm.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -493,6 +496,26 @@ void box_square_packet(const float* x, const float* w, int n, float* out) {
   }
 }
 
+// box_pulse(x[k], w[k], a) for k < n, two lanes at a time (the same double operations).
+void box_pulse_packet(const float* x, const float* w, float a, int n, float* out) {
+  const vd2 ad = vsplat(double(a));
+  auto P = [ad](vd2 t) {  // floor(t) a + min(t - floor(t), a)
+    const vd2 f = vfloor(t), d = t - f;
+    return f * ad + (ad < d ? ad : d);
+  };
+  for (int k = 0; k < n; k += 2) {
+    const int k1 = k + 1 < n ? k + 1 : k;
+    const vd2 xd = {double(x[k]), double(x[k1])}, wd = {double(w[k]), double(w[k1])};
+    const vd2 h = vsplat(0.5) * wd;
+    vd2 r = (P(xd + h) - P(xd - h)) / wd;
+    r = r < vsplat(0.0) ? vsplat(0.0) : (vsplat(1.0) < r ? vsplat(1.0) : r);  // std::clamp
+    for (int j = 0; j < 2 && k + j < n; ++j) {
+      const float wj = w[k + j];
+      out[k + j] = (wj > kPointFw) ? float(r[j]) : box_pulse(x[k + j], wj, a);
+    }
+  }
+}
+
 }  // namespace
 
 void eval_albedo_packet(const Scene& scene, const glm::vec2* mat_cs, const TexSample* q, int n,
@@ -593,6 +616,39 @@ void eval_albedo_packet(const Scene& scene, const glm::vec2* mat_cs, const TexSa
             }
             const float wt = clamp01(0.5f + 0.5f * sum / 4.f);
             out[lane[j]] = glm::mix(m.color2, m.base_color, wt);
+          }
+          break;
+        }
+        case TexKind::Bricks: {
+          // eval_albedo's filtered bricks: the mortar pulse trains of both axes two lanes at a
+          // time; tint and mix per lane.
+          const float mortar = 0.06f;
+          float px[B], py[B], wx[B], wy[B], v[B], bx[B], by[B];
+          for (int j = 0; j < L; ++j) {
+            const TexSample& t = q[lane[j]];
+            glm::vec2 p = rot(t.uv) * m.scale;
+            p.x *= 0.5f;
+            const float row = std::floor(p.y);
+            if (int32_t(row) & 1) p.x += 0.5f;
+            v[j] = float(hash2(int32_t(std::floor(p.x)), int32_t(row)) & 0xffff) / 65535.f;
+            px[j] = p.x;
+            py[j] = p.y;
+            const float w = t.fw * m.scale;
+            wx[j] = 0.5f * w;
+            wy[j] = w;
+          }
+          box_pulse_packet(px, wx, mortar * 0.5f, L, bx);
+          box_pulse_packet(py, wy, mortar, L, by);
+          for (int j = 0; j < L; ++j) {
+            const TexSample& t = q[lane[j]];
+            if (!(t.fw > kPointFw)) {
+              out[lane[j]] = eval_albedo(scene, m, t.uv, ca, sa, t.fw);
+              continue;
+            }
+            const float brick = (1.f - bx[j]) * (1.f - by[j]);
+            const float tint =
+                glm::mix(0.8f + 0.4f * v[j], 1.f, clamp01(std::max(wx[j], wy[j])));  // mean 1
+            out[lane[j]] = glm::mix(m.color2, m.base_color * tint, brick);
           }
           break;
         }
