@@ -20,9 +20,12 @@
 //     (render_reference), the frame's VPLs (RSMs) and the indirect light of all VPLs at pixel
 //     centres (add_indirect); counters gbuffer_ms, direct_ms, supersample_ms, vpls_ms,
 //     indirect_ms, frame_ms.
-//   BM_ReferenceVsPacket: the quickstart's 16-spp shared reference (render_reference, one
+//   BM_ReferenceVsPacket/<complexity>/<spp>: the shared reference (render_reference, one
 //     thread) per sample against Embree's bare rtcIntersect16 over the same sub-sample rays in
-//     the same packets; counters ref_ns_per_sample, packet_ns_per_ray, ratio_ref_packet.
+//     the same packets plus bare rtcOccluded16 over its shadow rays; /1/16 is the quickstart's
+//     frame, /6/16 the 1.06M-triangle atrium, /1/4 4 spp; counters ref_ns_per_sample,
+//     packet_ns_per_ray, ratio_ref_packet, bare_shadow_ns_per_sample, ratio_ref_bare (the
+//     issue's measure: per sample over the bare traversal of all of its rays).
 // Run: build/bench_render [--benchmark_filter=...] [--benchmark_min_time=...] (no MinTime is
 // fixed in the code, so the command-line minimum applies). <threads> 1 = one TBB thread, timed
 // by the calling thread's CPU time (meaningful on a busy machine); 0 = all cores, wall clock.
@@ -576,8 +579,30 @@ void stratum_shadow_packets(const Renderer& r, const Camera& cam, const BareScen
 // shadow_rays_per_sample, bare_shadow_ns_per_sample (the shadow packets' traversal per sample),
 // bare_shadow_rays_per_sample (the rays the baseline formed: shadow_rays_per_sample's check),
 // ratio_ref_bare = ref / (packet + bare shadow) (per sample over all its rays' bare traversal).
+// Args: atrium complexity, spp. {1, 16} is the quickstart's frame (quickstart()); the others
+// the same view and display scale with the atrium at that complexity and render.spp.
+Fixture& reference_fixture(int complexity, int spp) {
+  if (complexity == 1 && spp == kDefaultReferenceSpp) return quickstart();
+  static std::map<std::pair<int, int>, std::unique_ptr<Fixture>> cache;
+  auto& f = cache[{complexity, spp}];
+  if (!f) {
+    f = std::make_unique<Fixture>();
+    Params p(Json{{"type", "atrium"},
+                  {"complexity", complexity},
+                  {"indirect", true},
+                  {"vpl", Json{{"rsm_size", 16}}}});
+    f->scene = make_scene(p, std::string(FOVSIM_SOURCE_DIR) + "/models");
+    RenderSettings rs;
+    rs.spp = spp;
+    f->renderer = std::make_unique<Renderer>(f->scene, rs);
+    f->display = quickstart().display;
+    f->cam = quickstart().cam;
+  }
+  return *f;
+}
+
 void BM_ReferenceVsPacket(benchmark::State& st) {
-  Fixture& f = quickstart();
+  Fixture& f = reference_fixture(int(st.range(0)), int(st.range(1)));
   tbb::global_control gc(tbb::global_control::max_allowed_parallelism, 1);
   const Renderer& r = *f.renderer;
   const int spp = r.settings().spp;
@@ -626,8 +651,14 @@ void BM_ReferenceVsPacket(benchmark::State& st) {
   st.counters["bare_shadow_ns_per_sample"] = ts / samples * 1e9;
   st.counters["bare_shadow_rays_per_sample"] = bare_rays / samples;
   st.counters["ratio_ref_bare"] = tr / (tp + ts);
+  st.counters["triangles"] = double(f.scene.triangle_count());
 }
-BENCHMARK(BM_ReferenceVsPacket)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_ReferenceVsPacket)
+    ->Args({1, 16})
+    ->Args({6, 16})
+    ->Args({1, 4})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace
 

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "sim/render/render_internal.h"
+#include "sim/render/vec4.h"
 
 namespace fovsim {
 
@@ -44,6 +45,22 @@ struct RefScratch {
 };
 
 constexpr size_t kLane[16] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
+
+// mix32 and jitter_at on 4 lanes (SSE2 integer vectors: the products are the same 32-bit
+// wrap-around multiplications; h >> 8 < 2^24 converts to float exactly either way).
+typedef uint32_t vu __attribute__((vector_size(16)));
+inline vu mix32v(vu h) {
+  h ^= h >> 16;
+  h *= 0x7feb352du;
+  h ^= h >> 15;
+  h *= 0x846ca68bu;
+  h ^= h >> 16;
+  return h;
+}
+inline vf jitter_at4(vu x, vu hr) {
+  const vu h = mix32v(x * 0x9e3779b1u ^ hr);
+  return __builtin_convertvector((vi)(h >> 8), vf) * (1.f / 16777216.f);
+}
 
 }  // namespace
 
@@ -103,27 +120,43 @@ void Renderer::render_reference(const Camera& cam, const GBuffer& g1, Image& out
           for (size_t p = t * G, pe = std::min(npk, p + G); p < pe; ++p) {
             const size_t i0 = p * 16;
             const int m = int(std::min<size_t>(16, np - i0));
-            uint32_t xs[16], ys[16];
-            for (int k = 0; k < m; ++k) {
-              xs[k] = uint32_t((i0 + size_t(k)) % size_t(W));
-              ys[k] = uint32_t((i0 + size_t(k)) / size_t(W));
+            alignas(16) uint32_t xs[16], ys[16];
+            for (int k = 0; k < 16; ++k) {  // lanes past m: copies of lane 0, never read
+              const size_t i = i0 + size_t(k < m ? k : 0);
+              xs[k] = uint32_t(i % size_t(W));
+              ys[k] = uint32_t(i / size_t(W));
             }
             double acc[48] = {};
             for (int s = 0; s < spp; ++s) {
               const Stratum& S = strata[size_t(s)];
               glm::vec2 pts[16];
-              uint32_t y = ~0u, hrx = 0, hry = 0;
-              for (int k = 0; k < m; ++k) {
+              alignas(16) uint32_t hrx[16], hry[16];
+              uint32_t y = ~0u, hx = 0, hy = 0;
+              for (int k = 0; k < 16; ++k) {  // the row part of the hashes (a packet has 1-2 rows)
                 if (ys[k] != y) {
                   y = ys[k];
-                  hrx = row_hash(y, S.hx);
-                  hry = row_hash(y, S.hy);
+                  hx = row_hash(y, S.hx);
+                  hy = row_hash(y, S.hy);
                 }
-                // == stratified_offset(x, y, s, n), added to the pixel's corner.
-                const float ox = (S.sx + jitter_at(xs[k], hrx)) / fn;
-                const float oy = (S.sy + jitter_at(xs[k], hry)) / fn;
-                pts[k].x = float(xs[k]) + ox;
-                pts[k].y = float(y) + oy;
+                hrx[k] = hx;
+                hry[k] = hy;
+              }
+              // == stratified_offset(x, y, s, n), added to the pixel's corner, 4 lanes at a time.
+              const vf vsx = splat(S.sx), vsy = splat(S.sy), vfn = splat(fn);
+              for (int k = 0; k < 16; k += 4) {
+                vu x, y4, rx, ry;
+                __builtin_memcpy(&x, xs + k, sizeof x);
+                __builtin_memcpy(&y4, ys + k, sizeof y4);
+                __builtin_memcpy(&rx, hrx + k, sizeof rx);
+                __builtin_memcpy(&ry, hry + k, sizeof ry);
+                const vf ox = (vsx + jitter_at4(x, rx)) / vfn;
+                const vf oy = (vsy + jitter_at4(x, ry)) / vfn;
+                const vf px = __builtin_convertvector((vi)x, vf) + ox;
+                const vf py = __builtin_convertvector((vi)y4, vf) + oy;
+                for (int j = 0; j < 4; ++j) {
+                  pts[k + j].x = px[j];
+                  pts[k + j].y = py[j];
+                }
               }
               const GBuffer& g = sc.tracer.trace(pts, m);
               float col[48];

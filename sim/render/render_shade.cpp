@@ -4,6 +4,7 @@
 // same bits at any thread count.
 #include <tbb/parallel_for.h>
 
+#include "sim/render/powf_det.h"
 #include "sim/render/render_internal.h"
 #include "sim/render/vec4.h"
 
@@ -120,7 +121,7 @@ inline glm::vec3 light_value(const SurfacePoint& sp, const glm::vec3& L, const g
   if (sp.m && sp.m->specular > 0.f) {
     glm::vec3 H = glm::normalize(L + sp.V);
     float ndh = std::max(0.f, glm::dot(sp.N, H));
-    brdf += glm::vec3(sp.m->specular * std::pow(ndh, sp.m->shininess));
+    brdf += glm::vec3(sp.m->specular * spec_pow(ndh, sp.m->shininess));
   }
   return brdf * E * ndl;
 }
@@ -201,7 +202,7 @@ static glm::vec3 shade_one(const Scene& scene, const RenderState& I, bool shadow
 // rays from neighbouring samples towards one light are coherent). The lanes' surfaces are read
 // into per-component arrays (surface(), scalar: the G-buffer reads go through the view), then
 // every light's geometry (light_geom), the shadow-ray fields and the BRDF (light_value) run 4
-// lanes at a time with light_geom's and light_value's operations in their order; only powf
+// lanes at a time with light_geom's and light_value's operations in their order; only the power
 // stays scalar, on the lanes the light reaches. Inactive lanes (past n, misses, early returns
 // of light_geom) compute throw-away values that are never selected. Each lane's colour adds the
 // lights in order, as shade_one does, so both give the same bits.
@@ -354,7 +355,8 @@ void shade_packet(const Scene& scene, const RenderState& I, bool shadows, const 
       }
     }
     // light_value: brdf = A (+ ks (n.h)^s where the material is specular), times E, times
-    // ndl; added where the light arrives. powf per lane, only where lit and specular.
+    // ndl; added where the light arrives. The power (spec_pow, powf_det.h) per lane, only where
+    // lit and specular.
     for (int o = 0; o < 16; o += 4) {
       const vi on = ldi4(lit + o);
       if (!(on[0] | on[1] | on[2] | on[3])) continue;
@@ -367,7 +369,7 @@ void shade_packet(const Scene& scene, const RenderState& I, bool shadows, const 
       const vi specular = on & (ks > zero);
       vf s = zero;
       for (int j = 0; j < 4; ++j)
-        if (specular[j]) s[j] = ks[j] * std::pow(ndh[j], shin[o + j]);
+        if (specular[j]) s[j] = ks[j] * spec_pow(ndh[j], shin[o + j]);
       vf bx = ld4(Ax + o), by = ld4(Ay + o), bz = ld4(Az + o);
       bx = specular ? bx + s : bx;
       by = specular ? by + s : by;

@@ -13,6 +13,7 @@
 
 #include "sim/render/render_internal.h"
 #include "sim/render/vec4.h"
+#include "sim/scene/texture_packet.h"
 
 namespace fovsim {
 
@@ -583,8 +584,13 @@ struct Packet {
       hits[nh++] = k;
     }
     if (F.m > 0) w.finish(F, st, o, tex);
-    if (albedo)
-      for (int j = 0; j < nh; ++j) w.albedo(st, size_t(hits[j]), tex[j].uv, tex[j].mat, tex[j].fw);
+    if (albedo && nh > 0) {  // the packet's textures together (eval_albedo_packet)
+      TexSample q[16];
+      glm::vec3 a[16];
+      for (int j = 0; j < nh; ++j) q[j] = {tex[j].uv, tex[j].mat, tex[j].fw};
+      eval_albedo_packet(w.scene, I.mat_cs.data(), q, nh, a);
+      for (int j = 0; j < nh; ++j) put(st.albedo[size_t(hits[j])], a[j]);
+    }
   }
 
   // Asks for the lines flush() will write, before the traversal (a prefetch changes nothing).

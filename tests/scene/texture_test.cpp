@@ -3,8 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <limits>
+#include <random>
+#include <vector>
 
-#include "sim/scene/scene.h"
+#include "sim/scene/texture_packet.h"
 
 using namespace fovsim;
 
@@ -116,4 +120,82 @@ TEST(Texture, MipLevelSelectionAndTopLevelMean) {
   EXPECT_FLOAT_EQ(sample_image(img, {0.5f / 64.f, 0.5f / 64.f}).x, 0.f);
   EXPECT_NEAR(sample_image(img, {0.3f, 0.7f}, 2.f / 64.f).x, 0.5f, 1e-6);  // level 1: 2x2 mean
   EXPECT_NEAR(sample_image(img, {0.3f, 0.7f}, 100.f).x, 0.5f, 1e-6);
+}
+
+// The packet-wide lookup gives eval_albedo's bits lane for lane, for every procedural kind,
+// with materials mixed inside a packet, filtered and point footprints, far-away uvs (the sines'
+// large-argument reduction) and packets that are not a multiple of 16.
+TEST(Texture, PacketEqualsPerSampleBits) {
+  Scene s;
+  const TexKind kinds[] = {TexKind::Constant, TexKind::Checker, TexKind::Stripes, TexKind::Grating,
+                           TexKind::Bricks,   TexKind::Noise,   TexKind::Radial};
+  for (TexKind k : kinds) {
+    for (float scale : {4.f, 23.f}) {
+      Material m = material(k, scale);
+      m.angle = 0.3f * float(s.materials.size());
+      s.materials.push_back(m);
+    }
+  }
+  std::vector<glm::vec2> cs;
+  for (const Material& m : s.materials) cs.emplace_back(std::cos(m.angle), std::sin(m.angle));
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> U(-3.f, 3.f), F(0.f, 0.05f);
+  std::uniform_int_distribution<int> M(0, int(s.materials.size()) - 1);
+  std::vector<TexSample> q(1000);
+  for (size_t i = 0; i < q.size(); ++i) {
+    q[i].uv = glm::vec2(U(rng), U(rng)) * (i % 5 == 0 ? 300.f : 1.f);
+    q[i].mat = i % 3 == 0 ? M(rng) : int(i / 16) % int(s.materials.size());  // runs and mixes
+    q[i].fw = i % 7 == 0 ? 0.f : F(rng);
+  }
+  std::vector<glm::vec3> out(q.size());
+  for (size_t i0 = 0; i0 < q.size(); i0 += 13)
+    eval_albedo_packet(s, cs.data(), &q[i0], int(std::min<size_t>(13, q.size() - i0)), &out[i0]);
+  for (size_t i = 0; i < q.size(); ++i) {
+    const Material& m = s.materials[size_t(q[i].mat)];
+    const glm::vec3 e =
+        eval_albedo(s, m, q[i].uv, cs[size_t(q[i].mat)].x, cs[size_t(q[i].mat)].y, q[i].fw);
+    ASSERT_EQ(std::memcmp(&e, &out[i], sizeof e), 0)
+        << "sample " << i << " kind " << int(m.tex) << " fw " << q[i].fw;
+  }
+}
+
+// sincos_packet: the same bits as sincos_det, within one ulp of libm everywhere (glibc's
+// algorithm; the last bit can differ from libm's FMA variants), glibc's special cases.
+TEST(Texture, DeterministicSinCos) {
+  std::vector<float> x;
+  for (uint32_t u = 0; u < 0xff800000u; u += 0x10001u) {  // every exponent, both signs
+    float f;
+    std::memcpy(&f, &u, sizeof f);
+    x.push_back(f);
+  }
+  std::vector<float> s(x.size()), c(x.size());
+  sincos_packet(x.data(), int(x.size()), s.data(), c.data());
+  auto ulp_diff = [](float a, float b) {
+    int32_t ia, ib;
+    std::memcpy(&ia, &a, sizeof a);
+    std::memcpy(&ib, &b, sizeof b);
+    if (ia < 0) ia = INT32_MIN - ia;
+    if (ib < 0) ib = INT32_MIN - ib;
+    return std::abs(int64_t(ia) - int64_t(ib));
+  };
+  for (size_t i = 0; i < x.size(); ++i) {
+    float s1, c1;
+    sincos_det(x[i], s1, c1);
+    ASSERT_EQ(std::memcmp(&s1, &s[i], sizeof s1), 0) << x[i];
+    ASSERT_EQ(std::memcmp(&c1, &c[i], sizeof c1), 0) << x[i];
+    if (!std::isfinite(x[i])) {
+      ASSERT_TRUE(std::isnan(s[i]) && std::isnan(c[i])) << x[i];
+      continue;
+    }
+    ASSERT_LE(ulp_diff(s[i], std::sin(x[i])), 1) << x[i];
+    ASSERT_LE(ulp_diff(c[i], std::cos(x[i])), 1) << x[i];
+  }
+  float sv, cv;
+  sincos_det(0x1p-13f, sv, cv);
+  EXPECT_EQ(sv, 0x1p-13f);
+  EXPECT_EQ(cv, 1.f);
+  sincos_det(std::numeric_limits<float>::infinity(), sv, cv);
+  EXPECT_TRUE(std::isnan(sv) && std::isnan(cv));
+  sincos_det(std::numeric_limits<float>::quiet_NaN(), sv, cv);
+  EXPECT_TRUE(std::isnan(sv) && std::isnan(cv));
 }
