@@ -276,7 +276,7 @@ void BM_GBufferChannels(benchmark::State& st) {
   st.counters["ns_per_ray"] = t / rays * 1e9;
 }
 BENCHMARK(BM_GBufferChannels)
-    ->ArgsProduct({{3}, {0, 1, 2, 3, 4}})
+    ->ArgsProduct({{3, 6}, {0, 1, 2, 3, 4}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

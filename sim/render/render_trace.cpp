@@ -7,6 +7,7 @@
 // (SampleWriter::gather / refine / finish; other hits take SampleWriter::hit). A packet's
 // samples are staged and copied to the G-buffer row by row (Packet::flush). Performance
 // against Embree's own packet rate: bench/README.md.
+#include <emmintrin.h>
 #include <tbb/parallel_for.h>
 
 #include <cstring>
@@ -84,6 +85,46 @@ inline vf vabs(vf x) {  // std::fabs: clears the sign bit
   return (vf)((vi)x & vi{0x7fffffff, 0x7fffffff, 0x7fffffff, 0x7fffffff});
 }
 
+// Per object and per material, what the packet loop asks of every hit (SampleWriter::fast_hit,
+// gather), read from one compact record instead of through Object -> Mesh -> Material and the
+// renderer's per-object state (perf: that chain of dependent loads was most of the hit loop's
+// time). Built per pass from the scene; the same values, so the same bits.
+struct HitTable {
+  struct Obj {
+    const glm::uvec3* tri = nullptr;
+    const glm::vec3* pos = nullptr;  // world space (static objects)
+    const glm::vec3* nrm = nullptr;  // nullptr: no vertex normals
+    const glm::vec2* uv = nullptr;
+    const int* tri_mat = nullptr;  // nullptr: `mat` for every triangle
+    const int32_t* tri_sub = nullptr;
+    int mat = 0;
+    bool fast = false;  // static, with per-vertex uvs
+  };
+  std::vector<Obj> objs;
+  std::vector<uint8_t> plain;  // per material: 1 = no normal map
+  HitTable(const Scene& scene, const RenderState& I) {
+    objs.resize(scene.objects.size());
+    for (size_t o = 0; o < objs.size(); ++o) {
+      const Mesh& m = scene.meshes[size_t(scene.objects[o].mesh)];
+      const RenderState::Obj& ob = I.objs[o];
+      Obj& t = objs[o];
+      t.tri = m.triangles.data();
+      t.pos = ob.pos.data();
+      t.nrm = ob.nrm.empty() ? nullptr : ob.nrm.data();
+      t.uv = m.uvs.empty() ? nullptr : m.uvs.data();
+      t.tri_mat = m.tri_material.empty() ? nullptr : m.tri_material.data();
+      t.tri_sub = ob.tri_sub.empty() ? nullptr : ob.tri_sub.data();
+      t.mat = m.material;
+      t.fast = !ob.dynamic && !m.uvs.empty();
+    }
+    plain.resize(scene.materials.size());
+    for (size_t k = 0; k < plain.size(); ++k) {
+      const Material& mt = scene.materials[k];
+      plain[k] = !(mt.normal_image >= 0 && size_t(mt.normal_image) < scene.images.size());
+    }
+  }
+};
+
 // Hits of a packet on the common path (SampleWriter::gather / finish): static objects with
 // per-vertex uvs and no normal map. Per-component arrays, lane j = the j-th such hit.
 struct FastLanes {
@@ -103,6 +144,7 @@ struct SampleWriter {
   const RenderState& I;
   const Camera* prev;
   uint32_t ch;
+  const HitTable* tab = nullptr;  // nullptr: every hit takes hit()
 
   void albedo(GBuffer& g, size_t i, glm::vec2 uv, int mat, float fw) const {
     const Material& mt = scene.materials[size_t(mat)];
@@ -174,30 +216,25 @@ struct SampleWriter {
   // Whether a packet's hits may take the common path (gather / finish): the channels it writes
   // (not kMotion), and at least one that needs the surface attributes.
   bool fast_channels() const {
-    return !(ch & kMotion) && (ch & (kNormal | kAlbedo | kUV | kFootprint));
+    return tab && !(ch & kMotion) && (ch & (kNormal | kAlbedo | kUV | kFootprint));
   }
   // Whether the hit takes the common path: a static object, per-vertex uvs, no normal map.
-  bool fast_hit(int obj, uint32_t prim, const Mesh*& mesh, int& mat) const {
-    const Object& o = scene.objects[size_t(obj)];
-    const Mesh& m = scene.meshes[size_t(o.mesh)];
-    mesh = &m;
-    mat = m.tri_material.empty() ? m.material : m.tri_material[prim];
-    if (I.objs[size_t(obj)].dynamic || m.uvs.empty()) return false;
-    const Material& mt = scene.materials[size_t(mat)];
-    return !(mt.normal_image >= 0 && size_t(mt.normal_image) < scene.images.size());
+  // `mat`: the triangle's material.
+  bool fast_hit(int obj, uint32_t prim, int& mat) const {
+    const HitTable::Obj& t = tab->objs[size_t(obj)];
+    mat = t.tri_mat ? t.tri_mat[prim] : t.mat;
+    return t.fast && tab->plain[size_t(mat)];
   }
   // The scalar part of hit() for a common-path lane: object, sub-model, material, and Embree's
   // hit and the triangle's vertices, normals and uvs into F; finish() does the rest.
-  void gather(FastLanes& F, GBuffer& g, int slot, const glm::vec3& org, const glm::vec3& dir,
-              float t, int obj, uint32_t prim, float bu, float bv, float cone, const Mesh& m,
-              int mat, int tex) const {
-    (void)org;
+  void gather(FastLanes& F, GBuffer& g, int slot, const glm::vec3& dir, float t, int obj,
+              uint32_t prim, float bu, float bv, float cone, int mat, int tex) const {
     const size_t i = size_t(slot);
-    const RenderState::Obj& ob = I.objs[size_t(obj)];
+    const HitTable::Obj& ob = tab->objs[size_t(obj)];
     if (ch & kObjectId) g.object_id[i] = obj;
-    if (ch & kSubModel) g.submodel[i] = ob.tri_sub.empty() ? -1 : ob.tri_sub[prim];
+    if (ch & kSubModel) g.submodel[i] = ob.tri_sub ? ob.tri_sub[prim] : -1;
     if (ch & kMaterial) g.material[i] = mat;
-    const glm::uvec3 tri = m.triangles[prim];
+    const glm::uvec3 tri = ob.tri[prim];
     const int j = F.m++;
     F.slot[j] = slot;
     F.tex[j] = tex;
@@ -218,7 +255,7 @@ struct SampleWriter {
     F.p2x[j] = p2.x;
     F.p2y[j] = p2.y;
     F.p2z[j] = p2.z;
-    const bool hasn = !ob.nrm.empty();
+    const bool hasn = ob.nrm != nullptr;
     F.hasn[j] = hasn ? 1.f : 0.f;
     const glm::vec3 z(0.f);
     const glm::vec3 &n0 = hasn ? ob.nrm[tri.x] : z, &n1 = hasn ? ob.nrm[tri.y] : z,
@@ -232,7 +269,7 @@ struct SampleWriter {
     F.n2x[j] = n2.x;
     F.n2y[j] = n2.y;
     F.n2z[j] = n2.z;
-    const glm::vec2 &u0 = m.uvs[tri.x], &u1 = m.uvs[tri.y], &u2 = m.uvs[tri.z];
+    const glm::vec2 &u0 = ob.uv[tri.x], &u1 = ob.uv[tri.y], &u2 = ob.uv[tri.z];
     F.u0x[j] = u0.x;
     F.u0y[j] = u0.y;
     F.u1x[j] = u1.x;
@@ -521,6 +558,34 @@ struct Packet {
     px[k] = p;
     cone[k] = cn;
   }
+  // Four lanes at once (a row of a 4x4 block): add() for lanes n..n+3 with d = the float
+  // rounding of (dx, dy, dz)[j], cone = that of cw[j], sample i + j, screen point
+  // (float(x + j) + 0.5, py). cvtpd2ps rounds as the scalar conversion does; the stores are
+  // 4 wide instead of 13 scalar ones per lane.
+  void add4(const glm::vec3& o, const double* dx, const double* dy, const double* dz,
+            const double* cw, size_t i, int x, float py) {
+    const int k = n;
+    n += 4;
+    auto f4 = [](const double* a) {
+      return _mm_movelh_ps(_mm_cvtpd_ps(_mm_loadu_pd(a)), _mm_cvtpd_ps(_mm_loadu_pd(a + 2)));
+    };
+    _mm_store_ps(rh.ray.org_x + k, _mm_set1_ps(o.x));
+    _mm_store_ps(rh.ray.org_y + k, _mm_set1_ps(o.y));
+    _mm_store_ps(rh.ray.org_z + k, _mm_set1_ps(o.z));
+    _mm_store_ps(rh.ray.dir_x + k, f4(dx));
+    _mm_store_ps(rh.ray.dir_y + k, f4(dy));
+    _mm_store_ps(rh.ray.dir_z + k, f4(dz));
+    _mm_store_ps(rh.ray.tfar + k, _mm_set1_ps(kInf));
+    const __m128i inv = _mm_set1_epi32(int(RTC_INVALID_GEOMETRY_ID));
+    _mm_store_si128(reinterpret_cast<__m128i*>(rh.hit.geomID + k), inv);
+    _mm_store_si128(reinterpret_cast<__m128i*>(rh.hit.instID[0] + k), inv);
+    _mm_store_si128(reinterpret_cast<__m128i*>(valid + k), _mm_set1_epi32(-1));
+    _mm_storeu_ps(cone + k, f4(cw));
+    for (int j = 0; j < 4; ++j) {
+      idx[k + j] = i + size_t(j);
+      px[k + j] = glm::vec2(float(x + j) + 0.5f, py);
+    }
+  }
   // Traces the packet and copies its samples to g (slot idx[k] of g gets lane k).
   void trace(const RenderState& I, const SampleWriter& w, const glm::vec3& o, GBuffer& g) {
     if (n == 0) return;
@@ -570,12 +635,11 @@ struct Packet {
       const int obj = hit_object(I, h);
       const uint32_t prim = rh.hit.primID[k];
       glm::vec3 d(rh.ray.dir_x[k], rh.ray.dir_y[k], rh.ray.dir_z[k]);
-      const Mesh* mesh = nullptr;
       int mat = 0;
-      if (fast && w.fast_hit(obj, prim, mesh, mat)) {
+      if (fast && w.fast_hit(obj, prim, mat)) {
         if (albedo) tex[nh].mat = mat;
-        w.gather(F, st, k, o, d, rh.ray.tfar[k], obj, prim, rh.hit.u[k], rh.hit.v[k], cone[k],
-                 *mesh, mat, albedo ? nh : -1);
+        w.gather(F, st, k, d, rh.ray.tfar[k], obj, prim, rh.hit.u[k], rh.hit.v[k], cone[k], mat,
+                 albedo ? nh : -1);
       } else {
         w.hit(st, size_t(k), o, d, rh.ray.tfar[k], obj, prim, rh.hit.u[k], rh.hit.v[k], px[k],
               cone[k], albedo ? &tex[nh] : nullptr);
@@ -671,6 +735,7 @@ inline void add_point(Packet& pk, const Camera& cam, const glm::dmat3& R, const 
 struct PointPacketTracer::Impl {
   const RenderState& I;
   const Camera& cam;
+  HitTable tab;
   SampleWriter w;
   glm::vec3 org;
   glm::dmat3 R;
@@ -679,7 +744,8 @@ struct PointPacketTracer::Impl {
   Impl(const Scene& scene, const RenderState& I_, const Camera& c, uint32_t channels, float spacing)
       : I(I_),
         cam(c),
-        w{scene, I_, nullptr, (channels | kDepth) & ~uint32_t(kMotion)},
+        tab(scene, I_),
+        w{scene, I_, nullptr, (channels | kDepth) & ~uint32_t(kMotion), &tab},
         org(c.position),
         R(glm::mat3_cast(c.orientation)),
         cone_s(cone_scale(c, spacing)),
@@ -761,7 +827,8 @@ void Renderer::trace_gbuffer(const Camera& cam, uint32_t channels, GBuffer& out,
     hy[size_t(y)] = (1.0 - 2.0 * (y + 0.5) / cam.height) * cam.tan_half_v;
     hy2[size_t(y)] = hy[size_t(y)] * hy[size_t(y)];
   }
-  SampleWriter w{scene_, I, prev, channels};
+  const HitTable tab(scene_, I);
+  SampleWriter w{scene_, I, prev, channels, &tab};
   const double cone1 = cone_scale(cam, 1.f);
   auto sp = [](double v) { return vd{v, v}; };
   const vd one = sp(1.0), cone1v = sp(cone1);
@@ -800,6 +867,11 @@ void Renderer::trace_gbuffer(const Camera& cam, uint32_t channels, GBuffer& out,
                   __builtin_memcpy(dz + j, &oz, sizeof oz);
                   __builtin_memcpy(cw + j, &c, sizeof c);
                 }
+                if (xe - bx == 4) {
+                  pk.add4(org, dx, dy, dz, cw, size_t(y) * size_t(cam.width) + size_t(bx), bx,
+                          float(y) + 0.5f);
+                  continue;
+                }
                 for (int x = bx; x < xe; ++x) {
                   const int j = x - bx;
                   pk.add(org, glm::vec3(float(dx[j]), float(dy[j]), float(dz[j])),
@@ -826,7 +898,8 @@ void Renderer::trace_points(const Camera& cam, const std::vector<glm::vec2>& pts
     out.resize(n_pts, 1, channels);
   const glm::vec3 org(cam.position);
   const glm::dmat3 R = glm::mat3_cast(cam.orientation);
-  SampleWriter w{scene_, I, nullptr, channels & ~uint32_t(kMotion)};
+  const HitTable tab(scene_, I);
+  SampleWriter w{scene_, I, nullptr, channels & ~uint32_t(kMotion), &tab};
   const double cone_s = cone_scale(cam, spacing);
   if (channels & kMotion)
     for (auto& m : out.motion) m = glm::vec2(0.f);
