@@ -4,7 +4,8 @@
 // thread count. Hit distance and barycentrics are recomputed portably (refine_hit). Ray
 // generation, and for the common hits (static, uvs, no normal map) refinement, normals, uvs and
 // footprints, run several lanes of a packet at a time with the per-sample code's operations
-// (SampleWriter::gather / refine / finish; other hits take SampleWriter::hit). A packet's
+// (SampleWriter::gather / finish and gbuffer_lanes.h: 4, 8 or 16 lanes per instruction as the
+// CPU allows, the same bits; other hits take SampleWriter::hit). A packet's
 // samples are staged and copied to the G-buffer row by row (Packet::flush). Performance
 // against Embree's own packet rate: bench/README.md.
 #include <emmintrin.h>
@@ -12,8 +13,8 @@
 
 #include <cstring>
 
+#include "sim/render/gbuffer_lanes.h"
 #include "sim/render/render_internal.h"
-#include "sim/render/vec4.h"
 
 namespace fovsim {
 
@@ -80,11 +81,6 @@ inline void put(glm::vec2& d, const glm::vec2& s) {
   d.y = s.y;
 }
 
-// 4-float helpers (vf, ld4, st4, splat, vsqrt, ...): sim/render/vec4.h.
-inline vf vabs(vf x) {  // std::fabs: clears the sign bit
-  return (vf)((vi)x & vi{0x7fffffff, 0x7fffffff, 0x7fffffff, 0x7fffffff});
-}
-
 // Per object and per material, what the packet loop asks of every hit (SampleWriter::fast_hit,
 // gather), read from one compact record instead of through Object -> Mesh -> Material and the
 // renderer's per-object state (perf: that chain of dependent loads was most of the hit loop's
@@ -125,19 +121,7 @@ struct HitTable {
   }
 };
 
-// Hits of a packet on the common path (SampleWriter::gather / finish): static objects with
-// per-vertex uvs and no normal map. Per-component arrays, lane j = the j-th such hit.
-struct FastLanes {
-  int m = 0;
-  int slot[16];  // staging slot (packet lane)
-  int tex[16];   // index into the packet's deferred texture inputs, or -1
-  alignas(16) float t[16], bu[16], bv[16], dx[16], dy[16], dz[16], cone[16], hasn[16];
-  alignas(16) float p0x[16], p0y[16], p0z[16], p1x[16], p1y[16], p1z[16], p2x[16], p2y[16], p2z[16];
-  alignas(16) float n0x[16], n0y[16], n0z[16], n1x[16], n1y[16], n1z[16], n2x[16], n2y[16], n2z[16];
-  alignas(16) float u0x[16], u0y[16], u1x[16], u1y[16], u2x[16], u2y[16];
-  // Results.
-  alignas(16) float Px[16], Py[16], Pz[16], Nx[16], Ny[16], Nz[16], U[16], V[16], fw[16];
-};
+// FastLanes (the common-path hits of a packet) and their arithmetic: gbuffer_lanes.h.
 
 struct SampleWriter {
   const Scene& scene;
@@ -277,127 +261,12 @@ struct SampleWriter {
     F.u2x[j] = u2.x;
     F.u2y[j] = u2.y;
   }
-  // refine_hit for the common-path lanes (static: world space), two lanes at a time in double
-  // (SSE2, refine_hit's operations in its order): F.t, F.bu, F.bv become the refined values,
-  // or stay Embree's where refine_hit keeps them (degenerate determinant, t < 0 or not finite).
-  static void refine(FastLanes& F, const glm::vec3& org) {
-    typedef double vd __attribute__((vector_size(16)));
-    typedef int64_t vl __attribute__((vector_size(16)));
-    auto two = [](const float* a, int o) { return vd{double(a[o]), double(a[o + 1])}; };
-    auto sp = [](double v) { return vd{v, v}; };
-    auto vabs = [](vd x) { return (vd)((vl)x & vl{0x7fffffffffffffffll, 0x7fffffffffffffffll}); };
-    const vd zero = sp(0.0), one = sp(1.0);
-    const vd ox = sp(double(org.x)), oy = sp(double(org.y)), oz = sp(double(org.z));
-    for (int o = 0; o < F.m; o += 2) {
-      const vd dx = two(F.dx, o), dy = two(F.dy, o), dz = two(F.dz, o);
-      const vd p0x = two(F.p0x, o), p0y = two(F.p0y, o), p0z = two(F.p0z, o);
-      const vd e1x = two(F.p1x, o) - p0x, e1y = two(F.p1y, o) - p0y, e1z = two(F.p1z, o) - p0z;
-      const vd e2x = two(F.p2x, o) - p0x, e2y = two(F.p2y, o) - p0y, e2z = two(F.p2z, o) - p0z;
-      // pv = cross(d, e2), det = dot(e1, pv)
-      const vd pvx = dy * e2z - e2y * dz, pvy = dz * e2x - e2z * dx, pvz = dx * e2y - e2x * dy;
-      const vd det = (e1x * pvx + e1y * pvy) + e1z * pvz;
-      const vd inv_det = one / det;
-      // tv = o - p0, qv = cross(tv, e1)
-      const vd tx = ox - p0x, ty = oy - p0y, tz = oz - p0z;
-      const vd qx = ty * e1z - e1y * tz, qy = tz * e1x - e1z * tx, qz = tx * e1y - e1x * ty;
-      vd uu = ((tx * pvx + ty * pvy) + tz * pvz) * inv_det;
-      uu = uu < zero ? zero : (one < uu ? one : uu);  // std::clamp(uu, 0, 1)
-      const vd hi = one - uu;
-      vd vv = ((dx * qx + dy * qy) + dz * qz) * inv_det;
-      vv = vv < zero ? zero : (hi < vv ? hi : vv);  // std::clamp(vv, 0, 1 - uu)
-      const vd tt = ((e2x * qx + e2y * qy) + e2z * qz) * inv_det;
-      const vl ok = (vabs(det) > sp(1e-300)) & (tt >= zero) & (vabs(tt) < sp(HUGE_VAL));
-      for (int j = 0; j < 2; ++j)
-        if (ok[j]) {
-          F.t[o + j] = float(tt[j]);
-          F.bu[o + j] = float(uu[j]);
-          F.bv[o + j] = float(vv[j]);
-        }
-    }
-  }
-
-  // hit()'s float part for the common-path lanes, 4 at a time with hit()'s and footprint()'s
-  // operations in their order (static objects: world space, ngw = ng, a_world = a_own = |ng|,
-  // the same cross product; nv the same dot product as dot(ng, dir)). Lanes past F.m compute
-  // throw-away values (their inputs are zero-filled) that are never stored.
+  // hit()'s and footprint()'s operations for the common-path lanes, refine_hit's included
+  // (gbuffer_lanes: static objects, world space, ngw = ng, a_world = a_own = |ng|, the same
+  // cross product; nv the same dot product as dot(ng, dir)); then the stores.
   void finish(FastLanes& F, GBuffer& g, const glm::vec3& org, Deferred* tex) const {
-    for (int j = F.m; j < (F.m + 3) / 4 * 4; ++j) {
-      F.t[j] = F.bu[j] = F.bv[j] = F.dx[j] = F.dy[j] = F.dz[j] = F.cone[j] = F.hasn[j] = 0.f;
-      F.p0x[j] = F.p0y[j] = F.p0z[j] = F.p1x[j] = F.p1y[j] = F.p1z[j] = 0.f;
-      F.p2x[j] = F.p2y[j] = F.p2z[j] = F.n0x[j] = F.n0y[j] = F.n0z[j] = 0.f;
-      F.n1x[j] = F.n1y[j] = F.n1z[j] = F.n2x[j] = F.n2y[j] = F.n2z[j] = 0.f;
-      F.u0x[j] = F.u0y[j] = F.u1x[j] = F.u1y[j] = F.u2x[j] = F.u2y[j] = 0.f;
-    }
-    refine(F, org);
+    gbuffer_lanes(F, org.x, org.y, org.z);
     for (int j = 0; j < F.m; ++j) g.depth[size_t(F.slot[j])] = F.t[j];
-    const vf zero = splat(0.f), one = splat(1.f);
-    for (int o = 0; o < F.m; o += 4) {
-      const vf t = ld4(F.t + o), bu = ld4(F.bu + o), bv = ld4(F.bv + o);
-      const vf dx = ld4(F.dx + o), dy = ld4(F.dy + o), dz = ld4(F.dz + o);
-      // P = org + t * dir
-      st4(F.Px + o, splat(org.x) + t * dx);
-      st4(F.Py + o, splat(org.y) + t * dy);
-      st4(F.Pz + o, splat(org.z) + t * dz);
-      const vf bw = (one - bu) - bv;
-      // ng = cross(p1 - p0, p2 - p0)
-      const vf p0x = ld4(F.p0x + o), p0y = ld4(F.p0y + o), p0z = ld4(F.p0z + o);
-      const vf e1x = ld4(F.p1x + o) - p0x, e1y = ld4(F.p1y + o) - p0y, e1z = ld4(F.p1z + o) - p0z;
-      const vf e2x = ld4(F.p2x + o) - p0x, e2y = ld4(F.p2y + o) - p0y, e2z = ld4(F.p2z + o) - p0z;
-      vf gx = e1y * e2z - e2y * e1z, gy = e1z * e2x - e2z * e1x, gz = e1x * e2y - e2x * e1y;
-      // uv = bw uv0 + bu uv1 + bv uv2
-      const vf u0x = ld4(F.u0x + o), u0y = ld4(F.u0y + o), u1x = ld4(F.u1x + o),
-               u1y = ld4(F.u1y + o), u2x = ld4(F.u2x + o), u2y = ld4(F.u2y + o);
-      st4(F.U + o, (bw * u0x + bu * u1x) + bv * u2x);
-      st4(F.V + o, (bw * u0y + bu * u1y) + bv * u2y);
-      // footprint(): cone > 0, ln = |ng| > 0, cosn = max(1e-3, |ng . dir| / ln),
-      // density = sqrt(|uv area| / a_world), fw = t cone / sqrt(cosn) density, finite or 0.
-      const vf cone = ld4(F.cone + o);
-      const vf ln = vsqrt((gx * gx + gy * gy) + gz * gz);
-      const vf gd = (gx * dx + gy * dy) + gz * dz;
-      vf cosn = vabs(gd) / ln;
-      cosn = splat(1e-3f) < cosn ? cosn : splat(1e-3f);
-      const vf a1x = u1x - u0x, a1y = u1y - u0y, a2x = u2x - u0x, a2y = u2y - u0y;
-      const vf density = vsqrt(vabs(a1x * a2y - a1y * a2x) / ln);
-      vf fw = t * cone / vsqrt(cosn) * density;
-      fw = vabs(fw) < splat(kInf) ? fw : zero;
-      fw = (cone > zero) & (ln > zero) ? fw : zero;
-      st4(F.fw + o, fw);
-      // Normal: interpolated (or ng), facing the viewer, normalised, bent past the
-      // view-perpendicular.
-      const vi hasn = ld4(F.hasn + o) > zero;
-      vf nx = (bw * ld4(F.n0x + o) + bu * ld4(F.n1x + o)) + bv * ld4(F.n2x + o);
-      vf ny = (bw * ld4(F.n0y + o) + bu * ld4(F.n1y + o)) + bv * ld4(F.n2y + o);
-      vf nz = (bw * ld4(F.n0z + o) + bu * ld4(F.n1z + o)) + bv * ld4(F.n2z + o);
-      nx = hasn ? nx : gx;
-      ny = hasn ? ny : gy;
-      nz = hasn ? nz : gz;
-      const vi away = gd > zero;
-      gx = away ? -gx : gx;
-      gy = away ? -gy : gy;
-      gz = away ? -gz : gz;
-      const vi flip = (nx * gx + ny * gy) + nz * gz < zero;
-      nx = flip ? -nx : nx;
-      ny = flip ? -ny : ny;
-      nz = flip ? -nz : nz;
-      vf l = vsqrt((nx * nx + ny * ny) + nz * nz);
-      const vi zl = ~(l > zero);
-      nx = zl ? gx : nx;
-      ny = zl ? gy : ny;
-      nz = zl ? gz : nz;
-      l = zl ? vsqrt((nx * nx + ny * ny) + nz * nz) : l;
-      const vi pos = l > zero;
-      nx = pos ? nx / l : -dx;
-      ny = pos ? ny / l : -dy;
-      nz = pos ? nz / l : -dz;
-      const vf nv = (nx * dx + ny * dy) + nz * dz;
-      const vi bend = nv > zero;
-      const vf k = nv + splat(1e-3f);
-      const vf mx = nx - dx * k, my = ny - dy * k, mz = nz - dz * k;
-      const vf im = one / vsqrt((mx * mx + my * my) + mz * mz);
-      st4(F.Nx + o, bend ? mx * im : nx);
-      st4(F.Ny + o, bend ? my * im : ny);
-      st4(F.Nz + o, bend ? mz * im : nz);
-    }
     for (int j = 0; j < F.m; ++j) {
       const size_t i = size_t(F.slot[j]);
       if (ch & kPosition) put(g.position[i], glm::vec3(F.Px[j], F.Py[j], F.Pz[j]));
@@ -584,6 +453,26 @@ struct Packet {
     for (int j = 0; j < 4; ++j) {
       idx[k + j] = i + size_t(j);
       px[k + j] = glm::vec2(float(x + j) + 0.5f, py);
+    }
+  }
+  // A full 4x4 block (pixels (x0 + j % 4, y0 + j / 4), sample i0 + (j / 4) * width + j % 4)
+  // whose directions and cone widths gbuffer_block_rays wrote to rh.ray.dir_* and cone: the
+  // lanes' other fields as add() sets them.
+  void add16(const glm::vec3& o, size_t i0, size_t width, int x0, int y0) {
+    n = 16;
+    const __m128i inv = _mm_set1_epi32(int(RTC_INVALID_GEOMETRY_ID));
+    for (int k = 0; k < 16; k += 4) {
+      _mm_store_ps(rh.ray.org_x + k, _mm_set1_ps(o.x));
+      _mm_store_ps(rh.ray.org_y + k, _mm_set1_ps(o.y));
+      _mm_store_ps(rh.ray.org_z + k, _mm_set1_ps(o.z));
+      _mm_store_ps(rh.ray.tfar + k, _mm_set1_ps(kInf));
+      _mm_store_si128(reinterpret_cast<__m128i*>(rh.hit.geomID + k), inv);
+      _mm_store_si128(reinterpret_cast<__m128i*>(rh.hit.instID[0] + k), inv);
+      _mm_store_si128(reinterpret_cast<__m128i*>(valid + k), _mm_set1_epi32(-1));
+    }
+    for (int k = 0; k < 16; ++k) {
+      idx[k] = i0 + size_t(k >> 2) * width + size_t(k & 3);
+      px[k] = glm::vec2(float(x0 + (k & 3)) + 0.5f, float(y0 + (k >> 2)) + 0.5f);
     }
   }
   // Traces the packet and copies its samples to g (slot idx[k] of g gets lane k).
@@ -835,6 +724,8 @@ void Renderer::trace_gbuffer(const Camera& cam, uint32_t channels, GBuffer& out,
   const vd R00 = sp(R[0][0]), R10 = sp(R[1][0]), R20 = sp(R[2][0]);
   const vd R01 = sp(R[0][1]), R11 = sp(R[1][1]), R21 = sp(R[2][1]);
   const vd R02 = sp(R[0][2]), R12 = sp(R[1][2]), R22 = sp(R[2][2]);
+  const double Rc[9] = {R[0][0], R[0][1], R[0][2], R[1][0], R[1][1],
+                        R[1][2], R[2][0], R[2][1], R[2][2]};
   tbb::parallel_for(
       tbb::blocked_range<int>(0, tx * ty, 1),
       [&](const tbb::blocked_range<int>& r) {
@@ -844,6 +735,15 @@ void Renderer::trace_gbuffer(const Camera& cam, uint32_t channels, GBuffer& out,
           const int x1 = std::min(x0 + T, cam.width), y1 = std::min(y0 + T, cam.height);
           for (int by = y0; by < y1; by += 4)
             for (int bx = x0; bx < x1; bx += 4) {
+              if (bx + 4 <= x1 && by + 4 <= y1) {  // a full block: 16 lanes at once
+                gbuffer_block_rays(&hx[size_t(bx)], &hx2[size_t(bx)], &hy[size_t(by)],
+                                   &hy2[size_t(by)], Rc, cone1, pk.rh.ray.dir_x, pk.rh.ray.dir_y,
+                                   pk.rh.ray.dir_z, pk.cone);
+                pk.add16(org, size_t(by) * size_t(cam.width) + size_t(bx), size_t(cam.width), bx,
+                         by);
+                pk.trace(I, w, org, out);
+                continue;
+              }
               for (int y = by; y < std::min(by + 4, y1); ++y) {
                 // == Camera::dir_world(x + 0.5, y + 0.5) and cone_width(cone1, s), two pixels
                 // at a time in double (SSE2, the same operations per lane; hx, hx2 are padded
