@@ -91,7 +91,10 @@ struct HitTable {
     const glm::vec3* pos = nullptr;  // world space (static objects)
     const glm::vec3* nrm = nullptr;  // nullptr: no vertex normals
     const glm::vec2* uv = nullptr;
-    const int* tri_mat = nullptr;  // nullptr: `mat` for every triangle
+    // The triangle's material is mat_of[prim & mat_mask]: the mesh's per-triangle list (mask
+    // ~0), or its one material (&mat, mask 0), without a branch.
+    const int* mat_of = nullptr;
+    uint32_t mat_mask = 0;
     const int32_t* tri_sub = nullptr;
     int mat = 0;
     bool fast = false;  // static, with per-vertex uvs
@@ -108,9 +111,10 @@ struct HitTable {
       t.pos = ob.pos.data();
       t.nrm = ob.nrm.empty() ? nullptr : ob.nrm.data();
       t.uv = m.uvs.empty() ? nullptr : m.uvs.data();
-      t.tri_mat = m.tri_material.empty() ? nullptr : m.tri_material.data();
       t.tri_sub = ob.tri_sub.empty() ? nullptr : ob.tri_sub.data();
       t.mat = m.material;
+      t.mat_of = m.tri_material.empty() ? &t.mat : m.tri_material.data();
+      t.mat_mask = m.tri_material.empty() ? 0u : ~0u;
       t.fast = !ob.dynamic && !m.uvs.empty();
     }
     plain.resize(scene.materials.size());
@@ -206,8 +210,8 @@ struct SampleWriter {
   // `mat`: the triangle's material.
   bool fast_hit(int obj, uint32_t prim, int& mat) const {
     const HitTable::Obj& t = tab->objs[size_t(obj)];
-    mat = t.tri_mat ? t.tri_mat[prim] : t.mat;
-    return t.fast && tab->plain[size_t(mat)];
+    mat = t.mat_of[prim & t.mat_mask];
+    return t.fast & (tab->plain[size_t(mat)] != 0);
   }
   // The scalar part of hit() for a common-path lane: object, sub-model, material, and Embree's
   // hit and the triangle's vertices, normals and uvs into F; finish() does the rest.
@@ -513,19 +517,31 @@ struct Packet {
     const bool albedo = (w.ch & kAlbedo) != 0;
     const bool fast = w.fast_channels();
     FastLanes F;
+    // Each lane's object, material and path first, with no branch on the loaded values (the
+    // lanes' chains of dependent loads overlap), then the per-lane work.
+    int lane_obj[16], lane_mat[16];
+    bool lane_fast[16];
+    for (int k = 0; k < n; ++k) {
+      lane_obj[k] = -1;
+      lane_mat[k] = 0;
+      lane_fast[k] = false;
+      if (rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) continue;
+      RTCHit h;
+      h.geomID = rh.hit.geomID[k];
+      h.instID[0] = rh.hit.instID[0][k];
+      lane_obj[k] = hit_object(I, h);
+      lane_fast[k] = fast && w.fast_hit(lane_obj[k], rh.hit.primID[k], lane_mat[k]);
+    }
     for (int k = 0; k < n; ++k) {
       if (rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) {
         w.miss(st, size_t(k));
         continue;
       }
-      RTCHit h;
-      h.geomID = rh.hit.geomID[k];
-      h.instID[0] = rh.hit.instID[0][k];
-      const int obj = hit_object(I, h);
+      const int obj = lane_obj[k];
       const uint32_t prim = rh.hit.primID[k];
       glm::vec3 d(rh.ray.dir_x[k], rh.ray.dir_y[k], rh.ray.dir_z[k]);
-      int mat = 0;
-      if (fast && w.fast_hit(obj, prim, mat)) {
+      const int mat = lane_mat[k];
+      if (lane_fast[k]) {
         if (albedo) tex[nh].mat = mat;
         w.gather(F, st, k, d, rh.ray.tfar[k], obj, prim, rh.hit.u[k], rh.hit.v[k], cone[k], mat,
                  albedo ? nh : -1);
