@@ -22,11 +22,10 @@ D=${4:-2000}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 out=$(perf record -q -D "$D" -o "$tmp/perf.data" "$B/bench_render" \
-  --benchmark_filter="BM_GBufferChannels/$C/4\$" --benchmark_min_time="$T" 2>&1 | grep BM_)
+  --benchmark_filter="BM_GBufferChannels/$C/4/" --benchmark_min_time="$T" 2>&1 | grep BM_)
 echo "$out"
 ns=$(echo "$out" | sed -n 's/.*ns_per_ray=\([0-9.]*\).*/\1/p')
-perf report -i "$tmp/perf.data" --no-children --sort dso,sym --stdio 2> /dev/null | grep '%' |
-  python3 -c '
+cat > "$tmp/stages.py" <<'PY'
 import re, sys
 ns = float(sys.argv[1])
 def stage(dso, sym):
@@ -50,4 +49,6 @@ for k, v in sorted(share.items(), key=lambda kv: -kv[1]):
     if k != "other":
         print(f"{k:45s} {ns * v / tot:6.1f} ns/ray  ({100 * v / tot:4.1f}%)")
 print(f"{'other (set-up, not scaled)':45s} {share.get('other', 0.0):5.1f}% of all samples")
-' "$ns"
+PY
+perf report -i "$tmp/perf.data" --no-children --sort dso,sym --stdio 2> /dev/null | grep '%' |
+  python3 "$tmp/stages.py" "$ns"
