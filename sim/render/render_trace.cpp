@@ -4,13 +4,16 @@
 // thread count. Hit distance and barycentrics are recomputed portably (refine_hit). Ray
 // generation, and for the common hits (static, uvs, no normal map) refinement, normals, uvs and
 // footprints, run several lanes of a packet at a time with the per-sample code's operations
-// (SampleWriter::gather / refine / finish; other hits take SampleWriter::hit). A packet's
+// (SampleWriter::gather / finish and gbuffer_lanes.h: 4, 8 or 16 lanes per instruction as the
+// CPU allows, the same bits; other hits take SampleWriter::hit). A packet's
 // samples are staged and copied to the G-buffer row by row (Packet::flush). Performance
 // against Embree's own packet rate: bench/README.md.
+#include <emmintrin.h>
 #include <tbb/parallel_for.h>
 
 #include <cstring>
 
+#include "sim/render/gbuffer_lanes.h"
 #include "sim/render/render_internal.h"
 #include "sim/render/vec4.h"
 #include "sim/scene/texture_packet.h"
@@ -80,30 +83,58 @@ inline void put(glm::vec2& d, const glm::vec2& s) {
   d.y = s.y;
 }
 
-// 4-float helpers (vf, ld4, st4, splat, vsqrt, ...): sim/render/vec4.h.
-inline vf vabs(vf x) {  // std::fabs: clears the sign bit
-  return (vf)((vi)x & vi{0x7fffffff, 0x7fffffff, 0x7fffffff, 0x7fffffff});
-}
-
-// Hits of a packet on the common path (SampleWriter::gather / finish): static objects with
-// per-vertex uvs and no normal map. Per-component arrays, lane j = the j-th such hit.
-struct FastLanes {
-  int m = 0;
-  int slot[16];  // staging slot (packet lane)
-  int tex[16];   // index into the packet's deferred texture inputs, or -1
-  alignas(16) float t[16], bu[16], bv[16], dx[16], dy[16], dz[16], cone[16], hasn[16];
-  alignas(16) float p0x[16], p0y[16], p0z[16], p1x[16], p1y[16], p1z[16], p2x[16], p2y[16], p2z[16];
-  alignas(16) float n0x[16], n0y[16], n0z[16], n1x[16], n1y[16], n1z[16], n2x[16], n2y[16], n2z[16];
-  alignas(16) float u0x[16], u0y[16], u1x[16], u1y[16], u2x[16], u2y[16];
-  // Results.
-  alignas(16) float Px[16], Py[16], Pz[16], Nx[16], Ny[16], Nz[16], U[16], V[16], fw[16];
+// Per object and per material, what the packet loop asks of every hit (SampleWriter::fast_hit,
+// gather), read from one compact record instead of through Object -> Mesh -> Material and the
+// renderer's per-object state (perf: that chain of dependent loads was most of the hit loop's
+// time). Built per pass from the scene; the same values, so the same bits.
+struct HitTable {
+  struct Obj {
+    const glm::uvec3* tri = nullptr;
+    const glm::vec3* pos = nullptr;  // world space (static objects)
+    const glm::vec3* nrm = nullptr;  // nullptr: no vertex normals
+    const glm::vec2* uv = nullptr;
+    // The triangle's material is mat_of[prim & mat_mask]: the mesh's per-triangle list (mask
+    // ~0), or its one material (&mat, mask 0), without a branch.
+    const int* mat_of = nullptr;
+    uint32_t mat_mask = 0;
+    const int32_t* tri_sub = nullptr;
+    int mat = 0;
+    bool fast = false;  // static, with per-vertex uvs
+  };
+  std::vector<Obj> objs;
+  std::vector<uint8_t> plain;  // per material: 1 = no normal map
+  HitTable(const Scene& scene, const RenderState& I) {
+    objs.resize(scene.objects.size());
+    for (size_t o = 0; o < objs.size(); ++o) {
+      const Mesh& m = scene.meshes[size_t(scene.objects[o].mesh)];
+      const RenderState::Obj& ob = I.objs[o];
+      Obj& t = objs[o];
+      t.tri = m.triangles.data();
+      t.pos = ob.pos.data();
+      t.nrm = ob.nrm.empty() ? nullptr : ob.nrm.data();
+      t.uv = m.uvs.empty() ? nullptr : m.uvs.data();
+      t.tri_sub = ob.tri_sub.empty() ? nullptr : ob.tri_sub.data();
+      t.mat = m.material;
+      t.mat_of = m.tri_material.empty() ? &t.mat : m.tri_material.data();
+      t.mat_mask = m.tri_material.empty() ? 0u : ~0u;
+      t.fast = !ob.dynamic && !m.uvs.empty();
+    }
+    plain.resize(scene.materials.size());
+    for (size_t k = 0; k < plain.size(); ++k) {
+      const Material& mt = scene.materials[k];
+      plain[k] = !(mt.normal_image >= 0 && size_t(mt.normal_image) < scene.images.size());
+    }
+  }
 };
+
+// FastLanes (the common-path hits of a packet) and their arithmetic: gbuffer_lanes.h.
 
 struct SampleWriter {
   const Scene& scene;
   const RenderState& I;
   const Camera* prev;
   uint32_t ch;
+  const HitTable* tab = nullptr;  // nullptr: every hit takes hit()
 
   void albedo(GBuffer& g, size_t i, glm::vec2 uv, int mat, float fw) const {
     const Material& mt = scene.materials[size_t(mat)];
@@ -175,30 +206,25 @@ struct SampleWriter {
   // Whether a packet's hits may take the common path (gather / finish): the channels it writes
   // (not kMotion), and at least one that needs the surface attributes.
   bool fast_channels() const {
-    return !(ch & kMotion) && (ch & (kNormal | kAlbedo | kUV | kFootprint));
+    return tab && !(ch & kMotion) && (ch & (kNormal | kAlbedo | kUV | kFootprint));
   }
   // Whether the hit takes the common path: a static object, per-vertex uvs, no normal map.
-  bool fast_hit(int obj, uint32_t prim, const Mesh*& mesh, int& mat) const {
-    const Object& o = scene.objects[size_t(obj)];
-    const Mesh& m = scene.meshes[size_t(o.mesh)];
-    mesh = &m;
-    mat = m.tri_material.empty() ? m.material : m.tri_material[prim];
-    if (I.objs[size_t(obj)].dynamic || m.uvs.empty()) return false;
-    const Material& mt = scene.materials[size_t(mat)];
-    return !(mt.normal_image >= 0 && size_t(mt.normal_image) < scene.images.size());
+  // `mat`: the triangle's material.
+  bool fast_hit(int obj, uint32_t prim, int& mat) const {
+    const HitTable::Obj& t = tab->objs[size_t(obj)];
+    mat = t.mat_of[prim & t.mat_mask];
+    return t.fast & (tab->plain[size_t(mat)] != 0);
   }
   // The scalar part of hit() for a common-path lane: object, sub-model, material, and Embree's
   // hit and the triangle's vertices, normals and uvs into F; finish() does the rest.
-  void gather(FastLanes& F, GBuffer& g, int slot, const glm::vec3& org, const glm::vec3& dir,
-              float t, int obj, uint32_t prim, float bu, float bv, float cone, const Mesh& m,
-              int mat, int tex) const {
-    (void)org;
+  void gather(FastLanes& F, GBuffer& g, int slot, const glm::vec3& dir, float t, int obj,
+              uint32_t prim, float bu, float bv, float cone, int mat, int tex) const {
     const size_t i = size_t(slot);
-    const RenderState::Obj& ob = I.objs[size_t(obj)];
+    const HitTable::Obj& ob = tab->objs[size_t(obj)];
     if (ch & kObjectId) g.object_id[i] = obj;
-    if (ch & kSubModel) g.submodel[i] = ob.tri_sub.empty() ? -1 : ob.tri_sub[prim];
+    if (ch & kSubModel) g.submodel[i] = ob.tri_sub ? ob.tri_sub[prim] : -1;
     if (ch & kMaterial) g.material[i] = mat;
-    const glm::uvec3 tri = m.triangles[prim];
+    const glm::uvec3 tri = ob.tri[prim];
     const int j = F.m++;
     F.slot[j] = slot;
     F.tex[j] = tex;
@@ -219,7 +245,7 @@ struct SampleWriter {
     F.p2x[j] = p2.x;
     F.p2y[j] = p2.y;
     F.p2z[j] = p2.z;
-    const bool hasn = !ob.nrm.empty();
+    const bool hasn = ob.nrm != nullptr;
     F.hasn[j] = hasn ? 1.f : 0.f;
     const glm::vec3 z(0.f);
     const glm::vec3 &n0 = hasn ? ob.nrm[tri.x] : z, &n1 = hasn ? ob.nrm[tri.y] : z,
@@ -233,7 +259,7 @@ struct SampleWriter {
     F.n2x[j] = n2.x;
     F.n2y[j] = n2.y;
     F.n2z[j] = n2.z;
-    const glm::vec2 &u0 = m.uvs[tri.x], &u1 = m.uvs[tri.y], &u2 = m.uvs[tri.z];
+    const glm::vec2 &u0 = ob.uv[tri.x], &u1 = ob.uv[tri.y], &u2 = ob.uv[tri.z];
     F.u0x[j] = u0.x;
     F.u0y[j] = u0.y;
     F.u1x[j] = u1.x;
@@ -241,127 +267,12 @@ struct SampleWriter {
     F.u2x[j] = u2.x;
     F.u2y[j] = u2.y;
   }
-  // refine_hit for the common-path lanes (static: world space), two lanes at a time in double
-  // (SSE2, refine_hit's operations in its order): F.t, F.bu, F.bv become the refined values,
-  // or stay Embree's where refine_hit keeps them (degenerate determinant, t < 0 or not finite).
-  static void refine(FastLanes& F, const glm::vec3& org) {
-    typedef double vd __attribute__((vector_size(16)));
-    typedef int64_t vl __attribute__((vector_size(16)));
-    auto two = [](const float* a, int o) { return vd{double(a[o]), double(a[o + 1])}; };
-    auto sp = [](double v) { return vd{v, v}; };
-    auto vabs = [](vd x) { return (vd)((vl)x & vl{0x7fffffffffffffffll, 0x7fffffffffffffffll}); };
-    const vd zero = sp(0.0), one = sp(1.0);
-    const vd ox = sp(double(org.x)), oy = sp(double(org.y)), oz = sp(double(org.z));
-    for (int o = 0; o < F.m; o += 2) {
-      const vd dx = two(F.dx, o), dy = two(F.dy, o), dz = two(F.dz, o);
-      const vd p0x = two(F.p0x, o), p0y = two(F.p0y, o), p0z = two(F.p0z, o);
-      const vd e1x = two(F.p1x, o) - p0x, e1y = two(F.p1y, o) - p0y, e1z = two(F.p1z, o) - p0z;
-      const vd e2x = two(F.p2x, o) - p0x, e2y = two(F.p2y, o) - p0y, e2z = two(F.p2z, o) - p0z;
-      // pv = cross(d, e2), det = dot(e1, pv)
-      const vd pvx = dy * e2z - e2y * dz, pvy = dz * e2x - e2z * dx, pvz = dx * e2y - e2x * dy;
-      const vd det = (e1x * pvx + e1y * pvy) + e1z * pvz;
-      const vd inv_det = one / det;
-      // tv = o - p0, qv = cross(tv, e1)
-      const vd tx = ox - p0x, ty = oy - p0y, tz = oz - p0z;
-      const vd qx = ty * e1z - e1y * tz, qy = tz * e1x - e1z * tx, qz = tx * e1y - e1x * ty;
-      vd uu = ((tx * pvx + ty * pvy) + tz * pvz) * inv_det;
-      uu = uu < zero ? zero : (one < uu ? one : uu);  // std::clamp(uu, 0, 1)
-      const vd hi = one - uu;
-      vd vv = ((dx * qx + dy * qy) + dz * qz) * inv_det;
-      vv = vv < zero ? zero : (hi < vv ? hi : vv);  // std::clamp(vv, 0, 1 - uu)
-      const vd tt = ((e2x * qx + e2y * qy) + e2z * qz) * inv_det;
-      const vl ok = (vabs(det) > sp(1e-300)) & (tt >= zero) & (vabs(tt) < sp(HUGE_VAL));
-      for (int j = 0; j < 2; ++j)
-        if (ok[j]) {
-          F.t[o + j] = float(tt[j]);
-          F.bu[o + j] = float(uu[j]);
-          F.bv[o + j] = float(vv[j]);
-        }
-    }
-  }
-
-  // hit()'s float part for the common-path lanes, 4 at a time with hit()'s and footprint()'s
-  // operations in their order (static objects: world space, ngw = ng, a_world = a_own = |ng|,
-  // the same cross product; nv the same dot product as dot(ng, dir)). Lanes past F.m compute
-  // throw-away values (their inputs are zero-filled) that are never stored.
+  // hit()'s and footprint()'s operations for the common-path lanes, refine_hit's included
+  // (gbuffer_lanes: static objects, world space, ngw = ng, a_world = a_own = |ng|, the same
+  // cross product; nv the same dot product as dot(ng, dir)); then the stores.
   void finish(FastLanes& F, GBuffer& g, const glm::vec3& org, Deferred* tex) const {
-    for (int j = F.m; j < (F.m + 3) / 4 * 4; ++j) {
-      F.t[j] = F.bu[j] = F.bv[j] = F.dx[j] = F.dy[j] = F.dz[j] = F.cone[j] = F.hasn[j] = 0.f;
-      F.p0x[j] = F.p0y[j] = F.p0z[j] = F.p1x[j] = F.p1y[j] = F.p1z[j] = 0.f;
-      F.p2x[j] = F.p2y[j] = F.p2z[j] = F.n0x[j] = F.n0y[j] = F.n0z[j] = 0.f;
-      F.n1x[j] = F.n1y[j] = F.n1z[j] = F.n2x[j] = F.n2y[j] = F.n2z[j] = 0.f;
-      F.u0x[j] = F.u0y[j] = F.u1x[j] = F.u1y[j] = F.u2x[j] = F.u2y[j] = 0.f;
-    }
-    refine(F, org);
+    gbuffer_lanes(F, org.x, org.y, org.z);
     for (int j = 0; j < F.m; ++j) g.depth[size_t(F.slot[j])] = F.t[j];
-    const vf zero = splat(0.f), one = splat(1.f);
-    for (int o = 0; o < F.m; o += 4) {
-      const vf t = ld4(F.t + o), bu = ld4(F.bu + o), bv = ld4(F.bv + o);
-      const vf dx = ld4(F.dx + o), dy = ld4(F.dy + o), dz = ld4(F.dz + o);
-      // P = org + t * dir
-      st4(F.Px + o, splat(org.x) + t * dx);
-      st4(F.Py + o, splat(org.y) + t * dy);
-      st4(F.Pz + o, splat(org.z) + t * dz);
-      const vf bw = (one - bu) - bv;
-      // ng = cross(p1 - p0, p2 - p0)
-      const vf p0x = ld4(F.p0x + o), p0y = ld4(F.p0y + o), p0z = ld4(F.p0z + o);
-      const vf e1x = ld4(F.p1x + o) - p0x, e1y = ld4(F.p1y + o) - p0y, e1z = ld4(F.p1z + o) - p0z;
-      const vf e2x = ld4(F.p2x + o) - p0x, e2y = ld4(F.p2y + o) - p0y, e2z = ld4(F.p2z + o) - p0z;
-      vf gx = e1y * e2z - e2y * e1z, gy = e1z * e2x - e2z * e1x, gz = e1x * e2y - e2x * e1y;
-      // uv = bw uv0 + bu uv1 + bv uv2
-      const vf u0x = ld4(F.u0x + o), u0y = ld4(F.u0y + o), u1x = ld4(F.u1x + o),
-               u1y = ld4(F.u1y + o), u2x = ld4(F.u2x + o), u2y = ld4(F.u2y + o);
-      st4(F.U + o, (bw * u0x + bu * u1x) + bv * u2x);
-      st4(F.V + o, (bw * u0y + bu * u1y) + bv * u2y);
-      // footprint(): cone > 0, ln = |ng| > 0, cosn = max(1e-3, |ng . dir| / ln),
-      // density = sqrt(|uv area| / a_world), fw = t cone / sqrt(cosn) density, finite or 0.
-      const vf cone = ld4(F.cone + o);
-      const vf ln = vsqrt((gx * gx + gy * gy) + gz * gz);
-      const vf gd = (gx * dx + gy * dy) + gz * dz;
-      vf cosn = vabs(gd) / ln;
-      cosn = splat(1e-3f) < cosn ? cosn : splat(1e-3f);
-      const vf a1x = u1x - u0x, a1y = u1y - u0y, a2x = u2x - u0x, a2y = u2y - u0y;
-      const vf density = vsqrt(vabs(a1x * a2y - a1y * a2x) / ln);
-      vf fw = t * cone / vsqrt(cosn) * density;
-      fw = vabs(fw) < splat(kInf) ? fw : zero;
-      fw = (cone > zero) & (ln > zero) ? fw : zero;
-      st4(F.fw + o, fw);
-      // Normal: interpolated (or ng), facing the viewer, normalised, bent past the
-      // view-perpendicular.
-      const vi hasn = ld4(F.hasn + o) > zero;
-      vf nx = (bw * ld4(F.n0x + o) + bu * ld4(F.n1x + o)) + bv * ld4(F.n2x + o);
-      vf ny = (bw * ld4(F.n0y + o) + bu * ld4(F.n1y + o)) + bv * ld4(F.n2y + o);
-      vf nz = (bw * ld4(F.n0z + o) + bu * ld4(F.n1z + o)) + bv * ld4(F.n2z + o);
-      nx = hasn ? nx : gx;
-      ny = hasn ? ny : gy;
-      nz = hasn ? nz : gz;
-      const vi away = gd > zero;
-      gx = away ? -gx : gx;
-      gy = away ? -gy : gy;
-      gz = away ? -gz : gz;
-      const vi flip = (nx * gx + ny * gy) + nz * gz < zero;
-      nx = flip ? -nx : nx;
-      ny = flip ? -ny : ny;
-      nz = flip ? -nz : nz;
-      vf l = vsqrt((nx * nx + ny * ny) + nz * nz);
-      const vi zl = ~(l > zero);
-      nx = zl ? gx : nx;
-      ny = zl ? gy : ny;
-      nz = zl ? gz : nz;
-      l = zl ? vsqrt((nx * nx + ny * ny) + nz * nz) : l;
-      const vi pos = l > zero;
-      nx = pos ? nx / l : -dx;
-      ny = pos ? ny / l : -dy;
-      nz = pos ? nz / l : -dz;
-      const vf nv = (nx * dx + ny * dy) + nz * dz;
-      const vi bend = nv > zero;
-      const vf k = nv + splat(1e-3f);
-      const vf mx = nx - dx * k, my = ny - dy * k, mz = nz - dz * k;
-      const vf im = one / vsqrt((mx * mx + my * my) + mz * mz);
-      st4(F.Nx + o, bend ? mx * im : nx);
-      st4(F.Ny + o, bend ? my * im : ny);
-      st4(F.Nz + o, bend ? mz * im : nz);
-    }
     for (int j = 0; j < F.m; ++j) {
       const size_t i = size_t(F.slot[j]);
       if (ch & kPosition) put(g.position[i], glm::vec3(F.Px[j], F.Py[j], F.Pz[j]));
@@ -522,6 +433,54 @@ struct Packet {
     px[k] = p;
     cone[k] = cn;
   }
+  // Four lanes at once (a row of a 4x4 block): add() for lanes n..n+3 with d = the float
+  // rounding of (dx, dy, dz)[j], cone = that of cw[j], sample i + j, screen point
+  // (float(x + j) + 0.5, py). cvtpd2ps rounds as the scalar conversion does; the stores are
+  // 4 wide instead of 13 scalar ones per lane.
+  void add4(const glm::vec3& o, const double* dx, const double* dy, const double* dz,
+            const double* cw, size_t i, int x, float py) {
+    const int k = n;
+    n += 4;
+    auto f4 = [](const double* a) {
+      return _mm_movelh_ps(_mm_cvtpd_ps(_mm_loadu_pd(a)), _mm_cvtpd_ps(_mm_loadu_pd(a + 2)));
+    };
+    _mm_store_ps(rh.ray.org_x + k, _mm_set1_ps(o.x));
+    _mm_store_ps(rh.ray.org_y + k, _mm_set1_ps(o.y));
+    _mm_store_ps(rh.ray.org_z + k, _mm_set1_ps(o.z));
+    _mm_store_ps(rh.ray.dir_x + k, f4(dx));
+    _mm_store_ps(rh.ray.dir_y + k, f4(dy));
+    _mm_store_ps(rh.ray.dir_z + k, f4(dz));
+    _mm_store_ps(rh.ray.tfar + k, _mm_set1_ps(kInf));
+    const __m128i inv = _mm_set1_epi32(int(RTC_INVALID_GEOMETRY_ID));
+    _mm_store_si128(reinterpret_cast<__m128i*>(rh.hit.geomID + k), inv);
+    _mm_store_si128(reinterpret_cast<__m128i*>(rh.hit.instID[0] + k), inv);
+    _mm_store_si128(reinterpret_cast<__m128i*>(valid + k), _mm_set1_epi32(-1));
+    _mm_storeu_ps(cone + k, f4(cw));
+    for (int j = 0; j < 4; ++j) {
+      idx[k + j] = i + size_t(j);
+      px[k + j] = glm::vec2(float(x + j) + 0.5f, py);
+    }
+  }
+  // A full 4x4 block (pixels (x0 + j % 4, y0 + j / 4), sample i0 + (j / 4) * width + j % 4)
+  // whose directions and cone widths gbuffer_block_rays wrote to rh.ray.dir_* and cone: the
+  // lanes' other fields as add() sets them.
+  void add16(const glm::vec3& o, size_t i0, size_t width, int x0, int y0) {
+    n = 16;
+    const __m128i inv = _mm_set1_epi32(int(RTC_INVALID_GEOMETRY_ID));
+    for (int k = 0; k < 16; k += 4) {
+      _mm_store_ps(rh.ray.org_x + k, _mm_set1_ps(o.x));
+      _mm_store_ps(rh.ray.org_y + k, _mm_set1_ps(o.y));
+      _mm_store_ps(rh.ray.org_z + k, _mm_set1_ps(o.z));
+      _mm_store_ps(rh.ray.tfar + k, _mm_set1_ps(kInf));
+      _mm_store_si128(reinterpret_cast<__m128i*>(rh.hit.geomID + k), inv);
+      _mm_store_si128(reinterpret_cast<__m128i*>(rh.hit.instID[0] + k), inv);
+      _mm_store_si128(reinterpret_cast<__m128i*>(valid + k), _mm_set1_epi32(-1));
+    }
+    for (int k = 0; k < 16; ++k) {
+      idx[k] = i0 + size_t(k >> 2) * width + size_t(k & 3);
+      px[k] = glm::vec2(float(x0 + (k & 3)) + 0.5f, float(y0 + (k >> 2)) + 0.5f);
+    }
+  }
   // Traces the packet and copies its samples to g (slot idx[k] of g gets lane k).
   void trace(const RenderState& I, const SampleWriter& w, const glm::vec3& o, GBuffer& g) {
     if (n == 0) return;
@@ -560,23 +519,34 @@ struct Packet {
     const bool albedo = (w.ch & kAlbedo) != 0;
     const bool fast = w.fast_channels();
     FastLanes F;
+    // Each lane's object, material and path first, with no branch on the loaded values (the
+    // lanes' chains of dependent loads overlap), then the per-lane work.
+    int lane_obj[16], lane_mat[16];
+    bool lane_fast[16];
+    for (int k = 0; k < n; ++k) {
+      lane_obj[k] = -1;
+      lane_mat[k] = 0;
+      lane_fast[k] = false;
+      if (rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) continue;
+      RTCHit h;
+      h.geomID = rh.hit.geomID[k];
+      h.instID[0] = rh.hit.instID[0][k];
+      lane_obj[k] = hit_object(I, h);
+      lane_fast[k] = fast && w.fast_hit(lane_obj[k], rh.hit.primID[k], lane_mat[k]);
+    }
     for (int k = 0; k < n; ++k) {
       if (rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) {
         w.miss(st, size_t(k));
         continue;
       }
-      RTCHit h;
-      h.geomID = rh.hit.geomID[k];
-      h.instID[0] = rh.hit.instID[0][k];
-      const int obj = hit_object(I, h);
+      const int obj = lane_obj[k];
       const uint32_t prim = rh.hit.primID[k];
       glm::vec3 d(rh.ray.dir_x[k], rh.ray.dir_y[k], rh.ray.dir_z[k]);
-      const Mesh* mesh = nullptr;
-      int mat = 0;
-      if (fast && w.fast_hit(obj, prim, mesh, mat)) {
+      const int mat = lane_mat[k];
+      if (lane_fast[k]) {
         if (albedo) tex[nh].mat = mat;
-        w.gather(F, st, k, o, d, rh.ray.tfar[k], obj, prim, rh.hit.u[k], rh.hit.v[k], cone[k],
-                 *mesh, mat, albedo ? nh : -1);
+        w.gather(F, st, k, d, rh.ray.tfar[k], obj, prim, rh.hit.u[k], rh.hit.v[k], cone[k], mat,
+                 albedo ? nh : -1);
       } else {
         w.hit(st, size_t(k), o, d, rh.ray.tfar[k], obj, prim, rh.hit.u[k], rh.hit.v[k], px[k],
               cone[k], albedo ? &tex[nh] : nullptr);
@@ -677,6 +647,7 @@ inline void add_point(Packet& pk, const Camera& cam, const glm::dmat3& R, const 
 struct PointPacketTracer::Impl {
   const RenderState& I;
   const Camera& cam;
+  HitTable tab;
   SampleWriter w;
   glm::vec3 org;
   glm::dmat3 R;
@@ -685,7 +656,8 @@ struct PointPacketTracer::Impl {
   Impl(const Scene& scene, const RenderState& I_, const Camera& c, uint32_t channels, float spacing)
       : I(I_),
         cam(c),
-        w{scene, I_, nullptr, (channels | kDepth) & ~uint32_t(kMotion)},
+        tab(scene, I_),
+        w{scene, I_, nullptr, (channels | kDepth) & ~uint32_t(kMotion), &tab},
         org(c.position),
         R(glm::mat3_cast(c.orientation)),
         cone_s(cone_scale(c, spacing)),
@@ -767,13 +739,16 @@ void Renderer::trace_gbuffer(const Camera& cam, uint32_t channels, GBuffer& out,
     hy[size_t(y)] = (1.0 - 2.0 * (y + 0.5) / cam.height) * cam.tan_half_v;
     hy2[size_t(y)] = hy[size_t(y)] * hy[size_t(y)];
   }
-  SampleWriter w{scene_, I, prev, channels};
+  const HitTable tab(scene_, I);
+  SampleWriter w{scene_, I, prev, channels, &tab};
   const double cone1 = cone_scale(cam, 1.f);
   auto sp = [](double v) { return vd{v, v}; };
   const vd one = sp(1.0), cone1v = sp(cone1);
   const vd R00 = sp(R[0][0]), R10 = sp(R[1][0]), R20 = sp(R[2][0]);
   const vd R01 = sp(R[0][1]), R11 = sp(R[1][1]), R21 = sp(R[2][1]);
   const vd R02 = sp(R[0][2]), R12 = sp(R[1][2]), R22 = sp(R[2][2]);
+  const double Rc[9] = {R[0][0], R[0][1], R[0][2], R[1][0], R[1][1],
+                        R[1][2], R[2][0], R[2][1], R[2][2]};
   tbb::parallel_for(
       tbb::blocked_range<int>(0, tx * ty, 1),
       [&](const tbb::blocked_range<int>& r) {
@@ -783,6 +758,15 @@ void Renderer::trace_gbuffer(const Camera& cam, uint32_t channels, GBuffer& out,
           const int x1 = std::min(x0 + T, cam.width), y1 = std::min(y0 + T, cam.height);
           for (int by = y0; by < y1; by += 4)
             for (int bx = x0; bx < x1; bx += 4) {
+              if (bx + 4 <= x1 && by + 4 <= y1) {  // a full block: 16 lanes at once
+                gbuffer_block_rays(&hx[size_t(bx)], &hx2[size_t(bx)], &hy[size_t(by)],
+                                   &hy2[size_t(by)], Rc, cone1, pk.rh.ray.dir_x, pk.rh.ray.dir_y,
+                                   pk.rh.ray.dir_z, pk.cone);
+                pk.add16(org, size_t(by) * size_t(cam.width) + size_t(bx), size_t(cam.width), bx,
+                         by);
+                pk.trace(I, w, org, out);
+                continue;
+              }
               for (int y = by; y < std::min(by + 4, y1); ++y) {
                 // == Camera::dir_world(x + 0.5, y + 0.5) and cone_width(cone1, s), two pixels
                 // at a time in double (SSE2, the same operations per lane; hx, hx2 are padded
@@ -805,6 +789,11 @@ void Renderer::trace_gbuffer(const Camera& cam, uint32_t channels, GBuffer& out,
                   __builtin_memcpy(dy + j, &oy, sizeof oy);
                   __builtin_memcpy(dz + j, &oz, sizeof oz);
                   __builtin_memcpy(cw + j, &c, sizeof c);
+                }
+                if (xe - bx == 4) {
+                  pk.add4(org, dx, dy, dz, cw, size_t(y) * size_t(cam.width) + size_t(bx), bx,
+                          float(y) + 0.5f);
+                  continue;
                 }
                 for (int x = bx; x < xe; ++x) {
                   const int j = x - bx;
@@ -832,7 +821,8 @@ void Renderer::trace_points(const Camera& cam, const std::vector<glm::vec2>& pts
     out.resize(n_pts, 1, channels);
   const glm::vec3 org(cam.position);
   const glm::dmat3 R = glm::mat3_cast(cam.orientation);
-  SampleWriter w{scene_, I, nullptr, channels & ~uint32_t(kMotion)};
+  const HitTable tab(scene_, I);
+  SampleWriter w{scene_, I, nullptr, channels & ~uint32_t(kMotion), &tab};
   const double cone_s = cone_scale(cam, spacing);
   if (channels & kMotion)
     for (auto& m : out.motion) m = glm::vec2(0.f);

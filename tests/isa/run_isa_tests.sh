@@ -40,7 +40,7 @@ run() {  # run LABEL ENV... -- CMD...
 
 for isa in $isas; do
   E=(FOVSIM_EMBREE_ISA=$isa)
-  run "render[$isa]" "${E[@]}" -- "$B/test_render" --gtest_filter='Render.*Dynamic*:Render.Deterministic*:Render.Motion*:Render.Shadow*:Render*Rsm*:Rsm*:Vpl*'
+  run "render[$isa]" "${E[@]}" -- "$B/test_render" --gtest_filter='Render.*Dynamic*:Render.Deterministic*:Render.Motion*:Render.Shadow*:Render*Rsm*:Rsm*:Vpl*:GBufferLanes*'
   run "twfr+flc[$isa]" "${E[@]}" -- "$B/test_foveation" --gtest_filter='Twfr*:Flc*'
   run "golden[$isa]" "${E[@]}" -- "$B/test_app" --gtest_filter='Golden*'
 done
