@@ -12,7 +12,8 @@
 #     (bench_methods; needs OpenCV, `make deps-bench`);
 #   - FovVideoVDP per method-frame (reference side prepared) and its reference side / the FLIP
 #     mean of the same frame pair (bench_metrics, quickstart size);
-#   - `fovsim run configs/quickstart.json` at 1 and 2 threads: wall and CPU (user + sys) time,
+#   - `fovsim run configs/quickstart.json` at 1 and 2 threads: its render.scale and frames (the
+#     shipped fidelity, docs/fidelity.md) and the 44 s wall target, wall and CPU (user + sys) time,
 #     the 2-thread speed-up (wall), the serial fraction estimated from the 2-thread run's
 #     per-phase CPU times (manifest.json "phases", sim/experiment/phase_times.h) and the
 #     Amdahl speed-up it allows at 2 threads;
@@ -56,8 +57,15 @@ PY
 python3 - "$tmp/render.json" "$tmp/methods.json" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1]))["benchmarks"]
+seen_ref = False
 for b in r:
     if b["name"].startswith("BM_ReferenceVsPacket"):
+        seen_ref = True
+        if not all(k in b for k in ("ref_ns_per_sample", "packet_ns_per_ray", "ratio_ref_packet",
+                                    "shadow_rays_per_sample", "bare_shadow_ns_per_sample",
+                                    "ratio_ref_bare", "triangles")):
+            print("BM_ReferenceVsPacket: this build reports other counters: " + ", ".join(sorted(b)))
+            continue
         _, c, spp = b["name"].split("/")[:3]
         what = (f"atrium complexity {c}, {b['triangles']/1e3:.0f}k tris, {spp} spp"
                 + (", the quickstart frame" if (c, spp) == ("1", "16") else ""))
@@ -73,6 +81,9 @@ for b in r:
     print(f"G-buffer / Embree packet (atrium complexity {c}, {b['triangles']/1e3:.0f}k tris): "
           f"{b['gbuf_Mrays_s']:.1f} / {b['packet_Mrays_s']:.1f} Mrays/s = {b['ratio_packet']:.2f} "
           f"(target >= 0.5); vs rtcIntersect1 {b['single_Mrays_s']:.1f} Mrays/s = {b['ratio_single']:.2f}")
+if not seen_ref:
+    print("reference per sample / Embree bare packet per ray: BM_ReferenceVsPacket is not in this "
+          "build's bench_render")
 m = {b["name"].split("/")[1]: b["cpu_time"] for b in json.load(open(sys.argv[2]))["benchmarks"]}
 for p in ("forward", "inverse"):
     f, o = m.get("fovsim_" + p), m.get("opencv_" + p)
@@ -103,7 +114,13 @@ python3 - "$tmp" "$B" <<'PY'
 import json, sys
 d, B = sys.argv[1], sys.argv[2]
 t = {j: json.load(open(f"{d}/time{j}.json")) for j in (1, 2)}
-ph = json.load(open(f"{d}/qs2/manifest.json")).get("phases", {})
+man = json.load(open(f"{d}/qs2/manifest.json"))
+ph = man.get("phases", {})
+fid, fr = man.get("fidelity", {}), man.get("frames", {})
+sim = man.get("simulated_resolution", ["?", "?"])
+print(f"quickstart as shipped: render.scale {fid.get('render_scale', '?')} ({sim[0]}x{sim[1]} simulated "
+      f"pixels), {fr.get('count', '?')} frames, stride {fr.get('stride', '?')}; target: 2-thread "
+      f"wall on 2 idle cores <= 44 s (the 90-frame quickstart at render.scale 0.25 took that)")
 for j in (1, 2):
     print(f"quickstart, {j} thread{'s' if j > 1 else ''}: wall {t[j]['wall_s']:.1f} s, "
           f"CPU {t[j]['cpu_s']:.1f} s (user + sys)   [{B}/fovsim run configs/quickstart.json -j {j}]")

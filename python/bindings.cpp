@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "sim/core/disk_cache.h"
 #include "sim/core/error.h"
 #include "sim/core/params.h"
 #include "sim/cost/analytic.h"
@@ -58,6 +59,8 @@ RunOut run_one(const std::string& config, const std::vector<std::string>& overri
   opt.models_dir = models;
   opt.threads = threads;
   opt.print_summary = false;
+  // The reference cache as in `fovsim run` (config cache.*; FOVSIM_NO_CACHE=1 turns it off).
+  opt.use_cache = !cache_disabled_by_env();
   opt.command_line = "python: fovsim.run " + config;
   for (auto& o : overrides) opt.command_line += " " + o;
   RunResult r = run_experiment(cfg, opt);
@@ -90,6 +93,7 @@ py::dict sweep_py(const std::string& config, const std::vector<std::string>& ove
     opt.out_dir = out;
     opt.models_dir = models;
     opt.threads = threads;
+    opt.use_cache = !cache_disabled_by_env();
     opt.command_line = "python: fovsim.sweep " + config;
     for (auto& o : overrides) opt.command_line += " " + o;
     r = run_sweep(plan, cfg, opt);

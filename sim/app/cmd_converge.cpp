@@ -3,6 +3,7 @@
 #include <memory>
 
 #include "sim/app/commands.h"
+#include "sim/core/disk_cache.h"
 #include "sim/experiment/convergence.h"
 
 namespace fovsim::app {
@@ -14,6 +15,7 @@ void register_converge(CLI::App& app, Action& action) {
     std::vector<int> spps{1, 4, 16, 64};
     int threads = 0;
     double tol_jod = 0.05;
+    bool no_cache = false;
   };
   auto a = std::make_shared<Args>();
   CLI::App* c = app.add_subcommand(
@@ -31,6 +33,9 @@ void register_converge(CLI::App& app, Action& action) {
   c->add_option("--tol-jod", a->tol_jod,
                 "FovVideoVDP tolerance in JOD between levels (default 0.05)")
       ->check(CLI::Range(1e-6, 10.0));
+  c->add_flag("--no-cache", a->no_cache,
+              "Do not read or write the reference cache (cache.dir, default "
+              "~/.cache/fovsim; configs/README.md \"cache\"); FOVSIM_NO_CACHE=1 does the same");
   c->callback([a, &action]() {
     action = [a]() {
       ConvergenceOptions o;
@@ -39,6 +44,7 @@ void register_converge(CLI::App& app, Action& action) {
       o.models_dir = a->models;
       o.threads = a->threads;
       o.tol_jod = a->tol_jod;
+      o.use_cache = !a->no_cache && !cache_disabled_by_env();
       ConvergenceResult r = run_convergence(a->config, a->overrides, o);
       std::printf("%s", r.markdown().c_str());
       std::printf("written: %s/convergence.md, convergence.csv\n", a->out.c_str());

@@ -4,6 +4,7 @@
 #include <memory>
 
 #include "sim/app/commands.h"
+#include "sim/core/disk_cache.h"
 #include "sim/experiment/fidelity.h"
 #include "sim/experiment/plots.h"
 
@@ -15,7 +16,7 @@ struct FidelityArgs {
   std::vector<std::string> overrides;
   std::string rungs = kDefaultRungs, top = kDefaultTop;
   int threads = 0;
-  bool quiet = false, no_plots = false;
+  bool quiet = false, no_plots = false, no_cache = false;
   double watchdog_s = 60;
 };
 }  // namespace
@@ -43,6 +44,9 @@ void register_fidelity(CLI::App& app, Action& action) {
                 "Models directory (default: $FOVSIM_MODELS, ./models, or the source tree's)");
   c->add_flag("-q,--quiet", a->quiet, "Print only the table");
   c->add_flag("--no-plots", a->no_plots, "Do not run viz/plot_fidelity.py");
+  c->add_flag("--no-cache", a->no_cache,
+              "Do not read or write the reference cache (cache.dir, default "
+              "~/.cache/fovsim; configs/README.md \"cache\"); FOVSIM_NO_CACHE=1 does the same");
   c->add_option("--watchdog", a->watchdog_s, "Per-frame watchdog seconds (as in fovsim run)")
       ->check(finite_in(0.0, 1e9));
   c->callback([a, &action]() {
@@ -58,6 +62,7 @@ void register_fidelity(CLI::App& app, Action& action) {
       opt.top = a->top;
       opt.watchdog_s = a->watchdog_s;
       opt.progress = !a->quiet;
+      opt.use_cache = !a->no_cache && !cache_disabled_by_env();
       opt.command_line = "fovsim fidelity " + a->config;
       for (auto& o : a->overrides) opt.command_line += " " + o;
       opt.command_line += " --rungs '" + a->rungs + "' --top '" + a->top + "'";

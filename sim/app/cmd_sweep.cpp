@@ -247,6 +247,9 @@ void register_search(CLI::App& app, Action& action) {
       ->check(CLI::Range(0, 4096));
   c->add_option("--shard", a->shard, "Search only contexts of shard i of N (\"i/N\")");
   c->add_flag("-q,--quiet", a->quiet, "Print only errors");
+  c->add_flag("--no-cache", a->no_cache,
+              "Do not read or write the reference cache (cache.dir, default "
+              "~/.cache/fovsim; configs/README.md \"cache\"); FOVSIM_NO_CACHE=1 does the same");
   c->callback([a, &action]() {
     action = [a]() {
       LoadedConfig cfg = load_config(a->config, a->overrides);
@@ -256,6 +259,7 @@ void register_search(CLI::App& app, Action& action) {
       opt.out_dir = a->out;
       opt.models_dir = a->models;
       opt.threads = a->threads;
+      opt.use_cache = !a->no_cache && !cache_disabled_by_env();
       opt.command_line = command_line("search", *a);
       if (!a->shard.empty())
         parse_shard(a->shard, opt.shard, opt.shards);

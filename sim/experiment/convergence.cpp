@@ -161,6 +161,7 @@ ConvergenceResult run_convergence(const std::string& config,
     ro.models_dir = opt.models_dir;
     ro.threads = opt.threads;
     ro.print_summary = false;
+    ro.use_cache = opt.use_cache;
     ro.command_line = "fovsim converge " + config;
     const auto t0 = std::chrono::steady_clock::now();
     RunResult rr = run_experiment(cfg, ro);

@@ -16,6 +16,7 @@ struct ConvergenceOptions {
   double tol_db = 0.1;      // PSNR, FPSNR
   double tol_flip = 0.005;  // FLIP mean
   double tol_jod = 0.05;    // FovVideoVDP JOD
+  bool use_cache = false;   // the reference cache for every level (sim/experiment/runner.h)
 };
 
 // The metrics of the study: the metric registry's headline metrics (sim/metrics/registry.h) in

@@ -161,6 +161,7 @@ RungRun run_rung(size_t i, const FidelityRung& r, const LoadedConfig& top_cfg, b
     so.models_dir = opt.models_dir;
     so.threads = opt.threads;
     so.watchdog_s = opt.watchdog_s;
+    so.use_cache = opt.use_cache;
     so.command_line = opt.command_line + " [rung " + r.name + "]";
     run_sweep(plan, rc, so);
     d.dir = so.out_dir;
@@ -176,6 +177,7 @@ RungRun run_rung(size_t i, const FidelityRung& r, const LoadedConfig& top_cfg, b
     ro.threads = opt.threads;
     ro.print_summary = false;
     ro.watchdog_s = opt.watchdog_s;
+    ro.use_cache = opt.use_cache;
     ro.command_line = opt.command_line + " [rung " + r.name + "]";
     RunResult rr = run_experiment(rung_config(top_cfg, r), ro);
     d.dir = rr.out_dir;

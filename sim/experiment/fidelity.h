@@ -53,6 +53,9 @@ struct FidelityOptions {
   std::string command_line;
   double watchdog_s = 60;
   bool progress = true;  // one line per rung on stdout
+  // The reference cache (sim/experiment/reference_cache.h) for every rendered rung: a ladder
+  // run twice, or a rung that repeats an earlier run's settings, renders no reference again.
+  bool use_cache = false;
 };
 
 struct FidelityResult {

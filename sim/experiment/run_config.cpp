@@ -160,9 +160,9 @@ const ParamTable<ReferenceCacheSettings>& cache_block_table() {
       ParamTable<B>()
           .boolean("enabled", true, &B::enabled)
           .doc("",
-               "use the cache (when the command does: `--no-cache`, or the environment "
-               "`FOVSIM_NO_CACHE=1`, turns it off for one command; the Python module and "
-               "library callers leave it off unless they ask)")
+               "use the cache (every command that renders references has `--no-cache`; the "
+               "environment `FOVSIM_NO_CACHE=1` turns it off for the commands and the Python "
+               "module; library callers leave it off unless they ask: `RunOptions::use_cache`)")
           .text("dir", "", {}, &B::dir)
           .shown("`\"\"`")
           .doc("",
@@ -175,7 +175,8 @@ const ParamTable<ReferenceCacheSettings>& cache_block_table() {
           .doc("",
                "size cap of the cached references; the least recently used entries (by "
                "mtime; a read renews it) are removed first. The quickstart writes 5.2 MB per "
-               "frame (470 MB for its 90 frames); size grows with render.scale^2")
+               "frame at render.scale 0.25; size grows with render.scale^2 (about 21 MB per "
+               "frame at its shipped 0.5)")
           .validate([](const B& b, Params& p) {
             if (b.dir.find('\0') != std::string::npos) p.fail("dir", "contains a NUL character");
           });

@@ -62,6 +62,7 @@ SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const Sw
   eo.models_dir = opt.models_dir;
   eo.print_summary = false;
   eo.threads = opt.threads;
+  eo.use_cache = opt.use_cache;
 
   ResultTable history, best;
   auto [first, last] = shard_range(int(plan.cells.size()), opt.shard, opt.shards);

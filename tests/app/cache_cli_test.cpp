@@ -98,6 +98,57 @@ TEST(CacheCli, SweepShardsShareTheCache) {
   fs::remove_all(dir);
 }
 
+// `fovsim fidelity`, `converge` and `search` read and write the same cache: a ladder run twice
+// renders no reference the second time, and --no-cache leaves the folder alone.
+TEST(CacheCli, FidelityConvergeAndSearchUseTheCache) {
+  const std::string dir = temp_dir("cache_cmds");
+  write_text(dir + "/c.json", kConfig);
+  const std::string env = "env -u FOVSIM_NO_CACHE FOVSIM_CACHE_DIR=" + dir + "/cache ";
+  const std::string fid =
+      " fidelity " + dir + "/c.json --rungs 'spp=1' --top 'spp=4' -q --no-plots";
+  auto f0 = run_cmd(env + fovsim_bin() + fid + " -o " + dir + "/f0");
+  ASSERT_EQ(f0.code, 0) << f0.output;
+  EXPECT_NE(cache_record(dir + "/f0/rungs/1-spp_4").find("\"frames_computed\": 3"),
+            std::string::npos)
+      << cache_record(dir + "/f0/rungs/1-spp_4");
+  auto f1 = run_cmd(env + fovsim_bin() + fid + " -o " + dir + "/f1 methods[1].sigma=2.4");
+  ASSERT_EQ(f1.code, 0) << f1.output;
+  for (const char* r : {"/f1/rungs/0-spp_1", "/f1/rungs/1-spp_4"})
+    EXPECT_NE(cache_record(dir + r).find("\"frames_from_cache\": 3"), std::string::npos)
+        << r << ": " << cache_record(dir + r);
+  // converge: its spp 1 and 4 levels are the ladder's rungs, already in the cache.
+  auto c = run_cmd(env + fovsim_bin() + " converge " + dir + "/c.json --spp 1,4 -o " + dir + "/c");
+  ASSERT_EQ(c.code, 0) << c.output;
+  EXPECT_NE(cache_record(dir + "/c/spp_4").find("\"frames_from_cache\": 3"), std::string::npos)
+      << cache_record(dir + "/c/spp_4");
+  // --no-cache: another folder stays absent.
+  const std::string env2 = "env -u FOVSIM_NO_CACHE FOVSIM_CACHE_DIR=" + dir + "/cache2 ";
+  auto n = run_cmd(env2 + fovsim_bin() + fid + " --no-cache -o " + dir + "/n");
+  ASSERT_EQ(n.code, 0) << n.output;
+  auto nc = run_cmd(env2 + fovsim_bin() + " converge " + dir + "/c.json --spp 1,4 --no-cache -o " +
+                    dir + "/nc");
+  ASSERT_EQ(nc.code, 0) << nc.output;
+  std::string sc = kConfig;
+  sc.insert(sc.rfind('}'), R"(, "sweep": {"search": {"space": [{"methods[kfr].sigma": )"
+                           R"({"from": 1.6, "to": 2.4, "step": 0.4}}], "maximize": "psnr", )"
+                           R"("label": "kfr", "evaluations": 2, "batch": 2, "seed": 1}})");
+  write_text(dir + "/s.json", sc);
+  auto s =
+      run_cmd(env2 + fovsim_bin() + " search " + dir + "/s.json -q --no-cache -o " + dir + "/s");
+  ASSERT_EQ(s.code, 0) << s.output;
+  EXPECT_FALSE(fs::exists(dir + "/cache2"));
+  auto s2 = run_cmd(env + fovsim_bin() + " search " + dir + "/s.json -q -o " + dir + "/s2");
+  ASSERT_EQ(s2.code, 0) << s2.output;
+  int evals = 0;
+  for (auto& e : fs::directory_iterator(dir + "/s2/search/evals")) {
+    ++evals;
+    EXPECT_NE(cache_record(e.path().string()).find("\"frames_from_cache\": 3"), std::string::npos)
+        << e.path() << ": " << cache_record(e.path().string());
+  }
+  EXPECT_EQ(evals, 2);
+  fs::remove_all(dir);
+}
+
 TEST(CacheCli, BadCacheKeyIsOneLocatedLine) {
   const std::string dir = temp_dir("cache_bad");
   write_text(dir + "/c.json", kConfig);

@@ -27,10 +27,11 @@ std::set<std::string> passes_of(const nlohmann::json& e) {
 
 TEST(CostV3Cli, PredictConfigChargesTheRunsPasses) {
   std::string dir = temp_dir("cost_v3_config");
-  auto r = run_cmd(fovsim_bin() +
-                   " run configs/quickstart.json frames.count=2 outputs.image_frames=[] -q "
-                   "--no-plots --out " +
-                   dir + "/run");
+  auto r = run_cmd(
+      fovsim_bin() +
+      " run configs/quickstart.json frames.count=2 render.scale=0.25 outputs.image_frames=[] -q "
+      "--no-plots --out " +
+      dir + "/run");
   ASSERT_EQ(r.code, 0) << r.output;
   auto p = run_cmd(fovsim_bin() + " predict --config configs/quickstart.json --json");
   ASSERT_EQ(p.code, 0) << p.output;
