@@ -196,9 +196,9 @@ TEST(Lighting, SceneWithoutIndirectHasNoVplPass) {
   EXPECT_FALSE(w.fd.counters.has(Counter::rsm_texels));
   EXPECT_TRUE(w.fd.vpls.vpls.empty());
   FrameOutput o = w.run("kfr", Json{{"lighting", {{"method", "flc"}, {"vpl_budget", 8}}}});
-  for (const char* k : {"vpls_total", "vpls_kept", "shaded_sample_vpls", "rsm_texels",
-                        "importance_samples", "contribution_evals"})
-    EXPECT_FALSE(o.counters.has(k)) << k;
+  for (Counter k : {Counter::vpls_total, Counter::vpls_kept, Counter::shaded_sample_vpls,
+                    Counter::rsm_texels, Counter::importance_samples, Counter::contribution_evals})
+    EXPECT_FALSE(o.counters.has(k)) << counter_name(k);
   // `vpl` settings on a scene without indirect light are an error naming the key.
   try {
     Params sp(Json{{"type", "atrium"}, {"vpl", {{"rsm_size", 8}}}}, "cfg.json", "scene");
@@ -241,7 +241,7 @@ TEST(Lighting, CachedAllVplIndirectEqualsEvaluatingIt) {
     add_cached_indirect(c.view, fv, c.mask, b, &cb);
     EXPECT_EQ(a.data, b.data);
     EXPECT_EQ(ca.items(), cb.items());
-    EXPECT_GT(cb.get("shaded_sample_vpls"), 0.0);
+    EXPECT_GT(cb.get(Counter::shaded_sample_vpls), 0.0);
     // Through the strategy: the all_vpls default takes the cache and gives the same.
     FrameContext ctx = w.fd.context(w.scene, *w.renderer, w.display, false);
     auto L = default_lighting();
@@ -251,7 +251,7 @@ TEST(Lighting, CachedAllVplIndirectEqualsEvaluatingIt) {
     Image s(c.view.width, c.view.height, 3, 0.25f);
     L->shade(ctx, c.view, c.mask, s, cs);
     EXPECT_EQ(s.data, a.data);
-    EXPECT_EQ(cs.get("shaded_sample_vpls"), ca.get("shaded_sample_vpls"));
+    EXPECT_EQ(cs.get(Counter::shaded_sample_vpls), ca.get(Counter::shaded_sample_vpls));
   }
   // Another G-buffer: refused by add_cached_indirect (the strategy evaluates instead).
   GBuffer other = g;
@@ -300,6 +300,6 @@ TEST(Lighting, IndexViewShadesLikeACopiedBuffer) {
     add_indirect(copy, fv.all, fv.shading, w.renderer.get(), mask.data(), b, &cb);
     EXPECT_EQ(a.data, b.data) << vis;
     EXPECT_EQ(ca.items(), cb.items()) << vis;
-    EXPECT_GT(ca.get("shaded_sample_vpls"), 0.0);
+    EXPECT_GT(ca.get(Counter::shaded_sample_vpls), 0.0);
   }
 }

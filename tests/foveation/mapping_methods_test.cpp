@@ -119,13 +119,13 @@ void expect_sane(const FrameOutput& out, int W, int H, const std::string& what) 
   ASSERT_EQ(out.image.height, H) << what;
   for (float v : out.image.data) ASSERT_TRUE(std::isfinite(v)) << what;
   const double total = double(W) * H;
-  for (const char* k :
-       {"shaded_samples", "gbuffer_samples", "buffer_pixels_used", "fullres_pixels"}) {
-    ASSERT_TRUE(out.counters.has(k)) << what << " " << k;
+  for (Counter k : {Counter::shaded_samples, Counter::gbuffer_samples, Counter::buffer_pixels_used,
+                    Counter::fullres_pixels}) {
+    ASSERT_TRUE(out.counters.has(k)) << what << " " << counter_name(k);
     double v = out.counters.get(k);
     ASSERT_TRUE(std::isfinite(v)) << what;
-    ASSERT_GE(v, 0) << what << " " << k;
-    ASSERT_LE(v, total) << what << " " << k;
+    ASSERT_GE(v, 0) << what << " " << counter_name(k);
+    ASSERT_LE(v, total) << what << " " << counter_name(k);
   }
   ASSERT_LE(out.counters.get(Counter::buffer_pixels_used),
             out.counters.get(Counter::buffer_pixels_allocated))

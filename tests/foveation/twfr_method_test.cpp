@@ -73,10 +73,11 @@ void expect_sane(const FrameOutput& o, size_t n, const TwfrMethod& m) {
   ASSERT_EQ(o.image.pixels(), n);
   for (float v : o.image.data) ASSERT_TRUE(std::isfinite(v));
   for (float c : m.confidence()) ASSERT_TRUE(c >= 0.f && c <= 1.f);
-  for (const char* k : {"pixels_redrawn", "shaded_samples", "reprojected_pixels", "holes_filled"}) {
+  for (Counter k : {Counter::pixels_redrawn, Counter::shaded_samples, Counter::reprojected_pixels,
+                    Counter::holes_filled}) {
     double v = o.counters.get(k, -1);
-    EXPECT_GE(v, 0) << k;
-    EXPECT_LE(v, double(n)) << k;
+    EXPECT_GE(v, 0) << counter_name(k);
+    EXPECT_LE(v, double(n)) << counter_name(k);
   }
   EXPECT_EQ(o.counters.get(Counter::cull_conflicts, -1), 0.0);
   EXPECT_EQ(m.cull_conflicts(), 0u);
