@@ -95,10 +95,6 @@ CostFamily cost_family(const std::string& m) {
   return e->family;
 }
 
-bool has_mapping_pass2(const std::string& m) {
-  return is_cost_method(m) && cost_family(m) == CostFamily::Mapping;
-}
-
 Resource term_resource(const std::string& pass, const std::string& term, const std::string& where) {
   for (auto& d : term_table())
     if (pass == d.pass && term == d.term) return d.res;
