@@ -105,9 +105,9 @@ void BM_FlcFrame(benchmark::State& st) {
   st.counters["culling_ms"] = acc.culling / n;
   st.counters["shading_ms"] = acc.shading / n;
   st.counters["compose_ms"] = acc.compose / n;
-  st.counters["vpls_total"] = out.counters.get("vpls_total");
-  st.counters["vpls_kept"] = out.counters.get("vpls_kept");
-  st.counters["flc_tau"] = out.counters.get("flc_tau");
+  st.counters["vpls_total"] = out.counters.get(Counter::vpls_total);
+  st.counters["vpls_kept"] = out.counters.get(Counter::vpls_kept);
+  st.counters["flc_tau"] = out.counters.get(Counter::flc_tau);
 }
 BENCHMARK(BM_FlcFrame)
     ->Args({1024, 1})

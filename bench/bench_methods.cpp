@@ -136,7 +136,7 @@ void BM_Method(benchmark::State& state, std::string name) {
     frame();  // warm-up: buffers allocated, iso-budget (if any) resolved
     for (auto _ : state) frame();
   }
-  frames_done(state, out.counters.get("shaded_samples"), double(S.b.gbuffer.size()));
+  frames_done(state, out.counters.get(Counter::shaded_samples), double(S.b.gbuffer.size()));
 }
 
 void BM_FullShade(benchmark::State& state) {

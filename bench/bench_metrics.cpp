@@ -90,7 +90,7 @@ void BM_Metrics(benchmark::State& state, std::string name) {
   // Warm-up: the reference is prepared, the scratch sized, the temporal state has a frame.
   compute_metrics(cfg, S.test, S.ref, S.camera, S.ecc, &temporal, &scratch);
   for (auto _ : state) {
-    Counters c = compute_metrics(cfg, S.test, S.ref, S.camera, S.ecc, &temporal, &scratch);
+    MetricValues c = compute_metrics(cfg, S.test, S.ref, S.camera, S.ecc, &temporal, &scratch);
     benchmark::DoNotOptimize(c);
   }
   state.counters["pixels"] = double(S.ref.pixels());

@@ -309,7 +309,7 @@ void BM_ReferenceFrame(benchmark::State& st) {
   st.counters["frame_ms"] = 1e3 * tf / double(st.iterations());
   st.counters["gbuffer_ms"] = 1e3 * tgb / double(st.iterations());
   st.counters["shadow_rays_per_px"] =
-      c.get("shadow_rays") / (double(st.iterations()) * f.cam.width * f.cam.height);
+      c.get(Counter::shadow_rays) / (double(st.iterations()) * f.cam.width * f.cam.height);
   st.counters["triangles"] = double(f.scene.triangle_count());
 }
 BENCHMARK(BM_ReferenceFrame)
@@ -625,7 +625,7 @@ void BM_ReferenceVsPacket(benchmark::State& st) {
     sample_packets_embree(sc, rays, depth);
     tr += t1 - t0;
     tp += thread_cpu_s() - t1;
-    shadow += c.get("shadow_rays");
+    shadow += c.get(Counter::shadow_rays);
     benchmark::DoNotOptimize(ref.data.data());
     for (int s = 0; s < spp; ++s) {
       srays.clear();

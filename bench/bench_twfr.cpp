@@ -73,9 +73,9 @@ void BM_TwfrFrame(benchmark::State& state) {
     sum.confidence_ms += t.confidence_ms;
     sum.cull_ms += t.cull_ms;
     sum.redraw_ms += t.redraw_ms;
-    redrawn += ob.counters.get("pixels_redrawn");
-    culled += ob.counters.get("prims_foveation_culled");
-    submitted += ob.counters.get("prims_submitted");
+    redrawn += ob.counters.get(Counter::pixels_redrawn);
+    culled += ob.counters.get(Counter::prims_foveation_culled);
+    submitted += ob.counters.get(Counter::prims_submitted);
     ++frames;
   }
   const double f = double(std::max<int64_t>(frames, 1));

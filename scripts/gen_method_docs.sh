@@ -31,5 +31,16 @@ b = s.index("\n", b) + 1
 e = s.index("<!-- END GENERATED KEYS -->")
 open(path, "w").write(s[:b] + "\n" + gen + s[e:])
 PY
+# The counter table (sim/core/counter_list.h).
+"$B/fovsim" methods --markdown --counters > "$gen"
+python3 - docs/cost_model.md "$gen" <<'PY'
+import sys
+path, gen = sys.argv[1], open(sys.argv[2]).read()
+s = open(path).read()
+b = s.index("<!-- BEGIN GENERATED COUNTERS")
+b = s.index("\n", b) + 1
+e = s.index("<!-- END GENERATED COUNTERS -->")
+open(path, "w").write(s[:b] + "\n" + gen + s[e:])
+PY
 rm -f "$gen"
-echo "updated docs/methods.md and configs/README.md"
+echo "updated docs/methods.md, configs/README.md and docs/cost_model.md"

@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "sim/app/commands.h"
+#include "sim/core/counter_list.h"
 #include "sim/core/version.h"
 #include "sim/experiment/code_paths.h"
 #include "sim/experiment/run_config.h"
@@ -53,15 +54,23 @@ void register_info(CLI::App& app, Action& action) {
 void register_methods(CLI::App& app, Action& action) {
   auto* cmd = app.add_subcommand(
       "methods", "List the foveation methods and their parameters (from their declarations)");
-  auto md = std::make_shared<bool>(false), keys = std::make_shared<bool>(false);
+  auto md = std::make_shared<bool>(false), keys = std::make_shared<bool>(false),
+       counters = std::make_shared<bool>(false);
   cmd->add_flag("--markdown", *md,
                 "Print the parameter tables as Markdown (embedded in docs/methods.md)");
   cmd->add_flag("--config-keys", *keys,
                 "With --markdown: print the run config's other key tables instead (top level, "
                 "render, frames, outputs, metrics, latency, GPU spec; embedded in "
                 "configs/README.md)");
-  cmd->callback([&action, md, keys]() {
-    action = [md, keys]() {
+  cmd->add_flag("--counters", *counters,
+                "With --markdown: print the counter table instead (sim/core/counter_list.h; "
+                "embedded in docs/cost_model.md)");
+  cmd->callback([&action, md, keys, counters]() {
+    action = [md, keys, counters]() {
+      if (*md && *counters) {
+        std::printf("%s", counters_markdown().c_str());
+        return 0;
+      }
       if (*md && *keys) {
         std::printf("%s", config_keys_markdown().c_str());
         return 0;

@@ -1,41 +1,67 @@
-// Named per-frame counters a method fills for the cost model and frames.csv.
-// Ordered by first insertion so CSV columns are stable. Not used in per-pixel loops.
+// Per-frame counters a method fills for the cost model and frames.csv, keyed by the declared
+// ids of sim/core/counter_list.h (a misspelt counter does not compile). Ordered by first
+// insertion so CSV columns are stable. Not used in per-pixel loops.
 #pragma once
 #include <string>
 #include <string_view>
 #include <utility>
 #include <vector>
 
+#include "sim/core/counter_list.h"
+
 namespace fovsim {
 
 class Counters {
  public:
-  void set(std::string_view name, double v) { slot(name) = v; }
-  void add(std::string_view name, double v) { slot(name) += v; }
-  double get(std::string_view name, double fallback = 0.0) const {
-    for (auto& kv : items_)
-      if (kv.first == name) return kv.second;
+  struct Entry {
+    CounterKey key;
+    double value;
+  };
+  void set(Counter id, double v) { slot({id}) = v; }
+  void add(Counter id, double v) { slot({id}) += v; }
+  void set(Counter id, int index, double v) { slot({id, index}) = v; }  // indexed families
+  void add(CounterKey k, double v) { slot(k) += v; }
+  double get(Counter id, double fallback = 0.0) const { return get(CounterKey{id}, fallback); }
+  double get(CounterKey k, double fallback = 0.0) const {
+    for (auto& e : items_)
+      if (e.key == k) return e.value;
     return fallback;
   }
-  bool has(std::string_view name) const {
-    for (auto& kv : items_)
-      if (kv.first == name) return true;
+  bool has(Counter id) const { return has(CounterKey{id}); }
+  bool has(CounterKey k) const {
+    for (auto& e : items_)
+      if (e.key == k) return true;
     return false;
   }
-  const std::vector<std::pair<std::string, double>>& items() const { return items_; }
+  // A counter read back by its column name (a results file, the reference cache); false (and
+  // nothing set) for a name no counter has.
+  bool set_named(std::string_view name, double v) {
+    auto k = find_counter(name);
+    if (!k) return false;
+    slot(*k) = v;
+    return true;
+  }
+  const std::vector<Entry>& entries() const { return items_; }
+  // (column name, value) in insertion order: what frames.csv writes.
+  std::vector<std::pair<std::string, double>> items() const {
+    std::vector<std::pair<std::string, double>> v;
+    v.reserve(items_.size());
+    for (auto& e : items_) v.emplace_back(e.key.name(), e.value);
+    return v;
+  }
   void merge(const Counters& o) {
-    for (auto& kv : o.items_) add(kv.first, kv.second);
+    for (auto& e : o.items_) slot(e.key) += e.value;
   }
   void clear() { items_.clear(); }
 
  private:
-  double& slot(std::string_view name) {
-    for (auto& kv : items_)
-      if (kv.first == name) return kv.second;
-    items_.emplace_back(std::string(name), 0.0);
-    return items_.back().second;
+  double& slot(CounterKey k) {
+    for (auto& e : items_)
+      if (e.key == k) return e.value;
+    items_.push_back({k, 0.0});
+    return items_.back().value;
   }
-  std::vector<std::pair<std::string, double>> items_;
+  std::vector<Entry> items_;
 };
 
 }  // namespace fovsim

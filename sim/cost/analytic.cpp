@@ -54,21 +54,24 @@ double column(const std::vector<std::pair<std::string, double>>& cols, const std
 }  // namespace
 
 Counters analytic_counters(const std::string& method, const Json& params, const Workload& w,
-                           const Display& d, const std::string& where, bool indirect) {
+                           const Display& d, const std::string& where, bool indirect,
+                           CostPasses* passes) {
   if (!is_cost_method(method)) throw Error(where, "unknown method '" + method + "'");
   const Json all = params.is_null() ? Json::object() : params;
   if (!all.is_object()) throw Error(where, "method parameters must be an object");
-  const CostFamily fam = cost_family(method);
   // Split: analytic-only keys here; the rest goes through the method's own parser (the one
   // `run` uses: same keys, defaults and ranges; unknown or mistyped keys are errors). An
   // analytic key the method does not use (kfr:shaded_fraction) stays unread and is reported
   // by p.finish() below.
   Json own = Json::object(), extra = Json::object();
-  const std::vector<std::string> ak = analytic_keys(fam);
+  const std::vector<std::string> ak = analytic_keys(cost_family(method));
   for (auto it = all.begin(); it != all.end(); ++it)
     (std::find(ak.begin(), ak.end(), it.key()) != ak.end() ? extra : own)[it.key()] = it.value();
   Params mp(own, where, "");
   const std::unique_ptr<FoveationMethod> inst = make_method(method, mp);
+  const CostPasses decl = declared_passes(*inst);  // family, strategy passes, shared work
+  const CostFamily fam = decl.family;
+  if (passes) *passes = decl;
   std::vector<std::pair<std::string, double>> cols = inst->param_columns();
   if (inst->lighting())  // the lighting strategy's columns (flc: vpl_budget)
     for (auto& c : inst->lighting()->param_columns()) cols.push_back(c);
@@ -100,34 +103,34 @@ Counters analytic_counters(const std::string& method, const Json& params, const 
     return expected_shaded_samples(*spec, v) / P;
   };
   if (fam == CostFamily::Full) {
-    c.set("shaded_samples", P);
-    c.set("gbuffer_samples", P);
+    c.set(Counter::shaded_samples, P);
+    c.set(Counter::gbuffer_samples, P);
   } else if (fam == CostFamily::Mapping) {
     // KFR/RMFR: the w x h = (W/sigma) x (H/sigma) buffer is fully shaded (Meng 2018 §2.2,
     // Ye et al. 2022 §3.2); the baselines shade what their layers / sample pattern need.
     const double sigma = column(cols, "sigma", 1.0);
     const double buf = P / (sigma * sigma);
     const double s = whole_buffer ? buf : baseline_fraction(1.0) * P;
-    c.set("shaded_samples", s);
-    c.set("gbuffer_samples", s);
-    c.set("buffer_pixels_allocated", whole_buffer ? buf : s);
-    c.set("buffer_pixels_used", s);
-    c.set("fullres_pixels", P);
+    c.set(Counter::shaded_samples, s);
+    c.set(Counter::gbuffer_samples, s);
+    c.set(Counter::buffer_pixels_allocated, whole_buffer ? buf : s);
+    c.set(Counter::buffer_pixels_used, s);
+    c.set(Counter::fullres_pixels, P);
     // Total taps of pass 2 (bilinear inverse map: 4 per full-resolution pixel).
-    c.set("filter_taps", P * p.number("filter_taps_per_pixel", 4, Range::at_least(0)));
+    c.set(Counter::filter_taps, P * p.number("filter_taps_per_pixel", 4, Range::at_least(0)));
   } else if (fam == CostFamily::Fvrs) {
-    c.set("shaded_samples", baseline_fraction(1.0) * P);
-    c.set("gbuffer_samples", P);
+    c.set(Counter::shaded_samples, baseline_fraction(1.0) * P);
+    c.set(Counter::gbuffer_samples, P);
   } else if (fam == CostFamily::Twfr) {
     double rf = p.number("redraw_fraction", w.twfr_redraw_fraction, Range::closed(0, 1));
     double pf = p.number("prims_fraction", w.twfr_prims_fraction, Range::closed(0, 1));
     double T = std::max(0.0, w.triangles) * w.submitted_fraction;
-    c.set("shaded_samples", rf * P);
-    c.set("gbuffer_samples", rf * P);
-    c.set("pixels_redrawn", rf * P);
-    c.set("reprojected_pixels", P);
-    c.set("prims_submitted", pf * T);
-    c.set("prims_culled", (1 - pf) * T);
+    c.set(Counter::shaded_samples, rf * P);
+    c.set(Counter::gbuffer_samples, rf * P);
+    c.set(Counter::pixels_redrawn, rf * P);
+    c.set(Counter::reprojected_pixels, P);
+    c.set(Counter::prims_submitted, pf * T);
+    c.set(Counter::prims_culled, (1 - pf) * T);
   } else if (fam == CostFamily::Flc) {
     double lights = std::max(1.0, w.lights);
     double total = w.rsm_res * w.rsm_res * lights;  // one VPL per RSM texel (Yang et al. 2021 §3)
@@ -137,32 +140,32 @@ Counters analytic_counters(const std::string& method, const Json& params, const 
     double kept = std::min(total, budget);
     double ns = w.importance_samples;
     double s = P * w.lpt_fraction;
-    c.set("shaded_samples", s);
-    c.set("gbuffer_samples", P);
-    c.set("rsm_texels", total);
-    c.set("vpls_total", total);
-    c.set("vpls_kept", kept);
-    c.set("importance_samples", ns);
-    c.set("contribution_evals", total * ns);               // eq. 14 for every VPL and sample
-    c.set("shaded_sample_vpls", s * kept / w.interleave);  // interleaved sampling (§6)
+    c.set(Counter::shaded_samples, s);
+    c.set(Counter::gbuffer_samples, P);
+    c.set(Counter::rsm_texels, total);
+    c.set(Counter::vpls_total, total);
+    c.set(Counter::vpls_kept, kept);
+    c.set(Counter::importance_samples, ns);
+    c.set(Counter::contribution_evals, total * ns);               // eq. 14 for every VPL and sample
+    c.set(Counter::shaded_sample_vpls, s * kept / w.interleave);  // interleaved sampling (§6)
   }
-  if (indirect && fam != CostFamily::Flc) {
+  if (indirect && decl.frame_rsm && fam != CostFamily::Flc) {
     // One lighting model per scene: the method's samples also get the indirect light of its
     // strategy (lighting.h). all_vpls (the default) shades every VPL; flc / fir keep at most
     // their budget and pay for importance sampling and per-VPL culling.
     const double total = w.rsm_res * w.rsm_res * std::max(1.0, w.lights);  // FLC paper §3
     const LightingStrategy* L = inst->lighting();
     double kept = total;
-    c.set("rsm_texels", total);
-    c.set("vpls_total", total);
-    if (L && !L->uses_all_vpls()) {
+    c.set(Counter::rsm_texels, total);
+    c.set(Counter::vpls_total, total);
+    if (L && (decl.importance || decl.culling)) {
       kept = std::min(total, column(cols, "vpl_budget", w.vpl_budget));
       // The strategy's own selection passes (flc: importance + eq. 14 contributions; fir: one
       // importance per VPL), declared by the strategy.
       L->analytic_selection_counters(c, total, w.importance_samples);
     }
-    c.set("vpls_kept", kept);
-    c.set("shaded_sample_vpls", c.get("shaded_samples") * kept);
+    c.set(Counter::vpls_kept, kept);
+    c.set(Counter::shaded_sample_vpls, c.get(Counter::shaded_samples) * kept);
   }
   p.finish();
   return c;
@@ -171,8 +174,8 @@ Counters analytic_counters(const std::string& method, const Json& params, const 
 FrameCost analytic_frame(const GpuProfile& gpu, const std::string& method, const Json& params,
                          const Workload& w, const Display& d, const std::string& where,
                          bool indirect) {
-  const Counters c = analytic_counters(method, params, w, d, where, indirect);
   CostInputs in;
+  const Counters c = analytic_counters(method, params, w, d, where, indirect, &in.passes.emplace());
   in.features.indirect = indirect;
   in.method = method;
   in.counters = &c;

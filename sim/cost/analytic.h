@@ -33,10 +33,12 @@ namespace fovsim {
 // `indirect`: the scene has one-bounce indirect light (SceneFeatures::indirect), so every
 // method also shades VPLs with its lighting strategy: RSM texels = workload.rsm_res^2 x lights,
 // VPLs used per shaded sample = all of them (all_vpls) or min(all, vpl_budget) (flc, fir), and
-// the flc/fir strategies' importance and culling work (the `flc` method always has these).
+// the selection work its strategy declares (LightingStrategy::declare_passes; the `flc` method
+// always has it). `passes` (optional) receives the passes the method declares, for
+// CostInputs::passes.
 Counters analytic_counters(const std::string& method, const Json& params, const Workload& w,
                            const Display& d, const std::string& where = "params",
-                           bool indirect = false);
+                           bool indirect = false, CostPasses* passes = nullptr);
 
 // What `fovsim predict` and `budget` compute for one method: its analytic counters on this
 // workload and display, costed with `gpu` (estimate_frame, pixel_scale 1).

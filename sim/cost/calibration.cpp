@@ -172,8 +172,9 @@ Workload entry_workload(const CostFit& fit, const CalData& data, const CalEntry&
 }
 
 double entry_ms(const GpuProfile& g, const Workload& w, const CalEntry& e, FrameCost* out) {
-  Counters c = analytic_counters(e.method, e.params, w, e.display, e.id);
   CostInputs in;
+  Counters c =
+      analytic_counters(e.method, e.params, w, e.display, e.id, false, &in.passes.emplace());
   in.method = e.method;
   in.counters = &c;
   in.display = e.display;
@@ -264,8 +265,9 @@ Row design_row(const CostFit& fit, const CalData& data, const CalEntry& e) {
                                                             : pass + "." + term;
   };
   const GpuSpec& spec = data.specs.at(e.gpu).spec;
-  Counters c = analytic_counters(e.method, e.params, w, e.display, e.id);
   CostInputs in;
+  Counters c =
+      analytic_counters(e.method, e.params, w, e.display, e.id, false, &in.passes.emplace());
   in.method = e.method;
   in.counters = &c;
   in.display = e.display;

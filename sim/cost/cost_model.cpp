@@ -8,6 +8,7 @@
 #include "sim/cost/gpu_profile.h"
 #include "sim/cost/passes.h"
 #include "sim/cost/workload.h"
+#include "sim/foveation/factory.h"
 
 namespace fovsim {
 
@@ -21,6 +22,15 @@ const char* budget_verdict(const FrameCost& fc, double budget_ms) {
   if (fc.interval_level <= 0) return fc.total_ms <= budget_ms ? "fits" : "does not fit";
   if (fc.total_hi_ms <= budget_ms) return "fits";
   return fc.total_lo_ms > budget_ms ? "does not fit" : "uncertain";
+}
+
+Counters shared_counters(const CostInputs& in) {
+  Counters out;
+  const CostPasses decl = in.passes ? *in.passes : declared_passes(in.method);
+  const bool own = in.counters && in.counters->has(Counter::rsm_texels);
+  if (decl.frame_rsm && in.shared && !own && in.shared->has(Counter::rsm_texels))
+    out.set(Counter::rsm_texels, in.shared->get(Counter::rsm_texels));
+  return out;
 }
 
 FrameCost estimate_frame(const GpuProfile& gpu, const CostInputs& in) {

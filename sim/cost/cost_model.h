@@ -3,12 +3,14 @@
 // coefficients from a GPU profile (models/gpus/*.json) plus a fixed overhead.
 #pragma once
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "sim/core/counters.h"
 #include "sim/core/params.h"
 #include "sim/display/display.h"
+#include "sim/foveation/method.h"
 #include "sim/scene/scene.h"
 
 namespace fovsim {
@@ -40,6 +42,12 @@ struct Workload;    // defined in workload.h
 struct CostInputs {
   std::string method;                  // factory name
   const Counters* counters = nullptr;  // measured at the simulated resolution
+  // The passes the method and its lighting strategy declare (declared_passes, factory.h); unset:
+  // those of `method` with its default lighting strategy.
+  std::optional<CostPasses> passes;
+  // The frame's shared work (its counters: rsm_texels), charged to a method that declares it
+  // uses it (CostPasses::frame_rsm) and did not count it itself. nullptr: none.
+  const Counters* shared = nullptr;
   SceneFeatures features;
   Display display;           // the real (unscaled) display being costed
   double pixel_scale = 1.0;  // (display W*H) / (simulated W*H): scales pixel counters
@@ -51,6 +59,9 @@ struct CostInputs {
 // Per-pass and total estimate. Per-eye passes are charged display.eyes times; shadow maps
 // and RSMs once per frame. Pixel counters are multiplied by pixel_scale, triangles are not.
 FrameCost estimate_frame(const GpuProfile& gpu, const CostInputs& in);
+
+// The shared counters (CostInputs::shared) the method declares it uses, for its frames.csv row.
+Counters shared_counters(const CostInputs& in);
 
 // Budget verdict at the interval's confidence: "fits" when the interval's upper
 // end is within the budget, "does not fit" when its lower end exceeds it, else "uncertain".

@@ -95,10 +95,6 @@ CostFamily cost_family(const std::string& m) {
   return e->family;
 }
 
-bool has_mapping_pass2(const std::string& m) {
-  return is_cost_method(m) && cost_family(m) == CostFamily::Mapping;
-}
-
 Resource term_resource(const std::string& pass, const std::string& term, const std::string& where) {
   for (auto& d : term_table())
     if (pass == d.pass && term == d.term) return d.res;
@@ -128,25 +124,27 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
     for (auto& k : cost_methods()) all += (all.empty() ? "" : ", ") + k;
     throw Error("cost", "unknown method '" + m + "' (known: " + all + ")");
   }
+  // The pipeline is what the method and its strategy declare, never inferred from counters.
+  const CostPasses decl = in.passes ? *in.passes : declared_passes(m);
   const Counters empty;
   const Counters& c = in.counters ? *in.counters : empty;
-  auto note = [&](const char* name) {
+  auto note = [&](Counter id) {
+    const std::string name = counter_name(id);
     if (missing && std::find(missing->begin(), missing->end(), name) == missing->end())
       missing->push_back(name);
   };
-  // A counter the method should have filled: 0 (noted) when absent.
-  auto need = [&](const char* name, double fallback, bool note_it = true) {
-    if (c.has(name)) return std::max(0.0, c.get(name));
-    if (note_it) note(name);
-    return fallback;
-  };
   auto fin0 = [](double v) { return std::isfinite(v) ? std::max(0.0, v) : 0.0; };
-  // A per-pixel counter measured at the simulated resolution, scaled to the display;
-  // `fallback` is already in display pixels.
-  auto need_px = [&](const char* name, double fallback) {
-    if (c.has(name)) return fin0(c.get(name)) * fin0(in.pixel_scale);
-    note(name);
-    return fallback;
+  // A counter the method should have filled, at the real display: a Pixels counter
+  // (counter_list.h) measured at the simulated resolution is scaled by pixel_scale. Absent: noted
+  // and `fallback` (already at the display).
+  auto need = [&](Counter id, double fallback) {
+    if (!c.has(id)) {
+      note(id);
+      return fallback;
+    }
+    if (counter_info(id).scale == CounterScale::Pixels)
+      return fin0(c.get(id)) * fin0(display_scale(id, in.pixel_scale));
+    return std::max(0.0, c.get(id));
   };
   auto fin = [](double v) { return std::isfinite(v) ? std::max(0.0, v) : 0.0; };
 
@@ -157,22 +155,25 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
   const double T = fin(w.tris(f) * w.submitted_fraction);
   const double lights = fin(w.nlights(f));
   const double shadowed = fin(w.nshadowed(f));
-  const CostFamily fam = cost_family(m);
+  const CostFamily fam = decl.family;
   const bool twfr = fam == CostFamily::Twfr, flc = fam == CostFamily::Flc;
   // Lighting passes (docs/architecture.md §5 lighting axis): a scene with indirect light charges
-  // every method for its RSMs and the VPL shading of its samples; the importance / contribution /
-  // culling passes exist when the method's lighting strategy has them (its counters say so; the
-  // `flc` method always). A scene without indirect light has none of them.
-  const bool vpl = f.indirect || flc;
-  const bool has_importance = flc || c.has("importance_samples");
-  const bool has_culling = flc || c.has("contribution_evals");
+  // every method that declares the frame's RSMs for them and the VPL shading of its samples
+  // (the flc method builds VPLs on any scene); the importance / contribution / culling passes
+  // exist when its lighting strategy declares them. A scene without indirect light has none.
+  const bool vpl = decl.frame_rsm && (f.indirect || decl.own_vpls);
+  const bool has_importance = decl.importance;
+  const bool has_culling = decl.culling;
 
   // Shaded samples per eye at the real resolution. `full` shades every pixel by definition.
-  const double S = fam == CostFamily::Full
-                       ? (c.has("shaded_samples") ? c.get("shaded_samples") * scale : P)
-                       : (flc && c.has("direct_shaded_samples")
-                              ? need_px("direct_shaded_samples", P)  // FLC: direct at every pixel
-                              : need_px("shaded_samples", 0));
+  const double S =
+      fam == CostFamily::Full
+          ? (c.has(Counter::shaded_samples)
+                 ? c.get(Counter::shaded_samples) * display_scale(Counter::shaded_samples, scale)
+                 : P)
+          : (flc && c.has(Counter::direct_shaded_samples)
+                 ? need(Counter::direct_shaded_samples, P)  // FLC: direct at every pixel
+                 : need(Counter::shaded_samples, 0));
 
   std::vector<PassWork> out;
   auto add = [&](const char* pass, std::vector<Term> terms) {
@@ -180,7 +181,7 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
     out.push_back({pass, std::move(terms)});
   };
   const double Tsub =
-      twfr ? need("prims_submitted", T) : T;  // foveation culling (Franke et al. 2021 §6.1)
+      twfr ? need(Counter::prims_submitted, T) : T;  // foveation culling (Franke et al. 2021 §6.1)
 
   if (w.pipeline.depth_prepass)
     add("depth", {{"tris", Resource::Geometry, T * eyes},
@@ -190,36 +191,43 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
         {{"shadow_tris", Resource::Geometry, T * shadowed},
          {"shadow_texels", Resource::Raster, w.shadow_map_res * w.shadow_map_res * shadowed}});
   if (vpl) {  // reflective shadow maps, one per light (Yang et al. 2021 §3, S-2)
-    double texels = need("rsm_texels", w.rsm_res * w.rsm_res * std::max(1.0, lights));
+    // The frame's RSMs: counted by the method (predict, a re-costed frames.csv) or the frame's
+    // shared work it declares (a run).
+    const Counters& rc = !c.has(Counter::rsm_texels) && in.shared ? *in.shared : c;
+    const double fallback = w.rsm_res * w.rsm_res * std::max(1.0, lights);
+    double texels = rc.has(Counter::rsm_texels) ? std::max(0.0, rc.get(Counter::rsm_texels))
+                                                : (note(Counter::rsm_texels), fallback);
     add("rsm", {{"tris", Resource::Geometry, T * std::max(1.0, lights)},
                 {"texels", Resource::Raster, texels}});
   }
   if (twfr) {  // reprojection + push-pull + confidence (Franke et al. 2021 §4-§5)
-    double rp = need_px("reprojected_pixels", P);
+    double rp = need(Counter::reprojected_pixels, P);
     double holes = 0;
-    for (auto& kv : c.items())
-      if (kv.first.rfind("holes_mip", 0) == 0) holes += std::max(0.0, kv.second);
-    add("reproject", {{"pixels", Resource::Memory, rp * eyes},
-                      {"holes", Resource::Memory, holes * scale * eyes}});
+    for (auto& e : c.entries())
+      if (e.key.id == Counter::holes_mip) holes += std::max(0.0, e.value);
+    add("reproject",
+        {{"pixels", Resource::Memory, rp * eyes},
+         {"holes", Resource::Memory, holes * display_scale(Counter::holes_mip, scale) * eyes}});
   }
   // G-buffer (deferred) or forward geometry pass (fVRS); TWFR discards confident pixels.
   {
-    double written = twfr ? need_px("pixels_redrawn", S) : P;
+    double written = twfr ? need(Counter::pixels_redrawn, S) : P;
     add("gbuffer", {{"tris", Resource::Geometry, Tsub * w.tri_cost * eyes},
                     {"frags", Resource::Raster, P * w.overdraw * eyes},
                     {"gbuffer_bytes", Resource::Memory, written * w.gbuffer_bytes * eyes}});
   }
   if (w.pipeline.skybox) add("skybox", {{"pixels", Resource::Raster, P * eyes}});
   if (vpl && has_importance) {  // importance map (eqs. 3-9) + quasi-MH sampling (Alg. 1)
-    double ns = need("importance_samples", 0);
+    double ns = need(Counter::importance_samples, 0);
     add("importance", {{"pixels", Resource::Memory, P * eyes},
                        {"samples", Resource::Shading, ns * w.chain_length * eyes}});
   }
   if (vpl && has_culling) {  // per-VPL importance (FLC: eq. 14 with BLSO) + culling
-    double ns = c.has("importance_samples") ? c.get("importance_samples") : 0;
-    double vt = need("vpls_total", 0);
-    double evals = c.has("contribution_evals") ? c.get("contribution_evals") : vt * ns;
-    if (!c.has("contribution_evals")) note("contribution_evals");
+    double ns = c.has(Counter::importance_samples) ? c.get(Counter::importance_samples) : 0;
+    double vt = need(Counter::vpls_total, 0);
+    double evals =
+        c.has(Counter::contribution_evals) ? c.get(Counter::contribution_evals) : vt * ns;
+    if (!c.has(Counter::contribution_evals)) note(Counter::contribution_evals);
     add("contribution", {{"evals", Resource::Shading, evals * eyes}});  // eq. 14 with BLSO
     add("light_culling", {{"vpls", Resource::Shading, vt * eyes}});
   }
@@ -233,21 +241,22 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
       // Yang et al. 2021 §7, Fig. 7: the cost rises "almost quadratically" with the VPLs kept;
       // the workload's vpl_exponent (1: linear) scales the per-VPL work by
       // (kept / vpl_ref)^(exponent - 1), so at the calibrated budget vpl_ref it is unchanged.
-      if (w.vpl_exponent != 1.0 && c.has("vpls_kept") && w.vpl_ref > 0)
-        vf *= std::pow(std::max(0.0, c.get("vpls_kept")) / w.vpl_ref, w.vpl_exponent - 1.0);
-      t.push_back({"vpl_flops", Resource::Shading, need_px("shaded_sample_vpls", 0) * vf * eyes});
+      if (w.vpl_exponent != 1.0 && c.has(Counter::vpls_kept) && w.vpl_ref > 0)
+        vf *= std::pow(std::max(0.0, c.get(Counter::vpls_kept)) / w.vpl_ref, w.vpl_exponent - 1.0);
+      t.push_back(
+          {"vpl_flops", Resource::Shading, need(Counter::shaded_sample_vpls, 0) * vf * eyes});
     }
     add("lighting", std::move(t));
   }
-  if (has_mapping_pass2(m)) {  // inverse map to the screen (pass 2)
+  if (fam == CostFamily::Mapping) {  // inverse map to the screen (pass 2)
     // filter_taps is the frame's total of texture taps (like every counter, a total, scaled
     // to the display like other pixel counters); without it, bilinear = 4 taps per pixel.
-    double full = need_px("fullres_pixels", P);
-    double taps = c.has("filter_taps") ? need_px("filter_taps", 0) : 4.0 * full;
-    if (!c.has("filter_taps")) note("filter_taps");
+    double full = need(Counter::fullres_pixels, P);
+    double taps = c.has(Counter::filter_taps) ? need(Counter::filter_taps, 0) : 4.0 * full;
+    if (!c.has(Counter::filter_taps)) note(Counter::filter_taps);
     add("pass2", {{"taps", Resource::Memory, taps * eyes}});
   }
-  const double post_px = twfr ? need_px("pixels_redrawn", S) : P;
+  const double post_px = twfr ? need(Counter::pixels_redrawn, S) : P;
   if (w.pipeline.ssao)
     add("ssao", {{"pixels", Resource::Memory, post_px * eyes}});  // TWFR skips reprojected
   if (w.pipeline.tonemap) add("tonemap", {{"pixels", Resource::Memory, post_px * eyes}});

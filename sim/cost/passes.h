@@ -23,9 +23,9 @@ struct PassWork {
   std::vector<Term> terms;
 };
 
-// Method families.
+// Method names the cost model knows (the factory's); the passes it charges come from the
+// declaration (CostInputs::passes, declared_passes in factory.h).
 bool is_cost_method(const std::string& m);
-bool has_mapping_pass2(const std::string& m);  // cost family Mapping (method_list.h): pass 2
 CostFamily cost_family(const std::string& m);  // throws Error for an unknown method
 const std::vector<std::string>& cost_methods();
 
@@ -42,8 +42,9 @@ bool is_known_pass(const std::string& p);
 double working_set_factor(const std::string& pass, const std::string& term, const GpuSpec& spec,
                           const Display& display);
 
-// Passes that exist for these inputs, with term values. `missing` receives the names of
-// counters the passes read but the method did not fill.
+// Passes that exist for these inputs, with term values: the ones in.passes declares (unset: those
+// of in.method with its default lighting strategy), never inferred from which counters are
+// present. `missing` receives the names of counters the passes read but the method did not fill.
 std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
                                       std::vector<std::string>* missing = nullptr);
 

@@ -105,8 +105,10 @@ ResultTable analytic_summary(const LoadedConfig& cfg, const std::string& models_
     params.erase("method");
     params.erase("label");
     Counters c;
+    CostPasses passes;
     try {
-      c = analytic_counters(method, params, w, d, "methods[" + std::to_string(i) + "]", f.indirect);
+      c = analytic_counters(method, params, w, d, "methods[" + std::to_string(i) + "]", f.indirect,
+                            &passes);
     } catch (const Error& e) {
       if (notes) notes->push_back("analytic: " + label + " left out (" + e.what() + ")");
       continue;
@@ -115,6 +117,7 @@ ResultTable analytic_summary(const LoadedConfig& cfg, const std::string& models_
       CostInputs in;
       in.method = method;
       in.counters = &c;
+      in.passes = passes;
       in.features = f;
       in.display = d;
       in.workload = &w;
@@ -125,11 +128,11 @@ ResultTable analytic_summary(const LoadedConfig& cfg, const std::string& models_
       r.set_text("label", label);
       r.set_text("gpu", g.name);
       r.set("frames", 1);
-      double shaded = c.get("shaded_samples");
+      double shaded = c.get(Counter::shaded_samples);
       r.set("shaded_samples", shaded);
       r.set("shaded_fraction", shaded / (double(d.width) * d.height));
-      r.set("prims_submitted", c.get("prims_submitted", double(f.triangles)));
-      r.set("prims_culled", c.get("prims_culled", 0.0));
+      r.set("prims_submitted", c.get(Counter::prims_submitted, double(f.triangles)));
+      r.set("prims_culled", c.get(Counter::prims_culled, 0.0));
       for (auto& [cn, cv] : c.items())
         if (cn != "shaded_samples" && cn != "prims_submitted" && cn != "prims_culled")
           r.set(cn, cv);

@@ -559,8 +559,8 @@ struct Cell {
       // The reference's floor: `full` at the methods' sampling rate against the reference.
       if (record) {
         MetricsConfig floor_cfg = fl_mcfg;  // no temporal_error (against the reference only)
-        Counters fl = compute_metrics(floor_cfg, fl_display, ref_display, fd.camera,
-                                      fd.eccentricity, nullptr, &floor_scratch);
+        MetricValues fl = compute_metrics(floor_cfg, fl_display, ref_display, fd.camera,
+                                          fd.eccentricity, nullptr, &floor_scratch);
         for (auto& [k, v] : fl.items()) floor_vals[k][fi] = v;
       }
       for (auto& q : seq) {
@@ -654,9 +654,6 @@ struct Cell {
                                            "\" (label \"" + m.label + "\")");
       render_with_lighting(*impl, ctx, fo);  // the method + its lighting strategy (lighting.h)
       if (watchdog) watchdog->end(watchdog_slot);
-      // The frame's RSMs are shared work every method of a scene with indirect light needs.
-      if (fd.has_vpls && fd.counters.has("rsm_texels"))
-        fo.counters.set("rsm_texels", fd.counters.get("rsm_texels"));
       double sim_ms = ms_since(m0);
       pc = phases.lap("methods", pc);
       const Image& lin = fo.image_is_reference ? fd.reference : fo.image;
@@ -666,8 +663,8 @@ struct Cell {
       sh.tonemap.apply(lin, out_display);
       const Image* refd = &ref_display;  // every row against the same reference
       pc = phases.lap("tonemap", pc);
-      Counters metrics = compute_metrics(mcfg, out_display, *refd, fd.camera, fd.eccentricity,
-                                         &m.temporal, &metrics_scratch);
+      MetricValues metrics = compute_metrics(mcfg, out_display, *refd, fd.camera, fd.eccentricity,
+                                             &m.temporal, &metrics_scratch);
       // Sequence metrics: the frame's pooled value (e.g. fvvdp_q, pooled over the run into
       // summary fvvdp_jod by the registry) and the metric of this frame alone; heat maps of the
       // saved frames.
@@ -683,8 +680,8 @@ struct Cell {
         if (h) heat.emplace_back(m.stem + d.sequence->heatmap_suffix, std::move(img));
       }
       if (fl_full) {  // the foveation loss: every metric against full at the same sampling rate
-        Counters fl = compute_metrics(fl_mcfg, out_display, fl_display, fd.camera, fd.eccentricity,
-                                      &m.temporal_fl, &fl_scratch);
+        MetricValues fl = compute_metrics(fl_mcfg, out_display, fl_display, fd.camera,
+                                          fd.eccentricity, &m.temporal_fl, &fl_scratch);
         for (auto& [k, v] : fl.items()) metrics.set(k + kFoveationLossSuffix, v);
         for (size_t k = 0; k < seq.size(); ++k) {
           const MetricDecl& d = *seq[k].decl;
@@ -724,6 +721,8 @@ struct Cell {
         CostInputs ci;
         ci.method = cost_method;
         ci.counters = &fo.counters;
+        ci.passes = declared_passes(*impl);                // its cost passes and shared work
+        ci.shared = fd.has_vpls ? &fd.counters : nullptr;  // the frame's RSMs
         ci.features = features;
         ci.display = sh.display;
         ci.pixel_scale = sh.pixel_scale;
@@ -755,14 +754,16 @@ struct Cell {
           row.set("gaze_error_deg", angle_deg(fd.gaze_dir, ctx.gaze_dir));
           row.set("gaze_speed_deg_s", speed);
         }
-        double shaded = fo.counters.get("shaded_samples");
-        row.set("shaded_samples", shaded * sh.pixel_scale);
+        double shaded = fo.counters.get(Counter::shaded_samples);
+        row.set("shaded_samples", shaded * display_scale(Counter::shaded_samples, sh.pixel_scale));
         row.set("shaded_fraction", shaded / double(sh.sim_display.width * sh.sim_display.height));
-        row.set("prims_submitted", fo.counters.get("prims_submitted", double(features.triangles)));
-        row.set("prims_culled", fo.counters.get("prims_culled", 0.0));
+        row.set("prims_submitted",
+                fo.counters.get(Counter::prims_submitted, double(features.triangles)));
+        row.set("prims_culled", fo.counters.get(Counter::prims_culled, 0.0));
         for (auto& [cn, cv] : fo.counters.items())
           if (cn != "shaded_samples" && cn != "prims_submitted" && cn != "prims_culled")
             row.set(cn, cv);
+        for (auto& [cn, cv] : shared_counters(ci).items()) row.set(cn, cv);  // the frame's RSMs
         // A counter the cost model needed and the method did not fill (its pass was charged 0 or
         // a fallback) is a flag of the row, never silence (results/README.md).
         if (!cost.missing_counters.empty()) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <map>
 
 #include "sim/core/error.h"
 #include "sim/core/files.h"
@@ -9,6 +10,7 @@
 #include "sim/cost/gpu_profile.h"
 #include "sim/cost/passes.h"
 #include "sim/cost/workload.h"
+#include "sim/foveation/factory.h"
 #include "sim/scene/scene.h"
 #include "sim/trace/csv_table.h"
 
@@ -49,11 +51,12 @@ RecostResult recost_one(const RecostOptions& o) {
   if (rows.empty()) throw Error(csv_path, "empty frames.csv");
   std::vector<std::string> header;
   for (const CsvField& h : rows.front().fields) header.push_back(h.text);
-  int c_id = -1, c_method = -1, c_gpu = -1;
+  int c_id = -1, c_method = -1, c_gpu = -1, c_lighting = -1;
   for (size_t i = 0; i < header.size(); ++i) {
     if (header[i] == "config_id") c_id = int(i);
     if (header[i] == "method") c_method = int(i);
     if (header[i] == "gpu") c_gpu = int(i);
+    if (header[i] == "lighting") c_lighting = int(i);
   }
   if (c_id < 0 || c_method < 0) throw Error(csv_path + ":1", "missing config_id or method column");
 
@@ -61,6 +64,7 @@ RecostResult recost_one(const RecostOptions& o) {
   for (auto& g : o.gpus) gpus.push_back(GpuProfile::load(g, o.models));
   std::vector<std::vector<RecostRow>> acc(gpus.size());
   std::string first_gpu;
+  std::map<std::string, CostPasses> declared;  // per method + lighting strategy
   for (size_t ri = 1; ri < rows.size(); ++ri) {
     const CsvRow& row = rows[ri];
     if (row.fields.size() != header.size())
@@ -73,28 +77,40 @@ RecostResult recost_one(const RecostOptions& o) {
       if (first_gpu.empty()) first_gpu = cell(c_gpu);
       if (cell(c_gpu) != first_gpu) continue;
     }
-    Counters c;
+    Counters c;  // the row's counter columns (counter_list.h); other columns are not counters
+    double shaded_fraction = 0;
+    bool has_fraction = false;
     for (size_t i = 0; i < header.size(); ++i) {
       const std::string& h = header[i];
       if (h.rfind("est_ms_", 0) == 0 || row.fields[i].text.empty()) continue;
       double v = 0;
       std::string why;
-      if (parse_number(row.fields[i].text, v, why)) c.set(h, v);
+      if (!parse_number(row.fields[i].text, v, why)) continue;
+      if (h == "shaded_fraction") shaded_fraction = v, has_fraction = true;
+      c.set_named(h, v);
     }
     // frames.csv reports shaded_samples at the real display's resolution; counters are
     // costed at the simulated one (like every other pixel counter in the file).
     // Without shaded_fraction the display-resolution shaded_samples would be costed as if
     // simulated: an error, as for any other missing counter (below).
-    if (!c.has("shaded_fraction"))
+    if (!has_fraction)
       throw Error(file_location(csv_path, row.line),
                   "counter shaded_fraction missing or empty (the cost model needs it; "
                   "re-costing would use display-resolution samples): use the run's own frames.csv");
-    c.set("shaded_samples", c.get("shaded_fraction") * sim_px);
+    c.set(Counter::shaded_samples, shaded_fraction * sim_px);
     std::string id = cell(c_id);
     if (auto at = id.find('@'); at != std::string::npos) id = id.substr(0, at);
     for (size_t gi = 0; gi < gpus.size(); ++gi) {
       CostInputs ci;
       ci.method = cell(c_method);
+      // The passes the row's method and lighting strategy declare (an unknown method is
+      // reported by estimate_frame).
+      if (is_cost_method(ci.method)) {
+        const std::string lighting = c_lighting >= 0 ? cell(c_lighting) : "";
+        auto [it, fresh] = declared.try_emplace(ci.method + "\n" + lighting);
+        if (fresh) it->second = declared_passes(ci.method, lighting);
+        ci.passes = it->second;
+      }
       ci.counters = &c;
       ci.features = f;
       ci.display = d;

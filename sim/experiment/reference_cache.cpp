@@ -94,8 +94,10 @@ bool ReferenceCache::load(const std::string& key, int width, int height, FrameRe
   for (auto& kv : c) {
     if (!kv.is_array() || kv.size() != 2 || !kv[0].is_string() || !kv[1].is_string()) return false;
     // Stored as exact hex text: the counters come back bit for bit.
-    out.counters.set(kv[0].get<std::string>(),
-                     std::strtod(kv[1].get<std::string>().c_str(), nullptr));
+    // A name no counter has any more (an entry of an older build) makes the entry a miss.
+    if (!out.counters.set_named(kv[0].get<std::string>(),
+                                std::strtod(kv[1].get<std::string>().c_str(), nullptr)))
+      return false;
   }
   ++from_cache_;
   return true;

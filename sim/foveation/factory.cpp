@@ -47,6 +47,27 @@ std::unique_ptr<FoveationMethod> make_method(const std::string& name, Params& p)
   p.fail("method", "unknown method \"" + name + "\" (available: " + names + ")");
 }
 
+CostPasses declared_passes(const FoveationMethod& m) {
+  const MethodEntry* e = find_method(m.name());
+  FOVSIM_CHECK(e, "method \"" + m.name() + "\" is not in method_list.h");
+  CostPasses p;
+  p.family = e->family;
+  p.own_vpls = e->family == CostFamily::Flc;  // FLC builds its VPLs on any scene
+  if (m.lighting()) m.lighting()->declare_passes(p);
+  return p;
+}
+
+CostPasses declared_passes(const std::string& method, const std::string& lighting) {
+  if (!find_method(method)) throw Error("cost", "unknown method '" + method + "'");
+  Params p(Json::object(), "cost", "");
+  std::unique_ptr<FoveationMethod> m = make_method(method, p);
+  if (!lighting.empty() && !m->own_lighting()) {
+    Params lp(Json{{"method", lighting}}, "cost.lighting", "");
+    m->set_lighting(make_lighting(lp));
+  }
+  return declared_passes(*m);
+}
+
 std::string methods_markdown() {
   return methods_only_markdown() + "### Lighting strategies (`lighting` block)\n\n" +
          lighting_markdown();

@@ -21,6 +21,12 @@ const MethodEntry* find_method(const std::string& name);  // nullptr when unknow
 // Creates a method by name from its parameter block; unknown names and keys are errors.
 std::unique_ptr<FoveationMethod> make_method(const std::string& name, Params& p);
 
+// The cost passes a method declares: its cost family (method_list.h) and what its lighting
+// strategy adds (LightingStrategy::declare_passes). By name: the method with the strategy
+// `lighting` (empty: its default); unknown names are errors.
+CostPasses declared_passes(const FoveationMethod& m);
+CostPasses declared_passes(const std::string& method, const std::string& lighting = "");
+
 // A method with parameters on the command line, in the one syntax every command accepts:
 // "kfr", "kfr:sigma=1.8,alpha=4" (the keys of the method's config block; values are JSON,
 // else strings). The name is checked against the factory table; keys are checked by whoever

@@ -72,15 +72,15 @@ class FlcMethod final : public FoveationMethod {
     const int W = g.width, H = g.height;
     Counters& c = out.counters;
     const double px = double(W) * double(H);
-    c.set("gbuffer_samples", px);
-    c.set("fullres_pixels", px);
-    c.set("direct_shaded_samples", px);
-    c.set("lights", double(ctx.scene->lights.size()));
+    c.set(Counter::gbuffer_samples, px);
+    c.set(Counter::fullres_pixels, px);
+    c.set(Counter::direct_shaded_samples, px);
+    c.set(Counter::lights, double(ctx.scene->lights.size()));
     times_ = FlcStageTimes();
     if (!ctx.vpls || ctx.lighting != flc_) {
       // The scene has no indirect light: FLC has nothing to cull; full-resolution direct light.
       out.image_is_reference = true;
-      c.set("shaded_samples", px);
+      c.set(Counter::shaded_samples, px);
       out.flags.push_back("no_indirect_light");
       return;
     }
@@ -124,9 +124,9 @@ class FlcMethod final : public FoveationMethod {
     const double fovea_px = flc_->settings().imp.fovea_frac * half_diag;
     const double rf = rmse_region(od_, gd_, ctx.gaze_px, fovea_px, true);
     const double rp = rmse_region(od_, gd_, ctx.gaze_px, fovea_px, false);
-    c.set("flc_rmse_fovea", rf);
-    c.set("flc_rmse_periphery", rp);
-    c.set("flc_tau", (rp + 1e-6) / (rf + 1e-6));  // regularised: 1 when both are 0
+    c.set(Counter::flc_rmse_fovea, rf);
+    c.set(Counter::flc_rmse_periphery, rp);
+    c.set(Counter::flc_tau, (rp + 1e-6) / (rf + 1e-6));  // regularised: 1 when both are 0
     times_.compose = ms_between(t1, Clock::now());
     if (ctx.want_debug && !lp_dbg.empty()) {
       Image lpd;

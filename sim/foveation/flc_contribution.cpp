@@ -130,9 +130,9 @@ std::vector<double> flc_contributions(const std::vector<VPL>& vpls, const std::v
         rays += nr;
       });
   if (c) {
-    c->add("contribution_evals", double(vpls.size()) * double(ns));
-    c->add("blso_lookups", double(lookups.load()));
-    c->add("visibility_rays", double(rays.load()));
+    c->add(Counter::contribution_evals, double(vpls.size()) * double(ns));
+    c->add(Counter::blso_lookups, double(lookups.load()));
+    c->add(Counter::visibility_rays, double(rays.load()));
   }
   return C;
 }

@@ -98,9 +98,9 @@ void flc_shade_cartesian(const GBuffer& g, const std::vector<VplSoA>& groups, in
     flc_gauss3(out, valid, false, scratch ? &scratch->filter_src : nullptr);
   }
   if (c) {
-    c->add("shaded_samples", double(shaded.load()));
-    c->add("shaded_sample_vpls", double(pairs.load()));
-    if (s.visibility) c->add("vpl_shadow_rays", double(rays.load()));
+    c->add(Counter::shaded_samples, double(shaded.load()));
+    c->add(Counter::shaded_sample_vpls, double(pairs.load()));
+    if (s.visibility) c->add(Counter::vpl_shadow_rays, double(rays.load()));
   }
 }
 
@@ -201,11 +201,11 @@ void flc_shade_logpolar(const GBuffer& g, const glm::dvec2& gaze_px, double sigm
     rays += nr;
   });
   if (c) {
-    c->add("shaded_samples", double(shaded.load() + fallback.load()));
-    c->add("shaded_sample_vpls", double(pairs.load()));
-    c->add("lp_texels", double(size_t(w) * size_t(h)));
-    c->add("lp_fallback_samples", double(fallback.load()));
-    if (s.visibility) c->add("vpl_shadow_rays", double(rays.load()));
+    c->add(Counter::shaded_samples, double(shaded.load() + fallback.load()));
+    c->add(Counter::shaded_sample_vpls, double(pairs.load()));
+    c->add(Counter::lp_texels, double(size_t(w) * size_t(h)));
+    c->add(Counter::lp_fallback_samples, double(fallback.load()));
+    if (s.visibility) c->add(Counter::vpl_shadow_rays, double(rays.load()));
   }
   if (lp_debug) *lp_debug = lp;  // a copy: lp may be the reused scratch
 }

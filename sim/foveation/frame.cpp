@@ -74,7 +74,7 @@ void prepare_frame(const Renderer& r, const Display& d, const TraceSample& s, in
       // indirect term is evaluated at pixel centres, not per sub-sample: one-bounce light from
       // VPLs is smooth, and 16x the VPL shading would dominate the run (docs/metrics.md).
       build_frame_vpls(r, out.vpls, &out.counters);
-      out.counters.set("vpls_total", double(out.vpls.vpls.size()));
+      out.counters.set(Counter::vpls_total, double(out.vpls.vpls.size()));
       if (cache_all_indirect(out.gbuffer, &r, out.vpls))  // kept for the all_vpls methods
         add_cached_indirect(out.gbuffer, out.vpls, nullptr, out.reference, &out.counters);
       else

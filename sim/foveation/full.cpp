@@ -19,9 +19,9 @@ class FullMethod final : public FoveationMethod {
   uint32_t required_channels() const override { return kShadingChannels; }
   void render(const FrameContext& ctx, FrameOutput& out) override {
     const double n = double(ctx.gbuffer->size());
-    out.counters.set("shaded_samples", n);
-    out.counters.set("gbuffer_samples", n);
-    out.counters.set("fullres_pixels", n);
+    out.counters.set(Counter::shaded_samples, n);
+    out.counters.set(Counter::gbuffer_samples, n);
+    out.counters.set(Counter::fullres_pixels, n);
     const bool all = !ctx.lighting || !ctx.vpls || ctx.lighting->uses_all_vpls();
     if (all && ctx.renderer->settings().spp <= 1) {
       // The shared reference *is* full-resolution shading: reuse it, no copy, no second shade.
@@ -29,7 +29,7 @@ class FullMethod final : public FoveationMethod {
       if (ctx.vpls) {
         double hits = 0;
         for (size_t i = 0; i < ctx.gbuffer->size(); ++i) hits += ctx.gbuffer->hit(i) ? 1 : 0;
-        out.counters.set("shaded_sample_vpls", hits * double(ctx.vpls->vpls.size()));
+        out.counters.set(Counter::shaded_sample_vpls, hits * double(ctx.vpls->vpls.size()));
       }
       return;
     }

@@ -106,7 +106,7 @@ class FvrsMethod final : public MappingMethod<FvrsGeometry> {
       }
     });
     set_counters(out, shaded, shaded, double(W) * H, shaded, double(W) * H, double(W) * H - shaded);
-    out.counters.set("edge_samples", extra);
+    out.counters.set(Counter::edge_samples, extra);
     if (ctx.want_debug) debug_density(ctx, s, out);
   }
 

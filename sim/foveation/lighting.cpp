@@ -104,8 +104,8 @@ void add_indirect(GBufferRef g, const VplSoA& v, const VplShading& s, const Rend
                       rays += nr;
                     });
   if (c) {
-    c->add("shaded_sample_vpls", double(shaded.load()) * double(v.size()));
-    if (s.visibility) c->add("vpl_shadow_rays", double(rays.load()));
+    c->add(Counter::shaded_sample_vpls, double(shaded.load()) * double(v.size()));
+    if (s.visibility) c->add(Counter::vpl_shadow_rays, double(rays.load()));
   }
 }
 
@@ -165,7 +165,7 @@ void add_cached_indirect(GBufferRef g, const FrameVpls& vp, const uint8_t* mask,
                       }
                       shaded += ns;
                     });
-  if (c) c->add("shaded_sample_vpls", double(shaded.load()) * double(vp.all.size()));
+  if (c) c->add(Counter::shaded_sample_vpls, double(shaded.load()) * double(vp.all.size()));
 }
 
 void LightingStrategy::shade(const FrameContext& ctx, GBufferRef g, const uint8_t* mask, Image& col,
@@ -197,8 +197,8 @@ class AllVpls final : public LightingStrategy {
   std::string name() const override { return "all_vpls"; }
   bool uses_all_vpls() const override { return true; }
   void begin_frame(const FrameContext& ctx, Counters& c) override {
-    c.set("vpls_total", double(ctx.vpls->vpls.size()));
-    c.set("vpls_kept", double(ctx.vpls->vpls.size()));
+    c.set(Counter::vpls_total, double(ctx.vpls->vpls.size()));
+    c.set(Counter::vpls_kept, double(ctx.vpls->vpls.size()));
   }
   const VplSoA& selected(const FrameContext& ctx) const override { return ctx.vpls->all; }
 };

@@ -21,6 +21,7 @@
 #include "sim/core/counters.h"
 #include "sim/core/image.h"
 #include "sim/core/params.h"
+#include "sim/foveation/cost_passes.h"
 #include "sim/render/gbuffer.h"
 #include "sim/render/rsm.h"
 #include "sim/render/vpl.h"
@@ -99,6 +100,9 @@ class LightingStrategy {
   // workload's per-frame importance sample count. Default: no selection passes.
   virtual void analytic_selection_counters(Counters&, double /*vpls*/,
                                            double /*importance_samples*/) const {}
+  // The cost passes its selection adds and the shared work it uses (method.h CostPasses).
+  // Default: the frame's RSMs and VPLs, no selection passes (all_vpls).
+  virtual void declare_passes(CostPasses& p) const { p.frame_rsm = true; }
 
   // Adds the selected VPLs' indirect light at the samples of g (see add_indirect).
   void shade(const FrameContext& ctx, GBufferRef g, const uint8_t* mask, Image& col,

@@ -44,8 +44,10 @@ class FirLighting final : public LightingStrategy {
   const VplSoA& selected(const FrameContext&) const override { return selected_; }
   // One visibility-based importance per VPL.
   void analytic_selection_counters(Counters& c, double vpls, double) const override {
-    c.set("contribution_evals", vpls);
+    c.set(Counter::contribution_evals, vpls);
   }
+  // One importance per VPL and the culling to the budget: no importance-map pass.
+  void declare_passes(CostPasses& p) const override { p.frame_rsm = p.culling = true; }
 
   void begin_frame(const FrameContext& ctx, Counters& c) override {
     const FrameVpls& fv = *ctx.vpls;
@@ -73,10 +75,10 @@ class FirLighting final : public LightingStrategy {
     const uint64_t fseed = splitmix64(s_.seed ^ splitmix64(uint64_t(ctx.frame) + 0xf1ull));
     const CullResult kept = flc_cull(imp, s_.vpl_budget, s_.culling_floor, fseed);
     selected_ = make_soa(fv.vpls, kept.kept, kept.weight);
-    c.set("vpls_total", double(n));
-    c.set("vpls_kept", double(kept.kept.size()));
-    c.set("contribution_evals", double(n));  // one importance per VPL
-    c.set("visibility_rays", double(rays));
+    c.set(Counter::vpls_total, double(n));
+    c.set(Counter::vpls_kept, double(kept.kept.size()));
+    c.set(Counter::contribution_evals, double(n));  // one importance per VPL
+    c.set(Counter::visibility_rays, double(rays));
   }
 
  private:

@@ -133,7 +133,7 @@ void FlcLighting::begin_frame(const FrameContext& ctx, Counters& c) {
   const int W = g.width, H = g.height;
   const Camera& cam = *ctx.camera;
   const uint64_t fseed = splitmix64(s_.seed ^ splitmix64(uint64_t(ctx.frame) + 0x51ull));
-  c.set("vpls_total", double(fv.vpls.size()));
+  c.set(Counter::vpls_total, double(fv.vpls.size()));
   auto t0 = Clock::now();
 
   // §4.1: importance map from the display-encoded direct frame and the indirect history.
@@ -161,8 +161,8 @@ void FlcLighting::begin_frame(const FrameContext& ctx, Counters& c) {
       shuffled_halton(size_t(s_.samples) * size_t(s_.chain_length), fseed);
   const std::vector<ImportanceSample> samples =
       flc_select_samples(maps_.importance, halton, s_.samples, s_.chain_length);
-  c.set("importance_samples", double(samples.size()));
-  c.set("halton_proposals", double(halton.size()));
+  c.set(Counter::importance_samples, double(samples.size()));
+  c.set(Counter::halton_proposals, double(halton.size()));
   const double half_diag = 0.5 * std::sqrt(double(W) * W + double(H) * H);
   const double fovea_px = s_.imp.fovea_frac * half_diag * (widen ? ctx.widen : 1.0);  // eq. 1
   std::vector<FlcShadingPoint> pts;
@@ -199,7 +199,7 @@ void FlcLighting::begin_frame(const FrameContext& ctx, Counters& c) {
   t1 = Clock::now();
   times_.contribution = ms_between(t0, t1);
   kept_ = flc_cull(contrib, s_.vpl_budget, s_.culling_floor, fseed ^ 0xc011ull);
-  c.set("vpls_kept", double(kept_.kept.size()));
+  c.set(Counter::vpls_kept, double(kept_.kept.size()));
   selected_ = make_soa(fv.vpls, kept_.kept, kept_.weight);
   times_.culling = ms_between(t1, Clock::now());
 }

@@ -46,8 +46,12 @@ class FlcLighting final : public LightingStrategy {
   // eq. 14 for every VPL and importance sample.
   void analytic_selection_counters(Counters& c, double vpls,
                                    double importance_samples) const override {
-    c.set("importance_samples", importance_samples);
-    c.set("contribution_evals", vpls * importance_samples);
+    c.set(Counter::importance_samples, importance_samples);
+    c.set(Counter::contribution_evals, vpls * importance_samples);
+  }
+  // Importance map + sampling (eqs. 3-9, Alg. 1), eq. 14 contributions and culling.
+  void declare_passes(CostPasses& p) const override {
+    p.frame_rsm = p.importance = p.culling = true;
   }
   void debug_images(std::vector<std::pair<std::string, Image>>& out) override;
 

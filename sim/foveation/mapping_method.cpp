@@ -47,12 +47,12 @@ const MappingSpec& MappingMethodBase::resolve(const FrameContext& ctx, FrameOutp
 
 void MappingMethodBase::set_counters(FrameOutput& out, double shaded, double gbuffer_samples,
                                      double allocated, double used, double fullres, double taps) {
-  out.counters.set("shaded_samples", shaded);
-  out.counters.set("gbuffer_samples", gbuffer_samples);
-  out.counters.set("buffer_pixels_allocated", allocated);
-  out.counters.set("buffer_pixels_used", used);
-  out.counters.set("fullres_pixels", fullres);
-  out.counters.set("filter_taps", taps);
+  out.counters.set(Counter::shaded_samples, shaded);
+  out.counters.set(Counter::gbuffer_samples, gbuffer_samples);
+  out.counters.set(Counter::buffer_pixels_allocated, allocated);
+  out.counters.set(Counter::buffer_pixels_used, used);
+  out.counters.set(Counter::fullres_pixels, fullres);
+  out.counters.set(Counter::filter_taps, taps);
 }
 
 void MappingMethodBase::debug_density(const FrameContext& ctx, const SamplingGeometry& g,
@@ -75,8 +75,8 @@ double shade_buffer(const FrameContext& ctx, GBufferRef g, Image& col,
   } else {
     n = double(g.size());
   }
-  for (auto& kv : c.items())
-    if (kv.first != "shaded_samples") out.counters.add(kv.first, kv.second);
+  for (auto& e : c.entries())
+    if (!(e.key == CounterKey{Counter::shaded_samples})) out.counters.add(e.key, e.value);
   return n;
 }
 

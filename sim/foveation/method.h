@@ -14,6 +14,7 @@
 #include "sim/core/param_info.h"
 #include "sim/core/params.h"
 #include "sim/display/display.h"
+#include "sim/foveation/cost_passes.h"
 #include "sim/foveation/lighting.h"
 #include "sim/render/gbuffer.h"
 #include "sim/render/renderer.h"
@@ -22,9 +23,6 @@
 namespace fovsim {
 
 struct MappingSpec;  // sim/foveation/mapping_spec.h
-
-// The pass structure a method's frames are charged for by the GPU cost model (method_list.h).
-enum class CostFamily { Full, Mapping, Fvrs, Twfr, Flc };
 
 struct FrameContext {
   int frame = 0;  // index in the resampled trace

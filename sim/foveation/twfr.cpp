@@ -260,7 +260,7 @@ void TwfrMethod::render(const FrameContext& ctx, FrameOutput& out) {
   t0 = Clock::now();
   Image reprojected;
   if (ctx.want_debug) reprojected = color_;
-  c.set("shaded_samples", 0);
+  c.set(Counter::shaded_samples, 0);
   rdr.shade(g, cam.position, color_, mask_.data(), &c);
   if (ctx.lighting) ctx.lighting->shade(ctx, g, mask_.data(), color_, c);  // the scene's indirect
   // Redrawn pixels carry their exact world position (or sky direction) into the next frame;
@@ -309,28 +309,29 @@ void TwfrMethod::render(const FrameContext& ctx, FrameOutput& out) {
   has_state_ = true;
 
   // ---- counters (fixed order, stable CSV columns) ----
-  c.set("gbuffer_samples", double(shaded));
-  c.set("fullres_pixels", double(n));
-  c.set("pixels_redrawn", double(cs.redrawn));
-  c.set("redraw_confidence_pixels", double(cs.by_confidence));
-  c.set("fovea_pixels", double(cs.fovea));
-  c.set("uncovered_pixels", double(cs.uncovered));
-  c.set("forced_pixels", double(cs.forced));
-  c.set("dynamic_pixels", double(cs.dynamic));
-  c.set("reproject_splats", double(rs.splats));
-  c.set("reprojected_pixels", double(rs.landed));
-  c.set("fovea_splats_discarded", double(rs.fovea_discarded));
-  c.set("holes_filled", double(ps.holes));
+  c.set(Counter::gbuffer_samples, double(shaded));
+  c.set(Counter::fullres_pixels, double(n));
+  c.set(Counter::pixels_redrawn, double(cs.redrawn));
+  c.set(Counter::redraw_confidence_pixels, double(cs.by_confidence));
+  c.set(Counter::fovea_pixels, double(cs.fovea));
+  c.set(Counter::uncovered_pixels, double(cs.uncovered));
+  c.set(Counter::forced_pixels, double(cs.forced));
+  c.set(Counter::dynamic_pixels, double(cs.dynamic));
+  c.set(Counter::reproject_splats, double(rs.splats));
+  c.set(Counter::reprojected_pixels, double(rs.landed));
+  c.set(Counter::fovea_splats_discarded, double(rs.fovea_discarded));
+  c.set(Counter::holes_filled, double(ps.holes));
   for (size_t m = 1; m < ps.holes_per_level.size(); ++m)
-    c.set("holes_mip" + std::to_string(m), double(ps.holes_per_level[m]));
-  c.set("prims_submitted", cu.prims_submitted);
-  c.set("prims_culled", cu.prims_culled + cu.prims_offscreen);
-  c.set("prims_offscreen", cu.prims_offscreen);
-  c.set("prims_foveation_culled", cu.prims_culled);
-  c.set("submodels_submitted", double(cu.submodels - cu.submodels_culled - cu.submodels_offscreen));
-  c.set("submodels_culled", double(cu.submodels_culled + cu.submodels_offscreen));
-  c.set("cull_conflicts", double(conflicts_));
-  c.set("twfr_restart", restart ? 1.0 : 0.0);
+    c.set(Counter::holes_mip, int(m), double(ps.holes_per_level[m]));
+  c.set(Counter::prims_submitted, cu.prims_submitted);
+  c.set(Counter::prims_culled, cu.prims_culled + cu.prims_offscreen);
+  c.set(Counter::prims_offscreen, cu.prims_offscreen);
+  c.set(Counter::prims_foveation_culled, cu.prims_culled);
+  c.set(Counter::submodels_submitted,
+        double(cu.submodels - cu.submodels_culled - cu.submodels_offscreen));
+  c.set(Counter::submodels_culled, double(cu.submodels_culled + cu.submodels_offscreen));
+  c.set(Counter::cull_conflicts, double(conflicts_));
+  c.set(Counter::twfr_restart, restart ? 1.0 : 0.0);
 
   if (ctx.want_debug) {
     Image rm(W, H, 3);
@@ -442,8 +443,8 @@ void TwfrMethod::apply_taa(const FrameContext& ctx, const Image& cur, Image& out
     smooth = acc.smooth;
   }
   prev_display_ = out;
-  c.set("taa_pixels", double(taa));
-  c.set("motion_smoothed_pixels", double(smooth));
+  c.set(Counter::taa_pixels, double(taa));
+  c.set(Counter::motion_smoothed_pixels, double(smooth));
 }
 
 std::unique_ptr<FoveationMethod> create_twfr(Params& p) {

@@ -24,9 +24,9 @@ static bool in_unit_range(const Image& im) {
   return true;
 }
 
-Counters compute_metrics(const MetricsConfig& cfg, const Image& test, const Image& ref,
-                         const Camera& cam, const std::vector<float>& ecc_deg,
-                         TemporalState* temporal, MetricsScratch* scratch) {
+MetricValues compute_metrics(const MetricsConfig& cfg, const Image& test, const Image& ref,
+                             const Camera& cam, const std::vector<float>& ecc_deg,
+                             TemporalState* temporal, MetricsScratch* scratch) {
   const char* where = "metrics.compute_metrics";
   detail::check_same_size(test, ref, where);
   const bool need_ecc = cfg.fpsnr || cfg.regions || cfg.temporal;
@@ -48,7 +48,7 @@ Counters compute_metrics(const MetricsConfig& cfg, const Image& test, const Imag
   }
   const bool identical = test.data == ref.data;  // sizes are equal (checked above)
 
-  Counters out;
+  MetricValues out;
   detail::ErrorSums s;
   if (cfg.psnr || cfg.fpsnr || cfg.regions) {
     detail::ErrorSumsRequest req;

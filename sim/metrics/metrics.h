@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "sim/core/counters.h"
 #include "sim/core/image.h"
+#include "sim/core/named_values.h"
 #include "sim/core/param_info.h"
 #include "sim/core/params.h"
 #include "sim/display/display.h"
@@ -114,8 +114,10 @@ struct MetricsScratch {
 // the mean FLIP error of the band's pixels; an empty region is NaN. With `scratch`, FLIP reuses
 // its prepared reference and leaves its error map in scratch->flip_map; the numbers are the
 // same with or without it.
-Counters compute_metrics(const MetricsConfig& cfg, const Image& test, const Image& ref,
-                         const Camera& cam, const std::vector<float>& ecc_deg,
-                         TemporalState* temporal, MetricsScratch* scratch = nullptr);
+// Metric values are not counters (counter_list.h): their columns depend on the config.
+using MetricValues = NamedValues;
+MetricValues compute_metrics(const MetricsConfig& cfg, const Image& test, const Image& ref,
+                             const Camera& cam, const std::vector<float>& ecc_deg,
+                             TemporalState* temporal, MetricsScratch* scratch = nullptr);
 
 }  // namespace fovsim

@@ -176,9 +176,9 @@ void Renderer::render_reference(const Camera& cam, const GBuffer& g1, Image& out
   rays_ += samples + sr;
   if (c) {
     // The former pass added these once per stratum, in this order (integers: the same sums).
-    c->add("primary_rays", double(samples));
-    c->add("shaded_samples", double(samples));
-    c->add("shadow_rays", double(sr));
+    c->add(Counter::primary_rays, double(samples));
+    c->add(Counter::shaded_samples, double(samples));
+    c->add(Counter::shadow_rays, double(sr));
   }
 }
 

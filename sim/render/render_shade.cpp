@@ -443,8 +443,8 @@ void Renderer::shade(GBufferRef g, const glm::dvec3& eye_d, Image& out, const ui
   }
   rays_ += sr;
   if (c) {
-    c->add("shaded_samples", double(ss));
-    c->add("shadow_rays", double(sr));
+    c->add(Counter::shaded_samples, double(ss));
+    c->add(Counter::shadow_rays, double(sr));
   }
 }
 

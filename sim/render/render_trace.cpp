@@ -809,7 +809,7 @@ void Renderer::trace_gbuffer(const Camera& cam, uint32_t channels, GBuffer& out,
       tbb::simple_partitioner());
   const double n = double(cam.width) * double(cam.height);
   rays_ += uint64_t(n);
-  if (c) c->add("primary_rays", n);
+  if (c) c->add(Counter::primary_rays, n);
 }
 
 void Renderer::trace_points(const Camera& cam, const std::vector<glm::vec2>& pts_in,
@@ -843,7 +843,7 @@ void Renderer::trace_points(const Camera& cam, const std::vector<glm::vec2>& pts
       },
       tbb::simple_partitioner());
   rays_ += uint64_t(n_pts);
-  if (c) c->add("primary_rays", double(n_pts));
+  if (c) c->add(Counter::primary_rays, double(n_pts));
 }
 
 float Renderer::intersect(const glm::vec3& org, const glm::vec3& dir_in, int* object, int* prim,

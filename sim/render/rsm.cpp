@@ -271,8 +271,8 @@ void render_rsm(const Renderer& r, int light_index, int size, const AABB& bounds
     }
   });
   if (c) {
-    c->add("rsm_texels", double(out.texels()));
-    c->add("rsm_rays", double(out.texels()));
+    c->add(Counter::rsm_texels, double(out.texels()));
+    c->add(Counter::rsm_rays, double(out.texels()));
   }
 }
 

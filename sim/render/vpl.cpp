@@ -159,9 +159,9 @@ void shade_indirect(const GBuffer& g, const VplSoA& v, const VplShading& s, Imag
                       rays += nr;
                     });
   if (c) {
-    c->add("shaded_samples", double(shaded.load()));
-    c->add("shaded_sample_vpls", double(shaded.load()) * double(v.size()));
-    if (s.visibility) c->add("vpl_shadow_rays", double(rays.load()));
+    c->add(Counter::shaded_samples, double(shaded.load()));
+    c->add(Counter::shaded_sample_vpls, double(shaded.load()) * double(v.size()));
+    if (s.visibility) c->add(Counter::vpl_shadow_rays, double(rays.load()));
   }
 }
 

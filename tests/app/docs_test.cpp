@@ -8,6 +8,7 @@
 #include <regex>
 #include <sstream>
 
+#include "sim/core/counter_list.h"
 #include "sim/experiment/run_config.h"
 #include "sim/foveation/factory.h"
 
@@ -31,6 +32,16 @@ TEST(Docs, MethodTablesMatchDeclarations) {
   const std::string want = "\n" + fovsim::methods_markdown();
   for (const char* f : {"docs/methods.md", "configs/README.md"})
     EXPECT_EQ(generated_section(f), want) << f << " differs from the declarations: run `make docs`";
+}
+
+// Every counter is documented in docs/cost_model.md by the table generated from its
+// declaration (sim/core/counter_list.h).
+TEST(Docs, CounterTableMatchesDeclarations) {
+  const std::string want = "\n" + fovsim::counters_markdown();
+  EXPECT_EQ(
+      generated_section("docs/cost_model.md", fovsim::kCounterDocsBegin, fovsim::kCounterDocsEnd),
+      want)
+      << "docs/cost_model.md differs from the counter list: run `make docs`";
 }
 
 // Docs, --help and every comment name papers by author and year (README.md "References") and

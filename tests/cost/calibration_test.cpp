@@ -99,8 +99,8 @@ TEST(Calibration, AnalyticCountersStayWithinScreen) {
   const double P = double(d.width) * d.height;
   for (const std::string& m : cost_methods()) {
     Counters c = analytic_counters(m, Json::object(), w, d);
-    EXPECT_GE(c.get("shaded_samples"), 0) << m;
-    EXPECT_LE(c.get("shaded_samples"), P + 1e-6) << m;
+    EXPECT_GE(c.get(Counter::shaded_samples), 0) << m;
+    EXPECT_LE(c.get(Counter::shaded_samples), P + 1e-6) << m;
   }
   double f = fvrs_shaded_fraction(d, 0.5, 0.5, 10, 20);
   EXPECT_GT(f, 1.0 / 16);

@@ -63,7 +63,7 @@ Workload twfr_like() {
 TEST(CostModel, PassesThatDoNotExistCostNothing) {
   GpuProfile g = GpuProfile::load("gtx1080", kModels);
   Counters c;
-  c.set("shaded_samples", 1000);
+  c.set(Counter::shaded_samples, 1000);
   CostInputs in = base_inputs("full", &c);
   Workload w;  // generic: no ssao, no taa
   in.features.shadowed_lights = 0;
@@ -102,13 +102,13 @@ TEST(CostModel, EveryPassNonDecreasingInEachCounter) {
     GpuProfile g = GpuProfile::load(gpu, kModels);
     for (const std::string& m : cost_methods()) {
       Counters base;
-      for (auto* n : names) base.set(n, 1000);
+      for (auto* n : names) base.set_named(n, 1000);
       CostInputs in = base_inputs(m, &base);
       in.workload = &w;
       FrameCost f0 = estimate_frame(g, in);
       for (auto* n : names) {
         Counters more = base;
-        more.set(n, 1e6);
+        more.set_named(n, 1e6);
         in.counters = &more;
         FrameCost f1 = estimate_frame(g, in);
         ASSERT_EQ(f0.passes.size(), f1.passes.size());
@@ -136,7 +136,7 @@ TEST(CostModel, FiniteForZeroAndHugeInputs) {
       Counters c;
       for (auto* n : {"shaded_samples", "fullres_pixels", "pixels_redrawn", "vpls_total",
                       "importance_samples", "shaded_sample_vpls", "prims_submitted"})
-        c.set(n, v);
+        c.set_named(n, v);
       CostInputs in = base_inputs(m, &c);
       in.workload = &w;
       in.display.width = v == 0 ? 0 : 100000;
@@ -148,7 +148,7 @@ TEST(CostModel, FiniteForZeroAndHugeInputs) {
     }
     // NaN counters are treated as 0, never propagate.
     Counters c;
-    c.set("shaded_samples", std::nan(""));
+    c.set(Counter::shaded_samples, std::nan(""));
     CostInputs in = base_inputs(m, &c);
     in.workload = &w;
     EXPECT_TRUE(std::isfinite(estimate_frame(g, in).total_ms)) << m;
@@ -158,7 +158,7 @@ TEST(CostModel, FiniteForZeroAndHugeInputs) {
 TEST(CostModel, PixelCountersScaleTrianglesDoNot) {
   GpuProfile g = GpuProfile::load("gtx1080", kModels);
   Counters c;
-  c.set("shaded_samples", 1000);
+  c.set(Counter::shaded_samples, 1000);
   CostInputs in = base_inputs("kfr", &c);
   Workload w;
   w.triangles = 1e5;

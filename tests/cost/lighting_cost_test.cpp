@@ -1,6 +1,6 @@
 // Lighting passes in the cost model (sim/cost/passes.cpp): a scene with indirect light charges
 // every method for its RSMs and the VPL shading of its samples, culling passes only for
-// strategies that cull, and a scene without indirect light has none of them.
+// strategies that declare them, and a scene without indirect light has none of them.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,6 +10,7 @@
 #include "sim/cost/gpu_profile.h"
 #include "sim/cost/passes.h"
 #include "sim/cost/workload.h"
+#include "sim/foveation/factory.h"
 
 using namespace fovsim;
 
@@ -43,7 +44,7 @@ bool has_term(const std::vector<PassWork>& ps, const std::string& term) {
 
 TEST(LightingCost, NoIndirectNoVplPasses) {
   Counters c;
-  c.set("shaded_samples", 1440.0 * 1600 * 0.3);
+  c.set(Counter::shaded_samples, 1440.0 * 1600 * 0.3);
   for (const char* m : {"full", "kfr", "twfr", "fvrs"}) {
     CostInputs in = inputs(m, &c, false);
     Workload w;
@@ -57,27 +58,30 @@ TEST(LightingCost, NoIndirectNoVplPasses) {
 TEST(LightingCost, EveryMethodPaysForTheLightingTheSceneNeeds) {
   const double P = 1440.0 * 1600;
   Counters all;  // TBDS: every pixel x every VPL
-  all.set("shaded_samples", P);
-  all.set("rsm_texels", 768);
-  all.set("vpls_total", 768);
-  all.set("vpls_kept", 768);
-  all.set("shaded_sample_vpls", P * 768);
+  all.set(Counter::shaded_samples, P);
+  all.set(Counter::rsm_texels, 768);
+  all.set(Counter::vpls_total, 768);
+  all.set(Counter::vpls_kept, 768);
+  all.set(Counter::shaded_sample_vpls, P * 768);
   Counters flc = all;  // culled to 128 VPLs
-  flc.set("vpls_kept", 128);
-  flc.set("shaded_sample_vpls", P * 128);
-  flc.set("importance_samples", 256);
-  flc.set("contribution_evals", 768.0 * 256);
+  flc.set(Counter::vpls_kept, 128);
+  flc.set(Counter::shaded_sample_vpls, P * 128);
+  flc.set(Counter::importance_samples, 256);
+  flc.set(Counter::contribution_evals, 768.0 * 256);
   const GpuProfile g = GpuProfile::load("gtx1080", kModels);
   Workload w;
   auto ps_all = assemble_passes(inputs("full", &all, true), w, nullptr);
   EXPECT_TRUE(has_pass(ps_all, "rsm"));
   EXPECT_TRUE(has_term(ps_all, "vpl_flops"));
   EXPECT_FALSE(has_pass(ps_all, "light_culling"));  // all_vpls culls nothing
-  auto ps_flc = assemble_passes(inputs("full", &flc, true), w, nullptr);
+  // The importance and culling passes are what the flc strategy declares (declare_passes).
+  CostInputs in_flc = inputs("full", &flc, true);
+  in_flc.passes = declared_passes("full", "flc");
+  auto ps_flc = assemble_passes(in_flc, w, nullptr);
   EXPECT_TRUE(has_pass(ps_flc, "importance"));
   EXPECT_TRUE(has_pass(ps_flc, "light_culling"));
   const double t_all = estimate_frame(g, inputs("full", &all, true)).total_ms;
-  const double t_flc = estimate_frame(g, inputs("full", &flc, true)).total_ms;
+  const double t_flc = estimate_frame(g, in_flc).total_ms;
   const double t_direct = estimate_frame(g, inputs("full", &all, false)).total_ms;
   EXPECT_LT(t_flc, t_all);     // FLC cheaper than TBDS (FLC paper Fig. 6)
   EXPECT_GT(t_flc, t_direct);  // but indirect light is not free

@@ -87,8 +87,8 @@ TEST(FlcMethod, GazeLandsOnTheRedWall) {
 TEST(FlcMethod, BudgetCoveringAllVplsEqualsGroundTruth) {
   Fixture& f = cornell(16);
   FrameOutput o = f.run(Json{{"vpl_budget", 100000}});
-  EXPECT_GT(o.counters.get("vpls_total"), 100.0);
-  EXPECT_EQ(o.counters.get("vpls_kept"), o.counters.get("vpls_total"));
+  EXPECT_GT(o.counters.get(Counter::vpls_total), 100.0);
+  EXPECT_EQ(o.counters.get(Counter::vpls_kept), o.counters.get(Counter::vpls_total));
   // Every VPL with weight 1 is exactly the shared reference (all VPLs, TBDS): same loop, same
   // direct + indirect sum.
   EXPECT_EQ(max_abs_diff(o.image, f.fd.reference), 0.0);
@@ -97,7 +97,7 @@ TEST(FlcMethod, BudgetCoveringAllVplsEqualsGroundTruth) {
   for (size_t i = 0; i < o.image.data.size(); ++i)
     ind += f.fd.reference.data[i] - f.fd.direct.data[i];
   EXPECT_GT(ind / double(o.image.data.size()), 1e-3);
-  EXPECT_NEAR(o.counters.get("flc_tau"), 1.0, 1e-9);
+  EXPECT_NEAR(o.counters.get(Counter::flc_tau), 1.0, 1e-9);
 }
 
 // Fig. 7's trend as a statistical claim, not a coin flip of two single-seed RMSEs: FLC's VPL
@@ -114,7 +114,7 @@ TEST(FlcMethod, FovealErrorFallsWithBudget) {
   for (int b = 0; b < 3; ++b)
     for (int seed = 1; seed <= n; ++seed)
       r[b].push_back(f.run(Json{{"vpl_budget", budgets[b]}, {"samples", 128}, {"seed", seed}})
-                         .counters.get("flc_rmse_fovea"));
+                         .counters.get(Counter::flc_rmse_fovea));
   for (int b = 0; b < 2; ++b) {
     double m = 0, m2 = 0;
     auto d = [&](int k) { return std::log(r[b][size_t(k)] / r[b + 1][size_t(k)]); };
@@ -133,7 +133,7 @@ TEST(FlcMethod, TauAboveOneWithGazeOnAWall) {
   for (int seed = 1; seed <= 3; ++seed) {
     FrameOutput o =
         f.run(Json{{"vpl_budget", 64}, {"samples", 128}, {"seed", seed}, {"w_periphery", 0.25}});
-    tau += o.counters.get("flc_tau") / 3;
+    tau += o.counters.get(Counter::flc_tau) / 3;
   }
   EXPECT_GT(tau, 1.0);
 }
@@ -142,7 +142,7 @@ TEST(FlcMethod, ExtremesStayFinite) {
   Fixture& f = cornell(8);
   // Budget 0: only direct light.
   FrameOutput z = f.run(Json{{"vpl_budget", 0}});
-  EXPECT_EQ(z.counters.get("vpls_kept"), 0.0);
+  EXPECT_EQ(z.counters.get(Counter::vpls_kept), 0.0);
   EXPECT_EQ(max_abs_diff(z.image, f.fd.direct), 0.0);
   EXPECT_TRUE(all_finite(f.fd.reference));
   // Zero importance map (delta = 0 after a first frame -> p_b = 0), tiny clamp, every mode.
@@ -156,22 +156,22 @@ TEST(FlcMethod, ExtremesStayFinite) {
       ctx.frame = k;
       render_with_lighting(*m, ctx, o);
       EXPECT_TRUE(all_finite(o.image)) << vis;
-      EXPECT_LE(o.counters.get("vpls_kept"), 10.0);
-      EXPECT_TRUE(std::isfinite(o.counters.get("flc_tau")));
+      EXPECT_LE(o.counters.get(Counter::vpls_kept), 10.0);
+      EXPECT_TRUE(std::isfinite(o.counters.get(Counter::flc_tau)));
       EXPECT_FALSE(o.debug.empty());
     }
   }
   // Log-polar with interleaving: fewer shaded samples, finite.
   FrameOutput lp = f.run(Json{{"log_polar", true}, {"lp_sigma", 2.0}, {"interleave", 2}});
   EXPECT_TRUE(all_finite(lp.image));
-  EXPECT_LT(lp.counters.get("shaded_samples"), 0.5 * f.display.width * f.display.height);
+  EXPECT_LT(lp.counters.get(Counter::shaded_samples), 0.5 * f.display.width * f.display.height);
 }
 
 TEST(FlcMethod, NoVplsWhenTheLightIsOff) {
   Fixture dark(0.0, 16, 8);
   FrameOutput o = dark.run(Json::object());
-  EXPECT_EQ(o.counters.get("vpls_total"), 0.0);
-  EXPECT_EQ(o.counters.get("vpls_kept"), 0.0);
+  EXPECT_EQ(o.counters.get(Counter::vpls_total), 0.0);
+  EXPECT_EQ(o.counters.get(Counter::vpls_kept), 0.0);
   EXPECT_TRUE(all_finite(o.image));
   EXPECT_EQ(max_abs_diff(o.image, dark.fd.reference), 0.0);
 }
@@ -183,7 +183,7 @@ TEST(FlcMethod, DeterministicAcrossThreadCounts) {
   tbb::task_arena(1).execute([&] { a = f.run(p); });
   tbb::task_arena(2).execute([&] { b = f.run(p); });
   EXPECT_EQ(max_abs_diff(a.image, b.image), 0.0);
-  EXPECT_EQ(a.counters.get("vpls_kept"), b.counters.get("vpls_kept"));
+  EXPECT_EQ(a.counters.get(Counter::vpls_kept), b.counters.get(Counter::vpls_kept));
   FrameOutput c = f.run(Json{{"vpl_budget", 50}, {"samples", 64}, {"seed", 10}});
   EXPECT_GT(max_abs_diff(a.image, c.image), 0.0);
 }
@@ -238,11 +238,11 @@ TEST(FlcMethod, WidenGrowsTheFovealRegionAndTheShadedFraction) {
   const FrameOutput base = f.run(lp);
   const FrameOutput one = run(lp, 1.0);
   EXPECT_EQ(one.image.data, base.image.data);
-  double prev_shaded = one.counters.get("shaded_samples"), prev_acuity = acuity_sum(one);
+  double prev_shaded = one.counters.get(Counter::shaded_samples), prev_acuity = acuity_sum(one);
   ASSERT_GT(prev_acuity, 0.0);
   for (double k : {1.2, 1.5, 1.9}) {
     const FrameOutput o = run(lp, k);
-    const double n = o.counters.get("shaded_samples"), a = acuity_sum(o);
+    const double n = o.counters.get(Counter::shaded_samples), a = acuity_sum(o);
     std::printf("[widen] flc k=%.1f shaded %.0f acuity sum %.1f\n", k, n, a);
     EXPECT_GT(n, prev_shaded) << k;
     EXPECT_GT(a, prev_acuity) << k;

@@ -179,7 +179,7 @@ TEST(FlcContribution, SinglePairMatchesEq14) {
   auto C = flc_contributions(v, {}, pts, s, nullptr, &c);
   ASSERT_EQ(C.size(), 1u);
   EXPECT_NEAR(C[0], (2.0 * 1 * 1 * 0.5 / (4.0 + 0.25)) / 2.0, 1e-6);
-  EXPECT_EQ(c.get("contribution_evals"), 2.0);
+  EXPECT_EQ(c.get(Counter::contribution_evals), 2.0);
   // No samples, no VPLs: finite empty results.
   EXPECT_EQ(flc_contributions(v, {}, {}, s, nullptr)[0], 0.0);
   EXPECT_TRUE(flc_contributions({}, {}, pts, s, nullptr).empty());

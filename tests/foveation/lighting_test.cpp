@@ -79,7 +79,7 @@ TEST(Lighting, FrameHasOneVplSetAndTheReferenceIncludesIt) {
   ASSERT_TRUE(w.fd.has_vpls);
   EXPECT_GT(w.fd.vpls.vpls.size(), 50u);
   EXPECT_EQ(w.fd.vpls.all.size(), w.fd.vpls.vpls.size());
-  EXPECT_GT(w.fd.counters.get("rsm_texels"), 0.0);
+  EXPECT_GT(w.fd.counters.get(Counter::rsm_texels), 0.0);
   double ind = 0;
   for (size_t i = 0; i < w.fd.reference.data.size(); ++i)
     ind += w.fd.reference.data[i] - w.fd.direct.data[i];
@@ -90,7 +90,7 @@ TEST(Lighting, AllVplsAtFullSamplingIsTheReferenceExactly) {
   World& w = cornell();
   FrameOutput f = w.run("full", Json{{"lighting", {{"method", "all_vpls"}}}});
   EXPECT_EQ(max_abs_diff(w.image(f), w.fd.reference), 0.0);
-  EXPECT_EQ(f.counters.get("vpls_kept"), double(w.fd.vpls.vpls.size()));
+  EXPECT_EQ(f.counters.get(Counter::vpls_kept), double(w.fd.vpls.vpls.size()));
   // The strategy's own loop over the full G-buffer gives the same bits (no shortcut).
   FrameContext ctx = w.fd.context(w.scene, *w.renderer, w.display, false);
   auto L = default_lighting();
@@ -99,7 +99,7 @@ TEST(Lighting, AllVplsAtFullSamplingIsTheReferenceExactly) {
   Image col = w.fd.direct;
   L->shade(ctx, w.fd.gbuffer, nullptr, col, c);
   EXPECT_EQ(max_abs_diff(col, w.fd.reference), 0.0);
-  EXPECT_GT(c.get("shaded_sample_vpls"), 0.0);
+  EXPECT_GT(c.get(Counter::shaded_sample_vpls), 0.0);
 }
 
 TEST(Lighting, SamplingMethodsShadeTheIndirectLight) {
@@ -107,8 +107,8 @@ TEST(Lighting, SamplingMethodsShadeTheIndirectLight) {
   // KFR with all VPLs adds the indirect light at its samples: the mean indirect light of its
   // image (image - direct) is near the reference's (without it the ratio would be ~0).
   FrameOutput k = w.run("kfr", Json{{"sigma", 1.5}});
-  EXPECT_GT(k.counters.get("shaded_sample_vpls"), 0.0);
-  EXPECT_EQ(k.counters.get("vpls_kept"), double(w.fd.vpls.vpls.size()));
+  EXPECT_GT(k.counters.get(Counter::shaded_sample_vpls), 0.0);
+  EXPECT_EQ(k.counters.get(Counter::vpls_kept), double(w.fd.vpls.vpls.size()));
   double ind_k = 0, ind_ref = 0;
   for (size_t i = 0; i < k.image.data.size(); ++i) {
     ind_k += k.image.data[i] - w.fd.direct.data[i];
@@ -124,17 +124,17 @@ TEST(Lighting, FirAndFlcKeepAtMostTheirBudget) {
   for (const char* strat : {"fir", "flc"})
     for (int budget : {0, 1, 7, 40, 1000000}) {
       FrameOutput o = w.run("kfr", Json{{"lighting", {{"method", strat}, {"vpl_budget", budget}}}});
-      EXPECT_LE(o.counters.get("vpls_kept"), std::min(double(budget), n)) << strat << budget;
-      EXPECT_EQ(o.counters.get("vpls_total"), n);
+      EXPECT_LE(o.counters.get(Counter::vpls_kept), std::min(double(budget), n)) << strat << budget;
+      EXPECT_EQ(o.counters.get(Counter::vpls_total), n);
       for (float v : o.image.data) ASSERT_TRUE(std::isfinite(v));
       if (budget >= n) {
-        EXPECT_EQ(o.counters.get("vpls_kept"), n);
+        EXPECT_EQ(o.counters.get(Counter::vpls_kept), n);
       }
     }
   // FIR has no importance map (only per-VPL importance and culling); FLC has both.
   FrameOutput fir = w.run("full", Json{{"lighting", {{"method", "fir"}, {"vpl_budget", 16}}}});
-  EXPECT_FALSE(fir.counters.has("importance_samples"));
-  EXPECT_TRUE(fir.counters.has("contribution_evals"));
+  EXPECT_FALSE(fir.counters.has(Counter::importance_samples));
+  EXPECT_TRUE(fir.counters.has(Counter::contribution_evals));
 }
 
 TEST(Lighting, DeterministicAcrossThreadCounts) {
@@ -193,12 +193,12 @@ TEST(Lighting, BadLightingKeysNameTheJsonPath) {
 TEST(Lighting, SceneWithoutIndirectHasNoVplPass) {
   World w(Json{{"type", "atrium"}, {"complexity", 1}}, 24);
   EXPECT_FALSE(w.fd.has_vpls);
-  EXPECT_FALSE(w.fd.counters.has("rsm_texels"));
+  EXPECT_FALSE(w.fd.counters.has(Counter::rsm_texels));
   EXPECT_TRUE(w.fd.vpls.vpls.empty());
   FrameOutput o = w.run("kfr", Json{{"lighting", {{"method", "flc"}, {"vpl_budget", 8}}}});
-  for (const char* k : {"vpls_total", "vpls_kept", "shaded_sample_vpls", "rsm_texels",
-                        "importance_samples", "contribution_evals"})
-    EXPECT_FALSE(o.counters.has(k)) << k;
+  for (Counter k : {Counter::vpls_total, Counter::vpls_kept, Counter::shaded_sample_vpls,
+                    Counter::rsm_texels, Counter::importance_samples, Counter::contribution_evals})
+    EXPECT_FALSE(o.counters.has(k)) << counter_name(k);
   // `vpl` settings on a scene without indirect light are an error naming the key.
   try {
     Params sp(Json{{"type", "atrium"}, {"vpl", {{"rsm_size", 8}}}}, "cfg.json", "scene");
@@ -241,7 +241,7 @@ TEST(Lighting, CachedAllVplIndirectEqualsEvaluatingIt) {
     add_cached_indirect(c.view, fv, c.mask, b, &cb);
     EXPECT_EQ(a.data, b.data);
     EXPECT_EQ(ca.items(), cb.items());
-    EXPECT_GT(cb.get("shaded_sample_vpls"), 0.0);
+    EXPECT_GT(cb.get(Counter::shaded_sample_vpls), 0.0);
     // Through the strategy: the all_vpls default takes the cache and gives the same.
     FrameContext ctx = w.fd.context(w.scene, *w.renderer, w.display, false);
     auto L = default_lighting();
@@ -251,7 +251,7 @@ TEST(Lighting, CachedAllVplIndirectEqualsEvaluatingIt) {
     Image s(c.view.width, c.view.height, 3, 0.25f);
     L->shade(ctx, c.view, c.mask, s, cs);
     EXPECT_EQ(s.data, a.data);
-    EXPECT_EQ(cs.get("shaded_sample_vpls"), ca.get("shaded_sample_vpls"));
+    EXPECT_EQ(cs.get(Counter::shaded_sample_vpls), ca.get(Counter::shaded_sample_vpls));
   }
   // Another G-buffer: refused by add_cached_indirect (the strategy evaluates instead).
   GBuffer other = g;
@@ -300,6 +300,6 @@ TEST(Lighting, IndexViewShadesLikeACopiedBuffer) {
     add_indirect(copy, fv.all, fv.shading, w.renderer.get(), mask.data(), b, &cb);
     EXPECT_EQ(a.data, b.data) << vis;
     EXPECT_EQ(ca.items(), cb.items()) << vis;
-    EXPECT_GT(ca.get("shaded_sample_vpls"), 0.0);
+    EXPECT_GT(ca.get(Counter::shaded_sample_vpls), 0.0);
   }
 }

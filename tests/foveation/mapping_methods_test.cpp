@@ -119,17 +119,18 @@ void expect_sane(const FrameOutput& out, int W, int H, const std::string& what) 
   ASSERT_EQ(out.image.height, H) << what;
   for (float v : out.image.data) ASSERT_TRUE(std::isfinite(v)) << what;
   const double total = double(W) * H;
-  for (const char* k :
-       {"shaded_samples", "gbuffer_samples", "buffer_pixels_used", "fullres_pixels"}) {
-    ASSERT_TRUE(out.counters.has(k)) << what << " " << k;
+  for (Counter k : {Counter::shaded_samples, Counter::gbuffer_samples, Counter::buffer_pixels_used,
+                    Counter::fullres_pixels}) {
+    ASSERT_TRUE(out.counters.has(k)) << what << " " << counter_name(k);
     double v = out.counters.get(k);
     ASSERT_TRUE(std::isfinite(v)) << what;
-    ASSERT_GE(v, 0) << what << " " << k;
-    ASSERT_LE(v, total) << what << " " << k;
+    ASSERT_GE(v, 0) << what << " " << counter_name(k);
+    ASSERT_LE(v, total) << what << " " << counter_name(k);
   }
-  ASSERT_LE(out.counters.get("buffer_pixels_used"), out.counters.get("buffer_pixels_allocated"))
+  ASSERT_LE(out.counters.get(Counter::buffer_pixels_used),
+            out.counters.get(Counter::buffer_pixels_allocated))
       << what;
-  ASSERT_TRUE(std::isfinite(out.counters.get("filter_taps"))) << what;
+  ASSERT_TRUE(std::isfinite(out.counters.get(Counter::filter_taps))) << what;
 }
 
 const int kW = 96, kH = 80;
@@ -162,7 +163,7 @@ TEST(MappingExtremes, KfrSigmaAlphaGazeGrid) {
         std::snprintf(what, sizeof what, "kfr sigma=%g alpha=%g gaze=(%g,%g)", sg, a, g.x, g.y);
         auto out = w.run("kfr", {{"sigma", sg}, {"alpha", a}});
         expect_sane(out, kW, kH, what);
-        ASSERT_LE(out.counters.get("buffer_pixels_allocated"), double(kW) * kH) << what;
+        ASSERT_LE(out.counters.get(Counter::buffer_pixels_allocated), double(kW) * kH) << what;
       }
     for (const char* k : {"sine", "exp"}) expect_sane(w.run("kfr", {{"kernel", k}}), kW, kH, k);
   }
@@ -183,8 +184,8 @@ TEST(MappingExtremes, RmfrSigmaFxFyGazeGrid) {
           auto out = w.run("rmfr", {{"sigma", sg}, {"fx", fx}, {"fy", fy}});
           expect_sane(out, kW, kH, what);
           // RMFR fills its whole buffer.
-          ASSERT_EQ(out.counters.get("buffer_pixels_used"),
-                    out.counters.get("buffer_pixels_allocated"))
+          ASSERT_EQ(out.counters.get(Counter::buffer_pixels_used),
+                    out.counters.get(Counter::buffer_pixels_allocated))
               << what;
         }
   }
@@ -250,9 +251,9 @@ TEST(MappingTrends, ShadedSamplesFallAsInverseSigmaSquared) {
   World w({{"type", "patterns"}, {"pattern", "grating"}, {"frequency", 3.0}}, 192, 160);
   w.set_gaze({96, 80});
   for (const char* m : {"kfr", "rmfr"}) {
-    double a = w.run(m, {{"sigma", 1.3}}).counters.get("shaded_samples");
-    double b = w.run(m, {{"sigma", 2.6}}).counters.get("shaded_samples");
-    double c = w.run(m, {{"sigma", 5.2}}).counters.get("shaded_samples");
+    double a = w.run(m, {{"sigma", 1.3}}).counters.get(Counter::shaded_samples);
+    double b = w.run(m, {{"sigma", 2.6}}).counters.get(Counter::shaded_samples);
+    double c = w.run(m, {{"sigma", 5.2}}).counters.get(Counter::shaded_samples);
     std::printf("[1/sigma^2] %s shaded 1.3: %.0f 2.6: %.0f 5.2: %.0f ratios %.3f %.3f\n", m, a, b,
                 c, a / b, b / c);
     EXPECT_NEAR(a / b, 4.0, 0.15) << m;
@@ -313,17 +314,18 @@ TEST(MappingMethods, DebugBuffersAndDeterminism) {
   EXPECT_NE(std::find(names.begin(), names.end(), "lp_buffer"), names.end());
   EXPECT_NE(std::find(names.begin(), names.end(), "sample_density"), names.end());
   // KFR leaves LP pixels unused; analytic count == measured count.
-  EXPECT_LT(a.counters.get("buffer_pixels_used"), a.counters.get("buffer_pixels_allocated"));
+  EXPECT_LT(a.counters.get(Counter::buffer_pixels_used),
+            a.counters.get(Counter::buffer_pixels_allocated));
   MappingSpec s = MappingSpec::from_params("kfr", *std::make_unique<Params>(Json{{"sigma", 2.0}}));
   MappingView v = MappingView::at(w.fd.camera, w.fd.gaze_px);
-  EXPECT_EQ(expected_shaded_samples(s, v), a.counters.get("shaded_samples"));
+  EXPECT_EQ(expected_shaded_samples(s, v), a.counters.get(Counter::shaded_samples));
   // The iso-budget target reports its resolved sigma.
   Params q(Json{{"target_shaded_fraction", 0.25}}, "t");
   auto iso = make_method("rmfr", q);
   FrameOutput c;
   iso->render(ctx, c);
   EXPECT_NEAR(iso->param_columns()[0].second, 2.0, 1e-9);
-  EXPECT_NEAR(c.counters.get("shaded_samples") / (kW * kH), 0.25, 0.01);
+  EXPECT_NEAR(c.counters.get(Counter::shaded_samples) / (kW * kH), 0.25, 0.01);
 }
 
 // rmfr_auto (f_x*, f_y* from the previous frame's peripheral edge orientation): the first
@@ -354,7 +356,7 @@ TEST(RmfrAuto, AxisPreferenceFollowsEdgeOrientation) {
     ASSERT_NE(m->mapping_spec(), nullptr);
     EXPECT_EQ(m->mapping_spec()->method(), "rmfr");
     const FrameOutput r = w.run("rmfr", {{"sigma", 2.6}, {"fx", fx[k]}, {"fy", fy[k]}});
-    EXPECT_EQ(o1.counters.get("shaded_samples"), r.counters.get("shaded_samples"));
+    EXPECT_EQ(o1.counters.get(Counter::shaded_samples), r.counters.get(Counter::shaded_samples));
     EXPECT_EQ(o1.image.data, r.image.data);
     std::printf("[rmfr_auto] stripes at %d deg: fx %.2f fy %.2f\n", 90 * k, fx[k], fy[k]);
   }
@@ -425,12 +427,14 @@ TEST(TrackingWiden, ShadedFractionGrowsWithTimeSinceLastValidSample) {
   for (const char* m : {"kfr", "rmfr", "rmfr_auto", "linear", "fvrs", "hyperbolic"}) {
     const FrameOutput plain = w.run(m, Json::object());
     const FrameOutput valid = run(m, tracked_gaze(tr, 2, pol));
-    EXPECT_EQ(valid.counters.get("shaded_samples"), plain.counters.get("shaded_samples")) << m;
+    EXPECT_EQ(valid.counters.get(Counter::shaded_samples),
+              plain.counters.get(Counter::shaded_samples))
+        << m;
     EXPECT_EQ(valid.image.data, plain.image.data) << m;
-    double prev = plain.counters.get("shaded_samples");
+    double prev = plain.counters.get(Counter::shaded_samples);
     for (size_t i : {3, 5, 8, 11}) {
       const TrackedGaze g = tracked_gaze(tr, i, pol);
-      const double n = run(m, g).counters.get("shaded_samples");
+      const double n = run(m, g).counters.get(Counter::shaded_samples);
       std::printf("[widen] %s dt=%.3f s k=%.3f shaded %.0f\n", m, g.since_valid_s, g.widen, n);
       EXPECT_GT(n, prev) << m << " k=" << g.widen;
       prev = n;

@@ -73,15 +73,16 @@ void expect_sane(const FrameOutput& o, size_t n, const TwfrMethod& m) {
   ASSERT_EQ(o.image.pixels(), n);
   for (float v : o.image.data) ASSERT_TRUE(std::isfinite(v));
   for (float c : m.confidence()) ASSERT_TRUE(c >= 0.f && c <= 1.f);
-  for (const char* k : {"pixels_redrawn", "shaded_samples", "reprojected_pixels", "holes_filled"}) {
+  for (Counter k : {Counter::pixels_redrawn, Counter::shaded_samples, Counter::reprojected_pixels,
+                    Counter::holes_filled}) {
     double v = o.counters.get(k, -1);
-    EXPECT_GE(v, 0) << k;
-    EXPECT_LE(v, double(n)) << k;
+    EXPECT_GE(v, 0) << counter_name(k);
+    EXPECT_LE(v, double(n)) << counter_name(k);
   }
-  EXPECT_EQ(o.counters.get("cull_conflicts", -1), 0.0);
+  EXPECT_EQ(o.counters.get(Counter::cull_conflicts, -1), 0.0);
   EXPECT_EQ(m.cull_conflicts(), 0u);
-  EXPECT_GE(o.counters.get("prims_submitted", -1), 0.0);
-  EXPECT_GE(o.counters.get("prims_culled", -1), 0.0);
+  EXPECT_GE(o.counters.get(Counter::prims_submitted, -1), 0.0);
+  EXPECT_GE(o.counters.get(Counter::prims_culled, -1), 0.0);
 }
 
 }  // namespace
@@ -90,9 +91,9 @@ TEST(TwfrMethod, FirstFrameRedrawsEverythingAndMatchesReference) {
   Scene s = atrium();
   Driver d(s);
   FrameOutput o = d.step(0);
-  EXPECT_EQ(o.counters.get("twfr_restart"), 1.0);
-  EXPECT_EQ(o.counters.get("pixels_redrawn"), double(d.pixels()));
-  EXPECT_EQ(o.counters.get("shaded_samples"), double(d.pixels()));
+  EXPECT_EQ(o.counters.get(Counter::twfr_restart), 1.0);
+  EXPECT_EQ(o.counters.get(Counter::pixels_redrawn), double(d.pixels()));
+  EXPECT_EQ(o.counters.get(Counter::shaded_samples), double(d.pixels()));
   EXPECT_EQ(o.image.data, d.fd.reference.data);
   expect_sane(o, d.pixels(), d.method);
 }
@@ -104,8 +105,8 @@ TEST(TwfrMethod, EpsilonOneRedrawsEveryPixelEveryFrame) {
   Driver d(s, p);
   for (int f = 0; f < 4; ++f) {
     FrameOutput o = d.step(3.0 * f, {0.2, 0.1, -1}, glm::dvec3(0.05 * f, 0, 0));
-    EXPECT_EQ(o.counters.get("pixels_redrawn"), double(d.pixels()));
-    EXPECT_EQ(o.counters.get("shaded_samples"), double(d.pixels()));
+    EXPECT_EQ(o.counters.get(Counter::pixels_redrawn), double(d.pixels()));
+    EXPECT_EQ(o.counters.get(Counter::shaded_samples), double(d.pixels()));
     EXPECT_EQ(o.image.data, d.fd.reference.data) << "frame " << f;
     expect_sane(o, d.pixels(), d.method);
   }
@@ -132,10 +133,10 @@ TEST(TwfrMethod, EpsilonZeroRedrawsOnlyFoveaAndUncovered) {
       }
     }
     EXPECT_GT(fovea, 0u);
-    EXPECT_EQ(o.counters.get("pixels_redrawn"), double(count_nonzero(rm)));
-    EXPECT_EQ(o.counters.get("pixels_redrawn"), o.counters.get("fovea_pixels") +
-                                                    o.counters.get("uncovered_pixels") +
-                                                    o.counters.get("redraw_confidence_pixels"));
+    EXPECT_EQ(o.counters.get(Counter::pixels_redrawn), double(count_nonzero(rm)));
+    EXPECT_EQ(o.counters.get(Counter::pixels_redrawn),
+              o.counters.get(Counter::fovea_pixels) + o.counters.get(Counter::uncovered_pixels) +
+                  o.counters.get(Counter::redraw_confidence_pixels));
     expect_sane(o, d.pixels(), d.method);
   }
 }
@@ -152,7 +153,7 @@ TEST(TwfrMethod, RedrawnFractionNonDecreasingInEpsilon) {
     FrameOutput o =
         d.step(4.0, {0.3, -0.1, -1}, glm::dvec3(0.1, 0, -0.1));  // same state for every eps
     const auto& rm = d.method.redraw_map();
-    double cnt = o.counters.get("pixels_redrawn");
+    double cnt = o.counters.get(Counter::pixels_redrawn);
     EXPECT_GE(cnt, prev_count) << "eps " << eps;
     for (size_t i = 0; i < prev_map.size(); ++i) {
       if (prev_map[i]) {
@@ -183,9 +184,9 @@ TEST(TwfrMethod, StaticSceneStaticHeadRedrawsOnlyTheFovealRegion) {
     }
     EXPECT_GT(expect, 0u);
     EXPECT_LT(expect, rm.size());
-    EXPECT_EQ(o.counters.get("holes_filled"), 0.0);
-    EXPECT_EQ(o.counters.get("uncovered_pixels"), 0.0);
-    EXPECT_EQ(o.counters.get("pixels_redrawn"), double(expect));
+    EXPECT_EQ(o.counters.get(Counter::holes_filled), 0.0);
+    EXPECT_EQ(o.counters.get(Counter::uncovered_pixels), 0.0);
+    EXPECT_EQ(o.counters.get(Counter::pixels_redrawn), double(expect));
     // Static everything: reprojected colour is exact, the image equals the reference.
     EXPECT_EQ(o.image.data, d.fd.reference.data);
     expect_sane(o, d.pixels(), d.method);
@@ -212,8 +213,8 @@ TEST(TwfrMethod, CullsSubModelsBehindConfidentPixelsOnly) {
   size_t culled_visible = 0;
   for (int32_t sm : visible) culled_visible += culled[size_t(sm)];
   EXPECT_GT(culled_visible, 0u) << "no visible sub-model wholly behind confident pixels was culled";
-  EXPECT_GT(o.counters.get("prims_foveation_culled"), 0.0);
-  EXPECT_EQ(o.counters.get("prims_submitted") + o.counters.get("prims_culled"),
+  EXPECT_GT(o.counters.get(Counter::prims_foveation_culled), 0.0);
+  EXPECT_EQ(o.counters.get(Counter::prims_submitted) + o.counters.get(Counter::prims_culled),
             double(s.triangle_count()));
   // Every marked pixel was shaded (nothing marked lies on a culled sub-model).
   for (size_t i = 0; i < rm.size(); ++i) ASSERT_EQ(rm[i] != 0, d.method.shade_mask()[i] != 0);
@@ -229,7 +230,7 @@ TEST(TwfrMethod, DynamicPixelsRedrawnWithinFramesImpliedByD) {
   d.step(0, {0.6, 0.3, -1});  // gaze away from the sculpture
   for (int f = 1; f < 12; ++f) {
     FrameOutput o = d.step(0, {0.6, 0.3, -1});
-    dyn_seen += o.counters.get("dynamic_pixels");
+    dyn_seen += o.counters.get(Counter::dynamic_pixels);
     for (const Sample& smp : d.method.samples()) {
       if (smp.kind != kSurface || smp.object < 0 || !s.objects[size_t(smp.object)].dynamic())
         continue;
@@ -303,7 +304,7 @@ TEST(TwfrMethod, ResetRedrawsEverythingAndRunsAreThreadIndependent) {
     }
     d.method.reset();
     FrameOutput o = d.step(12);
-    EXPECT_EQ(o.counters.get("pixels_redrawn"), double(d.pixels()));
+    EXPECT_EQ(o.counters.get(Counter::pixels_redrawn), double(d.pixels()));
   }
   for (size_t f = 0; f < a.size(); ++f) EXPECT_EQ(a[f].data, b[f].data) << "frame " << f;
 }

@@ -120,7 +120,7 @@ TEST(MetricsRegions, FoveaPeripheryAndBands) {
   cfg.psnr = cfg.ssim = cfg.fpsnr = cfg.temporal = false;
   cfg.fovea_deg = 5;
   cfg.band_edges_deg = {0, 5, 10, 20, 50, 60};
-  Counters m = compute_metrics(cfg, test, ref, cam, ecc, nullptr);
+  MetricValues m = compute_metrics(cfg, test, ref, cam, ecc, nullptr);
   EXPECT_NEAR(m.get("rmse_fovea"), 0.1, 1e-6);
   EXPECT_NEAR(m.get("rmse_periphery"), std::sqrt((5 * 0.04 + 30 * 0.09) / 35), 1e-6);
   EXPECT_NEAR(m.get("rmse_ecc_0_5"), 0.1, 1e-6);

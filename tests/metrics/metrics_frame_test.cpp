@@ -66,7 +66,7 @@ TEST(MetricsCompute, ColumnsInOrderAndConsistentWithStandaloneFunctions) {
   Image ref = testutil::pattern(W, H, 3, 41), test = testutil::pattern(W, H, 3, 42, 0.3);
   MetricsConfig cfg;
   TemporalState st;
-  Counters m = compute_metrics(cfg, test, ref, cam, ecc, &st);
+  MetricValues m = compute_metrics(cfg, test, ref, cam, ecc, &st);
   std::vector<std::string> names;
   for (auto& kv : m.items()) names.push_back(kv.first);
   std::vector<std::string> want{
@@ -84,7 +84,7 @@ TEST(MetricsCompute, ColumnsInOrderAndConsistentWithStandaloneFunctions) {
   EXPECT_TRUE(std::isnan(compute_metrics(cfg, test, ref, cam, ecc, nullptr).get("temporal_error")));
   // Disabled metrics produce no column.
   cfg.ssim = cfg.fpsnr = cfg.regions = cfg.temporal = cfg.flip = false;
-  Counters p = compute_metrics(cfg, test, ref, cam, {}, nullptr);
+  MetricValues p = compute_metrics(cfg, test, ref, cam, {}, nullptr);
   ASSERT_EQ(p.items().size(), 1u);
   EXPECT_EQ(p.items()[0].first, "psnr");
 }
@@ -97,7 +97,7 @@ TEST(MetricsCompute, FlipBandsAreMeansOfTheMapOverTheirPixels) {
   MetricsConfig cfg;
   cfg.ssim = cfg.fpsnr = cfg.temporal = false;
   MetricsScratch sc;
-  Counters m = compute_metrics(cfg, test, ref, cam, ecc, nullptr, &sc);
+  MetricValues m = compute_metrics(cfg, test, ref, cam, ecc, nullptr, &sc);
   const Image& map = sc.flip_map;
   ASSERT_EQ(map.width, W);
   ASSERT_EQ(map.height, H);
@@ -118,7 +118,7 @@ TEST(MetricsCompute, FlipBandsAreMeansOfTheMapOverTheirPixels) {
   EXPECT_NEAR(flip_ppd(cam), local_ppd(cam, W / 2.0, H / 2.0), 1e-12);
   // Without regions: the mean only.
   cfg.regions = false;
-  Counters n = compute_metrics(cfg, test, ref, cam, ecc, nullptr);
+  MetricValues n = compute_metrics(cfg, test, ref, cam, ecc, nullptr);
   ASSERT_EQ(n.items().size(), 2u);  // psnr, flip
   EXPECT_EQ(n.get("flip"), m.get("flip"));
   // The scratch's prepared reference is reused, and replaced when the reference changes.
@@ -188,7 +188,7 @@ TEST(MetricsDeterminism, IdenticalAtOneAndManyThreads) {
     compute_metrics(cfg, t0, ref, cam, ecc, &st);
     return compute_metrics(cfg, t1, ref, cam, ecc, &st);
   };
-  Counters a = run(1), b = run(2), c = run(8);
+  MetricValues a = run(1), b = run(2), c = run(8);
   ASSERT_EQ(a.items().size(), b.items().size());
   for (size_t i = 0; i < a.items().size(); ++i) {
     EXPECT_FALSE(std::isnan(a.items()[i].second)) << a.items()[i].first;

@@ -325,8 +325,8 @@ TEST(MetricsKernels, ComputeMetricsReusesThePreparedReferenceOnlyWhileItIsUnchan
   cfg.temporal = false;
   MetricsScratch sc;
   auto same = [&](const Image& t, const Image& r) {
-    const Counters with = compute_metrics(cfg, t, r, cam, ecc, nullptr, &sc);
-    const Counters without = compute_metrics(cfg, t, r, cam, ecc, nullptr);
+    const MetricValues with = compute_metrics(cfg, t, r, cam, ecc, nullptr, &sc);
+    const MetricValues without = compute_metrics(cfg, t, r, cam, ecc, nullptr);
     ASSERT_EQ(with.items().size(), without.items().size());
     for (size_t i = 0; i < with.items().size(); ++i)
       EXPECT_EQ(with.items()[i].second, without.items()[i].second) << with.items()[i].first;

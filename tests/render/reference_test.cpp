@@ -196,9 +196,9 @@ TEST(Reference, ChunkedEqualsWholeFramePasses) {
       EXPECT_EQ(cc.items()[i].second, cw.items()[i].second) << cc.items()[i].first;
     }
     const double samples = double(k.w) * k.h * k.spp;
-    EXPECT_EQ(cc.get("primary_rays"), samples);
-    EXPECT_EQ(cc.get("shaded_samples"), samples);
-    EXPECT_GT(cc.get("shadow_rays"), 0.0);
+    EXPECT_EQ(cc.get(Counter::primary_rays), samples);
+    EXPECT_EQ(cc.get(Counter::shaded_samples), samples);
+    EXPECT_GT(cc.get(Counter::shadow_rays), 0.0);
     EXPECT_EQ(r1 - r0, r2 - r1);
   }
 }

@@ -301,9 +301,9 @@ TEST(Render, LambertPlaneUnderDirectionalLight) {
   glm::vec3 expect = albedo * float(std::cos(inc)) * 2.f;
   for (size_t i = 0; i < g.size(); ++i)
     for (int k = 0; k < 3; ++k) ASSERT_NEAR(img.data[i * 3 + size_t(k)], expect[k], 1e-5f);
-  EXPECT_EQ(c.get("primary_rays"), double(g.size()));
-  EXPECT_EQ(c.get("shaded_samples"), double(g.size()));
-  EXPECT_EQ(c.get("shadow_rays"), double(g.size()));
+  EXPECT_EQ(c.get(Counter::primary_rays), double(g.size()));
+  EXPECT_EQ(c.get(Counter::shaded_samples), double(g.size()));
+  EXPECT_EQ(c.get(Counter::shadow_rays), double(g.size()));
   // shade_sample agrees with shade().
   glm::vec3 one = r.shade_sample(g, 17, glm::vec3(cam.position));
   EXPECT_EQ(one.x, img.data[17 * 3]);
@@ -413,7 +413,7 @@ TEST(Render, ShadeMaskLeavesOthers) {
   r.shade(g, cam.position, img, mask.data(), &c);
   EXPECT_EQ(img.data[3 * 3], 0.5f);
   EXPECT_EQ(img.data[4 * 3], -7.f);
-  EXPECT_EQ(c.get("shaded_samples"), 1.0);
+  EXPECT_EQ(c.get(Counter::shaded_samples), 1.0);
 }
 
 TEST(Render, DeterministicAcrossRunsAndThreadCounts) {

@@ -102,7 +102,7 @@ TEST(Rsm, FloorUnderPointLightReflectsAlbedoTimesHemisphere) {
   RSM rsm;
   Counters c;
   render_rsm(r, 0, 64, scene_bounds(r), rsm, &c);
-  EXPECT_EQ(c.get("rsm_texels"), 64.0 * 64.0);
+  EXPECT_EQ(c.get(Counter::rsm_texels), 64.0 * 64.0);
   std::vector<VPL> v;
   vpls_from_rsm(rsm, v);
   EXPECT_NEAR(double(v.size()), 64.0 * 64.0 / 2.0, 64.0 * 2);  // the lower hemisphere
