@@ -57,6 +57,95 @@ void options_common(CLI::App* c, SweepArgs& a) {
                 "Models directory (default: $FOVSIM_MODELS, ./models, or the source tree's)");
 }
 
+// The lines `fovsim sweep` prints about a finished run (or its shard).
+void print_sweep_report(const SweepArgs& a, const SweepPlan& plan, const SweepOptions& opt,
+                        const SweepReport& r) {
+  if (!a.quiet) {
+    std::printf("sweep %s: %d cells", plan.name.c_str(), r.cells_total);
+    if (opt.shards > 1)
+      std::printf(", shard %d/%d holds %d", opt.shard, opt.shards, r.cells_in_shard);
+    std::printf("; %d already complete (skipped), %d run in %d reference pass%s (%d references",
+                r.cells_done_before, r.cells_run, r.reference_passes,
+                r.reference_passes == 1 ? "" : "es", r.reference_frames);
+    if (r.reference_frames_from_cache > 0)
+      std::printf(", %d from the reference cache", r.reference_frames_from_cache);
+    std::printf(")\n");
+    if (r.stale_dirs)
+      std::printf(
+          "note: %d folder%s in %s/runs belong to cells no longer in this config (ignored)\n",
+          r.stale_dirs, r.stale_dirs == 1 ? "" : "s", r.out_dir.c_str());
+    std::printf(
+        r.complete
+            ? "results in %s (summary.csv)\n"
+            : "results in %s; other shards pending: run `fovsim merge %s` when all are done\n",
+        r.out_dir.c_str(), r.out_dir.c_str());
+  } else {
+    std::printf("results in %s\n", r.out_dir.c_str());
+  }
+}
+
+// --bench: the timing report and bench.json.
+void print_bench(const SweepArgs& a, const SweepReport& r) {
+  int threads = a.threads > 0 ? a.threads : int(std::thread::hardware_concurrency());
+  // Elapsed wall over the CPU work per thread: 1.0 when every thread was busy for the
+  // whole run; the excess is serial or idle time. Correct for any -j (the summed
+  // per-cell wall times below overlap across threads and are shown for the breakdown).
+  const double cpu_per_thread = r.cpu_ms / std::max(threads, 1);
+  const double ratio = cpu_per_thread > 0 ? r.wall_ms / cpu_per_thread : 0.0;
+  Json b{{"cells_run", r.cells_run},
+         {"reference_passes", r.reference_passes},
+         {"reference_frames", r.reference_frames},
+         {"reference_frames_from_cache", r.reference_frames_from_cache},
+         {"threads", threads},
+         {"wall_ms", r.wall_ms},
+         {"cpu_ms", r.cpu_ms},
+         {"reference_ms", r.ref_ms},
+         {"cells_own_ms", r.cell_ms},
+         {"setup_ms", r.setup_ms},
+         {"ratio_wall_over_cpu_per_thread", ratio}};
+  write_file_atomic(r.out_dir + "/bench.json", b.dump(2) + "\n");
+  std::printf("bench: %d cells, %d references rendered in %d pass%s, %d threads\n", r.cells_run,
+              r.reference_frames, r.reference_passes, r.reference_passes == 1 ? "" : "es", threads);
+  std::printf(
+      "bench: wall %.1f ms; setup %.1f + references %.1f + cells' own work %.1f (wall "
+      "times summed over groups and cells; they overlap across threads)\n",
+      r.wall_ms, r.setup_ms, r.ref_ms, r.cell_ms);
+  std::printf("bench: CPU %.1f ms (user + sys, all threads) = %.1f ms per thread\n", r.cpu_ms,
+              cpu_per_thread);
+  std::printf("bench: wall / (CPU / threads) = %.3f\n", ratio);
+}
+
+// `sweep expand`: the ordered cell list of a sweep.
+void register_sweep_expand(CLI::App* c, Action& action) {
+  auto e = std::make_shared<SweepArgs>();
+  CLI::App* ex = c->add_subcommand(
+      "expand", "Print the ordered cell list of a sweep (cell i is always the same run)");
+  ex->add_option("config", e->config, "Sweep config")->required();
+  options_common(ex, *e);
+  ex->add_flag("--json", e->json, "Print each cell's full run config as JSON lines");
+  ex->callback([e, &action]() {
+    action = [e]() {
+      LoadedConfig cfg = load_config(e->config, e->overrides);
+      SweepPlan plan = expand_sweep(cfg);
+      validate_cells(plan);
+      for (auto& cell : plan.cells) {
+        if (e->json) {
+          std::printf(
+              "%s\n",
+              Json{{"index", cell.index}, {"id", cell.id()}, {"config", cell.doc}}.dump().c_str());
+          continue;
+        }
+        std::string as;
+        for (auto& x : cell.assign) as += (as.empty() ? "" : " ") + x.path + "=" + x.value.dump();
+        std::printf("%d %s %s\n", cell.index, cell.id().c_str(), as.c_str());
+      }
+      if (!e->json)
+        std::fprintf(stderr, "%zu cells, plan %s\n", plan.cells.size(), plan.hash.c_str());
+      return 0;
+    };
+  });
+}
+
 void register_sweep(CLI::App& app, Action& action) {
   auto a = std::make_shared<SweepArgs>();
   CLI::App* c = app.add_subcommand("sweep",
@@ -100,33 +189,7 @@ void register_sweep(CLI::App& app, Action& action) {
       ->allow_extra_args(false)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
 
-  auto e = std::make_shared<SweepArgs>();
-  CLI::App* ex = c->add_subcommand(
-      "expand", "Print the ordered cell list of a sweep (cell i is always the same run)");
-  ex->add_option("config", e->config, "Sweep config")->required();
-  options_common(ex, *e);
-  ex->add_flag("--json", e->json, "Print each cell's full run config as JSON lines");
-  ex->callback([e, &action]() {
-    action = [e]() {
-      LoadedConfig cfg = load_config(e->config, e->overrides);
-      SweepPlan plan = expand_sweep(cfg);
-      validate_cells(plan);
-      for (auto& cell : plan.cells) {
-        if (e->json) {
-          std::printf(
-              "%s\n",
-              Json{{"index", cell.index}, {"id", cell.id()}, {"config", cell.doc}}.dump().c_str());
-          continue;
-        }
-        std::string as;
-        for (auto& x : cell.assign) as += (as.empty() ? "" : " ") + x.path + "=" + x.value.dump();
-        std::printf("%d %s %s\n", cell.index, cell.id().c_str(), as.c_str());
-      }
-      if (!e->json)
-        std::fprintf(stderr, "%zu cells, plan %s\n", plan.cells.size(), plan.hash.c_str());
-      return 0;
-    };
-  });
+  register_sweep_expand(c, action);
 
   c->callback([a, &action, c]() {
     if (!c->get_subcommands().empty()) return;  // `sweep expand`
@@ -151,58 +214,8 @@ void register_sweep(CLI::App& app, Action& action) {
       else
         shard_from_env(opt.shard, opt.shards);
       SweepReport r = run_sweep(plan, cfg, opt);
-      if (!a->quiet) {
-        std::printf("sweep %s: %d cells", plan.name.c_str(), r.cells_total);
-        if (opt.shards > 1)
-          std::printf(", shard %d/%d holds %d", opt.shard, opt.shards, r.cells_in_shard);
-        std::printf("; %d already complete (skipped), %d run in %d reference pass%s (%d references",
-                    r.cells_done_before, r.cells_run, r.reference_passes,
-                    r.reference_passes == 1 ? "" : "es", r.reference_frames);
-        if (r.reference_frames_from_cache > 0)
-          std::printf(", %d from the reference cache", r.reference_frames_from_cache);
-        std::printf(")\n");
-        if (r.stale_dirs)
-          std::printf(
-              "note: %d folder%s in %s/runs belong to cells no longer in this config (ignored)\n",
-              r.stale_dirs, r.stale_dirs == 1 ? "" : "s", r.out_dir.c_str());
-        std::printf(
-            r.complete
-                ? "results in %s (summary.csv)\n"
-                : "results in %s; other shards pending: run `fovsim merge %s` when all are done\n",
-            r.out_dir.c_str(), r.out_dir.c_str());
-      } else {
-        std::printf("results in %s\n", r.out_dir.c_str());
-      }
-      if (a->bench) {
-        int threads = a->threads > 0 ? a->threads : int(std::thread::hardware_concurrency());
-        // Elapsed wall over the CPU work per thread: 1.0 when every thread was busy for the
-        // whole run; the excess is serial or idle time. Correct for any -j (the summed
-        // per-cell wall times below overlap across threads and are shown for the breakdown).
-        const double cpu_per_thread = r.cpu_ms / std::max(threads, 1);
-        const double ratio = cpu_per_thread > 0 ? r.wall_ms / cpu_per_thread : 0.0;
-        Json b{{"cells_run", r.cells_run},
-               {"reference_passes", r.reference_passes},
-               {"reference_frames", r.reference_frames},
-               {"reference_frames_from_cache", r.reference_frames_from_cache},
-               {"threads", threads},
-               {"wall_ms", r.wall_ms},
-               {"cpu_ms", r.cpu_ms},
-               {"reference_ms", r.ref_ms},
-               {"cells_own_ms", r.cell_ms},
-               {"setup_ms", r.setup_ms},
-               {"ratio_wall_over_cpu_per_thread", ratio}};
-        write_file_atomic(r.out_dir + "/bench.json", b.dump(2) + "\n");
-        std::printf("bench: %d cells, %d references rendered in %d pass%s, %d threads\n",
-                    r.cells_run, r.reference_frames, r.reference_passes,
-                    r.reference_passes == 1 ? "" : "es", threads);
-        std::printf(
-            "bench: wall %.1f ms; setup %.1f + references %.1f + cells' own work %.1f (wall "
-            "times summed over groups and cells; they overlap across threads)\n",
-            r.wall_ms, r.setup_ms, r.ref_ms, r.cell_ms);
-        std::printf("bench: CPU %.1f ms (user + sys, all threads) = %.1f ms per thread\n", r.cpu_ms,
-                    cpu_per_thread);
-        std::printf("bench: wall / (CPU / threads) = %.3f\n", ratio);
-      }
+      print_sweep_report(*a, plan, opt, r);
+      if (a->bench) print_bench(*a, r);
       if (r.complete && !a->no_plots) make_plots(r.out_dir, a->quiet, a->plot);
       return 0;
     };
