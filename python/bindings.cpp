@@ -20,6 +20,7 @@
 #include "sim/cost/passes.h"
 #include "sim/cost/workload.h"
 #include "sim/experiment/config.h"
+#include "sim/experiment/info.h"
 #include "sim/experiment/recost.h"
 #include "sim/experiment/runner.h"
 #include "sim/experiment/search.h"
@@ -378,6 +379,14 @@ PYBIND11_MODULE(_fovsim, m) {
         return check_integer(where, v, Range::closed(lo, hi));
       },
       py::arg("where"), py::arg("value"), py::arg("lo"), py::arg("hi"));
+  // `fovsim predict` / `budget` argument ranges by name (CostArgRanges): one declaration.
+  m.def(
+      "check_cost_arg",
+      [](const std::string& name, double v) { return check_number(name, v, cost_arg_range(name)); },
+      py::arg("name"), py::arg("value"));
+  m.def(
+      "info", [] { return info_json().dump(); },
+      "`fovsim info --json` as a JSON string: methods, metric registry, column units, ranges");
   m.def("run", &run_py, py::arg("config"), py::arg("overrides") = std::vector<std::string>{},
         py::arg("out") = "", py::arg("threads") = 0, py::arg("models") = "",
         "Runs one config (like `fovsim run`); returns {out_dir, summary (list of dicts), "
