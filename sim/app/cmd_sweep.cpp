@@ -20,21 +20,19 @@ namespace fovsim::app {
 namespace {
 
 struct SweepArgs {
-  std::string config, out, models, shard;
+  std::string config, out, shard;
   std::vector<std::string> overrides;
-  int threads = 0, batch = 0;
-  double watchdog_s = 60;
-  bool bench = false, no_plots = false, quiet = false, json = false, allow_partial = false,
-       no_cache = false;
+  RunFlags run;  // -j, --models, --no-cache, --watchdog, --target (shared with run, Python)
+  int batch = 0;
+  bool bench = false, no_plots = false, quiet = false, json = false, allow_partial = false;
   PlotFlags plot;
   std::vector<std::string> sources;
-  std::vector<std::string> targets;
 };
 
 std::string command_line(const std::string& cmd, const SweepArgs& a) {
   std::string s = "fovsim " + cmd + " " + a.config;
   for (auto& o : a.overrides) s += " " + o;
-  for (auto& t : a.targets) s += " --target " + t;
+  for (auto& t : a.run.targets) s += " --target " + t;
   return s;
 }
 
@@ -53,7 +51,7 @@ void make_plots(const std::string& out, bool quiet, const PlotFlags& flags = {})
 void options_common(CLI::App* c, SweepArgs& a) {
   c->add_option("overrides", a.overrides,
                 "Overrides key.path=value applied after loading (before expansion)");
-  c->add_option("--models", a.models,
+  c->add_option("--models", a.run.models,
                 "Models directory (default: $FOVSIM_MODELS, ./models, or the source tree's)");
 }
 
@@ -86,7 +84,7 @@ void print_sweep_report(const SweepArgs& a, const SweepPlan& plan, const SweepOp
 
 // --bench: the timing report and bench.json.
 void print_bench(const SweepArgs& a, const SweepReport& r) {
-  int threads = a.threads > 0 ? a.threads : int(std::thread::hardware_concurrency());
+  int threads = a.run.threads > 0 ? a.run.threads : int(std::thread::hardware_concurrency());
   // Elapsed wall over the CPU work per thread: 1.0 when every thread was busy for the
   // whole run; the excess is serial or idle time. Correct for any -j (the summed
   // per-cell wall times below overlap across threads and are shown for the breakdown).
@@ -156,9 +154,10 @@ void register_sweep(CLI::App& app, Action& action) {
                 "Sweep config (JSON with a \"sweep\" block); see docs/sweeps.md");
   options_common(c, *a);
   c->add_option("-o,--out", a->out, "Output directory (default: results/<name>)");
-  c->add_option("-j,--threads", a->threads,
-                "Worker threads (default: all cores); results are identical at any count")
-      ->check(CLI::Range(0, 4096));
+  add_run_flags(c, a->run,
+                "Stop each cell early: COLUMN:VALUE[%|dB|ms] or ranking[:COLUMN] (repeatable); "
+                "each cell's manifest records frames used and achieved half-widths "
+                "(docs/intervals.md)");
   c->add_option("--shard", a->shard,
                 "Run only shard i of N (\"i/N\", contiguous index ranges); default from "
                 "SLURM_ARRAY_TASK_ID/COUNT");
@@ -172,23 +171,6 @@ void register_sweep(CLI::App& app, Action& action) {
   c->add_flag("--no-plots,!--plots", a->no_plots,
               "--no-plots: do not run viz/plot_sweep.py at the end; --plots: the default");
   c->add_flag("-q,--quiet", a->quiet, "Print only errors");
-  c->add_flag("--no-cache", a->no_cache,
-              "Do not read or write the reference cache (cache.dir, default "
-              "~/.cache/fovsim; configs/README.md \"cache\"); FOVSIM_NO_CACHE=1 does the same");
-  c->add_option("--watchdog", a->watchdog_s,
-                "Seconds: stop with an error naming the frame and method when one method's frame "
-                "runs longer than\n"
-                "max(SECONDS, 50x the median of its previous frames) (its first frame: 10x "
-                "SECONDS); 0 disables")
-      ->check(finite_in(0.0, 1e9));
-  c->add_option("--target", a->targets,
-                "Stop each cell early: COLUMN:VALUE[%|dB|ms] or ranking[:COLUMN] (repeatable); "
-                "each cell's manifest records frames used and achieved half-widths "
-                "(docs/intervals.md)")
-      ->expected(1)
-      ->allow_extra_args(false)
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
-
   register_sweep_expand(c, action);
 
   c->callback([a, &action, c]() {
@@ -196,18 +178,14 @@ void register_sweep(CLI::App& app, Action& action) {
     action = [a]() {
       if (a->config.empty())
         throw Error("fovsim sweep", "missing CONFIG (see fovsim sweep --help)");
-      for (auto& t : a->targets) (void)parse_target(t);  // a bad spec fails before any work
+      for (auto& t : a->run.targets) (void)parse_target(t);  // a bad spec fails before any work
       LoadedConfig cfg = load_config(a->config, a->overrides);
       SweepPlan plan = expand_sweep(cfg);
       validate_cells(plan);
       SweepOptions opt;
+      static_cast<RunControl&>(opt) = a->run.control();
       opt.out_dir = a->out;
-      opt.models_dir = a->models;
-      opt.threads = a->threads;
       opt.batch = a->batch;
-      opt.targets = a->targets;
-      opt.watchdog_s = a->watchdog_s;
-      opt.use_cache = !a->no_cache && !cache_disabled_by_env();
       opt.command_line = command_line("sweep", *a);
       if (!a->shard.empty())
         parse_shard(a->shard, opt.shard, opt.shards);
@@ -256,7 +234,7 @@ void register_search(CLI::App& app, Action& action) {
       ->required();
   options_common(c, *a);
   c->add_option("-o,--out", a->out, "Output directory (default: results/<name>)");
-  c->add_option("-j,--threads", a->threads, "Worker threads (default: all cores)")
+  c->add_option("-j,--threads", a->run.threads, "Worker threads (default: all cores)")
       ->check(CLI::Range(0, 4096));
   c->add_option("--shard", a->shard, "Search only contexts of shard i of N (\"i/N\")");
   c->add_flag("-q,--quiet", a->quiet, "Print only errors");
@@ -267,8 +245,8 @@ void register_search(CLI::App& app, Action& action) {
       validate_cells(plan);
       SweepOptions opt;
       opt.out_dir = a->out;
-      opt.models_dir = a->models;
-      opt.threads = a->threads;
+      opt.models_dir = a->run.models;
+      opt.threads = a->run.threads;
       opt.command_line = command_line("search", *a);
       if (!a->shard.empty())
         parse_shard(a->shard, opt.shard, opt.shards);
