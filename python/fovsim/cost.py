@@ -9,9 +9,9 @@ Each returns a table: a pandas DataFrame when pandas is installed, else a list o
 per GPU × method), with the CLI's `--json` keys (est_ms_total, est_ms_<pass>, intervals,
 speedup_vs_full; budget: verdict, headroom_ms, factor_<resource>, factor_all).
 """
-from .engine import _module
+import json
 
-DEFAULT_BUDGET_METHODS = ["full", "kfr", "rmfr", "hyperbolic", "linear", "fvrs", "twfr"]
+from .engine import _module
 
 
 def _table(rows, as_frame):
@@ -88,7 +88,7 @@ def budget(gpu, workload, methods=None, hz=90.0, budget_ms=None, scale=None, dis
     scale = dict(scale or {})
     rows = []
     for g in _list(gpu):
-        for meth in _list(methods) or DEFAULT_BUDGET_METHODS:
+        for meth in _list(methods) or json.loads(m.info())["budget_default_methods"]:
             e = m.estimate(g, workload, meth, display, width, height, eyes, scale, b, models)
             t = e["est_ms_total"]
             r = _flat(e)

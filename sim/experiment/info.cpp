@@ -33,6 +33,12 @@ const std::vector<ResultColumnDecl>& result_column_decls() {
   return c;
 }
 
+const std::vector<std::string>& budget_default_methods() {
+  static const std::vector<std::string> m = {"full",   "kfr",  "rmfr", "hyperbolic",
+                                             "linear", "fvrs", "twfr"};
+  return m;
+}
+
 const std::vector<std::string>& cost_arg_names() {
   static const std::vector<std::string> n = {"pixels", "eyes", "budget_ms", "hz", "scale"};
   return n;
@@ -66,6 +72,7 @@ Json info_json() {
   for (const auto& c : result_column_decls())
     j["columns"][c.name] = Json{{"label", c.label}, {"unit", c.unit}};
   // `fovsim predict` / `budget` flag ranges (CostArgRanges), checked the same way in Python.
+  j["budget_default_methods"] = budget_default_methods();
   j["cost_arg_ranges"] = Json::object();
   for (const auto& n : cost_arg_names()) j["cost_arg_ranges"][n] = range_json(cost_arg_range(n));
   return j;

@@ -24,6 +24,9 @@ const std::vector<ResultColumnDecl>& result_column_decls();
 Range cost_arg_range(const std::string& name);
 const std::vector<std::string>& cost_arg_names();
 
+// The methods `fovsim budget` (and Python's fovsim.budget) compares when none is given.
+const std::vector<std::string>& budget_default_methods();
+
 Json info_json();
 
 }  // namespace fovsim
