@@ -21,6 +21,8 @@
 #include "sim/cost/passes.h"
 #include "sim/cost/workload.h"
 #include "sim/experiment/config.h"
+#include "sim/experiment/info.h"
+#include "sim/experiment/intervals.h"
 #include "sim/experiment/recost.h"
 #include "sim/experiment/runner.h"
 #include "sim/experiment/search.h"
@@ -50,17 +52,28 @@ struct RunOut {
   size_t frame_rows = 0;
 };
 
+// The run options `fovsim run` and `fovsim sweep` share (RunControl, run_options.h), checked
+// with the CLI's ranges; a bad --target spec fails before any work.
+RunControl run_control(int threads, const std::string& models, double watchdog, bool cache,
+                       const std::vector<std::string>& targets) {
+  RunControl c;
+  c.threads = int(check_integer("threads", threads, RunControl::threads_range()));
+  c.models_dir = models;
+  c.watchdog_s = check_number("watchdog", watchdog, RunControl::watchdog_range());
+  // The reference cache as in `fovsim run` (config cache.*; FOVSIM_NO_CACHE=1 turns it off).
+  c.use_cache = cache && !cache_disabled_by_env();
+  for (auto& t : targets) (void)parse_target(t);
+  c.targets = targets;
+  return c;
+}
+
 RunOut run_one(const std::string& config, const std::vector<std::string>& overrides,
-               const std::string& out, int threads, const std::string& models) {
-  check_integer("threads", threads, Range::closed(0, 4096));
+               const std::string& out, const RunControl& control) {
   LoadedConfig cfg = load_config(config, overrides);
   RunOptions opt;
+  static_cast<RunControl&>(opt) = control;
   opt.out_dir = out;
-  opt.models_dir = models;
-  opt.threads = threads;
   opt.print_summary = false;
-  // The reference cache as in `fovsim run` (config cache.*; FOVSIM_NO_CACHE=1 turns it off).
-  opt.use_cache = !cache_disabled_by_env();
   opt.command_line = "python: fovsim.run " + config;
   for (auto& o : overrides) opt.command_line += " " + o;
   RunResult r = run_experiment(cfg, opt);
@@ -68,11 +81,13 @@ RunOut run_one(const std::string& config, const std::vector<std::string>& overri
 }
 
 py::dict run_py(const std::string& config, const std::vector<std::string>& overrides,
-                const std::string& out, int threads, const std::string& models) {
+                const std::string& out, int threads, const std::string& models, double watchdog,
+                bool cache, const std::vector<std::string>& targets) {
+  const RunControl control = run_control(threads, models, watchdog, cache, targets);
   RunOut r;
   {
     py::gil_scoped_release nogil;
-    r = run_one(config, overrides, out, threads, models);
+    r = run_one(config, overrides, out, control);
   }
   py::dict d;
   d["out_dir"] = r.out_dir;
@@ -82,7 +97,9 @@ py::dict run_py(const std::string& config, const std::vector<std::string>& overr
 }
 
 py::dict sweep_py(const std::string& config, const std::vector<std::string>& overrides,
-                  const std::string& out, int threads, const std::string& models) {
+                  const std::string& out, int threads, const std::string& models, double watchdog,
+                  bool cache, const std::vector<std::string>& targets) {
+  const RunControl control = run_control(threads, models, watchdog, cache, targets);
   SweepReport r;
   {
     py::gil_scoped_release nogil;
@@ -90,10 +107,8 @@ py::dict sweep_py(const std::string& config, const std::vector<std::string>& ove
     SweepPlan plan = expand_sweep(cfg);
     validate_cells(plan);
     SweepOptions opt;
+    static_cast<RunControl&>(opt) = control;
     opt.out_dir = out;
-    opt.models_dir = models;
-    opt.threads = threads;
-    opt.use_cache = !cache_disabled_by_env();
     opt.command_line = "python: fovsim.sweep " + config;
     for (auto& o : overrides) opt.command_line += " " + o;
     r = run_sweep(plan, cfg, opt);
@@ -132,7 +147,7 @@ class Evaluator {
       RunOut r;
       {
         py::gil_scoped_release nogil;
-        r = run_one(config_, ov, dir, threads_, models_);
+        r = run_one(config_, ov, dir, run_control(threads_, models_, 60.0, false, {}));
       }
       res.append(rows_to_list(r.summary));
     }
@@ -382,12 +397,24 @@ PYBIND11_MODULE(_fovsim, m) {
         return check_integer(where, v, Range::closed(lo, hi));
       },
       py::arg("where"), py::arg("value"), py::arg("lo"), py::arg("hi"));
+  // `fovsim predict` / `budget` argument ranges by name (CostArgRanges): one declaration.
+  m.def(
+      "check_cost_arg",
+      [](const std::string& name, double v) { return check_number(name, v, cost_arg_range(name)); },
+      py::arg("name"), py::arg("value"));
+  m.def(
+      "info", [] { return info_json().dump(); },
+      "`fovsim info --json` as a JSON string: methods, metric registry, column units, ranges");
   m.def("run", &run_py, py::arg("config"), py::arg("overrides") = std::vector<std::string>{},
         py::arg("out") = "", py::arg("threads") = 0, py::arg("models") = "",
+        py::arg("watchdog") = 60.0, py::arg("cache") = false,
+        py::arg("targets") = std::vector<std::string>{},
         "Runs one config (like `fovsim run`); returns {out_dir, summary (list of dicts), "
         "frame_rows}");
   m.def("sweep", &sweep_py, py::arg("config"), py::arg("overrides") = std::vector<std::string>{},
         py::arg("out") = "", py::arg("threads") = 0, py::arg("models") = "",
+        py::arg("watchdog") = 60.0, py::arg("cache") = false,
+        py::arg("targets") = std::vector<std::string>{},
         "Runs a sweep config (like `fovsim sweep`, resumable); returns a report dict");
   m.def("estimate", &estimate_py, py::arg("gpu"), py::arg("workload"), py::arg("method"),
         py::arg("display") = "htc_vive_pro_eye", py::arg("width") = 0, py::arg("height") = 0,

@@ -2,6 +2,12 @@
 """The longest C++ function bodies under a folder (docs/architecture.md §14).
 
     python3 scripts/function_lengths.py sim [--top 15] [--over 120]
+    python3 scripts/function_lengths.py sim --over 120 --require-reason [--pending FILE]
+
+--require-reason (ctest LongFunctions): every function over --over lines must have a comment
+directly above its header (the `//` lines right before it) containing "Long because:", saying
+why it is not split; the functions without one are listed and the exit status is 1. --pending
+names a file of paths (one a line, `#` comments) whose functions are not checked yet.
 
 A function is a brace block at namespace or class level whose header ends with `)` (plus
 qualifiers, a trailing return type or a constructor's initialiser list); its length is the
@@ -108,11 +114,31 @@ def functions(path):
     return res
 
 
+REASON = "Long because:"
+
+
+def has_reason(path, l0):
+    """True when the `//` comment lines directly above line l0 (1-based) contain REASON."""
+    with open(path, encoding="utf-8", errors="replace") as f:
+        lines = f.read().split("\n")
+    k = l0 - 2
+    while k >= 0 and lines[k].lstrip().startswith("template"):
+        k -= 1
+    found = False
+    while k >= 0 and lines[k].lstrip().startswith("//"):
+        found = found or REASON in lines[k]
+        k -= 1
+    return found
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("root", nargs="?", default="sim")
     ap.add_argument("--top", type=int, default=15)
     ap.add_argument("--over", type=int, default=0, help="list every function longer than this")
+    ap.add_argument("--require-reason", action="store_true",
+                    help='fail when a function over --over has no "%s" comment above it' % REASON)
+    ap.add_argument("--pending", help="file of paths not checked by --require-reason (yet)")
     a = ap.parse_args()
     rows = []
     for d, _, fs in os.walk(a.root):
@@ -121,6 +147,21 @@ def main():
                 p = os.path.join(d, f)
                 rows += [(ln, name, "%s:%d" % (p, l0)) for ln, name, l0 in functions(p)]
     rows.sort(key=lambda r: (-r[0], r[2]))
+    if a.require_reason:
+        over = a.over or 120
+        pending = set()
+        if a.pending:
+            with open(a.pending, encoding="utf-8") as f:
+                pending = {l.split("#")[0].strip() for l in f} - {""}
+        bad = []
+        for ln, name, where in rows:
+            path, l0 = where.rsplit(":", 1)
+            if ln > over and os.path.normpath(path) not in pending and not has_reason(path, int(l0)):
+                bad.append((ln, name, where))
+        for ln, name, where in bad:
+            print("%5d  %-40s %s: over %d lines without a '// %s' comment above it (split it, or "
+                  "say why it is long; docs/architecture.md §14)" % (ln, name, where, over, REASON))
+        return 1 if bad else 0
     shown = [r for r in rows if r[0] > a.over] if a.over else rows[:a.top]
     for ln, name, where in shown:
         print("%5d  %-40s %s" % (ln, name, where))

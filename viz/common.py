@@ -94,45 +94,33 @@ def pareto_front(points):
     return front
 
 
-# One colour per method, the same in every plot of every script (run, sweep, latency, video):
-# the methods of sim/foveation/method_list.h in a fixed order on tab10, then the rest of tab20
-# for methods not listed here (in order of first use, stable within a process).
-METHOD_COLORS = {
-    "full": "#000000",
-    "kfr": "#1f77b4",
-    "rmfr": "#ff7f0e",
-    "hyperbolic": "#2ca02c",
-    "linear": "#d62728",
-    "fvrs": "#9467bd",
-    "twfr": "#8c564b",
-    "flc": "#e377c2",
-    "rmfr_auto": "#bcbd22",
-    "reference": "#7f7f7f",
-}
-_EXTRA = ["#17becf", "#aec7e8", "#ffbb78", "#98df8a", "#ff9896", "#c5b0d5", "#c49c94", "#f7b6d2", "#dbdb8d",
-          "#9edae5"]
+# One colour per method, the same in every plot of every script (run, sweep, latency, video),
+# derived from the C++ registration order (sim/foveation/method_list.h, through `fovsim info
+# --json`): method i of the list gets PALETTE[i] (the first, `full`, black). No per-method table
+# here: a new method gets the next colour. Names the list does not hold (no binary, or a label
+# whose method is unknown) take the colours after the list's, in order of first use (stable
+# within a process). The reference image is grey.
+PALETTE = ["#000000", "#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2",
+           "#bcbd22", "#17becf", "#aec7e8", "#ffbb78", "#98df8a", "#ff9896", "#c5b0d5", "#c49c94",
+           "#f7b6d2", "#dbdb8d", "#9edae5"]
+REFERENCE_COLOR = "#7f7f7f"
 _extra_used = {}
 
 
 def method_color(method):
     """Colour of a method (factory name; a label `kfr_s2` or `kfr@gpu` falls back to its
-    method prefix when the row's method is unknown). A registered method without a colour of
-    its own above gets one by its place in `fovsim info --json`'s method list, so it keeps that
-    colour in every plot and every process."""
+    method prefix when the row's method is unknown): by its place in `fovsim info --json`'s
+    method list, so it keeps that colour in every plot and every process."""
     m = (method or "").strip()
-    if m in METHOD_COLORS:
-        return METHOD_COLORS[m]
-    for sep in ("@", ":", " "):
-        base = m.split(sep)[0]
-        if base in METHOD_COLORS:
-            return METHOD_COLORS[base]
-    new = [n for n in method_names() if n not in METHOD_COLORS]
+    if m == "reference":
+        return REFERENCE_COLOR
+    names = method_names()
     for sep in ("", "@", ":", " "):
         base = m.split(sep)[0] if sep else m
-        if base in new:
-            return _EXTRA[new.index(base) % len(_EXTRA)]
+        if base in names:
+            return PALETTE[names.index(base) % len(PALETTE)]
     if m not in _extra_used:
-        _extra_used[m] = _EXTRA[(len(new) + len(_extra_used)) % len(_EXTRA)]
+        _extra_used[m] = PALETTE[(len(names) + len(_extra_used)) % len(PALETTE)]
     return _extra_used[m]
 
 
@@ -154,11 +142,11 @@ def variant_styles(keys_methods):
     return out
 
 
-# Units of the non-metric columns (metrics: the registry's labels, metric_label).
-UNITS = {"est_ms_total": "estimated frame time [ms]",
-         "shaded_fraction": "shaded fraction [of W·H]", "shaded_samples": "shaded samples [samples]",
-         "latency_ms": "end-to-end latency [ms]",
-         "gaze_error_deg": "gaze error [deg]", "budget_ms": "frame budget [ms]"}
+def column_units():
+    """{column: {"label", "unit"}} of the non-metric result columns, as the C++ declares them
+    (sim/experiment/info.h result_column_decls, through `fovsim info --json`); {} without a
+    binary. Metrics carry their own labels (the registry, metric_label)."""
+    return fovsim_info().get("columns") or {}
 
 
 # The metric registry of the C++ (sim/metrics/registry.h): name, unit, label, better direction,
@@ -257,8 +245,9 @@ def headline_metrics(available=None, with_fl=True):
 
 def metric_label(col):
     """Axis label of a results column with its unit (results/README.md), e.g. "FPSNR [dB]"."""
-    if col in UNITS:
-        return UNITS[col]
+    c = column_units().get(col)
+    if c:
+        return f"{c['label']} [{c['unit']}]"
     d = metric_decl(col)
     if d is not None and not d.get("family") and col == d["name"]:
         return d.get("label") or col

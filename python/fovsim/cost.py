@@ -9,9 +9,9 @@ Each returns a table: a pandas DataFrame when pandas is installed, else a list o
 per GPU × method), with the CLI's `--json` keys (est_ms_total, est_ms_<pass>, intervals,
 speedup_vs_full; budget: verdict, headroom_ms, factor_<resource>, factor_all).
 """
-from .engine import _module
+import json
 
-DEFAULT_BUDGET_METHODS = ["full", "kfr", "rmfr", "hyperbolic", "linear", "fvrs", "twfr"]
+from .engine import _module
 
 
 def _table(rows, as_frame):
@@ -79,16 +79,16 @@ def budget(gpu, workload, methods=None, hz=90.0, budget_ms=None, scale=None, dis
     factor_<resource> (throughput factor that resource alone needs to fit; inf: cannot) and
     factor_all (uniform factor on everything but fixed overheads)."""
     m = _module()
-    # The ranges of `fovsim budget --hz / --budget-ms` (the library's check, not a copy):
-    # NaN, 0 and negative values are errors, not "the default".
+    # The ranges of `fovsim budget --hz / --budget-ms` (CostArgRanges in the C++, checked by
+    # the library): NaN, 0 and negative values are errors, not "the default".
     if budget_ms is not None:
-        b = m.check_number("budget_ms", float(budget_ms), 0.0, 1e6, True)
+        b = m.check_cost_arg("budget_ms", float(budget_ms))
     else:
-        b = 1000.0 / m.check_number("hz", float(hz), 1.0, 10000.0)
+        b = 1000.0 / m.check_cost_arg("hz", float(hz))
     scale = dict(scale or {})
     rows = []
     for g in _list(gpu):
-        for meth in _list(methods) or DEFAULT_BUDGET_METHODS:
+        for meth in _list(methods) or json.loads(m.info())["budget_default_methods"]:
             e = m.estimate(g, workload, meth, display, width, height, eyes, scale, b, models)
             t = e["est_ms_total"]
             r = _flat(e)

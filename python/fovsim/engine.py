@@ -64,21 +64,29 @@ def make_plots(directory, sweep=False, quiet=True):
     return os.path.join(os.fspath(directory), "plots", "index.html")
 
 
-def run(config, overrides=None, out="", threads=0, models="", plots=False):
+def run(config, overrides=None, out="", threads=0, models="", plots=False, watchdog=60.0, cache=False,
+        targets=None):
     """Runs one config like `fovsim run` (same outputs under `out`, default results/<name>).
+    The run options are `fovsim run`'s (RunControl in the C++): threads (-j), models (--models),
+    watchdog (--watchdog seconds), cache (the reference cache; off unless asked, the CLI's is on
+    unless --no-cache) and targets (--target specs, e.g. ["est_ms_total:1%"]).
     Returns {"out_dir", "summary": [dict per configuration], "frame_rows"} (and "index" with
     plots=True: the plots are made as `fovsim run` makes them, make_plots). Errors in the config
     raise FovsimError with the JSON path and the allowed range."""
-    r = _module().run(os.fspath(config), overrides_list(overrides), os.fspath(out), threads, models)
+    r = _module().run(os.fspath(config), overrides_list(overrides), os.fspath(out), threads, models,
+                      float(watchdog), bool(cache), list(targets or []))
     if plots:
         r["index"] = make_plots(r["out_dir"])
     return r
 
 
-def sweep(config, overrides=None, out="", threads=0, models="", plots=False):
-    """Runs a sweep config like `fovsim sweep` (resumable). Returns a report dict; load the
-    results with fovsim.load_sweep(report["out_dir"]). plots=True: viz/plot_sweep.py too."""
-    r = _module().sweep(os.fspath(config), overrides_list(overrides), os.fspath(out), threads, models)
+def sweep(config, overrides=None, out="", threads=0, models="", plots=False, watchdog=60.0, cache=False,
+          targets=None):
+    """Runs a sweep config like `fovsim sweep` (resumable), with the run options of run().
+    Returns a report dict; load the results with fovsim.load_sweep(report["out_dir"]).
+    plots=True: viz/plot_sweep.py too."""
+    r = _module().sweep(os.fspath(config), overrides_list(overrides), os.fspath(out), threads, models,
+                        float(watchdog), bool(cache), list(targets or []))
     if plots and r.get("complete"):
         r["index"] = make_plots(r["out_dir"], sweep=True)
     return r

@@ -85,6 +85,20 @@ class EngineTest(unittest.TestCase):
             fovsim.run(self.cfg, overrides={"render.scale": 7}, out=os.path.join(self.d, "bad"))
         self.assertIn("render.scale", str(cm.exception))
 
+    def test_run_options_are_the_clis(self):
+        # The CLI's run options (RunControl): --target's manifest record, --watchdog's range.
+        r = fovsim.run(self.cfg, out=os.path.join(self.d, "tgt"), targets=["est_ms_total:50%"], watchdog=30)
+        with open(os.path.join(r["out_dir"], "manifest.json")) as f:
+            target = json.load(f)["target"]
+        self.assertEqual(target["targets"], ["est_ms_total:50%"])
+        self.assertEqual(target["frames_used"], 2)  # fewer frames than a unit: all of them
+        with self.assertRaises(fovsim.FovsimError) as cm:
+            fovsim.run(self.cfg, out=os.path.join(self.d, "wd"), watchdog=-1)
+        self.assertIn("watchdog: value -1 is out of range [0, 1e+09]", str(cm.exception))
+        with self.assertRaises(fovsim.FovsimError) as cm:
+            fovsim.run(self.cfg, out=os.path.join(self.d, "bt"), targets=["nope"])
+        self.assertIn("--target nope", str(cm.exception))
+
     def test_evaluator_hook(self):
         ev = fovsim.Evaluator(self.cfg, overrides={"methods": [{"method": "kfr"}]}, out=os.path.join(self.d, "ev"))
         res = ev.evaluate([{"methods[0].sigma": 1.5}, {"methods[0].sigma": 2.5}])

@@ -22,6 +22,7 @@
 #include "sim/cost/workload.h"
 #include "sim/experiment/config.h"
 #include "sim/experiment/config_cost.h"
+#include "sim/experiment/info.h"
 #include "sim/experiment/plots.h"
 #include "sim/experiment/recost.h"
 #include "sim/foveation/factory.h"
@@ -483,9 +484,7 @@ int do_budget(const BudgetArgs& a) {
   const double budget = a.budget_ms > 0 ? a.budget_ms : 1000.0 / a.hz;
   if (!a.results.empty()) return do_budget_results(a, budget);
   const std::string models = models_or_default(a.t.models);
-  const Resolved res =
-      resolve_target(a.t, models, {"full", "kfr", "rmfr", "hyperbolic", "linear", "fvrs", "twfr"},
-                     a.display_given);
+  const Resolved res = resolve_target(a.t, models, budget_default_methods(), a.display_given);
   const Workload& w = res.workload;
   const Display& d = res.display;
   std::vector<std::vector<std::string>> rows = {

@@ -6,6 +6,7 @@
 #include "sim/core/counter_list.h"
 #include "sim/core/version.h"
 #include "sim/experiment/code_paths.h"
+#include "sim/experiment/info.h"
 #include "sim/experiment/run_config.h"
 #include "sim/foveation/factory.h"
 #include "sim/metrics/registry.h"
@@ -22,12 +23,7 @@ void register_info(CLI::App& app, Action& action) {
       "FOVSIM_EMBREE_ISA=sse2|sse4.2|avx|avx2|avx512|native and FOVSIM_SIMD=generic|avx2|native.");
   cmd->callback([&action, json]() {
     action = [json]() {
-      Json j = code_paths_info();
-      j["version"] = version_string();
-      j["git_commit"] = git_commit();
-      j["metrics"] = metric_registry_json();  // the metric registry (sim/metrics/registry.h)
-      j["methods"] = Json::array();
-      for (const auto& e : method_table()) j["methods"].push_back(e.name);
+      const Json j = info_json();  // sim/experiment/info.h
       if (*json) {
         std::printf("%s\n", j.dump().c_str());
         return 0;

@@ -11,11 +11,10 @@ namespace fovsim::app {
 
 namespace {
 struct RunArgs {
-  std::string config, out, models;
-  std::vector<std::string> overrides, targets;
-  int threads = 0;
-  bool quiet = false, no_plots = false, no_cache = false;
-  double watchdog_s = 60;
+  std::string config, out;
+  std::vector<std::string> overrides;
+  RunFlags run;  // -j, --models, --no-cache, --watchdog, --target (shared with sweep, Python)
+  bool quiet = false, no_plots = false;
   PlotFlags plot;
 };
 }  // namespace
@@ -30,10 +29,12 @@ void register_run(CLI::App& app, Action& action) {
                 "Overrides key.path=value applied after loading (e.g. render.scale=0.5 "
                 "methods[1].sigma=2.2)");
   c->add_option("-o,--out", a->out, "Output directory (default: results/<name>)");
-  c->add_option("-j,--threads", a->threads,
-                "Worker threads (default: all cores); results are identical at any count")
-      ->check(CLI::Range(0, 4096));
-  c->add_option("--models", a->models,
+  add_run_flags(c, a->run,
+                "Stop early: COLUMN:VALUE[%|dB|ms] or ranking[:COLUMN] (repeatable, e.g. "
+                "est_ms_total:1%); "
+                "frames are evaluated in a seeded random order of 10-frame units until "
+                "every config's 95% half-width is within target (docs/intervals.md)");
+  c->add_option("--models", a->run.models,
                 "Models directory (default: $FOVSIM_MODELS, ./models, or the source tree's)");
   c->add_flag("-q,--quiet", a->quiet, "Do not print the summary table");
   c->add_flag("--no-plots,!--plots", a->no_plots,
@@ -41,37 +42,16 @@ void register_run(CLI::App& app, Action& action) {
               "run.mp4 (with ffmpeg) and index.html in <out>/plots/, skipped with a message when "
               "/usr/bin/python3 has no matplotlib");
   add_plot_flags(c, a->plot);
-  c->add_flag("--no-cache", a->no_cache,
-              "Do not read or write the reference cache (cache.dir, default "
-              "~/.cache/fovsim; configs/README.md \"cache\"); FOVSIM_NO_CACHE=1 does the same");
-  c->add_option("--watchdog", a->watchdog_s,
-                "Seconds: stop with an error naming the frame and method when one method's frame "
-                "runs longer than\n"
-                "max(SECONDS, 50x the median of its previous frames) (its first frame: 10x "
-                "SECONDS); 0 disables")
-      ->check(finite_in(0.0, 1e9));
-  c->add_option("--target", a->targets,
-                "Stop early: COLUMN:VALUE[%|dB|ms] or ranking[:COLUMN] (repeatable, e.g. "
-                "est_ms_total:1%); "
-                "frames are evaluated in a seeded random order of 10-frame units until "
-                "every config's 95% half-width is within target (docs/intervals.md)")
-      ->expected(1)  // one spec per --target, so overrides after it stay overrides
-      ->allow_extra_args(false)
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   c->callback([a, &action, c]() {
     action = [a]() {
       LoadedConfig cfg = load_config(a->config, a->overrides);
       RunOptions opt;
+      static_cast<RunControl&>(opt) = a->run.control();
       opt.out_dir = a->out;
-      opt.models_dir = a->models;
-      opt.threads = a->threads;
-      opt.watchdog_s = a->watchdog_s;
       opt.print_summary = !a->quiet;
       opt.command_line = "fovsim run " + a->config;
       for (auto& o : a->overrides) opt.command_line += " " + o;
-      for (auto& t : a->targets) opt.command_line += " --target " + t;
-      opt.targets = a->targets;
-      opt.use_cache = !a->no_cache && !cache_disabled_by_env();
+      for (auto& t : a->run.targets) opt.command_line += " --target " + t;
       RunResult r = run_experiment(cfg, opt);
       for (auto& w : r.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
       if (!r.printed_summary) {

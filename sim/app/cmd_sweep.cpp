@@ -20,21 +20,19 @@ namespace fovsim::app {
 namespace {
 
 struct SweepArgs {
-  std::string config, out, models, shard;
+  std::string config, out, shard;
   std::vector<std::string> overrides;
-  int threads = 0, batch = 0;
-  double watchdog_s = 60;
-  bool bench = false, no_plots = false, quiet = false, json = false, allow_partial = false,
-       no_cache = false;
+  RunFlags run;  // -j, --models, --no-cache, --watchdog, --target (shared with run, Python)
+  int batch = 0;
+  bool bench = false, no_plots = false, quiet = false, json = false, allow_partial = false;
   PlotFlags plot;
   std::vector<std::string> sources;
-  std::vector<std::string> targets;
 };
 
 std::string command_line(const std::string& cmd, const SweepArgs& a) {
   std::string s = "fovsim " + cmd + " " + a.config;
   for (auto& o : a.overrides) s += " " + o;
-  for (auto& t : a.targets) s += " --target " + t;
+  for (auto& t : a.run.targets) s += " --target " + t;
   return s;
 }
 
@@ -53,53 +51,70 @@ void make_plots(const std::string& out, bool quiet, const PlotFlags& flags = {})
 void options_common(CLI::App* c, SweepArgs& a) {
   c->add_option("overrides", a.overrides,
                 "Overrides key.path=value applied after loading (before expansion)");
-  c->add_option("--models", a.models,
+  c->add_option("--models", a.run.models,
                 "Models directory (default: $FOVSIM_MODELS, ./models, or the source tree's)");
 }
 
-void register_sweep(CLI::App& app, Action& action) {
-  auto a = std::make_shared<SweepArgs>();
-  CLI::App* c = app.add_subcommand("sweep",
-                                   "Run a sweep config: every cell over shared references, "
-                                   "results/<name>/runs/<index>-<hash>/ + summary.csv; "
-                                   "rerunning resumes");
-  c->add_option("config", a->config,
-                "Sweep config (JSON with a \"sweep\" block); see docs/sweeps.md");
-  options_common(c, *a);
-  c->add_option("-o,--out", a->out, "Output directory (default: results/<name>)");
-  c->add_option("-j,--threads", a->threads,
-                "Worker threads (default: all cores); results are identical at any count")
-      ->check(CLI::Range(0, 4096));
-  c->add_option("--shard", a->shard,
-                "Run only shard i of N (\"i/N\", contiguous index ranges); default from "
-                "SLURM_ARRAY_TASK_ID/COUNT");
-  c->add_option("--batch", a->batch,
-                "Cells per reference pass (default 0: all pending cells of a reference group share "
-                "one pass)")
-      ->check(CLI::Range(0, 1000000));
-  c->add_flag("--bench", a->bench,
-              "Print the timing report (references vs. cells' own work) and write bench.json");
-  add_plot_flags(c, a->plot);
-  c->add_flag("--no-plots,!--plots", a->no_plots,
-              "--no-plots: do not run viz/plot_sweep.py at the end; --plots: the default");
-  c->add_flag("-q,--quiet", a->quiet, "Print only errors");
-  c->add_flag("--no-cache", a->no_cache,
-              "Do not read or write the reference cache (cache.dir, default "
-              "~/.cache/fovsim; configs/README.md \"cache\"); FOVSIM_NO_CACHE=1 does the same");
-  c->add_option("--watchdog", a->watchdog_s,
-                "Seconds: stop with an error naming the frame and method when one method's frame "
-                "runs longer than\n"
-                "max(SECONDS, 50x the median of its previous frames) (its first frame: 10x "
-                "SECONDS); 0 disables")
-      ->check(finite_in(0.0, 1e9));
-  c->add_option("--target", a->targets,
-                "Stop each cell early: COLUMN:VALUE[%|dB|ms] or ranking[:COLUMN] (repeatable); "
-                "each cell's manifest records frames used and achieved half-widths "
-                "(docs/intervals.md)")
-      ->expected(1)
-      ->allow_extra_args(false)
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+// The lines `fovsim sweep` prints about a finished run (or its shard).
+void print_sweep_report(const SweepArgs& a, const SweepPlan& plan, const SweepOptions& opt,
+                        const SweepReport& r) {
+  if (!a.quiet) {
+    std::printf("sweep %s: %d cells", plan.name.c_str(), r.cells_total);
+    if (opt.shards > 1)
+      std::printf(", shard %d/%d holds %d", opt.shard, opt.shards, r.cells_in_shard);
+    std::printf("; %d already complete (skipped), %d run in %d reference pass%s (%d references",
+                r.cells_done_before, r.cells_run, r.reference_passes,
+                r.reference_passes == 1 ? "" : "es", r.reference_frames);
+    if (r.reference_frames_from_cache > 0)
+      std::printf(", %d from the reference cache", r.reference_frames_from_cache);
+    std::printf(")\n");
+    if (r.stale_dirs)
+      std::printf(
+          "note: %d folder%s in %s/runs belong to cells no longer in this config (ignored)\n",
+          r.stale_dirs, r.stale_dirs == 1 ? "" : "s", r.out_dir.c_str());
+    std::printf(
+        r.complete
+            ? "results in %s (summary.csv)\n"
+            : "results in %s; other shards pending: run `fovsim merge %s` when all are done\n",
+        r.out_dir.c_str(), r.out_dir.c_str());
+  } else {
+    std::printf("results in %s\n", r.out_dir.c_str());
+  }
+}
 
+// --bench: the timing report and bench.json.
+void print_bench(const SweepArgs& a, const SweepReport& r) {
+  int threads = a.run.threads > 0 ? a.run.threads : int(std::thread::hardware_concurrency());
+  // Elapsed wall over the CPU work per thread: 1.0 when every thread was busy for the
+  // whole run; the excess is serial or idle time. Correct for any -j (the summed
+  // per-cell wall times below overlap across threads and are shown for the breakdown).
+  const double cpu_per_thread = r.cpu_ms / std::max(threads, 1);
+  const double ratio = cpu_per_thread > 0 ? r.wall_ms / cpu_per_thread : 0.0;
+  Json b{{"cells_run", r.cells_run},
+         {"reference_passes", r.reference_passes},
+         {"reference_frames", r.reference_frames},
+         {"reference_frames_from_cache", r.reference_frames_from_cache},
+         {"threads", threads},
+         {"wall_ms", r.wall_ms},
+         {"cpu_ms", r.cpu_ms},
+         {"reference_ms", r.ref_ms},
+         {"cells_own_ms", r.cell_ms},
+         {"setup_ms", r.setup_ms},
+         {"ratio_wall_over_cpu_per_thread", ratio}};
+  write_file_atomic(r.out_dir + "/bench.json", b.dump(2) + "\n");
+  std::printf("bench: %d cells, %d references rendered in %d pass%s, %d threads\n", r.cells_run,
+              r.reference_frames, r.reference_passes, r.reference_passes == 1 ? "" : "es", threads);
+  std::printf(
+      "bench: wall %.1f ms; setup %.1f + references %.1f + cells' own work %.1f (wall "
+      "times summed over groups and cells; they overlap across threads)\n",
+      r.wall_ms, r.setup_ms, r.ref_ms, r.cell_ms);
+  std::printf("bench: CPU %.1f ms (user + sys, all threads) = %.1f ms per thread\n", r.cpu_ms,
+              cpu_per_thread);
+  std::printf("bench: wall / (CPU / threads) = %.3f\n", ratio);
+}
+
+// `sweep expand`: the ordered cell list of a sweep.
+void register_sweep_expand(CLI::App* c, Action& action) {
   auto e = std::make_shared<SweepArgs>();
   CLI::App* ex = c->add_subcommand(
       "expand", "Print the ordered cell list of a sweep (cell i is always the same run)");
@@ -127,82 +142,58 @@ void register_sweep(CLI::App& app, Action& action) {
       return 0;
     };
   });
+}
+
+void register_sweep(CLI::App& app, Action& action) {
+  auto a = std::make_shared<SweepArgs>();
+  CLI::App* c = app.add_subcommand("sweep",
+                                   "Run a sweep config: every cell over shared references, "
+                                   "results/<name>/runs/<index>-<hash>/ + summary.csv; "
+                                   "rerunning resumes");
+  c->add_option("config", a->config,
+                "Sweep config (JSON with a \"sweep\" block); see docs/sweeps.md");
+  options_common(c, *a);
+  c->add_option("-o,--out", a->out, "Output directory (default: results/<name>)");
+  add_run_flags(c, a->run,
+                "Stop each cell early: COLUMN:VALUE[%|dB|ms] or ranking[:COLUMN] (repeatable); "
+                "each cell's manifest records frames used and achieved half-widths "
+                "(docs/intervals.md)");
+  c->add_option("--shard", a->shard,
+                "Run only shard i of N (\"i/N\", contiguous index ranges); default from "
+                "SLURM_ARRAY_TASK_ID/COUNT");
+  c->add_option("--batch", a->batch,
+                "Cells per reference pass (default 0: all pending cells of a reference group share "
+                "one pass)")
+      ->check(CLI::Range(0, 1000000));
+  c->add_flag("--bench", a->bench,
+              "Print the timing report (references vs. cells' own work) and write bench.json");
+  add_plot_flags(c, a->plot);
+  c->add_flag("--no-plots,!--plots", a->no_plots,
+              "--no-plots: do not run viz/plot_sweep.py at the end; --plots: the default");
+  c->add_flag("-q,--quiet", a->quiet, "Print only errors");
+  register_sweep_expand(c, action);
 
   c->callback([a, &action, c]() {
     if (!c->get_subcommands().empty()) return;  // `sweep expand`
     action = [a]() {
       if (a->config.empty())
         throw Error("fovsim sweep", "missing CONFIG (see fovsim sweep --help)");
-      for (auto& t : a->targets) (void)parse_target(t);  // a bad spec fails before any work
+      for (auto& t : a->run.targets) (void)parse_target(t);  // a bad spec fails before any work
       LoadedConfig cfg = load_config(a->config, a->overrides);
       SweepPlan plan = expand_sweep(cfg);
       validate_cells(plan);
       SweepOptions opt;
+      static_cast<RunControl&>(opt) = a->run.control();
       opt.out_dir = a->out;
-      opt.models_dir = a->models;
-      opt.threads = a->threads;
       opt.batch = a->batch;
-      opt.targets = a->targets;
-      opt.watchdog_s = a->watchdog_s;
-      opt.use_cache = !a->no_cache && !cache_disabled_by_env();
       opt.command_line = command_line("sweep", *a);
       if (!a->shard.empty())
         parse_shard(a->shard, opt.shard, opt.shards);
       else
         shard_from_env(opt.shard, opt.shards);
       SweepReport r = run_sweep(plan, cfg, opt);
-      if (!a->quiet) {
-        std::printf("sweep %s: %d cells", plan.name.c_str(), r.cells_total);
-        if (opt.shards > 1)
-          std::printf(", shard %d/%d holds %d", opt.shard, opt.shards, r.cells_in_shard);
-        std::printf("; %d already complete (skipped), %d run in %d reference pass%s (%d references",
-                    r.cells_done_before, r.cells_run, r.reference_passes,
-                    r.reference_passes == 1 ? "" : "es", r.reference_frames);
-        if (r.reference_frames_from_cache > 0)
-          std::printf(", %d from the reference cache", r.reference_frames_from_cache);
-        std::printf(")\n");
-        if (r.stale_dirs)
-          std::printf(
-              "note: %d folder%s in %s/runs belong to cells no longer in this config (ignored)\n",
-              r.stale_dirs, r.stale_dirs == 1 ? "" : "s", r.out_dir.c_str());
-        std::printf(
-            r.complete
-                ? "results in %s (summary.csv)\n"
-                : "results in %s; other shards pending: run `fovsim merge %s` when all are done\n",
-            r.out_dir.c_str(), r.out_dir.c_str());
-      } else {
-        std::printf("results in %s\n", r.out_dir.c_str());
-      }
-      if (a->bench) {
-        int threads = a->threads > 0 ? a->threads : int(std::thread::hardware_concurrency());
-        // Elapsed wall over the CPU work per thread: 1.0 when every thread was busy for the
-        // whole run; the excess is serial or idle time. Correct for any -j (the summed
-        // per-cell wall times below overlap across threads and are shown for the breakdown).
-        const double cpu_per_thread = r.cpu_ms / std::max(threads, 1);
-        const double ratio = cpu_per_thread > 0 ? r.wall_ms / cpu_per_thread : 0.0;
-        Json b{{"cells_run", r.cells_run},
-               {"reference_passes", r.reference_passes},
-               {"reference_frames", r.reference_frames},
-               {"reference_frames_from_cache", r.reference_frames_from_cache},
-               {"threads", threads},
-               {"wall_ms", r.wall_ms},
-               {"cpu_ms", r.cpu_ms},
-               {"reference_ms", r.ref_ms},
-               {"cells_own_ms", r.cell_ms},
-               {"setup_ms", r.setup_ms},
-               {"ratio_wall_over_cpu_per_thread", ratio}};
-        write_file_atomic(r.out_dir + "/bench.json", b.dump(2) + "\n");
-        std::printf("bench: %d cells, %d references rendered in %d pass%s, %d threads\n",
-                    r.cells_run, r.reference_frames, r.reference_passes,
-                    r.reference_passes == 1 ? "" : "es", threads);
-        std::printf(
-            "bench: wall %.1f ms; setup %.1f + references %.1f + cells' own work %.1f (wall "
-            "times summed over groups and cells; they overlap across threads)\n",
-            r.wall_ms, r.setup_ms, r.ref_ms, r.cell_ms);
-        std::printf("bench: CPU %.1f ms (user + sys, all threads) = %.1f ms per thread\n", r.cpu_ms,
-                    cpu_per_thread);
-        std::printf("bench: wall / (CPU / threads) = %.3f\n", ratio);
-      }
+      print_sweep_report(*a, plan, opt, r);
+      if (a->bench) print_bench(*a, r);
       if (r.complete && !a->no_plots) make_plots(r.out_dir, a->quiet, a->plot);
       return 0;
     };
@@ -243,11 +234,11 @@ void register_search(CLI::App& app, Action& action) {
       ->required();
   options_common(c, *a);
   c->add_option("-o,--out", a->out, "Output directory (default: results/<name>)");
-  c->add_option("-j,--threads", a->threads, "Worker threads (default: all cores)")
+  c->add_option("-j,--threads", a->run.threads, "Worker threads (default: all cores)")
       ->check(CLI::Range(0, 4096));
   c->add_option("--shard", a->shard, "Search only contexts of shard i of N (\"i/N\")");
   c->add_flag("-q,--quiet", a->quiet, "Print only errors");
-  c->add_flag("--no-cache", a->no_cache,
+  c->add_flag("--no-cache", a->run.no_cache,
               "Do not read or write the reference cache (cache.dir, default "
               "~/.cache/fovsim; configs/README.md \"cache\"); FOVSIM_NO_CACHE=1 does the same");
   c->callback([a, &action]() {
@@ -257,9 +248,9 @@ void register_search(CLI::App& app, Action& action) {
       validate_cells(plan);
       SweepOptions opt;
       opt.out_dir = a->out;
-      opt.models_dir = a->models;
-      opt.threads = a->threads;
-      opt.use_cache = !a->no_cache && !cache_disabled_by_env();
+      opt.models_dir = a->run.models;
+      opt.threads = a->run.threads;
+      opt.use_cache = !a->run.no_cache && !cache_disabled_by_env();
       opt.command_line = command_line("search", *a);
       if (!a->shard.empty())
         parse_shard(a->shard, opt.shard, opt.shards);

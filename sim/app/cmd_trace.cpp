@@ -60,14 +60,8 @@ void add_display_opts(CLI::App* c, TraceArgs& a) {
                 "Models directory (default: $FOVSIM_MODELS, ./models, or the source tree's)");
 }
 
-}  // namespace
-
-void register_trace(CLI::App& app, Action& action) {
-  auto a = std::make_shared<TraceArgs>();
-  CLI::App* t = app.add_subcommand(
-      "trace", "Head+gaze traces: import recordings, validate, summarize, synthesize");
-  t->require_subcommand(1);
-
+// `trace import`: a recording to the canonical CSV (or --guess a column map).
+void register_trace_import(CLI::App* t, const std::shared_ptr<TraceArgs>& a, Action& action) {
   CLI::App* imp = t->add_subcommand(
       "import", "Convert a recording to the canonical CSV with a JSON column map");
   imp->add_option("IN", a->in, "Recording to import (CSV/TSV/...)")->required();
@@ -111,7 +105,10 @@ void register_trace(CLI::App& app, Action& action) {
       return 0;
     };
   });
+}
 
+// `trace validate`: check a canonical trace CSV.
+void register_trace_validate(CLI::App* t, const std::shared_ptr<TraceArgs>& a, Action& action) {
   CLI::App* val =
       t->add_subcommand("validate", "Check a canonical trace CSV (errors name file:line:column)");
   val->add_option("FILE", a->in, "Canonical trace CSV")->required();
@@ -141,7 +138,10 @@ void register_trace(CLI::App& app, Action& action) {
       return 0;
     };
   });
+}
 
+// `trace stats`: summary of a canonical trace or a raw recording.
+void register_trace_stats(CLI::App* t, const std::shared_ptr<TraceArgs>& a, Action& action) {
   CLI::App* st = t->add_subcommand(
       "stats", "Summary of a trace: duration, rate, gaps, invalid fraction, gaze statistics");
   st->add_option("FILE", a->in, "Canonical trace CSV (or a raw recording with --map)")->required();
@@ -168,7 +168,10 @@ void register_trace(CLI::App& app, Action& action) {
       return 0;
     };
   });
+}
 
+// `trace synth`: a synthetic trace from the eye-movement model.
+void register_trace_synth(CLI::App* t, const std::shared_ptr<TraceArgs>& a, Action& action) {
   CLI::App* syn =
       t->add_subcommand("synth", "Generate a synthetic trace from the eye-movement model");
   std::string names;
@@ -219,6 +222,20 @@ void register_trace(CLI::App& app, Action& action) {
       return 0;
     };
   });
+}
+
+}  // namespace
+
+void register_trace(CLI::App& app, Action& action) {
+  auto a = std::make_shared<TraceArgs>();
+  CLI::App* t = app.add_subcommand(
+      "trace", "Head+gaze traces: import recordings, validate, summarize, synthesize");
+  t->require_subcommand(1);
+
+  register_trace_import(t, a, action);
+  register_trace_validate(t, a, action);
+  register_trace_stats(t, a, action);
+  register_trace_synth(t, a, action);
 }
 
 }  // namespace fovsim::app

@@ -6,9 +6,12 @@
 #include <cstdio>
 #include <functional>
 #include <string>
+#include <vector>
 
+#include "sim/core/disk_cache.h"
 #include "sim/core/error.h"
 #include "sim/core/params.h"
+#include "sim/experiment/run_options.h"
 
 namespace fovsim::app {
 
@@ -78,6 +81,46 @@ void register_compare(CLI::App& app, Action& action);  // fovsim compare REF TES
 void register_converge(CLI::App& app, Action& action);
 // fovsim fidelity CONFIG (docs/fidelity.md)
 void register_fidelity(CLI::App& app, Action& action);
+
+// The run options `run` and `sweep` share (RunControl, sim/experiment/run_options.h; the
+// Python bindings take the same): -j/--threads, --no-cache, --watchdog, --target. --models is
+// declared with each command's other common options. `target_help` says what --target stops.
+struct RunFlags {
+  std::string models;
+  int threads = 0;
+  bool no_cache = false;
+  double watchdog_s = 60;
+  std::vector<std::string> targets;
+
+  RunControl control() const {  // the cache also off with FOVSIM_NO_CACHE (disk_cache.h)
+    RunControl c;
+    c.models_dir = models;
+    c.threads = threads;
+    c.watchdog_s = watchdog_s;
+    c.targets = targets;
+    c.use_cache = !no_cache && !cache_disabled_by_env();
+    return c;
+  }
+};
+inline void add_run_flags(CLI::App* c, RunFlags& f, const std::string& target_help) {
+  const Range th = RunControl::threads_range(), wd = RunControl::watchdog_range();
+  c->add_option("-j,--threads", f.threads,
+                "Worker threads (default: all cores); results are identical at any count")
+      ->check(CLI::Range(int(th.lo), int(th.hi)));
+  c->add_flag("--no-cache", f.no_cache,
+              "Do not read or write the reference cache (cache.dir, default "
+              "~/.cache/fovsim; configs/README.md \"cache\"); FOVSIM_NO_CACHE=1 does the same");
+  c->add_option("--watchdog", f.watchdog_s,
+                "Seconds: stop with an error naming the frame and method when one method's frame "
+                "runs longer than\n"
+                "max(SECONDS, 50x the median of its previous frames) (its first frame: 10x "
+                "SECONDS); 0 disables")
+      ->check(finite_in(wd.lo, wd.hi));
+  c->add_option("--target", f.targets, target_help)
+      ->expected(1)  // one spec per --target, so overrides after it stay overrides
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+}
 
 // --plot-format, --plot-dpi, --plot-configs of `run` and `sweep` (the viz scripts' --format,
 // --dpi, --configs).

@@ -41,6 +41,10 @@ std::string fitted_param(const Workload& w) {
   return w.vpl_flops >= 0 ? "vpl_flops" : "shading_flops";
 }
 
+// Long because: it reads models/calibration (gpu_specs.json, then each table's configs, entries
+// and withheld figures) with a located error for every reference between them (a table's GPU,
+// an entry's config, workload and passes); it reads top to bottom like the files' schema
+// (docs/cost_model.md).
 CalData load_calibration(const std::string& models_dir) {
   CalData d;
   d.models_dir = models_dir;

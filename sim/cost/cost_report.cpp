@@ -123,34 +123,15 @@ CalibrationRun run_calibration(const CalibrateOptions& o) {
   return run;
 }
 
-ValidationOutputs run_validation(const std::string& models, double level) {
-  ValidationOutputs v;
-  CalData data = load_calibration(models);
-  FitOptions opt;  // the default model (roofline) is the detailed report
-  v.model = opt.model;
-  CostFit fit = fit_cost_model(data, opt);
-  v.report = validate_cost(data, fit, opt);
-  for (CostModelKind k : {CostModelKind::Roofline, CostModelKind::Linear}) {
-    if (k == opt.model) {
-      v.ranked.push_back(summarize_model(v.report, k, level));
-    } else {
-      FitOptions o = opt;
-      o.model = k;
-      CostFit f = fit_cost_model(data, o);
-      v.ranked.push_back(summarize_model(validate_cost(data, f, o), k, level));
-    }
-  }
-  std::stable_sort(v.ranked.begin(), v.ranked.end(),
-                   [](const ModelSummary& x, const ModelSummary& y) {
-                     return x.leaveout_mean < y.leaveout_mean;
-                   });
-  const ValidationReport& rep = v.report;
-  // model_lo_ms/model_hi_ms: the interval; on cross-prediction rows the nested one (built
-  // without the row's table), on the others the interval the profiles carry.
-  const PredictionInterval iv_all = interval_from_rows(rep.rows, level);
-  std::map<std::string, PredictionInterval> iv_nested;
-  for (auto& t : data.tables) iv_nested[t.id] = interval_from_rows(rep.rows, level, t.id);
-  std::ostringstream txt, csv, ccsv;
+namespace {
+
+// The sections of report.txt and the CSVs of `fovsim validate-cost` (run_validation below).
+
+// validate_cost.csv: every validation row with its interval (the nested one on cross-prediction
+// rows).
+void write_validation_csv(std::ostream& csv, const ValidationReport& rep,
+                          const PredictionInterval& iv_all,
+                          std::map<std::string, PredictionInterval>& iv_nested) {
   csv << "experiment,id,table,gpu,workload,config,row,passes,kind,published_ms,model_ms,rel_err,"
          "model_lo_ms,model_hi_ms\n";
   for (auto& r : rep.rows) {
@@ -171,7 +152,10 @@ ValidationOutputs run_validation(const std::string& models, double level) {
       csv << lo << ',' << hi << "\n";
     }
   }
-  const int pct = int(std::lround(100 * level));
+}
+
+// The models ranked by held-out error and their interval calibration.
+void report_model_ranking(std::ostream& txt, const ValidationOutputs& v, int pct) {
   txt << "fovsim validate-cost: predicted vs. published per-pass times (ms)\n\n";
   txt << "== models ranked by held-out mean |rel err| (leave-one-seed-out = leave-one-GPU-out, "
          "leave-one-scene-out), not by the fitted error\n";
@@ -209,6 +193,9 @@ ValidationOutputs run_validation(const std::string& models, double level) {
           << pad(cov(cp), 32) << pad(fmt("%.2f", cp.median_half_width), 12) << pad(cov(ct), 30)
           << fmt("%.2f", ct.median_half_width) << "\n";
     }
+}
+
+void report_resolutions(std::ostream& txt, const CalData& data) {
   // Leave-one-resolution-out needs one configuration at several resolutions in a table.
   txt << "leave-one-resolution-out: not possible, every calibration table gives one resolution (";
   {
@@ -226,6 +213,10 @@ ValidationOutputs run_validation(const std::string& models, double level) {
   }
   txt << "); the seeds' multi-resolution figures (KFR thesis Table 4.2, TWFR Fig. 10) are "
          "withheld and only predicted below\n\n";
+}
+
+void report_pass_intervals(std::ostream& txt, const ValidationOutputs& v,
+                           const PredictionInterval& iv_all, int pct) {
   txt << "== " << pct << "% interval factors (x model ms) of model " << model_name(v.model)
       << " per pass (rows: held-out single-pass rows, shrunk toward the pooled factors with weight "
          "n/(n+"
@@ -236,6 +227,10 @@ ValidationOutputs run_validation(const std::string& models, double level) {
     txt << "  " << pad(p, 14) << fmt("[%.2f, ", f.lo_factor) << fmt("%.2f]", f.hi_factor)
         << (own ? "  " + std::to_string(f.n) + " rows" : "  pooled") << "\n";
   }
+}
+
+void report_leave_one_paper_out(std::ostream& txt, const ValidationOutputs& v,
+                                const ValidationReport& rep, const CalData& data) {
   // Absolute times across papers: leave-one-paper-out error of the frame totals.
   txt << "\n== leave-one-paper-out (= leave-one-GPU-out) |rel err| of held-out frame totals, model "
       << model_name(v.model) << "\n";
@@ -263,6 +258,10 @@ ValidationOutputs run_validation(const std::string& models, double level) {
           << fmt(" model %.2fx", s.model)
           << fmt(" (%+.1f%%)", 100 * (s.model - s.published) / s.published) << "\n";
   }
+}
+
+void report_fitted_parameters(std::ostream& txt, const ValidationOutputs& v,
+                              const ValidationReport& rep, const CalData& data) {
   // Fitted parameters with their jackknife uncertainty over the leave-one-paper-out refits.
   txt << "\n== fitted parameters of model " << model_name(v.model)
       << " (full fit; +- jackknife SE over the leave-one-paper-out refits, sqrt((k-1)/k sum "
@@ -297,6 +296,10 @@ ValidationOutputs run_validation(const std::string& models, double level) {
       txt << " " << theta_unit(k) << "\n";
     }
   }
+}
+
+void report_nominal_work(std::ostream& txt, const ValidationOutputs& v, const ValidationReport& rep,
+                         const CalData& data) {
   // Nominal work of the passes one paper alone measures, and what the pooled efficiency makes
   // of it, next to the full fit's theta (how far the transfer prior is from the paper's rows).
   txt << "\n== nominal work of passes one paper alone measures (prior in its leave-one-paper-out "
@@ -328,6 +331,10 @@ ValidationOutputs run_validation(const std::string& models, double level) {
             << " " << theta_unit(pass + "." + term) << "\n      " << why << "\n";
       }
   }
+}
+
+void report_calibration_entries(std::ostream& txt, const ValidationOutputs& v,
+                                const ValidationReport& rep) {
   txt << "\ndetailed report below: model " << model_name(v.model) << "\n\n";
   txt << "== calibration entries (all tables fitted together; 'check' rows are totals, not "
          "fitted)\n";
@@ -343,6 +350,10 @@ ValidationOutputs run_validation(const std::string& models, double level) {
   txt << "mean |rel err|: fitted " << fmt("%.1f%%", ne[0] ? 100 * se[0] / ne[0] : 0) << " ("
       << ne[0] << " rows), check " << fmt("%.1f%%", ne[1] ? 100 * se[1] / ne[1] : 0) << " ("
       << ne[1] << " rows)\n\n";
+}
+
+void report_withheld(std::ostream& txt, const ValidationReport& rep,
+                     const PredictionInterval& iv_all, int pct) {
   txt << "== withheld figures (published values withheld from the seeds: predictions only; "
          "total ms with its "
       << pct << "% interval)\n";
@@ -361,6 +372,10 @@ ValidationOutputs run_validation(const std::string& models, double level) {
       txt << fmt("  speedup %.2fx", rows[0]->model_ms / rows[1]->model_ms);
     txt << "\n";
   }
+}
+
+// The cross-predictions, in report.txt and cross_predictions.csv.
+void report_cross_predictions(std::ostream& txt, std::ostream& ccsv, const ValidationReport& rep) {
   txt << "\n== cross-predictions (target's shading and triangle costs refit from its baseline "
          "lighting and G-buffer rows only)\n";
   ccsv << "name,fit_on,target,possible,n,mean_abs_rel_err,speedup_published,speedup_model\n";
@@ -385,6 +400,49 @@ ValidationOutputs run_validation(const std::string& models, double level) {
     if (!c.why.empty()) txt << " [not counted here, costed from nominal work: " << c.why << "]";
     txt << "\n";
   }
+}
+
+}  // namespace
+
+ValidationOutputs run_validation(const std::string& models, double level) {
+  ValidationOutputs v;
+  CalData data = load_calibration(models);
+  FitOptions opt;  // the default model (roofline) is the detailed report
+  v.model = opt.model;
+  CostFit fit = fit_cost_model(data, opt);
+  v.report = validate_cost(data, fit, opt);
+  for (CostModelKind k : {CostModelKind::Roofline, CostModelKind::Linear}) {
+    if (k == opt.model) {
+      v.ranked.push_back(summarize_model(v.report, k, level));
+    } else {
+      FitOptions o = opt;
+      o.model = k;
+      CostFit f = fit_cost_model(data, o);
+      v.ranked.push_back(summarize_model(validate_cost(data, f, o), k, level));
+    }
+  }
+  std::stable_sort(v.ranked.begin(), v.ranked.end(),
+                   [](const ModelSummary& x, const ModelSummary& y) {
+                     return x.leaveout_mean < y.leaveout_mean;
+                   });
+  const ValidationReport& rep = v.report;
+  // model_lo_ms/model_hi_ms: the interval; on cross-prediction rows the nested one (built
+  // without the row's table), on the others the interval the profiles carry.
+  const PredictionInterval iv_all = interval_from_rows(rep.rows, level);
+  std::map<std::string, PredictionInterval> iv_nested;
+  for (auto& t : data.tables) iv_nested[t.id] = interval_from_rows(rep.rows, level, t.id);
+  std::ostringstream txt, csv, ccsv;
+  write_validation_csv(csv, rep, iv_all, iv_nested);
+  const int pct = int(std::lround(100 * level));
+  report_model_ranking(txt, v, pct);
+  report_resolutions(txt, data);
+  report_pass_intervals(txt, v, iv_all, pct);
+  report_leave_one_paper_out(txt, v, rep, data);
+  report_fitted_parameters(txt, v, rep, data);
+  report_nominal_work(txt, v, rep, data);
+  report_calibration_entries(txt, v, rep);
+  report_withheld(txt, rep, iv_all, pct);
+  report_cross_predictions(txt, ccsv, rep);
   v.report_txt = txt.str();
   v.validate_csv = csv.str();
   v.cross_csv = ccsv.str();

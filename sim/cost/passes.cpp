@@ -116,6 +116,11 @@ double working_set_factor(const std::string& pass, const std::string& term, cons
   return l2_miss_fraction(spec, px * kReprojectBytesPerPixel);
 }
 
+// Long because: it is the one list of a frame's passes in pipeline order (depth prepass,
+// shadows, RSMs, TWFR's reprojection, G-buffer or forward pass, skybox, importance, culling,
+// lighting, mapping pass 2, SSAO, tone map), each a few lines that read the counters it needs;
+// split per pass, each piece would need the same counters, display and workload, and the order
+// would no longer be visible in one place.
 std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
                                       std::vector<std::string>* missing) {
   const std::string& m = in.method;

@@ -53,11 +53,8 @@ struct Unit {
   std::string target_table, target_workload;  // what is predicted ("" workload: all of the table)
 };
 
-}  // namespace
-
-ValidationReport validate_cost(const CalData& data, const CostFit& fit, const FitOptions& opt) {
-  ValidationReport rep;
-  // 1. Calibration entries with the full fit.
+// 1. Calibration entries with the full fit.
+void add_calibration_rows(ValidationReport& rep, const CalData& data, const CostFit& fit) {
   for (auto& t : data.tables)
     for (auto& e : t.entries) {
       ValidationRow r{"calibration",  e.id,     t.id,  e.gpu,
@@ -66,7 +63,10 @@ ValidationReport validate_cost(const CalData& data, const CostFit& fit, const Fi
       r.model_ms = predict_parts(fit, data, e, &r.parts);
       rep.rows.push_back(r);
     }
-  // 2. Withheld figures: predictions only (the seeds' copies withhold the published values).
+}
+
+// 2. Withheld figures: predictions only (the seeds' copies withhold the published values).
+void add_withheld_rows(ValidationReport& rep, const CalData& data, const CostFit& fit) {
   for (auto& t : data.tables) {
     if (!t.json.contains("withheld")) continue;
     for (auto& w : t.json.at("withheld")) {
@@ -90,10 +90,12 @@ ValidationReport validate_cost(const CalData& data, const CostFit& fit, const Fi
         }
     }
   }
-  // 3. Cross-predictions.
+}
+
+// 3. The cross-prediction units: kfr <-> rmfr, each table from the others, each workload of a
+// table with several from the rest. `all`: every table's id.
+std::vector<Unit> cross_units(const CalData& data, const std::set<std::string>& all) {
   std::vector<Unit> units;
-  std::set<std::string> all;
-  for (auto& t : data.tables) all.insert(t.id);
   auto has = [&](const std::string& id) { return all.count(id) > 0; };
   if (has("kfr") && has("rmfr")) {
     units.push_back({"fit kfr -> predict rmfr", {"kfr"}, "", "rmfr", ""});
@@ -111,129 +113,150 @@ ValidationReport validate_cost(const CalData& data, const CostFit& fit, const Fi
     for (auto& wl : wls)
       units.push_back({"fit all but " + wl + " -> predict " + wl, all, wl, t.id, wl});
   }
-  for (const Unit& u : units) {
-    CrossPrediction cp;
-    cp.name = u.name;
-    cp.target = u.target_workload.empty() ? u.target_table : u.target_workload;
-    for (auto& s : u.fit_tables) cp.fit_on += (cp.fit_on.empty() ? "" : "+") + s;
-    if (!u.exclude_workload.empty()) cp.fit_on += " minus " + u.exclude_workload;
-    // Fit without the target rows.
-    CalData d2 = data;
-    for (auto& t : d2.tables) {
-      std::vector<CalEntry> keep;
-      for (auto& e : t.entries)
-        if (u.exclude_workload.empty() || e.workload != u.exclude_workload) keep.push_back(e);
-      t.entries = keep;
-    }
-    FitOptions o = opt;
-    o.tables = u.fit_tables;
-    CostFit f = fit_cost_model(d2, o);
-    if (u.exclude_workload.empty() && u.fit_tables.size() + 1 == all.size() &&
-        !u.fit_tables.count(u.target_table)) {
-      for (auto& [k, v] : f.theta)
-        if (k.rfind("geo:", 0) != 0) rep.lopo_theta[k].push_back(v);
-      for (auto& [r, v] : f.efficiency) {
-        rep.lopo_theta[std::string("efficiency.") + resource_name(r)].push_back(v);
-        rep.lopo_priors[u.target_table][std::string("efficiency.") + resource_name(r)] = v;
-      }
-      rep.lopo_theta["prior.overhead_ms"].push_back(f.prior_overhead_ms);
-      rep.lopo_priors[u.target_table]["prior.overhead_ms"] = f.prior_overhead_ms;
-    }
-    const CalTable* target = nullptr;
-    for (auto& t : data.tables)
-      if (t.id == u.target_table) target = &t;
-    if (!target) continue;
-    // Rows with passes never seen by the fit cannot be predicted: they are listed, not scored.
-    std::set<std::string> unseen;
-    auto row_seen = [&](const CalEntry& e) {
-      if (e.passes.empty()) return false;  // totals include unseen passes of the target
+  return units;
+}
+
+// A leave-one-paper-out refit's parameters and priors (the report's jackknife and priors).
+void record_leave_one_paper_out(ValidationReport& rep, const CostFit& f,
+                                const std::string& left_out) {
+  for (auto& [k, v] : f.theta)
+    if (k.rfind("geo:", 0) != 0) rep.lopo_theta[k].push_back(v);
+  for (auto& [r, v] : f.efficiency) {
+    rep.lopo_theta[std::string("efficiency.") + resource_name(r)].push_back(v);
+    rep.lopo_priors[left_out][std::string("efficiency.") + resource_name(r)] = v;
+  }
+  rep.lopo_theta["prior.overhead_ms"].push_back(f.prior_overhead_ms);
+  rep.lopo_priors[left_out]["prior.overhead_ms"] = f.prior_overhead_ms;
+}
+
+// One cross-prediction: fit without the target's rows, refit the target's shading and triangle
+// costs from its baseline rows, predict and score the rest.
+void cross_predict(ValidationReport& rep, const CalData& data, const FitOptions& opt, const Unit& u,
+                   const std::set<std::string>& all) {
+  CrossPrediction cp;
+  cp.name = u.name;
+  cp.target = u.target_workload.empty() ? u.target_table : u.target_workload;
+  for (auto& s : u.fit_tables) cp.fit_on += (cp.fit_on.empty() ? "" : "+") + s;
+  if (!u.exclude_workload.empty()) cp.fit_on += " minus " + u.exclude_workload;
+  // Fit without the target rows.
+  CalData d2 = data;
+  for (auto& t : d2.tables) {
+    std::vector<CalEntry> keep;
+    for (auto& e : t.entries)
+      if (u.exclude_workload.empty() || e.workload != u.exclude_workload) keep.push_back(e);
+    t.entries = keep;
+  }
+  FitOptions o = opt;
+  o.tables = u.fit_tables;
+  CostFit f = fit_cost_model(d2, o);
+  // A leave-one-paper-out refit: its parameters and priors for the report.
+  if (u.exclude_workload.empty() && u.fit_tables.size() + 1 == all.size() &&
+      !u.fit_tables.count(u.target_table))
+    record_leave_one_paper_out(rep, f, u.target_table);
+  const CalTable* target = nullptr;
+  for (auto& t : data.tables)
+    if (t.id == u.target_table) target = &t;
+  if (!target) return;
+  // Rows with passes never seen by the fit cannot be predicted: they are listed, not scored.
+  std::set<std::string> unseen;
+  auto row_seen = [&](const CalEntry& e) {
+    if (e.passes.empty()) return false;  // totals include unseen passes of the target
+    for (auto& p : e.passes)
+      if (!f.seen_passes.count(p)) return false;
+    return true;
+  };
+  int predictable = 0;
+  for (auto& e : target->entries)
+    if (u.target_workload.empty() || e.workload == u.target_workload) {
       for (auto& p : e.passes)
-        if (!f.seen_passes.count(p)) return false;
-      return true;
-    };
-    int predictable = 0;
+        if (!f.seen_passes.count(p)) unseen.insert(p);
+      predictable += row_seen(e);
+    }
+  for (auto& p : unseen)
+    cp.why += (cp.why.empty() ? "passes the refit never measured: " : ", ") + p;
+  if (predictable == 0) {
+    cp.possible = false;
+    rep.cross.push_back(cp);
+    return;
+  }
+  // Shading cost and triangle cost of each target workload from its baseline lighting and
+  // G-buffer rows (or, with no baseline config, from all its lighting and G-buffer rows):
+  // the scene-specific inputs a user supplies (a render of the scene without foveation).
+  std::set<std::string> wls;
+  for (auto& e : target->entries)
+    if (u.target_workload.empty() || e.workload == u.target_workload) wls.insert(e.workload);
+  std::set<std::string> refit_ids;
+  for (auto& wl : wls) {
+    std::vector<const CalEntry*> rows;
+    bool any_baseline = false;
+    for (auto& e : target->entries) any_baseline |= e.workload == wl && e.baseline;
     for (auto& e : target->entries)
-      if (u.target_workload.empty() || e.workload == u.target_workload) {
-        for (auto& p : e.passes)
-          if (!f.seen_passes.count(p)) unseen.insert(p);
-        predictable += row_seen(e);
+      if (e.workload == wl && e.fit && e.passes.size() == 1 &&
+          (e.passes[0] == "lighting" || e.passes[0] == "gbuffer") && (e.baseline || !any_baseline))
+        rows.push_back(&e), refit_ids.insert(e.id);
+    refit_workload(f, data, wl, rows);
+  }
+  double sum = 0;
+  std::map<std::string, double> pub_cfg, mod_cfg;  // over predictable rows, first workload
+  const std::string wl0 = *wls.begin();
+  for (auto& e : target->entries) {
+    if (!(u.target_workload.empty() || e.workload == u.target_workload)) continue;
+    ValidationRow r{"cross:" + u.name, e.id,     target->id, e.gpu,
+                    e.workload,        e.config, e.row,      "unseen",
+                    e.published_ms,    0.0,      {}};
+    if (!row_seen(e)) {
+      // A frame total whose passes the refit all saw is a held-out total: scored for the
+      // coverage of the combined interval, not for the per-pass error statistics. A total
+      // or pass row with passes the refit never measured is predicted from their nominal
+      // work (prior_theta): "total_prior" / "prior", the transfer to a new paper's pipeline.
+      std::vector<PassCost> parts;
+      const double ms = predict_parts(f, data, e, &parts);
+      if (e.passes.empty()) {
+        bool all_seen = !parts.empty();
+        for (auto& pc : parts) all_seen &= f.seen_passes.count(pc.pass) > 0;
+        r.kind = all_seen ? "total" : "total_prior";
+      } else {
+        r.kind = "prior";
       }
-    for (auto& p : unseen)
-      cp.why += (cp.why.empty() ? "passes the refit never measured: " : ", ") + p;
-    if (predictable == 0) {
-      cp.possible = false;
-      rep.cross.push_back(cp);
+      r.model_ms = ms, r.parts = parts;
+      rep.rows.push_back(r);
       continue;
     }
-    // Shading cost and triangle cost of each target workload from its baseline lighting and
-    // G-buffer rows (or, with no baseline config, from all its lighting and G-buffer rows):
-    // the scene-specific inputs a user supplies (a render of the scene without foveation).
-    std::set<std::string> wls;
-    for (auto& e : target->entries)
-      if (u.target_workload.empty() || e.workload == u.target_workload) wls.insert(e.workload);
-    std::set<std::string> refit_ids;
-    for (auto& wl : wls) {
-      std::vector<const CalEntry*> rows;
-      bool any_baseline = false;
-      for (auto& e : target->entries) any_baseline |= e.workload == wl && e.baseline;
-      for (auto& e : target->entries)
-        if (e.workload == wl && e.fit && e.passes.size() == 1 &&
-            (e.passes[0] == "lighting" || e.passes[0] == "gbuffer") &&
-            (e.baseline || !any_baseline))
-          rows.push_back(&e), refit_ids.insert(e.id);
-      refit_workload(f, data, wl, rows);
+    double ms = predict_parts(f, data, e, &r.parts);
+    std::string kind = refit_ids.count(e.id) ? "refit" : "predicted";
+    r.kind = kind;
+    r.model_ms = ms;
+    rep.rows.push_back(r);
+    if (e.workload == wl0) pub_cfg[e.config] += e.published_ms, mod_cfg[e.config] += ms;
+    if (kind == "predicted" && e.published_ms > 0) {
+      sum += std::fabs(ms - e.published_ms) / e.published_ms;
+      ++cp.n;
     }
-    double sum = 0;
-    std::map<std::string, double> pub_cfg, mod_cfg;  // over predictable rows, first workload
-    const std::string wl0 = *wls.begin();
-    for (auto& e : target->entries) {
-      if (!(u.target_workload.empty() || e.workload == u.target_workload)) continue;
-      ValidationRow r{"cross:" + u.name, e.id,     target->id, e.gpu,
-                      e.workload,        e.config, e.row,      "unseen",
-                      e.published_ms,    0.0,      {}};
-      if (!row_seen(e)) {
-        // A frame total whose passes the refit all saw is a held-out total: scored for the
-        // coverage of the combined interval, not for the per-pass error statistics. A total
-        // or pass row with passes the refit never measured is predicted from their nominal
-        // work (prior_theta): "total_prior" / "prior", the transfer to a new paper's pipeline.
-        std::vector<PassCost> parts;
-        const double ms = predict_parts(f, data, e, &parts);
-        if (e.passes.empty()) {
-          bool all_seen = !parts.empty();
-          for (auto& pc : parts) all_seen &= f.seen_passes.count(pc.pass) > 0;
-          r.kind = all_seen ? "total" : "total_prior";
-        } else {
-          r.kind = "prior";
-        }
-        r.model_ms = ms, r.parts = parts;
-        rep.rows.push_back(r);
-        continue;
-      }
-      double ms = predict_parts(f, data, e, &r.parts);
-      std::string kind = refit_ids.count(e.id) ? "refit" : "predicted";
-      r.kind = kind;
-      r.model_ms = ms;
-      rep.rows.push_back(r);
-      if (e.workload == wl0) pub_cfg[e.config] += e.published_ms, mod_cfg[e.config] += ms;
-      if (kind == "predicted" && e.published_ms > 0) {
-        sum += std::fabs(ms - e.published_ms) / e.published_ms;
-        ++cp.n;
-      }
-    }
-    cp.mean_abs_rel_err = cp.n ? sum / cp.n : 0;
-    // Speedup over the predictable rows: first baseline config vs first foveated config.
-    // Rows present in only one config (pass 2) count as they are: that pass is the method's cost.
-    std::string base, fov;
-    for (auto& e : target->entries) {
-      if (e.baseline && base.empty()) base = e.config;
-      if (!e.baseline && fov.empty()) fov = e.config;
-    }
-    if (!base.empty() && !fov.empty() && pub_cfg[fov] > 0 && mod_cfg[fov] > 0) {
-      cp.speedup_published = pub_cfg[base] / pub_cfg[fov];
-      cp.speedup_model = mod_cfg[base] / mod_cfg[fov];
-    }
-    rep.cross.push_back(cp);
   }
+  cp.mean_abs_rel_err = cp.n ? sum / cp.n : 0;
+  // Speedup over the predictable rows: first baseline config vs first foveated config.
+  // Rows present in only one config (pass 2) count as they are: that pass is the method's cost.
+  std::string base, fov;
+  for (auto& e : target->entries) {
+    if (e.baseline && base.empty()) base = e.config;
+    if (!e.baseline && fov.empty()) fov = e.config;
+  }
+  if (!base.empty() && !fov.empty() && pub_cfg[fov] > 0 && mod_cfg[fov] > 0) {
+    cp.speedup_published = pub_cfg[base] / pub_cfg[fov];
+    cp.speedup_model = mod_cfg[base] / mod_cfg[fov];
+  }
+  rep.cross.push_back(cp);
+}
+
+}  // namespace
+
+ValidationReport validate_cost(const CalData& data, const CostFit& fit, const FitOptions& opt) {
+  ValidationReport rep;
+  add_calibration_rows(rep, data, fit);
+  add_withheld_rows(rep, data, fit);
+  std::set<std::string> all;
+  for (auto& t : data.tables) all.insert(t.id);
+  for (const Unit& u : cross_units(data, all)) cross_predict(rep, data, opt, u, all);
   return rep;
 }
 

@@ -28,6 +28,8 @@
 #include "sim/cost/gpu_profile.h"
 #include "sim/cost/workload.h"
 #include "sim/experiment/config.h"
+#include "sim/experiment/frame_order.h"
+#include "sim/experiment/gaze_source.h"
 #include "sim/experiment/intervals.h"
 #include "sim/experiment/latency.h"
 #include "sim/experiment/phase_times.h"
@@ -103,8 +105,7 @@ struct MethodRun {
   // FovVideoVDP), and the same against `full` at the methods' sampling rate (foveation loss).
   std::vector<std::unique_ptr<SequenceTest>> seq, seq_fl;
   TemporalState temporal_fl;
-  FrameOutput fo;            // reused every frame (its image keeps its storage)
-  double prev_est_ms = NAN;  // latency.render_from_estimate: last frame's estimate (first GPU)
+  FrameOutput fo;  // reused every frame (its image keeps its storage)
 };
 
 struct ImageOutputs {
@@ -163,9 +164,42 @@ struct Shared {
   ReferenceCacheSettings cache;  // the `cache` block (reference_cache.h)
   Json scene_config;             // the resolved `scene` block (the reference cache's key)
 
+  // Reads the shared keys in the order a single run reads them (the first error reported is
+  // the same): display and render, scene and tone map, frame range, trace, the range's checks.
   void parse(Params& root, const std::string& cfg_file, const std::string& base_dir) {
     const RunSharedKeys top = run_shared_table().read(root);
     seed = uint64_t(top.seed);
+    Params tp = parse_display_render(root);
+    parse_scene(root, tp);
+    // The frame range is read first so that only the part of the trace it uses is resampled
+    // (a trace spanning 1e7 s with frames.count = 2 resamples 2 frames, not 1e7 s).
+    Params fp = root.child("frames");
+    const FramesBlock fb = frames_block_table().read(fp);
+    start = fb.start;
+    stride = fb.stride;
+    count = fb.count;  // 0 = all available
+    // Warm-up frames (frames.warmup): the first `warmup` frames of the range are rendered and
+    // fed to every method (TWFR's cold first frame, temporal history) but not recorded; the
+    // recorded frames, frames.count of them, follow.
+    warmup = fb.warmup;
+    start += warmup * stride;
+    parse_trace(root, base_dir, top.trace_placement);
+    check_frame_range(fp, fb.on_short_trace);
+    pixel_scale =
+        double(display.width) * display.height / (double(sim_display.width) * sim_display.height);
+    for (int k = 0; k < count && !tracking_column; ++k)
+      tracking_column = !trace.samples[size_t(start + k * stride)].valid;
+    {
+      Params cp = root.child("cache");
+      cache = ReferenceCacheSettings::from_params(cp);
+    }
+    scene_config = root.resolved().contains("scene") ? root.resolved()["scene"] : Json::object();
+    (void)cfg_file;
+  }
+
+  // The display, the render block and the simulated display (render.scale, under
+  // render.max_pixels). Returns render.tonemap, read after the scene (its exposure default).
+  Params parse_display_render(Params& root) {
     if (root.has("display") && root.json()["display"].is_object()) {
       Params dp = root.child("display");
       display = Display::from_params(dp);
@@ -188,7 +222,11 @@ struct Shared {
                   std::to_string(sim_display.height) + " (" + format_number(px) +
                   " pixels) is over the limit render.max_pixels = " + format_number(max_px) +
                   " (lower render.scale or raise render.max_pixels)");
+    return tp;
+  }
 
+  // The scene and the tone map (whose exposure defaults to the scene's).
+  void parse_scene(Params& root, Params& tp) {
     Params sp = root.child("scene");
     scene = with_memory_context(
         root.where("scene"), "building the scene",
@@ -202,25 +240,17 @@ struct Shared {
     tonemap.curve = curve == "aces"
                         ? ToneMap::Curve::Aces
                         : (curve == "reinhard" ? ToneMap::Curve::Reinhard : ToneMap::Curve::Clamp);
+  }
 
-    // The frame range is read first so that only the part of the trace it uses is resampled
-    // (a trace spanning 1e7 s with frames.count = 2 resamples 2 frames, not 1e7 s).
-    Params fp = root.child("frames");
-    const FramesBlock fb = frames_block_table().read(fp);
-    start = fb.start;
-    stride = fb.stride;
-    count = fb.count;  // 0 = all available
-    // Warm-up frames (frames.warmup): the first `warmup` frames of the range are rendered and
-    // fed to every method (TWFR's cold first frame, temporal history) but not recorded; the
-    // recorded frames, frames.count of them, follow.
-    warmup = fb.warmup;
-    start += warmup * stride;
+  // The trace: loaded and resampled to the refresh rate over only the frames the run uses (the
+  // raw trace is kept for the latency what-if), placed at the scene's default eye
+  // (trace_placement "scene"), every head position within the coordinate bound.
+  void parse_trace(Params& root, const std::string& base_dir, const std::string& placement) {
     const double needed_s =
         count > 0 ? (double(start) + double(count - 1) * stride + 2.0) / display.refresh_hz
                   : INFINITY;
     Params trp = root.child("trace");
-    const bool policy_given = trp.has("on_invalid");
-    const std::string& placement = top.trace_placement;
+    tracking_column = trp.has("on_invalid");  // else only when a recorded frame is invalid
     Trace raw_trace = with_memory_context(
         root.where("trace"), "reading and resampling the trace",
         "lower trace.max_samples, frames.count or the trace's length", [&] {
@@ -251,9 +281,12 @@ struct Shared {
               placement == "scene" ? " (after placing the trace at the scene's default eye)" : "");
           throw Error(root.where("trace"), b);
         }
+  }
 
+  // The frame range against the trace: past its end is an error; a range longer than the trace
+  // is one too unless frames.on_short_trace = "truncate"; frames.count 0 takes all.
+  void check_frame_range(Params& fp, const std::string& on_short) {
     int avail = int(trace.samples.size());
-    const std::string& on_short = fb.on_short_trace;
     if (start >= avail)
       fp.fail(warmup > 0 ? "warmup" : "start",
               "frame " + std::to_string(start) +
@@ -271,17 +304,6 @@ struct Shared {
                              " available (set frames.on_short_trace=\"truncate\" to accept)");
       count = max_count;
     }
-    pixel_scale =
-        double(display.width) * display.height / (double(sim_display.width) * sim_display.height);
-    tracking_column = policy_given;
-    for (int k = 0; k < count && !tracking_column; ++k)
-      tracking_column = !trace.samples[size_t(start + k * stride)].valid;
-    {
-      Params cp = root.child("cache");
-      cache = ReferenceCacheSettings::from_params(cp);
-    }
-    scene_config = root.resolved().contains("scene") ? root.resolved()["scene"] : Json::object();
-    (void)cfg_file;
   }
 };
 
@@ -397,7 +419,7 @@ struct Cell {
   ImageJobs image_jobs;   // this frame's images (want_images), written at the end of process()
   LatencyConfig latency;  // the latency what-if (docs/latency.md)
   std::set<std::string> metric_names;
-  std::vector<float> est_ecc;  // eccentricity around the estimated gaze, reused
+  std::unique_ptr<GazeSource> gaze;  // the gaze each method sees (made by parse_group)
   // Sequence (stateful) metrics of the registry (sim/metrics/registry.h SequenceMetric, e.g.
   // FovVideoVDP): the reference side of each frame, pushed once per frame and shared by the
   // cell's methods; against the converged reference (`ref`) and against `full` at the methods'
@@ -428,7 +450,6 @@ struct Cell {
   Image fl_display;
   MetricsScratch fl_scratch;
   MetricsConfig fl_mcfg;
-  std::vector<float> trk_ecc;  // eccentricity around the gaze shown while tracking is lost
   // --target (intervals.h): each cell stops on its own once its targets hold, so its frames do
   // not depend on the other cells of its group (sweep batches and shards give the same cell).
   bool stopped = false, met = false;
@@ -505,290 +526,65 @@ struct Cell {
     latency = LatencyConfig::from_params(root);
   }
 
-  // This cell's work on one frame: methods, tone mapping, metrics, cost, images, rows.
-  // `record` false: a warm-up frame under --target (state advances, no rows, no images).
+  // What every stage of one frame of this cell reads (process() below).
+  struct FrameIn {
+    const Shared& sh;
+    const FrameData& fd;
+    const Image& ref_display;  // the reference, tone-mapped: every row is measured against it
+    int fi;
+    double ref_ms;
+    bool record;       // false: a warm-up frame (state advances, no rows, no images)
+    bool want_images;  // this frame is one of outputs.image_frames
+    std::string img_dir;
+    SceneFeatures features;
+  };
+  // What step_method produced for one method on one frame.
+  struct Step {
+    double lat_ms = 0;        // the end-to-end latency the method's gaze had (latency what-if)
+    double sim_ms = 0;        // wall time of the method and its lighting
+    std::string cost_method;  // the method costed (`full` while trace.on_invalid = full swaps)
+    const FoveationMethod* impl = nullptr;  // the method that rendered (its declared passes)
+    const Image* linear = nullptr;          // its linear image (or the reference's)
+  };
+
+  // This cell's work on one frame: per method the gaze (GazeSource), step_method, measure,
+  // its images and build_rows; the images are written together at the end of the frame.
+  // `record` false: a warm-up frame under --target or frames.warmup.
   void process(const Shared& sh, const Renderer& renderer, const FrameData& fd,
                const Image& ref_display, int fi, double ref_ms, bool record = true) {
     auto c0 = Clock::now();
     PhaseClock pc = PhaseClock::now();
-    const TraceSample& s = sh.trace.samples[size_t(fi)];
-    const SceneFeatures features = sh.scene->features();
-    bool want_images = record && io.frames.count(fi) > 0;
-    std::string img_dir = job->out_dir + "/images/frame_" + std::to_string(fi);
-    if (want_images) write_images(img_dir, "reference", ref_display, &fd.reference, io, image_jobs);
+    const bool want_images = record && io.frames.count(fi) > 0;
+    const FrameIn in{sh,
+                     fd,
+                     ref_display,
+                     fi,
+                     ref_ms,
+                     record,
+                     want_images,
+                     job->out_dir + "/images/frame_" + std::to_string(fi),
+                     sh.scene->features()};
+    if (want_images)
+      write_images(in.img_dir, "reference", ref_display, &fd.reference, io, image_jobs);
     pc = phases.lap("images", pc);
     FrameContext ctx = fd.context(*sh.scene, renderer, sh.sim_display, want_images && io.debug);
-    if (!seq_ready) {
-      seq_ready = true;
-      seq_setup.display = &sh.display;
-      seq_setup.width = sh.sim_display.width;
-      seq_setup.height = sh.sim_display.height;
-      seq_setup.fps = seq_video ? sh.display.refresh_hz : 0.0;
-      seq_setup.config = &mcfg;
-      for (auto& d : metric_registry())
-        if (d.sequence && d.sequence->enabled(mcfg)) {
-          Seq q;
-          q.decl = &d;
-          q.ref = d.sequence->make_reference(seq_setup);
-          seq.push_back(std::move(q));
-        }
-    }
+    begin_sequence_metrics(sh);
     // The true gaze (also under the latency what-if), a screen point (pixel centres at i + 0.5).
     for (auto& q : seq) q.ref->push(ref_display, fd.gaze_px.x, fd.gaze_px.y);
     if (!seq.empty()) pc = phases.lap("metrics", pc);
-    if (mcfg.foveation_loss) {
-      if (!fl_full) {
-        Params fp(Json{{"method", "full"}}, job->file, "metrics.foveation_loss");
-        (void)fp.string("method");
-        fl_full = make_method("full", fp);
-        fl_mcfg = mcfg;
-        fl_mcfg.temporal = false;  // temporal_error: against the reference only
-      }
-      FrameContext fctx = ctx;  // the true gaze (full does not use it)
-      fl_fo.image_is_reference = false;
-      fl_fo.counters.clear();
-      fl_fo.debug.clear();
-      fl_fo.flags.clear();
-      render_with_lighting(*fl_full, fctx, fl_fo);
-      sh.tonemap.apply(fl_fo.image_is_reference ? fd.reference : fl_fo.image, fl_display);
-      pc = phases.lap("methods", pc);
-      for (auto& q : seq) {
-        if (!q.ref_fl) q.ref_fl = q.decl->sequence->make_reference(seq_setup);
-        q.ref_fl->push(fl_display, fd.gaze_px.x, fd.gaze_px.y);
-      }
-      // The reference's floor: `full` at the methods' sampling rate against the reference.
-      if (record) {
-        MetricsConfig floor_cfg = fl_mcfg;  // no temporal_error (against the reference only)
-        MetricValues fl = compute_metrics(floor_cfg, fl_display, ref_display, fd.camera,
-                                          fd.eccentricity, nullptr, &floor_scratch);
-        for (auto& [k, v] : fl.items()) floor_vals[k][fi] = v;
-      }
-      for (auto& q : seq) {
-        if (!q.floor) q.floor = q.decl->sequence->make_test(*q.ref);
-        const double v = q.floor->push(fl_display, *q.ref, nullptr);
-        if (record) floor_vals[q.decl->pooled_column][fi] = v;
-      }
-      pc = phases.lap("metrics", pc);
-    }
-    // Latency what-if: methods see the gaze at t - latency, metrics keep fd's true gaze.
-    const double period = 1.0 / sh.display.refresh_hz;
-    const char* phase = nullptr;
-    double speed = 0;
-    if (latency.enabled) {
-      phase = phase_name(gaze_phase(sh.raw_trace, s.t, period, latency));
-      speed = gaze_speed_deg_s(sh.raw_trace, s.t, 0.5 * period);
-    }
-    glm::dvec3 est_dir_cached(NAN);
-    // Tracking loss (trace.on_invalid): the gaze the methods see on an invalid frame.
-    const TrackedGaze tg = tracked_gaze(sh.trace, size_t(fi), sh.tracking);
-    ctx.widen = tg.valid ? 1.0 : tg.widen;  // kfr, rmfr, flc widen their own parameters
-    bool trk_ecc_ready = false;
-
+    if (mcfg.foveation_loss) foveation_loss_reference(in, ctx, pc);
+    // Latency what-if and tracking loss: methods see the gaze source's gaze, metrics keep fd's
+    // true gaze.
+    gaze->begin_frame(fi, methods.size(), ctx);
     for (size_t mi = 0; mi < methods.size(); ++mi) {
       MethodRun& m = methods[mi];
-      FrameOutput& fo = m.fo;  // cleared; fo.image keeps its storage (no per-frame allocation)
-      fo.image_is_reference = false;
-      fo.counters.clear();
-      fo.debug.clear();
-      fo.flags.clear();
-      double lat_ms = 0;
-      if (latency.enabled) {
-        double render_part = latency.render_ms;
-        if (latency.render_from_estimate && std::isfinite(m.prev_est_ms)) {
-          // A frame is scanned out at the first vsync after its GPU work: whole periods.
-          const double budget = sh.display.frame_budget_ms();
-          render_part = std::max(1.0, std::ceil(m.prev_est_ms / budget - 1e-9)) * budget;
-        }
-        lat_ms = latency.total_ms(fi, render_part);
-      }
-      // Zero latency without a predictor: exactly today's gaze and numbers.
-      if (latency.enabled && (lat_ms > 0 || latency.predictor != "none")) {
-        TraceSample est = estimated_gaze(sh.raw_trace, s.t, lat_ms * 1e-3, period, latency);
-        glm::dvec3 dir = glm::normalize(est.gaze_dir);
-        if (!(dir == est_dir_cached)) {
-          eccentricity_map(fd.camera, dir, est_ecc);
-          est_dir_cached = dir;
-        }
-        ctx.gaze_dir = dir;
-        ctx.gaze_px = gaze_pixel(fd.camera, dir);
-        ctx.gaze_valid = est.valid;
-        ctx.eccentricity = &est_ecc;
-      } else {  // this method's latency is 0: the true gaze, even after another method's estimate
-        ctx.gaze_dir = fd.gaze_dir;
-        ctx.gaze_px = fd.gaze_px;
-        ctx.gaze_valid = fd.gaze_valid;
-        ctx.eccentricity = &fd.eccentricity;
-      }
-      if (!tg.valid) {  // the frame's own tracking state, also under the latency what-if
-        if (!trk_ecc_ready) {
-          eccentricity_map(fd.camera, tg.gaze_dir, trk_ecc);
-          if (tg.ecc_scale != 1.0)
-            for (float& e : trk_ecc) e = float(double(e) * tg.ecc_scale);
-          trk_ecc_ready = true;
-        }
-        ctx.gaze_dir = tg.gaze_dir;
-        ctx.gaze_px = gaze_pixel(fd.camera, tg.gaze_dir);
-        ctx.gaze_valid = false;
-        ctx.eccentricity = &trk_ecc;
-      }
-      // trace.on_invalid = full: the method renders as `full` until tracking returns; its
-      // temporal history restarts then (what it had is from before the loss).
-      FoveationMethod* impl = m.impl.get();
-      std::string cost_method = m.method;
-      if (tg.render_full && m.method != "full") {
-        if (!m.full) {
-          Params fp(Json::object(), "trace.on_invalid");
-          m.full = make_method("full", fp);
-        }
-        impl = m.full.get();
-        cost_method = "full";
-        m.was_full = true;
-      } else if (m.was_full) {
-        m.impl->reset();
-        if (m.impl->lighting()) m.impl->lighting()->reset();
-        m.was_full = false;
-      }
-      auto m0 = Clock::now();
-      if (watchdog)
-        watchdog->begin(watchdog_slot, "frame " + std::to_string(fi) + ", method \"" + m.method +
-                                           "\" (label \"" + m.label + "\")");
-      render_with_lighting(*impl, ctx, fo);  // the method + its lighting strategy (lighting.h)
-      if (watchdog) watchdog->end(watchdog_slot);
-      double sim_ms = ms_since(m0);
-      pc = phases.lap("methods", pc);
-      const Image& lin = fo.image_is_reference ? fd.reference : fo.image;
-      FOVSIM_CHECK(lin.width == sh.sim_display.width && lin.height == sh.sim_display.height &&
-                       lin.channels == 3,
-                   "method \"" + m.label + "\" produced an image of the wrong size");
-      sh.tonemap.apply(lin, out_display);
-      const Image* refd = &ref_display;  // every row against the same reference
-      pc = phases.lap("tonemap", pc);
-      MetricValues metrics = compute_metrics(mcfg, out_display, *refd, fd.camera, fd.eccentricity,
-                                             &m.temporal, &metrics_scratch);
-      // Sequence metrics: the frame's pooled value (e.g. fvvdp_q, pooled over the run into
-      // summary fvvdp_jod by the registry) and the metric of this frame alone; heat maps of the
-      // saved frames.
-      std::vector<std::pair<std::string, Image>> heat;
-      for (size_t k = 0; k < seq.size(); ++k) {
-        const MetricDecl& d = *seq[k].decl;
-        if (m.seq.size() <= k) m.seq.push_back(d.sequence->make_test(*seq[k].ref));
-        const bool h = want_images && *d.sequence->heatmap_suffix;
-        Image img;
-        const double q = m.seq[k]->push(out_display, *seq[k].ref, h ? &img : nullptr);
-        metrics.set(d.pooled_column, q);
-        metrics.set(d.name, d.from_mean(q));
-        if (h) heat.emplace_back(m.stem + d.sequence->heatmap_suffix, std::move(img));
-      }
-      if (fl_full) {  // the foveation loss: every metric against full at the same sampling rate
-        MetricValues fl = compute_metrics(fl_mcfg, out_display, fl_display, fd.camera,
-                                          fd.eccentricity, &m.temporal_fl, &fl_scratch);
-        for (auto& [k, v] : fl.items()) metrics.set(k + kFoveationLossSuffix, v);
-        for (size_t k = 0; k < seq.size(); ++k) {
-          const MetricDecl& d = *seq[k].decl;
-          if (m.seq_fl.size() <= k) m.seq_fl.push_back(d.sequence->make_test(*seq[k].ref_fl));
-          const bool h = want_images && *d.sequence->heatmap_suffix;
-          Image img;
-          const double q = m.seq_fl[k]->push(out_display, *seq[k].ref_fl, h ? &img : nullptr);
-          metrics.set(d.pooled_column + kFoveationLossSuffix, q);
-          metrics.set(d.name + kFoveationLossSuffix, d.from_mean(q));
-          if (h)
-            heat.emplace_back(m.stem + d.sequence->heatmap_suffix + kFoveationLossSuffix,
-                              std::move(img));
-        }
-      }
-      for (auto& f : fo.flags) flags_seen.insert(m.label + ":" + f);
-      if (latency.enabled)
-        for (auto& kv : metrics.items()) metric_names.insert(kv.first);
+      const Step st = step_method(in, mi, ctx, pc);
+      std::vector<std::pair<std::string, Image>> heat;  // sequence metrics' heat maps
+      const MetricValues metrics = measure(in, m, heat);
       pc = phases.lap("metrics", pc);
-
-      if (want_images) {
-        write_images(img_dir, m.stem, out_display, &lin, io, image_jobs);
-        if (outputs.error_images)
-          image_jobs.add(img_dir + "/" + safe_file_name(m.stem + "_error") + ".png",
-                         error_heatmap(out_display, *refd));
-        if (mcfg.flip && mcfg.flip_images)
-          image_jobs.add(img_dir + "/" + safe_file_name(m.stem + "_flip") + ".png",
-                         flip_colormap(metrics_scratch.flip_map));
-        for (auto& [name, img] : heat)
-          image_jobs.add(img_dir + "/" + safe_file_name(name) + ".png", std::move(img));
-        for (auto& [dname, dimg] : fo.debug)
-          image_jobs.add(img_dir + "/" + safe_file_name(m.stem + "_" + dname) + ".png",
-                         std::move(dimg));
-      }
+      if (want_images) queue_method_images(in, m, *st.linear, heat);
       pc = phases.lap("images", pc);
-
-      for (auto& gpu : gpus) {
-        CostInputs ci;
-        ci.method = cost_method;
-        ci.counters = &fo.counters;
-        ci.passes = declared_passes(*impl);                // its cost passes and shared work
-        ci.shared = fd.has_vpls ? &fd.counters : nullptr;  // the frame's RSMs
-        ci.features = features;
-        ci.display = sh.display;
-        ci.pixel_scale = sh.pixel_scale;
-        ci.workload = &workload;
-        FrameCost cost = estimate_frame(gpu, ci);
-        if (&gpu == &gpus.front()) m.prev_est_ms = cost.total_ms;
-        ResultRow row;
-        row.set_text("config_id", gpus.size() > 1 ? m.label + "@" + gpu.name : m.label);
-        row.set_text("method", m.method);
-        row.set_text("label", m.label);
-        row.set_text("gpu", gpu.name);
-        for (auto& [pn, pv] : m.impl->param_columns()) row.set(pn, pv);
-        for (auto& [pn, pv] : m.impl->text_param_columns()) row.set_text(pn, pv);
-        if (fd.has_vpls && m.impl->lighting()) {  // lighting strategy columns (results/README.md)
-          row.set_text("lighting", m.impl->lighting()->name());
-          for (auto& [pn, pv] : m.impl->lighting()->param_columns()) row.set(pn, pv);
-        }
-        row.set("frame", fi);
-        row.set("t", s.t);
-        row.set("gaze_x", fd.gaze_px.x / sh.scale);  // pixels of the real display
-        row.set("gaze_y", fd.gaze_px.y / sh.scale);
-        row.set("gaze_valid", fd.gaze_valid ? 1 : 0);
-        if (sh.tracking_column) row.set_text("tracking", tg.state);  // docs/tracking.md
-        if (latency.enabled) {  // results/README.md "Latency what-if"
-          row.set_text("phase", phase);
-          row.set("latency_ms", lat_ms);
-          row.set("gaze_est_x", ctx.gaze_px.x / sh.scale);
-          row.set("gaze_est_y", ctx.gaze_px.y / sh.scale);
-          row.set("gaze_error_deg", angle_deg(fd.gaze_dir, ctx.gaze_dir));
-          row.set("gaze_speed_deg_s", speed);
-        }
-        double shaded = fo.counters.get(Counter::shaded_samples);
-        row.set("shaded_samples", shaded * display_scale(Counter::shaded_samples, sh.pixel_scale));
-        row.set("shaded_fraction", shaded / double(sh.sim_display.width * sh.sim_display.height));
-        row.set("prims_submitted",
-                fo.counters.get(Counter::prims_submitted, double(features.triangles)));
-        row.set("prims_culled", fo.counters.get(Counter::prims_culled, 0.0));
-        for (auto& [cn, cv] : fo.counters.items())
-          if (cn != "shaded_samples" && cn != "prims_submitted" && cn != "prims_culled")
-            row.set(cn, cv);
-        for (auto& [cn, cv] : shared_counters(ci).items()) row.set(cn, cv);  // the frame's RSMs
-        // A counter the cost model needed and the method did not fill (its pass was charged 0 or
-        // a fallback) is a flag of the row, never silence (results/README.md).
-        if (!cost.missing_counters.empty()) {
-          std::string mc;
-          for (const auto& n : cost.missing_counters) mc += (mc.empty() ? "" : ";") + n;
-          row.set_text("missing_counters", mc);
-          flags_seen.insert(m.label + ":missing_counters");
-        }
-        row.set("est_ms_total", cost.total_ms);
-        if (cost.interval_level > 0) {  // the profile's prediction interval (docs/cost_model.md)
-          row.set("est_ms_total_lo", cost.total_lo_ms);
-          row.set("est_ms_total_hi", cost.total_hi_ms);
-        }
-        for (auto& pc : cost.passes) {
-          row.set("est_ms_" + pc.pass, pc.ms);
-          if (cost.interval_level > 0) {  // per-pass interval (docs/cost_model.md)
-            row.set("est_ms_" + pc.pass + "_lo", pc.lo_ms);
-            row.set("est_ms_" + pc.pass + "_hi", pc.hi_ms);
-          }
-        }
-        for (auto& [mn, mv] : metrics.items()) row.set(mn, mv);
-        row.set("ref_ms", ref_ms);
-        row.set("sim_ms", sim_ms);
-        if (record) frames.add(std::move(row));
-      }
+      build_rows(in, mi, st, ctx, metrics);
       pc = phases.lap("cost_rows", pc);
     }
     if (!image_jobs.jobs.empty()) {
@@ -796,6 +592,258 @@ struct Cell {
       pc = phases.lap("images", pc);
     }
     cell_ms += ms_since(c0);
+  }
+
+  // Sequence metrics' reference streams, made on the first frame (seq_video is set by then).
+  void begin_sequence_metrics(const Shared& sh) {
+    if (seq_ready) return;
+    seq_ready = true;
+    seq_setup.display = &sh.display;
+    seq_setup.width = sh.sim_display.width;
+    seq_setup.height = sh.sim_display.height;
+    seq_setup.fps = seq_video ? sh.display.refresh_hz : 0.0;
+    seq_setup.config = &mcfg;
+    for (auto& d : metric_registry())
+      if (d.sequence && d.sequence->enabled(mcfg)) {
+        Seq q;
+        q.decl = &d;
+        q.ref = d.sequence->make_reference(seq_setup);
+        seq.push_back(std::move(q));
+      }
+  }
+
+  // metrics.foveation_loss: `full` at the methods' sampling rate (fl_display), the second
+  // reference of every `<metric>_fl` column, and the reference's floor (it against the
+  // converged reference).
+  void foveation_loss_reference(const FrameIn& in, const FrameContext& ctx, PhaseClock& pc) {
+    const Shared& sh = in.sh;
+    const FrameData& fd = in.fd;
+    if (!fl_full) {
+      Params fp(Json{{"method", "full"}}, job->file, "metrics.foveation_loss");
+      (void)fp.string("method");
+      fl_full = make_method("full", fp);
+      fl_mcfg = mcfg;
+      fl_mcfg.temporal = false;  // temporal_error: against the reference only
+    }
+    FrameContext fctx = ctx;  // the true gaze (full does not use it)
+    fl_fo.image_is_reference = false;
+    fl_fo.counters.clear();
+    fl_fo.debug.clear();
+    fl_fo.flags.clear();
+    render_with_lighting(*fl_full, fctx, fl_fo);
+    sh.tonemap.apply(fl_fo.image_is_reference ? fd.reference : fl_fo.image, fl_display);
+    pc = phases.lap("methods", pc);
+    for (auto& q : seq) {
+      if (!q.ref_fl) q.ref_fl = q.decl->sequence->make_reference(seq_setup);
+      q.ref_fl->push(fl_display, fd.gaze_px.x, fd.gaze_px.y);
+    }
+    // The reference's floor: `full` at the methods' sampling rate against the reference.
+    if (in.record) {
+      MetricsConfig floor_cfg = fl_mcfg;  // no temporal_error (against the reference only)
+      MetricValues fl = compute_metrics(floor_cfg, fl_display, in.ref_display, fd.camera,
+                                        fd.eccentricity, nullptr, &floor_scratch);
+      for (auto& [k, v] : fl.items()) floor_vals[k][in.fi] = v;
+    }
+    for (auto& q : seq) {
+      if (!q.floor) q.floor = q.decl->sequence->make_test(*q.ref);
+      const double v = q.floor->push(fl_display, *q.ref, nullptr);
+      if (in.record) floor_vals[q.decl->pooled_column][in.fi] = v;
+    }
+    pc = phases.lap("metrics", pc);
+  }
+
+  // Method `mi` on this frame: its gaze, the method (or `full` while tracking is lost under
+  // trace.on_invalid = full) with its lighting strategy, the frame's shared RSM counters, tone
+  // mapping into out_display.
+  Step step_method(const FrameIn& in, size_t mi, FrameContext& ctx, PhaseClock& pc) {
+    const Shared& sh = in.sh;
+    const FrameData& fd = in.fd;
+    MethodRun& m = methods[mi];
+    Step st;
+    FrameOutput& fo = m.fo;  // cleared; fo.image keeps its storage (no per-frame allocation)
+    fo.image_is_reference = false;
+    fo.counters.clear();
+    fo.debug.clear();
+    fo.flags.clear();
+    st.lat_ms = gaze->gaze_for(mi, fd, ctx);
+    // trace.on_invalid = full: the method renders as `full` until tracking returns; its
+    // temporal history restarts then (what it had is from before the loss).
+    FoveationMethod* impl = m.impl.get();
+    st.cost_method = m.method;
+    if (gaze->tracked().render_full && m.method != "full") {
+      if (!m.full) {
+        Params fp(Json::object(), "trace.on_invalid");
+        m.full = make_method("full", fp);
+      }
+      impl = m.full.get();
+      st.cost_method = "full";
+      m.was_full = true;
+    } else if (m.was_full) {
+      m.impl->reset();
+      if (m.impl->lighting()) m.impl->lighting()->reset();
+      m.was_full = false;
+    }
+    auto m0 = Clock::now();
+    if (watchdog)
+      watchdog->begin(watchdog_slot, "frame " + std::to_string(in.fi) + ", method \"" + m.method +
+                                         "\" (label \"" + m.label + "\")");
+    render_with_lighting(*impl, ctx, fo);  // the method + its lighting strategy (lighting.h)
+    if (watchdog) watchdog->end(watchdog_slot);
+    st.impl = impl;
+    st.sim_ms = ms_since(m0);
+    pc = phases.lap("methods", pc);
+    const Image& lin = fo.image_is_reference ? fd.reference : fo.image;
+    FOVSIM_CHECK(lin.width == sh.sim_display.width && lin.height == sh.sim_display.height &&
+                     lin.channels == 3,
+                 "method \"" + m.label + "\" produced an image of the wrong size");
+    sh.tonemap.apply(lin, out_display);
+    st.linear = &lin;
+    pc = phases.lap("tonemap", pc);
+    return st;
+  }
+
+  // The metrics of out_display (method `m`'s frame) against the reference, at the true gaze;
+  // sequence metrics' pooled value and the metric of this frame alone (heat maps of the saved
+  // frames into `heat`); with metrics.foveation_loss the same against `full` at the methods'
+  // sampling rate.
+  MetricValues measure(const FrameIn& in, MethodRun& m,
+                       std::vector<std::pair<std::string, Image>>& heat) {
+    const FrameData& fd = in.fd;
+    MetricValues metrics = compute_metrics(mcfg, out_display, in.ref_display, fd.camera,
+                                           fd.eccentricity, &m.temporal, &metrics_scratch);
+    for (size_t k = 0; k < seq.size(); ++k) {
+      const MetricDecl& d = *seq[k].decl;
+      if (m.seq.size() <= k) m.seq.push_back(d.sequence->make_test(*seq[k].ref));
+      const bool h = in.want_images && *d.sequence->heatmap_suffix;
+      Image img;
+      const double q = m.seq[k]->push(out_display, *seq[k].ref, h ? &img : nullptr);
+      metrics.set(d.pooled_column, q);
+      metrics.set(d.name, d.from_mean(q));
+      if (h) heat.emplace_back(m.stem + d.sequence->heatmap_suffix, std::move(img));
+    }
+    if (fl_full) {  // the foveation loss: every metric against full at the same sampling rate
+      MetricValues fl = compute_metrics(fl_mcfg, out_display, fl_display, fd.camera,
+                                        fd.eccentricity, &m.temporal_fl, &fl_scratch);
+      for (auto& [k, v] : fl.items()) metrics.set(k + kFoveationLossSuffix, v);
+      for (size_t k = 0; k < seq.size(); ++k) {
+        const MetricDecl& d = *seq[k].decl;
+        if (m.seq_fl.size() <= k) m.seq_fl.push_back(d.sequence->make_test(*seq[k].ref_fl));
+        const bool h = in.want_images && *d.sequence->heatmap_suffix;
+        Image img;
+        const double q = m.seq_fl[k]->push(out_display, *seq[k].ref_fl, h ? &img : nullptr);
+        metrics.set(d.pooled_column + kFoveationLossSuffix, q);
+        metrics.set(d.name + kFoveationLossSuffix, d.from_mean(q));
+        if (h)
+          heat.emplace_back(m.stem + d.sequence->heatmap_suffix + kFoveationLossSuffix,
+                            std::move(img));
+      }
+    }
+    for (auto& f : m.fo.flags) flags_seen.insert(m.label + ":" + f);
+    if (latency.enabled)
+      for (auto& kv : metrics.items()) metric_names.insert(kv.first);
+    return metrics;
+  }
+
+  // The images of method `m` on a saved frame: display and linear image, error and FLIP maps,
+  // sequence metrics' heat maps, the method's debug buffers.
+  void queue_method_images(const FrameIn& in, MethodRun& m, const Image& lin,
+                           std::vector<std::pair<std::string, Image>>& heat) {
+    write_images(in.img_dir, m.stem, out_display, &lin, io, image_jobs);
+    if (outputs.error_images)
+      image_jobs.add(in.img_dir + "/" + safe_file_name(m.stem + "_error") + ".png",
+                     error_heatmap(out_display, in.ref_display));
+    if (mcfg.flip && mcfg.flip_images)
+      image_jobs.add(in.img_dir + "/" + safe_file_name(m.stem + "_flip") + ".png",
+                     flip_colormap(metrics_scratch.flip_map));
+    for (auto& [name, img] : heat)
+      image_jobs.add(in.img_dir + "/" + safe_file_name(name) + ".png", std::move(img));
+    for (auto& [dname, dimg] : m.fo.debug)
+      image_jobs.add(in.img_dir + "/" + safe_file_name(m.stem + "_" + dname) + ".png",
+                     std::move(dimg));
+  }
+
+  // One ResultRow per GPU profile for method `mi` on this frame (results/README.md): the cost
+  // estimate (its first GPU's total is the gaze source's feedback), parameter and lighting
+  // columns, gaze, latency and tracking columns, counters, est_ms_*, metrics, timings.
+  void build_rows(const FrameIn& in, size_t mi, const Step& st, const FrameContext& ctx,
+                  const MetricValues& metrics) {
+    const Shared& sh = in.sh;
+    const FrameData& fd = in.fd;
+    const TraceSample& s = sh.trace.samples[size_t(in.fi)];
+    MethodRun& m = methods[mi];
+    const FrameOutput& fo = m.fo;
+    for (auto& gpu : gpus) {
+      CostInputs ci;
+      ci.method = st.cost_method;
+      ci.counters = &fo.counters;
+      ci.passes = declared_passes(*st.impl);             // its cost passes and shared work
+      ci.shared = fd.has_vpls ? &fd.counters : nullptr;  // the frame's RSMs
+      ci.features = in.features;
+      ci.display = sh.display;
+      ci.pixel_scale = sh.pixel_scale;
+      ci.workload = &workload;
+      FrameCost cost = estimate_frame(gpu, ci);
+      if (&gpu == &gpus.front()) gaze->feedback(mi, cost.total_ms);
+      ResultRow row;
+      row.set_text("config_id", gpus.size() > 1 ? m.label + "@" + gpu.name : m.label);
+      row.set_text("method", m.method);
+      row.set_text("label", m.label);
+      row.set_text("gpu", gpu.name);
+      for (auto& [pn, pv] : m.impl->param_columns()) row.set(pn, pv);
+      for (auto& [pn, pv] : m.impl->text_param_columns()) row.set_text(pn, pv);
+      if (fd.has_vpls && m.impl->lighting()) {  // lighting strategy columns (results/README.md)
+        row.set_text("lighting", m.impl->lighting()->name());
+        for (auto& [pn, pv] : m.impl->lighting()->param_columns()) row.set(pn, pv);
+      }
+      row.set("frame", in.fi);
+      row.set("t", s.t);
+      row.set("gaze_x", fd.gaze_px.x / sh.scale);  // pixels of the real display
+      row.set("gaze_y", fd.gaze_px.y / sh.scale);
+      row.set("gaze_valid", fd.gaze_valid ? 1 : 0);
+      if (sh.tracking_column) row.set_text("tracking", gaze->tracked().state);  // docs/tracking.md
+      if (latency.enabled) {  // results/README.md "Latency what-if"
+        row.set_text("phase", gaze->phase());
+        row.set("latency_ms", st.lat_ms);
+        row.set("gaze_est_x", ctx.gaze_px.x / sh.scale);
+        row.set("gaze_est_y", ctx.gaze_px.y / sh.scale);
+        row.set("gaze_error_deg", angle_deg(fd.gaze_dir, ctx.gaze_dir));
+        row.set("gaze_speed_deg_s", gaze->speed_deg_s());
+      }
+      double shaded = fo.counters.get(Counter::shaded_samples);
+      row.set("shaded_samples", shaded * display_scale(Counter::shaded_samples, sh.pixel_scale));
+      row.set("shaded_fraction", shaded / double(sh.sim_display.width * sh.sim_display.height));
+      row.set("prims_submitted",
+              fo.counters.get(Counter::prims_submitted, double(in.features.triangles)));
+      row.set("prims_culled", fo.counters.get(Counter::prims_culled, 0.0));
+      for (auto& [cn, cv] : fo.counters.items())
+        if (cn != "shaded_samples" && cn != "prims_submitted" && cn != "prims_culled")
+          row.set(cn, cv);
+      for (auto& [cn, cv] : shared_counters(ci).items()) row.set(cn, cv);  // the frame's RSMs
+      // A counter the cost model needed and the method did not fill (its pass was charged 0 or
+      // a fallback) is a flag of the row, never silence (results/README.md).
+      if (!cost.missing_counters.empty()) {
+        std::string mc;
+        for (const auto& n : cost.missing_counters) mc += (mc.empty() ? "" : ";") + n;
+        row.set_text("missing_counters", mc);
+        flags_seen.insert(m.label + ":missing_counters");
+      }
+      row.set("est_ms_total", cost.total_ms);
+      if (cost.interval_level > 0) {  // the profile's prediction interval (docs/cost_model.md)
+        row.set("est_ms_total_lo", cost.total_lo_ms);
+        row.set("est_ms_total_hi", cost.total_hi_ms);
+      }
+      for (auto& pc : cost.passes) {
+        row.set("est_ms_" + pc.pass, pc.ms);
+        if (cost.interval_level > 0) {  // per-pass interval (docs/cost_model.md)
+          row.set("est_ms_" + pc.pass + "_lo", pc.lo_ms);
+          row.set("est_ms_" + pc.pass + "_hi", pc.hi_ms);
+        }
+      }
+      for (auto& [mn, mv] : metrics.items()) row.set(mn, mv);
+      row.set("ref_ms", in.ref_ms);
+      row.set("sim_ms", st.sim_ms);
+      if (in.record) frames.add(std::move(row));
+    }
   }
 
   // Forget the frame history (temporal methods, temporal_error) before a non-contiguous frame.
@@ -813,8 +861,8 @@ struct Cell {
       for (auto& t : m.seq) t->reset();
       for (auto& t : m.seq_fl) t->reset();
       m.temporal_fl.reset();
-      m.prev_est_ms = NAN;
     }
+    gaze->reset();
   }
 };
 
@@ -842,24 +890,45 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
 }
 
 namespace {
-std::vector<CellResult> run_cells_impl(const std::vector<CellJob>& jobs, const EngineOptions& opt,
-                                       GroupStats* stats) {
-  auto g0 = Clock::now();
-  PhaseTimes group_phases;  // setup, reference, outputs (shared by the cells)
-  PhaseClock gpc = PhaseClock::now();
-  std::vector<CellResult> results;
-  if (jobs.empty()) return results;
-  const std::string key = reference_key(jobs.front().doc);
-  for (auto& j : jobs)
-    FOVSIM_CHECK(reference_key(j.doc) == key,
-                 "cells of one reference group differ in a reference key (" + j.file + ")");
 
-  // ---- configuration: the first cell parses the shared keys (scene, trace, ...); every
-  // cell parses its own keys; all are validated before any frame is computed ----
-  embree_device_config();  // FOVSIM_EMBREE_ISA / FOVSIM_SIMD: a bad value fails here, not mid-run
-  simd_path();
-  Shared sh;
-  sh.models = opt.models_dir.empty() ? default_models_dir() : opt.models_dir;
+// The manifest a cell starts with (status "running"; write_cell_outputs completes it).
+Json cell_manifest(const CellJob& job, const Shared& sh, const Json& resolved,
+                   const EngineOptions& opt) {
+  Json manifest = Json{
+      {"tool", "fovsim"},
+      {"version", version_string()},
+      {"git_commit", git_commit()},
+      {"command_line", job.command_line},
+      {"config_file", job.file},
+      {"config", job.doc},
+      {"resolved_config", resolved},
+      {"seed", sh.seed},
+      {"display", sh.display.to_json()},
+      {"simulated_resolution", {sh.sim_display.width, sh.sim_display.height}},
+      {"scene",
+       {{"name", sh.scene->name},
+        {"triangles", sh.scene->triangle_count()},
+        {"features", sh.scene->features().to_json()}}},
+      {"trace", {{"source", sh.trace.source}, {"samples", sh.trace.samples.size()}}},
+      {"fidelity", fidelity_record(sh.scale, sh.stride, sh.rs.spp)},
+      {"frames",
+       {{"start", sh.start}, {"count", sh.count}, {"stride", sh.stride}, {"warmup", sh.warmup}}},
+      {"machine", machine_info()},
+      {"metrics", metric_registry_json()},  // the declarations viz and Python read
+      {"threads", opt.threads > 0 ? opt.threads : int(tbb::info::default_concurrency())},
+      {"start_time", iso_now()},
+      {"status", "running"}};
+  if (job.extra_manifest.is_object())
+    for (auto it = job.extra_manifest.begin(); it != job.extra_manifest.end(); ++it)
+      manifest[it.key()] = it.value();
+  return manifest;
+}
+
+// Configuration: the first cell parses the shared keys (scene, trace, ...) into `sh`; every
+// cell parses its own keys; Params::finish fails on any key nobody read. All cells are
+// validated before any frame is computed.
+std::vector<std::unique_ptr<Cell>> parse_group(const std::vector<CellJob>& jobs,
+                                               const EngineOptions& opt, Shared& sh) {
   std::vector<std::unique_ptr<Cell>> cells;
   for (size_t ci = 0; ci < jobs.size(); ++ci) {
     const CellJob& job = jobs[ci];
@@ -889,6 +958,8 @@ std::vector<CellResult> run_cells_impl(const std::vector<CellJob>& jobs, const E
     cell->warnings = config_warnings(job.doc, root, sh, cell->io.frames, ci == 0);
     // FPSNR clips at the real display's Nyquist frequency (docs/metrics.md).
     cell->mcfg.ppd_scale = double(sh.display.width) / double(sh.sim_display.width);
+    cell->gaze = std::make_unique<GazeSource>(cell->latency, sh.raw_trace, sh.trace, sh.tracking,
+                                              sh.display);
     Json resolved = ci == 0 ? root.resolved() : sh.resolved;
     if (ci == 0) {
       sh.resolved = resolved;
@@ -898,38 +969,15 @@ std::vector<CellResult> run_cells_impl(const std::vector<CellJob>& jobs, const E
         if (root.resolved().contains(k)) resolved[k] = root.resolved()[k];
       }
     }
-    cell->manifest = Json{
-        {"tool", "fovsim"},
-        {"version", version_string()},
-        {"git_commit", git_commit()},
-        {"command_line", job.command_line},
-        {"config_file", job.file},
-        {"config", job.doc},
-        {"resolved_config", resolved},
-        {"seed", sh.seed},
-        {"display", sh.display.to_json()},
-        {"simulated_resolution", {sh.sim_display.width, sh.sim_display.height}},
-        {"scene",
-         {{"name", sh.scene->name},
-          {"triangles", sh.scene->triangle_count()},
-          {"features", sh.scene->features().to_json()}}},
-        {"trace", {{"source", sh.trace.source}, {"samples", sh.trace.samples.size()}}},
-        {"fidelity", fidelity_record(sh.scale, sh.stride, sh.rs.spp)},
-        {"frames",
-         {{"start", sh.start}, {"count", sh.count}, {"stride", sh.stride}, {"warmup", sh.warmup}}},
-        {"machine", machine_info()},
-        {"metrics", metric_registry_json()},  // the declarations viz and Python read
-        {"threads", opt.threads > 0 ? opt.threads : int(tbb::info::default_concurrency())},
-        {"start_time", iso_now()},
-        {"status", "running"}};
-    if (job.extra_manifest.is_object())
-      for (auto it = job.extra_manifest.begin(); it != job.extra_manifest.end(); ++it)
-        cell->manifest[it.key()] = it.value();
+    cell->manifest = cell_manifest(job, sh, resolved, opt);
     if (!cell->warnings.empty()) cell->manifest["warnings"] = cell->warnings;
     cells.push_back(std::move(cell));
   }
+  return cells;
+}
 
-  // ---- output folders: a cell in progress is marked so it never looks complete ----
+// A cell in progress is marked so it never looks complete.
+void start_output_folders(const std::vector<std::unique_ptr<Cell>>& cells) {
   for (auto& c : cells) {
     const std::string& out = c->job->out_dir;
     make_dirs(out);
@@ -941,23 +989,205 @@ std::vector<CellResult> run_cells_impl(const std::vector<CellJob>& jobs, const E
       fs::remove(fs::path(out) / f, ec);
     }
   }
+}
+
+// The reference cache when both the caller and the config's cache.enabled want it; a cache
+// without a folder is a warning (`no_cache_dir`), not an error.
+std::unique_ptr<ReferenceCache> open_reference_cache(const EngineOptions& opt, Shared& sh,
+                                                     std::string& no_cache_dir) {
+  if (!opt.use_cache || !sh.cache.enabled) return nullptr;
+  if (sh.cache.dir.empty()) sh.cache.dir = default_cache_dir();
+  if (sh.cache.dir.empty()) {
+    no_cache_dir =
+        "reference cache: no folder (cache.dir, FOVSIM_CACHE_DIR, XDG_CACHE_HOME and HOME are "
+        "unset): not used";
+    return nullptr;
+  }
+  return std::make_unique<ReferenceCache>(sh.cache, *sh.scene, sh.scene_config, sh.sim_display,
+                                          sh.rs);
+}
+
+// The shared data of frame `fi` (prepare_frame), its reference from the cache when an earlier
+// run computed it (then only G-buffer and VPLs are rendered).
+void render_reference(Renderer& renderer, ReferenceCache* rcache, const Shared& sh, int fi,
+                      uint32_t channels, const Camera* prev, FrameData& fd) {
+  const TraceSample& s = sh.trace.samples[size_t(fi)];
+  renderer.set_time(s.t);
+  if (rcache) {
+    const std::string key =
+        rcache->key(fi, s, Camera::from_pose(sh.sim_display, s.head_pos, s.head_rot));
+    FrameReference cached;
+    if (rcache->load(key, sh.sim_display.width, sh.sim_display.height, cached)) {
+      prepare_frame(renderer, sh.sim_display, s, fi, channels, prev, fd, &cached);
+    } else {
+      prepare_frame(renderer, sh.sim_display, s, fi, channels, prev, fd);
+      rcache->store(key, fd);
+    }
+  } else {
+    prepare_frame(renderer, sh.sim_display, s, fi, channels, prev, fd);
+  }
+}
+
+// Whether any method of the group carries state from frame to frame (then --target keeps the
+// trace order).
+bool any_temporal(const std::vector<std::unique_ptr<Cell>>& cells, const Shared& sh) {
+  bool temporal = false;
+  for (auto& c : cells)
+    for (auto& m : c->methods)
+      temporal = temporal || m.impl->temporal() ||
+                 (sh.scene->wants_indirect && m.impl->lighting() && m.impl->lighting()->temporal());
+  return temporal;
+}
+
+// Sequence metrics' mode (docs/metrics.md): a video of consecutive frames, else still images;
+// recorded in each cell's manifest under the metric's key.
+void describe_sequence_metrics(const std::vector<std::unique_ptr<Cell>>& cells, const Shared& sh,
+                               bool shuffled) {
+  for (auto& c : cells) {
+    c->seq_video = sh.stride == 1 && !shuffled;
+    SequenceSetup su;
+    su.display = &sh.display;
+    su.width = sh.sim_display.width;
+    su.height = sh.sim_display.height;
+    su.fps = c->seq_video ? sh.display.refresh_hz : 0.0;
+    su.config = &c->mcfg;
+    for (auto& d : metric_registry()) {
+      if (!d.sequence || !d.sequence->enabled(c->mcfg)) continue;
+      Json j = d.sequence->describe(su);
+      j["mode"] = c->seq_video ? "video" : "image";
+      j["fps"] = su.fps;
+      j["why"] = c->seq_video ? "consecutive frames at the display's refresh rate"
+                 : sh.stride != 1
+                     ? "frames.stride > 1: frames are not consecutive, each is a still image"
+                     : "--target evaluates units in random order: each frame a still image";
+      c->manifest[d.sequence->manifest_key] = j;
+    }
+  }
+}
+
+// What the group-level stages hand to write_cell_outputs.
+struct GroupOutputs {
+  const EngineOptions& opt;
+  const FrameOrder& order;
+  const ReferenceCache* rcache;
+  const std::string& no_cache_dir;
+  const Renderer& renderer;
+  const PhaseTimes& group_phases;
+  PhaseClock outputs_start;  // when the outputs stage began
+  int threads;
+};
+
+// One cell's outputs, written atomically with the manifest ("complete") last: frames.csv,
+// summary.csv (means with intervals, reference floor, latency phases, tracking states),
+// paired.csv with the fidelity's known bias, summary.json; the --target record.
+CellResult write_cell_outputs(Cell& c, const Shared& sh, const GroupOutputs& g) {
+  const std::string& out = c.job->out_dir;
+  CellResult r;
+  r.out_dir = out;
+  r.name = c.name;
+  r.budget_ms = sh.display.frame_budget_ms();
+  r.refresh_hz = sh.display.refresh_hz;
+  r.print_summary = c.print_table;
+  r.flags.assign(c.flags_seen.begin(), c.flags_seen.end());
+  if (g.rcache) {  // entries found unusable (recomputed), a cache that could not be written
+    for (auto& w : g.rcache->warnings()) c.warnings.push_back(w);
+    if (!c.warnings.empty()) c.manifest["warnings"] = c.warnings;
+  } else if (!g.no_cache_dir.empty()) {
+    c.warnings.push_back(g.no_cache_dir);
+    c.manifest["warnings"] = c.warnings;
+  }
+  r.warnings = c.warnings;
+  if (c.manifest["fidelity"].contains("note"))
+    r.fidelity_note = c.manifest["fidelity"]["note"].get<std::string>();
+  r.cell_ms = c.cell_ms;
+  r.summary = summarize(c.frames, r.budget_ms);
+  if (c.mcfg.foveation_loss) mark_reference_floor(r.summary, c.frames, c.floor_vals);
+  if (c.latency.enabled) r.summary = summarize_phases(c.frames, r.summary, c.metric_names);
+  // Tracking states (docs/tracking.md): means with intervals per state, next to the phases.
+  if (sh.tracking_column) r.summary = summarize_tracking(c.frames, r.summary);
+  if (g.order.sampled()) {  // what --target asked for and what it achieved (results/README.md)
+    Json specs = Json::array(), achieved;
+    for (auto& t : g.opt.targets) specs.push_back(t.spec);
+    targets_met(g.opt.targets, c.frames, &achieved);
+    r.target = {{"targets", specs},
+                {"met", c.met},
+                {"seed", sh.seed},
+                {"order", g.order.shuffled() ? "random_units" : "trace"},
+                {"unit_frames", g.order.unit_frames()},
+                {"warmup_per_unit", kTargetWarmupFrames},
+                {"frames_available", sh.count},
+                {"frames_used", c.used},
+                {"warmup_frames", c.warmup},
+                {"achieved", achieved}};
+    c.manifest["target"] = r.target;
+  }
+  write_file_atomic(out + "/frames.csv", c.frames.to_csv());
+  write_file_atomic(out + "/summary.csv", r.summary.to_csv());
+  // Paired differences with the known bias of the run's fidelity (docs/intervals.md): a
+  // difference whose interval excludes 0 but that is smaller than the bias is named.
+  size_t n_below = 0;
+  const ResultTable paired =
+      with_fidelity_bias(paired_differences(c.frames), c.manifest["fidelity"], &n_below);
+  write_file_atomic(out + "/paired.csv", paired.to_csv());
+  if (c.manifest["fidelity"]["known_bias"].is_object())
+    c.manifest["fidelity"]["paired_real_below_bias"] = n_below;
+  if (n_below > 0)
+    r.fidelity_note += "; " + std::to_string(n_below) +
+                       " paired difference(s) in paired.csv exclude 0 but are smaller than "
+                       "that bias (paired.csv below_fidelity_bias = 1)";
+  Json sj = Json::array();
+  for (auto& row : r.summary.rows()) {
+    Json o;
+    for (auto& [k, v] : row.text) o[k] = v;
+    for (auto& [k, v] : row.num) o[k] = std::isfinite(v) ? Json(v) : Json(format_number(v));
+    sj.push_back(o);
+  }
+  Json summary{{"name", c.name}, {"budget_ms", r.budget_ms}, {"configs", sj}, {"flags", r.flags}};
+  summary["fidelity"] = c.manifest["fidelity"];  // the fidelity used and its known bias
+  write_file_atomic(out + "/summary.json", summary.dump(2) + "\n");
+  c.manifest["status"] = "complete";
+  c.manifest["end_time"] = iso_now();
+  c.manifest["rays_traced"] = g.renderer.rays_traced();
+  // How many frames' references came from the reference cache (reference_cache.h).
+  c.manifest["reference_cache"] = g.rcache ? Json(g.rcache->manifest()) : Json{{"used", false}};
+  if (g.rcache) c.manifest["reference_cache"]["used"] = true;
+  PhaseTimes ph = g.group_phases;
+  ph.merge(c.phases);
+  ph.lap("outputs", g.outputs_start);  // this cell's output files so far (one cell: all of them)
+  c.manifest["phases"] = ph.to_json(g.threads);
+  write_file_atomic(out + "/manifest.json", c.manifest.dump(2) + "\n");
+  r.frames = std::move(c.frames);
+  return r;
+}
+
+// The stages of docs/architecture.md §2: parse_group, output folders, the frame loop (one
+// reference per frame, shared by every cell; each cell's process() in parallel) in FrameOrder,
+// write_cell_outputs.
+std::vector<CellResult> run_cells_impl(const std::vector<CellJob>& jobs, const EngineOptions& opt,
+                                       GroupStats* stats) {
+  auto g0 = Clock::now();
+  PhaseTimes group_phases;  // setup, reference, outputs (shared by the cells)
+  PhaseClock gpc = PhaseClock::now();
+  std::vector<CellResult> results;
+  if (jobs.empty()) return results;
+  const std::string key = reference_key(jobs.front().doc);
+  for (auto& j : jobs)
+    FOVSIM_CHECK(reference_key(j.doc) == key,
+                 "cells of one reference group differ in a reference key (" + j.file + ")");
+
+  embree_device_config();  // FOVSIM_EMBREE_ISA / FOVSIM_SIMD: a bad value fails here, not mid-run
+  simd_path();
+  Shared sh;
+  sh.models = opt.models_dir.empty() ? default_models_dir() : opt.models_dir;
+  std::vector<std::unique_ptr<Cell>> cells = parse_group(jobs, opt, sh);
+  start_output_folders(cells);
 
   // ---- frame loop: one reference per frame, shared by every cell ----
   uint32_t channels = kShadingChannels;
   for (auto& c : cells) channels |= c->channels;
   Renderer renderer(*sh.scene, sh.rs);
-  std::unique_ptr<ReferenceCache> rcache;
   std::string no_cache_dir;  // the cache is on but has no folder (a warning, not an error)
-  if (opt.use_cache && sh.cache.enabled) {
-    if (sh.cache.dir.empty()) sh.cache.dir = default_cache_dir();
-    if (sh.cache.dir.empty())
-      no_cache_dir =
-          "reference cache: no folder (cache.dir, FOVSIM_CACHE_DIR, XDG_CACHE_HOME and HOME are "
-          "unset): not used";
-    else
-      rcache = std::make_unique<ReferenceCache>(sh.cache, *sh.scene, sh.scene_config,
-                                                sh.sim_display, sh.rs);
-  }
+  std::unique_ptr<ReferenceCache> rcache = open_reference_cache(opt, sh, no_cache_dir);
   // Slot 0: the frame's reference; slot 1 + i: cell i's methods (watchdog.h).
   Watchdog watchdog(cells.size() + 1, opt.watchdog);
   for (size_t i = 0; i < cells.size(); ++i) {
@@ -965,7 +1195,7 @@ std::vector<CellResult> run_cells_impl(const std::vector<CellJob>& jobs, const E
     cells[i]->watchdog_slot = i + 1;
   }
   double setup_ms = ms_since(g0);
-  gpc = group_phases.lap("setup", gpc);
+  group_phases.lap("setup", gpc);
   FrameData fd;
   Image ref_display;
   std::optional<Camera> prev_cam;
@@ -975,25 +1205,10 @@ std::vector<CellResult> run_cells_impl(const std::vector<CellJob>& jobs, const E
   double ref_total = 0;
   auto do_frame = [&](int k, bool record) {
     int fi = sh.start + k * sh.stride;
-    const TraceSample& s = sh.trace.samples[size_t(fi)];
     auto t0 = Clock::now();
     PhaseClock rpc = PhaseClock::now();
     watchdog.begin(0, "frame " + std::to_string(fi) + ", reference rendering");
-    renderer.set_time(s.t);
-    const Camera* prev = prev_cam ? &*prev_cam : nullptr;
-    if (rcache) {  // a frame whose reference an earlier run computed: only G-buffer and VPLs
-      const std::string key =
-          rcache->key(fi, s, Camera::from_pose(sh.sim_display, s.head_pos, s.head_rot));
-      FrameReference cached;
-      if (rcache->load(key, sh.sim_display.width, sh.sim_display.height, cached)) {
-        prepare_frame(renderer, sh.sim_display, s, fi, channels, prev, fd, &cached);
-      } else {
-        prepare_frame(renderer, sh.sim_display, s, fi, channels, prev, fd);
-        rcache->store(key, fd);
-      }
-    } else {
-      prepare_frame(renderer, sh.sim_display, s, fi, channels, prev, fd);
-    }
+    render_reference(renderer, rcache.get(), sh, fi, channels, prev_cam ? &*prev_cam : nullptr, fd);
     watchdog.end(0);
     sh.tonemap.apply(fd.reference, ref_display);
     double ref_ms = ms_since(t0);
@@ -1018,159 +1233,38 @@ std::vector<CellResult> run_cells_impl(const std::vector<CellJob>& jobs, const E
     prev_cam = fd.camera;
     progress.step();
   };
-  // Evaluation order: the trace order; under --target, units of kTargetUnitFrames frames in a
-  // seeded random order (trace order with a temporal method), each after unrecorded warm-up
-  // frames, until every target holds (sim/experiment/intervals.h).
+  // Evaluation order (frame_order.h): the trace order; under --target, seeded random units
+  // (trace order with a temporal method) until every cell's targets hold; each cell stops on
+  // its own, so its frames do not depend on the other cells of its group.
   const bool sampled = !opt.targets.empty();
-  bool temporal = false;
-  for (auto& c : cells)
-    for (auto& m : c->methods)
-      temporal = temporal || m.impl->temporal() ||
-                 (sh.scene->wants_indirect && m.impl->lighting() && m.impl->lighting()->temporal());
-  const bool shuffled = sampled && !temporal;
-  // Sequence metrics' mode (docs/metrics.md): a video of consecutive frames, else still images.
-  for (auto& c : cells) {
-    c->seq_video = sh.stride == 1 && !shuffled;
-    SequenceSetup su;
-    su.display = &sh.display;
-    su.width = sh.sim_display.width;
-    su.height = sh.sim_display.height;
-    su.fps = c->seq_video ? sh.display.refresh_hz : 0.0;
-    su.config = &c->mcfg;
-    for (auto& d : metric_registry()) {
-      if (!d.sequence || !d.sequence->enabled(c->mcfg)) continue;
-      Json j = d.sequence->describe(su);
-      j["mode"] = c->seq_video ? "video" : "image";
-      j["fps"] = su.fps;
-      j["why"] = c->seq_video ? "consecutive frames at the display's refresh rate"
-                 : sh.stride != 1
-                     ? "frames.stride > 1: frames are not consecutive, each is a still image"
-                     : "--target evaluates units in random order: each frame a still image";
-      c->manifest[d.sequence->manifest_key] = j;
+  FrameOrder order(sh.count, sh.warmup, sampled, !any_temporal(cells, sh), sh.seed);
+  describe_sequence_metrics(cells, sh, order.shuffled());
+  FrameOrder::Steps steps;
+  steps.frame = do_frame;
+  steps.discontinuity = [&] {
+    for (auto& c : cells) c->reset_temporal();
+    prev_cam.reset();
+  };
+  steps.unit_done = [&](int units_done) {
+    bool all = true;
+    for (auto& c : cells) {
+      if (c->stopped) continue;
+      c->met = targets_met(opt.targets, c->frames, nullptr);
+      if (units_done >= kTargetMinUnits && c->met) c->stopped = true;
+      all = all && c->stopped;
     }
-  }
-  const int unit = sampled ? kTargetUnitFrames : std::max(sh.count, 1);
-  const int units = (sh.count + unit - 1) / unit;
-  std::vector<int> unit_order(size_t(units), 0);
-  for (int u = 0; u < units; ++u) unit_order[size_t(u)] = u;
-  if (shuffled) unit_order = sampling_order(units, sh.seed);
-  int next_k = 0, used = 0, warmup = 0, units_done = 0;
-  for (int k = -sh.warmup; k < 0; ++k) {  // frames.warmup: rendered, not recorded
-    do_frame(k, false);
-    ++warmup;
-  }
-  for (int u : unit_order) {
-    const int k0 = u * unit, k1 = std::min(sh.count, k0 + unit);
-    if (k0 != next_k) {
-      for (auto& c : cells) c->reset_temporal();
-      prev_cam.reset();
-      for (int k = std::max(0, k0 - kTargetWarmupFrames); k < k0; ++k) {
-        do_frame(k, false);
-        ++warmup;
-      }
-    }
-    for (int k = k0; k < k1; ++k) do_frame(k, true);
-    next_k = k1;
-    used += k1 - k0;
-    if (sampled) {  // checked every unit: a target naming an absent column fails on the first
-      ++units_done;
-      bool all = true;
-      for (auto& c : cells) {
-        if (c->stopped) continue;
-        c->met = targets_met(opt.targets, c->frames, nullptr);
-        if (units_done >= kTargetMinUnits && c->met) c->stopped = true;
-        all = all && c->stopped;
-      }
-      if (all) break;
-    }
-  }
+    return all;
+  };
+  order.run(steps);
   progress.done();
 
   // ---- outputs (atomic; manifest "complete" last) ----
   const int threads = opt.threads > 0 ? opt.threads : int(tbb::info::default_concurrency());
-  gpc = PhaseClock::now();
-  for (auto& c : cells) {
-    const std::string& out = c->job->out_dir;
-    CellResult r;
-    r.out_dir = out;
-    r.name = c->name;
-    r.budget_ms = sh.display.frame_budget_ms();
-    r.refresh_hz = sh.display.refresh_hz;
-    r.print_summary = c->print_table;
-    r.flags.assign(c->flags_seen.begin(), c->flags_seen.end());
-    if (rcache) {  // entries found unusable (recomputed), a cache that could not be written
-      for (auto& w : rcache->warnings()) c->warnings.push_back(w);
-      if (!c->warnings.empty()) c->manifest["warnings"] = c->warnings;
-    } else if (!no_cache_dir.empty()) {
-      c->warnings.push_back(no_cache_dir);
-      c->manifest["warnings"] = c->warnings;
-    }
-    r.warnings = c->warnings;
-    if (c->manifest["fidelity"].contains("note"))
-      r.fidelity_note = c->manifest["fidelity"]["note"].get<std::string>();
-    r.cell_ms = c->cell_ms;
-    r.summary = summarize(c->frames, r.budget_ms);
-    if (c->mcfg.foveation_loss) mark_reference_floor(r.summary, c->frames, c->floor_vals);
-    if (c->latency.enabled) r.summary = summarize_phases(c->frames, r.summary, c->metric_names);
-    // Tracking states (docs/tracking.md): means with intervals per state, next to the phases.
-    if (sh.tracking_column) r.summary = summarize_tracking(c->frames, r.summary);
-    if (sampled) {  // what --target asked for and what it achieved (results/README.md)
-      Json specs = Json::array(), achieved;
-      for (auto& t : opt.targets) specs.push_back(t.spec);
-      targets_met(opt.targets, c->frames, &achieved);
-      r.target = {{"targets", specs},
-                  {"met", c->met},
-                  {"seed", sh.seed},
-                  {"order", shuffled ? "random_units" : "trace"},
-                  {"unit_frames", unit},
-                  {"warmup_per_unit", kTargetWarmupFrames},
-                  {"frames_available", sh.count},
-                  {"frames_used", c->used},
-                  {"warmup_frames", c->warmup},
-                  {"achieved", achieved}};
-      c->manifest["target"] = r.target;
-    }
-    write_file_atomic(out + "/frames.csv", c->frames.to_csv());
-    write_file_atomic(out + "/summary.csv", r.summary.to_csv());
-    // Paired differences with the known bias of the run's fidelity (docs/intervals.md): a
-    // difference whose interval excludes 0 but that is smaller than the bias is named.
-    size_t n_below = 0;
-    const ResultTable paired =
-        with_fidelity_bias(paired_differences(c->frames), c->manifest["fidelity"], &n_below);
-    write_file_atomic(out + "/paired.csv", paired.to_csv());
-    if (c->manifest["fidelity"]["known_bias"].is_object())
-      c->manifest["fidelity"]["paired_real_below_bias"] = n_below;
-    if (n_below > 0)
-      r.fidelity_note += "; " + std::to_string(n_below) +
-                         " paired difference(s) in paired.csv exclude 0 but are smaller than "
-                         "that bias (paired.csv below_fidelity_bias = 1)";
-    Json sj = Json::array();
-    for (auto& row : r.summary.rows()) {
-      Json o;
-      for (auto& [k, v] : row.text) o[k] = v;
-      for (auto& [k, v] : row.num) o[k] = std::isfinite(v) ? Json(v) : Json(format_number(v));
-      sj.push_back(o);
-    }
-    Json summary{
-        {"name", c->name}, {"budget_ms", r.budget_ms}, {"configs", sj}, {"flags", r.flags}};
-    summary["fidelity"] = c->manifest["fidelity"];  // the fidelity used and its known bias
-    write_file_atomic(out + "/summary.json", summary.dump(2) + "\n");
-    c->manifest["status"] = "complete";
-    c->manifest["end_time"] = iso_now();
-    c->manifest["rays_traced"] = renderer.rays_traced();
-    // How many frames' references came from the reference cache (reference_cache.h).
-    c->manifest["reference_cache"] = rcache ? Json(rcache->manifest()) : Json{{"used", false}};
-    if (rcache) c->manifest["reference_cache"]["used"] = true;
-    PhaseTimes ph = group_phases;
-    ph.merge(c->phases);
-    ph.lap("outputs", gpc);  // this cell's output files so far (one cell: all of them)
-    c->manifest["phases"] = ph.to_json(threads);
-    write_file_atomic(out + "/manifest.json", c->manifest.dump(2) + "\n");
-    r.frames = std::move(c->frames);
-    results.push_back(std::move(r));
-  }
+  const GroupOutputs g{opt,      order,        rcache.get(),      no_cache_dir,
+                       renderer, group_phases, PhaseClock::now(), threads};
+  for (auto& c : cells) results.push_back(write_cell_outputs(*c, sh, g));
   if (stats) {
-    stats->frames += used + warmup;
+    stats->frames += order.recorded() + order.warmup();
     stats->ref_ms += ref_total;
     stats->setup_ms += setup_ms;
     stats->wall_ms += ms_since(g0);

@@ -40,6 +40,9 @@ std::string ladder_header(const std::vector<std::string>& outs) {
 
 // Rung `ri` against the truth `top`: its rows of fidelity.csv, its fidelity.json entry, its line
 // of the ladder table, and a note when it passes the test of docs/fidelity.md.
+// Long because: one rung's numbers go to three outputs at once (fidelity.csv rows, its
+// fidelity.json entry, its line of fidelity.md) from the same comparison against the top rung;
+// writing them side by side keeps the three in step.
 void report_rung(size_t ri, const FidelityRung& r, const RungRun& d, const RungRun& top,
                  const std::vector<std::string>& outs, const std::set<std::string>& present,
                  ResultTable& table, Json& jr, std::string& md, std::vector<std::string>& notes) {

@@ -18,6 +18,85 @@ namespace fovsim {
 
 namespace {
 
+// The counters of one frames.csv row (every numeric column but est_ms_*), shaded_samples back
+// at the simulated resolution `sim_px` (frames.csv reports it at the real display's).
+Counters row_counters(const std::vector<std::string>& header, const CsvRow& row,
+                      const std::string& csv_path, double sim_px) {
+  Counters c;  // the row's counter columns (counter_list.h); other columns are not counters
+  double shaded_fraction = 0;
+  bool has_fraction = false;
+  for (size_t i = 0; i < header.size(); ++i) {
+    const std::string& h = header[i];
+    if (h.rfind("est_ms_", 0) == 0 || row.fields[i].text.empty()) continue;
+    double v = 0;
+    std::string why;
+    if (!parse_number(row.fields[i].text, v, why)) continue;
+    if (h == "shaded_fraction") shaded_fraction = v, has_fraction = true;
+    c.set_named(h, v);
+  }
+  // frames.csv reports shaded_samples at the real display's resolution; counters are
+  // costed at the simulated one (like every other pixel counter in the file).
+  // Without shaded_fraction the display-resolution shaded_samples would be costed as if
+  // simulated: an error, as for any other missing counter (below).
+  if (!has_fraction)
+    throw Error(file_location(csv_path, row.line),
+                "counter shaded_fraction missing or empty (the cost model needs it; "
+                "re-costing would use display-resolution samples): use the run's own frames.csv");
+  c.set(Counter::shaded_samples, shaded_fraction * sim_px);
+  return c;
+}
+
+// One frame costed on one GPU, added to the row of its configuration in `acc`. A counter the
+// cost model needs but the row lacks is an error at `where`.
+void add_frame(std::vector<RecostRow>& acc, const GpuProfile& gpu, const CostInputs& ci,
+               const std::string& id, const std::string& where) {
+  const FrameCost fc = estimate_frame(gpu, ci);
+  // A counter the cost model needs for this method but the row lacks (its column removed
+  // or its cell empty) would be costed as 0: an error naming it, never a cheaper frame.
+  if (!fc.missing_counters.empty()) {
+    std::string list;
+    for (auto& m : fc.missing_counters) list += (list.empty() ? "" : ", ") + m;
+    throw Error(where, "method \"" + escape_control(ci.method, 40) + "\": counter" +
+                           (fc.missing_counters.size() == 1 ? " " : "s ") + list +
+                           " missing or empty (the cost model needs " +
+                           (fc.missing_counters.size() == 1 ? "it" : "them") +
+                           "; re-costing would count 0): use the run's own frames.csv");
+  }
+  RecostRow* r = nullptr;
+  for (auto& x : acc)
+    if (x.config_id == id) r = &x;
+  if (!r) {
+    acc.push_back(RecostRow{gpu.name, id, ci.method});
+    r = &acc.back();
+  }
+  r->frames += 1;
+  r->total_ms += fc.total_ms;
+  for (auto& pc : fc.passes) {
+    bool found = false;
+    for (auto& kv : r->pass_ms)
+      if (kv.first == pc.pass) kv.second += pc.ms, found = true;
+    if (!found) r->pass_ms.emplace_back(pc.pass, pc.ms);
+  }
+}
+
+// A configuration's means over its frames, with the GPU profile's prediction interval.
+void finish_row(RecostRow& r, const GpuProfile& gpu) {
+  r.total_ms /= r.frames;
+  for (auto& kv : r.pass_ms) kv.second /= r.frames;
+  const PredictionInterval& iv = gpu.interval;  // per pass multiplicative: on the means
+  if (iv.level > 0) {
+    std::vector<PassSpan> parts;
+    for (auto& [pass, ms] : r.pass_ms) {
+      const IntervalFactors f = iv.for_pass(pass);
+      parts.push_back({ms, ms * f.lo_factor, ms * f.hi_factor});
+    }
+    combine_pass_intervals(parts, &r.lo_ms, &r.hi_ms);
+    const IntervalFactors tf = iv.for_total();  // conformal on frame totals when known
+    if (tf.n > 0) r.lo_ms = r.total_ms * tf.lo_factor, r.hi_ms = r.total_ms * tf.hi_factor;
+    r.level = iv.level;
+  }
+}
+
 RecostResult recost_one(const RecostOptions& o) {
   const std::string man_path = o.results + "/manifest.json", csv_path = o.results + "/frames.csv";
   Json man = Params::parse_json_file(man_path);
@@ -77,27 +156,7 @@ RecostResult recost_one(const RecostOptions& o) {
       if (first_gpu.empty()) first_gpu = cell(c_gpu);
       if (cell(c_gpu) != first_gpu) continue;
     }
-    Counters c;  // the row's counter columns (counter_list.h); other columns are not counters
-    double shaded_fraction = 0;
-    bool has_fraction = false;
-    for (size_t i = 0; i < header.size(); ++i) {
-      const std::string& h = header[i];
-      if (h.rfind("est_ms_", 0) == 0 || row.fields[i].text.empty()) continue;
-      double v = 0;
-      std::string why;
-      if (!parse_number(row.fields[i].text, v, why)) continue;
-      if (h == "shaded_fraction") shaded_fraction = v, has_fraction = true;
-      c.set_named(h, v);
-    }
-    // frames.csv reports shaded_samples at the real display's resolution; counters are
-    // costed at the simulated one (like every other pixel counter in the file).
-    // Without shaded_fraction the display-resolution shaded_samples would be costed as if
-    // simulated: an error, as for any other missing counter (below).
-    if (!has_fraction)
-      throw Error(file_location(csv_path, row.line),
-                  "counter shaded_fraction missing or empty (the cost model needs it; "
-                  "re-costing would use display-resolution samples): use the run's own frames.csv");
-    c.set(Counter::shaded_samples, shaded_fraction * sim_px);
+    const Counters c = row_counters(header, row, csv_path, sim_px);
     std::string id = cell(c_id);
     if (auto at = id.find('@'); at != std::string::npos) id = id.substr(0, at);
     for (size_t gi = 0; gi < gpus.size(); ++gi) {
@@ -116,52 +175,12 @@ RecostResult recost_one(const RecostOptions& o) {
       ci.display = d;
       ci.pixel_scale = double(d.width) * double(d.height) / sim_px;
       ci.workload = &w;
-      const FrameCost fc = estimate_frame(gpus[gi], ci);
-      // A counter the cost model needs for this method but the row lacks (its column removed
-      // or its cell empty) would be costed as 0: an error naming it, never a cheaper frame.
-      if (!fc.missing_counters.empty()) {
-        std::string list;
-        for (auto& m : fc.missing_counters) list += (list.empty() ? "" : ", ") + m;
-        throw Error(file_location(csv_path, row.line),
-                    "method \"" + escape_control(ci.method, 40) + "\": counter" +
-                        (fc.missing_counters.size() == 1 ? " " : "s ") + list +
-                        " missing or empty (the cost model needs " +
-                        (fc.missing_counters.size() == 1 ? "it" : "them") +
-                        "; re-costing would count 0): use the run's own frames.csv");
-      }
-      RecostRow* r = nullptr;
-      for (auto& x : acc[gi])
-        if (x.config_id == id) r = &x;
-      if (!r) {
-        acc[gi].push_back(RecostRow{gpus[gi].name, id, ci.method});
-        r = &acc[gi].back();
-      }
-      r->frames += 1;
-      r->total_ms += fc.total_ms;
-      for (auto& pc : fc.passes) {
-        bool found = false;
-        for (auto& kv : r->pass_ms)
-          if (kv.first == pc.pass) kv.second += pc.ms, found = true;
-        if (!found) r->pass_ms.emplace_back(pc.pass, pc.ms);
-      }
+      add_frame(acc[gi], gpus[gi], ci, id, file_location(csv_path, row.line));
     }
   }
   for (size_t gi = 0; gi < gpus.size(); ++gi)
     for (RecostRow& r : acc[gi]) {
-      r.total_ms /= r.frames;
-      for (auto& kv : r.pass_ms) kv.second /= r.frames;
-      const PredictionInterval& iv = gpus[gi].interval;  // per pass multiplicative: on the means
-      if (iv.level > 0) {
-        std::vector<PassSpan> parts;
-        for (auto& [pass, ms] : r.pass_ms) {
-          const IntervalFactors f = iv.for_pass(pass);
-          parts.push_back({ms, ms * f.lo_factor, ms * f.hi_factor});
-        }
-        combine_pass_intervals(parts, &r.lo_ms, &r.hi_ms);
-        const IntervalFactors tf = iv.for_total();  // conformal on frame totals when known
-        if (tf.n > 0) r.lo_ms = r.total_ms * tf.lo_factor, r.hi_ms = r.total_ms * tf.hi_factor;
-        r.level = iv.level;
-      }
+      finish_row(r, gpus[gi]);
       res.rows.push_back(std::move(r));
     }
   return res;

@@ -7,23 +7,15 @@
 #include <vector>
 
 #include "sim/experiment/config.h"
+#include "sim/experiment/run_options.h"
 #include "sim/experiment/table.h"
 
 namespace fovsim {
 
-struct RunOptions {
-  std::string out_dir;        // empty -> results/<name>
-  std::string models_dir;     // empty -> default_models_dir()
-  int threads = 0;            // 0 = TBB default
-  bool print_summary = true;  // summary table on stdout at the end
-  std::string command_line;   // recorded in the manifest
-  double watchdog_s = 60;     // WatchdogLimits::min_s (0 disables; sim/core/watchdog.h)
-  // --target specs ("est_ms_total:1%", "fpsnr:0.2dB"): evaluate frames in a seeded random
-  // order of sampling units and stop once every 95% half-width is within its target.
-  std::vector<std::string> targets;
-  // The reference cache (sim/experiment/reference_cache.h), when the config's cache.enabled
-  // is true too. Off by default (library use, tests); `fovsim run` turns it on.
-  bool use_cache = false;
+struct RunOptions : RunControl {  // models_dir, threads, watchdog_s, targets, use_cache
+  std::string out_dir;            // empty -> results/<name>
+  bool print_summary = true;      // summary table on stdout at the end
+  std::string command_line;       // recorded in the manifest
 };
 
 struct RunResult {

@@ -43,6 +43,111 @@ bool cached_eval_complete(const std::string& done_path, const SearchSpec& sp) {
   return true;
 }
 
+// The jobs of one batch of points of context `ci`, each point's folder appended to `dirs`. A
+// point whose folder holds a complete evaluation is not run again (counted in `cached`).
+std::vector<CellJob> batch_jobs(const std::vector<std::vector<double>>& pts, const SweepCell& ctx,
+                                int ci, const SearchSpec& sp, const std::string& evals_dir,
+                                const LoadedConfig& cfg, const SweepOptions& opt,
+                                std::vector<std::string>& dirs, int& cached) {
+  std::vector<CellJob> jobs;
+  for (auto& x : pts) {
+    Json doc = ctx.doc;
+    for (size_t d = 0; d < x.size(); ++d)
+      apply_assignment(doc, sp.space[d].path, Json(x[d]), sp.space[d].where);
+    std::string h = short_hash(doc.dump());
+    std::string dir = evals_dir + "/" + h;
+    dirs.push_back(dir);
+    if (cached_eval_complete(dir + "/done.json", sp)) {
+      ++cached;
+      continue;
+    }
+    CellJob j;
+    j.doc = std::move(doc);
+    j.file = cfg.file;
+    j.origins = cfg.overridden;
+    j.inherited = cfg.inherited;
+    j.base_dir = cfg.base_dir;
+    j.out_dir = dir;
+    j.command_line = opt.command_line;
+    j.extra_manifest = Json{{"search", {{"context", ci}, {"hash", h}}}};
+    jobs.push_back(std::move(j));
+  }
+  return jobs;
+}
+
+// Runs a batch's jobs, one reference pass per reference group, and records each point's
+// scored columns in its done.json.
+void run_batch(std::vector<CellJob>& jobs, const EngineOptions& eo, const SweepPlan& plan,
+               const LoadedConfig& cfg) {
+  const SearchSpec& sp = plan.search;
+  // One reference pass per batch (all points of a context share the reference key).
+  std::map<std::string, std::vector<CellJob>> groups;
+  for (auto& j : jobs) groups[reference_key(j.doc)].push_back(std::move(j));
+  for (auto& [k, js] : groups) {
+    auto res = run_cells(js, eo);
+    for (size_t i = 0; i < res.size(); ++i) {
+      const ResultRow* r = scored_row(res[i].summary, sp.select_label);
+      if (!r)
+        throw Error(cfg.file + ": sweep.search.label",
+                    "no method labelled \"" + sp.select_label + "\"");
+      // The objective and constraint name columns of the summary (else every score would
+      // be NaN and the "best" arbitrary): checked on the first evaluation.
+      check_plan_columns(plan, res[i].summary, true);
+      auto num = [](double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); };
+      // Every column a search may score, keyed by name: a rerun with another objective or
+      // constraint reuses the run when its columns are here (cached_eval_complete).
+      Json cols = Json::object();
+      cols[sp.objective.column] = num(r->get(sp.objective.column, NAN));
+      for (auto& k : sp.constraints) cols[k.column] = num(r->get(k.column, NAN));
+      Json done{{"score", cols[sp.objective.column]}, {"columns", cols}};
+      write_file_atomic(js[i].out_dir + "/done.json", done.dump() + "\n");
+    }
+  }
+}
+
+// search_best.csv's row of context `ci` after `n` evaluations; a context without a feasible
+// point adds a note naming the least violation.
+ResultRow best_row(const SweepCell& ctx, int ci, int n, const SearchSpec& sp, const Searcher& s,
+                   const std::vector<std::pair<std::vector<double>, std::vector<double>>>& seen_cv,
+                   std::vector<std::string>& notes) {
+  ResultRow b;
+  b.set_text("context_id", ctx.id());
+  for (auto& a : ctx.assign)
+    if (a.value.is_string()) b.set_text(a.path, a.value.get<std::string>());
+  b.set("context", ci);
+  for (auto& a : ctx.assign)
+    if (a.value.is_number()) b.set(a.path, a.value.get<double>());
+  b.set("evaluations", n);
+  if (s.has_best()) {
+    for (size_t d = 0; d < s.best().x.size(); ++d) b.set(sp.space[d].path, s.best().x[d]);
+    b.set(sp.objective.column, s.best().score);
+    b.set("feasible", s.best().violation <= 0 ? 1 : 0);
+    if (!sp.constraints.empty()) {
+      std::vector<double> cv(sp.constraints.size(), NAN);
+      for (auto& [x, v] : seen_cv)
+        if (x == s.best().x) cv = v;
+      std::string limits, values;
+      for (size_t k = 0; k < cv.size(); ++k) {
+        b.set(sp.constraints[k].column, cv[k]);
+        limits += (k ? ", " : "") + sp.constraints[k].describe();
+        values += (k ? ", " : "") + sp.constraints[k].column + " = " + format_number(cv[k]);
+      }
+      b.set("violation", s.best().violation);
+      if (s.best().violation > 0) {
+        // Nothing met the constraint: the "best" is the point of least violation, said so.
+        std::string at;
+        for (size_t d = 0; d < s.best().x.size(); ++d)
+          at += (d ? ", " : "") + sp.space[d].path + " = " + format_number(s.best().x[d]);
+        notes.push_back("context " + ctx.id() + ": no feasible point in " + std::to_string(n) +
+                        " evaluations (" + limits + "); least violation " +
+                        format_number(s.best().violation) + " (" + values + ") at " + at +
+                        ": widen sweep.search.space or relax the constraint");
+      }
+    }
+  }
+  return b;
+}
+
 }  // namespace
 
 SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const SweepOptions& opt) {
@@ -77,53 +182,10 @@ SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const Sw
       auto pts = s.ask();
       if (pts.empty()) break;
       if (int(pts.size()) > sp.evaluations - n) pts.resize(size_t(sp.evaluations - n));
-      std::vector<CellJob> jobs;
       std::vector<std::string> dirs;
-      for (auto& x : pts) {
-        Json doc = ctx.doc;
-        for (size_t d = 0; d < x.size(); ++d)
-          apply_assignment(doc, sp.space[d].path, Json(x[d]), sp.space[d].where);
-        std::string h = short_hash(doc.dump());
-        std::string dir = evals_dir + "/" + h;
-        dirs.push_back(dir);
-        if (cached_eval_complete(dir + "/done.json", sp)) {
-          ++rep.cached;
-          continue;
-        }
-        CellJob j;
-        j.doc = std::move(doc);
-        j.file = cfg.file;
-        j.origins = cfg.overridden;
-        j.inherited = cfg.inherited;
-        j.base_dir = cfg.base_dir;
-        j.out_dir = dir;
-        j.command_line = opt.command_line;
-        j.extra_manifest = Json{{"search", {{"context", ci}, {"hash", h}}}};
-        jobs.push_back(std::move(j));
-      }
-      // One reference pass per batch (all points of a context share the reference key).
-      std::map<std::string, std::vector<CellJob>> groups;
-      for (auto& j : jobs) groups[reference_key(j.doc)].push_back(std::move(j));
-      for (auto& [k, js] : groups) {
-        auto res = run_cells(js, eo);
-        for (size_t i = 0; i < res.size(); ++i) {
-          const ResultRow* r = scored_row(res[i].summary, sp.select_label);
-          if (!r)
-            throw Error(cfg.file + ": sweep.search.label",
-                        "no method labelled \"" + sp.select_label + "\"");
-          // The objective and constraint name columns of the summary (else every score would
-          // be NaN and the "best" arbitrary): checked on the first evaluation.
-          check_plan_columns(plan, res[i].summary, true);
-          auto num = [](double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); };
-          // Every column a search may score, keyed by name: a rerun with another objective or
-          // constraint reuses the run when its columns are here (cached_eval_complete).
-          Json cols = Json::object();
-          cols[sp.objective.column] = num(r->get(sp.objective.column, NAN));
-          for (auto& k : sp.constraints) cols[k.column] = num(r->get(k.column, NAN));
-          Json done{{"score", cols[sp.objective.column]}, {"columns", cols}};
-          write_file_atomic(js[i].out_dir + "/done.json", done.dump() + "\n");
-        }
-      }
+      std::vector<CellJob> jobs =
+          batch_jobs(pts, ctx, ci, sp, evals_dir, cfg, opt, dirs, rep.cached);
+      run_batch(jobs, eo, plan, cfg);
       std::vector<SearchEval> ev;
       for (size_t i = 0; i < pts.size(); ++i) {
         Json done = Json::parse(read_file(dirs[i] + "/done.json"));
@@ -154,43 +216,7 @@ SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const Sw
       s.tell(ev);
     }
     rep.evaluations += n;
-    ResultRow b;
-    b.set_text("context_id", ctx.id());
-    for (auto& a : ctx.assign)
-      if (a.value.is_string()) b.set_text(a.path, a.value.get<std::string>());
-    b.set("context", ci);
-    for (auto& a : ctx.assign)
-      if (a.value.is_number()) b.set(a.path, a.value.get<double>());
-    b.set("evaluations", n);
-    if (s.has_best()) {
-      for (size_t d = 0; d < s.best().x.size(); ++d) b.set(sp.space[d].path, s.best().x[d]);
-      b.set(sp.objective.column, s.best().score);
-      b.set("feasible", s.best().violation <= 0 ? 1 : 0);
-      if (!sp.constraints.empty()) {
-        std::vector<double> cv(sp.constraints.size(), NAN);
-        for (auto& [x, v] : seen_cv)
-          if (x == s.best().x) cv = v;
-        std::string limits, values;
-        for (size_t k = 0; k < cv.size(); ++k) {
-          b.set(sp.constraints[k].column, cv[k]);
-          limits += (k ? ", " : "") + sp.constraints[k].describe();
-          values += (k ? ", " : "") + sp.constraints[k].column + " = " + format_number(cv[k]);
-        }
-        b.set("violation", s.best().violation);
-        if (s.best().violation > 0) {
-          // Nothing met the constraint: the "best" is the point of least violation, said so.
-          std::string at;
-          for (size_t d = 0; d < s.best().x.size(); ++d)
-            at += (d ? ", " : "") + sp.space[d].path + " = " + format_number(s.best().x[d]);
-          rep.notes.push_back("context " + ctx.id() + ": no feasible point in " +
-                              std::to_string(n) + " evaluations (" + limits +
-                              "); least violation " + format_number(s.best().violation) + " (" +
-                              values + ") at " + at +
-                              ": widen sweep.search.space or relax the constraint");
-        }
-      }
-    }
-    best.add(std::move(b));
+    best.add(best_row(ctx, ci, n, sp, s, seen_cv, rep.notes));
   }
   std::string suffix =
       opt.shards > 1 ? ".shard" + std::to_string(opt.shard) + "of" + std::to_string(opt.shards)

@@ -409,6 +409,11 @@ SweepPlan load_sweep_plan(const std::string& dir) {
   return plan;
 }
 
+// Long because: its steps share the output folder's lock, the plan's cell folders and the
+// report they fill — lock, stale folders, pending cells grouped by reference key, batches run
+// through run_cells, summaries when the sweep is complete — each step a few lines around a
+// helper (cell_complete, add_cell_rows, write_cell_json, merge_sweep); split further, every
+// piece would take the same state.
 SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const SweepOptions& opt) {
   auto t0 = Clock::now();
   const double cpu0 = process_cpu_ms();

@@ -9,26 +9,20 @@
 #include <vector>
 
 #include "sim/experiment/config.h"
+#include "sim/experiment/run_options.h"
 #include "sim/experiment/sweep_spec.h"
 #include "sim/experiment/table.h"
 
 namespace fovsim {
 
-struct SweepOptions {
-  std::string out_dir;        // empty -> results/<name>
-  std::string models_dir;     // empty -> default_models_dir()
-  int threads = 0;            // 0 = TBB default
-  int shard = 0, shards = 1;  // run only cells [shard_range(n, shard, shards))
-  int batch = 0;              // max cells per reference pass; 0 = every pending cell of a group
-  std::string command_line;   // recorded in manifests
-  double watchdog_s = 60;     // WatchdogLimits::min_s (0 disables; sim/core/watchdog.h)
-  // --target specs (sim/experiment/intervals.h): every cell stops on its own once its
-  // intervals hold; its manifest and cell.json record frames used and achieved half-widths.
-  std::vector<std::string> targets;
-  // The reference cache (sim/experiment/reference_cache.h), when the config's cache.enabled
-  // is true too: shards on a shared file system reuse each other's references. Off by
-  // default; `fovsim sweep` turns it on.
-  bool use_cache = false;
+struct SweepOptions : RunControl {  // models_dir, threads, watchdog_s, targets, use_cache
+  std::string out_dir;              // empty -> results/<name>
+  int shard = 0, shards = 1;        // run only cells [shard_range(n, shard, shards))
+  int batch = 0;             // max cells per reference pass; 0 = every pending cell of a group
+  std::string command_line;  // recorded in manifests
+  // (RunControl::targets: every cell stops on its own once its intervals hold; its manifest and
+  // cell.json record frames used and achieved half-widths. use_cache: shards on a shared file
+  // system reuse each other's references.)
 };
 
 struct SweepReport {

@@ -139,13 +139,14 @@ void TwfrMethod::compute_object_motion(const Scene& scene, double t) {
   }
 }
 
+// The five stages of Franke et al. (2021), each a member below, and the state carried to the next
+// frame. §8.5 limitations are flags of the frame; the run continues.
 void TwfrMethod::render(const FrameContext& ctx, FrameOutput& out) {
   const GBuffer& g = *ctx.gbuffer;
   const Scene& scene = *ctx.scene;
   const Camera& cam = *ctx.camera;
   const int W = g.width, H = g.height;
   const size_t n = g.size();
-  const std::vector<float>& ecc = *ctx.eccentricity;
   Counters& c = out.counters;
   timings_ = TwfrTimings{};
 
@@ -167,7 +168,64 @@ void TwfrMethod::render(const FrameContext& ctx, FrameOutput& out) {
     prev_display_ = Image();  // no TAA history across a restart
   }
 
-  // ---- 1. forward reprojection (§4, §7) ----
+  const twfr::ReprojectStats rs = reproject(ctx);  // 1. forward reprojection (§4, §7)
+  // 2. push-pull hole filling (§5.1), outside the fovea (redrawn anyway)
+  auto t0 = Clock::now();
+  const twfr::PushPullStats ps = twfr::push_pull_fill(
+      color_, covered_, fovea_.data(), float(scene.exposure), level_, cc_, pushpull_);
+  timings_.pushpull_ms = ms_since(t0);
+  const twfr::ConfidenceStats cs = confidence(ctx, transparency);  // 3. redraw map (§5.2, §7)
+  const twfr::CullStats cu = cull(ctx);  // 4. OR-mipmap and sub-model culling (§6.1)
+  Image reprojected;
+  const size_t shaded = redraw(ctx, c, ctx.want_debug ? &reprojected : nullptr);  // 5. (§6.1)
+
+  // Composed colour (without TAA) is the next frame's reprojection input (§6.2).
+  if (p_.taa) {
+    t0 = Clock::now();
+    apply_taa(ctx, color_, out.image, c);
+    timings_.taa_ms = ms_since(t0);
+  } else {
+    out.image = color_;
+  }
+  std::swap(prev_color_, color_);
+  std::swap(samples_, next_samples_);
+  prev_cam_ = cam;
+  prev_t_ = ctx.t;
+  has_state_ = true;
+
+  c.set(Counter::gbuffer_samples, double(shaded));
+  c.set(Counter::fullres_pixels, double(n));
+  c.set(Counter::pixels_redrawn, double(cs.redrawn));
+  c.set(Counter::redraw_confidence_pixels, double(cs.by_confidence));
+  c.set(Counter::fovea_pixels, double(cs.fovea));
+  c.set(Counter::uncovered_pixels, double(cs.uncovered));
+  c.set(Counter::forced_pixels, double(cs.forced));
+  c.set(Counter::dynamic_pixels, double(cs.dynamic));
+  c.set(Counter::reproject_splats, double(rs.splats));
+  c.set(Counter::reprojected_pixels, double(rs.landed));
+  c.set(Counter::fovea_splats_discarded, double(rs.fovea_discarded));
+  c.set(Counter::holes_filled, double(ps.holes));
+  for (size_t m = 1; m < ps.holes_per_level.size(); ++m)
+    c.set(Counter::holes_mip, int(m), double(ps.holes_per_level[m]));
+  c.set(Counter::prims_submitted, cu.prims_submitted);
+  c.set(Counter::prims_culled, cu.prims_culled + cu.prims_offscreen);
+  c.set(Counter::prims_offscreen, cu.prims_offscreen);
+  c.set(Counter::prims_foveation_culled, cu.prims_culled);
+  c.set(Counter::submodels_submitted,
+        double(cu.submodels - cu.submodels_culled - cu.submodels_offscreen));
+  c.set(Counter::submodels_culled, double(cu.submodels_culled + cu.submodels_offscreen));
+  c.set(Counter::cull_conflicts, double(conflicts_));
+  c.set(Counter::twfr_restart, restart ? 1.0 : 0.0);
+
+  if (ctx.want_debug) debug_images(out, std::move(reprojected));
+}
+
+// 1. Forward reprojection (§4, §7) of the last frame's samples into color_ / next_samples_.
+twfr::ReprojectStats TwfrMethod::reproject(const FrameContext& ctx) {
+  const Scene& scene = *ctx.scene;
+  const Camera& cam = *ctx.camera;
+  const size_t n = ctx.gbuffer->size();
+  const std::vector<float>& ecc = *ctx.eccentricity;
   auto t0 = Clock::now();
   compute_object_motion(scene, ctx.t);
   fovea_.resize(n);
@@ -186,15 +244,17 @@ void TwfrMethod::render(const FrameContext& ctx, FrameOutput& out) {
   ri.fovea_deg = p_.conf.phi_f;
   twfr::ReprojectStats rs = twfr::forward_reproject(ri, color_, next_samples_, covered_, splat_);
   timings_.reproject_ms = ms_since(t0);
+  return rs;
+}
 
-  // ---- 2. push-pull hole filling (§5.1), outside the fovea (redrawn anyway) ----
-  t0 = Clock::now();
-  twfr::PushPullStats ps = twfr::push_pull_fill(color_, covered_, fovea_.data(),
-                                                float(scene.exposure), level_, cc_, pushpull_);
-  timings_.pushpull_ms = ms_since(t0);
-
-  // ---- 3. confidence and redraw map (§5.2, §7) ----
-  t0 = Clock::now();
+// 3. Confidence and redraw map (§5.2, §7); transparent surfaces forced (§8.5).
+twfr::ConfidenceStats TwfrMethod::confidence(const FrameContext& ctx, bool transparency) {
+  const GBuffer& g = *ctx.gbuffer;
+  const Scene& scene = *ctx.scene;
+  const int W = g.width, H = g.height;
+  const size_t n = g.size();
+  const std::vector<float>& ecc = *ctx.eccentricity;
+  auto t0 = Clock::now();
   const bool use_forced = transparency && p_.redraw_transparent && g.has(kMaterial);
   dynamic_.resize(n);
   age_.resize(n);
@@ -225,9 +285,17 @@ void TwfrMethod::render(const FrameContext& ctx, FrameOutput& out) {
   ci.forced = use_forced ? forced_.data() : nullptr;
   twfr::ConfidenceStats cs = twfr::compute_redraw_map(ci, p_.conf, W, H, conf_, redraw_);
   timings_.confidence_ms = ms_since(t0);
+  return cs;
+}
 
-  // ---- 4. OR-mipmap and sub-model culling (§6.1) ----
-  t0 = Clock::now();
+// 4. OR-mipmap and sub-model culling (§6.1); the shade mask without culled sub-models.
+twfr::CullStats TwfrMethod::cull(const FrameContext& ctx) {
+  const GBuffer& g = *ctx.gbuffer;
+  const Scene& scene = *ctx.scene;
+  const Camera& cam = *ctx.camera;
+  const int W = g.width, H = g.height;
+  const size_t n = g.size();
+  auto t0 = Clock::now();
   ormip_.build(redraw_, W, H);
   const Renderer& rdr = *ctx.renderer;
   twfr::CullStats cu = twfr::cull_submodels(
@@ -255,11 +323,18 @@ void TwfrMethod::render(const FrameContext& ctx, FrameOutput& out) {
       },
       [](size_t a, size_t b) { return a + b; });
   timings_.cull_ms = ms_since(t0);
+  return cu;
+}
 
-  // ---- 5. redraw where marked, compose (§6.1, §6.2) ----
-  t0 = Clock::now();
-  Image reprojected;
-  if (ctx.want_debug) reprojected = color_;
+// 5. Redraw where marked and compose (§6.1, §6.2); returns the pixels shaded. `reprojected`:
+// the composed colour before the redraw (debug image).
+size_t TwfrMethod::redraw(const FrameContext& ctx, Counters& c, Image* reprojected) {
+  const GBuffer& g = *ctx.gbuffer;
+  const Camera& cam = *ctx.camera;
+  const int W = g.width, H = g.height;
+  const Renderer& rdr = *ctx.renderer;
+  auto t0 = Clock::now();
+  if (reprojected) *reprojected = color_;
   c.set(Counter::shaded_samples, 0);
   rdr.shade(g, cam.position, color_, mask_.data(), &c);
   if (ctx.lighting) ctx.lighting->shade(ctx, g, mask_.data(), color_, c);  // the scene's indirect
@@ -293,73 +368,38 @@ void TwfrMethod::render(const FrameContext& ctx, FrameOutput& out) {
       },
       [](size_t a, size_t b) { return a + b; });
   timings_.redraw_ms = ms_since(t0);
+  return shaded;
+}
 
-  // Composed colour (without TAA) is the next frame's reprojection input (§6.2).
-  if (p_.taa) {
-    t0 = Clock::now();
-    apply_taa(ctx, color_, out.image, c);
-    timings_.taa_ms = ms_since(t0);
-  } else {
-    out.image = color_;
+// Debug images: redraw reasons, confidence, hole levels, the reprojected colour.
+void TwfrMethod::debug_images(FrameOutput& out, Image reprojected) const {
+  const int W = width_, H = height_;
+  const size_t n = size_t(W) * size_t(H);
+  Image rm(W, H, 3);
+  for (size_t i = 0; i < n; ++i) {
+    glm::vec3 col(0.f);
+    const uint8_t r = redraw_[i];
+    if (r & twfr::kRedrawForced)
+      col = {0.2f, 1.f, 0.2f};
+    else if (r & twfr::kRedrawFovea)
+      col = {0.3f, 0.5f, 1.f};
+    else if (r & twfr::kRedrawUncovered)
+      col = {1.f, 0.2f, 0.2f};
+    else if (r & twfr::kRedrawConfidence)
+      col = {1.f, 1.f, 1.f};
+    rm.data[3 * i] = col.r;
+    rm.data[3 * i + 1] = col.g;
+    rm.data[3 * i + 2] = col.b;
   }
-  std::swap(prev_color_, color_);
-  std::swap(samples_, next_samples_);
-  prev_cam_ = cam;
-  prev_t_ = ctx.t;
-  has_state_ = true;
-
-  // ---- counters (fixed order, stable CSV columns) ----
-  c.set(Counter::gbuffer_samples, double(shaded));
-  c.set(Counter::fullres_pixels, double(n));
-  c.set(Counter::pixels_redrawn, double(cs.redrawn));
-  c.set(Counter::redraw_confidence_pixels, double(cs.by_confidence));
-  c.set(Counter::fovea_pixels, double(cs.fovea));
-  c.set(Counter::uncovered_pixels, double(cs.uncovered));
-  c.set(Counter::forced_pixels, double(cs.forced));
-  c.set(Counter::dynamic_pixels, double(cs.dynamic));
-  c.set(Counter::reproject_splats, double(rs.splats));
-  c.set(Counter::reprojected_pixels, double(rs.landed));
-  c.set(Counter::fovea_splats_discarded, double(rs.fovea_discarded));
-  c.set(Counter::holes_filled, double(ps.holes));
-  for (size_t m = 1; m < ps.holes_per_level.size(); ++m)
-    c.set(Counter::holes_mip, int(m), double(ps.holes_per_level[m]));
-  c.set(Counter::prims_submitted, cu.prims_submitted);
-  c.set(Counter::prims_culled, cu.prims_culled + cu.prims_offscreen);
-  c.set(Counter::prims_offscreen, cu.prims_offscreen);
-  c.set(Counter::prims_foveation_culled, cu.prims_culled);
-  c.set(Counter::submodels_submitted,
-        double(cu.submodels - cu.submodels_culled - cu.submodels_offscreen));
-  c.set(Counter::submodels_culled, double(cu.submodels_culled + cu.submodels_offscreen));
-  c.set(Counter::cull_conflicts, double(conflicts_));
-  c.set(Counter::twfr_restart, restart ? 1.0 : 0.0);
-
-  if (ctx.want_debug) {
-    Image rm(W, H, 3);
-    for (size_t i = 0; i < n; ++i) {
-      glm::vec3 col(0.f);
-      const uint8_t r = redraw_[i];
-      if (r & twfr::kRedrawForced)
-        col = {0.2f, 1.f, 0.2f};
-      else if (r & twfr::kRedrawFovea)
-        col = {0.3f, 0.5f, 1.f};
-      else if (r & twfr::kRedrawUncovered)
-        col = {1.f, 0.2f, 0.2f};
-      else if (r & twfr::kRedrawConfidence)
-        col = {1.f, 1.f, 1.f};
-      rm.data[3 * i] = col.r;
-      rm.data[3 * i + 1] = col.g;
-      rm.data[3 * i + 2] = col.b;
-    }
-    Image conf(W, H, 1), holes(W, H, 1);
-    for (size_t i = 0; i < n; ++i) {
-      conf.data[i] = conf_[i];
-      holes.data[i] = level_[i] == twfr::kUncovered ? 8.f : float(level_[i]);
-    }
-    out.debug.emplace_back("redraw", std::move(rm));
-    out.debug.emplace_back("confidence", heatmap(conf, 0.f, 1.f));
-    out.debug.emplace_back("holes", heatmap(holes, 0.f, 8.f));
-    out.debug.emplace_back("reprojected", std::move(reprojected));
+  Image conf(W, H, 1), holes(W, H, 1);
+  for (size_t i = 0; i < n; ++i) {
+    conf.data[i] = conf_[i];
+    holes.data[i] = level_[i] == twfr::kUncovered ? 8.f : float(level_[i]);
   }
+  out.debug.emplace_back("redraw", std::move(rm));
+  out.debug.emplace_back("confidence", heatmap(conf, 0.f, 1.f));
+  out.debug.emplace_back("holes", heatmap(holes, 0.f, 8.f));
+  out.debug.emplace_back("reprojected", std::move(reprojected));
 }
 
 // §6.2: redrawn pixels get TAA, reprojected pixels motion smoothing: both reproject the pixel's

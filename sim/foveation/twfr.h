@@ -56,6 +56,12 @@ class TwfrMethod final : public FoveationMethod {
 
  private:
   void compute_object_motion(const Scene& scene, double t);
+  // The stages of render(), in order (twfr.cpp).
+  twfr::ReprojectStats reproject(const FrameContext& ctx);
+  twfr::ConfidenceStats confidence(const FrameContext& ctx, bool transparency);
+  twfr::CullStats cull(const FrameContext& ctx);
+  size_t redraw(const FrameContext& ctx, Counters& c, Image* reprojected);
+  void debug_images(FrameOutput& out, Image reprojected) const;
   void apply_taa(const FrameContext& ctx, const Image& composed, Image& out, Counters& c);
 
   TwfrParams p_;

@@ -60,24 +60,10 @@ inline void reduce_texel(int x, int y, int cw, int ch, GetChild child, float* ou
   out_lum = display_luminance(out_rgb, exposure);
 }
 
-}  // namespace
-
-PushPullStats push_pull_fill(Image& color, const std::vector<uint8_t>& valid, const uint8_t* skip,
-                             float exposure, std::vector<uint8_t>& level_out,
-                             std::vector<float>& cc_out, PushPull& pp) {
+// Pull (§5.1): the pyramid of valid pixels down to 1x1. Level k has ceil(W / 2^k) x
+// ceil(H / 2^k) texels. Returns the number of levels.
+int pull(const Image& color, const std::vector<uint8_t>& valid, float exposure, PushPull& pp) {
   const int W = color.width, H = color.height;
-  const size_t n = size_t(W) * size_t(H);
-  level_out.resize(n);
-  cc_out.resize(n);
-  pp.lum0.resize(n);
-  tbb::parallel_for(0, H, [&](int y) {
-    for (int x = 0; x < W; ++x) {
-      size_t i = size_t(y) * size_t(W) + size_t(x);
-      pp.lum0[i] = valid[i] ? display_luminance(color.at(x, y), exposure) : 0.f;
-    }
-  });
-
-  // Pull: build the pyramid down to 1x1. Level k has ceil(W / 2^k) x ceil(H / 2^k) texels.
   int nl = 1;
   for (int w = W, h = H; w > 1 || h > 1; w = (w + 1) / 2, h = (h + 1) / 2) ++nl;
   nl = std::min(nl, 254);
@@ -112,9 +98,72 @@ PushPullStats push_pull_fill(Image& color, const std::vector<uint8_t>& valid, co
       }
     });
   }
+  return nl;
+}
+
+// Push (§5.1) of one hole (x, y): the finest level m whose covering texel is valid, the hole's
+// colour `dst` interpolated bilinearly over the valid texels of that level (normalised weights)
+// and its contrast confidence `cc`. Returns m, or nl when no level covers it.
+inline int push_hole(const PushPull& pp, int nl, int x, int y, float* dst, float& cc) {
+  int m = 1;
+  for (; m < nl; ++m) {
+    const PushPullLevel& L = pp.levels[size_t(m)];
+    if (L.alpha[size_t(y >> m) * size_t(L.width) + size_t(x >> m)] >= 0.f) break;
+  }
+  if (m >= nl) return nl;
+  const PushPullLevel& L = pp.levels[size_t(m)];
+  const float s = 1.f / float(1 << m);
+  const float u = (float(x) + 0.5f) * s - 0.5f, v = (float(y) + 0.5f) * s - 0.5f;
+  const int x0 = int(std::floor(u)), y0 = int(std::floor(v));
+  const float fx = u - float(x0), fy = v - float(y0);
+  float rgb[3] = {0, 0, 0}, al = 0.f, wsum = 0.f;
+  for (int dy = 0; dy < 2; ++dy) {
+    int ty = y0 + dy;
+    if (ty < 0 || ty >= L.height) continue;
+    float wy = dy ? fy : 1.f - fy;
+    for (int dx = 0; dx < 2; ++dx) {
+      int tx = x0 + dx;
+      if (tx < 0 || tx >= L.width) continue;
+      size_t ti = size_t(ty) * size_t(L.width) + size_t(tx);
+      if (L.alpha[ti] < 0.f) continue;
+      float w = wy * (dx ? fx : 1.f - fx);
+      rgb[0] += w * L.rgb[ti * 3];
+      rgb[1] += w * L.rgb[ti * 3 + 1];
+      rgb[2] += w * L.rgb[ti * 3 + 2];
+      al += w * L.alpha[ti];
+      wsum += w;
+    }
+  }
+  // wsum > 0: the covering texel is among the four and has weight > 1/4.
+  float inv = 1.f / wsum;
+  dst[0] = rgb[0] * inv;
+  dst[1] = rgb[1] * inv;
+  dst[2] = rgb[2] * inv;
+  cc = clamp01(al * inv);
+  return m;
+}
+
+}  // namespace
+
+PushPullStats push_pull_fill(Image& color, const std::vector<uint8_t>& valid, const uint8_t* skip,
+                             float exposure, std::vector<uint8_t>& level_out,
+                             std::vector<float>& cc_out, PushPull& pp) {
+  const int W = color.width, H = color.height;
+  const size_t n = size_t(W) * size_t(H);
+  level_out.resize(n);
+  cc_out.resize(n);
+  pp.lum0.resize(n);
+  tbb::parallel_for(0, H, [&](int y) {
+    for (int x = 0; x < W; ++x) {
+      size_t i = size_t(y) * size_t(W) + size_t(x);
+      pp.lum0[i] = valid[i] ? display_luminance(color.at(x, y), exposure) : 0.f;
+    }
+  });
+
+  const int nl = pull(color, valid, exposure, pp);
 
   // Push: each hole takes the finest level m whose covering texel is valid (§5.1: mip level per
-  // hole), interpolated bilinearly over the valid texels of that level (normalised weights).
+  // hole), interpolated bilinearly over the valid texels of that level (push_hole).
   struct Acc {
     std::vector<size_t> per_level;
     size_t uncovered = 0;
@@ -138,11 +187,8 @@ PushPullStats push_pull_fill(Image& color, const std::vector<uint8_t>& valid, co
               cc_out[i] = 0.f;
               continue;
             }
-            int m = 1;
-            for (; m < nl; ++m) {
-              const PushPullLevel& L = pp.levels[size_t(m)];
-              if (L.alpha[size_t(y >> m) * size_t(L.width) + size_t(x >> m)] >= 0.f) break;
-            }
+            float cc = 0.f;
+            const int m = push_hole(pp, nl, x, y, dst, cc);
             if (m >= nl) {
               level_out[i] = kUncovered;
               cc_out[i] = 0.f;
@@ -150,36 +196,8 @@ PushPullStats push_pull_fill(Image& color, const std::vector<uint8_t>& valid, co
               ++a.uncovered;
               continue;
             }
-            const PushPullLevel& L = pp.levels[size_t(m)];
-            const float s = 1.f / float(1 << m);
-            const float u = (float(x) + 0.5f) * s - 0.5f, v = (float(y) + 0.5f) * s - 0.5f;
-            const int x0 = int(std::floor(u)), y0 = int(std::floor(v));
-            const float fx = u - float(x0), fy = v - float(y0);
-            float rgb[3] = {0, 0, 0}, al = 0.f, wsum = 0.f;
-            for (int dy = 0; dy < 2; ++dy) {
-              int ty = y0 + dy;
-              if (ty < 0 || ty >= L.height) continue;
-              float wy = dy ? fy : 1.f - fy;
-              for (int dx = 0; dx < 2; ++dx) {
-                int tx = x0 + dx;
-                if (tx < 0 || tx >= L.width) continue;
-                size_t ti = size_t(ty) * size_t(L.width) + size_t(tx);
-                if (L.alpha[ti] < 0.f) continue;
-                float w = wy * (dx ? fx : 1.f - fx);
-                rgb[0] += w * L.rgb[ti * 3];
-                rgb[1] += w * L.rgb[ti * 3 + 1];
-                rgb[2] += w * L.rgb[ti * 3 + 2];
-                al += w * L.alpha[ti];
-                wsum += w;
-              }
-            }
-            // wsum > 0: the covering texel is among the four and has weight > 1/4.
-            float inv = 1.f / wsum;
-            dst[0] = rgb[0] * inv;
-            dst[1] = rgb[1] * inv;
-            dst[2] = rgb[2] * inv;
             level_out[i] = uint8_t(m);
-            cc_out[i] = clamp01(al * inv);
+            cc_out[i] = cc;
             ++a.per_level[size_t(m)];
           }
         }

@@ -206,6 +206,12 @@ static glm::vec3 shade_one(const Scene& scene, const RenderState& I, bool shadow
 // stays scalar, on the lanes the light reaches. Inactive lanes (past n, misses, early returns
 // of light_geom) compute throw-away values that are never selected. Each lane's colour adds the
 // lights in order, as shade_one does, so both give the same bits.
+// Long because: it is the shading hot path, and its lanes' arrays (positions, normals, albedo,
+// view vectors, colours, activity) live on its stack for the whole packet; split into functions,
+// they would be passed as a dozen pointers per call or spilled into a struct, and the order of
+// floating-point operations that makes it bit-identical to shade_one would no longer read in one
+// place. Its stages are marked inside: the per-packet ray fields, then per light its geometry,
+// the shadow packet and the BRDF (light_value).
 void shade_packet(const Scene& scene, const RenderState& I, bool shadows, const GBufferRef& g,
                   const size_t* idx, int n, const glm::vec3& eye, float* out, uint64_t& shadow_rays,
                   ShadeScratch& scratch) {

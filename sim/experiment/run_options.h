@@ -1,0 +1,27 @@
+// The options every way of running configs shares: `fovsim run` and `fovsim sweep` declare them
+// once (sim/app/commands.h add_run_flags) and Python's fovsim.run / fovsim.sweep take the same
+// ones (python/bindings.cpp); RunOptions (runner.h) and SweepOptions (sweep_runner.h) extend it.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "sim/core/params.h"
+
+namespace fovsim {
+
+struct RunControl {
+  std::string models_dir;  // empty -> default_models_dir()
+  int threads = 0;         // 0 = TBB default; results are identical at any count
+  double watchdog_s = 60;  // WatchdogLimits::min_s (0 disables; sim/core/watchdog.h)
+  // --target specs ("est_ms_total:1%", "fpsnr:0.2dB"; sim/experiment/intervals.h): frames in a
+  // seeded random order of sampling units until every 95% half-width is within its target.
+  std::vector<std::string> targets;
+  // The reference cache (sim/experiment/reference_cache.h), when the config's cache.enabled is
+  // true too. Off by default (library use, tests, Python); `fovsim run` / `sweep` turn it on.
+  bool use_cache = false;
+
+  static Range threads_range() { return Range::closed(0, 4096); }
+  static Range watchdog_range() { return Range::closed(0, 1e9); }
+};
+
+}  // namespace fovsim
