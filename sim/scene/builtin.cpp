@@ -92,7 +92,7 @@ AtriumTess atrium_tess(int c) {
 // a coffered ceiling with a skylight through which the sun casts the columns' shadows, a
 // pedestal with a (optionally rotating) sculpture, a warm point light under the left arcade
 // and a spot light on the sculpture.
-// The function is long because it is scene data: one block per architectural element
+// Long because: it is scene data: one block per architectural element
 // (materials, floor and walls, arcades, gallery, ceiling, sculpture, lights), each placing
 // geometry in metres in the order the triangle counts and goldens depend on. Splitting it
 // would only move the coordinates away from the element they describe.

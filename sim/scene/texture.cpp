@@ -518,6 +518,9 @@ void box_pulse_packet(const float* x, const float* w, float a, int n, float* out
 
 }  // namespace
 
+// Long because: it is one switch over the texture kinds, each case the packet-wide form of
+// eval_albedo's case (same IEEE operations per lane, so the same bits); keeping the cases side
+// by side keeps each next to the per-sample code it must match.
 void eval_albedo_packet(const Scene& scene, const glm::vec2* mat_cs, const TexSample* q, int n,
                         glm::vec3* out) {
   constexpr int B = 16;
