@@ -14,3 +14,6 @@ FOVSIM_LIGHTING(fir,
                 "foveated instant radiosity as the FLC paper describes it (§1, §7): importance "
                 "from visibility and position relative to the fovea only, VPL intensity ignored, "
                 "stochastic culling to a VPL budget")
+FOVSIM_LIGHTING(uniform,
+                "a uniform random subset of vpl_budget VPLs (Horvitz-Thompson weights): the "
+                "control for flc and fir, the same budget and culling without foveation")
