@@ -424,7 +424,9 @@ struct Cell {
   PhaseTimes phases;  // manifest "phases" (phase_times.h)
   Image out_display;  // per-cell scratch, reused every frame
   MetricsScratch metrics_scratch;
-  ImageJobs image_jobs;   // this frame's images (want_images), written at the end of process()
+  ImageJobs image_jobs;  // this frame's images (want_images), written at the end of process()
+  // Memoised methods' files of this frame (path, stored bytes), written after image_jobs.
+  std::vector<std::pair<std::string, const std::string*>> memo_files;
   LatencyConfig latency;  // the latency what-if (docs/latency.md)
   std::set<std::string> metric_names;
   std::unique_ptr<GazeSource> gaze;  // the gaze each method sees (made by parse_group)
@@ -602,8 +604,9 @@ struct Cell {
       build_rows(in, mi, st, ctx, metrics);
       pc = phases.lap("cost_rows", pc);
     }
-    if (!image_jobs.jobs.empty()) {
+    if (!image_jobs.jobs.empty() || !memo_files.empty()) {
       image_jobs.write_all();
+      memo_images(in);
       pc = phases.lap("images", pc);
     }
     cell_ms += ms_since(c0);
@@ -861,6 +864,18 @@ struct Cell {
     }
   }
 
+  // The method memo's images of this frame: memoised methods' files written as stored, and the
+  // files just written for the methods being recorded read back into their records.
+  void memo_images(const FrameIn& in) {
+    if (!memo_files.empty()) make_dirs(in.img_dir);
+    for (auto& [path, bytes] : memo_files) write_file_atomic(path, *bytes);
+    memo_files.clear();
+    for (auto& m : methods)
+      if (m.rec && !m.rec->frames.empty() && m.rec->frames.back().fi == in.fi)
+        for (auto& [name, bytes] : m.rec->frames.back().images)
+          if (bytes.empty()) bytes = read_file(in.img_dir + "/" + name);
+  }
+
   // The method memo's record of method `m` on this frame: what build_rows reads and the images
   // queued for it (image_jobs from `queued` on).
   void record_frame(const FrameIn& in, MethodRun& m, const Step& st, const MetricValues& metrics,
@@ -874,8 +889,8 @@ struct Cell {
     f.metrics = metrics.items();
     f.flags = m.fo.flags;
     const size_t dir_len = in.img_dir.size() + 1;
-    for (size_t i = queued; i < image_jobs.jobs.size(); ++i)
-      f.images.emplace_back(image_jobs.jobs[i].first.substr(dir_len), image_jobs.jobs[i].second);
+    for (size_t i = queued; i < image_jobs.jobs.size(); ++i)  // read back once written
+      f.images.emplace_back(image_jobs.jobs[i].first.substr(dir_len), std::string());
     m.rec->frames.push_back(std::move(f));
   }
 
@@ -908,7 +923,7 @@ struct Cell {
     for (auto& fl : m.fo.flags) flags_seen.insert(m.label + ":" + fl);
     if (latency.enabled)
       for (auto& kv : metrics.items()) metric_names.insert(kv.first);
-    for (auto& [name, img] : f.images) image_jobs.add(in.img_dir + "/" + name, img);
+    for (auto& [name, bytes] : f.images) memo_files.emplace_back(in.img_dir + "/" + name, &bytes);
     build_rows(in, mi, st, ctx, metrics);
   }
 

@@ -85,16 +85,12 @@ std::optional<MemoEntry> MethodMemo::load(const std::string& key,
         if (!probe.set_named(n, v)) return std::nullopt;
       for (auto& fl : j.at("flags")) f.flags.push_back(fl.get<std::string>());
       for (auto& ij : j.at("images")) {
-        Image img;
-        img.width = ij.at("width").get<int>();
-        img.height = ij.at("height").get<int>();
-        img.channels = ij.at("channels").get<int>();
+        const size_t n = ij.at("bytes").get<size_t>();
         std::vector<float>* a = item->array(ij.at("array").get<std::string>());
-        if (!a || img.width < 0 || img.height < 0 || img.channels < 0 ||
-            a->size() != size_t(img.width) * size_t(img.height) * size_t(img.channels))
-          return std::nullopt;
-        img.data = std::move(*a);
-        f.images.emplace_back(ij.at("name").get<std::string>(), std::move(img));
+        if (!a || a->size() != (n + 3) / 4) return std::nullopt;
+        std::string bytes(n, '\0');
+        if (n > 0) std::memcpy(bytes.data(), a->data(), n);
+        f.images.emplace_back(ij.at("name").get<std::string>(), std::move(bytes));
       }
     }
   } catch (const std::exception&) {  // a field missing or of another type: recompute
@@ -108,14 +104,12 @@ void MethodMemo::store(const std::string& key, const MemoEntry& e) {
   Json frames = Json::array();
   for (const MemoFrame& f : e.frames) {
     Json images = Json::array();
-    for (auto& [name, img] : f.images) {
-      const std::string a = "image" + std::to_string(item.arrays.size());
-      images.push_back(Json{{"name", name},
-                            {"width", img.width},
-                            {"height", img.height},
-                            {"channels", img.channels},
-                            {"array", a}});
-      item.arrays.emplace_back(a, img.data);
+    for (auto& [name, bytes] : f.images) {  // file bytes as float32 words (bits kept)
+      const std::string a = "file" + std::to_string(item.arrays.size());
+      images.push_back(Json{{"name", name}, {"bytes", bytes.size()}, {"array", a}});
+      std::vector<float> words((bytes.size() + 3) / 4, 0.f);
+      if (!bytes.empty()) std::memcpy(words.data(), bytes.data(), bytes.size());
+      item.arrays.emplace_back(a, std::move(words));
     }
     frames.push_back(Json{{"fi", f.fi},
                           {"record", f.record},

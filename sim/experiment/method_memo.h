@@ -24,7 +24,6 @@
 #include <vector>
 
 #include "sim/core/disk_cache.h"
-#include "sim/core/image.h"
 #include "sim/core/params.h"
 
 namespace fovsim {
@@ -40,7 +39,9 @@ struct MemoFrame {
   std::vector<std::pair<std::string, double>> counters;
   std::vector<std::pair<std::string, double>> metrics;
   std::vector<std::string> flags;
-  std::vector<std::pair<std::string, Image>> images;  // file name in the frame's image folder
+  // The files written on a saved frame: name in the frame's image folder, the file's bytes
+  // (PNG or EXR as encoded when computed; written back as they are).
+  std::vector<std::pair<std::string, std::string>> images;
 };
 
 struct MemoEntry {
