@@ -322,27 +322,30 @@ void DiskCache::trim() {
   std::vector<Entry> entries;
   uint64_t total = 0;
   const auto now = std::chrono::system_clock::now();
-  std::error_code ec;
-  fs::recursive_directory_iterator it(kind_dir_, fs::directory_options::skip_permission_denied, ec),
-      end;
-  for (; !ec && it != end; it.increment(ec)) {
-    std::error_code e2;
-    if (!it->is_regular_file(e2)) continue;
-    const fs::path p = it->path();
-    struct stat st {};
-    if (::stat(p.c_str(), &st) != 0) continue;
-    const int64_t mt = int64_t(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec;
-    const std::string name = p.filename().string();
-    if (is_temporary_name(name)) {
-      const auto age = std::chrono::duration_cast<std::chrono::seconds>(
-                           now.time_since_epoch() - std::chrono::nanoseconds(mt))
-                           .count();
-      if (age > 3600) fs::remove(p, e2);  // left by a killed writer
-      continue;
+  std::vector<std::string> dirs{kind_dir_};
+  for (auto& k : cap_kinds_) dirs.push_back((fs::path(dir_) / safe_file_name(k)).string());
+  for (const std::string& d : dirs) {
+    std::error_code ec;
+    fs::recursive_directory_iterator it(d, fs::directory_options::skip_permission_denied, ec), end;
+    for (; !ec && it != end; it.increment(ec)) {
+      std::error_code e2;
+      if (!it->is_regular_file(e2)) continue;
+      const fs::path p = it->path();
+      struct stat st {};
+      if (::stat(p.c_str(), &st) != 0) continue;
+      const int64_t mt = int64_t(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec;
+      const std::string name = p.filename().string();
+      if (is_temporary_name(name)) {
+        const auto age = std::chrono::duration_cast<std::chrono::seconds>(
+                             now.time_since_epoch() - std::chrono::nanoseconds(mt))
+                             .count();
+        if (age > 3600) fs::remove(p, e2);  // left by a killed writer
+        continue;
+      }
+      if (p.extension() != kExt) continue;
+      entries.push_back({p, uint64_t(st.st_size), mt});
+      total += uint64_t(st.st_size);
     }
-    if (p.extension() != kExt) continue;
-    entries.push_back({p, uint64_t(st.st_size), mt});
-    total += uint64_t(st.st_size);
   }
   if (total <= max_bytes_) return;
   std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {

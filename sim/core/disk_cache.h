@@ -17,9 +17,10 @@
 // copy cut short) is ignored with a warning, and its value is recomputed and written again.
 // Two processes writing one key write the same bytes (results are deterministic); the last
 // rename wins.
-// Size cap: least recently used first (a read sets an entry's mtime to now); checked when the
-// cache is opened and whenever this process has written past the cap since the last check.
-// Temporaries older than an hour (a writer killed by SIGKILL) are removed then too.
+// Size cap (of this kind and the kinds named by share_cap_with): least recently used first (a read
+// sets an entry's mtime to now); checked when the cache is opened and whenever this process has
+// written past the cap since the last check. Temporaries older than an hour (a writer killed by
+// SIGKILL) are removed then too.
 #pragma once
 #include <cstdint>
 #include <optional>
@@ -82,6 +83,10 @@ class DiskCache {
   // cap, and temporaries older than an hour.
   void trim();
 
+  // Entries of these other kinds (folders next to this one) count against the same cap, and
+  // trim() removes the least recently used of all of them together.
+  void share_cap_with(std::vector<std::string> kinds) { cap_kinds_ = std::move(kinds); }
+
   const std::string& dir() const { return dir_; }
   std::string path_of(const std::string& key) const;
   const DiskCacheStats& stats() const { return stats_; }
@@ -92,6 +97,7 @@ class DiskCache {
  private:
   void warn(const std::string& w);
   std::string dir_, kind_dir_;
+  std::vector<std::string> cap_kinds_;
   uint64_t max_bytes_;
   uint64_t since_trim_ = 0;  // bytes written since the last trim
   bool trimmed_ = false;

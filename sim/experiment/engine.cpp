@@ -32,6 +32,7 @@
 #include "sim/experiment/gaze_source.h"
 #include "sim/experiment/intervals.h"
 #include "sim/experiment/latency.h"
+#include "sim/experiment/method_memo.h"
 #include "sim/experiment/phase_times.h"
 #include "sim/experiment/reference_cache.h"
 #include "sim/experiment/run_config.h"
@@ -106,6 +107,13 @@ struct MethodRun {
   std::vector<std::unique_ptr<SequenceTest>> seq, seq_fl;
   TemporalState temporal_fl;
   FrameOutput fo;  // reused every frame (its image keeps its storage)
+  // The method memo (method_memo.h): `replay` holds this entry's whole sequence when an earlier
+  // run computed it (the method is not run, its rows are built from it); else, with the memo
+  // on, `rec` collects the sequence, stored under `memo_key` when the cell completes.
+  std::optional<MemoEntry> replay;
+  size_t replay_next = 0;
+  std::unique_ptr<MemoEntry> rec;
+  std::string memo_key;
 };
 
 struct ImageOutputs {
@@ -416,7 +424,9 @@ struct Cell {
   PhaseTimes phases;  // manifest "phases" (phase_times.h)
   Image out_display;  // per-cell scratch, reused every frame
   MetricsScratch metrics_scratch;
-  ImageJobs image_jobs;   // this frame's images (want_images), written at the end of process()
+  ImageJobs image_jobs;  // this frame's images (want_images), written at the end of process()
+  // Memoised methods' files of this frame (path, stored bytes), written after image_jobs.
+  std::vector<std::pair<std::string, const std::string*>> memo_files;
   LatencyConfig latency;  // the latency what-if (docs/latency.md)
   std::set<std::string> metric_names;
   std::unique_ptr<GazeSource> gaze;  // the gaze each method sees (made by parse_group)
@@ -578,17 +588,25 @@ struct Cell {
     gaze->begin_frame(fi, methods.size(), ctx);
     for (size_t mi = 0; mi < methods.size(); ++mi) {
       MethodRun& m = methods[mi];
+      if (m.replay) {  // memoised: this frame's outputs from the method memo
+        replay_method(in, mi, ctx);
+        pc = phases.lap("cost_rows", pc);
+        continue;
+      }
       const Step st = step_method(in, mi, ctx, pc);
       std::vector<std::pair<std::string, Image>> heat;  // sequence metrics' heat maps
       const MetricValues metrics = measure(in, m, heat);
       pc = phases.lap("metrics", pc);
+      const size_t queued = image_jobs.jobs.size();
       if (want_images) queue_method_images(in, m, *st.linear, heat);
+      if (m.rec) record_frame(in, m, st, metrics, queued);
       pc = phases.lap("images", pc);
       build_rows(in, mi, st, ctx, metrics);
       pc = phases.lap("cost_rows", pc);
     }
-    if (!image_jobs.jobs.empty()) {
+    if (!image_jobs.jobs.empty() || !memo_files.empty()) {
       image_jobs.write_all();
+      memo_images(in);
       pc = phases.lap("images", pc);
     }
     cell_ms += ms_since(c0);
@@ -846,6 +864,69 @@ struct Cell {
     }
   }
 
+  // The method memo's images of this frame: memoised methods' files written as stored, and the
+  // files just written for the methods being recorded read back into their records.
+  void memo_images(const FrameIn& in) {
+    if (!memo_files.empty()) make_dirs(in.img_dir);
+    for (auto& [path, bytes] : memo_files) write_file_atomic(path, *bytes);
+    memo_files.clear();
+    for (auto& m : methods)
+      if (m.rec && !m.rec->frames.empty() && m.rec->frames.back().fi == in.fi)
+        for (auto& [name, bytes] : m.rec->frames.back().images)
+          if (bytes.empty()) bytes = read_file(in.img_dir + "/" + name);
+  }
+
+  // The method memo's record of method `m` on this frame: what build_rows reads and the images
+  // queued for it (image_jobs from `queued` on).
+  void record_frame(const FrameIn& in, MethodRun& m, const Step& st, const MetricValues& metrics,
+                    size_t queued) {
+    MemoFrame f;
+    f.fi = in.fi;
+    f.record = in.record;
+    f.cost_method = st.cost_method;
+    f.sim_ms = st.sim_ms;
+    f.counters = m.fo.counters.items();
+    f.metrics = metrics.items();
+    f.flags = m.fo.flags;
+    const size_t dir_len = in.img_dir.size() + 1;
+    for (size_t i = queued; i < image_jobs.jobs.size(); ++i)  // read back once written
+      f.images.emplace_back(image_jobs.jobs[i].first.substr(dir_len), std::string());
+    m.rec->frames.push_back(std::move(f));
+  }
+
+  // A memoised method on this frame: its gaze (the gaze source's state and the row's gaze
+  // columns), the stored counters, metrics, flags and images, and build_rows as when computed.
+  void replay_method(const FrameIn& in, size_t mi, FrameContext& ctx) {
+    MethodRun& m = methods[mi];
+    FOVSIM_CHECK(m.replay_next < m.replay->frames.size() &&
+                     m.replay->frames[m.replay_next].fi == in.fi &&
+                     m.replay->frames[m.replay_next].record == in.record,
+                 "method memo of \"" + m.label + "\" is out of step with the frame order");
+    const MemoFrame& f = m.replay->frames[m.replay_next++];
+    Step st;
+    st.lat_ms = gaze->gaze_for(mi, in.fd, ctx);
+    st.cost_method = f.cost_method;
+    st.sim_ms = f.sim_ms;
+    st.impl = m.impl.get();
+    if (f.cost_method != m.method) {  // rendered as `full` while tracking was lost
+      if (!m.full) {
+        Params fp(Json::object(), "trace.on_invalid");
+        m.full = make_method("full", fp);
+      }
+      st.impl = m.full.get();
+    }
+    m.fo.counters.clear();
+    for (auto& [n, v] : f.counters) m.fo.counters.set_named(n, v);
+    m.fo.flags = f.flags;
+    MetricValues metrics;
+    for (auto& [k, v] : f.metrics) metrics.set(k, v);
+    for (auto& fl : m.fo.flags) flags_seen.insert(m.label + ":" + fl);
+    if (latency.enabled)
+      for (auto& kv : metrics.items()) metric_names.insert(kv.first);
+    for (auto& [name, bytes] : f.images) memo_files.emplace_back(in.img_dir + "/" + name, &bytes);
+    build_rows(in, mi, st, ctx, metrics);
+  }
+
   // Forget the frame history (temporal methods, temporal_error) before a non-contiguous frame.
   void reset_temporal() {
     for (auto& q : seq) {
@@ -1007,6 +1088,102 @@ std::unique_ptr<ReferenceCache> open_reference_cache(const EngineOptions& opt, S
                                           sh.rs);
 }
 
+// The frames of a run without --target in evaluation order (frame_order.h): (trace frame,
+// recorded), the warm-up frames first.
+std::vector<std::pair<int, bool>> memo_frame_list(const Shared& sh) {
+  std::vector<std::pair<int, bool>> v;
+  for (int k = -sh.warmup; k < sh.count; ++k) v.emplace_back(sh.start + k * sh.stride, k >= 0);
+  return v;
+}
+
+// Hash of every file of the models folder (displays, GPU profiles, workloads, metric data):
+// 35 small files, read once per run.
+std::string models_hash(const std::string& dir) {
+  std::vector<fs::path> files;
+  std::error_code ec;
+  for (fs::recursive_directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
+    if (it->is_regular_file(ec)) files.push_back(it->path());
+  std::sort(files.begin(), files.end());
+  ContentHasher h;
+  for (auto& f : files) {
+    h.str(fs::relative(f, dir, ec).string());
+    h.str(read_file(f.string()));
+  }
+  return hex64(h.value());
+}
+
+// Everything of cell `c` the key of each of its method entries holds besides the entry itself
+// (method_memo.h).
+Json memo_cell_base(const Cell& c, const Shared& sh, const ReferenceCache& rc,
+                    const std::vector<std::pair<int, bool>>& frames, const std::string& models) {
+  const Json& res = c.manifest["resolved_config"];
+  auto get = [&](const char* k) { return res.contains(k) ? res[k] : Json(); };
+  Json shared = res;
+  for (auto& k : per_cell_keys()) shared.erase(k);
+  shared.erase("cache");
+  shared.erase("sweep");
+  Json outputs = get("outputs");
+  if (outputs.is_object()) outputs.erase("print_summary");
+  ContentHasher fk;  // every frame's reference key: code, scene content, camera, pose, gaze
+  for (auto& f : frames) {
+    const TraceSample& s = sh.trace.samples[size_t(f.first)];
+    fk.str(rc.key(f.first, s, Camera::from_pose(sh.sim_display, s.head_pos, s.head_rot)));
+  }
+  ContentHasher th;  // the trace as resampled and as read (latency what-if, tracking loss)
+  for (const Trace* t : {&sh.raw_trace, &sh.trace}) {
+    th.pod(uint64_t(t->samples.size()));
+    for (const TraceSample& s : t->samples) {
+      th.pod(s.t).pod(s.head_pos).pod(s.head_rot).pod(s.gaze_dir);
+      th.pod(uint8_t(s.valid ? 1 : 0));
+    }
+  }
+  Json fl = Json::array();
+  for (auto& f : frames) fl.push_back(Json::array({f.first, f.second}));
+  Json j{{"shared", shared},
+         {"display", sh.display.to_json()},
+         {"models", models},
+         {"frames", fl},
+         {"frame_keys", hex64(fk.value())},
+         {"trace", hex64(th.value())},
+         {"metrics", get("metrics")},
+         {"latency", get("latency")},
+         {"outputs", outputs}};
+  if (c.latency.render_from_estimate) {  // the gaze follows the first GPU's cost estimate
+    j["gpus"] = get("gpus");
+    j["workload"] = get("workload");
+  }
+  return j;
+}
+
+// The method memo (method_memo.h) with the reference cache, except under --target: each
+// method entry found in it is replayed, every other one recorded.
+std::unique_ptr<MethodMemo> open_method_memo(const Shared& sh, const ReferenceCache* rc,
+                                             std::vector<std::unique_ptr<Cell>>& cells,
+                                             bool sampled) {
+  if (!rc || sampled) return nullptr;
+  auto memo = std::make_unique<MethodMemo>(sh.cache);
+  const std::vector<std::pair<int, bool>> frames = memo_frame_list(sh);
+  const std::string models = models_hash(sh.models);
+  for (auto& c : cells) {
+    const Json& ms = c->manifest["resolved_config"]["methods"];
+    Json memoised = Json::array();
+    if (ms.is_array() && ms.size() == c->methods.size()) {
+      const Json base = memo_cell_base(*c, sh, *rc, frames, models);
+      for (size_t mi = 0; mi < c->methods.size(); ++mi) {
+        MethodRun& m = c->methods[mi];
+        m.memo_key = MethodMemo::key(base, ms[mi]);
+        m.replay = memo->load(m.memo_key, frames);
+        if (m.replay)
+          memoised.push_back(m.label);
+        else
+          m.rec = std::make_unique<MemoEntry>();
+      }
+    }
+    c->manifest["memoised_methods"] = memoised;
+  }
+  return memo;
+}
+
 // The shared data of frame `fi` (prepare_frame), its reference from the cache when an earlier
 // run computed it (then only G-buffer and VPLs are rendered).
 void render_reference(Renderer& renderer, ReferenceCache* rcache, const Shared& sh, int fi,
@@ -1075,6 +1252,7 @@ struct GroupOutputs {
   const PhaseTimes& group_phases;
   PhaseClock outputs_start;  // when the outputs stage began
   int threads;
+  const MethodMemo* memo;
 };
 
 // One cell's outputs, written atomically with the manifest ("complete") last: frames.csv,
@@ -1091,6 +1269,8 @@ CellResult write_cell_outputs(Cell& c, const Shared& sh, const GroupOutputs& g) 
   r.flags.assign(c.flags_seen.begin(), c.flags_seen.end());
   if (g.rcache) {  // entries found unusable (recomputed), a cache that could not be written
     for (auto& w : g.rcache->warnings()) c.warnings.push_back(w);
+    if (g.memo)
+      for (auto& w : g.memo->warnings()) c.warnings.push_back(w);
     if (!c.warnings.empty()) c.manifest["warnings"] = c.warnings;
   } else if (!g.no_cache_dir.empty()) {
     c.warnings.push_back(g.no_cache_dir);
@@ -1151,6 +1331,11 @@ CellResult write_cell_outputs(Cell& c, const Shared& sh, const GroupOutputs& g) 
   // How many frames' references came from the reference cache (reference_cache.h).
   c.manifest["reference_cache"] = g.rcache ? Json(g.rcache->manifest()) : Json{{"used", false}};
   if (g.rcache) c.manifest["reference_cache"]["used"] = true;
+  // Method entries whose outputs came from the method memo (method_memo.h; their sim_ms is the
+  // one recorded when they were computed).
+  c.manifest["method_memo"] = g.memo ? Json(g.memo->manifest()) : Json{{"used", false}};
+  if (g.memo) c.manifest["method_memo"]["used"] = true;
+  if (!c.manifest.contains("memoised_methods")) c.manifest["memoised_methods"] = Json::array();
   PhaseTimes ph = g.group_phases;
   ph.merge(c.phases);
   ph.lap("outputs", g.outputs_start);  // this cell's output files so far (one cell: all of them)
@@ -1239,6 +1424,7 @@ std::vector<CellResult> run_cells_impl(const std::vector<CellJob>& jobs, const E
   const bool sampled = !opt.targets.empty();
   FrameOrder order(sh.count, sh.warmup, sampled, !any_temporal(cells, sh), sh.seed);
   describe_sequence_metrics(cells, sh, order.shuffled());
+  std::unique_ptr<MethodMemo> memo = open_method_memo(sh, rcache.get(), cells, sampled);
   FrameOrder::Steps steps;
   steps.frame = do_frame;
   steps.discontinuity = [&] {
@@ -1257,11 +1443,16 @@ std::vector<CellResult> run_cells_impl(const std::vector<CellJob>& jobs, const E
   };
   order.run(steps);
   progress.done();
+  if (memo)  // the cells completed: their computed method entries go to the memo
+    for (auto& c : cells)
+      for (auto& m : c->methods)
+        if (m.rec) memo->store(m.memo_key, *m.rec);
 
   // ---- outputs (atomic; manifest "complete" last) ----
   const int threads = opt.threads > 0 ? opt.threads : int(tbb::info::default_concurrency());
-  const GroupOutputs g{opt,      order,        rcache.get(),      no_cache_dir,
-                       renderer, group_phases, PhaseClock::now(), threads};
+  const GroupOutputs g{opt,       order,        rcache.get(),      no_cache_dir,
+                       renderer,  group_phases, PhaseClock::now(), threads,
+                       memo.get()};
   for (auto& c : cells) results.push_back(write_cell_outputs(*c, sh, g));
   if (stats) {
     stats->frames += order.recorded() + order.warmup();

@@ -38,6 +38,7 @@ ReferenceCache::ReferenceCache(const ReferenceCacheSettings& s, const Scene& sce
     : max_gb_(s.max_gb),
       disk_(s.dir.empty() ? default_cache_dir() : s.dir, "references",
             uint64_t(std::min(s.max_gb * kGiB, 9.0e18))) {
+  disk_.share_cap_with({"methods"});  // the method memo's entries (method_memo.h) count too
   char h[20];
   std::snprintf(h, sizeof h, "%016llx", static_cast<unsigned long long>(scene_content_hash(scene)));
   base_ = Json{{"what", "fovsim shared frame reference v1"},

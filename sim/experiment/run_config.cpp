@@ -160,7 +160,8 @@ const ParamTable<ReferenceCacheSettings>& cache_block_table() {
       ParamTable<B>()
           .boolean("enabled", true, &B::enabled)
           .doc("",
-               "use the cache (every command that renders references has `--no-cache`; the "
+               "use the cache: the shared references and the method memo (every command that "
+               "renders references has `--no-cache`; the "
                "environment `FOVSIM_NO_CACHE=1` turns it off for the commands and the Python "
                "module; library callers leave it off unless they ask: `RunOptions::use_cache`)")
           .text("dir", "", {}, &B::dir)
@@ -173,7 +174,8 @@ const ParamTable<ReferenceCacheSettings>& cache_block_table() {
                "reuse each other's frames")
           .number("max_gb", 20, Range::closed(1e-6, 1e6), &B::max_gb)
           .doc("",
-               "size cap of the cached references; the least recently used entries (by "
+               "size cap of the folder's cached references and method memo entries together; "
+               "the least recently used entries (by "
                "mtime; a read renews it) are removed first. The quickstart writes 5.2 MB per "
                "frame at render.scale 0.25; size grows with render.scale^2 (about 21 MB per "
                "frame at its shipped 0.5)")

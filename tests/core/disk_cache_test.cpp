@@ -183,6 +183,36 @@ TEST(DiskCache, SizeCapEvictsLeastRecentlyUsed) {
   fs::remove_all(d);
 }
 
+// Kinds that share a cap (share_cap_with: the references and the method memo under cache.max_gb)
+// are trimmed together: the least recently used entry of either kind goes first.
+TEST(DiskCache, SharedCapCountsEveryKindNamed) {
+  const std::string d = fresh_dir("shared_cap");
+  const CacheItem it = item_of(25000, 3.f);
+  uint64_t entry = 0;
+  {
+    DiskCache probe(d, "refs", 1 << 30);
+    probe.put("probe", it);
+    entry = fs::file_size(probe.path_of("probe"));
+    fs::remove_all(d);
+  }
+  const uint64_t cap = entry * 2 + entry / 2;  // room for 2 entries of both kinds together
+  DiskCache memo(d, "memo", cap);
+  memo.share_cap_with({"refs"});
+  memo.put("m", it);
+  DiskCache refs(d, "refs", cap);
+  refs.share_cap_with({"memo"});
+  refs.put("a", it);
+  const auto now = fs::file_time_type::clock::now();
+  fs::last_write_time(memo.path_of("m"), now - std::chrono::seconds(20));
+  fs::last_write_time(refs.path_of("a"), now - std::chrono::seconds(10));
+  refs.put("b", it);  // three entries over a cap of two: the memo's older entry goes
+  EXPECT_FALSE(fs::exists(memo.path_of("m")));
+  EXPECT_TRUE(fs::exists(refs.path_of("a")));
+  EXPECT_TRUE(fs::exists(refs.path_of("b")));
+  EXPECT_EQ(refs.stats().evicted, 1);
+  fs::remove_all(d);
+}
+
 TEST(DiskCache, UnwritableFolderIsAWarningNotAnError) {
   const std::string d = fresh_dir("ro");
   fs::create_directories(d);
