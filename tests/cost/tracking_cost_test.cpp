@@ -59,3 +59,26 @@ TEST(TrackingCost, WidenedFramesCostMoreUpToAFullFrame) {
     }
   }
 }
+
+// predict resolves an iso-budget target before reading the columns (Ye et al. 2022 §5.1): the
+// shaded fraction is the target and the frame is cheaper than the configured one.
+TEST(AnalyticCounters, IsoBudgetTargetIsSolvedBeforeTheColumns) {
+  const GpuProfile g = GpuProfile::load("gtx1080", kModels);
+  const Workload w = Workload::load("kfr_bistro", kModels);
+  Display d = Display::load("htc_vive_pro_eye", kModels);
+  d.width = 360, d.height = 400;  // a quarter per axis: the solver runs over every pixel
+  const double P = double(d.width) * d.height;
+  for (const char* m : {"kfr", "rmfr", "hyperbolic", "linear", "fvrs"}) {
+    const Json iso{{"target_shaded_fraction", 0.1}};
+    const Counters c = analytic_counters(m, iso, w, d, "test");
+    // The solver matches the samples a run shades (kfr: the LP-buffer slots that land on the
+    // screen); predict charges kfr's and rmfr's whole W/sigma x H/sigma buffer, a little more.
+    const double f = c.get(Counter::shaded_samples) / P;
+    EXPECT_GE(f, 0.1 - 0.005) << m;
+    EXPECT_LE(f, 0.1 + 0.02) << m;
+    const double ms = analytic_frame(g, m, iso, w, d).total_ms;
+    // kfr and rmfr shade more than 10% by default (sigma 1.8, 2.6): the target is cheaper.
+    if (std::string(m) == "kfr" || std::string(m) == "rmfr")
+      EXPECT_LT(ms, analytic_frame(g, m, Json::object(), w, d).total_ms) << m;
+  }
+}
