@@ -29,6 +29,12 @@ TEST(TrackingCost, WidenedParametersPerMethod) {
                    1.5);
   EXPECT_DOUBLE_EQ(widened_method_params("flc", Json{{"log_polar", true}}, 4, nullptr)["lp_sigma"],
                    1.0);
+  // rmfr_auto renders through rmfr, which widens its RS-buffer in a run: its own sigma key
+  // widens the same way (its f_x, f_y are not keys).
+  const Json ra = widened_method_params("rmfr_auto", Json{{"f_sum", 0.6}}, 2, nullptr);
+  EXPECT_DOUBLE_EQ(ra["sigma"].get<double>(), 1.3);
+  EXPECT_DOUBLE_EQ(ra["f_sum"].get<double>(), 0.6);
+  EXPECT_FALSE(ra.contains("fx"));
   widened_method_params("twfr", Json::object(), 1.5, &modelled);
   EXPECT_FALSE(modelled);
   // k = 1: the parameters as given.
@@ -46,7 +52,7 @@ TEST(TrackingCost, WidenedFramesCostMoreUpToAFullFrame) {
   const Workload w = Workload::load("kfr_bistro", kModels);
   const Display d = Display::load("htc_vive_pro_eye", kModels);
   const double full = analytic_frame(g, "full", Json::object(), w, d).total_ms;
-  for (const char* m : {"kfr", "rmfr", "hyperbolic", "linear", "fvrs"}) {
+  for (const char* m : {"kfr", "rmfr", "rmfr_auto", "hyperbolic", "linear", "fvrs"}) {
     const double valid = analytic_frame(g, m, Json::object(), w, d).total_ms;
     double prev = valid;
     for (double k : {1.25, 1.5, 2.0}) {
@@ -80,5 +86,9 @@ TEST(AnalyticCounters, IsoBudgetTargetIsSolvedBeforeTheColumns) {
     // kfr and rmfr shade more than 10% by default (sigma 1.8, 2.6): the target is cheaper.
     if (std::string(m) == "kfr" || std::string(m) == "rmfr")
       EXPECT_LT(ms, analytic_frame(g, m, Json::object(), w, d).total_ms) << m;
+    // Under tracking loss a run widens the resolved geometry: the lost frame costs more.
+    const Json lost = widened_method_params(m, iso, 1.5, nullptr, &d);
+    EXPECT_FALSE(lost.contains("target_shaded_fraction")) << m;
+    EXPECT_GT(analytic_frame(g, m, lost, w, d).total_ms, ms) << m;
   }
 }
