@@ -52,6 +52,20 @@ double column(const std::vector<std::pair<std::string, double>>& cols, const std
   return def;
 }
 
+// The method's columns, with an iso-budget target's free parameter as solved (`resolved`), and
+// its lighting strategy's (flc: vpl_budget).
+std::vector<std::pair<std::string, double>> method_columns(
+    const FoveationMethod& inst, const std::optional<MappingSpec>& resolved) {
+  std::vector<std::pair<std::string, double>> cols = inst.param_columns();
+  if (resolved && inst.mapping_spec()->target_shaded_fraction() > 0)
+    for (auto& [k, v] : resolved->columns())
+      for (auto& c : cols)
+        if (c.first == k) c.second = v;
+  if (inst.lighting())
+    for (auto& c : inst.lighting()->param_columns()) cols.push_back(c);
+  return cols;
+}
+
 }  // namespace
 
 // The iso-budget as a run resolves it (analytic.h).
@@ -90,13 +104,7 @@ Counters analytic_counters(const std::string& method, const Json& params, const 
       inst->mapping_spec()
           ? std::optional<MappingSpec>(resolved_mapping_spec(*inst->mapping_spec(), d))
           : std::nullopt;
-  std::vector<std::pair<std::string, double>> cols = inst->param_columns();
-  if (resolved && inst->mapping_spec()->target_shaded_fraction() > 0)
-    for (auto& [k, v] : resolved->columns())
-      for (auto& c : cols)
-        if (c.first == k) c.second = v;
-  if (inst->lighting())  // the lighting strategy's columns (flc: vpl_budget)
-    for (auto& c : inst->lighting()->param_columns()) cols.push_back(c);
+  const std::vector<std::pair<std::string, double>> cols = method_columns(*inst, resolved);
   // kfr/rmfr-style buffers (a whole (W/sigma) x (H/sigma) buffer is shaded) vs baselines whose
   // shaded samples follow their layers / probability: the method's SamplingGeometry says.
   const bool whole_buffer = resolved && resolved->geometry().shades_whole_buffer();
