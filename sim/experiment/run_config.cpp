@@ -236,7 +236,7 @@ std::string config_keys_markdown() {
       if (ch == '/') ch = '.';
     md += section("`trace.synthetic.params` eye model" +
                       (path.empty() ? std::string(" (top level)") : ": `" + path + "`"),
-                  sec.table.markdown(false));
+                  sec.table.markdown());
   }
   md += section("`scene` (models/scenes/README.md)", scene_table().markdown(false));
   md += section("`scene.vpl` (scenes with indirect light)", vpl_table().markdown());

@@ -12,9 +12,11 @@ namespace {
 
 // One ParamTable<EyeModel> per section of the eye-model file ("" = the top level), bound to
 // the members of EyeModel; the defaults are EyeModel's member initialisers (synth.h).
-#define FOVSIM_EYE(key, member, range) \
-  number(                              \
-      key, kEyeDefaults.member, range, [](auto& m) -> auto& { return m.member; })
+// `src` (declared in each section's block) cites where the section's values come from.
+#define FOVSIM_EYE(key, member, range)                                            \
+  number(                                                                         \
+      key, kEyeDefaults.member, range, [](auto& m) -> auto& { return m.member; }) \
+      .doc(src, "")
 const EyeModel kEyeDefaults{};
 
 // Long because: it is the declaration, one row per key of the eye-model file.
@@ -22,12 +24,14 @@ std::vector<EyeModelSection> make_tables() {
   std::vector<EyeModelSection> v;
 
   {
+    const char* src = "ours (simulation step)";
     ParamTable<EyeModel> t;
     t.documented("comment", "any", "", "", "", "ignored")
         .FOVSIM_EYE("internal_rate_hz", internal_rate_hz, Range::closed(100, 10000));
     v.push_back({"", std::move(t)});
   }
   {
+    const char* src = "Rayner 1998; Henderson & Hollingworth 1998";
     ParamTable<EyeModel> t;
     t.documented("comment", "any", "", "", "", "ignored")
         .FOVSIM_EYE("mean_ms", fix_mean_ms, Range::closed(20, 10000))
@@ -40,6 +44,7 @@ std::vector<EyeModelSection> make_tables() {
     v.push_back({"fixation", std::move(t)});
   }
   {
+    const char* src = "Carpenter 1988 (main sequence); Baloh et al. 1975; Bahill et al. 1975";
     ParamTable<EyeModel> t;
     t.documented("comment", "any", "", "", "", "ignored")
         .FOVSIM_EYE("intercept_ms", sac_intercept_ms, Range::closed(1, 200))
@@ -58,6 +63,7 @@ std::vector<EyeModelSection> make_tables() {
     v.push_back({"saccade", std::move(t)});
   }
   {
+    const char* src = "Leigh & Zee (VOR gain); ours (range)";
     ParamTable<EyeModel> t;
     t.documented("comment", "any", "", "", "", "ignored")
         .FOVSIM_EYE("range_deg", eye_range_deg, Range::closed(1, 90))
@@ -66,6 +72,7 @@ std::vector<EyeModelSection> make_tables() {
     v.push_back({"eye", std::move(t)});
   }
   {
+    const char* src = "Freedman & Sparks 1997; Stahl 1999";
     ParamTable<EyeModel> t;
     t.documented("comment", "any", "", "", "", "ignored")
         .FOVSIM_EYE("eye_only_range_deg", head_eye_only_range_deg, Range::closed(0, 180))
@@ -76,6 +83,7 @@ std::vector<EyeModelSection> make_tables() {
     v.push_back({"head", std::move(t)});
   }
   {
+    const char* src = "Lisberger et al. 1987; de Brouwer et al. 2002";
     ParamTable<EyeModel> t;
     t.documented("comment", "any", "", "", "", "ignored")
         .FOVSIM_EYE("gain", pursuit_gain, Range::closed(0, 1.5))
@@ -84,6 +92,7 @@ std::vector<EyeModelSection> make_tables() {
     v.push_back({"pursuit", std::move(t)});
   }
   {
+    const char* src = "Bentivoglio et al. 1997";
     ParamTable<EyeModel> t;
     t.documented("comment", "any", "", "", "", "ignored")
         .FOVSIM_EYE("rate_per_min", blink_rate_per_min, Range::closed(0, 120))
@@ -96,15 +105,18 @@ std::vector<EyeModelSection> make_tables() {
     v.push_back({"blink", std::move(t)});
   }
   {
+    const char* src = "ours (Pico Neo 3 Pro recording); Stein et al. 2021 (latency)";
     ParamTable<EyeModel> t;
     t.documented("comment", "any", "", "", "", "ignored")
         .FOVSIM_EYE("noise_deg", noise_deg, Range::closed(0, 10))
         .integer(
             "latency_samples", kEyeDefaults.latency_samples, Range::closed(0, 1000),
-            [](auto& m) -> auto& { return m.latency_samples; });
+            [](auto& m) -> auto& { return m.latency_samples; })
+        .doc(src, "");
     v.push_back({"tracker", std::move(t)});
   }
   {
+    const char* src = "ours";
     ParamTable<EyeModel> t;
     t.documented("comment", "any", "", "", "", "ignored")
         .FOVSIM_EYE("radius_deg", fixate.radius_deg, Range::above(0, 20))
@@ -114,6 +126,7 @@ std::vector<EyeModelSection> make_tables() {
     v.push_back({"scenarios/fixate", std::move(t)});
   }
   {
+    const char* src = "ours";
     ParamTable<EyeModel> t;
     t.documented("comment", "any", "", "", "", "ignored")
         .FOVSIM_EYE("roi_h_deg", free_viewing.roi_h_deg, Range::above(0, 360))
@@ -122,6 +135,7 @@ std::vector<EyeModelSection> make_tables() {
     v.push_back({"scenarios/free-viewing", std::move(t)});
   }
   {
+    const char* src = "Rayner 1998";
     ParamTable<EyeModel> t;
     t.documented("comment", "any", "", "", "", "ignored")
         .FOVSIM_EYE("line_width_deg", reading.line_width_deg, Range::above(0, 80))
@@ -137,6 +151,7 @@ std::vector<EyeModelSection> make_tables() {
     v.push_back({"scenarios/reading", std::move(t)});
   }
   {
+    const char* src = "ours";
     ParamTable<EyeModel> t;
     t.documented("comment", "any", "", "", "", "ignored")
         .FOVSIM_EYE("speed_min_deg_s", pursuit.speed_min_deg_s, Range::above(0, 200))
@@ -150,6 +165,7 @@ std::vector<EyeModelSection> make_tables() {
     v.push_back({"scenarios/pursuit", std::move(t)});
   }
   {
+    const char* src = "Hirasaki et al. 1999";
     ParamTable<EyeModel> t;
     t.documented("comment", "any", "", "", "", "ignored")
         .FOVSIM_EYE("speed_m_s", walk.speed_m_s, Range::closed(0, 10))
@@ -167,6 +183,7 @@ std::vector<EyeModelSection> make_tables() {
     v.push_back({"scenarios/walk-through", std::move(t)});
   }
   {
+    const char* src = "ours";
     ParamTable<EyeModel> t;
     t.documented("comment", "any", "", "", "", "ignored")
         .FOVSIM_EYE("amplitude_deg", sweep.amplitude_deg, Range::above(0, 90))
