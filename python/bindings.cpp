@@ -127,13 +127,14 @@ py::dict sweep_py(const std::string& config, const std::vector<std::string>& ove
 // optimiser is told the objective it reads from them. Point n is written to <out>/eval_<n>.
 class Evaluator {
  public:
+  // threads, models, watchdog, cache, targets: fovsim.run's run options (run_control).
   Evaluator(std::string config, std::vector<std::string> overrides, std::string out, int threads,
-            std::string models)
+            const std::string& models, double watchdog, bool cache,
+            const std::vector<std::string>& targets)
       : config_(std::move(config)),
         base_(std::move(overrides)),
         out_(std::move(out)),
-        threads_(threads),
-        models_(std::move(models)) {
+        control_(run_control(threads, models, watchdog, cache, targets)) {
     if (out_.empty()) throw Error("Evaluator(out=...)", "an output folder is required");
     load_config(config_, base_);  // fail early on a bad config or override
   }
@@ -147,7 +148,7 @@ class Evaluator {
       RunOut r;
       {
         py::gil_scoped_release nogil;
-        r = run_one(config_, ov, dir, run_control(threads_, models_, 60.0, false, {}));
+        r = run_one(config_, ov, dir, control_);
       }
       res.append(rows_to_list(r.summary));
     }
@@ -159,8 +160,7 @@ class Evaluator {
   std::string config_;
   std::vector<std::string> base_;
   std::string out_;
-  int threads_;
-  std::string models_;
+  RunControl control_;
   int count_ = 0;
 };
 
@@ -435,9 +435,12 @@ PYBIND11_MODULE(_fovsim, m) {
       .def_property_readonly("told", &AskTell::told)
       .def_property_readonly("step", &AskTell::step);
   py::class_<Evaluator>(m, "Evaluator")
-      .def(py::init<std::string, std::vector<std::string>, std::string, int, std::string>(),
+      .def(py::init<std::string, std::vector<std::string>, std::string, int, const std::string&,
+                    double, bool, const std::vector<std::string>&>(),
            py::arg("config"), py::arg("overrides") = std::vector<std::string>{},
-           py::arg("out") = "", py::arg("threads") = 0, py::arg("models") = "")
+           py::arg("out") = "", py::arg("threads") = 0, py::arg("models") = "",
+           py::arg("watchdog") = 60.0, py::arg("cache") = false,
+           py::arg("targets") = std::vector<std::string>{})
       .def("evaluate", &Evaluator::evaluate, py::arg("points"),
            "Evaluates each point (a list of key.path=value overrides); returns one summary (list "
            "of dicts) per point")

@@ -102,8 +102,11 @@ class Evaluator:
         summaries = ev.evaluate(points)
     """
 
-    def __init__(self, config, overrides=None, out="results/evaluator", threads=0, models=""):
-        self._ev = _module().Evaluator(os.fspath(config), overrides_list(overrides), os.fspath(out), threads, models)
+    def __init__(self, config, overrides=None, out="results/evaluator", threads=0, models="", watchdog=60.0,
+                 cache=False, targets=None):
+        """The run options are run()'s (RunControl in the C++): threads, models, watchdog, cache, targets."""
+        self._ev = _module().Evaluator(os.fspath(config), overrides_list(overrides), os.fspath(out), threads, models,
+                                       float(watchdog), bool(cache), list(targets or []))
 
     def evaluate(self, points):
         return self._ev.evaluate([overrides_list(p) for p in points])
@@ -160,11 +163,13 @@ class AskTell:
     `space` etc. take the JSON of a config's `sweep.search` block (docs/sweeps.md) and are
     validated like it; with none given the config's own `sweep.search` is used (its sweep axes
     are not expanded: pick a context with overrides). `evaluate(x)` runs the config with the
-    point's overrides (like Evaluator, into <out>/eval_<n>/) and returns its summary rows; a
+    point's overrides (like Evaluator, into <out>/eval_<n>/, with the run options of run():
+    threads, models, watchdog, cache, targets) and returns its summary rows; a
     result from anywhere else can be told as a score instead."""
 
     def __init__(self, config, space=None, maximize=None, minimize=None, subject_to=None, label=None,
-                 batch=None, seed=None, overrides=None, out="results/asktell", threads=0, models=""):
+                 batch=None, seed=None, overrides=None, out="results/asktell", threads=0, models="", watchdog=60.0,
+                 cache=False, targets=None):
         search = {}
         if space is not None:
             search["space"] = space
@@ -182,7 +187,7 @@ class AskTell:
         self.spec = self._at.spec
         self._paths = [d["path"] for d in self.spec["space"]]
         self._out = os.fspath(out)
-        self._threads, self._models = threads, models
+        self._run = dict(threads=threads, models=models, watchdog=watchdog, cache=cache, targets=targets)
         self._ev = None
         self.history = []  # [(x dict, score, violation)] in tell order
 
@@ -205,7 +210,7 @@ class AskTell:
     def evaluate(self, x):
         """Runs the config with the point's overrides; returns its summary rows (list of dicts)."""
         if self._ev is None:
-            self._ev = Evaluator(self._config, self._overrides, self._out, self._threads, self._models)
+            self._ev = Evaluator(self._config, self._overrides, self._out, **self._run)
         return self._ev.evaluate([x])[0]
 
     def tell(self, x, result=None, score=None, violation=0.0):

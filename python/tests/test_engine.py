@@ -106,6 +106,13 @@ class EngineTest(unittest.TestCase):
         self.assertEqual([r[0]["sigma"] for r in res], [1.5, 2.5])
         # A larger sigma compresses the periphery more: fewer shaded samples (KFR, Meng et al. 2018).
         self.assertGreater(res[0][0]["shaded_fraction"], res[1][0]["shaded_fraction"])
+        # The run options are run()'s, checked the same way (RunControl).
+        with self.assertRaises(fovsim.FovsimError) as cm:
+            fovsim.Evaluator(self.cfg, out=os.path.join(self.d, "ev2"), watchdog=-1)
+        self.assertIn("watchdog: value -1 is out of range [0, 1e+09]", str(cm.exception))
+        with self.assertRaises(fovsim.FovsimError) as cm:
+            fovsim.Evaluator(self.cfg, out=os.path.join(self.d, "ev3"), targets=["nope"])
+        self.assertIn("--target nope", str(cm.exception))
 
     def test_sweep(self):
         cfg = dict(CONFIG, name="py_sweep_test", methods=[{"method": "kfr"}],

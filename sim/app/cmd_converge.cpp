@@ -3,19 +3,17 @@
 #include <memory>
 
 #include "sim/app/commands.h"
-#include "sim/core/disk_cache.h"
 #include "sim/experiment/convergence.h"
 
 namespace fovsim::app {
 
 void register_converge(CLI::App& app, Action& action) {
   struct Args {
-    std::string config, out = "results/convergence", models;
+    std::string config, out = "results/convergence";
     std::vector<std::string> overrides;
     std::vector<int> spps{1, 4, 16, 64};
-    int threads = 0;
+    RunFlags run;  // -j, --models, --no-cache, --watchdog (shared with run, sweep, Python)
     double tol_jod = 0.05;
-    bool no_cache = false;
   };
   auto a = std::make_shared<Args>();
   CLI::App* c = app.add_subcommand(
@@ -27,24 +25,19 @@ void register_converge(CLI::App& app, Action& action) {
   c->add_option("overrides", a->overrides, "Overrides key.path=value applied to every level");
   c->add_option("--spp", a->spps, "Increasing perfect squares (default 1,4,16,64)")->delimiter(',');
   c->add_option("-o,--out", a->out, "Output directory (default results/convergence)");
-  c->add_option("-j,--threads", a->threads, "Worker threads (default: all cores)")
-      ->check(CLI::Range(0, 4096));
-  c->add_option("--models", a->models, "Models directory");
+  add_run_flags(c, a->run);  // no --target: the spp levels are fixed
+  c->add_option("--models", a->run.models,
+                "Models directory (default: $FOVSIM_MODELS, ./models, or the source tree's)");
   c->add_option("--tol-jod", a->tol_jod,
                 "FovVideoVDP tolerance in JOD between levels (default 0.05)")
       ->check(CLI::Range(1e-6, 10.0));
-  c->add_flag("--no-cache", a->no_cache,
-              "Do not read or write the reference cache (cache.dir, default "
-              "~/.cache/fovsim; configs/README.md \"cache\"); FOVSIM_NO_CACHE=1 does the same");
   c->callback([a, &action]() {
     action = [a]() {
       ConvergenceOptions o;
       o.spps = a->spps;
       o.out_dir = a->out;
-      o.models_dir = a->models;
-      o.threads = a->threads;
+      static_cast<RunControl&>(o) = a->run.control();
       o.tol_jod = a->tol_jod;
-      o.use_cache = !a->no_cache && !cache_disabled_by_env();
       ConvergenceResult r = run_convergence(a->config, a->overrides, o);
       std::printf("%s", r.markdown().c_str());
       std::printf("written: %s/convergence.md, convergence.csv\n", a->out.c_str());

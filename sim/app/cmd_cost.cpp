@@ -371,7 +371,7 @@ int do_predict(const PredictArgs& a) {
         if (lm.name == "full" && m.name != "full") lm.params = Json::object();
         bool modelled = true;
         if (policy == OnInvalid::Widen)
-          lm.params = widened_method_params(lm.name, lm.params, a.widen_k, &modelled);
+          lm.params = widened_method_params(lm.name, lm.params, a.widen_k, &modelled, &res.display);
         const double lost = modelled ? cost_for(g, lm, res).total_ms : double(NAN);
         const double expect = expected_ms_with_loss(fc.total_ms, lost, a.tracking_loss);
         j["tracking_loss"] = {{"fraction", a.tracking_loss},

@@ -4,7 +4,6 @@
 #include <memory>
 
 #include "sim/app/commands.h"
-#include "sim/core/disk_cache.h"
 #include "sim/experiment/fidelity.h"
 #include "sim/experiment/plots.h"
 
@@ -12,12 +11,11 @@ namespace fovsim::app {
 
 namespace {
 struct FidelityArgs {
-  std::string config, out, models;
+  std::string config, out;
   std::vector<std::string> overrides;
   std::string rungs = kDefaultRungs, top = kDefaultTop;
-  int threads = 0;
-  bool quiet = false, no_plots = false, no_cache = false;
-  double watchdog_s = 60;
+  RunFlags run;  // -j, --models, --no-cache, --watchdog (shared with run, sweep, Python)
+  bool quiet = false, no_plots = false;
 };
 }  // namespace
 
@@ -31,8 +29,7 @@ void register_fidelity(CLI::App& app, Action& action) {
   c->add_option("overrides", a->overrides,
                 "Overrides key.path=value applied to the config before the ladder");
   c->add_option("-o,--out", a->out, "Output directory (default: results/<name>_fidelity)");
-  c->add_option("-j,--threads", a->threads, "Worker threads (default: all cores)")
-      ->check(CLI::Range(0, 4096));
+  add_run_flags(c, a->run);  // no --target: the ladder's rungs are fixed
   c->add_option("--rungs", a->rungs,
                 std::string("Rungs separated by ';': analytic, or overrides separated by ',' "
                             "(scale=X, stride=N, spp=N, key.path=value); default \"") +
@@ -40,15 +37,10 @@ void register_fidelity(CLI::App& app, Action& action) {
   c->add_option("--top", a->top,
                 std::string("The top rung, the truth (same syntax, one rung); default \"") +
                     kDefaultTop + "\"");
-  c->add_option("--models", a->models,
+  c->add_option("--models", a->run.models,
                 "Models directory (default: $FOVSIM_MODELS, ./models, or the source tree's)");
   c->add_flag("-q,--quiet", a->quiet, "Print only the table");
   c->add_flag("--no-plots", a->no_plots, "Do not run viz/plot_fidelity.py");
-  c->add_flag("--no-cache", a->no_cache,
-              "Do not read or write the reference cache (cache.dir, default "
-              "~/.cache/fovsim; configs/README.md \"cache\"); FOVSIM_NO_CACHE=1 does the same");
-  c->add_option("--watchdog", a->watchdog_s, "Per-frame watchdog seconds (as in fovsim run)")
-      ->check(finite_in(0.0, 1e9));
   c->callback([a, &action]() {
     action = [a]() {
       // Rungs are checked before the config is even loaded: a typo fails in one line, at once.
@@ -56,13 +48,10 @@ void register_fidelity(CLI::App& app, Action& action) {
       LoadedConfig cfg = load_config(a->config, a->overrides);
       FidelityOptions opt;
       opt.out_dir = a->out;
-      opt.models_dir = a->models;
-      opt.threads = a->threads;
+      static_cast<RunControl&>(opt) = a->run.control();
       opt.rungs = a->rungs;
       opt.top = a->top;
-      opt.watchdog_s = a->watchdog_s;
       opt.progress = !a->quiet;
-      opt.use_cache = !a->no_cache && !cache_disabled_by_env();
       opt.command_line = "fovsim fidelity " + a->config;
       for (auto& o : a->overrides) opt.command_line += " " + o;
       opt.command_line += " --rungs '" + a->rungs + "' --top '" + a->top + "'";

@@ -82,9 +82,10 @@ void register_converge(CLI::App& app, Action& action);
 // fovsim fidelity CONFIG (docs/fidelity.md)
 void register_fidelity(CLI::App& app, Action& action);
 
-// The run options `run` and `sweep` share (RunControl, sim/experiment/run_options.h; the
-// Python bindings take the same): -j/--threads, --no-cache, --watchdog, --target. --models is
-// declared with each command's other common options. `target_help` says what --target stops.
+// The run options every command that runs configs shares (RunControl,
+// sim/experiment/run_options.h; the Python bindings take the same): -j/--threads, --no-cache,
+// --watchdog and, where frames can stop early (`run`, `sweep`, `search`), --target. --models
+// is declared with each command's other common options and binds RunFlags::models.
 struct RunFlags {
   std::string models;
   int threads = 0;
@@ -102,7 +103,9 @@ struct RunFlags {
     return c;
   }
 };
-inline void add_run_flags(CLI::App* c, RunFlags& f, const std::string& target_help) {
+// -j/--threads, --no-cache, --watchdog: commands with no --target (`fidelity` runs a fixed
+// ladder, `converge` fixed spp levels).
+inline void add_run_flags(CLI::App* c, RunFlags& f) {
   const Range th = RunControl::threads_range(), wd = RunControl::watchdog_range();
   c->add_option("-j,--threads", f.threads,
                 "Worker threads (default: all cores); results are identical at any count")
@@ -116,6 +119,10 @@ inline void add_run_flags(CLI::App* c, RunFlags& f, const std::string& target_he
                 "max(SECONDS, 50x the median of its previous frames) (its first frame: 10x "
                 "SECONDS); 0 disables")
       ->check(finite_in(wd.lo, wd.hi));
+}
+// The same and --target; `target_help` says what --target stops.
+inline void add_run_flags(CLI::App* c, RunFlags& f, const std::string& target_help) {
+  add_run_flags(c, f);
   c->add_option("--target", f.targets, target_help)
       ->expected(1)  // one spec per --target, so overrides after it stay overrides
       ->allow_extra_args(false)

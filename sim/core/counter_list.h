@@ -121,6 +121,21 @@ inline bool counter_indexed(Counter c) {
   return c == Counter::holes_mip;
 }
 
+// The counters the row builders write themselves rather than copy from the method's counters
+// (frames.csv / the analytic summary): shaded_samples (scaled to the display, with
+// shaded_fraction beside it), prims_submitted (default: the scene's triangles) and prims_culled
+// (default 0).
+inline bool reported_by_row_builder(Counter c) {
+  return c == Counter::shaded_samples || c == Counter::prims_submitted ||
+         c == Counter::prims_culled;
+}
+// The counters a row holds at the real display's resolution: the row builder's own (above) and
+// every counter that does not scale with pixels (Primitives, Fixed). The other Pixels counters
+// stay at the simulated resolution in frames.csv.
+inline bool at_display_resolution(Counter c) {
+  return reported_by_row_builder(c) || counter_info(c).scale != CounterScale::Pixels;
+}
+
 // The key of a column name ("shaded_samples", "holes_mip3"); nullopt for a name no counter has.
 std::optional<CounterKey> find_counter(std::string_view name);
 

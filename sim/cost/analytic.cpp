@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "sim/core/error.h"
 #include "sim/cost/passes.h"
@@ -51,7 +52,33 @@ double column(const std::vector<std::pair<std::string, double>>& cols, const std
   return def;
 }
 
+// The method's columns, with an iso-budget target's free parameter as solved (`resolved`), and
+// its lighting strategy's (flc: vpl_budget).
+std::vector<std::pair<std::string, double>> method_columns(
+    const FoveationMethod& inst, const std::optional<MappingSpec>& resolved) {
+  std::vector<std::pair<std::string, double>> cols = inst.param_columns();
+  if (resolved && inst.mapping_spec()->target_shaded_fraction() > 0)
+    for (auto& [k, v] : resolved->columns())
+      for (auto& c : cols)
+        if (c.first == k) c.second = v;
+  if (inst.lighting())
+    for (auto& c : inst.lighting()->param_columns()) cols.push_back(c);
+  return cols;
+}
+
 }  // namespace
+
+// The iso-budget as a run resolves it (analytic.h).
+MappingSpec resolved_mapping_spec(const MappingSpec& s, const Display& d) {
+  if (!(s.target_shaded_fraction() > 0) || d.width <= 0 || d.height <= 0) return s;
+  const Camera cam = Camera::from_pose(d, glm::dvec3(0), glm::dquat(1, 0, 0, 0));
+  MappingView v = MappingView::at(cam, glm::dvec2(d.width * 0.5, d.height * 0.5));
+  const std::vector<float> ecc = eccentricity_map(cam, v.gaze_dir);
+  v.ecc = &ecc;
+  MappingSpec r;
+  solve_iso_budget(s, v, s.target_shaded_fraction(), r);
+  return r;
+}
 
 Counters analytic_counters(const std::string& method, const Json& params, const Workload& w,
                            const Display& d, const std::string& where, bool indirect,
@@ -72,13 +99,15 @@ Counters analytic_counters(const std::string& method, const Json& params, const 
   const CostPasses decl = declared_passes(*inst);  // family, strategy passes, shared work
   const CostFamily fam = decl.family;
   if (passes) *passes = decl;
-  std::vector<std::pair<std::string, double>> cols = inst->param_columns();
-  if (inst->lighting())  // the lighting strategy's columns (flc: vpl_budget)
-    for (auto& c : inst->lighting()->param_columns()) cols.push_back(c);
+  // An iso-budget target is solved before the columns are read (sigma, radius_scale, ...).
+  const std::optional<MappingSpec> resolved =
+      inst->mapping_spec()
+          ? std::optional<MappingSpec>(resolved_mapping_spec(*inst->mapping_spec(), d))
+          : std::nullopt;
+  const std::vector<std::pair<std::string, double>> cols = method_columns(*inst, resolved);
   // kfr/rmfr-style buffers (a whole (W/sigma) x (H/sigma) buffer is shaded) vs baselines whose
   // shaded samples follow their layers / probability: the method's SamplingGeometry says.
-  const bool whole_buffer =
-      inst->mapping_spec() && inst->mapping_spec()->geometry().shades_whole_buffer();
+  const bool whole_buffer = resolved && resolved->geometry().shades_whole_buffer();
   Params p(extra, where, "");
   const double P = double(std::max(0, d.width)) * double(std::max(0, d.height));
   Counters c;
@@ -94,7 +123,7 @@ Counters analytic_counters(const std::string& method, const Json& params, const 
                  gv = p.number("gaze_v", 0.5, Range::closed(-1, 2));
     double f = shaded_frac_param(-1);
     if (f >= 0 || P <= 0) return f >= 0 ? f : def_if_empty;
-    const MappingSpec* spec = inst->mapping_spec();
+    const MappingSpec* spec = resolved ? &*resolved : nullptr;
     if (!spec) return def_if_empty;
     Camera cam = Camera::from_pose(d, glm::dvec3(0), glm::dquat(1, 0, 0, 0));
     MappingView v = MappingView::at(cam, {gu * d.width, gv * d.height});

@@ -26,6 +26,7 @@
 #include "sim/cost/gpu_profile.h"
 #include "sim/cost/workload.h"
 #include "sim/display/display.h"
+#include "sim/foveation/mapping_spec.h"
 
 namespace fovsim {
 
@@ -36,6 +37,12 @@ namespace fovsim {
 // the selection work its strategy declares (LightingStrategy::declare_passes; the `flc` method
 // always has it). `passes` (optional) receives the passes the method declares, for
 // CostInputs::passes.
+// The spec a run renders with on display d: an iso-budget target (target_shaded_fraction)
+// solved for the geometry's free parameter at the centre gaze, with the frame's eccentricity
+// map, as MappingMethodBase::resolve does (Ye et al. 2022 §5.1); s itself without a target.
+// The result has no target (its free parameter holds the solution).
+MappingSpec resolved_mapping_spec(const MappingSpec& s, const Display& d);
+
 Counters analytic_counters(const std::string& method, const Json& params, const Workload& w,
                            const Display& d, const std::string& where = "params",
                            bool indirect = false, CostPasses* passes = nullptr);

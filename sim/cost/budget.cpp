@@ -81,15 +81,12 @@ std::vector<BudgetChange> fitting_changes(const BudgetQuery& q, double budget_ms
   // Methods that shade a whole (W / sigma) x (H / sigma) buffer with sigma as their free
   // parameter (their SamplingGeometry says so: kfr, rmfr, rmfr_auto) raise sigma from the
   // configured or declared value.
-  const CostFamily fam = cost_family(q.method);
-  const MappingSpec* spec = nullptr;
-  std::unique_ptr<FoveationMethod> inst;
-  if (fam == CostFamily::Mapping) {
-    Params dp(Json::object(), "budget", "");
-    inst = make_method(q.method, dp);
-    spec = inst->mapping_spec();
-  }
-  if (spec && spec->geometry().shades_whole_buffer() &&
+  // The method with its declared defaults: its declared passes (family) and sampling geometry.
+  Params dp(Json::object(), "budget", "");
+  const std::unique_ptr<FoveationMethod> inst = make_method(q.method, dp);
+  const CostFamily fam = declared_passes(*inst).family;
+  const MappingSpec* spec = inst->mapping_spec();
+  if (fam == CostFamily::Mapping && spec && spec->geometry().shades_whole_buffer() &&
       std::string(spec->geometry().free_param().key) == "sigma") {
     const double s0 = q.params.value("sigma", spec->geometry().free_value());
     for (int k = 1; s0 + 0.1 * k <= 4.0 + 1e-9; ++k) {

@@ -3,14 +3,15 @@
 #include <algorithm>
 
 #include "sim/core/error.h"
+#include "sim/cost/analytic.h"
 #include "sim/foveation/factory.h"
 #include "sim/foveation/mapping_spec.h"
 #include "sim/foveation/method.h"
 
 namespace fovsim {
 
-Json widened_method_params(const std::string& method, const Json& params, double k,
-                           bool* modelled) {
+Json widened_method_params(const std::string& method, const Json& params, double k, bool* modelled,
+                           const Display* d) {
   Json p = params.is_object() ? params : Json::object();
   if (modelled) *modelled = method != "twfr";
   if (!(k > 1)) return p;
@@ -23,14 +24,29 @@ Json widened_method_params(const std::string& method, const Json& params, double
     return p;
   }
   // A mapping method widens its own keys (its SamplingGeometry, read from the same keys with
-  // its defaults). A method whose geometry is another's (rmfr_auto renders through rmfr) has
-  // keys of its own that the geometry cannot write: left as given. Invalid keys are left to
-  // the analytic parse that follows, which reports them at their location.
+  // its defaults). A method whose geometry is another's (rmfr_auto renders through rmfr, which
+  // widens in a run) takes the widened keys it declares itself (rmfr_auto: sigma; its f_x, f_y
+  // are chosen per frame and do not change the RS-buffer's shaded samples). Invalid keys are
+  // left to the analytic parse that follows, which reports them at their location.
   try {
     Params mp(p, "widen", "");
     const std::unique_ptr<FoveationMethod> inst = make_method(method, mp);
-    const MappingSpec* spec = inst->mapping_spec();
-    if (spec && spec->method() == method) spec->geometry().widen_keys(k, p);
+    if (!inst->mapping_spec()) return p;
+    // An iso-budget target on display d: a run widens the resolved geometry, so the widened
+    // keys are the solution's and the target is dropped (else predict would solve it again).
+    const bool target = d && inst->mapping_spec()->target_shaded_fraction() > 0;
+    const MappingSpec spec =
+        target ? resolved_mapping_spec(*inst->mapping_spec(), *d) : *inst->mapping_spec();
+    if (target) p.erase("target_shaded_fraction");
+    if (spec.method() == method) {
+      spec.geometry().widen_keys(k, p);
+    } else {
+      Json w = Json::object();
+      spec.geometry().widen_keys(k, w);
+      const MethodEntry* e = find_method(method);
+      for (const ParamInfo& pi : e->params())
+        if (w.contains(pi.name)) p[pi.name] = w[pi.name];
+    }
   } catch (const Error&) {
   }
   return p;

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "sim/core/params.h"
+#include "sim/display/display.h"
 #include "sim/trace/tracking.h"
 
 namespace fovsim {
@@ -17,8 +18,12 @@ namespace fovsim {
 // (their eccentricity thresholds); flc with log_polar lp_sigma' = max(1, lp_sigma / k) (its foveal
 // region does not change its analytic cost: the VPL budget is a count). `modelled` is false
 // for methods whose widened cost the analytic counters cannot state (twfr: its redraw
-// fraction is measured, not derived from phi_f); `full` is unchanged.
-Json widened_method_params(const std::string& method, const Json& params, double k, bool* modelled);
+// fraction is measured, not derived from phi_f); `full` is unchanged. rmfr_auto (which renders
+// through rmfr) widens its own sigma key as rmfr does. With display d, an iso-budget target
+// (target_shaded_fraction) is solved first and replaced by the widened solution, as a run
+// widens the resolved geometry; without d the target stays and is solved unwidened.
+Json widened_method_params(const std::string& method, const Json& params, double k, bool* modelled,
+                           const Display* d = nullptr);
 
 // The method a lost frame is costed as under `p` ("full" for OnInvalid::Full, else `method`),
 // and the expected frame time (1 - fraction) valid_ms + fraction lost_ms.

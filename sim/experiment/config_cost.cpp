@@ -134,8 +134,7 @@ ResultTable analytic_summary(const LoadedConfig& cfg, const std::string& models_
       r.set("prims_submitted", c.get(Counter::prims_submitted, double(f.triangles)));
       r.set("prims_culled", c.get(Counter::prims_culled, 0.0));
       for (auto& [cn, cv] : c.items())
-        if (cn != "shaded_samples" && cn != "prims_submitted" && cn != "prims_culled")
-          r.set(cn, cv);
+        if (const auto k = find_counter(cn); !k || !reported_by_row_builder(k->id)) r.set(cn, cv);
       r.set("est_ms_total", fc.total_ms);
       r.set("est_ms_total_p95", fc.total_ms);
       for (auto& pc : fc.passes) r.set("est_ms_" + pc.pass, pc.ms);

@@ -158,10 +158,9 @@ ConvergenceResult run_convergence(const std::string& config,
     LoadedConfig cfg = load_config(config, ov);
     RunOptions ro;
     ro.out_dir = (std::filesystem::path(opt.out_dir) / ("spp_" + std::to_string(spp))).string();
-    ro.models_dir = opt.models_dir;
-    ro.threads = opt.threads;
+    static_cast<RunControl&>(ro) = opt;
+    ro.targets.clear();
     ro.print_summary = false;
-    ro.use_cache = opt.use_cache;
     ro.command_line = "fovsim converge " + config;
     const auto t0 = std::chrono::steady_clock::now();
     RunResult rr = run_experiment(cfg, ro);

@@ -6,17 +6,18 @@
 #include <string>
 #include <vector>
 
+#include "sim/experiment/run_options.h"
+
 namespace fovsim {
 
-struct ConvergenceOptions {
+// models_dir, threads, watchdog_s, use_cache: the run options of every level (RunControl;
+// targets unused: every level runs all its frames).
+struct ConvergenceOptions : RunControl {
   std::vector<int> spps{1, 4, 16, 64};  // increasing perfect squares
   std::string out_dir;                  // per-level runs in <out>/spp_<n>/, tables at the top
-  std::string models_dir;
-  int threads = 0;
-  double tol_db = 0.1;      // PSNR, FPSNR
-  double tol_flip = 0.005;  // FLIP mean
-  double tol_jod = 0.05;    // FovVideoVDP JOD
-  bool use_cache = false;   // the reference cache for every level (sim/experiment/runner.h)
+  double tol_db = 0.1;                  // PSNR, FPSNR
+  double tol_flip = 0.005;              // FLIP mean
+  double tol_jod = 0.05;                // FovVideoVDP JOD
 };
 
 // The metrics of the study: the metric registry's headline metrics (sim/metrics/registry.h) in

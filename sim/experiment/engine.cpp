@@ -834,8 +834,7 @@ struct Cell {
               fo.counters.get(Counter::prims_submitted, double(in.features.triangles)));
       row.set("prims_culled", fo.counters.get(Counter::prims_culled, 0.0));
       for (auto& [cn, cv] : fo.counters.items())
-        if (cn != "shaded_samples" && cn != "prims_submitted" && cn != "prims_culled")
-          row.set(cn, cv);
+        if (const auto k = find_counter(cn); !k || !reported_by_row_builder(k->id)) row.set(cn, cv);
       for (auto& [cn, cv] : shared_counters(ci).items()) row.set(cn, cv);  // the frame's RSMs
       // A counter the cost model needed and the method did not fill (its pass was charged 0 or
       // a fallback) is a flag of the row, never silence (results/README.md).

@@ -11,6 +11,7 @@
 #include "sim/core/params.h"
 #include "sim/experiment/config.h"
 #include "sim/experiment/config_cost.h"
+#include "sim/experiment/run_options.h"
 #include "sim/experiment/table.h"
 
 namespace fovsim {
@@ -44,18 +45,16 @@ std::vector<FidelityRung> parse_rungs(const std::string& rungs, const std::strin
 // True when this build's render settings accept `render.spp`.
 bool render_spp_known();
 
-struct FidelityOptions {
-  std::string out_dir;     // empty -> results/<name>_fidelity
-  std::string models_dir;  // empty -> default_models_dir()
-  int threads = 0;
+// models_dir, threads, watchdog_s, use_cache (RunControl; targets unused: every rung runs its
+// frames). The reference cache (sim/experiment/reference_cache.h) serves every rendered rung:
+// a ladder run twice, or a rung that repeats an earlier run's settings, renders no reference
+// again.
+struct FidelityOptions : RunControl {
+  std::string out_dir;  // empty -> results/<name>_fidelity
   std::string rungs = kDefaultRungs;
   std::string top = kDefaultTop;
   std::string command_line;
-  double watchdog_s = 60;
   bool progress = true;  // one line per rung on stdout
-  // The reference cache (sim/experiment/reference_cache.h) for every rendered rung: a ladder
-  // run twice, or a rung that repeats an earlier run's settings, renders no reference again.
-  bool use_cache = false;
 };
 
 struct FidelityResult {

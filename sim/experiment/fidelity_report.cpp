@@ -6,6 +6,7 @@
 #include <map>
 #include <set>
 
+#include "sim/core/counter_list.h"
 #include "sim/core/files.h"
 #include "sim/core/text.h"
 #include "sim/core/version.h"
@@ -56,17 +57,18 @@ void report_rung(size_t ri, const FidelityRung& r, const RungRun& d, const RungR
   }
   double ratio = top.wall_s > 0 ? d.wall_s / top.wall_s : NAN;
   double cpu_ratio = top.cpu_s > 0 ? d.cpu_s / top.cpu_s : NAN;
-  // Analytic: also every pass estimate and the counters frames.csv holds
-  // at the display's resolution (shaded samples, primitives, VPLs). The other pixel counters
-  // of frames.csv are at the simulated resolution, so they are not compared.
+  // Analytic: also every pass estimate and the counters frames.csv holds at the display's
+  // resolution (declared: at_display_resolution, sim/core/counter_list.h). The other pixel
+  // counters of frames.csv are at the simulated resolution, so they are not compared.
   std::vector<std::string> o_here = outs;
   if (r.analytic) {
     o_here.clear();
-    for (auto& c : d.summary.numeric_columns())
+    for (auto& c : d.summary.numeric_columns()) {
+      const auto k = find_counter(c);
       if (present.count(c) && (std::find(outs.begin(), outs.end(), c) != outs.end() ||
-                               c.rfind("est_ms_", 0) == 0 || c == "shaded_samples" ||
-                               c == "prims_submitted" || c == "prims_culled" || c == "vpls_kept"))
+                               c.rfind("est_ms_", 0) == 0 || (k && at_display_resolution(k->id))))
         o_here.push_back(c);
+    }
   }
   ResultTable cmp = compare_to_truth(r.name, d.summary, top.summary, o_here,
                                      r.analytic ? nullptr : &d.frames, &top.frames);

@@ -9,6 +9,7 @@
 #include "sim/metrics/metrics.h"
 #include "sim/render/renderer.h"
 #include "sim/scene/scene_keys.h"
+#include "sim/trace/synth.h"
 #include "sim/trace/trace_keys.h"
 
 namespace fovsim {
@@ -231,6 +232,14 @@ std::string config_keys_markdown() {
   md += section("`outputs`", outputs_block_table().markdown(false));
   md += section("`trace` (traces/README.md)", trace_block_table().markdown(false));
   md += section("`trace.synthetic`", synth_block_table().markdown(false));
+  for (auto& sec : eye_model_tables()) {  // trace.synthetic.params (models/eyemodel/default.json)
+    std::string path = sec.path;
+    for (char& ch : path)
+      if (ch == '/') ch = '.';
+    md += section("`trace.synthetic.params` eye model" +
+                      (path.empty() ? std::string(" (top level)") : ": `" + path + "`"),
+                  sec.table.markdown());
+  }
   md += section("`scene` (models/scenes/README.md)", scene_table().markdown(false));
   md += section("`scene.vpl` (scenes with indirect light)", vpl_table().markdown());
   md += section("`scene` of `\"type\": \"atrium\"`", atrium_table().markdown(false));

@@ -1,6 +1,8 @@
-// The options every way of running configs shares: `fovsim run` and `fovsim sweep` declare them
-// once (sim/app/commands.h add_run_flags) and Python's fovsim.run / fovsim.sweep take the same
-// ones (python/bindings.cpp); RunOptions (runner.h) and SweepOptions (sweep_runner.h) extend it.
+// The options every way of running configs shares: `fovsim run`, `sweep`, `search`,
+// `fidelity` and `converge` declare them once (sim/app/commands.h add_run_flags) and Python's
+// fovsim.run / sweep / Evaluator / AskTell take the same ones (python/bindings.cpp);
+// RunOptions (runner.h), SweepOptions (sweep_runner.h), FidelityOptions (fidelity.h) and
+// ConvergenceOptions (convergence.h) extend it.
 #pragma once
 #include <string>
 #include <vector>

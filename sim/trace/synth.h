@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "sim/core/param_table.h"
 #include "sim/core/params.h"
 #include "sim/display/display.h"
 #include "sim/trace/trace.h"
@@ -62,6 +63,15 @@ struct EyeModel {
   static EyeModel from_params(Params& p);  // every key optional, defaults as above
   Json to_json() const;                    // same layout as default.json
 };
+
+// The eye-model keys, one table per section of the file ("" = top level, "fixation",
+// "scenarios/reading", ...), bound to EyeModel's members (defaults: its initialisers above);
+// from_params and to_json walk them, configs/README.md lists them (synth_params.cpp).
+struct EyeModelSection {
+  const char* path;
+  ParamTable<EyeModel> table;
+};
+const std::vector<EyeModelSection>& eye_model_tables();
 
 // Scenario names: fixate, free-viewing, reading, pursuit, walk-through, head-sweep.
 const std::vector<std::string>& synth_scenarios();

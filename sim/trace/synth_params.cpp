@@ -1,5 +1,6 @@
-// Eye-model parameter table (models/eyemodel/default.json, traces/README.md): one list of
-// (section, key, range) drives both reading and writing, so file and code cannot drift.
+// Eye-model parameter tables (models/eyemodel/default.json, traces/README.md): one
+// ParamTable<EyeModel> per section drives reading, writing (to_json) and the generated key
+// tables of configs/README.md, so file, code and docs cannot drift.
 #include <filesystem>
 
 #include "sim/core/error.h"
@@ -9,91 +10,190 @@ namespace fovsim {
 
 namespace {
 
-struct Field {
-  const char* section;  // "fixation" or "scenarios/reading"
-  const char* key;
-  double* v;
-  Range r;
-};
+// One ParamTable<EyeModel> per section of the eye-model file ("" = the top level), bound to
+// the members of EyeModel; the defaults are EyeModel's member initialisers (synth.h).
+// `src` (declared in each section's block) cites where the section's values come from.
+#define FOVSIM_EYE(key, member, range)                                            \
+  number(                                                                         \
+      key, kEyeDefaults.member, range, [](auto& m) -> auto& { return m.member; }) \
+      .doc(src, "")
+const EyeModel kEyeDefaults{};
 
-std::vector<Field> fields(EyeModel& m) {
-  const Range pos = Range::above(0), nonneg = Range::at_least(0), unit = Range::closed(0, 1);
-  auto deg = [](double hi) { return Range::closed(0, hi); };
-  return {
-      {"", "internal_rate_hz", &m.internal_rate_hz, Range::closed(100, 10000)},
-      {"fixation", "mean_ms", &m.fix_mean_ms, Range::closed(20, 10000)},
-      {"fixation", "sd_ms", &m.fix_sd_ms, Range::above(0, 10000)},
-      {"fixation", "min_ms", &m.fix_min_ms, Range::closed(0, 10000)},
-      {"fixation", "max_ms", &m.fix_max_ms, Range::closed(20, 60000)},
-      {"saccade", "intercept_ms", &m.sac_intercept_ms, Range::closed(1, 200)},
-      {"saccade", "slope_ms_per_deg", &m.sac_slope_ms_per_deg, Range::closed(0, 20)},
-      {"saccade", "vmax_deg_s", &m.sac_vmax_deg_s, Range::closed(50, 2000)},
-      {"saccade", "c_deg", &m.sac_c_deg, Range::above(0, 100)},
-      {"saccade", "amplitude_mean_deg", &m.amp_mean_deg, Range::above(0, 90)},
-      {"saccade", "amplitude_sd_deg", &m.amp_sd_deg, Range::above(0, 90)},
-      {"saccade", "amplitude_min_deg", &m.amp_min_deg, Range::above(0, 90)},
-      {"saccade", "amplitude_max_deg", &m.amp_max_deg, Range::above(0, 90)},
-      {"saccade", "horizontal_bias", &m.horizontal_bias, unit},
-      {"eye", "range_deg", &m.eye_range_deg, Range::closed(1, 90)},
-      {"eye", "fov_margin_deg", &m.fov_margin_deg, deg(30)},
-      {"eye", "vor_gain", &m.vor_gain, Range::closed(0, 1.5)},
-      {"head", "eye_only_range_deg", &m.head_eye_only_range_deg, Range::closed(0, 180)},
-      {"head", "slope", &m.head_slope, unit},
-      {"head", "latency_ms", &m.head_latency_ms, Range::closed(0, 1000)},
-      {"head", "duration_base_ms", &m.head_dur_base_ms, Range::closed(10, 5000)},
-      {"head", "duration_slope_ms_per_deg", &m.head_dur_slope_ms_per_deg, Range::closed(0, 100)},
-      {"pursuit", "gain", &m.pursuit_gain, Range::closed(0, 1.5)},
-      {"pursuit", "catchup_threshold_deg", &m.pursuit_catchup_deg, Range::above(0, 30)},
-      {"pursuit", "latency_ms", &m.pursuit_latency_ms, Range::closed(0, 2000)},
-      {"blink", "rate_per_min", &m.blink_rate_per_min, Range::closed(0, 120)},
-      {"blink", "mean_ms", &m.blink_mean_ms, Range::above(0, 2000)},
-      {"blink", "min_ms", &m.blink_min_ms, Range::closed(0, 2000)},
-      {"blink", "max_ms", &m.blink_max_ms, Range::above(0, 5000)},
-      {"tracker", "noise_deg", &m.noise_deg, deg(10)},
-      {"scenarios/fixate", "radius_deg", &m.fixate.radius_deg, Range::above(0, 20)},
-      {"scenarios/fixate", "microsaccade_mean_deg", &m.fixate.microsaccade_mean_deg,
-       Range::above(0, 5)},
-      {"scenarios/fixate", "head_sway_deg", &m.fixate.head_sway_deg, deg(30)},
-      {"scenarios/fixate", "head_sway_hz", &m.fixate.head_sway_hz, Range::closed(0, 10)},
-      {"scenarios/free-viewing", "roi_h_deg", &m.free_viewing.roi_h_deg, Range::above(0, 360)},
-      {"scenarios/free-viewing", "roi_v_deg", &m.free_viewing.roi_v_deg, Range::above(0, 180)},
-      {"scenarios/free-viewing", "elevation_deg", &m.free_viewing.elevation_deg,
-       Range::closed(-45, 45)},
-      {"scenarios/reading", "line_width_deg", &m.reading.line_width_deg, Range::above(0, 80)},
-      {"scenarios/reading", "line_spacing_deg", &m.reading.line_spacing_deg, Range::above(0, 10)},
-      {"scenarios/reading", "lines", &m.reading.lines, Range::closed(1, 60)},
-      {"scenarios/reading", "saccade_mean_deg", &m.reading.saccade_mean_deg, Range::above(0, 20)},
-      {"scenarios/reading", "saccade_sd_deg", &m.reading.saccade_sd_deg, Range::above(0, 20)},
-      {"scenarios/reading", "regression_prob", &m.reading.regression_prob, unit},
-      {"scenarios/reading", "fixation_mean_ms", &m.reading.fix_mean_ms, Range::closed(20, 10000)},
-      {"scenarios/reading", "fixation_sd_ms", &m.reading.fix_sd_ms, Range::above(0, 10000)},
-      {"scenarios/reading", "blink_rate_per_min", &m.reading.blink_rate_per_min,
-       Range::closed(0, 120)},
-      {"scenarios/reading", "return_undershoot_deg", &m.reading.return_undershoot_deg, deg(20)},
-      {"scenarios/pursuit", "speed_min_deg_s", &m.pursuit.speed_min_deg_s, Range::above(0, 200)},
-      {"scenarios/pursuit", "speed_max_deg_s", &m.pursuit.speed_max_deg_s, Range::above(0, 200)},
-      {"scenarios/pursuit", "range_h_deg", &m.pursuit.range_h_deg, Range::above(0, 45)},
-      {"scenarios/pursuit", "range_v_deg", &m.pursuit.range_v_deg, Range::above(0, 45)},
-      {"scenarios/walk-through", "speed_m_s", &m.walk.speed_m_s, Range::closed(0, 10)},
-      {"scenarios/walk-through", "eye_height_m", &m.walk.eye_height_m, Range::closed(0, 3)},
-      {"scenarios/walk-through", "step_hz", &m.walk.step_hz, Range::closed(0, 5)},
-      {"scenarios/walk-through", "bob_m", &m.walk.bob_m, Range::closed(0, 0.2)},
-      {"scenarios/walk-through", "sway_m", &m.walk.sway_m, Range::closed(0, 0.2)},
-      {"scenarios/walk-through", "yaw_amplitude_deg", &m.walk.yaw_amp_deg, deg(90)},
-      {"scenarios/walk-through", "yaw_hz", &m.walk.yaw_hz, Range::closed(0, 2)},
-      {"scenarios/walk-through", "pitch_amplitude_deg", &m.walk.pitch_amp_deg, deg(45)},
-      {"scenarios/walk-through", "pitch_hz", &m.walk.pitch_hz, Range::closed(0, 2)},
-      {"scenarios/walk-through", "roi_h_deg", &m.walk.roi_h_deg, Range::above(0, 360)},
-      {"scenarios/walk-through", "roi_v_deg", &m.walk.roi_v_deg, Range::above(0, 180)},
-      {"scenarios/walk-through", "elevation_deg", &m.walk.elevation_deg, Range::closed(-45, 45)},
-      {"scenarios/head-sweep", "amplitude_deg", &m.sweep.amplitude_deg, Range::above(0, 90)},
-      {"scenarios/head-sweep", "peak_speed_deg_s", &m.sweep.peak_speed_deg_s,
-       Range::above(0, 1000)},
-      {"scenarios/head-sweep", "pause_s", &m.sweep.pause_s, Range::closed(0, 10)},
-  };
-  (void)pos;
-  (void)nonneg;
+// Long because: it is the declaration, one row per key of the eye-model file.
+std::vector<EyeModelSection> make_tables() {
+  std::vector<EyeModelSection> v;
+
+  {
+    const char* src = "ours (simulation step)";
+    ParamTable<EyeModel> t;
+    t.documented("comment", "any", "", "", "", "ignored")
+        .FOVSIM_EYE("internal_rate_hz", internal_rate_hz, Range::closed(100, 10000));
+    v.push_back({"", std::move(t)});
+  }
+  {
+    const char* src = "Rayner 1998; Henderson & Hollingworth 1998";
+    ParamTable<EyeModel> t;
+    t.documented("comment", "any", "", "", "", "ignored")
+        .FOVSIM_EYE("mean_ms", fix_mean_ms, Range::closed(20, 10000))
+        .FOVSIM_EYE("sd_ms", fix_sd_ms, Range::above(0, 10000))
+        .FOVSIM_EYE("min_ms", fix_min_ms, Range::closed(0, 10000))
+        .FOVSIM_EYE("max_ms", fix_max_ms, Range::closed(20, 60000))
+        .validate([](const EyeModel& m, Params& p) {
+          if (m.fix_min_ms > m.fix_max_ms) p.fail("min_ms", "must not exceed fixation.max_ms");
+        });
+    v.push_back({"fixation", std::move(t)});
+  }
+  {
+    const char* src = "Carpenter 1988 (main sequence); Baloh et al. 1975; Bahill et al. 1975";
+    ParamTable<EyeModel> t;
+    t.documented("comment", "any", "", "", "", "ignored")
+        .FOVSIM_EYE("intercept_ms", sac_intercept_ms, Range::closed(1, 200))
+        .FOVSIM_EYE("slope_ms_per_deg", sac_slope_ms_per_deg, Range::closed(0, 20))
+        .FOVSIM_EYE("vmax_deg_s", sac_vmax_deg_s, Range::closed(50, 2000))
+        .FOVSIM_EYE("c_deg", sac_c_deg, Range::above(0, 100))
+        .FOVSIM_EYE("amplitude_mean_deg", amp_mean_deg, Range::above(0, 90))
+        .FOVSIM_EYE("amplitude_sd_deg", amp_sd_deg, Range::above(0, 90))
+        .FOVSIM_EYE("amplitude_min_deg", amp_min_deg, Range::above(0, 90))
+        .FOVSIM_EYE("amplitude_max_deg", amp_max_deg, Range::above(0, 90))
+        .FOVSIM_EYE("horizontal_bias", horizontal_bias, Range::closed(0, 1))
+        .validate([](const EyeModel& m, Params& p) {
+          if (m.amp_min_deg > m.amp_max_deg)
+            p.fail("amplitude_min_deg", "must not exceed amplitude_max_deg");
+        });
+    v.push_back({"saccade", std::move(t)});
+  }
+  {
+    const char* src = "Leigh & Zee (VOR gain); ours (range)";
+    ParamTable<EyeModel> t;
+    t.documented("comment", "any", "", "", "", "ignored")
+        .FOVSIM_EYE("range_deg", eye_range_deg, Range::closed(1, 90))
+        .FOVSIM_EYE("fov_margin_deg", fov_margin_deg, Range::closed(0, 30))
+        .FOVSIM_EYE("vor_gain", vor_gain, Range::closed(0, 1.5));
+    v.push_back({"eye", std::move(t)});
+  }
+  {
+    const char* src = "Freedman & Sparks 1997; Stahl 1999";
+    ParamTable<EyeModel> t;
+    t.documented("comment", "any", "", "", "", "ignored")
+        .FOVSIM_EYE("eye_only_range_deg", head_eye_only_range_deg, Range::closed(0, 180))
+        .FOVSIM_EYE("slope", head_slope, Range::closed(0, 1))
+        .FOVSIM_EYE("latency_ms", head_latency_ms, Range::closed(0, 1000))
+        .FOVSIM_EYE("duration_base_ms", head_dur_base_ms, Range::closed(10, 5000))
+        .FOVSIM_EYE("duration_slope_ms_per_deg", head_dur_slope_ms_per_deg, Range::closed(0, 100));
+    v.push_back({"head", std::move(t)});
+  }
+  {
+    const char* src = "Lisberger et al. 1987; de Brouwer et al. 2002";
+    ParamTable<EyeModel> t;
+    t.documented("comment", "any", "", "", "", "ignored")
+        .FOVSIM_EYE("gain", pursuit_gain, Range::closed(0, 1.5))
+        .FOVSIM_EYE("catchup_threshold_deg", pursuit_catchup_deg, Range::above(0, 30))
+        .FOVSIM_EYE("latency_ms", pursuit_latency_ms, Range::closed(0, 2000));
+    v.push_back({"pursuit", std::move(t)});
+  }
+  {
+    const char* src = "Bentivoglio et al. 1997";
+    ParamTable<EyeModel> t;
+    t.documented("comment", "any", "", "", "", "ignored")
+        .FOVSIM_EYE("rate_per_min", blink_rate_per_min, Range::closed(0, 120))
+        .FOVSIM_EYE("mean_ms", blink_mean_ms, Range::above(0, 2000))
+        .FOVSIM_EYE("min_ms", blink_min_ms, Range::closed(0, 2000))
+        .FOVSIM_EYE("max_ms", blink_max_ms, Range::above(0, 5000))
+        .validate([](const EyeModel& m, Params& p) {
+          if (m.blink_min_ms > m.blink_max_ms) p.fail("min_ms", "must not exceed blink.max_ms");
+        });
+    v.push_back({"blink", std::move(t)});
+  }
+  {
+    const char* src = "ours (Pico Neo 3 Pro recording); Stein et al. 2021 (latency)";
+    ParamTable<EyeModel> t;
+    t.documented("comment", "any", "", "", "", "ignored")
+        .FOVSIM_EYE("noise_deg", noise_deg, Range::closed(0, 10))
+        .integer(
+            "latency_samples", kEyeDefaults.latency_samples, Range::closed(0, 1000),
+            [](auto& m) -> auto& { return m.latency_samples; })
+        .doc(src, "");
+    v.push_back({"tracker", std::move(t)});
+  }
+  {
+    const char* src = "ours";
+    ParamTable<EyeModel> t;
+    t.documented("comment", "any", "", "", "", "ignored")
+        .FOVSIM_EYE("radius_deg", fixate.radius_deg, Range::above(0, 20))
+        .FOVSIM_EYE("microsaccade_mean_deg", fixate.microsaccade_mean_deg, Range::above(0, 5))
+        .FOVSIM_EYE("head_sway_deg", fixate.head_sway_deg, Range::closed(0, 30))
+        .FOVSIM_EYE("head_sway_hz", fixate.head_sway_hz, Range::closed(0, 10));
+    v.push_back({"scenarios/fixate", std::move(t)});
+  }
+  {
+    const char* src = "ours";
+    ParamTable<EyeModel> t;
+    t.documented("comment", "any", "", "", "", "ignored")
+        .FOVSIM_EYE("roi_h_deg", free_viewing.roi_h_deg, Range::above(0, 360))
+        .FOVSIM_EYE("roi_v_deg", free_viewing.roi_v_deg, Range::above(0, 180))
+        .FOVSIM_EYE("elevation_deg", free_viewing.elevation_deg, Range::closed(-45, 45));
+    v.push_back({"scenarios/free-viewing", std::move(t)});
+  }
+  {
+    const char* src = "Rayner 1998";
+    ParamTable<EyeModel> t;
+    t.documented("comment", "any", "", "", "", "ignored")
+        .FOVSIM_EYE("line_width_deg", reading.line_width_deg, Range::above(0, 80))
+        .FOVSIM_EYE("line_spacing_deg", reading.line_spacing_deg, Range::above(0, 10))
+        .FOVSIM_EYE("lines", reading.lines, Range::closed(1, 60))
+        .FOVSIM_EYE("saccade_mean_deg", reading.saccade_mean_deg, Range::above(0, 20))
+        .FOVSIM_EYE("saccade_sd_deg", reading.saccade_sd_deg, Range::above(0, 20))
+        .FOVSIM_EYE("regression_prob", reading.regression_prob, Range::closed(0, 1))
+        .FOVSIM_EYE("fixation_mean_ms", reading.fix_mean_ms, Range::closed(20, 10000))
+        .FOVSIM_EYE("fixation_sd_ms", reading.fix_sd_ms, Range::above(0, 10000))
+        .FOVSIM_EYE("blink_rate_per_min", reading.blink_rate_per_min, Range::closed(0, 120))
+        .FOVSIM_EYE("return_undershoot_deg", reading.return_undershoot_deg, Range::closed(0, 20));
+    v.push_back({"scenarios/reading", std::move(t)});
+  }
+  {
+    const char* src = "ours";
+    ParamTable<EyeModel> t;
+    t.documented("comment", "any", "", "", "", "ignored")
+        .FOVSIM_EYE("speed_min_deg_s", pursuit.speed_min_deg_s, Range::above(0, 200))
+        .FOVSIM_EYE("speed_max_deg_s", pursuit.speed_max_deg_s, Range::above(0, 200))
+        .FOVSIM_EYE("range_h_deg", pursuit.range_h_deg, Range::above(0, 45))
+        .FOVSIM_EYE("range_v_deg", pursuit.range_v_deg, Range::above(0, 45))
+        .validate([](const EyeModel& m, Params& p) {
+          if (m.pursuit.speed_min_deg_s > m.pursuit.speed_max_deg_s)
+            p.fail("speed_min_deg_s", "must not exceed speed_max_deg_s");
+        });
+    v.push_back({"scenarios/pursuit", std::move(t)});
+  }
+  {
+    const char* src = "Hirasaki et al. 1999";
+    ParamTable<EyeModel> t;
+    t.documented("comment", "any", "", "", "", "ignored")
+        .FOVSIM_EYE("speed_m_s", walk.speed_m_s, Range::closed(0, 10))
+        .FOVSIM_EYE("eye_height_m", walk.eye_height_m, Range::closed(0, 3))
+        .FOVSIM_EYE("step_hz", walk.step_hz, Range::closed(0, 5))
+        .FOVSIM_EYE("bob_m", walk.bob_m, Range::closed(0, 0.2))
+        .FOVSIM_EYE("sway_m", walk.sway_m, Range::closed(0, 0.2))
+        .FOVSIM_EYE("yaw_amplitude_deg", walk.yaw_amp_deg, Range::closed(0, 90))
+        .FOVSIM_EYE("yaw_hz", walk.yaw_hz, Range::closed(0, 2))
+        .FOVSIM_EYE("pitch_amplitude_deg", walk.pitch_amp_deg, Range::closed(0, 45))
+        .FOVSIM_EYE("pitch_hz", walk.pitch_hz, Range::closed(0, 2))
+        .FOVSIM_EYE("roi_h_deg", walk.roi_h_deg, Range::above(0, 360))
+        .FOVSIM_EYE("roi_v_deg", walk.roi_v_deg, Range::above(0, 180))
+        .FOVSIM_EYE("elevation_deg", walk.elevation_deg, Range::closed(-45, 45));
+    v.push_back({"scenarios/walk-through", std::move(t)});
+  }
+  {
+    const char* src = "ours";
+    ParamTable<EyeModel> t;
+    t.documented("comment", "any", "", "", "", "ignored")
+        .FOVSIM_EYE("amplitude_deg", sweep.amplitude_deg, Range::above(0, 90))
+        .FOVSIM_EYE("peak_speed_deg_s", sweep.peak_speed_deg_s, Range::above(0, 1000))
+        .FOVSIM_EYE("pause_s", sweep.pause_s, Range::closed(0, 10));
+    v.push_back({"scenarios/head-sweep", std::move(t)});
+  }
+  return v;
 }
+#undef FOVSIM_EYE
 
 // Walks "scenarios/reading" to the child Params.
 Params section(Params& root, const std::string& sec, std::vector<Params>& keep) {
@@ -106,41 +206,34 @@ Params section(Params& root, const std::string& sec, std::vector<Params>& keep) 
 
 }  // namespace
 
+const std::vector<EyeModelSection>& eye_model_tables() {
+  static const std::vector<EyeModelSection> v = make_tables();
+  return v;
+}
+
 EyeModel EyeModel::from_params(Params& p) {
   EyeModel m;
   p.ignore("comment");
   if (p.has("sources")) p.raw("sources");  // documentation only
   std::vector<Params> keep;
-  for (auto& f : fields(m)) {
-    Params s = section(p, f.section, keep);
+  for (auto& sec : eye_model_tables()) {
+    Params s = section(p, sec.path, keep);
     s.ignore("comment");
-    *f.v = s.number(f.key, *f.v, f.r);
+    sec.table.read_into(s, m);
   }
-  Params tr = p.child("tracker");
-  m.latency_samples = tr.integer("latency_samples", m.latency_samples, Range::closed(0, 1000));
-  auto check = [&](bool ok, const std::string& sec, const std::string& key,
-                   const std::string& msg) {
-    if (!ok) p.fail(sec + "." + key, msg);
-  };
-  check(m.fix_min_ms <= m.fix_max_ms, "fixation", "min_ms", "must not exceed fixation.max_ms");
-  check(m.amp_min_deg <= m.amp_max_deg, "saccade", "amplitude_min_deg",
-        "must not exceed amplitude_max_deg");
-  check(m.blink_min_ms <= m.blink_max_ms, "blink", "min_ms", "must not exceed blink.max_ms");
-  check(m.pursuit.speed_min_deg_s <= m.pursuit.speed_max_deg_s, "scenarios.pursuit",
-        "speed_min_deg_s", "must not exceed speed_max_deg_s");
   return m;
 }
 
 Json EyeModel::to_json() const {
-  EyeModel m = *this;
   Json j = Json::object();
-  for (auto& f : fields(m)) {
-    Json::json_pointer ptr(std::string(f.section).empty()
-                               ? "/" + std::string(f.key)
-                               : "/" + std::string(f.section) + "/" + f.key);
-    j[ptr] = *f.v;
-  }
-  j["tracker"]["latency_samples"] = latency_samples;
+  for (auto& sec : eye_model_tables())
+    for (auto& row : sec.table.rows()) {
+      if (row.doc_only) continue;
+      Json::json_pointer ptr(std::string(sec.path).empty()
+                                 ? "/" + row.key
+                                 : "/" + std::string(sec.path) + "/" + row.key);
+      j[ptr] = row.get(*this);
+    }
   return j;
 }
 

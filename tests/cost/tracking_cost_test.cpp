@@ -29,6 +29,12 @@ TEST(TrackingCost, WidenedParametersPerMethod) {
                    1.5);
   EXPECT_DOUBLE_EQ(widened_method_params("flc", Json{{"log_polar", true}}, 4, nullptr)["lp_sigma"],
                    1.0);
+  // rmfr_auto renders through rmfr, which widens its RS-buffer in a run: its own sigma key
+  // widens the same way (its f_x, f_y are not keys).
+  const Json ra = widened_method_params("rmfr_auto", Json{{"f_sum", 0.6}}, 2, nullptr);
+  EXPECT_DOUBLE_EQ(ra["sigma"].get<double>(), 1.3);
+  EXPECT_DOUBLE_EQ(ra["f_sum"].get<double>(), 0.6);
+  EXPECT_FALSE(ra.contains("fx"));
   widened_method_params("twfr", Json::object(), 1.5, &modelled);
   EXPECT_FALSE(modelled);
   // k = 1: the parameters as given.
@@ -46,7 +52,7 @@ TEST(TrackingCost, WidenedFramesCostMoreUpToAFullFrame) {
   const Workload w = Workload::load("kfr_bistro", kModels);
   const Display d = Display::load("htc_vive_pro_eye", kModels);
   const double full = analytic_frame(g, "full", Json::object(), w, d).total_ms;
-  for (const char* m : {"kfr", "rmfr", "hyperbolic", "linear", "fvrs"}) {
+  for (const char* m : {"kfr", "rmfr", "rmfr_auto", "hyperbolic", "linear", "fvrs"}) {
     const double valid = analytic_frame(g, m, Json::object(), w, d).total_ms;
     double prev = valid;
     for (double k : {1.25, 1.5, 2.0}) {
@@ -57,5 +63,32 @@ TEST(TrackingCost, WidenedFramesCostMoreUpToAFullFrame) {
       EXPECT_LE(lost, full * 1.05) << m << " k=" << k;
       prev = lost;
     }
+  }
+}
+
+// predict resolves an iso-budget target before reading the columns (Ye et al. 2022 §5.1): the
+// shaded fraction is the target and the frame is cheaper than the configured one.
+TEST(AnalyticCounters, IsoBudgetTargetIsSolvedBeforeTheColumns) {
+  const GpuProfile g = GpuProfile::load("gtx1080", kModels);
+  const Workload w = Workload::load("kfr_bistro", kModels);
+  Display d = Display::load("htc_vive_pro_eye", kModels);
+  d.width = 360, d.height = 400;  // a quarter per axis: the solver runs over every pixel
+  const double P = double(d.width) * d.height;
+  for (const char* m : {"kfr", "rmfr", "hyperbolic", "linear", "fvrs"}) {
+    const Json iso{{"target_shaded_fraction", 0.1}};
+    const Counters c = analytic_counters(m, iso, w, d, "test");
+    // The solver matches the samples a run shades (kfr: the LP-buffer slots that land on the
+    // screen); predict charges kfr's and rmfr's whole W/sigma x H/sigma buffer, a little more.
+    const double f = c.get(Counter::shaded_samples) / P;
+    EXPECT_GE(f, 0.1 - 0.005) << m;
+    EXPECT_LE(f, 0.1 + 0.02) << m;
+    const double ms = analytic_frame(g, m, iso, w, d).total_ms;
+    // kfr and rmfr shade more than 10% by default (sigma 1.8, 2.6): the target is cheaper.
+    if (std::string(m) == "kfr" || std::string(m) == "rmfr")
+      EXPECT_LT(ms, analytic_frame(g, m, Json::object(), w, d).total_ms) << m;
+    // Under tracking loss a run widens the resolved geometry: the lost frame costs more.
+    const Json lost = widened_method_params(m, iso, 1.5, nullptr, &d);
+    EXPECT_FALSE(lost.contains("target_shaded_fraction")) << m;
+    EXPECT_GT(analytic_frame(g, m, lost, w, d).total_ms, ms) << m;
   }
 }

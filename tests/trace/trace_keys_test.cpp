@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include "sim/trace/synth.h"
 #include "tests/common/param_table_check.h"
 
 using namespace fovsim;
@@ -14,6 +15,16 @@ TEST(TraceKeys, EveryTableReadsItsOwnDefaults) {
   SynthBlock s;
   s.duration = 3;  // trace.start + trace.duration, set by load_trace
   table_check::expect_table_reads_own_defaults(synth_block_table(), "trace.synthetic", s);
+}
+
+// The eye model (trace.synthetic.params): one table per section of models/eyemodel/default.json.
+TEST(TraceKeys, EyeModelTablesReadTheirOwnDefaults) {
+  for (auto& sec : eye_model_tables()) {
+    std::string path = std::string("trace.synthetic.params.") + sec.path;
+    for (char& ch : path)
+      if (ch == '/') ch = '.';
+    table_check::expect_table_reads_own_defaults(sec.table, path, EyeModel{});
+  }
 }
 
 TEST(TraceKeys, DefaultsTheCallerSetsAreKept) {
