@@ -36,6 +36,7 @@ import argparse
 import html
 import math
 import os
+import re
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -492,13 +493,15 @@ def plot_passes(run, out):
 
 def plot_eccentricity(run, out):
     """Mean RMSE and LDR-FLIP per eccentricity band and configuration, 95% intervals."""
-    fams = [f for f in ("rmse_ecc_", "flip_ecc_") if any(c.startswith(f) and not c.endswith("_ci95")
-                                                         for c in run.scols)]
+    fams = [f for f in ("rmse_ecc_", "flip_ecc_")
+            if any(re.match(re.escape(f) + r"[0-9p]+_[0-9p]+$", c) for c in run.scols)]
     if not run.summary or not fams:
         raise Skip("summary.csv has no rmse_ecc_<a>_<b> / flip_ecc_<a>_<b> columns")
     fig, axes = plt.subplots(1, len(fams), figsize=(6 * len(fams), 4.5), squeeze=False)
     for ax, fam in zip(axes[0], fams):
-        bands = [c for c in run.scols if c.startswith(fam) and not c.endswith("_ci95")]
+        # <fam><a>_<b> only: not the _ci95 half-widths nor the _fl foveation-loss columns.
+        band = re.compile(re.escape(fam) + r"[0-9p]+_[0-9p]+$")
+        bands = [c for c in run.scols if band.match(c)]
 
         def mid(c):
             a, b = c[len(fam):].replace("p", ".").split("_")

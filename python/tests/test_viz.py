@@ -180,6 +180,20 @@ class RunFiles(unittest.TestCase):
             else:
                 self.assertIn("ffmpeg not found", page)
 
+    def test_eccentricity_bands_with_foveation_loss_columns(self):
+        # Band columns <fam><a>_<b> sit beside their _ci95 and _fl (foveation loss) forms;
+        # only the bands themselves are plotted (a _fl column once broke the band parsing).
+        with tempfile.TemporaryDirectory() as d:
+            cols = ["rmse_ecc_0_5", "rmse_ecc_0_5_ci95", "rmse_ecc_0_5_fl", "rmse_ecc_5_12p5",
+                    "rmse_ecc_5_12p5_ci95", "rmse_ecc_5_12p5_fl"]
+            rows = [f"{c},{c},4," + ",".join(["0.1"] * len(cols)) for c in ("kfr", "rmfr")]
+            write(os.path.join(d, "frames.csv"), "\n".join(FRAMES) + "\n")
+            write(os.path.join(d, "summary.csv"),
+                  "config_id,method,frames," + ",".join(cols) + "\n" + "\n".join(rows) + "\n")
+            write(os.path.join(d, "manifest.json"), "{}")
+            self.assertEqual(plot_run.plot_eccentricity(plot_run.Run(d), d), "eccentricity.png")
+            self.assertTrue(os.path.exists(os.path.join(d, "eccentricity.png")))
+
     def test_pdf_dpi_and_configs(self):
         """--format pdf writes every figure as PDF next to its PNG; --configs keeps only the named
         configurations (the strip then shows only them); an unknown name is an error listing them."""
