@@ -98,7 +98,7 @@ void check_references(const fs::path& model, const std::string& where) {
     Json j;
     try {
       j = Json::parse(read_file(model.string()));
-    } catch (const Json::parse_error& e) {
+    } catch (const Json::exception& e) {  // parse_error; out_of_range for a number like 1e999
       // "[json.exception.parse_error.101] parse error at line 1, column 38: ..." -> the part
       // after the bracket, which says where and why.
       std::string why = e.what();
