@@ -15,6 +15,7 @@
 
 #include "sim/core/files.h"
 #include "sim/experiment/runner.h"
+#include "tests/common/csv_without_times.h"
 
 using namespace fovsim;
 namespace fs = std::filesystem;
@@ -65,24 +66,7 @@ RunResult run(const LoadedConfig& c, bool use_cache, const std::string& out,
 
 // A CSV file without the wall-time columns (ref_ms, sim_ms and their intervals).
 std::string without_times(const std::string& path) {
-  std::istringstream in(read_file(path));
-  std::string line, out;
-  std::vector<bool> keep;
-  bool header = true;
-  while (std::getline(in, line)) {
-    std::vector<std::string> f;
-    std::stringstream ls(line);
-    std::string x;
-    while (std::getline(ls, x, ',')) f.push_back(x);
-    if (header) {
-      for (auto& h : f) keep.push_back(h.rfind("ref_ms", 0) != 0 && h.rfind("sim_ms", 0) != 0);
-      header = false;
-    }
-    for (size_t i = 0; i < f.size(); ++i)
-      if (i >= keep.size() || keep[i]) out += f[i] + ",";
-    out += "\n";
-  }
-  return out;
+  return test::csv_without_times(read_file(path));
 }
 
 Json manifest(const std::string& out) {

@@ -15,6 +15,7 @@
 
 #include "sim/core/error.h"
 #include "sim/experiment/runner.h"
+#include "tests/common/csv_without_times.h"
 
 using namespace fovsim;
 namespace fs = std::filesystem;
@@ -55,27 +56,7 @@ RunResult run(const LoadedConfig& c, bool use_cache, const std::string& out) {
   return run_experiment(c, o);
 }
 
-// The CSV without the wall-time columns (ref_ms, sim_ms and their intervals).
-std::string without_times(const std::string& csv) {
-  std::istringstream in(csv);
-  std::string line, out;
-  std::vector<bool> keep;
-  bool header = true;
-  while (std::getline(in, line)) {
-    std::vector<std::string> f;
-    std::stringstream ls(line);
-    std::string x;
-    while (std::getline(ls, x, ',')) f.push_back(x);
-    if (header) {
-      for (auto& h : f) keep.push_back(h.rfind("ref_ms", 0) != 0 && h.rfind("sim_ms", 0) != 0);
-      header = false;
-    }
-    for (size_t i = 0; i < f.size(); ++i)
-      if (i >= keep.size() || keep[i]) out += f[i] + ",";
-    out += "\n";
-  }
-  return out;
-}
+using test::csv_without_times;
 
 Json manifest(const std::string& out) {
   return Params::parse_json_file(out + "/manifest.json");
@@ -119,7 +100,7 @@ TEST(ReferenceCache, ResultsBitIdenticalWithAndWithoutIt) {
     EXPECT_EQ(m1["frames_from_cache"].get<int>(), 0);
     EXPECT_EQ(m1["frames_computed"].get<int>(), 3);
     EXPECT_EQ(m1["writes"].get<int>(), 3);
-    EXPECT_EQ(without_times(first.frames.to_csv()), without_times(plain.frames.to_csv()));
+    EXPECT_EQ(csv_without_times(first.frames.to_csv()), csv_without_times(plain.frames.to_csv()));
     // Second run, a method parameter changed: every reference from the cache.
     RunResult second = run(config(cs.scene, cs.spp, dir, 2.4), true, tmp("second"));
     RunResult second_plain = run(config(cs.scene, cs.spp, dir, 2.4), false, tmp("second_plain"));
@@ -127,8 +108,10 @@ TEST(ReferenceCache, ResultsBitIdenticalWithAndWithoutIt) {
     EXPECT_EQ(m2["frames_from_cache"].get<int>(), 3);
     EXPECT_EQ(m2["frames_computed"].get<int>(), 0);
     EXPECT_EQ(m2["ignored"].get<int>(), 0);
-    EXPECT_EQ(without_times(second.frames.to_csv()), without_times(second_plain.frames.to_csv()));
-    EXPECT_EQ(without_times(second.summary.to_csv()), without_times(second_plain.summary.to_csv()));
+    EXPECT_EQ(csv_without_times(second.frames.to_csv()),
+              csv_without_times(second_plain.frames.to_csv()));
+    EXPECT_EQ(csv_without_times(second.summary.to_csv()),
+              csv_without_times(second_plain.summary.to_csv()));
     EXPECT_TRUE(second.warnings.empty());
     fs::remove_all(dir);
   }
@@ -156,7 +139,7 @@ TEST(ReferenceCache, DamagedEntryIsIgnoredWithAWarningAndRecomputed) {
             std::string::npos)
       << again.warnings[0];
   EXPECT_NE(again.warnings[0].find("truncated"), std::string::npos) << again.warnings[0];
-  EXPECT_EQ(without_times(again.frames.to_csv()), without_times(plain.frames.to_csv()));
+  EXPECT_EQ(csv_without_times(again.frames.to_csv()), csv_without_times(plain.frames.to_csv()));
   // Repaired: the next run reads all three.
   run(config(scene, 1, dir, 1.8), true, tmp("d_third"));
   EXPECT_EQ(manifest(tmp("d_third"))["reference_cache"]["frames_from_cache"].get<int>(), 3);
