@@ -12,6 +12,8 @@
 #include <cstdio>
 
 #include "sim/core/error.h"
+#include "sim/core/powf_det.h"
+#include "sim/core/powf_lanes.h"
 #include "sim/metrics/metrics.h"
 #include "sim/metrics/registry.h"
 
@@ -242,9 +244,11 @@ const float kSensCorr = float(std::pow(10.0, kSensitivityCorrectionDb / 20.0));
 // ---------------------------------------------------------------------------------------------
 // §3.1, §4: display-encoded RGB -> absolute luminance (float32, as the reference).
 
+// The power through spec_pow (glibc's powf with fixed bits, sim/core/powf_det.h), as
+// to_luminance's packet form (powf_array) computes it.
 inline float srgb_lin(float v) {
   v = std::min(std::max(v, 0.f), 1.f);
-  return v > 0.04045f ? std::pow((v + 0.055f) / 1.055f, 2.4f) : v / 12.92f;
+  return v > 0.04045f ? spec_pow((v + 0.055f) / 1.055f, 2.4f) : v / 12.92f;
 }
 
 struct LinTable {
@@ -257,31 +261,56 @@ struct LinTable {
   }
 };
 
-inline float lin_fast(const LinTable& t, float v) {
-  // 8-bit codes (PNG input, 8-bit tone-mapped frames) through the table: same bits as srgb_lin.
-  const float s = v * 255.f;
-  if (s >= 0.f && s <= 255.f) {
-    const int k = int(s + 0.5f);
-    if (t.code[k] == v) return t.lin[k];
+// srgb_lin of n values into out, bit for bit: 8-bit codes (PNG input, 8-bit tone-mapped frames)
+// through the table, the other values' powers together (powf_array). n <= 256.
+void lin_run(const LinTable& t, const float* v, int n, float* out) {
+  float base[256], pw[256];
+  int idx[256], m = 0;
+  for (int j = 0; j < n; ++j) {
+    const float s = v[j] * 255.f;
+    if (s >= 0.f && s <= 255.f) {
+      const int k = int(s + 0.5f);
+      if (t.code[k] == v[j]) {
+        out[j] = t.lin[k];
+        continue;
+      }
+    }
+    const float c = std::min(std::max(v[j], 0.f), 1.f);
+    if (c > 0.04045f) {
+      base[m] = (c + 0.055f) / 1.055f;
+      idx[m++] = j;
+    } else {
+      out[j] = c / 12.92f;
+    }
   }
-  return srgb_lin(v);
+  powf_array(base, 2.4f, pw, m);
+  for (int i = 0; i < m; ++i) out[idx[i]] = pw[i];
 }
 
 void to_luminance(const Image& img, const FvvdpDisplay& d, float* out) {
   static const LinTable table;
   const float range = float(d.y_peak - d.y_black), black = float(d.y_black);
   const int W = img.width, C = img.channels;
+  const int cu = C >= 3 ? 3 : 1;  // channels used
   for_rows(img.height, W, [&](int y) {
     const float* p = img.row(y);
     float* o = out + size_t(y) * size_t(W);
-    for (int x = 0; x < W; ++x, p += C) {
-      if (C >= 3) {
-        const float lr = range * lin_fast(table, p[0]) + black;
-        const float lg = range * lin_fast(table, p[1]) + black;
-        const float lb = range * lin_fast(table, p[2]) + black;
-        o[x] = 0.2126729f * lr + 0.7151522f * lg + 0.0721750f * lb;
-      } else {
-        o[x] = range * lin_fast(table, p[0]) + black;
+    constexpr int kRun = 64;  // pixels per run (cu * kRun <= 256 values)
+    float v[3 * kRun], lin[3 * kRun];
+    for (int x0 = 0; x0 < W; x0 += kRun) {
+      const int m = std::min(kRun, W - x0);
+      for (int j = 0; j < m; ++j)
+        for (int c = 0; c < cu; ++c) v[cu * j + c] = p[size_t(x0 + j) * size_t(C) + size_t(c)];
+      lin_run(table, v, cu * m, lin);
+      for (int j = 0; j < m; ++j) {
+        if (cu == 3) {
+          const float lr = range * lin[3 * j] + black;
+          const float lg = range * lin[3 * j + 1] + black;
+          const float lb = range * lin[3 * j + 2] + black;
+          o[x0 + j] = 0.2126729f * lr + 0.7151522f * lg + 0.0721750f * lb;
+        } else {
+          o[x0 + j] = range * lin[j] + black;
+        }
       }
     }
   });
@@ -883,15 +912,29 @@ double FvvdpTestStream::push(const Image& test, const FvvdpReferenceStream& ref)
         const float* g = G + o;
         const float* e = I.E.data() + o;
         double acc = 0;
-        for (int x = 0; x < B.w; ++x) {
-          const float lap = g[x] - e[x];
-          const float tv = B.gain * std::min(lap / La[x], 1000.f) * S[x];  // §7, §9
-          const float M = kM * std::min(std::fabs(tv), std::fabs(r[x]));
-          const float diff = std::fabs(tv - r[x]);
-          float D = 0.f;
-          if (diff > 0.f) D = std::min(std::pow(diff, p) / (1.f + std::pow(M, q)), 1e4f);
-          if (D > 0.f) acc += double(std::pow(D, beta));  // §10 (1)
-          if (dmap) dmap[o + size_t(x)] += wc * D;
+        // The powers of a run of the row at once (powf_array: glibc's powf with fixed bits,
+        // several lanes per instruction).
+        constexpr int kRun = 64;
+        float dv[kRun], Mv[kRun], Pd[kRun], PM[kRun];
+        for (int x0 = 0; x0 < B.w; x0 += kRun) {
+          const int m = std::min(kRun, B.w - x0);
+          for (int j = 0; j < m; ++j) {
+            const int x = x0 + j;
+            const float lap = g[x] - e[x];
+            const float tv = B.gain * std::min(lap / La[x], 1000.f) * S[x];  // §7, §9
+            Mv[j] = kM * std::min(std::fabs(tv), std::fabs(r[x]));
+            dv[j] = std::fabs(tv - r[x]);
+          }
+          powf_array(dv, p, Pd, m);
+          powf_array(Mv, q, PM, m);
+          for (int j = 0; j < m; ++j)  // D (0 where diff is not > 0), into dv
+            dv[j] = dv[j] > 0.f ? std::min(Pd[j] / (1.f + PM[j]), 1e4f) : 0.f;
+          powf_array(dv, beta, Pd, m);
+          for (int j = 0; j < m; ++j) {
+            const float D = dv[j];
+            if (D > 0.f) acc += double(Pd[j]);  // §10 (1)
+            if (dmap) dmap[o + size_t(x0 + j)] += wc * D;
+          }
         }
         I.row_sum[size_t(y)] = acc;
       });

@@ -4,7 +4,7 @@
 // same bits at any thread count.
 #include <tbb/parallel_for.h>
 
-#include "sim/render/powf_det.h"
+#include "sim/core/powf_det.h"
 #include "sim/render/render_internal.h"
 #include "sim/render/vec4.h"
 

@@ -1,4 +1,5 @@
-// powf for the shading's specular term with fixed bits on every CPU: glibc's powf algorithm
+// powf with fixed bits on every CPU (the shading's specular term, FovVideoVDP's masking through
+// powf_lanes.h): glibc's powf algorithm
 // (Arm optimized-routines, Nagy 2018: log2 of x from a 16-entry table and a degree-5
 // polynomial in double, times y, exp2 from a 32-entry table and a degree-3 polynomial in
 // double, one rounding to float) with glibc 2.36's tables and its non-FMA operations, so each
