@@ -3,6 +3,8 @@
 // powf_det's in its order, the table lookups are per-lane loads.
 #include "sim/core/powf_lanes.h"
 
+#include <immintrin.h>
+
 #include <atomic>
 #include <cmath>
 #include <cstdint>
@@ -25,7 +27,7 @@ namespace {
 // x's lanes are all processed in full vectors (the caller pads); lanes off the main path are
 // flagged in `slow` (1) for the caller.
 #define POW_LANES(NAME, WD, ATTR)                                                              \
-  ATTR void NAME(const float* xs, float y, float* out, int n, uint8_t* slow) {                \
+  ATTR void NAME(const float* xs, float y, float* out, int n, uint8_t* slow) {                 \
     using namespace powf_detail;                                                               \
     typedef double D __attribute__((vector_size(8 * WD)));                                     \
     typedef uint64_t DU __attribute__((vector_size(8 * WD)));                                  \
@@ -37,6 +39,7 @@ namespace {
     uint64_t ul;                                                                               \
     std::memcpy(&ul, &lim, sizeof ul);                                                         \
     const D yd = D{} + double(y);                                                              \
+    [[maybe_unused]] constexpr int kW = WD;                                                    \
     for (int o = 0; o < n; o += WD) {                                                          \
       FU ix;                                                                                   \
       std::memcpy(&ix, xs + o, sizeof ix);                                                     \
@@ -49,10 +52,7 @@ namespace {
       const FI k = (FI)top >> 23;                                                              \
       const D z = __builtin_convertvector((F)iz, D);                                           \
       D invc, logc;                                                                            \
-      for (int j = 0; j < WD; ++j) {                                                           \
-        invc[j] = kLog2Tab[i[j]][0];                                                           \
-        logc[j] = kLog2Tab[i[j]][1];                                                           \
-      }                                                                                        \
+      LOOKUP_LOG(i, invc, logc);                                                               \
       const D rr = z * invc - 1.0;                                                             \
       const D y0 = logc + __builtin_convertvector(k, D);                                       \
       const D r2 = rr * rr;                                                                    \
@@ -71,7 +71,7 @@ namespace {
       kd -= kShift;                                                                            \
       const D rx = ylogx - kd;                                                                 \
       DU t;                                                                                    \
-      for (int j = 0; j < WD; ++j) t[j] = kExp2Tab[ki[j] % 32];                                \
+      LOOKUP_EXP(ki, t);                                                                       \
       t += ki << (52 - 5);                                                                     \
       const D s = (D)t;                                                                        \
       const D zz = kC[0] * rx + kC[1];                                                         \
@@ -89,12 +89,56 @@ namespace {
     }                                                                                          \
   }
 
+// Table lookups per lane (SSE2, AVX2): loads.
+#define LOOKUP_LOG(i, invc, logc) \
+  for (int j = 0; j < kW; ++j) {  \
+    invc[j] = kLog2Tab[i[j]][0];  \
+    logc[j] = kLog2Tab[i[j]][1];  \
+  }
+#define LOOKUP_EXP(ki, t) \
+  for (int j = 0; j < kW; ++j) t[j] = kExp2Tab[ki[j] % 32];
 POW_LANES(lanes2, 2, )
 #if FOVSIM_PW_WIDE
 // fp-contract=off: AVX-512F has FMA instructions of its own and GCC would otherwise fuse
 // a * b + c (one rounding instead of two), which changes bits.
 POW_LANES(lanes4, 4, __attribute__((target("avx2"), optimize("fp-contract=off"))))
+#undef LOOKUP_LOG
+#undef LOOKUP_EXP
+
+// AVX-512F: the tables in registers, looked up with two-source permutes (the same values).
+struct Tab512 {
+  alignas(64) double invc[16], logc[16];
+  alignas(64) uint64_t e[32];
+  Tab512() {
+    for (int k = 0; k < 16; ++k) {
+      invc[k] = powf_detail::kLog2Tab[k][0];
+      logc[k] = powf_detail::kLog2Tab[k][1];
+    }
+    for (int k = 0; k < 32; ++k) e[k] = powf_detail::kExp2Tab[k];
+  }
+};
+const Tab512 kTab512;
+#define LOOKUP_LOG(i, invc, logc)                                                \
+  {                                                                              \
+    const __m512i ix8 = _mm512_maskz_cvtepu32_epi64(__mmask8(0xff), (__m256i)i); \
+    invc = (D)_mm512_permutex2var_pd(_mm512_load_pd(kTab512.invc), ix8,          \
+                                     _mm512_load_pd(kTab512.invc + 8));          \
+    logc = (D)_mm512_permutex2var_pd(_mm512_load_pd(kTab512.logc), ix8,          \
+                                     _mm512_load_pd(kTab512.logc + 8));          \
+  }
+#define LOOKUP_EXP(ki, t)                                                               \
+  {                                                                                     \
+    const __m512i k5 = (__m512i)ki & _mm512_set1_epi64(31);                             \
+    const __m512i lo = _mm512_permutex2var_epi64(_mm512_load_si512(kTab512.e), k5,      \
+                                                 _mm512_load_si512(kTab512.e + 8));     \
+    const __m512i hi = _mm512_permutex2var_epi64(_mm512_load_si512(kTab512.e + 16), k5, \
+                                                 _mm512_load_si512(kTab512.e + 24));    \
+    const __mmask8 up = _mm512_test_epi64_mask(k5, _mm512_set1_epi64(16));              \
+    t = (DU)_mm512_mask_blend_epi64(up, lo, hi);                                        \
+  }
 POW_LANES(lanes8, 8, __attribute__((target("avx512f"), optimize("fp-contract=off"))))
+#undef LOOKUP_LOG
+#undef LOOKUP_EXP
 #endif
 #undef POW_LANES
 
@@ -154,6 +198,16 @@ void powf_array(const float* x, float y, float* out, int n) {
     else
 #endif
       lanes2(xb, y, rb, mv, slow);
+    uint64_t any = 0;  // any lane off the main path?
+    for (int k = 0; k < mv; k += 8) {
+      uint64_t v;
+      std::memcpy(&v, slow + k, sizeof v);
+      any |= v;
+    }
+    if (!any) {
+      std::memcpy(out + k0, rb, sizeof(float) * size_t(m));
+      continue;
+    }
     for (int k = 0; k < m; ++k) out[k0 + k] = slow[k] ? std::pow(xb[k], y) : rb[k];
   }
 }

@@ -2,7 +2,6 @@
 // non-FMA operations. Exact where the result is exact, within one ulp of libm elsewhere, and
 // the inputs off its main path handed back to std::pow.
 #include "sim/core/powf_det.h"
-#include "sim/core/powf_lanes.h"
 
 #include <gtest/gtest.h>
 
@@ -10,6 +9,8 @@
 #include <cstring>
 #include <limits>
 #include <vector>
+
+#include "sim/core/powf_lanes.h"
 
 using namespace fovsim;
 
@@ -57,8 +58,8 @@ TEST(PowfDet, OffTheMainPathGoesToLibm) {
 // any width (partial blocks).
 TEST(PowfLanes, EveryWidthGivesSpecPowBits) {
   const float inf = std::numeric_limits<float>::infinity();
-  std::vector<float> xs = {0.f,  -0.f, 1.f,    -1.f, 1e-40f, -1e-40f, inf, -inf, std::nanf(""),
-                           2.f,  0.5f, 1e-38f, 3e38f, 1e30f,  1e-30f, 7.f, 123.456f};
+  std::vector<float> xs = {0.f, -0.f, 1.f,    -1.f,  1e-40f, -1e-40f, inf, -inf,    std::nanf(""),
+                           2.f, 0.5f, 1e-38f, 3e38f, 1e30f,  1e-30f,  7.f, 123.456f};
   for (uint32_t u = 0x00800000u; u < 0x7f800000u; u += 65537u) {
     float x;
     std::memcpy(&x, &u, sizeof x);
@@ -85,8 +86,8 @@ TEST(PowfLanes, EveryWidthGivesSpecPowBits) {
         powf_array(xs.data(), y, out.data(), n);
         for (int k = 0; k < n; ++k)
           ASSERT_TRUE(same(out[size_t(k)], spec_pow(xs[size_t(k)], y)))
-              << "width " << w << " x " << xs[size_t(k)] << " y " << y << ": "
-              << out[size_t(k)] << " vs " << spec_pow(xs[size_t(k)], y);
+              << "width " << w << " x " << xs[size_t(k)] << " y " << y << ": " << out[size_t(k)]
+              << " vs " << spec_pow(xs[size_t(k)], y);
       }
   }
   set_powf_lane_width(0);
