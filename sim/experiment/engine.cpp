@@ -740,8 +740,10 @@ struct Cell {
       if (h) heat.emplace_back(m.stem + d.sequence->heatmap_suffix, std::move(img));
     }
     if (fl_full) {  // the foveation loss: every metric against full at the same sampling rate
-      MetricValues fl = compute_metrics(fl_mcfg, out_display, fl_display, fd.camera,
-                                        fd.eccentricity, &m.temporal_fl, &fl_scratch);
+      // The same test image: its FLIP preparation from the call above, when it made one.
+      MetricValues fl = compute_metrics(
+          fl_mcfg, out_display, fl_display, fd.camera, fd.eccentricity, &m.temporal_fl, &fl_scratch,
+          metrics_scratch.flip_test_valid ? &metrics_scratch.flip_test : nullptr);
       for (auto& [k, v] : fl.items()) metrics.set(k + kFoveationLossSuffix, v);
       for (size_t k = 0; k < seq.size(); ++k) {
         const MetricDecl& d = *seq[k].decl;

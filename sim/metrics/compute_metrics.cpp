@@ -8,7 +8,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 
+#include "sim/core/error.h"
 #include "sim/metrics/error_sums.h"
 #include "sim/metrics/metrics.h"
 
@@ -26,7 +28,8 @@ static bool in_unit_range(const Image& im) {
 
 MetricValues compute_metrics(const MetricsConfig& cfg, const Image& test, const Image& ref,
                              const Camera& cam, const std::vector<float>& ecc_deg,
-                             TemporalState* temporal, MetricsScratch* scratch) {
+                             TemporalState* temporal, MetricsScratch* scratch,
+                             const FlipPrepared* test_flip) {
   const char* where = "metrics.compute_metrics";
   detail::check_same_size(test, ref, where);
   const bool need_ecc = cfg.fpsnr || cfg.regions || cfg.temporal;
@@ -37,6 +40,7 @@ MetricValues compute_metrics(const MetricsConfig& cfg, const Image& test, const 
   // The reference's FLIP and SSIM preparations are reused while its pixels are unchanged.
   MetricsScratch local;
   MetricsScratch& sc = scratch ? *scratch : local;
+  sc.flip_test_valid = false;
   if (cfg.ssim || cfg.flip) {
     const Image& rp = sc.ref_pixels;
     if (rp.width != ref.width || rp.height != ref.height || rp.channels != ref.channels ||
@@ -95,8 +99,14 @@ MetricValues compute_metrics(const MetricsConfig& cfg, const Image& test, const 
       // (FLIP.md §10.1); skip the work (the `full` method of every run).
       sc.flip_map.resize(test.width, test.height, 1, 0.f);
       out.set("flip", 0.0);
+    } else if (test_flip) {
+      FOVSIM_CHECK(test_flip->ppd == ppd,
+                   "compute_metrics: the given test FLIP preparation is at " +
+                       std::to_string(test_flip->ppd) + " ppd, not " + std::to_string(ppd));
+      out.set("flip", flip(sc.flip_ref, *test_flip, &sc.flip_map));
     } else {
       flip_prepare(test, ppd, sc.flip_test, &sc.flip_workspace);
+      sc.flip_test_valid = true;
       out.set("flip", flip(sc.flip_ref, sc.flip_test, &sc.flip_map));
     }
     const size_t nb = cfg.band_edges_deg.size() >= 2 ? cfg.band_edges_deg.size() - 1 : 0;

@@ -102,6 +102,9 @@ double temporal_error(const Image& test, const Image& ref, const std::vector<flo
 // pixels, so they are never stale), and the FLIP map of the last call (for the error images).
 struct MetricsScratch {
   FlipPrepared flip_ref, flip_test;
+  // Whether the last compute_metrics prepared flip_test from its test image (false when it
+  // skipped FLIP, or took the identical-images shortcut).
+  bool flip_test_valid = false;
   FlipWorkspace flip_workspace;
   SsimPrepared ssim_ref;
   Image ref_pixels;  // the pixels flip_ref and ssim_ref were prepared from
@@ -113,11 +116,15 @@ struct MetricsScratch {
 // first frame). Region RMSEs are over all channels of the pixels in the region; FLIP bands are
 // the mean FLIP error of the band's pixels; an empty region is NaN. With `scratch`, FLIP reuses
 // its prepared reference and leaves its error map in scratch->flip_map; the numbers are the
-// same with or without it.
+// same with or without it. `test_flip`: the test image's FLIP preparation at flip_ppd(cam)
+// when the caller already has it (another compute_metrics of the same test image against
+// another reference left it in its scratch: flip_test with flip_test_valid); the numbers are
+// the same with or without it.
 // Metric values are not counters (counter_list.h): their columns depend on the config.
 using MetricValues = NamedValues;
 MetricValues compute_metrics(const MetricsConfig& cfg, const Image& test, const Image& ref,
                              const Camera& cam, const std::vector<float>& ecc_deg,
-                             TemporalState* temporal, MetricsScratch* scratch = nullptr);
+                             TemporalState* temporal, MetricsScratch* scratch = nullptr,
+                             const FlipPrepared* test_flip = nullptr);
 
 }  // namespace fovsim

@@ -89,6 +89,41 @@ TEST(MetricsCompute, ColumnsInOrderAndConsistentWithStandaloneFunctions) {
   EXPECT_EQ(p.items()[0].first, "psnr");
 }
 
+// The test image's FLIP preparation handed from one compute_metrics to another (the engine's
+// second reference, metrics.foveation_loss): the same numbers as preparing it again; a
+// preparation at another ppd is an internal error; the identical-images shortcut leaves no
+// valid preparation behind.
+TEST(MetricsCompute, GivenTestFlipPreparationGivesTheSameNumbers) {
+  const int W = 40, H = 24;
+  std::vector<float> ecc = half_ecc(W, H);
+  Camera cam = testutil::camera(W, H, 60, 40);
+  Image ref = testutil::pattern(W, H, 3, 61), ref2 = testutil::pattern(W, H, 3, 62),
+        test = testutil::pattern(W, H, 3, 63, 0.4);
+  MetricsConfig cfg;
+  cfg.ssim = cfg.temporal = false;
+  MetricsScratch a, b;
+  compute_metrics(cfg, test, ref, cam, ecc, nullptr, &a);
+  ASSERT_TRUE(a.flip_test_valid);
+  const MetricValues given = compute_metrics(cfg, test, ref2, cam, ecc, nullptr, &b, &a.flip_test);
+  EXPECT_FALSE(b.flip_test_valid);
+  MetricsScratch c;
+  const MetricValues own = compute_metrics(cfg, test, ref2, cam, ecc, nullptr, &c);
+  ASSERT_EQ(given.items().size(), own.items().size());
+  for (size_t k = 0; k < own.items().size(); ++k) {
+    EXPECT_EQ(given.items()[k].first, own.items()[k].first);
+    const double g = given.items()[k].second, o = own.items()[k].second;
+    if (std::isnan(o))
+      EXPECT_TRUE(std::isnan(g)) << own.items()[k].first;  // an empty band
+    else
+      EXPECT_EQ(g, o) << own.items()[k].first;
+  }
+  FlipPrepared other = a.flip_test;
+  other.ppd *= 2;
+  EXPECT_THROW(compute_metrics(cfg, test, ref2, cam, ecc, nullptr, &b, &other), InternalError);
+  compute_metrics(cfg, ref, ref, cam, ecc, nullptr, &a);  // identical: no preparation
+  EXPECT_FALSE(a.flip_test_valid);
+}
+
 TEST(MetricsCompute, FlipBandsAreMeansOfTheMapOverTheirPixels) {
   const int W = 40, H = 24;
   std::vector<float> ecc = half_ecc(W, H);  // left half 1 deg, right half 30 deg
