@@ -750,7 +750,9 @@ struct Cell {
         if (m.seq_fl.size() <= k) m.seq_fl.push_back(d.sequence->make_test(*seq[k].ref_fl));
         const bool h = in.want_images && *d.sequence->heatmap_suffix;
         Image img;
-        const double q = m.seq_fl[k]->push(out_display, *seq[k].ref_fl, h ? &img : nullptr);
+        // The same test frame as m.seq[k]'s push above: its work on the frame is reused.
+        const double q = m.seq_fl[k]->push_same(out_display, *seq[k].ref_fl, h ? &img : nullptr,
+                                                *m.seq[k], *seq[k].ref);
         metrics.set(d.pooled_column + kFoveationLossSuffix, q);
         metrics.set(d.name + kFoveationLossSuffix, d.from_mean(q));
         if (h)

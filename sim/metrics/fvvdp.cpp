@@ -864,12 +864,36 @@ FvvdpTestStream::FvvdpTestStream(FvvdpTestStream&&) noexcept = default;
 FvvdpTestStream& FvvdpTestStream::operator=(FvvdpTestStream&&) noexcept = default;
 
 void FvvdpTestStream::reset() {
+  borrowed_ = false;
   q_tc_.clear();
   last_q_.clear();
   impl_->frame.ring.reset();
 }
 
+double FvvdpTestStream::push(const Image& test, const FvvdpReferenceStream& ref,
+                             const FvvdpTestStream& same, const FvvdpReferenceStream& same_ref) {
+  const FvvdpDisplay &a = ref.display(), &b = same_ref.display();
+  const bool ok = &same != this && same.frames() == frames() + 1 &&
+                  same_ref.frames() == ref.frames() && same_ref.width() == ref.width() &&
+                  same_ref.height() == ref.height() && same_ref.bands() == ref.bands() &&
+                  same_ref.channels() == ref.channels() && a.y_peak == b.y_peak &&
+                  a.y_black == b.y_black &&
+                  same_ref.temporal_sustained() == ref.temporal_sustained() &&
+                  same_ref.temporal_transient() == ref.temporal_transient();
+  if (!ok) return push(test, ref);
+  borrowed_ = true;
+  return score(test, ref, same.impl_.get());
+}
+
 double FvvdpTestStream::push(const Image& test, const FvvdpReferenceStream& ref) {
+  FOVSIM_CHECK(!borrowed_,
+               "FvvdpTestStream: pushed on its own after scoring with another stream's frames "
+               "(its history was not kept; reset() first)");
+  return score(test, ref, nullptr);
+}
+
+double FvvdpTestStream::score(const Image& test, const FvvdpReferenceStream& ref,
+                              const Impl* shared) {
   if (test.width != ref.width() || test.height != ref.height() ||
       (test.channels != 1 && test.channels < 3))
     throw Error(kWhere, "test frame is " + std::to_string(test.width) + "x" +
@@ -882,7 +906,9 @@ double FvvdpTestStream::push(const Image& test, const FvvdpReferenceStream& ref)
                             std::to_string(ref.frames() - 1) + " (push the reference first)");
   Impl& I = *impl_;
   const FvvdpReferenceStream::Impl& R = *ref.impl_;
-  I.frame.push(test, ref.display(), ref.temporal_sustained(), ref.temporal_transient());
+  if (!shared)
+    I.frame.push(test, ref.display(), ref.temporal_sustained(), ref.temporal_transient());
+  const Frame& F = shared ? shared->frame : I.frame;  // the test frame's planes and pyramids
   const int nb = ref.bands(), nc = ref.channels();
   last_q_.assign(size_t(nb), {0.0, 0.0});
   const float kM = float(std::pow(10.0, kMaskC));
@@ -890,7 +916,7 @@ double FvvdpTestStream::push(const Image& test, const FvvdpReferenceStream& ref)
   if (heat_on_) I.Dmap.resize(size_t(nb));
   for (int b = 0; b < nb; ++b) {
     const FvvdpBandState& B = R.bands[size_t(b)];
-    const Level& up = I.frame.lv[size_t(b) + 1];
+    const Level& up = F.lv[size_t(b) + 1];
     const size_t n = size_t(B.w) * size_t(B.h);
     I.E.resize(n);
     I.row_sum.assign(size_t(B.h), 0.0);
@@ -901,8 +927,8 @@ double FvvdpTestStream::push(const Image& test, const FvvdpReferenceStream& ref)
     }
     for (int c = 0; c < nc; ++c) {
       const float wc = c == 0 ? 1.f : float(kWTransient);
-      expand(I.frame.level(c, b + 1), up.w, up.h, B.w, B.h, I.E.data(), I.frame.tmp);
-      const float* G = I.frame.level(c, b);
+      expand(F.level(c, b + 1), up.w, up.h, B.w, B.h, I.E.data(), I.frame.tmp);
+      const float* G = F.level(c, b);
       const float q = float(kMaskQ[c]);
       for_rows(B.h, B.w, [&](int y) {
         const size_t o = size_t(y) * size_t(B.w);
@@ -947,7 +973,7 @@ double FvvdpTestStream::push(const Image& test, const FvvdpReferenceStream& ref)
     // Collapse the D pyramid from the coarsest scored band to the frame, then to JOD units.
     std::vector<float> acc = I.Dmap[size_t(nb) - 1];
     for (int b = nb - 2; b >= 0; --b) {
-      const Level &lo = I.frame.lv[size_t(b) + 1], &hi = I.frame.lv[size_t(b)];
+      const Level &lo = F.lv[size_t(b) + 1], &hi = F.lv[size_t(b)];
       I.up.resize(size_t(hi.w) * size_t(hi.h));
       expand(acc.data(), lo.w, lo.h, hi.w, hi.h, I.up.data(), I.frame.tmp);
       const std::vector<float>& d = I.Dmap[size_t(b)];
@@ -1053,6 +1079,18 @@ class FvvdpRunTest final : public SequenceTest {
     stream.enable_heatmap(heat != nullptr);
     const double q = stream.push(test, static_cast<const FvvdpRunReference&>(r).stream);
     // JOD-like units per pixel (0 = no visible difference), colour ramp 0 .. 1.
+    if (heat) *heat = heatmap(stream.heatmap(), 0.f, 1.f);
+    stream.enable_heatmap(false);
+    return q;
+  }
+  double push_same(const Image& test, const SequenceReference& r, Image* heat,
+                   const SequenceTest& same, const SequenceReference& same_r) override {
+    const auto* s = dynamic_cast<const FvvdpRunTest*>(&same);
+    const auto* sr = dynamic_cast<const FvvdpRunReference*>(&same_r);
+    if (!s || !sr) return push(test, r, heat);
+    stream.enable_heatmap(heat != nullptr);
+    const double q =
+        stream.push(test, static_cast<const FvvdpRunReference&>(r).stream, s->stream, sr->stream);
     if (heat) *heat = heatmap(stream.heatmap(), 0.f, 1.f);
     stream.enable_heatmap(false);
     return q;

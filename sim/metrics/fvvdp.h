@@ -118,6 +118,15 @@ class FvvdpTestStream {
   // first; the frame counts must then agree, else fovsim::Error). Returns this frame's Q_tc
   // (§10 step 3) and records it.
   double push(const Image& test, const FvvdpReferenceStream& ref);
+  // push() of the test frame `same` has just been pushed (against another reference of the
+  // same display, temporal filters and bands: metrics.foveation_loss's second reference), using
+  // same's luminance, temporal filtering and pyramids of it instead of computing them again;
+  // the same value as push(test, ref). Precondition: since their last reset() both streams
+  // were given the same test frames (checked: frame counts, display and filters; where they
+  // differ it is push(test, ref)). Once a stream has used another's frames it must keep doing
+  // so until reset(): its own history is not kept (an InternalError otherwise).
+  double push(const Image& test, const FvvdpReferenceStream& ref, const FvvdpTestStream& same,
+              const FvvdpReferenceStream& same_ref);
   void reset();
 
   int frames() const { return int(q_tc_.size()); }
@@ -137,10 +146,13 @@ class FvvdpTestStream {
 
  private:
   struct Impl;
+  // The scoring of push(); `shared`: another stream's state holding this test frame's planes.
+  double score(const Image& test, const FvvdpReferenceStream& ref, const Impl* shared);
   std::unique_ptr<Impl> impl_;
   std::vector<double> q_tc_;
   std::vector<std::array<double, 2>> last_q_;
   bool heat_on_ = false;
+  bool borrowed_ = false;  // scored a frame with another stream's frame data since reset()
   Image heat_;
 };
 

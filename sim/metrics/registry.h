@@ -50,6 +50,16 @@ class SequenceTest {
   // returns the frame's value of the metric's `pooled_column`. With `heatmap` non-null, also
   // writes the frame's visualisation (RGB, frame size) there.
   virtual double push(const Image& test, const SequenceReference& ref, Image* heatmap) = 0;
+  // push() of the test frame `same` (a test of the same metric, reset and pushed together with
+  // this one) has just been pushed against `same_ref`: a metric may reuse same's work on the
+  // test frame (FovVideoVDP: its luminance, temporal filtering and pyramids); the same value
+  // as push(test, ref, heatmap), which is what this default does.
+  virtual double push_same(const Image& test, const SequenceReference& ref, Image* heatmap,
+                           const SequenceTest& same, const SequenceReference& same_ref) {
+    (void)same;
+    (void)same_ref;
+    return push(test, ref, heatmap);
+  }
   virtual void reset() = 0;
 };
 

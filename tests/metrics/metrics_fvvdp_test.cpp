@@ -282,6 +282,45 @@ TEST(Fvvdp, StreamingMatchesOneShot) {
   EXPECT_EQ(si.push(t1[2], ri), fvvdp({t1[2]}, {r[2]}, d, 0, false).mean_q);
 }
 
+// A test stream scored against a second reference with another stream's work on the same test
+// frames (push with `same`; the engine's metrics.foveation_loss): the numbers of an independent
+// stream, heat maps included; pushing on its own afterwards is an internal error until reset().
+TEST(Fvvdp, SharedTestFramesGiveTheSameNumbers) {
+  const FvvdpDisplay d = FvvdpDisplay::standard("standard_fhd");
+  std::vector<Image> r1, r2, t;
+  for (int k = 0; k < 6; ++k) {
+    r1.push_back(grating(64, 96, 10, 12, 128, 0.5 * k));
+    r2.push_back(grating(64, 96, 11, 12, 128, 0.4 * k));
+    t.push_back(grating(64, 96, 12, 12, 128, 0.5 * k));
+  }
+  FvvdpReferenceStream a_ref(d, 96, 64, {60, true}), b_ref(d, 96, 64, {60, true});
+  FvvdpTestStream a(a_ref), b(b_ref), own(b_ref);
+  b.enable_heatmap(true);
+  own.enable_heatmap(true);
+  for (size_t k = 0; k < 6; ++k) {
+    a_ref.push(r1[k], 20, 30);
+    b_ref.push(r2[k], 20, 30);
+    a.push(t[k], a_ref);
+    const double q_own = own.push(t[k], b_ref);
+    EXPECT_EQ(b.push(t[k], b_ref, a, a_ref), q_own) << "frame " << k;
+    ASSERT_EQ(b.heatmap().data, own.heatmap().data) << "frame " << k;
+  }
+  EXPECT_EQ(b.jod(), own.jod());
+  EXPECT_NE(b.jod(), a.jod());
+  EXPECT_THROW(b.push(t[0], b_ref), InternalError);
+  // Out of step (a has not pushed this frame): b scores on its own, which it can no longer.
+  b.reset();
+  own.reset();
+  a.reset();
+  a_ref.reset();
+  b_ref.reset();
+  a_ref.push(r1[0], 20, 30);
+  b_ref.push(r2[0], 20, 30);
+  EXPECT_EQ(b.push(t[0], b_ref, a, a_ref), own.push(t[0], b_ref));  // a behind: b's own work
+  b_ref.push(r2[1], 20, 30);
+  EXPECT_NO_THROW(b.push(t[1], b_ref, b, b_ref));  // itself as `same`: its own work
+}
+
 TEST(Fvvdp, BadInput) {
   const FvvdpDisplay d = FvvdpDisplay::standard("standard_fhd");
   const Image a = uniform(32, 32, 10), b = uniform(32, 40, 10);
