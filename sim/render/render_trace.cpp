@@ -392,6 +392,14 @@ struct SampleWriter {
 
 namespace {
 
+// Asks for p's cache line with intent to write (PREFETCHW): the line arrives exclusive, so the
+// store that follows needs no second request. GCC emits nothing for __builtin_prefetch(p, 1)
+// on the x86-64 baseline (no PRFCHW flag), so the instruction is written out; CPUs without
+// PRFCHW execute its opcode (0F 0D /1) as a no-op. A prefetch changes no result.
+inline void prefetch_w(const void* p) {
+  asm volatile("prefetchw %0" : : "m"(*static_cast<const char*>(p)));
+}
+
 // A packet of up to 16 primary rays from one origin (rtcIntersect16). 4x4 pixel blocks are
 // the most coherent unit; measured ~15% faster than the rtcIntersect1M stream API here.
 struct Packet {
@@ -571,8 +579,8 @@ struct Packet {
         int j = k + 1;
         while (j < n && idx[j] == idx[j - 1] + 1) ++j;
         const char* a = reinterpret_cast<const char*>(dst.data() + idx[k]);
-        for (size_t b = 0; b < size_t(j - k) * sizeof(T); b += 64) __builtin_prefetch(a + b, 1, 3);
-        __builtin_prefetch(a + size_t(j - k) * sizeof(T) - 1, 1, 3);
+        for (size_t b = 0; b < size_t(j - k) * sizeof(T); b += 64) prefetch_w(a + b);
+        prefetch_w(a + size_t(j - k) * sizeof(T) - 1);
         k = j;
       }
     };
