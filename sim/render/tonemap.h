@@ -100,6 +100,12 @@ inline float display_encode(float x) {
   return srgb_encode(y);
 }
 
+// The lane width ToneMap::apply runs (floats per vector: 4 SSE2, 8 AVX2; both give
+// display_encode's bits) and a way for tests to force one (0: automatic: FOVSIM_SIMD=generic
+// gives 4, otherwise 8 where the CPU has AVX2).
+int tonemap_lane_width();
+void set_tonemap_lane_width(int w);
+
 struct ToneMap {
   double exposure = 1.0;  // linear scale before the curve
   using Curve = ToneCurve;

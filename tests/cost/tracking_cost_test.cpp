@@ -84,8 +84,9 @@ TEST(AnalyticCounters, IsoBudgetTargetIsSolvedBeforeTheColumns) {
     EXPECT_LE(f, 0.1 + 0.02) << m;
     const double ms = analytic_frame(g, m, iso, w, d).total_ms;
     // kfr and rmfr shade more than 10% by default (sigma 1.8, 2.6): the target is cheaper.
-    if (std::string(m) == "kfr" || std::string(m) == "rmfr")
+    if (std::string(m) == "kfr" || std::string(m) == "rmfr") {
       EXPECT_LT(ms, analytic_frame(g, m, Json::object(), w, d).total_ms) << m;
+    }
     // Under tracking loss a run widens the resolved geometry: the lost frame costs more.
     const Json lost = widened_method_params(m, iso, 1.5, nullptr, &d);
     EXPECT_FALSE(lost.contains("target_shaded_fraction")) << m;

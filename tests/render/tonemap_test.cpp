@@ -66,7 +66,8 @@ TEST(ToneMapEncode, ApplyUsesTheSameCurve) {
     EXPECT_EQ(out.data[i], display_encode<ToneCurve::Aces>(lin.data[i] * 1.5f));
 }
 
-// ToneMap::apply runs the curve 8 floats at a time (tonemap.cpp): bit for bit what
+// ToneMap::apply runs the curve 4 or 8 floats at a time (tonemap.cpp): on every width this
+// CPU has, bit for bit what
 // display_encode gives per value, for every curve, over a dense sweep of magnitudes, the sRGB
 // threshold's neighbourhood, denormals, huge values, negatives, infinities and NaN, and a
 // length that leaves a scalar tail.
@@ -92,28 +93,38 @@ TEST(ToneMapEncode, VectorApplyIsBitIdenticalToThePerValueCurve) {
   v.push_back(0.125f);
   Image lin(int(v.size() / 3), 1, 3), out;
   lin.data = v;
-  for (ToneCurve c : {ToneCurve::Aces, ToneCurve::Reinhard, ToneCurve::Clamp})
-    for (double ex : {1.0, 0.37}) {
-      ToneMap tm;
-      tm.curve = c;
-      tm.exposure = ex;
-      tm.apply(lin, out);
-      ASSERT_EQ(out.data.size(), v.size());
-      size_t bad = 0;
-      for (size_t i = 0; i < v.size(); ++i) {
-        const float x = v[i] * float(ex);  // (this thread: IEEE, denormals kept)
-        const float want = c == ToneCurve::Aces       ? display_encode<ToneCurve::Aces>(x)
-                           : c == ToneCurve::Reinhard ? display_encode<ToneCurve::Reinhard>(x)
-                                                      : display_encode<ToneCurve::Clamp>(x);
-        uint32_t a, b;
-        std::memcpy(&a, &out.data[i], 4);
-        std::memcpy(&b, &want, 4);
-        if (a != b && ++bad <= 5)
-          ADD_FAILURE() << "curve " << int(c) << " exposure " << ex << " x " << v[i] << ": "
-                        << out.data[i] << " vs " << want;
+  std::vector<int> widths;  // every lane width this CPU has (4 always)
+  for (int w : {4, 8}) {
+    set_tonemap_lane_width(w);
+    if (tonemap_lane_width() == w) widths.push_back(w);
+  }
+  ASSERT_FALSE(widths.empty());
+  ASSERT_EQ(widths[0], 4);
+  for (int w : widths)
+    for (ToneCurve c : {ToneCurve::Aces, ToneCurve::Reinhard, ToneCurve::Clamp})
+      for (double ex : {1.0, 0.37}) {
+        set_tonemap_lane_width(w);
+        ToneMap tm;
+        tm.curve = c;
+        tm.exposure = ex;
+        tm.apply(lin, out);
+        ASSERT_EQ(out.data.size(), v.size());
+        size_t bad = 0;
+        for (size_t i = 0; i < v.size(); ++i) {
+          const float x = v[i] * float(ex);  // (this thread: IEEE, denormals kept)
+          const float want = c == ToneCurve::Aces       ? display_encode<ToneCurve::Aces>(x)
+                             : c == ToneCurve::Reinhard ? display_encode<ToneCurve::Reinhard>(x)
+                                                        : display_encode<ToneCurve::Clamp>(x);
+          uint32_t a, b;
+          std::memcpy(&a, &out.data[i], 4);
+          std::memcpy(&b, &want, 4);
+          if (a != b && ++bad <= 5)
+            ADD_FAILURE() << "width " << w << " curve " << int(c) << " exposure " << ex << " x "
+                          << v[i] << ": " << out.data[i] << " vs " << want;
+        }
+        EXPECT_EQ(bad, 0u);
       }
-      EXPECT_EQ(bad, 0u);
-    }
+  set_tonemap_lane_width(0);
 }
 
 TEST(ToneMapEncode, TinyAndDenormalInputsAreBlackWhateverTheFpMode) {
