@@ -19,9 +19,13 @@
 // eval_albedo_packet (texture_packet.h) evaluates a renderer packet's lookups together, a
 // material's lanes at a time, with eval_albedo's operations; the grating's sines and cosines
 // come from sincos_det / sincos_packet (below), not libm.
+#include <immintrin.h>
+
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 
@@ -483,7 +487,7 @@ inline vd2 vsquare_integral(vd2 x) {
 }
 
 // box_square(x[k], w[k]) for k < n, two lanes at a time (the same double operations).
-void box_square_packet(const float* x, const float* w, int n, float* out) {
+void box_square_sse2(const float* x, const float* w, int n, float* out) {
   for (int k = 0; k < n; k += 2) {
     const int k1 = k + 1 < n ? k + 1 : k;
     const vd2 xd = {double(x[k]), double(x[k1])}, wd = {double(w[k]), double(w[k1])};
@@ -494,6 +498,72 @@ void box_square_packet(const float* x, const float* w, int n, float* out) {
       out[k + j] = (wj > kPointFw) ? float(r[j]) : box_square(x[k + j], wj);
     }
   }
+}
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define FOVSIM_TEX_AVX2 1
+// box_square_sse2 four lanes at a time (AVX2; fp-contract=off: no FMA), branch-free: the
+// filtered value in double and the point value (box_square's !(w > kPointFw) branch: the
+// parity of int32_t(floor(x)), truncation giving INT32_MIN out of range as the scalar
+// conversion does) in float, then the lane's choice. The same operations per lane.
+__attribute__((target("avx2"), optimize("fp-contract=off"))) void box_square_avx2(const float* x,
+                                                                                  const float* w,
+                                                                                  int n,
+                                                                                  float* out) {
+  auto body = [](__m128 xf, __m128 wf) {
+    const __m256d xd = _mm256_cvtps_pd(xf), wd = _mm256_cvtps_pd(wf);
+    const __m256d h = _mm256_mul_pd(_mm256_set1_pd(0.5), wd);
+    const __m256d one = _mm256_set1_pd(1.0), two = _mm256_set1_pd(2.0);
+    const __m256d half = _mm256_set1_pd(0.5), sign = _mm256_set1_pd(-0.0);
+    auto sq = [&](__m256d t) {  // square_integral
+      const __m256d f = _mm256_sub_pd(
+          t, _mm256_mul_pd(two, _mm256_round_pd(_mm256_mul_pd(half, t),
+                                                _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC)));
+      return _mm256_sub_pd(one, _mm256_andnot_pd(sign, _mm256_sub_pd(one, f)));
+    };
+    const __m256d r =
+        _mm256_div_pd(_mm256_sub_pd(sq(_mm256_add_pd(xd, h)), sq(_mm256_sub_pd(xd, h))), wd);
+    const __m128i odd =
+        _mm_and_si128(_mm_cvttps_epi32(_mm_round_ps(xf, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC)),
+                      _mm_set1_epi32(1));
+    const __m128 point = _mm_blendv_ps(_mm_set1_ps(1.f), _mm_set1_ps(-1.f),
+                                       _mm_castsi128_ps(_mm_cmpeq_epi32(odd, _mm_set1_epi32(1))));
+    return _mm_blendv_ps(point, _mm256_cvtpd_ps(r), _mm_cmpgt_ps(wf, _mm_set1_ps(kPointFw)));
+  };
+  int k = 0;
+  for (; k + 4 <= n; k += 4) _mm_storeu_ps(out + k, body(_mm_loadu_ps(x + k), _mm_loadu_ps(w + k)));
+  if (k < n) {
+    alignas(16) float xb[4] = {0.f, 0.f, 0.f, 0.f}, wb[4] = {1.f, 1.f, 1.f, 1.f}, ob[4];
+    for (int j = 0; k + j < n; ++j) {
+      xb[j] = x[k + j];
+      wb[j] = w[k + j];
+    }
+    _mm_store_ps(ob, body(_mm_load_ps(xb), _mm_load_ps(wb)));
+    for (int j = 0; k + j < n; ++j) out[k + j] = ob[j];
+  }
+}
+#else
+#define FOVSIM_TEX_AVX2 0
+#endif
+
+std::atomic<int> g_tex_width{0};  // 0: automatic
+
+int tex_auto_width() {
+#if FOVSIM_TEX_AVX2
+  const char* v = std::getenv("FOVSIM_SIMD");
+  if (v && std::strcmp(v, "generic") == 0) return 2;
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx2") ? 4 : 2;
+#else
+  return 2;
+#endif
+}
+
+void box_square_packet(const float* x, const float* w, int n, float* out) {
+#if FOVSIM_TEX_AVX2
+  if (texture_lane_width() == 4) return box_square_avx2(x, w, n, out);
+#endif
+  box_square_sse2(x, w, n, out);
 }
 
 // box_pulse(x[k], w[k], a) for k < n, two lanes at a time (the same double operations).
@@ -517,6 +587,18 @@ void box_pulse_packet(const float* x, const float* w, float a, int n, float* out
 }
 
 }  // namespace
+
+int texture_lane_width() {
+  const int f = g_tex_width.load(std::memory_order_relaxed);
+  if (f) return f;
+  static const int a = tex_auto_width();
+  return a;
+}
+
+void set_texture_lane_width(int w) {
+  g_tex_width.store(w == 4 && tex_auto_width() == 4 ? 4 : (w == 0 ? 0 : 2),
+                    std::memory_order_relaxed);
+}
 
 // Long because: it is one switch over the texture kinds, each case the packet-wide form of
 // eval_albedo's case (same IEEE operations per lane, so the same bits); keeping the cases side

@@ -17,6 +17,11 @@ struct TexSample {
 };
 void eval_albedo_packet(const Scene& scene, const glm::vec2* mat_cs, const TexSample* q, int n,
                         glm::vec3* out);
+// Doubles per instruction of the packet's box filters (checker, stripes): 2 (SSE2) or 4 (AVX2,
+// where the CPU has it, unless FOVSIM_SIMD=generic); both give eval_albedo's bits. The setter
+// is for tests (0: automatic; a width the CPU lacks gives 2).
+int texture_lane_width();
+void set_texture_lane_width(int w);
 // sinf and cosf of y[k] (k < n) into s[k], c[k]: glibc's algorithm (Arm optimized-routines,
 // Nagy 2018: reduction by pi/2 in double, polynomials in double, one rounding to float) with its
 // non-FMA operations, so the bits of glibc's SSE2 variant on every CPU (glibc's FMA variants,

@@ -124,7 +124,8 @@ TEST(Texture, MipLevelSelectionAndTopLevelMean) {
 
 // The packet-wide lookup gives eval_albedo's bits lane for lane, for every procedural kind,
 // with materials mixed inside a packet, filtered and point footprints, far-away uvs (the sines'
-// large-argument reduction) and packets that are not a multiple of 16.
+// large-argument reduction; point parities out of int32 range) and packets that are not a
+// multiple of 16, on both widths of the box filters.
 TEST(Texture, PacketEqualsPerSampleBits) {
   Scene s;
   const TexKind kinds[] = {TexKind::Constant, TexKind::Checker, TexKind::Stripes, TexKind::Grating,
@@ -147,16 +148,24 @@ TEST(Texture, PacketEqualsPerSampleBits) {
     q[i].mat = i % 3 == 0 ? M(rng) : int(i / 16) % int(s.materials.size());  // runs and mixes
     q[i].fw = i % 7 == 0 ? 0.f : F(rng);
   }
-  std::vector<glm::vec3> out(q.size());
-  for (size_t i0 = 0; i0 < q.size(); i0 += 13)
-    eval_albedo_packet(s, cs.data(), &q[i0], int(std::min<size_t>(13, q.size() - i0)), &out[i0]);
-  for (size_t i = 0; i < q.size(); ++i) {
-    const Material& m = s.materials[size_t(q[i].mat)];
-    const glm::vec3 e =
-        eval_albedo(s, m, q[i].uv, cs[size_t(q[i].mat)].x, cs[size_t(q[i].mat)].y, q[i].fw);
-    ASSERT_EQ(std::memcmp(&e, &out[i], sizeof e), 0)
-        << "sample " << i << " kind " << int(m.tex) << " fw " << q[i].fw;
+  q[1].uv = glm::vec2(3e9f, -3e9f);  // the point parity out of int32 range
+  q[1].fw = 0.f;
+  q[2].uv = glm::vec2(3e9f, 1e20f);
+  for (int width : {2, 4}) {  // the box filters' SSE2 and (where the CPU has it) AVX2 paths
+    set_texture_lane_width(width);
+    std::vector<glm::vec3> out(q.size());
+    for (size_t i0 = 0; i0 < q.size(); i0 += 13)
+      eval_albedo_packet(s, cs.data(), &q[i0], int(std::min<size_t>(13, q.size() - i0)), &out[i0]);
+    for (size_t i = 0; i < q.size(); ++i) {
+      const Material& m = s.materials[size_t(q[i].mat)];
+      const glm::vec3 e =
+          eval_albedo(s, m, q[i].uv, cs[size_t(q[i].mat)].x, cs[size_t(q[i].mat)].y, q[i].fw);
+      ASSERT_EQ(std::memcmp(&e, &out[i], sizeof e), 0)
+          << "width " << texture_lane_width() << " sample " << i << " kind " << int(m.tex) << " fw "
+          << q[i].fw;
+    }
   }
+  set_texture_lane_width(0);
 }
 
 // sincos_packet: the same bits as sincos_det, within one ulp of libm everywhere (glibc's
