@@ -38,6 +38,10 @@ void register_info(CLI::App& app, Action& action) {
                   j["embree_isa"].get<std::string>().c_str());
       std::printf("SIMD kernel paths: %s (active: %s)\n", list(j["simd_paths"]).c_str(),
                   j["simd_path"].get<std::string>().c_str());
+      std::printf("lanes per instruction:");
+      for (const auto& [k, v] : j["lane_widths"].items())
+        std::printf(" %s %d", k.c_str(), v.get<int>());
+      std::printf("\n");
       std::printf("metrics:");
       for (const auto& m : j["metrics"])
         std::printf(" %s%s", m["name"].get<std::string>().c_str(), m["family"] ? "*" : "");
