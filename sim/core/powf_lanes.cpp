@@ -1,6 +1,7 @@
 // powf_array (powf_lanes.h): powf_det's operations on W lanes at a time. The body below is
 // compiled three times (SSE2, AVX2, AVX-512F); each lane's IEEE double operations are
-// powf_det's in its order, the table lookups are per-lane loads.
+// powf_det's in its order; the table lookups are per-lane loads (SSE2, AVX2) or permutes of
+// the tables held in registers (AVX-512F), the same values.
 #include "sim/core/powf_lanes.h"
 
 #include <immintrin.h>
