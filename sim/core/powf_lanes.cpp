@@ -6,13 +6,12 @@
 
 #include <immintrin.h>
 
-#include <atomic>
 #include <cmath>
 #include <cstdint>
-#include <cstdlib>
 #include <cstring>
 #include <limits>
 
+#include "sim/core/lane_choice.h"
 #include "sim/core/powf_det.h"
 
 namespace fovsim {
@@ -143,35 +142,17 @@ POW_LANES(lanes8, 8, __attribute__((target("avx512f"), optimize("fp-contract=off
 #endif
 #undef POW_LANES
 
-bool cpu_has(int w) {
-#if FOVSIM_PW_WIDE
-  __builtin_cpu_init();
-  if (w == 4) return __builtin_cpu_supports("avx2");
-  if (w == 8) return __builtin_cpu_supports("avx512f");
-#endif
-  return w == 2;
-}
-
-int auto_width() {
-  const char* v = std::getenv("FOVSIM_SIMD");
-  if (v && std::strcmp(v, "generic") == 0) return 2;
-  if (v && std::strcmp(v, "avx2") == 0) return cpu_has(4) ? 4 : 2;
-  return cpu_has(8) ? 8 : cpu_has(4) ? 4 : 2;
-}
-
-std::atomic<int> g_forced{0};
+// 2 (SSE2), 4 (AVX2), 8 (AVX-512F) doubles per instruction (sim/core/lane_choice.h).
+LaneChoice g_lanes{2, FOVSIM_PW_WIDE ? 4 : 2, FOVSIM_PW_WIDE ? 8 : 2};
 
 }  // namespace
 
 int powf_lane_width() {
-  const int f = g_forced.load(std::memory_order_relaxed);
-  if (f) return f;
-  static const int a = auto_width();
-  return a;
+  return g_lanes.width();
 }
 
 void set_powf_lane_width(int w) {
-  g_forced.store(w == 0 || cpu_has(w) ? w : 2, std::memory_order_relaxed);
+  g_lanes.force(w);
 }
 
 void powf_array(const float* x, float y, float* out, int n) {

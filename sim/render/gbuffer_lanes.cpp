@@ -2,11 +2,10 @@
 
 #include <immintrin.h>
 
-#include <atomic>
 #include <cmath>
 #include <cstdint>
-#include <cstdlib>
-#include <cstring>
+
+#include "sim/core/lane_choice.h"
 
 namespace fovsim {
 namespace {
@@ -46,44 +45,24 @@ namespace {
 #undef FOVSIM_GB_ATTR
 #endif
 
-bool cpu_has(int w) {
-#if FOVSIM_GB_WIDE
-  __builtin_cpu_init();
-  if (w == 8) return __builtin_cpu_supports("avx2");
-  if (w == 16) return __builtin_cpu_supports("avx512f");
-#endif
-  return w == 4;
-}
-
-// The automatic width: FOVSIM_SIMD (the switch of fovsim's other SIMD kernels, which also
-// validates its value) = generic -> 4, avx2 -> 8; otherwise the widest the CPU has.
-int auto_width() {
-  const char* v = std::getenv("FOVSIM_SIMD");
-  if (v && std::strcmp(v, "generic") == 0) return 4;
-  if (v && std::strcmp(v, "avx2") == 0) return cpu_has(8) ? 8 : 4;
-  return cpu_has(16) ? 16 : cpu_has(8) ? 8 : 4;
-}
-
-std::atomic<int> g_forced{0};
+// 4 (SSE2), 8 (AVX2), 16 (AVX-512F) floats per instruction (sim/core/lane_choice.h).
+LaneChoice g_lanes{4, FOVSIM_GB_WIDE ? 8 : 4, FOVSIM_GB_WIDE ? 16 : 4};
 
 }  // namespace
 
 std::vector<int> gbuffer_lane_widths() {
   std::vector<int> v{4};
   for (int w : {8, 16})
-    if (cpu_has(w)) v.push_back(w);
+    if (g_lanes.runs(w)) v.push_back(w);
   return v;
 }
 
 int gbuffer_lane_width() {
-  const int f = g_forced.load(std::memory_order_relaxed);
-  if (f) return f;
-  static const int a = auto_width();
-  return a;
+  return g_lanes.width();
 }
 
 void set_gbuffer_lane_width(int w) {
-  g_forced.store(w == 0 || cpu_has(w) ? w : 4, std::memory_order_relaxed);
+  g_lanes.force(w);
 }
 
 void gbuffer_lanes(FastLanes& F, float org_x, float org_y, float org_z) {

@@ -12,9 +12,7 @@
 
 #include <tbb/parallel_for.h>
 
-#include <atomic>
-#include <cstdlib>
-#include <cstring>
+#include "sim/core/lane_choice.h"
 
 namespace fovsim {
 
@@ -143,34 +141,13 @@ __attribute__((target("avx2"), optimize("fp-contract=off"))) void encode8(const 
 #define FOVSIM_TM_WIDE 0
 #endif
 
-bool cpu_has(int w) {
-#if FOVSIM_TM_WIDE
-  __builtin_cpu_init();
-  if (w == 8) return __builtin_cpu_supports("avx2");
-#endif
-  return w == 4;
-}
-
-int auto_width() {
-  const char* v = std::getenv("FOVSIM_SIMD");
-  if (v && std::strcmp(v, "generic") == 0) return 4;
-  if (v && std::strcmp(v, "avx2") == 0) return cpu_has(8) ? 8 : 4;
-  return cpu_has(8) ? 8 : 4;
-}
-
-std::atomic<int> g_forced{0};
-
-int lane_width() {
-  const int f = g_forced.load(std::memory_order_relaxed);
-  if (f) return f;
-  static const int a = auto_width();
-  return a;
-}
+// 4 (SSE2) or 8 (AVX2, also on AVX-512F CPUs) floats per instruction (sim/core/lane_choice.h).
+LaneChoice g_lanes{4, FOVSIM_TM_WIDE ? 8 : 4, FOVSIM_TM_WIDE ? 8 : 4};
 
 template <ToneCurve C>
 void encode_range(const float* in, float* out, size_t n, float ex) {
 #if FOVSIM_TM_WIDE
-  if (lane_width() == 8) return encode8<C>(in, out, n, ex);
+  if (g_lanes.width() == 8) return encode8<C>(in, out, n, ex);
 #endif
   encode4<C>(in, out, n, ex);
 }
@@ -178,10 +155,10 @@ void encode_range(const float* in, float* out, size_t n, float ex) {
 }  // namespace
 
 int tonemap_lane_width() {
-  return lane_width();
+  return g_lanes.width();
 }
 void set_tonemap_lane_width(int w) {
-  g_forced.store(w == 0 || cpu_has(w) ? w : 4, std::memory_order_relaxed);
+  g_lanes.force(w);
 }
 
 void ToneMap::apply(const Image& linear, Image& display) const {

@@ -22,13 +22,12 @@
 #include <immintrin.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdint>
-#include <cstdlib>
 #include <cstring>
 #include <limits>
 
+#include "sim/core/lane_choice.h"
 #include "sim/scene/texture_packet.h"
 
 namespace fovsim {
@@ -546,18 +545,9 @@ __attribute__((target("avx2"), optimize("fp-contract=off"))) void box_square_avx
 #define FOVSIM_TEX_AVX2 0
 #endif
 
-std::atomic<int> g_tex_width{0};  // 0: automatic
-
-int tex_auto_width() {
-#if FOVSIM_TEX_AVX2
-  const char* v = std::getenv("FOVSIM_SIMD");
-  if (v && std::strcmp(v, "generic") == 0) return 2;
-  __builtin_cpu_init();
-  return __builtin_cpu_supports("avx2") ? 4 : 2;
-#else
-  return 2;
-#endif
-}
+// 2 (SSE2) or 4 (AVX2, also on AVX-512F CPUs) doubles per instruction of the box filters
+// (sim/core/lane_choice.h).
+LaneChoice g_box_lanes{2, FOVSIM_TEX_AVX2 ? 4 : 2, FOVSIM_TEX_AVX2 ? 4 : 2};
 
 void box_square_packet(const float* x, const float* w, int n, float* out) {
 #if FOVSIM_TEX_AVX2
@@ -589,15 +579,11 @@ void box_pulse_packet(const float* x, const float* w, float a, int n, float* out
 }  // namespace
 
 int texture_lane_width() {
-  const int f = g_tex_width.load(std::memory_order_relaxed);
-  if (f) return f;
-  static const int a = tex_auto_width();
-  return a;
+  return g_box_lanes.width();
 }
 
 void set_texture_lane_width(int w) {
-  g_tex_width.store(w == 4 && tex_auto_width() == 4 ? 4 : (w == 0 ? 0 : 2),
-                    std::memory_order_relaxed);
+  g_box_lanes.force(w);
 }
 
 // Long because: it is one switch over the texture kinds, each case the packet-wide form of
