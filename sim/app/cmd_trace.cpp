@@ -7,8 +7,8 @@
 #include "sim/core/error.h"
 #include "sim/core/files.h"
 #include "sim/experiment/config.h"
-#include "sim/trace/guess.h"
 #include "sim/trace/importer.h"
+#include "sim/trace/map_search.h"
 #include "sim/trace/stats.h"
 #include "sim/trace/synth.h"
 #include "sim/trace/trace.h"
@@ -70,7 +70,8 @@ void register_trace_import(CLI::App* t, const std::shared_ptr<TraceArgs>& a, Act
   imp->add_option("-o,--output", a->out, "Canonical CSV to write");
   imp->add_flag(
       "--guess", a->guess,
-      "Print a starting column map inferred from IN (every inferred convention marked ASSUMPTION)");
+      "Print a column map chosen by importing a sample of IN under each plausible convention and "
+      "scoring the result (choice, runner-up and margin on stderr)");
   imp->add_option("--on-bad", a->on_bad,
                   "Valid gaze outside the display FOV: fail (error at file:line:column), skip the "
                   "row, or hold the "
@@ -81,7 +82,9 @@ void register_trace_import(CLI::App* t, const std::shared_ptr<TraceArgs>& a, Act
   imp->callback([a, imp, &action] {
     if (a->guess) {
       action = [a] {
-        std::printf("%s\n", guess_map(a->in).dump(2).c_str());
+        MapSearchResult r = search_map(a->in, load_display(*a));
+        for (auto& l : r.report) std::fprintf(stderr, "%s\n", l.c_str());
+        std::printf("%s\n", r.map.dump(2).c_str());
         return 0;
       };
       return;
@@ -95,7 +98,7 @@ void register_trace_import(CLI::App* t, const std::shared_ptr<TraceArgs>& a, Act
       ImportOptions io;
       io.on_fov = policy(a->on_bad);
       io.on_fov_explicit = imp->count("--on-bad") > 0;  // else the map's "on_bad"
-      Trace tr = import_trace(a->in, a->map, d, &rep, io);
+      Trace tr = import_trace_hinted(a->in, a->map, d, &rep, io);
       write_trace_csv(a->out, tr);
       std::printf("imported %s -> %s\n", a->in.c_str(), a->out.c_str());
       std::printf("rows               %ld read, %ld skipped, %ld flagged invalid\n", rep.data_rows,
@@ -157,7 +160,7 @@ void register_trace_stats(CLI::App* t, const std::shared_ptr<TraceArgs>& a, Acti
       if (!a->map.empty()) {
         ImportOptions io;
         io.check_fov = false;  // counted in the summary instead
-        tr = import_trace(a->in, a->map, d, nullptr, io);
+        tr = import_trace_hinted(a->in, a->map, d, nullptr, io);
       } else {
         TraceReadOptions o;
         o.on_bad = policy(a->on_bad);

@@ -1298,7 +1298,12 @@ void finish_poses(const Map& m, const std::string& in, const ImportReport& rep, 
 // recentring/dequantisation (traces/README.md "Column maps").
 Trace import_trace(const std::string& in, const std::string& map_path, const Display& display,
                    ImportReport* report, const ImportOptions& opt) {
-  Params p = Params::from_file(map_path);
+  return import_trace(in, Params::parse_json_file(map_path), map_path, display, report, opt);
+}
+
+Trace import_trace(const std::string& in, const Json& map, const std::string& map_name,
+                   const Display& display, ImportReport* report, const ImportOptions& opt) {
+  Params p(map, map_name);
   p.ignore("comment");
   p.ignore("description");
   Map m = read_map_layout(p);

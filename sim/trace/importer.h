@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "sim/core/params.h"
 #include "sim/trace/trace.h"
 
 namespace fovsim {
@@ -42,5 +43,9 @@ struct ImportOptions {
 // the FOV check.
 Trace import_trace(const std::string& in, const std::string& map_path, const Display& display,
                    ImportReport* report = nullptr, const ImportOptions& opt = {});
+// The same with the map already parsed; `map_name` names it in map errors.
+Trace import_trace(const std::string& in, const Json& map, const std::string& map_name,
+                   const Display& display, ImportReport* report = nullptr,
+                   const ImportOptions& opt = {});
 
 }  // namespace fovsim
