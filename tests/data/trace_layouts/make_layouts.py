@@ -242,7 +242,95 @@ def tobii_pro_lab(path):
 TUNED = {"pupil_core_gaze_positions.csv": pupil_core,
          "sranipal_unity.csv": sranipal_unity,
          "tobii_pro_lab_glasses2.tsv": tobii_pro_lab}
-HELDOUT = {}
+
+# ---- held-out layouts (written after the scorer was frozen; not used to tune it) -----------
+
+def varjo_base_log(path):
+    """Varjo XR-3 / Aero, Varjo Base eye-tracking data logging (CSV): raw_timestamp (ns),
+    frame_number, status (0 invalid, 1 adjusting, 2 valid), combined gaze_forward and
+    gaze_origin in the HMD frame with +Z forward, per-eye left_/right_ status and forward,
+    pupil sizes, ipd; the HMD pose in Varjo's world frame (right-handed, +Y up, -Z forward),
+    rotation w, x, y, z. 200 Hz. Lost samples: status 0 and a (0, 0, 0) forward."""
+    hz = 200
+    header = ["raw_timestamp", "log_time", "frame_number", "status", "gaze_forward_x",
+              "gaze_forward_y", "gaze_forward_z", "gaze_origin_x", "gaze_origin_y",
+              "gaze_origin_z", "left_status", "left_forward_x", "left_forward_y",
+              "left_forward_z", "right_status", "right_forward_x", "right_forward_y",
+              "right_forward_z", "left_pupil_size", "right_pupil_size", "ipd",
+              "HMD_position_x", "HMD_position_y", "HMD_position_z", "HMD_rotation_w",
+              "HMD_rotation_x", "HMD_rotation_y", "HMD_rotation_z"]
+    rows = []
+    for i, s in enumerate(motion(400, hz, 4)):
+        g = s.gaze
+        src = [g[0], g[1], -g[2]]
+        ts = 1686570000123456789 + int(round(s.t * 1e9))
+        w, x, y, z = quat_from_mat(s.R)
+        head = [f(c) for c in s.pos] + [f(w), f(x), f(y), f(z)]
+        if s.valid:
+            d = [f(c) for c in src]
+            rows.append([str(ts), f"{s.t:.4f}", str(1000 + i // 2), "2"] + d +
+                        ["0.0", "0.0", "0.0", "2"] + d + ["2"] + d + ["3.1", "3.2", "63.5"] + head)
+        else:
+            z3 = ["0", "0", "0"]
+            rows.append([str(ts), f"{s.t:.4f}", str(1000 + i // 2), "0"] + z3 + z3 + ["0"] + z3 +
+                        ["0"] + z3 + ["0", "0", "63.5"] + head)
+    write(path, header, rows, ",")
+
+
+def quest_pro_ovreyegaze(path):
+    """Meta Quest Pro in Unity (Meta XR SDK), one row per frame from a logger of OVREyeGaze
+    components in world-space tracking mode: Time.time (s), the centre-eye camera
+    transform (Unity: left-handed, +Y up, +Z forward; rotation x, y, z, w), each eye's
+    transform.rotation (world space; the gaze is its +Z axis) and OVREyeGaze.Confidence
+    (0..1, the SDK's default threshold 0.5). 72 Hz."""
+    hz = 72
+    header = ["time", "head_pos_x", "head_pos_y", "head_pos_z", "head_rot_x", "head_rot_y",
+              "head_rot_z", "head_rot_w"]
+    for e in ("left", "right"):
+        header += [f"{e}_eye_rot_x", f"{e}_eye_rot_y", f"{e}_eye_rot_z", f"{e}_eye_rot_w",
+                   f"{e}_eye_confidence"]
+    rows = []
+    rnd = random.Random(5)
+    for s in motion(360, hz, 5):
+        Ru = reflect(s.R, UNITY)
+        hw, hx, hy, hz_ = quat_from_mat(Ru)
+        wg = s.world  # fovsim world gaze
+        # Eye rotation: yaw/pitch taking Unity +Z to the Unity world gaze (no roll).
+        gu = [wg[0], wg[1], -wg[2]]
+        yaw = math.atan2(gu[0], gu[2])
+        pitch = -math.asin(max(-1.0, min(1.0, gu[1])))
+        Re = mat_mul(rot_y(yaw), rot_x(pitch))
+        ew, ex, ey, ez = quat_from_mat(Re)
+        row = [f"{s.t:.5f}", f(s.pos[0]), f(s.pos[1]), f(-s.pos[2]), f(hx), f(hy), f(hz_), f(hw)]
+        for _ in ("left", "right"):
+            if s.valid:
+                row += [f(ex), f(ey), f(ez), f(ew), f(rnd.uniform(0.8, 1.0), 3)]
+            else:
+                row += ["0", "0", "0", "1", f(rnd.uniform(0.0, 0.2), 3)]
+        rows.append(row)
+    write(path, header, rows, ",")
+
+
+def gazebase(path):
+    """GazeBase (Griffith et al. 2021), one CSV per recording from an EyeLink 1000 at 1000 Hz:
+    n (ms), x and y (gaze in degrees of visual angle from the screen centre, +y up), val
+    (0 valid, non-zero: sample invalid), xT and yT (the target, deg), lab (the task's
+    label column). Invalid samples have NaN gaze. Desktop: no head pose."""
+    hz = 1000
+    header = ["n", "x", "y", "val", "xT", "yT", "lab"]
+    rows = []
+    for i, s in enumerate(motion(800, hz, 6)):
+        t = str(int(round(s.t * 1000)) + 8)
+        if s.valid:
+            rows.append([t, f(s.az, 4), f(s.el, 4), "0", "0.0", "0.0", "1"])
+        else:
+            rows.append([t, "NaN", "NaN", "4", "0.0", "0.0", "1"])
+    write(path, header, rows, ",")
+
+
+HELDOUT = {"varjo_base_gaze_log.csv": varjo_base_log,
+           "quest_pro_ovreyegaze_unity.csv": quest_pro_ovreyegaze,
+           "gazebase_s1.csv": gazebase}
 
 
 def main():
