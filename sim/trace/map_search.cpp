@@ -376,8 +376,10 @@ Dimension frame_dimension(const Data& D, const Json& base) {
               o.apply = [=](Json& m) {
                 m["coordinates"] = c == "opencv" ? axes_object(c) : Json(c);  // no name
                 m["gaze"].erase("coordinates");
-                if (mir) m["gaze"]["coordinates"] = mirrored_x(c);
-                if (dir) m["gaze"]["space"] = sp.first;
+                // The gaze form dimension may have replaced the gaze: only its own keys.
+                const std::string t = m["gaze"].value("type", "");
+                if (mir && t == "direction") m["gaze"]["coordinates"] = mirrored_x(c);
+                if (dir && (t == "direction" || t == "orientation")) m["gaze"]["space"] = sp.first;
                 if (!od.first.empty()) m["head_orientation"]["order"] = od.first;
                 if (!un.first.empty()) m["head_orientation"]["unit"] = un.first;
                 m["head_orientation"].erase("inverse");
@@ -634,6 +636,69 @@ Dimension position_dimension(const Json& base) {
   return dim;
 }
 
+// When the names found no gaze: adjacent numeric columns read as gaze -- a unit-norm triple as a
+// direction, a pair as angles (deg or rad) or, with values in [0, 1], a screen point.
+Dimension gaze_form_dimension(const Data& D, const Json& base) {
+  Dimension dim{"gaze form", {}};
+  if (base["gaze"].dump().find("\"?\"") == std::string::npos) return dim;
+  const std::set<int> used = used_columns(D, base);
+  const size_t ncols = D.rows.empty() ? 0 : D.rows[0].fields.size();
+  auto numeric = [&](size_t c) {
+    if (used.count(int(c)) || D.increasing(int(c))) return false;
+    std::vector<double> v = D.values(int(c));
+    if (v.size() < D.rows.size() / 2 + 1) return false;
+    return *std::max_element(v.begin(), v.end()) > *std::min_element(v.begin(), v.end());
+  };
+  auto ref = [&](size_t c) { return D.names.empty() ? Json(c + 1) : Json(D.names[c]); };
+  int pairs = 0;
+  for (size_t c = 0; c + 1 < ncols && pairs < 4; ++c) {
+    if (!numeric(c) || !numeric(c + 1)) continue;
+    // "x"/"y", "gaze_x"/"gaze_y", "X [deg]"/"Y [deg]": named as a pair.
+    bool named = false;
+    if (!D.names.empty()) {
+      std::string a = lower(D.names[c]), b = lower(D.names[c + 1]);
+      const size_t k = a.rfind('x');
+      named = k != std::string::npos && (a[k] = 'y', a == b);
+    }
+    const double pr = 0.02 * pairs++ + (named ? 0 : 0.1);
+    const Json cols = {ref(c), ref(c + 1)};
+    if (c + 2 < ncols && numeric(c + 2)) {
+      long unit = 0, n = 0;
+      for (size_t r = 0; r < D.rows.size(); ++r) {
+        glm::dvec3 v;
+        if (!D.num(r, int(c), v.x) || !D.num(r, int(c + 1), v.y) || !D.num(r, int(c + 2), v.z))
+          continue;
+        ++n;
+        unit += std::fabs(glm::length(v) - 1) < 0.05 ? 1 : 0;
+      }
+      if (n > 0 && unit * 10 > n * 8) {
+        const Json g = {{"type", "direction"},
+                        {"space", "head"},
+                        {"columns", {ref(c), ref(c + 1), ref(c + 2)}}};
+        dim.options.push_back({"gaze: " + g.dump(), pr, [g](Json& m) { m["gaze"] = g; }});
+        continue;
+      }
+    }
+    std::vector<double> a = D.values(int(c)), b = D.values(int(c + 1));
+    const bool unit_box = *std::min_element(a.begin(), a.end()) >= -0.05 &&
+                          *std::max_element(a.begin(), a.end()) <= 1.05 &&
+                          *std::min_element(b.begin(), b.end()) >= -0.05 &&
+                          *std::max_element(b.begin(), b.end()) <= 1.05;
+    std::vector<Json> forms = {{{"type", "angles"}, {"columns", cols}, {"unit", "deg"}},
+                               {{"type", "angles"}, {"columns", cols}, {"unit", "rad"}}};
+    if (unit_box) {
+      forms.push_back({{"type", "screen"}, {"columns", cols}, {"origin", "top-left"}});
+      forms.push_back({{"type", "screen"}, {"columns", cols}, {"origin", "bottom-left"}});
+    }
+    for (size_t k = 0; k < forms.size(); ++k) {
+      const Json g = forms[k];
+      dim.options.push_back(
+          {"gaze: " + g.dump(), pr + 0.01 * double(k), [g](Json& m) { m["gaze"] = g; }});
+    }
+  }
+  return dim;
+}
+
 // Gaze angles in degrees or radians.
 Dimension angle_dimension(const Json& base) {
   Dimension dim{"angles", {}};
@@ -739,9 +804,10 @@ std::string map_diff(const Json& a, const Json& b) {
 }
 
 std::vector<Dimension> dimensions(const Data& D, const Json& base) {
-  std::vector<Dimension> dims = {position_dimension(base),    frame_dimension(D, base),
-                                 validity_dimension(D, base), sentinel_dimension(D, base),
-                                 time_dimension(D, base),     angle_dimension(base)};
+  std::vector<Dimension> dims = {gaze_form_dimension(D, base), position_dimension(base),
+                                 frame_dimension(D, base),     validity_dimension(D, base),
+                                 sentinel_dimension(D, base),  time_dimension(D, base),
+                                 angle_dimension(base)};
   dims.erase(std::remove_if(dims.begin(), dims.end(),
                             [](const Dimension& x) { return x.options.empty(); }),
              dims.end());

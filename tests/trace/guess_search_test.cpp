@@ -75,6 +75,12 @@ TEST(GuessSearch, TunedLayoutsImportPlausibly) {
   for (auto& f : files) expect_plausible(guess_and_import(f), f);
 }
 
+TEST(GuessSearch, HeldOutLayoutsImportPlausibly) {
+  const auto files = layout_files("heldout");
+  ASSERT_GE(files.size(), 2u);
+  for (auto& f : files) expect_plausible(guess_and_import(f), f);
+}
+
 // SRanipal: per-eye bitmasks, the SRanipal eye frame next to a Unity head, (0,0,0) on blinks.
 TEST(GuessSearch, SranipalBitmaskAndFrames) {
   Imported r = guess_and_import(src("tests/data/trace_layouts/tuned/sranipal_unity.csv"));
