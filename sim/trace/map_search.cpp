@@ -464,6 +464,10 @@ std::vector<std::pair<Json, double>> encodings(const Data& D, int c, const std::
     }
     return out;
   }
+  if (texts.count("")) {  // a numeric column empty on some rows ("blink id": set in blinks)
+    out.push_back({enc("valid_values", Json::array({""})), neg_name ? 0.0 : 0.08});
+    out.push_back({enc("invalid_values", Json::array({""})), neg_name ? 0.08 : 0.03});
+  }
   const double mx = *std::max_element(v.begin(), v.end());
   const double mn = *std::min_element(v.begin(), v.end());
   if (ints && mn >= 0 && mx <= 1) {

@@ -77,8 +77,15 @@ TEST(GuessSearch, TunedLayoutsImportPlausibly) {
 
 TEST(GuessSearch, HeldOutLayoutsImportPlausibly) {
   const auto files = layout_files("heldout");
-  ASSERT_GE(files.size(), 2u);
+  ASSERT_EQ(files.size(), 5u);
   for (auto& f : files) expect_plausible(guess_and_import(f), f);
+}
+
+// Pupil Cloud: "blink id" is empty outside blinks.
+TEST(GuessSearch, EmptyMeansValid) {
+  Imported r = guess_and_import(src("tests/data/trace_layouts/heldout/pupil_cloud_gaze.csv"));
+  EXPECT_EQ(r.guess.map["valid"].dump(), R"([{"column":"blink id","valid_values":[""]}])");
+  EXPECT_NEAR(r.st.invalid_fraction, 4.0 / 400, 1e-9);
 }
 
 // SRanipal: per-eye bitmasks, the SRanipal eye frame next to a Unity head, (0,0,0) on blinks.

@@ -333,9 +333,72 @@ HELDOUT = {"varjo_base_gaze_log.csv": varjo_base_log,
            "gazebase_s1.csv": gazebase}
 
 
+# ---- second held-out set (written after the search was frozen again at 69c9a56) -------------
+
+def unity_euler(R):
+    """Unity Transform.eulerAngles (deg, 0..360) of a fovsim world-from-head matrix."""
+    Ru = reflect(R, UNITY)  # R = Ry Rx Rz in Unity's axes
+    x = math.asin(max(-1.0, min(1.0, -Ru[1][2])))
+    y = math.atan2(Ru[0][2], Ru[2][2])
+    z = math.atan2(Ru[1][0], Ru[1][1])
+    return [math.degrees(a) % 360 for a in (x, y, z)]
+
+
+def tobii_xr_unity(path):
+    """Tobii XR SDK in Unity (TobiiXR.GetEyeTrackingData(TobiiXR_TrackingSpace.World)), one row
+    per frame: Timestamp (s, Time.unscaledTime), GazeRay.Origin/Direction in Unity world axes
+    (left-handed, +Z forward), GazeRay.IsValid, IsLeftEyeBlinking/IsRightEyeBlinking,
+    ConvergenceDistance(IsValid); the head from Camera.main.transform: position and
+    eulerAngles (degrees, 0..360, applied Z, X, Y). 90 Hz."""
+    hz = 90
+    header = ["Timestamp", "GazeRay.Origin.x", "GazeRay.Origin.y", "GazeRay.Origin.z",
+              "GazeRay.Direction.x", "GazeRay.Direction.y", "GazeRay.Direction.z",
+              "GazeRay.IsValid", "IsLeftEyeBlinking", "IsRightEyeBlinking",
+              "ConvergenceDistance", "ConvergenceDistanceIsValid", "HeadPosition.x",
+              "HeadPosition.y", "HeadPosition.z", "HeadEulerAngles.x", "HeadEulerAngles.y",
+              "HeadEulerAngles.z"]
+    rows = []
+    for s in motion(360, hz, 7, t0=12.5):
+        pu = [s.pos[0], s.pos[1], -s.pos[2]]
+        wu = [s.world[0], s.world[1], -s.world[2]]
+        e = unity_euler(s.R)
+        if s.valid:
+            g = [f(c) for c in wu] + ["True", "False", "False", "1.2", "True"]
+        else:
+            g = ["0", "0", "0", "False", "True", "True", "0", "False"]
+        rows.append([f"{s.t:.5f}"] + [f(c) for c in pu] + g + [f(c) for c in pu] +
+                    [f(c, 4) for c in e])
+    write(path, header, rows, ",")
+
+
+def pupil_cloud_gaze(path):
+    """Pupil Labs Neon / Invisible, Pupil Cloud "Timeseries Data" gaze.csv: section id,
+    recording id, timestamp [ns] (epoch), gaze x/y [px] in the scene camera image, worn
+    (1 or 0), fixation id, blink id (empty outside blinks), azimuth [deg] and elevation [deg]
+    (the gaze in the scene camera: azimuth positive right, elevation positive up). 200 Hz."""
+    hz = 200
+    header = ["section id", "recording id", "timestamp [ns]", "gaze x [px]", "gaze y [px]",
+              "worn", "fixation id", "blink id", "azimuth [deg]", "elevation [deg]"]
+    rows = []
+    blink = 0
+    for i, s in enumerate(motion(400, hz, 8)):
+        ts = 1700000000000000000 + int(round(s.t * 1e9))
+        bid = ""
+        if not s.valid:
+            blink += 1 if i == 0 or rows[-1][7] == "" else 0
+            bid = str(blink)
+        rows.append(["a1b2c3", "d4e5f6", str(ts), f(800 + 20 * s.az, 3), f(600 - 20 * s.el, 3),
+                     "1", "" if bid else str(i // 60 + 1), bid, f(s.az, 4), f(s.el, 4)])
+    write(path, header, rows, ",")
+
+
+HELDOUT2 = {"tobii_xr_unity_world.csv": tobii_xr_unity,
+            "pupil_cloud_gaze.csv": pupil_cloud_gaze}
+
+
 def main():
     which = sys.argv[1] if len(sys.argv) > 1 else "all"
-    sets = {"tuned": TUNED, "heldout": HELDOUT}
+    sets = {"tuned": TUNED, "heldout": {**HELDOUT, **HELDOUT2}}
     for name, files in sets.items():
         if which not in (name, "all"):
             continue
