@@ -219,6 +219,12 @@ Score score_map(const Json& map, const Sample& s, const Display& d) {
     sc.problems.push_back(fmt("head speed max %.0f deg/s", st.head_speed_max));
   }
   if (st.head_speed_p50 > kPlausibleHeadSpeedP50) t += 1;
+  // Tracker noise alone moves the gaze by several deg/s between samples: a gaze that hardly
+  // moves is a column that is not the gaze (or angles read in the wrong unit).
+  if (st.samples >= 10 && st.speed_p50 < 0.5) {
+    t += 0.3;
+    sc.problems.push_back(fmt("eye speed p50 %.2g deg/s", st.speed_p50));
+  }
   t += 3 * sc.outside + 3 * sc.upside_down;
   if (sc.outside > 0.05) sc.problems.push_back(fmt("%.0f %% outside the FOV", 100 * sc.outside));
   if (sc.upside_down > 0.05)
@@ -650,13 +656,16 @@ Dimension gaze_form_dimension(const Data& D, const Json& base) {
   auto numeric = [&](size_t c) {
     if (used.count(int(c)) || D.increasing(int(c))) return false;
     std::vector<double> v = D.values(int(c));
-    if (v.size() < D.rows.size() / 2 + 1) return false;
+    return v.size() >= D.rows.size() / 2 + 1;
+  };
+  auto varies = [&](size_t c) {
+    std::vector<double> v = D.values(int(c));
     return *std::max_element(v.begin(), v.end()) > *std::min_element(v.begin(), v.end());
   };
   auto ref = [&](size_t c) { return D.names.empty() ? Json(c + 1) : Json(D.names[c]); };
   int pairs = 0;
   for (size_t c = 0; c + 1 < ncols && pairs < 4; ++c) {
-    if (!numeric(c) || !numeric(c + 1)) continue;
+    if (!numeric(c) || !numeric(c + 1) || !(varies(c) || varies(c + 1))) continue;
     // "x"/"y", "gaze_x"/"gaze_y", "X [deg]"/"Y [deg]": named as a pair.
     bool named = false;
     if (!D.names.empty()) {
@@ -680,6 +689,7 @@ Dimension gaze_form_dimension(const Data& D, const Json& base) {
                         {"space", "head"},
                         {"columns", {ref(c), ref(c + 1), ref(c + 2)}}};
         dim.options.push_back({"gaze: " + g.dump(), pr, [g](Json& m) { m["gaze"] = g; }});
+        c += 2;  // its columns are not also a pair
         continue;
       }
     }
@@ -855,6 +865,14 @@ MapSearchResult search_map(const std::string& in, const Display& display) {
   MapSearchResult res;
   Json base = guess_map(in);
   const Json start_notes = base.value("comment", Json::array());
+  // Without a header the names say nothing: placeholders the time and gaze-form dimensions
+  // fill from the values.
+  if (!base.contains("time")) base["time"] = {{"column", "?"}, {"unit", "s"}};
+  if (!base.contains("gaze"))
+    base["gaze"] = {{"type", "direction"}, {"space", "head"}, {"columns", {"?", "?", "?"}}};
+  if (!base.contains("head_position")) base["head_position"] = {{"constant", {0, 1.6, 0}}};
+  if (!base.contains("head_orientation")) base["head_orientation"] = {{"constant", {1, 0, 0, 0}}};
+  if (!base.contains("coordinates")) base["coordinates"] = "opengl";
   Sample sample(in);
   Data D(sample.path, base);
   std::vector<std::string> notes;

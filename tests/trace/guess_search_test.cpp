@@ -224,6 +224,19 @@ TEST(GuessSearch, ReportsRunnerUpAndMargin) {
   EXPECT_EQ(r.guess.map["valid"][0]["column"], "confidence");
 }
 
+// No header: the time is the increasing column, the gaze the unit-norm triple.
+TEST(GuessSearch, NoHeader) {
+  std::string f = write_tmp("nohdr.csv", rows("", 300, 90, [](int i, double t, double az, bool) {
+                                           const double a = deg2rad(az);
+                                           return std::to_string(i % 7) + "," + num(t) + "," +
+                                                  num(std::sin(a)) + ",0," + num(-std::cos(a));
+                                         }).substr(1));
+  Imported r = guess_and_import(f);
+  EXPECT_EQ(r.guess.map["time"]["column"], 2);
+  EXPECT_EQ(r.guess.map["gaze"]["columns"].dump(), "[3,4,5]");
+  EXPECT_NEAR(r.st.rate_hz, 90, 0.5);
+}
+
 TEST(GuessSearch, NothingImportsIsAnError) {
   std::string f = write_tmp("words.csv", "a,b\nx,y\nz,w\n");
   expect_error([&] { search_map(f, vive()); }, {"words.csv", "no column map imports"});
