@@ -96,3 +96,32 @@ TEST(TraceCli, LongDurationRunsAndAllInvalidIsRefused) {
   EXPECT_EQ(x.code, 2) << x.output;
   EXPECT_NE(x.output.find("all 3 samples are flagged invalid"), std::string::npos) << x.output;
 }
+
+// --guess prints the map on stdout and how it was chosen on stderr; the map imports the file;
+// a failed import's hint names the map key judged wrong from the data.
+TEST(TraceCli, GuessReportsOnStderrAndImportHints) {
+  std::string dir = temp_dir("trace_guess_search");
+  const std::string rec = "tests/data/trace_layouts/heldout/varjo_base_gaze_log.csv";
+  auto g = run_cmd("(" + fovsim_bin() + " trace import " + rec + " --guess 2> " + dir +
+                   "/err.txt > " + dir + "/map.json)");
+  ASSERT_EQ(g.code, 0) << g.output;
+  const std::string err = read_text(dir + "/err.txt");
+  EXPECT_NE(err.find("guess: tested"), std::string::npos) << err;
+  EXPECT_NE(err.find("runner-up (score"), std::string::npos) << err;
+  auto i = run_cmd(fovsim_bin() + " trace import " + rec + " --map " + dir + "/map.json -o " + dir +
+                   "/o.csv");
+  EXPECT_EQ(i.code, 0) << i.output;
+  write_text(dir + "/gl.json", R"({"delimiter": "comma", "header": true, "coordinates": "opengl",
+    "time": {"column": "raw_timestamp", "unit": "ns"}, "head_position": {"constant": [0, 1.6, 0]},
+    "head_orientation": {"constant": [1, 0, 0, 0]},
+    "gaze": {"type": "direction", "space": "head",
+             "columns": ["gaze_forward_x", "gaze_forward_y", "gaze_forward_z"]},
+    "valid": [{"column": "status", "valid_values": ["2"]}]})");
+  auto h = run_cmd(fovsim_bin() + " trace import " + rec + " --map " + dir + "/gl.json -o " + dir +
+                   "/h.csv");
+  EXPECT_EQ(h.code, 2) << h.output;
+  EXPECT_NE(h.output.find("gaze points behind the eye"), std::string::npos) << h.output;
+  EXPECT_NE(h.output.find("(hint: gaze z > 0 on 100 % of rows: try `coordinates: unity"),
+            std::string::npos)
+      << h.output;
+}
