@@ -650,6 +650,17 @@ Dimension position_dimension(const Json& base) {
 // direction, a pair as angles (deg or rad) or, with values in [0, 1], a screen point.
 Dimension gaze_form_dimension(const Data& D, const Json& base) {
   Dimension dim{"gaze form", {}};
+  if (base["gaze"].value("type", "") == "point" && base["gaze"].contains("columns")) {
+    // A point looked at (world), or the same columns as a direction (head or world): a
+    // head-relative point and a direction read the same once normalised.
+    const Json pt = base["gaze"];
+    dim.options.push_back({"gaze: " + pt.dump(), 0, [pt](Json& m) { m["gaze"] = pt; }});
+    for (const char* sp : {"head", "world"}) {
+      const Json g = {{"type", "direction"}, {"space", sp}, {"columns", pt["columns"]}};
+      dim.options.push_back({"gaze: " + g.dump(), 0.05, [g](Json& m) { m["gaze"] = g; }});
+    }
+    return dim;
+  }
   if (base["gaze"].dump().find("\"?\"") == std::string::npos) return dim;
   const std::set<int> used = used_columns(D, base);
   const size_t ncols = D.rows.empty() ? 0 : D.rows[0].fields.size();

@@ -237,6 +237,21 @@ TEST(GuessSearch, NoHeader) {
   EXPECT_NEAR(r.st.rate_hz, 90, 0.5);
 }
 
+// A "gaze point" that is a head-relative direction (a toolbox export named it a point; as a
+// world point it would be looked at from the head position, behind the eye).
+TEST(GuessSearch, GazePointThatIsADirection) {
+  std::string f = write_tmp(
+      "pt.csv", rows("time,head_pos_x,head_pos_y,head_pos_z,gaze_point_x,gaze_point_y,gaze_point_z",
+                     300, 90, [](int, double t, double az, bool) {
+                       const double a = deg2rad(az);
+                       return num(t) + ",0.1,1.6," + num(0.2 * t) + "," + num(2 * std::sin(a)) +
+                              ",0," + num(-2 * std::cos(a));
+                     }));
+  Imported r = guess_and_import(f);
+  EXPECT_EQ(r.guess.map["gaze"]["type"], "direction") << r.guess.map.dump();
+  EXPECT_LT(r.st.ecc_p95, 9);
+}
+
 TEST(GuessSearch, NothingImportsIsAnError) {
   std::string f = write_tmp("words.csv", "a,b\nx,y\nz,w\n");
   expect_error([&] { search_map(f, vive()); }, {"words.csv", "no column map imports"});
