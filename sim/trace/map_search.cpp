@@ -989,7 +989,9 @@ std::string import_failure_hint(const std::string& in, const Json& map, const Di
     }
   for (auto& t : tried)
     if (t.score.imported && (!best || t.score.total < best->score.total)) best = &t;
-  if (!best || best->score.total >= now.total) return "";
+  // Only a clear improvement is worth naming (a small one is a matter of priors).
+  constexpr double kHintMargin = 0.2;
+  if (!best || best->score.total > now.total - kHintMargin) return "";
   std::string ev;
   const std::string diff = map_diff(map, best->map);
   if (diff.find("coordinates") != std::string::npos) {
