@@ -567,18 +567,30 @@ void guess_validity(MapGuess& G, bool per_eye) {
 // fallbacks, validity columns; each assumption is a note in the map's "comment".
 Json guess_map(const std::string& in) {
   std::string text = read_file(in);
-  size_t nl = text.find_first_of("\r\n");
-  std::string line0 = text.substr(0, nl);
+  // Metadata lines starting with '#' before the header (SMI, Tobii Studio, loggers' notes).
+  const bool hash_comments = !text.empty() && text[0] == '#';
+  size_t start = 0;
+  while (hash_comments && start < text.size() && text[start] == '#') {
+    size_t e = text.find_first_of("\r\n", start);
+    start = e == std::string::npos ? text.size() : text.find_first_not_of("\r\n", e);
+    if (start == std::string::npos) start = text.size();
+  }
+  size_t nl = text.find_first_of("\r\n", start);
+  std::string line0 = text.substr(start, nl == std::string::npos ? std::string::npos : nl - start);
   MapGuess G;
   G.in = in;
   const char* dname = "space";
   const char delim = guess_delimiter(line0, dname);
   G.assume(std::string("the delimiter is ") + dname);
-  G.rows = read_csv_rows(in, delim, 0);
+  G.rows = read_csv_rows(in, delim, hash_comments ? '#' : 0);
   if (G.rows.size() < 2)
     throw Error(in, "too few rows to guess a map (need a header or first row and data)");
   Json& m = G.m;
   m["delimiter"] = dname;
+  if (hash_comments) {
+    m["comment_prefix"] = "#";
+    G.assume("lines starting with # are comments (the file starts with one)");
+  }
   // Header: the first row has a non-numeric field.
   bool header = false;
   for (auto& f : G.rows[0].fields) {

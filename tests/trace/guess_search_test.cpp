@@ -252,6 +252,21 @@ TEST(GuessSearch, GazePointThatIsADirection) {
   EXPECT_LT(r.st.ecc_p95, 9);
 }
 
+// Metadata lines starting with '#' before the header.
+TEST(GuessSearch, LeadingCommentLines) {
+  std::string f = write_tmp("hash.csv", "## Recorded with logger 1.2\n## Subject: S01\n" +
+                                            rows("time_s;gaze_dir_x;gaze_dir_y;gaze_dir_z", 200, 60,
+                                                 [](int, double t, double az, bool) {
+                                                   const double a = deg2rad(az);
+                                                   return num(t) + ";" + num(std::sin(a)) + ";0;" +
+                                                          num(-std::cos(a));
+                                                 }));
+  Imported r = guess_and_import(f);
+  EXPECT_EQ(r.guess.map["comment_prefix"], "#");
+  EXPECT_EQ(r.guess.map["delimiter"], "semicolon");
+  EXPECT_EQ(r.trace.samples.size(), 200u);
+}
+
 TEST(GuessSearch, NothingImportsIsAnError) {
   std::string f = write_tmp("words.csv", "a,b\nx,y\nz,w\n");
   expect_error([&] { search_map(f, vive()); }, {"words.csv", "no column map imports"});
