@@ -45,7 +45,13 @@ using namespace fovsim;
 
 namespace {
 
-const char* const kMethods[] = {"kfr", "rmfr", "hyperbolic", "linear", "fvrs", "twfr"};
+// Every registered method but the reference itself (sim/foveation/method_list.h).
+const std::vector<std::string> kMethods = [] {
+  std::vector<std::string> m;
+  for (const std::string& n : method_names())
+    if (n != "full") m.push_back(n);
+  return m;
+}();
 constexpr double kSigma = 1.8;  // KFR default (Meng 2018 §2.1)
 
 struct Setup {
@@ -63,7 +69,7 @@ struct Setup {
     display = Display::load("htc_vive_pro_eye", models);
     renderer = std::make_unique<Renderer>(scene, RenderSettings{});
     uint32_t ch = kShadingChannels;
-    for (const char* m : kMethods) {
+    for (const std::string& m : kMethods) {
       Params p(Json::object(), "bench");
       ch |= make_method(m, p)->required_channels();
     }
@@ -249,7 +255,7 @@ int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   add("method/full", BM_FullShade);
-  for (const char* m : kMethods) add(std::string("method/") + m, BM_Method, std::string(m));
+  for (const std::string& m : kMethods) add("method/" + m, BM_Method, m);
   add("map/fovsim_forward", BM_FovsimForward);
   add("map/fovsim_forward_rgb", BM_FovsimForwardRgb);
   add("shade/kfr_lp_index", BM_KfrShadeLp, false);

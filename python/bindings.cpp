@@ -377,6 +377,8 @@ PYBIND11_MODULE(_fovsim, m) {
   m.doc() =
       "fovsim C++ engine (run, sweep, evaluation hook); use the fovsim package (python/fovsim)";
   static py::exception<Error> fovsim_error(m, "FovsimError", PyExc_RuntimeError);
+  m.attr("DEFAULT_DISPLAY") = kDefaultDisplay;  // the one default, for python/fovsim
+  m.attr("DEFAULT_GPU") = kDefaultGpu;
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
@@ -417,9 +419,10 @@ PYBIND11_MODULE(_fovsim, m) {
         py::arg("targets") = std::vector<std::string>{},
         "Runs a sweep config (like `fovsim sweep`, resumable); returns a report dict");
   m.def("estimate", &estimate_py, py::arg("gpu"), py::arg("workload"), py::arg("method"),
-        py::arg("display") = "htc_vive_pro_eye", py::arg("width") = 0, py::arg("height") = 0,
-        py::arg("eyes") = 0, py::arg("scale") = std::map<std::string, double>{},
-        py::arg("budget_ms") = 0.0, py::arg("models") = "",
+        py::arg("display") = std::string(kDefaultDisplay), py::arg("width") = 0,
+        py::arg("height") = 0, py::arg("eyes") = 0,
+        py::arg("scale") = std::map<std::string, double>{}, py::arg("budget_ms") = 0.0,
+        py::arg("models") = "",
         "One frame estimate of the analytic cost model (fovsim predict / budget)");
   m.def("recost", &recost_py, py::arg("results"), py::arg("gpus"), py::arg("display") = "",
         py::arg("width") = 0, py::arg("height") = 0, py::arg("eyes") = 0, py::arg("workload") = "",

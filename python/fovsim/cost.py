@@ -46,7 +46,7 @@ def _flat(e):
 def predict(gpu, workload=None, methods=None, display=None, width=0, height=0, eyes=0,
             results=None, models="", as_frame=True):
     """Per-frame estimates of `methods` ("kfr", "kfr:sigma=1.8,alpha=4", ...; default ["full"])
-    on each GPU profile for a workload and display (default htc_vive_pro_eye), with
+    on each GPU profile for a workload and display (default fovsim.DEFAULT_DISPLAY), with
     speedup_vs_full — `fovsim predict`.
     With results=DIR: the run's measured counters re-costed (`fovsim predict --results`;
     display/workload default to the run's; methods are the run's configurations)."""
@@ -60,7 +60,7 @@ def predict(gpu, workload=None, methods=None, display=None, width=0, height=0, e
     if not workload:
         raise ValueError("predict: workload is required (the scene's triangles, lights and shading cost decide "
                          "every estimate; models/workloads/)")
-    display = display or "htc_vive_pro_eye"  # the CLI's default
+    display = display or m.DEFAULT_DISPLAY  # the CLI's default (kDefaultDisplay in the C++)
     rows = []
     for g in gpus:
         full = m.estimate(g, workload, "full", display, width, height, eyes, {}, 0.0, models)["est_ms_total"]
@@ -71,7 +71,7 @@ def predict(gpu, workload=None, methods=None, display=None, width=0, height=0, e
     return _table(rows, as_frame)
 
 
-def budget(gpu, workload, methods=None, hz=90.0, budget_ms=None, scale=None, display="htc_vive_pro_eye",
+def budget(gpu, workload, methods=None, hz=90.0, budget_ms=None, scale=None, display=None,
            width=0, height=0, eyes=0, models="", as_frame=True):
     """Does each method fit a frame budget (1000/hz, or budget_ms) on each GPU, optionally with
     resources' throughput scaled (scale={"shading": 2.0, ...}) — `fovsim budget`. Per row:
@@ -86,6 +86,7 @@ def budget(gpu, workload, methods=None, hz=90.0, budget_ms=None, scale=None, dis
     else:
         b = 1000.0 / m.check_cost_arg("hz", float(hz))
     scale = dict(scale or {})
+    display = display or m.DEFAULT_DISPLAY  # the CLI's default (kDefaultDisplay in the C++)
     rows = []
     for g in _list(gpu):
         for meth in _list(methods) or json.loads(m.info())["budget_default_methods"]:

@@ -54,7 +54,7 @@ MethodSpec parse_method(const std::string& s) {
 }
 
 struct Target {  // display + workload + GPUs shared by predict and budget
-  std::string models, display = "htc_vive_pro_eye",
+  std::string models, display = kDefaultDisplay,
                       workload;  // workload: required without --results
   std::vector<std::string> gpus;
   int width = 0, height = 0, eyes = 0;
@@ -147,7 +147,8 @@ Resolved resolve_target(const Target& t, const std::string& models,
     for (auto& m : t.methods.empty() ? default_methods : t.methods)
       r.methods.push_back(parse_method(m));
   }
-  if (r.gpus.empty()) throw Error("--gpu", "required (a GPU profile name, e.g. gtx1080)");
+  if (r.gpus.empty())
+    throw Error("--gpu", "required (a GPU profile name, e.g. " + std::string(kDefaultGpu) + ")");
   return r;
 }
 
@@ -651,8 +652,8 @@ void register_cost(CLI::App& app, Action& action) {
                   "(docs/tracking.md)")
         ->check(finite_in(0.0, 1.0));
     c->add_option("--on-invalid", a->on_invalid,
-                  "Policy on lost frames with --tracking-loss: hold, centre, full, widen")
-        ->check(CLI::IsMember({"hold", "centre", "full", "widen"}))
+                  "Policy on lost frames with --tracking-loss (docs/tracking.md)")
+        ->check(CLI::IsMember(on_invalid_choices()))
         ->capture_default_str();
     c->add_option("--widen-k", a->widen_k,
                   "With --on-invalid widen: mean foveal growth factor k over the lost frames "
@@ -671,7 +672,7 @@ void register_cost(CLI::App& app, Action& action) {
         app.add_subcommand("budget",
                            "Which configurations fit a refresh-rate budget, their headroom, and "
                            "the throughput factor each resource would need");
-    add_target_options(c, a->t, "full, kfr, rmfr, hyperbolic, linear, fvrs, twfr (run defaults)");
+    add_target_options(c, a->t, join_names(budget_default_methods()) + " (every method)");
     c->add_option("--hz", a->hz,
                   "Refresh rate whose frame time is the budget (e.g. 72, 90, 120, 144)")
         ->capture_default_str()

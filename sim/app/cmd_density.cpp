@@ -10,6 +10,7 @@
 #include "sim/app/commands.h"
 #include "sim/core/error.h"
 #include "sim/core/files.h"
+#include "sim/core/text.h"
 #include "sim/experiment/config.h"
 #include "sim/experiment/plots.h"
 #include "sim/foveation/density.h"
@@ -21,9 +22,9 @@ namespace {
 // Default of --max-rows: most rows `fovsim density` writes (configs/README.md "Limits on input").
 constexpr double kMaxDensityRows = 2e6;
 struct DensityArgs {
-  std::vector<std::string> methods{"kfr", "rmfr", "hyperbolic", "linear"};
+  std::vector<std::string> methods = methods_with_sampling_geometry();
   std::vector<std::string> params;  // METHOD.key=value
-  std::string display = "htc_vive_pro_eye", models, out = "results/density/density";
+  std::string display = kDefaultDisplay, models, out = "results/density/density";
   double gaze_u = 0.5, gaze_v = 0.5, target = 0, max_rows = kMaxDensityRows;
   int directions = 8, samples = 200;
   bool plot = false;
@@ -149,10 +150,12 @@ void register_density(CLI::App& app, Action& action) {
   auto a = std::make_shared<DensityArgs>();
   CLI::App* c = app.add_subcommand(
       "density", "Analytic sampling density and theoretical shading reduction of mapping methods");
-  c->add_option("--method,-m", a->methods,
-                "Method and parameters in the syntax of every command, e.g. kfr, "
-                "kfr:sigma=1.8,alpha=2, rmfr:fx=0.3 "
-                "(keys as in the run config; repeat); one of kfr, rmfr, hyperbolic, linear, fvrs")
+  c->add_option(
+       "--method,-m", a->methods,
+       "Method and parameters in the syntax of every command, e.g. kfr, "
+       "kfr:sigma=1.8,alpha=2, rmfr:fx=0.3 "
+       "(keys as in the run config; repeat); one of the methods with a sampling geometry: " +
+           join_names(methods_with_sampling_geometry()))
       ->capture_default_str();
   c->add_option("--param", a->params, "Alias: METHOD.key=value, e.g. kfr.alpha=2 (repeat)");
   c->add_option("--display", a->display, "Display name or path (models/displays/NAME.json)")

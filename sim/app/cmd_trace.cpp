@@ -18,7 +18,7 @@ namespace fovsim::app {
 namespace {
 
 struct TraceArgs {
-  std::string in, map, out, display = "htc_vive_pro_eye", models, on_bad = "fail";
+  std::string in, map, out, display = kDefaultDisplay, models, on_bad = "fail";
   std::string scenario, params;
   bool guess = false;
   double seed = 1;

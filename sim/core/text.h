@@ -37,4 +37,11 @@ inline std::string trim(const std::string& s) {
   return a == std::string::npos ? "" : s.substr(a, b - a + 1);
 }
 
+// `names` joined with `sep` ({"a", "b"} -> "a, b").
+inline std::string join_names(const std::vector<std::string>& names, const char* sep = ", ") {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : sep) + n;
+  return out;
+}
+
 }  // namespace fovsim

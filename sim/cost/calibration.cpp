@@ -520,13 +520,8 @@ void finish_priors(CostFit& fit) {
     }
     // Overheads of the single-resource screen and shading passes (no geometry work).
     bool single = false;
-    for (const char* term : {"pixels", "taps", "evals", "vpls"}) {
-      try {
-        term_resource(pass, term, "");
-        single = pass != "skybox" && pass != "importance";
-      } catch (const Error&) {
-      }
-    }
+    for (const char* term : {"pixels", "taps", "evals", "vpls"})
+      if (find_term_resource(pass, term)) single = pass != "skybox" && pass != "importance";
     auto o = fit.theta.find(pass + ".overhead_ms");
     if (single && o != fit.theta.end()) oh.push_back(o->second);
   }
@@ -548,8 +543,8 @@ std::string theta_unit(const std::string& key) {
   if (dot == std::string::npos) return "";
   const std::string pass = key.substr(0, dot), term = key.substr(dot + 1);
   if (term == "overhead_ms") return "[ms per pass]";
-  try {
-    switch (term_resource(pass, term, "")) {
+  if (const auto r = find_term_resource(pass, term)) {
+    switch (*r) {
       case Resource::Geometry:
         return "[triangles at peak rate per counted triangle]";
       case Resource::Raster:
@@ -561,7 +556,6 @@ std::string theta_unit(const std::string& key) {
       case Resource::Fixed:
         return "[ms]";
     }
-  } catch (const Error&) {
   }
   return "";
 }

@@ -101,6 +101,26 @@ std::vector<std::string> GpuProfile::available(const std::string& models_dir) {
   return out;
 }
 
+std::vector<std::string> GpuProfile::names_from_config(Params& root) {
+  if (!root.has("gpus")) return {kDefaultGpu};
+  std::vector<std::string> names;
+  const Json& gj = root.raw("gpus");
+  if (!gj.is_array() || gj.empty())
+    root.fail("gpus", "expected a non-empty array of GPU profile names");
+  for (size_t i = 0; i < gj.size(); ++i) {
+    if (!gj[i].is_string())
+      root.fail("gpus[" + std::to_string(i) + "]",
+                "expected a profile name, got " + describe_json(gj[i]));
+    for (size_t k = 0; k < names.size(); ++k)
+      if (names[k] == gj[i].get<std::string>())
+        root.fail("gpus[" + std::to_string(i) + "]",
+                  "\"" + names[k] + "\" is also gpus[" + std::to_string(k) +
+                      "] (each GPU once: a repeat would count every frame twice)");
+    names.push_back(gj[i].get<std::string>());
+  }
+  return names;
+}
+
 GpuProfile GpuProfile::load(const std::string& name_or_path, const std::string& models_dir) {
   std::string file =
       looks_like_path(name_or_path) ? name_or_path : models_dir + "/gpus/" + name_or_path + ".json";

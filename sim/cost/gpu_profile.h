@@ -108,6 +108,10 @@ struct CalibrationResidual {
   double published_ms = 0, model_ms = 0, rel_err = 0;
 };
 
+// The GPU profile every command and config uses when none is named (the one place it is
+// written; Python reads it as fovsim.DEFAULT_GPU).
+inline constexpr const char* kDefaultGpu = "gtx1080";
+
 struct GpuProfile {
   std::string name;
   std::string description;
@@ -126,6 +130,9 @@ struct GpuProfile {
   // models_dir/gpus/NAME.json. Throws fovsim::Error naming the file and JSON path.
   static GpuProfile load(const std::string& name_or_path, const std::string& models_dir);
   static GpuProfile from_json(const Json& j, const std::string& file);
+  // The config key `gpus` of `root`: a non-empty array of distinct profile names or paths, or
+  // {kDefaultGpu} when absent; anything else is an error at that key.
+  static std::vector<std::string> names_from_config(Params& root);
   // The whole profile document (the file `fovsim calibrate` writes; from_json reads it back).
   Json to_json() const;
   // to_json() as file text: keys in the documented order, passes in pipeline order.

@@ -95,9 +95,14 @@ CostFamily cost_family(const std::string& m) {
   return e->family;
 }
 
-Resource term_resource(const std::string& pass, const std::string& term, const std::string& where) {
+std::optional<Resource> find_term_resource(const std::string& pass, const std::string& term) {
   for (auto& d : term_table())
     if (pass == d.pass && term == d.term) return d.res;
+  return std::nullopt;
+}
+
+Resource term_resource(const std::string& pass, const std::string& term, const std::string& where) {
+  if (const auto r = find_term_resource(pass, term)) return *r;
   std::string known;
   for (auto& d : term_table())
     if (pass == d.pass) known += std::string(known.empty() ? "" : ", ") + d.term;

@@ -2,6 +2,7 @@
 // of every term of their linear models. Shared by estimate_frame and calibration so the fit and the
 // prediction use the same equations. Term units are in docs/cost_model.md.
 #pragma once
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,8 @@ const std::vector<std::string>& cost_methods();
 
 // The resource class of a (pass, term); throws fovsim::Error(where, ...) for unknown pairs.
 Resource term_resource(const std::string& pass, const std::string& term, const std::string& where);
+// The same lookup without an error: nullopt when (pass, term) is not a cost term.
+std::optional<Resource> find_term_resource(const std::string& pass, const std::string& term);
 // Every pass name the model knows, in pipeline order (est_ms_<pass> columns).
 const std::vector<std::string>& known_passes();
 bool is_known_pass(const std::string& p);

@@ -48,6 +48,7 @@ Json widened_method_params(const std::string& method, const Json& params, double
         if (w.contains(pi.name)) p[pi.name] = w[pi.name];
     }
   } catch (const Error&) {
+    return p;  // left as given: the analytic parse that follows reports the key and location
   }
   return p;
 }

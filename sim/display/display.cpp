@@ -135,6 +135,14 @@ Display Display::load(const std::string& name_or_path, const std::string& models
   return d;
 }
 
+Display Display::from_config(Params& root, const std::string& models_dir) {
+  if (root.has("display") && root.json()["display"].is_object()) {
+    Params dp = root.child("display");
+    return from_params(dp);
+  }
+  return load(root.string("display", kDefaultDisplay), models_dir);
+}
+
 Json Display::to_json() const {
   return Json{{"name", name},
               {"width", width},

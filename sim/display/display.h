@@ -9,6 +9,10 @@
 
 namespace fovsim {
 
+// The display every command and config uses when none is named (the one place it is written;
+// Python reads it from the module as fovsim.DEFAULT_DISPLAY).
+inline constexpr const char* kDefaultDisplay = "htc_vive_pro_eye";
+
 struct Display {
   std::string name = "custom";
   int width = 1440, height = 1600;  // per eye, pixels
@@ -32,6 +36,9 @@ struct Display {
   // fov_diagonal_deg are given (a flat screen: derived from its size). Unknown keys are errors.
   static Display from_params(Params& p);
   static Display load(const std::string& name_or_path, const std::string& models_dir);
+  // The config key `display` of `root`: an inline object (from_params), a name or path (load),
+  // or kDefaultDisplay when absent; anything else is an error at that key.
+  static Display from_config(Params& root, const std::string& models_dir);
   Json to_json() const;
 
   // Same FOV at a scaled pixel count (render.scale < 1 makes a cheaper simulation).

@@ -14,12 +14,7 @@ ConfigCostTarget config_cost_target(const std::string& config, const std::string
   ConfigCostTarget t;
   t.config = config;
   Params root(lc.doc, config);
-  if (root.has("display") && root.json()["display"].is_object()) {
-    Params dp = root.child("display");
-    t.display = Display::from_params(dp);
-  } else {
-    t.display = Display::load(root.string("display", "htc_vive_pro_eye"), models);
-  }
+  t.display = Display::from_config(root, models);
   t.workload = Workload::load(root.string("workload", "generic"), models);
   {
     Params sp = root.child("scene");
@@ -47,34 +42,17 @@ ConfigCostTarget config_cost_target(const std::string& config, const std::string
       if (it.key() != "method" && it.key() != "label") cm.params[it.key()] = it.value();
     t.methods.push_back(cm);
   }
-  if (lc.doc.contains("gpus") && lc.doc.at("gpus").is_array())
-    for (auto& g : lc.doc.at("gpus"))
-      if (g.is_string()) t.gpus.push_back(g.get<std::string>());
-  if (t.gpus.empty()) t.gpus.push_back("gtx1080");
+  t.gpus = GpuProfile::names_from_config(root);
   return t;
 }
-
-namespace {
-
-Display config_display(const Json& doc, const std::string& file, const std::string& models) {
-  if (doc.contains("display") && doc["display"].is_object()) {
-    Params dp(doc["display"], file, "display");
-    return Display::from_params(dp);
-  }
-  std::string name = doc.contains("display") && doc["display"].is_string()
-                         ? doc["display"].get<std::string>()
-                         : "htc_vive_pro_eye";
-  return Display::load(name, models);
-}
-
-}  // namespace
 
 // The analytic rung of the fidelity ladder (fidelity.h) and `predict` on a run config's methods.
 ResultTable analytic_summary(const LoadedConfig& cfg, const std::string& models_dir,
                              std::vector<std::string>* notes) {
   const std::string models = models_dir.empty() ? default_models_dir() : models_dir;
   const Json& doc = cfg.doc;
-  Display d = config_display(doc, cfg.file, models);
+  Params root(doc, cfg.file);
+  Display d = Display::from_config(root, models);
   Json sj = doc.contains("scene") ? doc["scene"] : Json::object();
   Params sp(sj, cfg.file, "scene");
   Scene scene = make_scene(sp, models);
@@ -89,12 +67,8 @@ ResultTable analytic_summary(const LoadedConfig& cfg, const std::string& models_
   if (w.lights < 0) w.lights = double(f.lights);
   if (w.shadowed_lights < 0) w.shadowed_lights = double(f.shadowed_lights);
   if (f.indirect) w.rsm_res = scene.vpl.rsm_size;  // the scene's VPL set (scene.vpl)
-  std::vector<std::string> gnames;
-  if (doc.contains("gpus") && doc["gpus"].is_array())
-    for (auto& g : doc["gpus"]) gnames.push_back(g.get<std::string>());
-  if (gnames.empty()) gnames.push_back("gtx1080");
   std::vector<GpuProfile> gpus;
-  for (auto& g : gnames) gpus.push_back(GpuProfile::load(g, models));
+  for (auto& g : GpuProfile::names_from_config(root)) gpus.push_back(GpuProfile::load(g, models));
   ResultTable t;
   if (!doc.contains("methods") || !doc["methods"].is_array()) return t;
   const Json& ms = doc["methods"];

@@ -27,7 +27,7 @@ struct ConfigCostTarget {
   Workload workload;   // the config's descriptor with the scene's counts filled in
   SceneFeatures features;
   std::vector<ConfigMethod> methods;
-  std::vector<std::string> gpus;  // the config's "gpus" (default gtx1080, as run)
+  std::vector<std::string> gpus;  // the config's "gpus" (GpuProfile::names_from_config)
 };
 
 // Throws fovsim::Error naming the config file and JSON path.

@@ -208,13 +208,7 @@ struct Shared {
   // The display, the render block and the simulated display (render.scale, under
   // render.max_pixels). Returns render.tonemap, read after the scene (its exposure default).
   Params parse_display_render(Params& root) {
-    if (root.has("display") && root.json()["display"].is_object()) {
-      Params dp = root.child("display");
-      display = Display::from_params(dp);
-    } else {
-      std::string dname = root.string("display", "htc_vive_pro_eye");
-      display = Display::load(dname, models);
-    }
+    display = Display::from_config(root, models);
     Params rp = root.child("render");
     const RenderBlock rb = render_block_table().read(rp);
     scale = rb.scale;
@@ -502,26 +496,7 @@ struct Cell {
       Params mp = root.child("metrics");
       mcfg = MetricsConfig::from_params(mp);
     }
-    std::vector<std::string> names;
-    if (root.has("gpus")) {
-      const Json& gj = root.raw("gpus");
-      if (!gj.is_array() || gj.empty())
-        root.fail("gpus", "expected a non-empty array of GPU profile names");
-      for (size_t i = 0; i < gj.size(); ++i) {
-        if (!gj[i].is_string())
-          root.fail("gpus[" + std::to_string(i) + "]",
-                    "expected a profile name, got " + describe_json(gj[i]));
-        for (size_t k = 0; k < names.size(); ++k)
-          if (names[k] == gj[i].get<std::string>())
-            root.fail("gpus[" + std::to_string(i) + "]",
-                      "\"" + names[k] + "\" is also gpus[" + std::to_string(k) +
-                          "] (each GPU once: a repeat would count every frame twice)");
-        names.push_back(gj[i].get<std::string>());
-      }
-    } else {
-      names.push_back("gtx1080");
-    }
-    for (auto& n : names) gpus.push_back(GpuProfile::load(n, models));
+    for (auto& n : GpuProfile::names_from_config(root)) gpus.push_back(GpuProfile::load(n, models));
     // Workload descriptor for what the scene does not say (overdraw, bytes, flops per sample).
     workload = Workload::load(keys.workload, models);
 

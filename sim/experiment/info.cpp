@@ -34,9 +34,7 @@ const std::vector<ResultColumnDecl>& result_column_decls() {
 }
 
 const std::vector<std::string>& budget_default_methods() {
-  static const std::vector<std::string> m = {"full",   "kfr",  "rmfr", "hyperbolic",
-                                             "linear", "fvrs", "twfr"};
-  return m;
+  return method_names();  // every registered method (sim/foveation/method_list.h)
 }
 
 const std::vector<std::string>& cost_arg_names() {

@@ -2,6 +2,7 @@
 
 #include "sim/cost/gpu_profile.h"
 #include "sim/cost/workload.h"
+#include "sim/display/display.h"
 #include "sim/display/display_keys.h"
 #include "sim/experiment/latency.h"
 #include "sim/experiment/reference_cache.h"
@@ -18,13 +19,14 @@ namespace fovsim {
 
 const ParamTable<RunSharedKeys>& run_shared_table() {
   using K = RunSharedKeys;
+  static const std::string display_def = std::string("`\"") + kDefaultDisplay + "\"`";
   static const auto t =
       ParamTable<K>()
           .integer("seed", 1, Range::closed(0, 2e9), &K::seed)
           .doc("",
                "seed for every stochastic part (synthetic traces, FLC sampling, the frame "
                "order of `fovsim run --target`)")
-          .documented("display", "string or object", "`\"htc_vive_pro_eye\"`", "", "",
+          .documented("display", "string or object", display_def.c_str(), "", "",
                       "a model name from `models/displays/` or an inline display object (keys: "
                       "\"Display\" below)")
           .text("trace_placement", "scene", {"scene", "absolute"}, &K::trace_placement)
@@ -37,6 +39,7 @@ const ParamTable<RunSharedKeys>& run_shared_table() {
 
 const ParamTable<RunCellKeys>& run_cell_table() {
   using K = RunCellKeys;
+  static const std::string gpus_def = std::string("`[\"") + kDefaultGpu + "\"]`";
   static const auto t =
       ParamTable<K>()
           .text("name", nullptr, {}, &K::name)
@@ -50,7 +53,7 @@ const ParamTable<RunCellKeys>& run_cell_table() {
                "workload descriptor from `models/workloads/` for what the scene does not say "
                "(overdraw, G-buffer bytes, flops per shaded sample and per VPL pair, post "
                "passes); see `docs/cost_model.md`")
-          .documented("gpus", "array of strings", "`[\"gtx1080\"]`", "", "",
+          .documented("gpus", "array of strings", gpus_def.c_str(), "", "",
                       "GPU profiles from `models/gpus/` (see `docs/cost_model.md`); one row per "
                       "frame x method x GPU; each profile once")
           // Objects read by their own tables (sections below) and free text.

@@ -202,7 +202,8 @@ ResultTable sweep_paired(const std::string& out, const SweepPlan& plan) {
       try {
         const Json mj = parse_json_text(read_file(mf), mf);
         if (mj.contains("fidelity")) fidelity = mj["fidelity"];
-      } catch (...) {  // an unreadable manifest: no bias stated (columns nan)
+      } catch (const Error&) {
+        fidelity = Json();  // an unreadable manifest: no bias stated (columns nan)
       }
       break;
     }

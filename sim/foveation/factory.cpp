@@ -17,6 +17,27 @@ const std::vector<MethodEntry>& method_table() {
   return table;
 }
 
+const std::vector<std::string>& method_names() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> n;
+    for (const auto& e : method_table()) n.push_back(e.name);
+    return n;
+  }();
+  return names;
+}
+
+const std::vector<std::string>& methods_with_sampling_geometry() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> n;
+    for (const auto& e : method_table()) {
+      Params p(Json::object(), "", e.name);
+      if (e.create(p)->mapping_spec()) n.push_back(e.name);
+    }
+    return n;
+  }();
+  return names;
+}
+
 const MethodEntry* find_method(const std::string& name) {
   for (const auto& e : method_table())
     if (name == e.name) return &e;

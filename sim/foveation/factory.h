@@ -18,6 +18,12 @@ struct MethodEntry {
 
 const std::vector<MethodEntry>& method_table();
 const MethodEntry* find_method(const std::string& name);  // nullptr when unknown
+// Every registered method name, in registration order (method_list.h): the one list that
+// commands' defaults, benchmarks and tests iterate, so a new method is never left out.
+const std::vector<std::string>& method_names();
+// The methods whose default configuration has a sampling geometry
+// (FoveationMethod::mapping_spec): what `fovsim density` can evaluate.
+const std::vector<std::string>& methods_with_sampling_geometry();
 // Creates a method by name from its parameter block; unknown names and keys are errors.
 std::unique_ptr<FoveationMethod> make_method(const std::string& name, Params& p);
 

@@ -46,6 +46,7 @@
 #include "sim/trace/convert.h"
 #include "sim/trace/csv_table.h"
 #include "sim/trace/issue_log.h"
+#include "sim/trace/tracking.h"
 
 namespace fovsim {
 
@@ -569,8 +570,7 @@ void read_row_keys(Params& p, Resolver& res, Map& m) {
                : ob == "skip" ? BadSamplePolicy::Skip
                               : BadSamplePolicy::Hold;
   }
-  if (p.has("on_invalid"))
-    m.on_invalid = p.string("on_invalid", {"hold", "centre", "full", "widen"});
+  if (p.has("on_invalid")) m.on_invalid = p.string("on_invalid", on_invalid_choices());
   for (Params& f : p.children("fused")) {
     f.ignore("comment");
     Map::Fused fu;

@@ -2,6 +2,7 @@
 
 #include "sim/trace/synth.h"
 #include "sim/trace/trace.h"
+#include "sim/trace/tracking.h"
 
 namespace fovsim {
 
@@ -10,7 +11,7 @@ const ParamTable<TraceBlock>& trace_block_table() {
   static const auto t =
       ParamTable<B>()
           .documented("comment", "any", "", "", "", "ignored")
-          .text("on_invalid", "hold", {"hold", "centre", "full", "widen"}, &B::on_invalid)
+          .text("on_invalid", "hold", on_invalid_choices(), &B::on_invalid)
           .doc("",
                "what the methods see on a frame whose sample is flagged invalid (blink, "
                "tracking loss): the last valid gaze; the view centre; the last valid gaze, "

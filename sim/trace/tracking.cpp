@@ -1,32 +1,36 @@
 #include "sim/trace/tracking.h"
 
+#include <iterator>
+
 namespace fovsim {
 
+namespace {
+// The one list of policies, in the order of the enum (tracking.h).
+constexpr OnInvalid kPolicies[] = {OnInvalid::Hold, OnInvalid::Centre, OnInvalid::Full,
+                                   OnInvalid::Widen};
+constexpr const char* kPolicyNames[] = {"hold", "centre", "full", "widen"};
+static_assert(sizeof(kPolicies) / sizeof(kPolicies[0]) ==
+              sizeof(kPolicyNames) / sizeof(kPolicyNames[0]));
+}  // namespace
+
+const std::vector<std::string>& on_invalid_choices() {
+  static const std::vector<std::string> names(std::begin(kPolicyNames), std::end(kPolicyNames));
+  return names;
+}
+
 bool parse_on_invalid(const std::string& s, OnInvalid& out) {
-  if (s == "hold")
-    out = OnInvalid::Hold;
-  else if (s == "centre")
-    out = OnInvalid::Centre;
-  else if (s == "full")
-    out = OnInvalid::Full;
-  else if (s == "widen")
-    out = OnInvalid::Widen;
-  else
-    return false;
-  return true;
+  for (size_t i = 0; i < std::size(kPolicies); ++i)
+    if (s == kPolicyNames[i]) {
+      out = kPolicies[i];
+      return true;
+    }
+  return false;
 }
 
 const char* on_invalid_name(OnInvalid p) {
-  switch (p) {
-    case OnInvalid::Hold:
-      return "hold";
-    case OnInvalid::Centre:
-      return "centre";
-    case OnInvalid::Full:
-      return "full";
-    default:
-      return "widen";
-  }
+  for (size_t i = 0; i < std::size(kPolicies); ++i)
+    if (p == kPolicies[i]) return kPolicyNames[i];
+  return kPolicyNames[0];
 }
 
 TrackedGaze tracked_gaze(const Trace& trace, size_t i, const TrackingPolicy& p) {

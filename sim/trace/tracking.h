@@ -3,6 +3,7 @@
 // run's `trace.on_invalid` policy.
 #pragma once
 #include <string>
+#include <vector>
 
 #include "sim/trace/trace.h"
 
@@ -23,7 +24,10 @@ struct TrackingPolicy {
   double widen_per_s = 10.0;
 };
 
-// Parses "hold" | "centre" | "full" | "widen"; false for anything else.
+// The policy names, "hold", "centre", "full", "widen": the one list that trace.on_invalid, the
+// importer map's on_invalid and `predict --on-invalid` accept.
+const std::vector<std::string>& on_invalid_choices();
+// Parses one of on_invalid_choices(); false for anything else.
 bool parse_on_invalid(const std::string& s, OnInvalid& out);
 const char* on_invalid_name(OnInvalid p);
 

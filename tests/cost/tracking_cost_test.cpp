@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "sim/cost/analytic.h"
+#include "sim/foveation/factory.h"
 
 using namespace fovsim;
 
@@ -52,7 +53,8 @@ TEST(TrackingCost, WidenedFramesCostMoreUpToAFullFrame) {
   const Workload w = Workload::load("kfr_bistro", kModels);
   const Display d = Display::load("htc_vive_pro_eye", kModels);
   const double full = analytic_frame(g, "full", Json::object(), w, d).total_ms;
-  for (const char* m : {"kfr", "rmfr", "rmfr_auto", "hyperbolic", "linear", "fvrs"}) {
+  for (const std::string& name : methods_with_sampling_geometry()) {  // from the registry
+    const char* m = name.c_str();
     const double valid = analytic_frame(g, m, Json::object(), w, d).total_ms;
     double prev = valid;
     for (double k : {1.25, 1.5, 2.0}) {

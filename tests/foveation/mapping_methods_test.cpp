@@ -424,7 +424,9 @@ TEST(TrackingWiden, ShadedFractionGrowsWithTimeSinceLastValidSample) {
     meth->render(ctx, out);
     return out;
   };
-  for (const char* m : {"kfr", "rmfr", "rmfr_auto", "linear", "fvrs", "hyperbolic"}) {
+  // Every method with a sampling geometry, from the registry (a new one is covered).
+  for (const std::string& name : methods_with_sampling_geometry()) {
+    const char* m = name.c_str();
     const FrameOutput plain = w.run(m, Json::object());
     const FrameOutput valid = run(m, tracked_gaze(tr, 2, pol));
     EXPECT_EQ(valid.counters.get(Counter::shaded_samples),

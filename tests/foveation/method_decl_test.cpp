@@ -121,3 +121,22 @@ TEST(MethodDecl, EmptyBlockResolvesToDeclaredDefaults) {
     check(std::string("lighting ") + e.name, params.resolved(), e.params());
   }
 }
+
+// The name lists commands and tests iterate come from the registry: every registered method is
+// in method_names() (in registration order), and methods_with_sampling_geometry() holds exactly
+// those whose default instance exposes a MappingSpec (what `fovsim density` evaluates).
+TEST(MethodDecl, NameListsComeFromTheRegistry) {
+  const auto& names = method_names();
+  ASSERT_EQ(names.size(), method_table().size());
+  for (size_t i = 0; i < names.size(); ++i) EXPECT_EQ(names[i], method_table()[i].name);
+  for (const char* m : {"full", "kfr", "rmfr", "rmfr_auto", "flc", "twfr", "fvrs"})
+    EXPECT_NE(std::find(names.begin(), names.end(), m), names.end()) << m;
+  const auto& geo = methods_with_sampling_geometry();
+  for (const auto& e : method_table()) {
+    Params p(Json::object(), "test", e.name);
+    const bool has = make_method(e.name, p)->mapping_spec() != nullptr;
+    EXPECT_EQ(has, std::find(geo.begin(), geo.end(), e.name) != geo.end()) << e.name;
+  }
+  EXPECT_EQ(std::find(geo.begin(), geo.end(), "full"), geo.end());
+  EXPECT_NE(std::find(geo.begin(), geo.end(), "kfr"), geo.end());
+}
