@@ -403,6 +403,129 @@ std::vector<std::string> config_warnings(const Json& doc, const Params& root, co
   return w;
 }
 
+// The reference side of one frame's measurements, once per group of cells whose `metrics`
+// blocks agree (docs/architecture.md §2, "Memory"): the sequence metrics' reference streams
+// (FovVideoVDP's temporal window and pyramids of the reference), `full` at the methods'
+// sampling rate (metrics.foveation_loss) with its own streams, and the reference's floor. Every
+// cell sharing it only reads it while its methods are measured (in parallel); per cell remain
+// the methods' test streams.
+//
+// At render.spp 1 with `full`'s default lighting, `full` *is* the shared reference
+// (image_is_reference): the foveation-loss reference is then the reference itself, aliased
+// (fl_ref points at the tone-mapped reference; no second image, no second set of streams), and
+// every `<metric>_fl` sequence value is the plain one (the same test against the same frames).
+struct RefSide {
+  std::string key;   // the resolved `metrics` block
+  std::string file;  // the first cell's config file (location of the fl `full`'s Params)
+  MetricsConfig mcfg, fl_mcfg;
+  struct Seq {
+    const MetricDecl* decl = nullptr;
+    // Against the converged reference; against `full` at the methods' sampling rate (null when
+    // aliased); `floor` scores that `full` against the converged reference (at_floor).
+    std::unique_ptr<SequenceReference> ref, ref_fl;
+    std::unique_ptr<SequenceTest> floor;
+  };
+  std::vector<Seq> seq;
+  bool ready = false;
+  bool video = true;  // consecutive frames at the refresh rate (describe_sequence_metrics)
+  SequenceSetup setup;
+  std::unique_ptr<FoveationMethod> fl_full;
+  FrameOutput fl_fo;
+  Image fl_display;
+  const Image* fl_ref = nullptr;  // the foveation-loss reference: &fl_display or the reference
+  int aliased = -1;               // -1 before the first frame; 1: fl_ref is the reference
+  MetricsScratch floor_scratch;
+  // The reference's floor: every metric of `full` at the methods' sampling rate against the
+  // converged reference, per recorded frame (column -> frame -> value); summary `at_floor`
+  // names the metrics a method cannot be told from it by (mark_reference_floor, runner.h).
+  std::map<std::string, std::map<int, double>> floor_vals;
+  int cells = 0;  // cells sharing it (memory estimate, manifest)
+
+  const SequenceReference& ref_fl(size_t k) const {
+    return seq[k].ref_fl ? *seq[k].ref_fl : *seq[k].ref;
+  }
+  bool fl_aliased() const { return aliased == 1; }
+
+  // The sequence metrics' reference streams, made on the first frame.
+  void begin(const Shared& sh) {
+    if (ready) return;
+    ready = true;
+    setup.display = &sh.display;
+    setup.width = sh.sim_display.width;
+    setup.height = sh.sim_display.height;
+    setup.fps = video ? sh.display.refresh_hz : 0.0;
+    setup.config = &mcfg;
+    for (auto& d : metric_registry())
+      if (d.sequence && d.sequence->enabled(mcfg)) {
+        Seq q;
+        q.decl = &d;
+        q.ref = d.sequence->make_reference(setup);
+        seq.push_back(std::move(q));
+      }
+  }
+
+  // Frame `fi`'s reference side: the streams pushed at the true gaze, then (foveation loss)
+  // `full` at the methods' sampling rate, its streams and the floor. Phases go to `ph`.
+  void frame(const Shared& sh, const Renderer& renderer, const FrameData& fd,
+             const Image& ref_display, int fi, bool record, PhaseTimes& ph) {
+    PhaseClock pc = PhaseClock::now();
+    begin(sh);
+    // The true gaze (also under the latency what-if), a screen point (pixel centres at i + 0.5).
+    for (auto& q : seq) q.ref->push(ref_display, fd.gaze_px.x, fd.gaze_px.y);
+    if (!seq.empty()) pc = ph.lap("metrics", pc);
+    if (!mcfg.foveation_loss) return;
+    if (!fl_full) {
+      Params fp(Json{{"method", "full"}}, file, "metrics.foveation_loss");
+      (void)fp.string("method");
+      fl_full = make_method("full", fp);
+    }
+    FrameContext fctx = fd.context(*sh.scene, renderer, sh.sim_display, false);
+    fl_fo.image_is_reference = false;
+    fl_fo.counters.clear();
+    fl_fo.debug.clear();
+    fl_fo.flags.clear();
+    render_with_lighting(*fl_full, fctx, fl_fo);
+    const int is_ref = fl_fo.image_is_reference ? 1 : 0;
+    FOVSIM_CHECK(aliased < 0 || aliased == is_ref,
+                 "metrics.foveation_loss: `full` changed between being the reference and not");
+    aliased = is_ref;
+    if (fl_aliased()) {
+      fl_ref = &ref_display;  // the same pixels as tonemap(fd.reference): no copy
+    } else {
+      sh.tonemap.apply(fl_fo.image, fl_display);
+      fl_ref = &fl_display;
+    }
+    pc = ph.lap("methods", pc);
+    if (!fl_aliased())
+      for (auto& q : seq) {
+        if (!q.ref_fl) q.ref_fl = q.decl->sequence->make_reference(setup);
+        q.ref_fl->push(*fl_ref, fd.gaze_px.x, fd.gaze_px.y);
+      }
+    // The reference's floor: `full` at the methods' sampling rate against the reference.
+    if (record) {
+      MetricValues fl = compute_metrics(fl_mcfg, *fl_ref, ref_display, fd.camera, fd.eccentricity,
+                                        nullptr, &floor_scratch);
+      for (auto& [k, v] : fl.items()) floor_vals[k][fi] = v;
+    }
+    for (auto& q : seq) {
+      if (!q.floor) q.floor = q.decl->sequence->make_test(*q.ref);
+      const double v = q.floor->push(*fl_ref, *q.ref, nullptr);
+      if (record) floor_vals[q.decl->pooled_column][fi] = v;
+    }
+    ph.lap("metrics", pc);
+  }
+
+  // Forget the frame history before a non-contiguous frame.
+  void reset() {
+    for (auto& q : seq) {
+      q.ref->reset();
+      if (q.ref_fl) q.ref_fl->reset();
+      if (q.floor) q.floor->reset();
+    }
+    if (fl_full) fl_full->reset();
+  }
+};
+
 // One cell: its methods, metrics, GPU profiles, outputs and accumulated rows.
 struct Cell {
   const CellJob* job = nullptr;
@@ -430,36 +553,11 @@ struct Cell {
   LatencyConfig latency;  // the latency what-if (docs/latency.md)
   std::set<std::string> metric_names;
   std::unique_ptr<GazeSource> gaze;  // the gaze each method sees (made by parse_group)
-  // Sequence (stateful) metrics of the registry (sim/metrics/registry.h SequenceMetric, e.g.
-  // FovVideoVDP): the reference side of each frame, pushed once per frame and shared by the
-  // cell's methods; against the converged reference (`ref`) and against `full` at the methods'
-  // sampling rate (`ref_fl`); `floor` scores that `full` against the converged reference (the
-  // reference's floor, at_floor below). A video at the display's refresh rate when the frames
-  // are consecutive (frames.stride 1, trace order); still images otherwise (seq_video, set by
-  // run_cells before the first frame; recorded in the manifest under the metric's key).
-  struct Seq {
-    const MetricDecl* decl = nullptr;
-    std::unique_ptr<SequenceReference> ref, ref_fl;
-    std::unique_ptr<SequenceTest> floor;
-  };
-  std::vector<Seq> seq;
-  bool seq_ready = false;
-  bool seq_video = true;
-  SequenceSetup seq_setup;
-  // The reference's floor (metrics.foveation_loss): every metric of `full` at the methods'
-  // sampling rate against the converged reference, per recorded frame (column -> frame ->
-  // value); summary `at_floor` names the metrics a method cannot be told from it by
-  // (mark_reference_floor, runner.h).
-  std::map<std::string, std::map<int, double>> floor_vals;
-  MetricsScratch floor_scratch;
-  // metrics.foveation_loss: `full` at the methods' sampling rate (one sample per pixel of the
-  // shared G-buffer, its default lighting), rendered once per frame; every method's `<metric>_fl`
-  // is measured against it (docs/metrics.md "Two references").
-  std::unique_ptr<FoveationMethod> fl_full;
-  FrameOutput fl_fo;
-  Image fl_display;
+  // The reference side of the sequence metrics and the foveation-loss reference, shared with
+  // the other cells of the group whose `metrics` block is the same (RefSide; made by
+  // share_reference_sides before the first frame).
+  RefSide* side = nullptr;
   MetricsScratch fl_scratch;
-  MetricsConfig fl_mcfg;
   // --target (intervals.h): each cell stops on its own once its targets hold, so its frames do
   // not depend on the other cells of its group (sweep batches and shards give the same cell).
   bool stopped = false, met = false;
@@ -578,11 +676,8 @@ struct Cell {
       write_images(in.img_dir, "reference", ref_display, &fd.reference, io, image_jobs);
     pc = phases.lap("images", pc);
     FrameContext ctx = fd.context(*sh.scene, renderer, sh.sim_display, want_images && io.debug);
-    begin_sequence_metrics(sh);
-    // The true gaze (also under the latency what-if), a screen point (pixel centres at i + 0.5).
-    for (auto& q : seq) q.ref->push(ref_display, fd.gaze_px.x, fd.gaze_px.y);
-    if (!seq.empty()) pc = phases.lap("metrics", pc);
-    if (mcfg.foveation_loss) foveation_loss_reference(in, ctx, pc);
+    // The reference side (side->frame: sequence streams, foveation-loss reference, floor) was
+    // computed for this frame before the cells ran.
     // Latency what-if and tracking loss: methods see the gaze source's gaze, metrics keep fd's
     // true gaze.
     gaze->begin_frame(fi, methods.size(), ctx);
@@ -610,64 +705,6 @@ struct Cell {
       pc = phases.lap("images", pc);
     }
     cell_ms += ms_since(c0);
-  }
-
-  // Sequence metrics' reference streams, made on the first frame (seq_video is set by then).
-  void begin_sequence_metrics(const Shared& sh) {
-    if (seq_ready) return;
-    seq_ready = true;
-    seq_setup.display = &sh.display;
-    seq_setup.width = sh.sim_display.width;
-    seq_setup.height = sh.sim_display.height;
-    seq_setup.fps = seq_video ? sh.display.refresh_hz : 0.0;
-    seq_setup.config = &mcfg;
-    for (auto& d : metric_registry())
-      if (d.sequence && d.sequence->enabled(mcfg)) {
-        Seq q;
-        q.decl = &d;
-        q.ref = d.sequence->make_reference(seq_setup);
-        seq.push_back(std::move(q));
-      }
-  }
-
-  // metrics.foveation_loss: `full` at the methods' sampling rate (fl_display), the second
-  // reference of every `<metric>_fl` column, and the reference's floor (it against the
-  // converged reference).
-  void foveation_loss_reference(const FrameIn& in, const FrameContext& ctx, PhaseClock& pc) {
-    const Shared& sh = in.sh;
-    const FrameData& fd = in.fd;
-    if (!fl_full) {
-      Params fp(Json{{"method", "full"}}, job->file, "metrics.foveation_loss");
-      (void)fp.string("method");
-      fl_full = make_method("full", fp);
-      fl_mcfg = mcfg;
-      fl_mcfg.temporal = false;  // temporal_error: against the reference only
-    }
-    FrameContext fctx = ctx;  // the true gaze (full does not use it)
-    fl_fo.image_is_reference = false;
-    fl_fo.counters.clear();
-    fl_fo.debug.clear();
-    fl_fo.flags.clear();
-    render_with_lighting(*fl_full, fctx, fl_fo);
-    sh.tonemap.apply(fl_fo.image_is_reference ? fd.reference : fl_fo.image, fl_display);
-    pc = phases.lap("methods", pc);
-    for (auto& q : seq) {
-      if (!q.ref_fl) q.ref_fl = q.decl->sequence->make_reference(seq_setup);
-      q.ref_fl->push(fl_display, fd.gaze_px.x, fd.gaze_px.y);
-    }
-    // The reference's floor: `full` at the methods' sampling rate against the reference.
-    if (in.record) {
-      MetricsConfig floor_cfg = fl_mcfg;  // no temporal_error (against the reference only)
-      MetricValues fl = compute_metrics(floor_cfg, fl_display, in.ref_display, fd.camera,
-                                        fd.eccentricity, nullptr, &floor_scratch);
-      for (auto& [k, v] : fl.items()) floor_vals[k][in.fi] = v;
-    }
-    for (auto& q : seq) {
-      if (!q.floor) q.floor = q.decl->sequence->make_test(*q.ref);
-      const double v = q.floor->push(fl_display, *q.ref, nullptr);
-      if (in.record) floor_vals[q.decl->pooled_column][in.fi] = v;
-    }
-    pc = phases.lap("metrics", pc);
   }
 
   // Method `mi` on this frame: its gaze, the method (or `full` while tracking is lost under
@@ -727,32 +764,55 @@ struct Cell {
   MetricValues measure(const FrameIn& in, MethodRun& m,
                        std::vector<std::pair<std::string, Image>>& heat) {
     const FrameData& fd = in.fd;
-    MetricValues metrics = compute_metrics(mcfg, out_display, in.ref_display, fd.camera,
-                                           fd.eccentricity, &m.temporal, &metrics_scratch);
+    const MetricValues image_metrics =
+        compute_metrics(mcfg, out_display, in.ref_display, fd.camera, fd.eccentricity, &m.temporal,
+                        &metrics_scratch);
+    MetricValues metrics = image_metrics;
+    const std::vector<RefSide::Seq>& seq = side->seq;
+    std::vector<double> seq_q(seq.size());
+    std::vector<size_t> seq_heat(seq.size(), SIZE_MAX);  // index into `heat`
     for (size_t k = 0; k < seq.size(); ++k) {
       const MetricDecl& d = *seq[k].decl;
       if (m.seq.size() <= k) m.seq.push_back(d.sequence->make_test(*seq[k].ref));
       const bool h = in.want_images && *d.sequence->heatmap_suffix;
       Image img;
       const double q = m.seq[k]->push(out_display, *seq[k].ref, h ? &img : nullptr);
+      seq_q[k] = q;
       metrics.set(d.pooled_column, q);
       metrics.set(d.name, d.from_mean(q));
-      if (h) heat.emplace_back(m.stem + d.sequence->heatmap_suffix, std::move(img));
+      if (h) {
+        seq_heat[k] = heat.size();
+        heat.emplace_back(m.stem + d.sequence->heatmap_suffix, std::move(img));
+      }
     }
-    if (fl_full) {  // the foveation loss: every metric against full at the same sampling rate
-      // The same test image: its FLIP preparation from the call above, when it made one.
-      MetricValues fl = compute_metrics(
-          fl_mcfg, out_display, fl_display, fd.camera, fd.eccentricity, &m.temporal_fl, &fl_scratch,
-          metrics_scratch.flip_test_valid ? &metrics_scratch.flip_test : nullptr);
-      for (auto& [k, v] : fl.items()) metrics.set(k + kFoveationLossSuffix, v);
+    if (mcfg.foveation_loss) {  // every metric against full at the same sampling rate
+      if (side->fl_aliased()) {
+        // The foveation-loss reference is the reference: the values above, but for
+        // temporal_error (against the reference only; fl_mcfg has it off).
+        for (auto& [k, v] : image_metrics.items())
+          if (k != "temporal_error") metrics.set(k + kFoveationLossSuffix, v);
+      } else {
+        // The same test image: its FLIP preparation from the call above, when it made one.
+        MetricValues fl = compute_metrics(
+            side->fl_mcfg, out_display, *side->fl_ref, fd.camera, fd.eccentricity, &m.temporal_fl,
+            &fl_scratch, metrics_scratch.flip_test_valid ? &metrics_scratch.flip_test : nullptr);
+        for (auto& [k, v] : fl.items()) metrics.set(k + kFoveationLossSuffix, v);
+      }
       for (size_t k = 0; k < seq.size(); ++k) {
         const MetricDecl& d = *seq[k].decl;
-        if (m.seq_fl.size() <= k) m.seq_fl.push_back(d.sequence->make_test(*seq[k].ref_fl));
         const bool h = in.want_images && *d.sequence->heatmap_suffix;
         Image img;
-        // The same test frame as m.seq[k]'s push above: its work on the frame is reused.
-        const double q = m.seq_fl[k]->push_same(out_display, *seq[k].ref_fl, h ? &img : nullptr,
-                                                *m.seq[k], *seq[k].ref);
+        double q = seq_q[k];
+        if (side->fl_aliased()) {
+          // The foveation-loss reference is the reference: the same test against the same
+          // frames (no second test stream per method).
+          if (h) img = heat[seq_heat[k]].second;
+        } else {
+          if (m.seq_fl.size() <= k) m.seq_fl.push_back(d.sequence->make_test(side->ref_fl(k)));
+          // The same test frame as m.seq[k]'s push above: its work on the frame is reused.
+          q = m.seq_fl[k]->push_same(out_display, side->ref_fl(k), h ? &img : nullptr, *m.seq[k],
+                                     *seq[k].ref);
+        }
         metrics.set(d.pooled_column + kFoveationLossSuffix, q);
         metrics.set(d.name + kFoveationLossSuffix, d.from_mean(q));
         if (h)
@@ -932,12 +992,6 @@ struct Cell {
 
   // Forget the frame history (temporal methods, temporal_error) before a non-contiguous frame.
   void reset_temporal() {
-    for (auto& q : seq) {
-      q.ref->reset();
-      if (q.ref_fl) q.ref_fl->reset();
-      if (q.floor) q.floor->reset();
-    }
-    if (fl_full) fl_full->reset();
     for (auto& m : methods) {
       m.impl->reset();
       if (m.impl->lighting()) m.impl->lighting()->reset();
@@ -1219,24 +1273,51 @@ bool any_temporal(const std::vector<std::unique_ptr<Cell>>& cells, const Shared&
   return temporal;
 }
 
+// The reference sides (RefSide) of a group's cells: one per distinct resolved `metrics` block,
+// in the order of each one's first cell.
+std::vector<std::unique_ptr<RefSide>> share_reference_sides(
+    const std::vector<std::unique_ptr<Cell>>& cells) {
+  std::vector<std::unique_ptr<RefSide>> sides;
+  for (auto& c : cells) {
+    const Json& res = c->manifest["resolved_config"];
+    const std::string key = res.contains("metrics") ? res["metrics"].dump() : std::string();
+    RefSide* s = nullptr;
+    for (auto& o : sides)
+      if (o->key == key) s = o.get();
+    if (!s) {
+      sides.push_back(std::make_unique<RefSide>());
+      s = sides.back().get();
+      s->key = key;
+      s->file = c->job->file;
+      s->mcfg = c->mcfg;
+      s->fl_mcfg = c->mcfg;
+      s->fl_mcfg.temporal = false;  // temporal_error: against the reference only
+    }
+    ++s->cells;
+    c->side = s;
+  }
+  return sides;
+}
+
 // Sequence metrics' mode (docs/metrics.md): a video of consecutive frames, else still images;
 // recorded in each cell's manifest under the metric's key.
 void describe_sequence_metrics(const std::vector<std::unique_ptr<Cell>>& cells, const Shared& sh,
                                bool shuffled) {
+  const bool video = sh.stride == 1 && !shuffled;
   for (auto& c : cells) {
-    c->seq_video = sh.stride == 1 && !shuffled;
+    c->side->video = video;
     SequenceSetup su;
     su.display = &sh.display;
     su.width = sh.sim_display.width;
     su.height = sh.sim_display.height;
-    su.fps = c->seq_video ? sh.display.refresh_hz : 0.0;
+    su.fps = video ? sh.display.refresh_hz : 0.0;
     su.config = &c->mcfg;
     for (auto& d : metric_registry()) {
       if (!d.sequence || !d.sequence->enabled(c->mcfg)) continue;
       Json j = d.sequence->describe(su);
-      j["mode"] = c->seq_video ? "video" : "image";
+      j["mode"] = video ? "video" : "image";
       j["fps"] = su.fps;
-      j["why"] = c->seq_video ? "consecutive frames at the display's refresh rate"
+      j["why"] = video ? "consecutive frames at the display's refresh rate"
                  : sh.stride != 1
                      ? "frames.stride > 1: frames are not consecutive, each is a still image"
                      : "--target evaluates units in random order: each frame a still image";
@@ -1284,7 +1365,7 @@ CellResult write_cell_outputs(Cell& c, const Shared& sh, const GroupOutputs& g) 
     r.fidelity_note = c.manifest["fidelity"]["note"].get<std::string>();
   r.cell_ms = c.cell_ms;
   r.summary = summarize(c.frames, r.budget_ms);
-  if (c.mcfg.foveation_loss) mark_reference_floor(r.summary, c.frames, c.floor_vals);
+  if (c.mcfg.foveation_loss) mark_reference_floor(r.summary, c.frames, c.side->floor_vals);
   if (c.latency.enabled) r.summary = summarize_phases(c.frames, r.summary, c.metric_names);
   // Tracking states (docs/tracking.md): means with intervals per state, next to the phases.
   if (sh.tracking_column) r.summary = summarize_tracking(c.frames, r.summary);
@@ -1403,11 +1484,17 @@ std::vector<CellResult> run_cells_impl(const std::vector<CellJob>& jobs, const E
     group_phases.lap("reference", rpc);
     ref_total += ref_ms;
     std::vector<Cell*> active;
+    std::vector<RefSide*> active_sides;
     for (auto& c : cells)
       if (!c->stopped) {
         active.push_back(c.get());
         ++(record ? c->used : c->warmup);
+        if (std::find(active_sides.begin(), active_sides.end(), c->side) == active_sides.end())
+          active_sides.push_back(c->side);
       }
+    // The reference side of the frame, once per group of cells sharing it.
+    for (RefSide* s : active_sides)
+      s->frame(sh, renderer, fd, ref_display, fi, record, group_phases);
     if (active.size() == 1) {
       active[0]->process(sh, renderer, fd, ref_display, fi, ref_ms, record);
     } else {
@@ -1425,12 +1512,14 @@ std::vector<CellResult> run_cells_impl(const std::vector<CellJob>& jobs, const E
   // (trace order with a temporal method) until every cell's targets hold; each cell stops on
   // its own, so its frames do not depend on the other cells of its group.
   const bool sampled = !opt.targets.empty();
+  std::vector<std::unique_ptr<RefSide>> sides = share_reference_sides(cells);
   FrameOrder order(sh.count, sh.warmup, sampled, !any_temporal(cells, sh), sh.seed);
   describe_sequence_metrics(cells, sh, order.shuffled());
   std::unique_ptr<MethodMemo> memo = open_method_memo(sh, rcache.get(), cells, sampled);
   FrameOrder::Steps steps;
   steps.frame = do_frame;
   steps.discontinuity = [&] {
+    for (auto& s : sides) s->reset();
     for (auto& c : cells) c->reset_temporal();
     prev_cam.reset();
   };
