@@ -20,6 +20,7 @@
 #include "sim/core/files.h"
 #include "sim/core/hash.h"
 #include "sim/core/limits.h"
+#include "sim/core/memory_info.h"
 #include "sim/core/param_table.h"
 #include "sim/core/progress.h"
 #include "sim/core/version.h"
@@ -171,6 +172,7 @@ struct Shared {
   Json resolved;                 // resolved shared keys (for every cell's manifest)
   ReferenceCacheSettings cache;  // the `cache` block (reference_cache.h)
   Json scene_config;             // the resolved `scene` block (the reference cache's key)
+  double memory_gb = 0;          // run.memory_gb (0: the option's, else the machine's)
 
   // Reads the shared keys in the order a single run reads them (the first error reported is
   // the same): display and render, scene and tone map, frame range, trace, the range's checks.
@@ -200,6 +202,10 @@ struct Shared {
     {
       Params cp = root.child("cache");
       cache = ReferenceCacheSettings::from_params(cp);
+    }
+    {
+      Params rp = root.child("run");
+      memory_gb = run_block_table().read(rp).memory_gb;
     }
     scene_config = root.resolved().contains("scene") ? root.resolved()["scene"] : Json::object();
     (void)cfg_file;
@@ -1021,8 +1027,8 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
                                              : " cells side by side over one shared reference");
   return with_memory_context(where, what,
                              jobs.size() > 1
-                                 ? "run fewer cells at once with `fovsim sweep --batch N`, or "
-                                   "lower render.scale"
+                                 ? "run fewer cells at once with `fovsim sweep --memory-budget "
+                                   "GB` (or --batch N), or lower render.scale"
                                  : "lower render.scale, or run fewer methods at once",
                              [&] { return run_cells_impl(jobs, opt, stats); });
 }
@@ -1178,6 +1184,7 @@ Json memo_cell_base(const Cell& c, const Shared& sh, const ReferenceCache& rc,
   Json shared = res;
   for (auto& k : per_cell_keys()) shared.erase(k);
   shared.erase("cache");
+  shared.erase("run");
   shared.erase("sweep");
   Json outputs = get("outputs");
   if (outputs.is_object()) outputs.erase("print_summary");
@@ -1275,12 +1282,16 @@ bool any_temporal(const std::vector<std::unique_ptr<Cell>>& cells, const Shared&
 
 // The reference sides (RefSide) of a group's cells: one per distinct resolved `metrics` block,
 // in the order of each one's first cell.
+std::string side_key(const Cell& c) {
+  const Json& res = c.manifest["resolved_config"];
+  return res.contains("metrics") ? res["metrics"].dump() : std::string();
+}
+
 std::vector<std::unique_ptr<RefSide>> share_reference_sides(
     const std::vector<std::unique_ptr<Cell>>& cells) {
   std::vector<std::unique_ptr<RefSide>> sides;
   for (auto& c : cells) {
-    const Json& res = c->manifest["resolved_config"];
-    const std::string key = res.contains("metrics") ? res["metrics"].dump() : std::string();
+    const std::string key = side_key(*c);
     RefSide* s = nullptr;
     for (auto& o : sides)
       if (o->key == key) s = o.get();
@@ -1337,6 +1348,7 @@ struct GroupOutputs {
   PhaseClock outputs_start;  // when the outputs stage began
   int threads;
   const MethodMemo* memo;
+  const Json& memory;  // the pass's manifest "memory" record (MemoryPlan::record)
 };
 
 // One cell's outputs, written atomically with the manifest ("complete") last: frames.csv,
@@ -1424,52 +1436,191 @@ CellResult write_cell_outputs(Cell& c, const Shared& sh, const GroupOutputs& g) 
   ph.merge(c.phases);
   ph.lap("outputs", g.outputs_start);  // this cell's output files so far (one cell: all of them)
   c.manifest["phases"] = ph.to_json(g.threads);
+  // The memory budget, this cell's pass, the estimate and the process's peak resident memory
+  // (ru_maxrss) so far (docs/architecture.md §2 "Memory").
+  c.manifest["memory"] = g.memory;
+  c.manifest["memory"]["peak_rss_bytes"] = double(peak_rss_bytes());
   write_file_atomic(out + "/manifest.json", c.manifest.dump(2) + "\n");
   r.frames = std::move(c.frames);
   return r;
 }
 
-// The stages of docs/architecture.md §2: parse_group, output folders, the frame loop (one
-// reference per frame, shared by every cell; each cell's process() in parallel) in FrameOrder,
-// write_cell_outputs.
-std::vector<CellResult> run_cells_impl(const std::vector<CellJob>& jobs, const EngineOptions& opt,
-                                       GroupStats* stats) {
-  auto g0 = Clock::now();
-  PhaseTimes group_phases;  // setup, reference, outputs (shared by the cells)
-  PhaseClock gpc = PhaseClock::now();
-  std::vector<CellResult> results;
-  if (jobs.empty()) return results;
-  const std::string key = reference_key(jobs.front().doc);
-  for (auto& j : jobs)
-    FOVSIM_CHECK(reference_key(j.doc) == key,
-                 "cells of one reference group differ in a reference key (" + j.file + ")");
+// The memory estimate (docs/architecture.md §2 "Memory"), bytes, from the simulated size, the
+// cells' methods and metrics, and the sequence metrics' windows. Calibrated against
+// `/usr/bin/time -v` peaks (bench/README.md "Memory"); an estimate, not a bound.
+struct MemoryEstimator {
+  const Shared& sh;
+  bool video = true;  // sequence metrics run as a video (their temporal window is held)
+  double pixels() const { return double(sh.sim_display.width) * double(sh.sim_display.height); }
+  double image() const { return 12 * pixels(); }  // RGB float
+  double plane() const { return 4 * pixels(); }
+  // At render.spp 1 `full` is the reference: the foveation-loss reference is aliased.
+  bool aliased() const { return sh.rs.spp <= 1; }
+  // Once per group: the frame's reference, direct light, G-buffer (up to ~16 floats a pixel)
+  // and eccentricity, the tone-mapped reference, a saved frame's image jobs.
+  double group() const { return 5 * image() + 17 * plane(); }
+  // A MetricsScratch: its copy of the reference, SSIM's preparation, FLIP's of both images.
+  double scratch(const MetricsConfig& m) const {
+    return (m.ssim || m.flip ? image() : 0) + (m.ssim ? 5 * plane() : 0) +
+           (m.flip ? 6 * image() : 0);
+  }
+  // One reference stream and one test stream of every sequence metric `m` enables.
+  std::pair<double, double> sequence(const MetricsConfig& m) const {
+    SequenceSetup su;
+    su.display = &sh.display;
+    su.width = sh.sim_display.width;
+    su.height = sh.sim_display.height;
+    su.fps = video ? sh.display.refresh_hz : 0.0;
+    su.config = &m;
+    double ref = 0, test = 0;
+    for (auto& d : metric_registry())
+      if (d.sequence && d.sequence->enabled(m)) {
+        if (d.sequence->reference_bytes) ref += d.sequence->reference_bytes(su);
+        if (d.sequence->test_bytes) test += d.sequence->test_bytes(su);
+      }
+    return {ref, test};
+  }
+  // A reference side (RefSide): the streams against the reference; with the foveation loss the
+  // floor's test streams and scratch and, unless aliased, `full`'s images and streams.
+  double side(const MetricsConfig& m) const {
+    const auto [ref, test] = sequence(m);
+    double b = ref;
+    if (m.foveation_loss) {
+      b += test + scratch(m);
+      if (!aliased()) b += ref + 2 * image();
+    }
+    return b;
+  }
+  // A cell: its tone-mapped image and scratch; per method its image and working buffers,
+  // temporal_error's two planes, its test streams (against `full` too unless aliased); rows.
+  double cell(const Cell& c) const {
+    const MetricsConfig& m = c.mcfg;
+    const bool fl = m.foveation_loss && !aliased();
+    const double test = sequence(m).second;
+    double b = image() + scratch(m) + (fl ? scratch(m) : 0);
+    const double per_method =
+        3 * image() + (m.temporal ? 2 * plane() : 0) + test + (fl ? 5 * plane() : 0);
+    b += double(c.methods.size()) * per_method;
+    b += double(sh.count) * double(c.methods.size() * c.gpus.size()) * 4096;
+    return b;
+  }
+};
 
-  embree_device_config();  // FOVSIM_EMBREE_ISA / FOVSIM_SIMD: a bad value fails here, not mid-run
-  simd_path();
-  Shared sh;
-  sh.models = opt.models_dir.empty() ? default_models_dir() : opt.models_dir;
-  std::vector<std::unique_ptr<Cell>> cells = parse_group(jobs, opt, sh);
-  start_output_folders(cells);
+// How a group's cells are split into passes under the memory budget (run_cells_impl).
+struct MemoryPlan {
+  double budget = INFINITY;  // bytes
+  std::string budget_from;
+  double resident = 0;  // resident memory when the plan was made (scene, trace, cells parsed)
+  double group = 0;
+  std::vector<double> cell;                 // per cell
+  std::vector<std::vector<size_t>> passes;  // cell indices, in order
 
-  // ---- frame loop: one reference per frame, shared by every cell ----
+  // The manifest's "memory" record of pass `p`.
+  Json record(size_t p, size_t sides_in_pass, double side_bytes, double seq_ref,
+              const std::string& fl_reference) const {
+    double pass_bytes = group + double(sides_in_pass) * side_bytes;
+    for (size_t i : passes[p]) pass_bytes += cell[i];
+    return Json{{"budget_bytes", std::isfinite(budget) ? Json(budget) : Json("unlimited")},
+                {"budget_from", budget_from},
+                {"passes", passes.size()},
+                {"pass", p + 1},
+                {"cells_in_pass", passes[p].size()},
+                {"reference_sides", sides_in_pass},
+                {"foveation_loss_reference", fl_reference},
+                {"resident_at_start_bytes", resident},
+                {"estimate_bytes",
+                 {{"group", group},
+                  {"reference_side", side_bytes},
+                  {"sequence_reference", seq_ref},
+                  {"cell", cell.empty() ? 0.0 : cell[passes[p].front()]},
+                  {"pass", pass_bytes}}}};
+  }
+};
+
+// The budget (--memory-budget, run.memory_gb, else 75% of MemAvailable) and the passes: cells
+// in order, as many per pass as the estimate fits in what the budget leaves after the memory
+// resident now and the group's shared data; at least one per pass.
+MemoryPlan plan_memory(const EngineOptions& opt, const Shared& sh,
+                       const std::vector<std::unique_ptr<Cell>>& cells,
+                       const MemoryEstimator& est) {
+  MemoryPlan p;
+  if (opt.memory_budget_gb > 0) {
+    p.budget = opt.memory_budget_gb * 1e9;
+    p.budget_from = "--memory-budget";
+  } else if (sh.memory_gb > 0) {
+    p.budget = sh.memory_gb * 1e9;
+    p.budget_from = "run.memory_gb";
+  } else if (const uint64_t avail = available_memory_bytes(); avail > 0) {
+    p.budget = 0.75 * double(avail);
+    p.budget_from = "75% of MemAvailable";
+  } else {
+    p.budget_from = "unlimited (MemAvailable unreadable)";
+  }
+  p.resident = double(current_rss_bytes());
+  p.group = est.group();
+  const double room = p.budget - p.resident - p.group;
+  std::vector<std::string> keys;  // the metrics blocks of the current pass (one side each)
+  double used = 0;
+  for (size_t i = 0; i < cells.size(); ++i) {
+    p.cell.push_back(est.cell(*cells[i]));
+    const std::string key = side_key(*cells[i]);
+    const bool new_side = std::find(keys.begin(), keys.end(), key) == keys.end();
+    const double cost = p.cell.back() + (new_side ? est.side(cells[i]->mcfg) : 0);
+    if (p.passes.empty() || (used + cost > room && !p.passes.back().empty())) {
+      p.passes.emplace_back();
+      keys.clear();
+      used = 0;
+    }
+    if (std::find(keys.begin(), keys.end(), key) == keys.end()) {
+      keys.push_back(key);
+      used += est.side(cells[i]->mcfg);
+    }
+    used += p.cell.back();
+    p.passes.back().push_back(i);
+  }
+  return p;
+}
+
+// What every pass of a group shares (run_cells_impl, run_pass).
+struct GroupRun {
+  const std::vector<CellJob>& jobs;
+  const EngineOptions& opt;
+  Shared& sh;
+  ReferenceCache* rcache;
+  const std::string& no_cache_dir;
+  const PhaseTimes& setup_phases;
+  bool temporal;  // any method of the group is temporal (the frame order of every pass)
+  const MemoryPlan& plan;
+  const MemoryEstimator& est;
+  GroupStats* stats;
+};
+
+// One pass of the frames over `cells` (docs/architecture.md §2): one reference per frame, the
+// reference sides, each cell's process() in parallel, in FrameOrder; then write_cell_outputs.
+void run_pass(const GroupRun& g, std::vector<std::unique_ptr<Cell>>& cells, size_t pass,
+              std::vector<CellResult>& results) {
+  const Shared& sh = g.sh;
+  const EngineOptions& opt = g.opt;
+  PhaseTimes group_phases = g.setup_phases;  // setup, reference, outputs (shared by the cells)
   uint32_t channels = kShadingChannels;
   for (auto& c : cells) channels |= c->channels;
   Renderer renderer(*sh.scene, sh.rs);
-  std::string no_cache_dir;  // the cache is on but has no folder (a warning, not an error)
-  std::unique_ptr<ReferenceCache> rcache = open_reference_cache(opt, sh, no_cache_dir);
   // Slot 0: the frame's reference; slot 1 + i: cell i's methods (watchdog.h).
   Watchdog watchdog(cells.size() + 1, opt.watchdog);
   for (size_t i = 0; i < cells.size(); ++i) {
     cells[i]->watchdog = &watchdog;
     cells[i]->watchdog_slot = i + 1;
   }
-  double setup_ms = ms_since(g0);
-  group_phases.lap("setup", gpc);
   FrameData fd;
   Image ref_display;
   std::optional<Camera> prev_cam;
+  const std::string of_passes =
+      g.plan.passes.size() > 1
+          ? ", pass " + std::to_string(pass + 1) + "/" + std::to_string(g.plan.passes.size())
+          : std::string();
   Progress progress(
-      jobs.size() > 1 ? "frames x " + std::to_string(jobs.size()) + " cells" : "frames",
+      (cells.size() > 1 ? "frames x " + std::to_string(cells.size()) + " cells" : "frames") +
+          of_passes,
       size_t(sh.count));
   double ref_total = 0;
   auto do_frame = [&](int k, bool record) {
@@ -1477,7 +1628,7 @@ std::vector<CellResult> run_cells_impl(const std::vector<CellJob>& jobs, const E
     auto t0 = Clock::now();
     PhaseClock rpc = PhaseClock::now();
     watchdog.begin(0, "frame " + std::to_string(fi) + ", reference rendering");
-    render_reference(renderer, rcache.get(), sh, fi, channels, prev_cam ? &*prev_cam : nullptr, fd);
+    render_reference(renderer, g.rcache, sh, fi, channels, prev_cam ? &*prev_cam : nullptr, fd);
     watchdog.end(0);
     sh.tonemap.apply(fd.reference, ref_display);
     double ref_ms = ms_since(t0);
@@ -1509,13 +1660,13 @@ std::vector<CellResult> run_cells_impl(const std::vector<CellJob>& jobs, const E
     progress.step();
   };
   // Evaluation order (frame_order.h): the trace order; under --target, seeded random units
-  // (trace order with a temporal method) until every cell's targets hold; each cell stops on
-  // its own, so its frames do not depend on the other cells of its group.
+  // (trace order with a temporal method of the group) until every cell's targets hold; each
+  // cell stops on its own, so its frames do not depend on the other cells of its group or pass.
   const bool sampled = !opt.targets.empty();
   std::vector<std::unique_ptr<RefSide>> sides = share_reference_sides(cells);
-  FrameOrder order(sh.count, sh.warmup, sampled, !any_temporal(cells, sh), sh.seed);
+  FrameOrder order(sh.count, sh.warmup, sampled, !g.temporal, sh.seed);
   describe_sequence_metrics(cells, sh, order.shuffled());
-  std::unique_ptr<MethodMemo> memo = open_method_memo(sh, rcache.get(), cells, sampled);
+  std::unique_ptr<MethodMemo> memo = open_method_memo(sh, g.rcache, cells, sampled);
   FrameOrder::Steps steps;
   steps.frame = do_frame;
   steps.discontinuity = [&] {
@@ -1541,18 +1692,68 @@ std::vector<CellResult> run_cells_impl(const std::vector<CellJob>& jobs, const E
         if (m.rec) memo->store(m.memo_key, *m.rec);
 
   // ---- outputs (atomic; manifest "complete" last) ----
+  const MetricsConfig& m0 = cells.front()->mcfg;
+  const std::string fl_reference = !m0.foveation_loss            ? "off"
+                                   : sides.front()->fl_aliased() ? "the reference"
+                                                                 : "full at 1 spp";
+  const Json memory =
+      g.plan.record(pass, sides.size(), g.est.side(m0), g.est.sequence(m0).first, fl_reference);
   const int threads = opt.threads > 0 ? opt.threads : int(tbb::info::default_concurrency());
-  const GroupOutputs g{opt,       order,        rcache.get(),      no_cache_dir,
-                       renderer,  group_phases, PhaseClock::now(), threads,
-                       memo.get()};
-  for (auto& c : cells) results.push_back(write_cell_outputs(*c, sh, g));
+  const GroupOutputs go{opt,        order,        g.rcache,          g.no_cache_dir,
+                        renderer,   group_phases, PhaseClock::now(), threads,
+                        memo.get(), memory};
+  for (auto& c : cells) results.push_back(write_cell_outputs(*c, sh, go));
+  if (g.stats) {
+    g.stats->frames += order.recorded() + order.warmup();
+    g.stats->ref_ms += ref_total;
+    g.stats->rays += renderer.rays_traced();
+    g.stats->passes += 1;
+  }
+}
+
+// The stages of docs/architecture.md §2: parse_group, output folders, the memory plan, then per
+// pass the frame loop over its cells (run_pass) and their outputs; a pass's cells are freed
+// before the next pass starts.
+std::vector<CellResult> run_cells_impl(const std::vector<CellJob>& jobs, const EngineOptions& opt,
+                                       GroupStats* stats) {
+  auto g0 = Clock::now();
+  PhaseTimes setup_phases;
+  PhaseClock gpc = PhaseClock::now();
+  std::vector<CellResult> results;
+  if (jobs.empty()) return results;
+  const std::string key = reference_key(jobs.front().doc);
+  for (auto& j : jobs)
+    FOVSIM_CHECK(reference_key(j.doc) == key,
+                 "cells of one reference group differ in a reference key (" + j.file + ")");
+
+  embree_device_config();  // FOVSIM_EMBREE_ISA / FOVSIM_SIMD: a bad value fails here, not mid-run
+  simd_path();
+  Shared sh;
+  sh.models = opt.models_dir.empty() ? default_models_dir() : opt.models_dir;
+  std::vector<std::unique_ptr<Cell>> cells = parse_group(jobs, opt, sh);
+  start_output_folders(cells);
+  std::string no_cache_dir;  // the cache is on but has no folder (a warning, not an error)
+  std::unique_ptr<ReferenceCache> rcache = open_reference_cache(opt, sh, no_cache_dir);
+  const double setup_ms = ms_since(g0);
+  setup_phases.lap("setup", gpc);
+
+  const bool temporal = any_temporal(cells, sh);
+  MemoryEstimator est{sh};
+  est.video = sh.stride == 1 &&
+              !FrameOrder(sh.count, sh.warmup, !opt.targets.empty(), !temporal, sh.seed).shuffled();
+  const MemoryPlan plan = plan_memory(opt, sh, cells, est);
+  const GroupRun g{jobs,         opt,      sh,   rcache.get(), no_cache_dir,
+                   setup_phases, temporal, plan, est,          stats};
+  for (size_t p = 0; p < plan.passes.size(); ++p) {
+    std::vector<std::unique_ptr<Cell>> pass;
+    for (size_t i : plan.passes[p]) pass.push_back(std::move(cells[i]));
+    run_pass(g, pass, p, results);
+  }  // the pass's cells (their methods and streams) are freed here
   if (stats) {
-    stats->frames += order.recorded() + order.warmup();
-    stats->ref_ms += ref_total;
     stats->setup_ms += setup_ms;
     stats->wall_ms += ms_since(g0);
-    stats->rays += renderer.rays_traced();
     if (rcache) stats->frames_from_cache += int(rcache->manifest()["frames_from_cache"].get<int>());
+    stats->peak_rss_bytes = peak_rss_bytes();
   }
   return results;
 }
