@@ -24,6 +24,7 @@ struct SweepArgs {
   std::vector<std::string> overrides;
   RunFlags run;  // -j, --models, --no-cache, --watchdog, --target (shared with run, Python)
   int batch = 0;
+  double memory_budget_gb = 0;
   bool bench = false, no_plots = false, quiet = false, json = false, allow_partial = false;
   PlotFlags plot;
   std::vector<std::string> sources;
@@ -67,7 +68,7 @@ void print_sweep_report(const SweepArgs& a, const SweepPlan& plan, const SweepOp
                 r.reference_passes == 1 ? "" : "es", r.reference_frames);
     if (r.reference_frames_from_cache > 0)
       std::printf(", %d from the reference cache", r.reference_frames_from_cache);
-    std::printf(")\n");
+    std::printf("); peak resident memory %.2f GB\n", double(r.peak_rss_bytes) / 1e9);
     if (r.stale_dirs)
       std::printf(
           "note: %d folder%s in %s/runs belong to cells no longer in this config (ignored)\n",
@@ -94,6 +95,7 @@ void print_bench(const SweepArgs& a, const SweepReport& r) {
          {"reference_passes", r.reference_passes},
          {"reference_frames", r.reference_frames},
          {"reference_frames_from_cache", r.reference_frames_from_cache},
+         {"peak_rss_bytes", r.peak_rss_bytes},
          {"threads", threads},
          {"wall_ms", r.wall_ms},
          {"cpu_ms", r.cpu_ms},
@@ -165,6 +167,11 @@ void register_sweep(CLI::App& app, Action& action) {
                 "Cells per reference pass (default 0: all pending cells of a reference group share "
                 "one pass)")
       ->check(CLI::Range(0, 1000000));
+  c->add_option("--memory-budget", a->memory_budget_gb,
+                "Memory budget of the cells run together, GB (10^9 bytes; over the config's "
+                "run.memory_gb; default: 75% of MemAvailable): as many cells as fit share one pass "
+                "over the frames, the rest run in later passes with the same numbers")
+      ->check(CLI::Range(0.0, 1e6));
   c->add_flag("--bench", a->bench,
               "Print the timing report (references vs. cells' own work) and write bench.json");
   add_plot_flags(c, a->plot);
@@ -186,6 +193,7 @@ void register_sweep(CLI::App& app, Action& action) {
       static_cast<RunControl&>(opt) = a->run.control();
       opt.out_dir = a->out;
       opt.batch = a->batch;
+      opt.memory_budget_gb = a->memory_budget_gb;
       opt.command_line = command_line("sweep", *a);
       if (!a->shard.empty())
         parse_shard(a->shard, opt.shard, opt.shards);

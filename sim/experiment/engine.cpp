@@ -20,6 +20,7 @@
 #include "sim/core/files.h"
 #include "sim/core/hash.h"
 #include "sim/core/limits.h"
+#include "sim/core/memory_info.h"
 #include "sim/core/param_table.h"
 #include "sim/core/progress.h"
 #include "sim/core/version.h"
@@ -171,6 +172,7 @@ struct Shared {
   Json resolved;                 // resolved shared keys (for every cell's manifest)
   ReferenceCacheSettings cache;  // the `cache` block (reference_cache.h)
   Json scene_config;             // the resolved `scene` block (the reference cache's key)
+  double memory_gb = 0;          // run.memory_gb (0: the option's, else the machine's)
 
   // Reads the shared keys in the order a single run reads them (the first error reported is
   // the same): display and render, scene and tone map, frame range, trace, the range's checks.
@@ -200,6 +202,10 @@ struct Shared {
     {
       Params cp = root.child("cache");
       cache = ReferenceCacheSettings::from_params(cp);
+    }
+    {
+      Params rp = root.child("run");
+      memory_gb = run_block_table().read(rp).memory_gb;
     }
     scene_config = root.resolved().contains("scene") ? root.resolved()["scene"] : Json::object();
     (void)cfg_file;
@@ -397,6 +403,129 @@ std::vector<std::string> config_warnings(const Json& doc, const Params& root, co
   return w;
 }
 
+// The reference side of one frame's measurements, once per group of cells whose `metrics`
+// blocks agree (docs/architecture.md §2, "Memory"): the sequence metrics' reference streams
+// (FovVideoVDP's temporal window and pyramids of the reference), `full` at the methods'
+// sampling rate (metrics.foveation_loss) with its own streams, and the reference's floor. Every
+// cell sharing it only reads it while its methods are measured (in parallel); per cell remain
+// the methods' test streams.
+//
+// At render.spp 1 with `full`'s default lighting, `full` *is* the shared reference
+// (image_is_reference): the foveation-loss reference is then the reference itself, aliased
+// (fl_ref points at the tone-mapped reference; no second image, no second set of streams), and
+// every `<metric>_fl` sequence value is the plain one (the same test against the same frames).
+struct RefSide {
+  std::string key;   // the resolved `metrics` block
+  std::string file;  // the first cell's config file (location of the fl `full`'s Params)
+  MetricsConfig mcfg, fl_mcfg;
+  struct Seq {
+    const MetricDecl* decl = nullptr;
+    // Against the converged reference; against `full` at the methods' sampling rate (null when
+    // aliased); `floor` scores that `full` against the converged reference (at_floor).
+    std::unique_ptr<SequenceReference> ref, ref_fl;
+    std::unique_ptr<SequenceTest> floor;
+  };
+  std::vector<Seq> seq;
+  bool ready = false;
+  bool video = true;  // consecutive frames at the refresh rate (describe_sequence_metrics)
+  SequenceSetup setup;
+  std::unique_ptr<FoveationMethod> fl_full;
+  FrameOutput fl_fo;
+  Image fl_display;
+  const Image* fl_ref = nullptr;  // the foveation-loss reference: &fl_display or the reference
+  int aliased = -1;               // -1 before the first frame; 1: fl_ref is the reference
+  MetricsScratch floor_scratch;
+  // The reference's floor: every metric of `full` at the methods' sampling rate against the
+  // converged reference, per recorded frame (column -> frame -> value); summary `at_floor`
+  // names the metrics a method cannot be told from it by (mark_reference_floor, runner.h).
+  std::map<std::string, std::map<int, double>> floor_vals;
+  int cells = 0;  // cells sharing it (memory estimate, manifest)
+
+  const SequenceReference& ref_fl(size_t k) const {
+    return seq[k].ref_fl ? *seq[k].ref_fl : *seq[k].ref;
+  }
+  bool fl_aliased() const { return aliased == 1; }
+
+  // The sequence metrics' reference streams, made on the first frame.
+  void begin(const Shared& sh) {
+    if (ready) return;
+    ready = true;
+    setup.display = &sh.display;
+    setup.width = sh.sim_display.width;
+    setup.height = sh.sim_display.height;
+    setup.fps = video ? sh.display.refresh_hz : 0.0;
+    setup.config = &mcfg;
+    for (auto& d : metric_registry())
+      if (d.sequence && d.sequence->enabled(mcfg)) {
+        Seq q;
+        q.decl = &d;
+        q.ref = d.sequence->make_reference(setup);
+        seq.push_back(std::move(q));
+      }
+  }
+
+  // Frame `fi`'s reference side: the streams pushed at the true gaze, then (foveation loss)
+  // `full` at the methods' sampling rate, its streams and the floor. Phases go to `ph`.
+  void frame(const Shared& sh, const Renderer& renderer, const FrameData& fd,
+             const Image& ref_display, int fi, bool record, PhaseTimes& ph) {
+    PhaseClock pc = PhaseClock::now();
+    begin(sh);
+    // The true gaze (also under the latency what-if), a screen point (pixel centres at i + 0.5).
+    for (auto& q : seq) q.ref->push(ref_display, fd.gaze_px.x, fd.gaze_px.y);
+    if (!seq.empty()) pc = ph.lap("metrics", pc);
+    if (!mcfg.foveation_loss) return;
+    if (!fl_full) {
+      Params fp(Json{{"method", "full"}}, file, "metrics.foveation_loss");
+      (void)fp.string("method");
+      fl_full = make_method("full", fp);
+    }
+    FrameContext fctx = fd.context(*sh.scene, renderer, sh.sim_display, false);
+    fl_fo.image_is_reference = false;
+    fl_fo.counters.clear();
+    fl_fo.debug.clear();
+    fl_fo.flags.clear();
+    render_with_lighting(*fl_full, fctx, fl_fo);
+    const int is_ref = fl_fo.image_is_reference ? 1 : 0;
+    FOVSIM_CHECK(aliased < 0 || aliased == is_ref,
+                 "metrics.foveation_loss: `full` changed between being the reference and not");
+    aliased = is_ref;
+    if (fl_aliased()) {
+      fl_ref = &ref_display;  // the same pixels as tonemap(fd.reference): no copy
+    } else {
+      sh.tonemap.apply(fl_fo.image, fl_display);
+      fl_ref = &fl_display;
+    }
+    pc = ph.lap("methods", pc);
+    if (!fl_aliased())
+      for (auto& q : seq) {
+        if (!q.ref_fl) q.ref_fl = q.decl->sequence->make_reference(setup);
+        q.ref_fl->push(*fl_ref, fd.gaze_px.x, fd.gaze_px.y);
+      }
+    // The reference's floor: `full` at the methods' sampling rate against the reference.
+    if (record) {
+      MetricValues fl = compute_metrics(fl_mcfg, *fl_ref, ref_display, fd.camera, fd.eccentricity,
+                                        nullptr, &floor_scratch);
+      for (auto& [k, v] : fl.items()) floor_vals[k][fi] = v;
+    }
+    for (auto& q : seq) {
+      if (!q.floor) q.floor = q.decl->sequence->make_test(*q.ref);
+      const double v = q.floor->push(*fl_ref, *q.ref, nullptr);
+      if (record) floor_vals[q.decl->pooled_column][fi] = v;
+    }
+    ph.lap("metrics", pc);
+  }
+
+  // Forget the frame history before a non-contiguous frame.
+  void reset() {
+    for (auto& q : seq) {
+      q.ref->reset();
+      if (q.ref_fl) q.ref_fl->reset();
+      if (q.floor) q.floor->reset();
+    }
+    if (fl_full) fl_full->reset();
+  }
+};
+
 // One cell: its methods, metrics, GPU profiles, outputs and accumulated rows.
 struct Cell {
   const CellJob* job = nullptr;
@@ -424,36 +553,11 @@ struct Cell {
   LatencyConfig latency;  // the latency what-if (docs/latency.md)
   std::set<std::string> metric_names;
   std::unique_ptr<GazeSource> gaze;  // the gaze each method sees (made by parse_group)
-  // Sequence (stateful) metrics of the registry (sim/metrics/registry.h SequenceMetric, e.g.
-  // FovVideoVDP): the reference side of each frame, pushed once per frame and shared by the
-  // cell's methods; against the converged reference (`ref`) and against `full` at the methods'
-  // sampling rate (`ref_fl`); `floor` scores that `full` against the converged reference (the
-  // reference's floor, at_floor below). A video at the display's refresh rate when the frames
-  // are consecutive (frames.stride 1, trace order); still images otherwise (seq_video, set by
-  // run_cells before the first frame; recorded in the manifest under the metric's key).
-  struct Seq {
-    const MetricDecl* decl = nullptr;
-    std::unique_ptr<SequenceReference> ref, ref_fl;
-    std::unique_ptr<SequenceTest> floor;
-  };
-  std::vector<Seq> seq;
-  bool seq_ready = false;
-  bool seq_video = true;
-  SequenceSetup seq_setup;
-  // The reference's floor (metrics.foveation_loss): every metric of `full` at the methods'
-  // sampling rate against the converged reference, per recorded frame (column -> frame ->
-  // value); summary `at_floor` names the metrics a method cannot be told from it by
-  // (mark_reference_floor, runner.h).
-  std::map<std::string, std::map<int, double>> floor_vals;
-  MetricsScratch floor_scratch;
-  // metrics.foveation_loss: `full` at the methods' sampling rate (one sample per pixel of the
-  // shared G-buffer, its default lighting), rendered once per frame; every method's `<metric>_fl`
-  // is measured against it (docs/metrics.md "Two references").
-  std::unique_ptr<FoveationMethod> fl_full;
-  FrameOutput fl_fo;
-  Image fl_display;
+  // The reference side of the sequence metrics and the foveation-loss reference, shared with
+  // the other cells of the group whose `metrics` block is the same (RefSide; made by
+  // share_reference_sides before the first frame).
+  RefSide* side = nullptr;
   MetricsScratch fl_scratch;
-  MetricsConfig fl_mcfg;
   // --target (intervals.h): each cell stops on its own once its targets hold, so its frames do
   // not depend on the other cells of its group (sweep batches and shards give the same cell).
   bool stopped = false, met = false;
@@ -553,11 +657,8 @@ struct Cell {
       write_images(in.img_dir, "reference", ref_display, &fd.reference, io, image_jobs);
     pc = phases.lap("images", pc);
     FrameContext ctx = fd.context(*sh.scene, renderer, sh.sim_display, want_images && io.debug);
-    begin_sequence_metrics(sh);
-    // The true gaze (also under the latency what-if), a screen point (pixel centres at i + 0.5).
-    for (auto& q : seq) q.ref->push(ref_display, fd.gaze_px.x, fd.gaze_px.y);
-    if (!seq.empty()) pc = phases.lap("metrics", pc);
-    if (mcfg.foveation_loss) foveation_loss_reference(in, ctx, pc);
+    // The reference side (side->frame: sequence streams, foveation-loss reference, floor) was
+    // computed for this frame before the cells ran.
     // Latency what-if and tracking loss: methods see the gaze source's gaze, metrics keep fd's
     // true gaze.
     gaze->begin_frame(fi, methods.size(), ctx);
@@ -585,64 +686,6 @@ struct Cell {
       pc = phases.lap("images", pc);
     }
     cell_ms += ms_since(c0);
-  }
-
-  // Sequence metrics' reference streams, made on the first frame (seq_video is set by then).
-  void begin_sequence_metrics(const Shared& sh) {
-    if (seq_ready) return;
-    seq_ready = true;
-    seq_setup.display = &sh.display;
-    seq_setup.width = sh.sim_display.width;
-    seq_setup.height = sh.sim_display.height;
-    seq_setup.fps = seq_video ? sh.display.refresh_hz : 0.0;
-    seq_setup.config = &mcfg;
-    for (auto& d : metric_registry())
-      if (d.sequence && d.sequence->enabled(mcfg)) {
-        Seq q;
-        q.decl = &d;
-        q.ref = d.sequence->make_reference(seq_setup);
-        seq.push_back(std::move(q));
-      }
-  }
-
-  // metrics.foveation_loss: `full` at the methods' sampling rate (fl_display), the second
-  // reference of every `<metric>_fl` column, and the reference's floor (it against the
-  // converged reference).
-  void foveation_loss_reference(const FrameIn& in, const FrameContext& ctx, PhaseClock& pc) {
-    const Shared& sh = in.sh;
-    const FrameData& fd = in.fd;
-    if (!fl_full) {
-      Params fp(Json{{"method", "full"}}, job->file, "metrics.foveation_loss");
-      (void)fp.string("method");
-      fl_full = make_method("full", fp);
-      fl_mcfg = mcfg;
-      fl_mcfg.temporal = false;  // temporal_error: against the reference only
-    }
-    FrameContext fctx = ctx;  // the true gaze (full does not use it)
-    fl_fo.image_is_reference = false;
-    fl_fo.counters.clear();
-    fl_fo.debug.clear();
-    fl_fo.flags.clear();
-    render_with_lighting(*fl_full, fctx, fl_fo);
-    sh.tonemap.apply(fl_fo.image_is_reference ? fd.reference : fl_fo.image, fl_display);
-    pc = phases.lap("methods", pc);
-    for (auto& q : seq) {
-      if (!q.ref_fl) q.ref_fl = q.decl->sequence->make_reference(seq_setup);
-      q.ref_fl->push(fl_display, fd.gaze_px.x, fd.gaze_px.y);
-    }
-    // The reference's floor: `full` at the methods' sampling rate against the reference.
-    if (in.record) {
-      MetricsConfig floor_cfg = fl_mcfg;  // no temporal_error (against the reference only)
-      MetricValues fl = compute_metrics(floor_cfg, fl_display, in.ref_display, fd.camera,
-                                        fd.eccentricity, nullptr, &floor_scratch);
-      for (auto& [k, v] : fl.items()) floor_vals[k][in.fi] = v;
-    }
-    for (auto& q : seq) {
-      if (!q.floor) q.floor = q.decl->sequence->make_test(*q.ref);
-      const double v = q.floor->push(fl_display, *q.ref, nullptr);
-      if (in.record) floor_vals[q.decl->pooled_column][in.fi] = v;
-    }
-    pc = phases.lap("metrics", pc);
   }
 
   // Method `mi` on this frame: its gaze, the method (or `full` while tracking is lost under
@@ -702,32 +745,55 @@ struct Cell {
   MetricValues measure(const FrameIn& in, MethodRun& m,
                        std::vector<std::pair<std::string, Image>>& heat) {
     const FrameData& fd = in.fd;
-    MetricValues metrics = compute_metrics(mcfg, out_display, in.ref_display, fd.camera,
-                                           fd.eccentricity, &m.temporal, &metrics_scratch);
+    const MetricValues image_metrics =
+        compute_metrics(mcfg, out_display, in.ref_display, fd.camera, fd.eccentricity, &m.temporal,
+                        &metrics_scratch);
+    MetricValues metrics = image_metrics;
+    const std::vector<RefSide::Seq>& seq = side->seq;
+    std::vector<double> seq_q(seq.size());
+    std::vector<size_t> seq_heat(seq.size(), SIZE_MAX);  // index into `heat`
     for (size_t k = 0; k < seq.size(); ++k) {
       const MetricDecl& d = *seq[k].decl;
       if (m.seq.size() <= k) m.seq.push_back(d.sequence->make_test(*seq[k].ref));
       const bool h = in.want_images && *d.sequence->heatmap_suffix;
       Image img;
       const double q = m.seq[k]->push(out_display, *seq[k].ref, h ? &img : nullptr);
+      seq_q[k] = q;
       metrics.set(d.pooled_column, q);
       metrics.set(d.name, d.from_mean(q));
-      if (h) heat.emplace_back(m.stem + d.sequence->heatmap_suffix, std::move(img));
+      if (h) {
+        seq_heat[k] = heat.size();
+        heat.emplace_back(m.stem + d.sequence->heatmap_suffix, std::move(img));
+      }
     }
-    if (fl_full) {  // the foveation loss: every metric against full at the same sampling rate
-      // The same test image: its FLIP preparation from the call above, when it made one.
-      MetricValues fl = compute_metrics(
-          fl_mcfg, out_display, fl_display, fd.camera, fd.eccentricity, &m.temporal_fl, &fl_scratch,
-          metrics_scratch.flip_test_valid ? &metrics_scratch.flip_test : nullptr);
-      for (auto& [k, v] : fl.items()) metrics.set(k + kFoveationLossSuffix, v);
+    if (mcfg.foveation_loss) {  // every metric against full at the same sampling rate
+      if (side->fl_aliased()) {
+        // The foveation-loss reference is the reference: the values above, but for
+        // temporal_error (against the reference only; fl_mcfg has it off).
+        for (auto& [k, v] : image_metrics.items())
+          if (k != "temporal_error") metrics.set(k + kFoveationLossSuffix, v);
+      } else {
+        // The same test image: its FLIP preparation from the call above, when it made one.
+        MetricValues fl = compute_metrics(
+            side->fl_mcfg, out_display, *side->fl_ref, fd.camera, fd.eccentricity, &m.temporal_fl,
+            &fl_scratch, metrics_scratch.flip_test_valid ? &metrics_scratch.flip_test : nullptr);
+        for (auto& [k, v] : fl.items()) metrics.set(k + kFoveationLossSuffix, v);
+      }
       for (size_t k = 0; k < seq.size(); ++k) {
         const MetricDecl& d = *seq[k].decl;
-        if (m.seq_fl.size() <= k) m.seq_fl.push_back(d.sequence->make_test(*seq[k].ref_fl));
         const bool h = in.want_images && *d.sequence->heatmap_suffix;
         Image img;
-        // The same test frame as m.seq[k]'s push above: its work on the frame is reused.
-        const double q = m.seq_fl[k]->push_same(out_display, *seq[k].ref_fl, h ? &img : nullptr,
-                                                *m.seq[k], *seq[k].ref);
+        double q = seq_q[k];
+        if (side->fl_aliased()) {
+          // The foveation-loss reference is the reference: the same test against the same
+          // frames (no second test stream per method).
+          if (h) img = heat[seq_heat[k]].second;
+        } else {
+          if (m.seq_fl.size() <= k) m.seq_fl.push_back(d.sequence->make_test(side->ref_fl(k)));
+          // The same test frame as m.seq[k]'s push above: its work on the frame is reused.
+          q = m.seq_fl[k]->push_same(out_display, side->ref_fl(k), h ? &img : nullptr, *m.seq[k],
+                                     *seq[k].ref);
+        }
         metrics.set(d.pooled_column + kFoveationLossSuffix, q);
         metrics.set(d.name + kFoveationLossSuffix, d.from_mean(q));
         if (h)
@@ -907,12 +973,6 @@ struct Cell {
 
   // Forget the frame history (temporal methods, temporal_error) before a non-contiguous frame.
   void reset_temporal() {
-    for (auto& q : seq) {
-      q.ref->reset();
-      if (q.ref_fl) q.ref_fl->reset();
-      if (q.floor) q.floor->reset();
-    }
-    if (fl_full) fl_full->reset();
     for (auto& m : methods) {
       m.impl->reset();
       if (m.impl->lighting()) m.impl->lighting()->reset();
@@ -942,8 +1002,8 @@ std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const Engine
                                              : " cells side by side over one shared reference");
   return with_memory_context(where, what,
                              jobs.size() > 1
-                                 ? "run fewer cells at once with `fovsim sweep --batch N`, or "
-                                   "lower render.scale"
+                                 ? "run fewer cells at once with `fovsim sweep --memory-budget "
+                                   "GB` (or --batch N), or lower render.scale"
                                  : "lower render.scale, or run fewer methods at once",
                              [&] { return run_cells_impl(jobs, opt, stats); });
 }
@@ -1099,6 +1159,7 @@ Json memo_cell_base(const Cell& c, const Shared& sh, const ReferenceCache& rc,
   Json shared = res;
   for (auto& k : per_cell_keys()) shared.erase(k);
   shared.erase("cache");
+  shared.erase("run");
   shared.erase("sweep");
   Json outputs = get("outputs");
   if (outputs.is_object()) outputs.erase("print_summary");
@@ -1194,24 +1255,55 @@ bool any_temporal(const std::vector<std::unique_ptr<Cell>>& cells, const Shared&
   return temporal;
 }
 
+// The reference sides (RefSide) of a group's cells: one per distinct resolved `metrics` block,
+// in the order of each one's first cell.
+std::string side_key(const Cell& c) {
+  const Json& res = c.manifest["resolved_config"];
+  return res.contains("metrics") ? res["metrics"].dump() : std::string();
+}
+
+std::vector<std::unique_ptr<RefSide>> share_reference_sides(
+    const std::vector<std::unique_ptr<Cell>>& cells) {
+  std::vector<std::unique_ptr<RefSide>> sides;
+  for (auto& c : cells) {
+    const std::string key = side_key(*c);
+    RefSide* s = nullptr;
+    for (auto& o : sides)
+      if (o->key == key) s = o.get();
+    if (!s) {
+      sides.push_back(std::make_unique<RefSide>());
+      s = sides.back().get();
+      s->key = key;
+      s->file = c->job->file;
+      s->mcfg = c->mcfg;
+      s->fl_mcfg = c->mcfg;
+      s->fl_mcfg.temporal = false;  // temporal_error: against the reference only
+    }
+    ++s->cells;
+    c->side = s;
+  }
+  return sides;
+}
+
 // Sequence metrics' mode (docs/metrics.md): a video of consecutive frames, else still images;
 // recorded in each cell's manifest under the metric's key.
 void describe_sequence_metrics(const std::vector<std::unique_ptr<Cell>>& cells, const Shared& sh,
                                bool shuffled) {
+  const bool video = sh.stride == 1 && !shuffled;
   for (auto& c : cells) {
-    c->seq_video = sh.stride == 1 && !shuffled;
+    c->side->video = video;
     SequenceSetup su;
     su.display = &sh.display;
     su.width = sh.sim_display.width;
     su.height = sh.sim_display.height;
-    su.fps = c->seq_video ? sh.display.refresh_hz : 0.0;
+    su.fps = video ? sh.display.refresh_hz : 0.0;
     su.config = &c->mcfg;
     for (auto& d : metric_registry()) {
       if (!d.sequence || !d.sequence->enabled(c->mcfg)) continue;
       Json j = d.sequence->describe(su);
-      j["mode"] = c->seq_video ? "video" : "image";
+      j["mode"] = video ? "video" : "image";
       j["fps"] = su.fps;
-      j["why"] = c->seq_video ? "consecutive frames at the display's refresh rate"
+      j["why"] = video ? "consecutive frames at the display's refresh rate"
                  : sh.stride != 1
                      ? "frames.stride > 1: frames are not consecutive, each is a still image"
                      : "--target evaluates units in random order: each frame a still image";
@@ -1231,6 +1323,7 @@ struct GroupOutputs {
   PhaseClock outputs_start;  // when the outputs stage began
   int threads;
   const MethodMemo* memo;
+  const Json& memory;  // the pass's manifest "memory" record (MemoryPlan::record)
 };
 
 // One cell's outputs, written atomically with the manifest ("complete") last: frames.csv,
@@ -1259,7 +1352,7 @@ CellResult write_cell_outputs(Cell& c, const Shared& sh, const GroupOutputs& g) 
     r.fidelity_note = c.manifest["fidelity"]["note"].get<std::string>();
   r.cell_ms = c.cell_ms;
   r.summary = summarize(c.frames, r.budget_ms);
-  if (c.mcfg.foveation_loss) mark_reference_floor(r.summary, c.frames, c.floor_vals);
+  if (c.mcfg.foveation_loss) mark_reference_floor(r.summary, c.frames, c.side->floor_vals);
   if (c.latency.enabled) r.summary = summarize_phases(c.frames, r.summary, c.metric_names);
   // Tracking states (docs/tracking.md): means with intervals per state, next to the phases.
   if (sh.tracking_column) r.summary = summarize_tracking(c.frames, r.summary);
@@ -1318,52 +1411,191 @@ CellResult write_cell_outputs(Cell& c, const Shared& sh, const GroupOutputs& g) 
   ph.merge(c.phases);
   ph.lap("outputs", g.outputs_start);  // this cell's output files so far (one cell: all of them)
   c.manifest["phases"] = ph.to_json(g.threads);
+  // The memory budget, this cell's pass, the estimate and the process's peak resident memory
+  // (ru_maxrss) so far (docs/architecture.md §2 "Memory").
+  c.manifest["memory"] = g.memory;
+  c.manifest["memory"]["peak_rss_bytes"] = double(peak_rss_bytes());
   write_file_atomic(out + "/manifest.json", c.manifest.dump(2) + "\n");
   r.frames = std::move(c.frames);
   return r;
 }
 
-// The stages of docs/architecture.md §2: parse_group, output folders, the frame loop (one
-// reference per frame, shared by every cell; each cell's process() in parallel) in FrameOrder,
-// write_cell_outputs.
-std::vector<CellResult> run_cells_impl(const std::vector<CellJob>& jobs, const EngineOptions& opt,
-                                       GroupStats* stats) {
-  auto g0 = Clock::now();
-  PhaseTimes group_phases;  // setup, reference, outputs (shared by the cells)
-  PhaseClock gpc = PhaseClock::now();
-  std::vector<CellResult> results;
-  if (jobs.empty()) return results;
-  const std::string key = reference_key(jobs.front().doc);
-  for (auto& j : jobs)
-    FOVSIM_CHECK(reference_key(j.doc) == key,
-                 "cells of one reference group differ in a reference key (" + j.file + ")");
+// The memory estimate (docs/architecture.md §2 "Memory"), bytes, from the simulated size, the
+// cells' methods and metrics, and the sequence metrics' windows. Calibrated against
+// `/usr/bin/time -v` peaks (bench/README.md "Memory"); an estimate, not a bound.
+struct MemoryEstimator {
+  const Shared& sh;
+  bool video = true;  // sequence metrics run as a video (their temporal window is held)
+  double pixels() const { return double(sh.sim_display.width) * double(sh.sim_display.height); }
+  double image() const { return 12 * pixels(); }  // RGB float
+  double plane() const { return 4 * pixels(); }
+  // At render.spp 1 `full` is the reference: the foveation-loss reference is aliased.
+  bool aliased() const { return sh.rs.spp <= 1; }
+  // Once per group: the frame's reference, direct light, G-buffer (up to ~16 floats a pixel)
+  // and eccentricity, the tone-mapped reference, a saved frame's image jobs.
+  double group() const { return 5 * image() + 17 * plane(); }
+  // A MetricsScratch: its copy of the reference, SSIM's preparation, FLIP's of both images.
+  double scratch(const MetricsConfig& m) const {
+    return (m.ssim || m.flip ? image() : 0) + (m.ssim ? 5 * plane() : 0) +
+           (m.flip ? 6 * image() : 0);
+  }
+  // One reference stream and one test stream of every sequence metric `m` enables.
+  std::pair<double, double> sequence(const MetricsConfig& m) const {
+    SequenceSetup su;
+    su.display = &sh.display;
+    su.width = sh.sim_display.width;
+    su.height = sh.sim_display.height;
+    su.fps = video ? sh.display.refresh_hz : 0.0;
+    su.config = &m;
+    double ref = 0, test = 0;
+    for (auto& d : metric_registry())
+      if (d.sequence && d.sequence->enabled(m)) {
+        if (d.sequence->reference_bytes) ref += d.sequence->reference_bytes(su);
+        if (d.sequence->test_bytes) test += d.sequence->test_bytes(su);
+      }
+    return {ref, test};
+  }
+  // A reference side (RefSide): the streams against the reference; with the foveation loss the
+  // floor's test streams and scratch and, unless aliased, `full`'s images and streams.
+  double side(const MetricsConfig& m) const {
+    const auto [ref, test] = sequence(m);
+    double b = ref;
+    if (m.foveation_loss) {
+      b += test + scratch(m);
+      if (!aliased()) b += ref + 2 * image();
+    }
+    return b;
+  }
+  // A cell: its tone-mapped image and scratch; per method its image and working buffers,
+  // temporal_error's two planes, its test streams (against `full` too unless aliased); rows.
+  double cell(const Cell& c) const {
+    const MetricsConfig& m = c.mcfg;
+    const bool fl = m.foveation_loss && !aliased();
+    const double test = sequence(m).second;
+    double b = image() + scratch(m) + (fl ? scratch(m) : 0);
+    const double per_method =
+        3 * image() + (m.temporal ? 2 * plane() : 0) + test + (fl ? 5 * plane() : 0);
+    b += double(c.methods.size()) * per_method;
+    b += double(sh.count) * double(c.methods.size() * c.gpus.size()) * 4096;
+    return b;
+  }
+};
 
-  embree_device_config();  // FOVSIM_EMBREE_ISA / FOVSIM_SIMD: a bad value fails here, not mid-run
-  simd_path();
-  Shared sh;
-  sh.models = opt.models_dir.empty() ? default_models_dir() : opt.models_dir;
-  std::vector<std::unique_ptr<Cell>> cells = parse_group(jobs, opt, sh);
-  start_output_folders(cells);
+// How a group's cells are split into passes under the memory budget (run_cells_impl).
+struct MemoryPlan {
+  double budget = INFINITY;  // bytes
+  std::string budget_from;
+  double resident = 0;  // resident memory when the plan was made (scene, trace, cells parsed)
+  double group = 0;
+  std::vector<double> cell;                 // per cell
+  std::vector<std::vector<size_t>> passes;  // cell indices, in order
 
-  // ---- frame loop: one reference per frame, shared by every cell ----
+  // The manifest's "memory" record of pass `p`.
+  Json record(size_t p, size_t sides_in_pass, double side_bytes, double seq_ref,
+              const std::string& fl_reference) const {
+    double pass_bytes = group + double(sides_in_pass) * side_bytes;
+    for (size_t i : passes[p]) pass_bytes += cell[i];
+    return Json{{"budget_bytes", std::isfinite(budget) ? Json(budget) : Json("unlimited")},
+                {"budget_from", budget_from},
+                {"passes", passes.size()},
+                {"pass", p + 1},
+                {"cells_in_pass", passes[p].size()},
+                {"reference_sides", sides_in_pass},
+                {"foveation_loss_reference", fl_reference},
+                {"resident_at_start_bytes", resident},
+                {"estimate_bytes",
+                 {{"group", group},
+                  {"reference_side", side_bytes},
+                  {"sequence_reference", seq_ref},
+                  {"cell", cell.empty() ? 0.0 : cell[passes[p].front()]},
+                  {"pass", pass_bytes}}}};
+  }
+};
+
+// The budget (--memory-budget, run.memory_gb, else 75% of MemAvailable) and the passes: cells
+// in order, as many per pass as the estimate fits in what the budget leaves after the memory
+// resident now and the group's shared data; at least one per pass.
+MemoryPlan plan_memory(const EngineOptions& opt, const Shared& sh,
+                       const std::vector<std::unique_ptr<Cell>>& cells,
+                       const MemoryEstimator& est) {
+  MemoryPlan p;
+  if (opt.memory_budget_gb > 0) {
+    p.budget = opt.memory_budget_gb * 1e9;
+    p.budget_from = "--memory-budget";
+  } else if (sh.memory_gb > 0) {
+    p.budget = sh.memory_gb * 1e9;
+    p.budget_from = "run.memory_gb";
+  } else if (const uint64_t avail = available_memory_bytes(); avail > 0) {
+    p.budget = 0.75 * double(avail);
+    p.budget_from = "75% of MemAvailable";
+  } else {
+    p.budget_from = "unlimited (MemAvailable unreadable)";
+  }
+  p.resident = double(current_rss_bytes());
+  p.group = est.group();
+  const double room = p.budget - p.resident - p.group;
+  std::vector<std::string> keys;  // the metrics blocks of the current pass (one side each)
+  double used = 0;
+  for (size_t i = 0; i < cells.size(); ++i) {
+    p.cell.push_back(est.cell(*cells[i]));
+    const std::string key = side_key(*cells[i]);
+    const bool new_side = std::find(keys.begin(), keys.end(), key) == keys.end();
+    const double cost = p.cell.back() + (new_side ? est.side(cells[i]->mcfg) : 0);
+    if (p.passes.empty() || (used + cost > room && !p.passes.back().empty())) {
+      p.passes.emplace_back();
+      keys.clear();
+      used = 0;
+    }
+    if (std::find(keys.begin(), keys.end(), key) == keys.end()) {
+      keys.push_back(key);
+      used += est.side(cells[i]->mcfg);
+    }
+    used += p.cell.back();
+    p.passes.back().push_back(i);
+  }
+  return p;
+}
+
+// What every pass of a group shares (run_cells_impl, run_pass).
+struct GroupRun {
+  const std::vector<CellJob>& jobs;
+  const EngineOptions& opt;
+  Shared& sh;
+  ReferenceCache* rcache;
+  const std::string& no_cache_dir;
+  const PhaseTimes& setup_phases;
+  bool temporal;  // any method of the group is temporal (the frame order of every pass)
+  const MemoryPlan& plan;
+  const MemoryEstimator& est;
+  GroupStats* stats;
+};
+
+// One pass of the frames over `cells` (docs/architecture.md §2): one reference per frame, the
+// reference sides, each cell's process() in parallel, in FrameOrder; then write_cell_outputs.
+void run_pass(const GroupRun& g, std::vector<std::unique_ptr<Cell>>& cells, size_t pass,
+              std::vector<CellResult>& results) {
+  const Shared& sh = g.sh;
+  const EngineOptions& opt = g.opt;
+  PhaseTimes group_phases = g.setup_phases;  // setup, reference, outputs (shared by the cells)
   uint32_t channels = kShadingChannels;
   for (auto& c : cells) channels |= c->channels;
   Renderer renderer(*sh.scene, sh.rs);
-  std::string no_cache_dir;  // the cache is on but has no folder (a warning, not an error)
-  std::unique_ptr<ReferenceCache> rcache = open_reference_cache(opt, sh, no_cache_dir);
   // Slot 0: the frame's reference; slot 1 + i: cell i's methods (watchdog.h).
   Watchdog watchdog(cells.size() + 1, opt.watchdog);
   for (size_t i = 0; i < cells.size(); ++i) {
     cells[i]->watchdog = &watchdog;
     cells[i]->watchdog_slot = i + 1;
   }
-  double setup_ms = ms_since(g0);
-  group_phases.lap("setup", gpc);
   FrameData fd;
   Image ref_display;
   std::optional<Camera> prev_cam;
+  const std::string of_passes =
+      g.plan.passes.size() > 1
+          ? ", pass " + std::to_string(pass + 1) + "/" + std::to_string(g.plan.passes.size())
+          : std::string();
   Progress progress(
-      jobs.size() > 1 ? "frames x " + std::to_string(jobs.size()) + " cells" : "frames",
+      (cells.size() > 1 ? "frames x " + std::to_string(cells.size()) + " cells" : "frames") +
+          of_passes,
       size_t(sh.count));
   double ref_total = 0;
   auto do_frame = [&](int k, bool record) {
@@ -1371,18 +1603,24 @@ std::vector<CellResult> run_cells_impl(const std::vector<CellJob>& jobs, const E
     auto t0 = Clock::now();
     PhaseClock rpc = PhaseClock::now();
     watchdog.begin(0, "frame " + std::to_string(fi) + ", reference rendering");
-    render_reference(renderer, rcache.get(), sh, fi, channels, prev_cam ? &*prev_cam : nullptr, fd);
+    render_reference(renderer, g.rcache, sh, fi, channels, prev_cam ? &*prev_cam : nullptr, fd);
     watchdog.end(0);
     sh.tonemap.apply(fd.reference, ref_display);
     double ref_ms = ms_since(t0);
     group_phases.lap("reference", rpc);
     ref_total += ref_ms;
     std::vector<Cell*> active;
+    std::vector<RefSide*> active_sides;
     for (auto& c : cells)
       if (!c->stopped) {
         active.push_back(c.get());
         ++(record ? c->used : c->warmup);
+        if (std::find(active_sides.begin(), active_sides.end(), c->side) == active_sides.end())
+          active_sides.push_back(c->side);
       }
+    // The reference side of the frame, once per group of cells sharing it.
+    for (RefSide* s : active_sides)
+      s->frame(sh, renderer, fd, ref_display, fi, record, group_phases);
     if (active.size() == 1) {
       active[0]->process(sh, renderer, fd, ref_display, fi, ref_ms, record);
     } else {
@@ -1397,15 +1635,17 @@ std::vector<CellResult> run_cells_impl(const std::vector<CellJob>& jobs, const E
     progress.step();
   };
   // Evaluation order (frame_order.h): the trace order; under --target, seeded random units
-  // (trace order with a temporal method) until every cell's targets hold; each cell stops on
-  // its own, so its frames do not depend on the other cells of its group.
+  // (trace order with a temporal method of the group) until every cell's targets hold; each
+  // cell stops on its own, so its frames do not depend on the other cells of its group or pass.
   const bool sampled = !opt.targets.empty();
-  FrameOrder order(sh.count, sh.warmup, sampled, !any_temporal(cells, sh), sh.seed);
+  std::vector<std::unique_ptr<RefSide>> sides = share_reference_sides(cells);
+  FrameOrder order(sh.count, sh.warmup, sampled, !g.temporal, sh.seed);
   describe_sequence_metrics(cells, sh, order.shuffled());
-  std::unique_ptr<MethodMemo> memo = open_method_memo(sh, rcache.get(), cells, sampled);
+  std::unique_ptr<MethodMemo> memo = open_method_memo(sh, g.rcache, cells, sampled);
   FrameOrder::Steps steps;
   steps.frame = do_frame;
   steps.discontinuity = [&] {
+    for (auto& s : sides) s->reset();
     for (auto& c : cells) c->reset_temporal();
     prev_cam.reset();
   };
@@ -1427,18 +1667,68 @@ std::vector<CellResult> run_cells_impl(const std::vector<CellJob>& jobs, const E
         if (m.rec) memo->store(m.memo_key, *m.rec);
 
   // ---- outputs (atomic; manifest "complete" last) ----
+  const MetricsConfig& m0 = cells.front()->mcfg;
+  const std::string fl_reference = !m0.foveation_loss            ? "off"
+                                   : sides.front()->fl_aliased() ? "the reference"
+                                                                 : "full at 1 spp";
+  const Json memory =
+      g.plan.record(pass, sides.size(), g.est.side(m0), g.est.sequence(m0).first, fl_reference);
   const int threads = opt.threads > 0 ? opt.threads : int(tbb::info::default_concurrency());
-  const GroupOutputs g{opt,       order,        rcache.get(),      no_cache_dir,
-                       renderer,  group_phases, PhaseClock::now(), threads,
-                       memo.get()};
-  for (auto& c : cells) results.push_back(write_cell_outputs(*c, sh, g));
+  const GroupOutputs go{opt,        order,        g.rcache,          g.no_cache_dir,
+                        renderer,   group_phases, PhaseClock::now(), threads,
+                        memo.get(), memory};
+  for (auto& c : cells) results.push_back(write_cell_outputs(*c, sh, go));
+  if (g.stats) {
+    g.stats->frames += order.recorded() + order.warmup();
+    g.stats->ref_ms += ref_total;
+    g.stats->rays += renderer.rays_traced();
+    g.stats->passes += 1;
+  }
+}
+
+// The stages of docs/architecture.md §2: parse_group, output folders, the memory plan, then per
+// pass the frame loop over its cells (run_pass) and their outputs; a pass's cells are freed
+// before the next pass starts.
+std::vector<CellResult> run_cells_impl(const std::vector<CellJob>& jobs, const EngineOptions& opt,
+                                       GroupStats* stats) {
+  auto g0 = Clock::now();
+  PhaseTimes setup_phases;
+  PhaseClock gpc = PhaseClock::now();
+  std::vector<CellResult> results;
+  if (jobs.empty()) return results;
+  const std::string key = reference_key(jobs.front().doc);
+  for (auto& j : jobs)
+    FOVSIM_CHECK(reference_key(j.doc) == key,
+                 "cells of one reference group differ in a reference key (" + j.file + ")");
+
+  embree_device_config();  // FOVSIM_EMBREE_ISA / FOVSIM_SIMD: a bad value fails here, not mid-run
+  simd_path();
+  Shared sh;
+  sh.models = opt.models_dir.empty() ? default_models_dir() : opt.models_dir;
+  std::vector<std::unique_ptr<Cell>> cells = parse_group(jobs, opt, sh);
+  start_output_folders(cells);
+  std::string no_cache_dir;  // the cache is on but has no folder (a warning, not an error)
+  std::unique_ptr<ReferenceCache> rcache = open_reference_cache(opt, sh, no_cache_dir);
+  const double setup_ms = ms_since(g0);
+  setup_phases.lap("setup", gpc);
+
+  const bool temporal = any_temporal(cells, sh);
+  MemoryEstimator est{sh};
+  est.video = sh.stride == 1 &&
+              !FrameOrder(sh.count, sh.warmup, !opt.targets.empty(), !temporal, sh.seed).shuffled();
+  const MemoryPlan plan = plan_memory(opt, sh, cells, est);
+  const GroupRun g{jobs,         opt,      sh,   rcache.get(), no_cache_dir,
+                   setup_phases, temporal, plan, est,          stats};
+  for (size_t p = 0; p < plan.passes.size(); ++p) {
+    std::vector<std::unique_ptr<Cell>> pass;
+    for (size_t i : plan.passes[p]) pass.push_back(std::move(cells[i]));
+    run_pass(g, pass, p, results);
+  }  // the pass's cells (their methods and streams) are freed here
   if (stats) {
-    stats->frames += order.recorded() + order.warmup();
-    stats->ref_ms += ref_total;
     stats->setup_ms += setup_ms;
     stats->wall_ms += ms_since(g0);
-    stats->rays += renderer.rays_traced();
     if (rcache) stats->frames_from_cache += int(rcache->manifest()["frames_from_cache"].get<int>());
+    stats->peak_rss_bytes = peak_rss_bytes();
   }
   return results;
 }

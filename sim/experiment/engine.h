@@ -4,6 +4,7 @@
 // reference are rendered once, then every cell's methods run on it in parallel (TBB), each
 // cell writing its own results folder. Frames stream; no whole-trace image storage.
 #pragma once
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,11 @@ struct EngineOptions {
   // Off by default: library callers and tests opt in; `fovsim run`/`sweep` do unless
   // --no-cache or FOVSIM_NO_CACHE.
   bool use_cache = false;
+  // The memory budget of a group's cells, GB (10^9 bytes; docs/architecture.md §2 "Memory"):
+  // as many cells as the estimate fits run side by side over one pass of the frames, the rest
+  // in later passes (the same numbers). > 0: `--memory-budget`, over the config's
+  // run.memory_gb; 0: run.memory_gb, else 75% of the machine's MemAvailable at the start.
+  double memory_budget_gb = 0;
 };
 
 struct CellResult {
@@ -62,7 +68,9 @@ struct GroupStats {
   double wall_ms = 0;   // whole group, including setup
   double setup_ms = 0;  // scene build, trace load, BVH
   uint64_t rays = 0;
-  int frames_from_cache = 0;  // references read from the reference cache (of `frames`)
+  int frames_from_cache = 0;    // references read from the reference cache (of `frames`)
+  int passes = 0;               // frame loops over the group's cells (the memory budget)
+  uint64_t peak_rss_bytes = 0;  // the process's peak resident memory at the group's end
 };
 
 // Runs `jobs`, which must share one reference_key (checked). Every cell's config is fully

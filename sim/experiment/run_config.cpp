@@ -70,6 +70,7 @@ const ParamTable<RunCellKeys>& run_cell_table() {
           .documented("metrics", "object", "", "", "", "`metrics` below")
           .documented("outputs", "object", "", "", "", "`outputs` below")
           .documented("cache", "object", "", "", "", "the reference cache: `cache` below")
+          .documented("run", "object", "", "", "", "the memory budget: `run` below")
           .documented("latency", "object", "absent", "", "",
                       "latency what-if (`docs/latency.md`): methods foveate around the gaze at "
                       "t - latency, metrics use the true gaze at t; adds the columns of "
@@ -189,6 +190,24 @@ const ParamTable<ReferenceCacheSettings>& cache_block_table() {
   return t;
 }
 
+const ParamTable<RunBlock>& run_block_table() {
+  using B = RunBlock;
+  static const auto t =
+      ParamTable<B>()
+          .number("memory_gb", 0, Range::closed(0, 1e6), &B::memory_gb)
+          .shown("`0`")
+          .doc("",
+               "memory budget of a group of cells sharing references, GB (10^9 bytes): as many "
+               "cells as fit (an estimate from the simulated resolution, the methods and "
+               "FovVideoVDP's temporal window, docs/architecture.md §2 \"Memory\") run side by "
+               "side over one pass of the frames, the rest in later passes over the cached "
+               "references, with the same numbers; `0` = `--memory-budget GB` when given, else "
+               "75% of the machine's available memory (MemAvailable) when the group starts; the "
+               "flag overrides this key. Passes and peak resident memory: the manifest's "
+               "`memory`");
+  return t;
+}
+
 const ParamTable<MethodEntryKeys>& method_entry_table() {
   static const auto t =
       ParamTable<MethodEntryKeys>()
@@ -250,6 +269,7 @@ std::string config_keys_markdown() {
   md += section("`scene` of `\"type\": \"cornell\"`", cornell_table().markdown(false));
   md += section("`scene` of `\"type\": \"file\"`", file_scene_table().markdown(false));
   md += section("`cache` (the reference cache)", cache_block_table().markdown(false));
+  md += section("`run` (the memory budget)", run_block_table().markdown(false));
   md += section("`sweep` (docs/sweeps.md)", sweep_table().markdown(false));
   md += section("`sweep.iso_budget`", iso_budget_table().markdown());
   md += section("`sweep.search`", search_table().markdown(false));

@@ -58,6 +58,12 @@ struct OutputsBlock {
 };
 const ParamTable<OutputsBlock>& outputs_block_table();
 
+// `run`: how a group of cells runs (never what it computes).
+struct RunBlock {
+  double memory_gb = 0;  // 0: `--memory-budget`, else 75% of MemAvailable
+};
+const ParamTable<RunBlock>& run_block_table();
+
 // `cache` (the reference cache, reference_cache.h).
 struct ReferenceCacheSettings;
 const ParamTable<ReferenceCacheSettings>& cache_block_table();

@@ -14,6 +14,7 @@
 
 #include "sim/core/error.h"
 #include "sim/core/files.h"
+#include "sim/core/memory_info.h"
 #include "sim/core/version.h"
 #include "sim/experiment/engine.h"
 #include "sim/experiment/intervals.h"
@@ -479,6 +480,7 @@ SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const Swee
   eo.threads = opt.threads;
   eo.watchdog.min_s = opt.watchdog_s;
   eo.use_cache = opt.use_cache;
+  eo.memory_budget_gb = opt.memory_budget_gb;
   for (auto& t : opt.targets) eo.targets.push_back(parse_target(t));  // per cell (engine.h)
   for (auto& k : order) {
     auto& cells = groups[k];
@@ -517,7 +519,7 @@ SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const Swee
         rep.cell_ms += res[i].cell_ms;
       }
       rep.cells_run += int(res.size());
-      rep.reference_passes += 1;
+      rep.reference_passes += gs.passes;
       rep.reference_frames += gs.frames;
       rep.reference_frames_from_cache += gs.frames_from_cache;
       rep.ref_ms += gs.ref_ms;
@@ -535,6 +537,7 @@ SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const Swee
   }
   rep.wall_ms = ms_since(t0);
   rep.cpu_ms = process_cpu_ms() - cpu0;
+  rep.peak_rss_bytes = peak_rss_bytes();
   return rep;
 }
 

@@ -18,7 +18,10 @@ namespace fovsim {
 struct SweepOptions : RunControl {  // models_dir, threads, watchdog_s, targets, use_cache
   std::string out_dir;              // empty -> results/<name>
   int shard = 0, shards = 1;        // run only cells [shard_range(n, shard, shards))
-  int batch = 0;             // max cells per reference pass; 0 = every pending cell of a group
+  int batch = 0;  // max cells per reference pass; 0 = every pending cell of a group
+  // The memory budget of a group's cells run together, GB (EngineOptions::memory_budget_gb:
+  // `--memory-budget`; 0 = run.memory_gb, else 75% of MemAvailable); within each batch.
+  double memory_budget_gb = 0;
   std::string command_line;  // recorded in manifests
   // (RunControl::targets: every cell stops on its own once its intervals hold; its manifest and
   // cell.json record frames used and achieved half-widths. use_cache: shards on a shared file
@@ -31,10 +34,11 @@ struct SweepReport {
   int cells_in_shard = 0;
   int cells_done_before = 0;  // found complete (resumed), not recomputed
   int cells_run = 0;
-  int stale_dirs = 0;        // runs/ folders of cells that no longer exist in this config
-  int groups = 0;            // distinct reference keys among cells run
-  int reference_passes = 0;  // frame loops (groups x batches)
-  int reference_frames = 0;  // references rendered (or read from the reference cache)
+  int stale_dirs = 0;           // runs/ folders of cells that no longer exist in this config
+  int groups = 0;               // distinct reference keys among cells run
+  int reference_passes = 0;     // frame loops (groups x batches x memory-budget passes)
+  uint64_t peak_rss_bytes = 0;  // the process's peak resident memory (ru_maxrss) at the end
+  int reference_frames = 0;     // references rendered (or read from the reference cache)
   int reference_frames_from_cache = 0;
   // Wall times of this call (wall_ms) and its parts: ref_ms, cell_ms and setup_ms are sums of
   // per-group / per-cell wall times, which overlap when cells run in parallel.

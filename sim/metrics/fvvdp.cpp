@@ -1115,6 +1115,27 @@ const SequenceMetric& fvvdp_sequence_metric() {
       const bool fov = s.config && s.config->fvvdp_foveated;
       return Json{{"foveated", fov}, {"display", run_display(s).describe(fov)}};
     };
+    // Frame: luminance, the temporal window of L = ceil(fps / 4) frames (§5.2) and the two
+    // filtered planes with their Gaussian pyramids (4/3 of a plane each); the reference adds
+    // per band La, S and r per channel and (foveated) the rho axis; both an E and a Laplacian /
+    // upsampled plane. Plane = W x H floats.
+    x.reference_bytes = [](const SequenceSetup& s) {
+      const double n = double(s.width) * double(s.height), plane = 4 * n;
+      const bool video = s.fps > 0;
+      const double c = video ? 2 : 1;
+      const double L = video ? fvvdp_detail::filter_length(s.fps) : 0;
+      const double frame = plane * (1 + L + (video ? 2 : 0) + c / 3);
+      const double bands = plane * (1 + 2 * c) * 4 / 3;
+      const double rho = s.config && s.config->fvvdp_foveated ? 6 * n * 4 / 3 : 0;
+      return frame + bands + rho + 2 * plane;
+    };
+    x.test_bytes = [](const SequenceSetup& s) {
+      const double plane = 4 * double(s.width) * double(s.height);
+      const bool video = s.fps > 0;
+      const double c = video ? 2 : 1;
+      const double L = video ? fvvdp_detail::filter_length(s.fps) : 0;
+      return plane * (1 + L + (video ? 2 : 0) + c / 3) + 2 * plane;
+    };
     x.manifest_key = "fvvdp";
     x.heatmap_suffix = "_fvvdp";
     return x;

@@ -74,6 +74,10 @@ struct SequenceMetric {
   // Saved frames get `<label><heatmap_suffix>.png` (and `<label><heatmap_suffix>_fl.png`
   // against `full` at the same sampling); "" = no heat map.
   const char* heatmap_suffix = "";
+  // Bytes one reference stream and one test stream of `setup` hold once they run (the run
+  // engine's memory estimate, docs/architecture.md §2 "Memory"); nullptr: negligible.
+  double (*reference_bytes)(const SequenceSetup&) = nullptr;
+  double (*test_bytes)(const SequenceSetup&) = nullptr;
 };
 
 enum class Better { higher, lower };

@@ -472,14 +472,16 @@ TEST(Reliability, ControlBytesAreEscapedInOutputs) {
 
 TEST(Reliability, OutOfMemoryNamesWhatWasAllocated) {
   // 256 cells of one reference group side by side under a 4 GB address-space limit: the
-  // message names the cells and --batch (not render.scale alone, not a bare bad_alloc).
+  // message names the cells, --memory-budget and --batch (not render.scale alone, not a bare
+  // bad_alloc). (The default budget reads MemAvailable, which an address-space limit does not
+  // lower.)
   const std::string d = temp_dir("rel_oom"), bin = fovsim_bin();
   auto r = run_cmd("ulimit -v 4000000; " + bin + " sweep configs/sweeps/rmfr_fx_fy.json --out " +
                    d + "/sw -q --no-plots");
   EXPECT_EQ(count_lines(r.output), 1) << r.output;
   EXPECT_NE(r.output.find("out of memory while rendering and measuring 256 cells side by side "
                           "over one shared reference (run fewer cells at once with `fovsim sweep "
-                          "--batch N`"),
+                          "--memory-budget GB` (or --batch N)"),
             std::string::npos)
       << r.output;
   EXPECT_EQ(r.code, 2) << r.output;
