@@ -578,6 +578,7 @@ struct Cell {
       write_images(in.img_dir, "reference", ref_display, &fd.reference, io, image_jobs);
     pc = phases.lap("images", pc);
     FrameContext ctx = fd.context(*sh.scene, renderer, sh.sim_display, want_images && io.debug);
+    ctx.render_scale = sh.scale;  // methods size their filters and tiles in display pixels
     begin_sequence_metrics(sh);
     // The true gaze (also under the latency what-if), a screen point (pixel centres at i + 0.5).
     for (auto& q : seq) q.ref->push(ref_display, fd.gaze_px.x, fd.gaze_px.y);
@@ -1328,6 +1329,8 @@ CellResult write_cell_outputs(Cell& c, const Shared& sh, const GroupOutputs& g) 
   Json summary{{"name", c.name}, {"budget_ms", r.budget_ms}, {"configs", sj}, {"flags", r.flags}};
   summary["fidelity"] = c.manifest["fidelity"];  // the fidelity used and its known bias
   write_file_atomic(out + "/summary.json", summary.dump(2) + "\n");
+  // The methods' limitation flags (as summary.json), e.g. a size below a simulated pixel.
+  c.manifest["flags"] = r.flags;
   c.manifest["status"] = "complete";
   c.manifest["end_time"] = iso_now();
   c.manifest["rays_traced"] = g.renderer.rays_traced();

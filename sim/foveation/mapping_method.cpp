@@ -22,6 +22,7 @@ MappingView MappingMethodBase::view_of(const FrameContext& ctx) {
   v.gaze_dir = ctx.gaze_dir;
   v.ecc = ctx.eccentricity;
   v.widen = ctx.widen;
+  v.render_scale = ctx.render_scale;
   return v;
 }
 
@@ -64,7 +65,7 @@ void MappingMethodBase::debug_density(const FrameContext& ctx, const SamplingGeo
 }
 
 double shade_buffer(const FrameContext& ctx, GBufferRef g, Image& col,
-                    const std::vector<uint8_t>* used, FrameOutput& out) {
+                    const std::vector<uint8_t>* used, FrameOutput& out, double weight) {
   Counters c;
   ctx.renderer->shade(g, ctx.camera->position, col, used ? used->data() : nullptr, &c);
   // The scene's indirect light with the method's lighting strategy, at the same samples.
@@ -76,7 +77,10 @@ double shade_buffer(const FrameContext& ctx, GBufferRef g, Image& col,
     n = double(g.size());
   }
   for (auto& e : c.entries())
-    if (!(e.key == CounterKey{Counter::shaded_samples})) out.counters.add(e.key, e.value);
+    if (!(e.key == CounterKey{Counter::shaded_samples}))
+      out.counters.add(e.key, counter_info(e.key.id).scale == CounterScale::Pixels && weight != 1.0
+                                  ? e.value * weight
+                                  : e.value);
   return n;
 }
 
