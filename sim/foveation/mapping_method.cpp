@@ -34,6 +34,7 @@ const MappingSpec& MappingMethodBase::resolve(const FrameContext& ctx, FrameOutp
     // Solve at the centre gaze (Ye et al. 2022 §5.1 fixes the theoretical speedup per method, not
     // per frame), with an eccentricity map for that gaze.
     MappingView v = MappingView::at(*ctx.camera, glm::dvec2(W * 0.5, H * 0.5));
+    v.render_scale = ctx.render_scale;  // the tiles and layers render() uses
     std::vector<float> ecc = eccentricity_map(*ctx.camera, v.gaze_dir);
     v.ecc = &ecc;
     reachable_ = solve_iso_budget(spec_, v, spec_.target_shaded_fraction(), active_, &achieved_);
