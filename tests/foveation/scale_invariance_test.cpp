@@ -220,3 +220,28 @@ TEST(ScaleInvariance, TwfrFlagsHolesBelowAPixel) {
   EXPECT_TRUE(has_flag(w.run("twfr", Json::object(), 0.5), "twfr_holes_below_pixel"));
   EXPECT_FALSE(has_flag(w.run("twfr", Json::object(), 1.0), "twfr_holes_below_pixel"));
 }
+
+// Weier et al. 2016's p(e) is per display pixel: at scale 0.5 a simulated pixel (4 display
+// pixels) is sampled with 1 - (1 - p)^4, and the shaded count stays the 2W x 2H display's.
+TEST(ScaleInvariance, LinearProbabilityIsPerDisplayPixel) {
+  World full(128, 96), half(64, 48);
+  const Json p{{"r1", 2.0}, {"r2", 6.0}, {"p_min", 0.05}};
+  const FrameOutput a = full.run("linear", p, 1.0), b = half.run("linear", p, 0.5);
+  const double na = a.counters.get(Counter::shaded_samples);
+  const double nb = b.counters.get(Counter::shaded_samples);
+  EXPECT_NEAR(4.0 * nb / na, 1.0, 0.08) << na << " " << nb;
+  // The simulated pixels sampled (the mask): at 0.5 a peripheral pixel is sampled with
+  // 1 - 0.95^4 = 0.185 instead of 0.05, so the mask holds more of them than at scale 1.
+  auto mask_count = [](const FrameOutput& o) {
+    for (auto& [name, img] : o.debug)
+      if (name == "sample_mask") {
+        double n = 0;
+        for (float v : img.data) n += v;
+        return n;
+      }
+    return -1.0;
+  };
+  const double m05 = mask_count(half.run("linear", p, 0.5, true));
+  const double m1 = mask_count(half.run("linear", p, 1.0, true));
+  EXPECT_GT(m05, 1.5 * m1) << m05 << " " << m1;
+}
