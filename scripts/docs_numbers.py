@@ -80,8 +80,9 @@ for _s in ("1", "4", "16"):
 
 DOCS = ["docs/intervals.md", "docs/python.md", "docs/latency.md", "docs/fidelity.md", "docs/metrics.md"]
 
-# A marker, the number (unicode or ASCII minus, optional +), optionally " ± interval".
-NUM = r"[+\-\u2212]?\d+(?:\.\d+)?"
+# A marker, the number (unicode or ASCII minus, optional +; "inf" for an image equal to its
+# reference), optionally " ± interval".
+NUM = r"[+\-\u2212]?(?:\d+(?:\.\d+)?|inf)"
 PATTERN = re.compile(r"<!--n:(\w+)-->(" + NUM + r")(?:( ± )(" + NUM + r"))?")
 
 

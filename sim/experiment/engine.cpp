@@ -657,6 +657,7 @@ struct Cell {
       write_images(in.img_dir, "reference", ref_display, &fd.reference, io, image_jobs);
     pc = phases.lap("images", pc);
     FrameContext ctx = fd.context(*sh.scene, renderer, sh.sim_display, want_images && io.debug);
+    ctx.render_scale = sh.scale;  // methods size their filters and tiles in display pixels
     // The reference side (side->frame: sequence streams, foveation-loss reference, floor) was
     // computed for this frame before the cells ran.
     // Latency what-if and tracking loss: methods see the gaze source's gaze, metrics keep fd's
@@ -1396,6 +1397,8 @@ CellResult write_cell_outputs(Cell& c, const Shared& sh, const GroupOutputs& g) 
   Json summary{{"name", c.name}, {"budget_ms", r.budget_ms}, {"configs", sj}, {"flags", r.flags}};
   summary["fidelity"] = c.manifest["fidelity"];  // the fidelity used and its known bias
   write_file_atomic(out + "/summary.json", summary.dump(2) + "\n");
+  // The methods' limitation flags (as summary.json), e.g. a size below a simulated pixel.
+  c.manifest["flags"] = r.flags;
   c.manifest["status"] = "complete";
   c.manifest["end_time"] = iso_now();
   c.manifest["rays_traced"] = g.renderer.rays_traced();

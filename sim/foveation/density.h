@@ -23,6 +23,9 @@ struct MappingView {
   // Tracking loss (FrameContext::widen): eccentricities are divided by this, as the frame's
   // eccentricity map already is, so every foveal radius of the baselines grows by it.
   double widen = 1.0;
+  // render.scale (FrameContext::render_scale): a layer pixel or tile of s display pixels is
+  // render_scale * s simulated pixels; 1 for `predict`, `density` and `budget` (the display).
+  double render_scale = 1.0;
   double ecc_deg(double x, double y) const {
     const double e = cam->eccentricity_deg(x, y, gaze_dir);
     return widen == 1.0 ? e : e / widen;

@@ -4,7 +4,8 @@
 // G-buffer); each coarse pixel is shaded once at the sample next to its centre and that colour
 // is broadcast. With edge_aware, a pixel whose surface differs from its coarse sample (other
 // material, hit vs. miss, depth off by > 5 %, normals > ~25 deg apart) is shaded itself, as
-// coarse pixel shading shades once per coarse pixel *per primitive*.
+// coarse pixel shading shades once per coarse pixel *per primitive*. Tiles and coarse pixels
+// are display pixels, applied at render.scale times their size (FvrsGrid below).
 //
 // Parameters: the declaration fvrs_params() at the end of this file (name, type, default,
 // range, seed section, meaning); docs/methods.md and configs/README.md are generated from it.
@@ -43,16 +44,52 @@ struct FvrsGeometry final : GeometryOf<FvrsGeometry>, RadialThresholds {
   void widen_keys(double k, Json& p) const override { widen_radius_keys(k, p); }
 };
 
-// fvrs (Patney et al. 2016 / Franke et al. 2021 §8.4): shading rate (coarse pixel edge 1, 2 or 4)
-// of the 4x4 block whose top-left pixel is (bx*4, by*4), from the eccentricity at its centre.
-int fvrs_rate(const FvrsGeometry& s, const MappingView& v, int bx, int by) {
-  const double x0 = bx * 4.0, y0 = by * 4.0;
-  const double cx = 0.5 * (x0 + std::min(x0 + 4.0, double(v.W)));
-  const double cy = 0.5 * (y0 + std::min(y0 + 4.0, double(v.H)));
+// Scale invariance (docs/fidelity.md "Scale invariance of the methods"): the 4x4 tiles and the
+// coarse-pixel edges 1, 2 and 4 of Patney et al. 2016 / Franke et al. 2021 §8.4 are display
+// pixels; at render.scale s they are max(1, round(s * size)) simulated pixels. A coarse pixel of
+// r simulated pixels then stands for (r / s)^2 display pixels shaded at 1 / R^2 of the display
+// rate (R its edge in display pixels): its weight (r / R)^2 is the display samples it counts for
+// in units of the simulated pixel (the cost model multiplies by (display / simulated pixels)),
+// so shaded_samples stays the display's count. 1 at s = 1.
+struct FvrsGrid {
+  int tile = 4;                  // tile edge, simulated pixels
+  int rate[3] = {1, 2, 4};       // coarse-pixel edge per level, simulated pixels
+  double weight[3] = {1, 1, 1};  // (rate / display rate)^2
+  double edge_weight = 1;        // an edge-aware extra sample: s (edges are lines)
+  bool rounded = false;          // a tile or coarse rate is not s x its size
+  static constexpr int kDisplayRate[3] = {1, 2, 4};
+  static constexpr int kDisplayTile = 4;
+};
+
+FvrsGrid fvrs_grid(double s) {
+  FvrsGrid g;
+  if (s == 1.0) return g;
+  auto px = [s](int size) { return std::max(1, int(std::lround(s * size))); };
+  g.tile = px(FvrsGrid::kDisplayTile);
+  g.rounded = std::abs(g.tile - s * FvrsGrid::kDisplayTile) > 1e-9;
+  for (int i = 0; i < 3; ++i) {
+    const int R = FvrsGrid::kDisplayRate[i];
+    g.rate[i] = std::min(px(R), g.tile);
+    g.weight[i] = double(g.rate[i]) * g.rate[i] / (double(R) * R);
+    // The 1x1 rate floors to a simulated pixel at every s < 1: that is the simulation's own
+    // resolution, not a change of the method; the coarse rates are.
+    if (i > 0) g.rounded = g.rounded || std::abs(g.rate[i] - s * R) > 1e-9;
+  }
+  g.edge_weight = s;
+  return g;
+}
+
+// fvrs (Patney et al. 2016 / Franke et al. 2021 §8.4): shading level (0: 1x1, 1: 2x2, 2: 4x4
+// display pixels) of the tile whose top-left pixel is (bx*t, by*t), from the eccentricity at its
+// centre.
+int fvrs_level(const FvrsGeometry& s, const MappingView& v, int t, int bx, int by) {
+  const double x0 = double(bx) * t, y0 = double(by) * t;
+  const double cx = 0.5 * (x0 + std::min(x0 + t, double(v.W)));
+  const double cy = 0.5 * (y0 + std::min(y0 + t, double(v.H)));
   const double e = v.ecc_deg(cx, cy);
-  if (e < s.r1_eff()) return 1;
-  if (e < s.r2_eff()) return 2;
-  return 4;
+  if (e < s.r1_eff()) return 0;
+  if (e < s.r2_eff()) return 1;
+  return 2;
 }
 
 class FvrsMethod final : public MappingMethod<FvrsGeometry> {
@@ -64,21 +101,25 @@ class FvrsMethod final : public MappingMethod<FvrsGeometry> {
     const GBuffer& gb = *ctx.gbuffer;
     const int W = gb.width, H = gb.height;
     const MappingView view = view_of(ctx);
-    const int bw = (W + 3) / 4, bh = (H + 3) / 4;
+    const FvrsGrid grid = fvrs_grid(view.render_scale);
+    const int t = grid.tile;
+    const int bw = (W + t - 1) / t, bh = (H + t - 1) / t;
     mask_.assign(gb.size(), 0);
     rep_.assign(gb.size(), 0);
-    std::vector<double> extra_rows(size_t(bh), 0.0);
-    // Per 4x4 tile: rate, coarse-pixel representative sample, edge-aware extra samples.
+    std::vector<double> extra_rows(size_t(bh), 0.0), weighted_rows(size_t(bh), 0.0);
+    // Per tile: rate, coarse-pixel representative sample, edge-aware extra samples.
     parallel_rows(bh, [&](int by) {
-      double extra = 0;
+      double extra = 0, weighted = 0;
       for (int bx = 0; bx < bw; ++bx) {
-        const int r = fvrs_rate(s, view, bx, by);
-        const int xe = std::min(bx * 4 + 4, W), ye = std::min(by * 4 + 4, H);
-        for (int cy = by * 4; cy < ye; cy += r)
-          for (int cx = bx * 4; cx < xe; cx += r) {
+        const int level = fvrs_level(s, view, t, bx, by);
+        const int r = grid.rate[level];
+        const int xe = std::min(bx * t + t, W), ye = std::min(by * t + t, H);
+        for (int cy = by * t; cy < ye; cy += r)
+          for (int cx = bx * t; cx < xe; cx += r) {
             const int rx = std::min(cx + r / 2, xe - 1), ry = std::min(cy + r / 2, ye - 1);
             const size_t ri = size_t(ry) * size_t(W) + size_t(rx);
             mask_[ri] = 1;
+            weighted += grid.weight[level];
             for (int y = cy; y < std::min(cy + r, ye); ++y)
               for (int x = cx; x < std::min(cx + r, xe); ++x) {
                 const size_t i = size_t(y) * size_t(W) + size_t(x);
@@ -92,10 +133,21 @@ class FvrsMethod final : public MappingMethod<FvrsGeometry> {
           }
       }
       extra_rows[size_t(by)] = extra;
+      weighted_rows[size_t(by)] = weighted;
     });
-    double extra = 0;
-    for (double e : extra_rows) extra += e;
-    const double shaded = shade_buffer(ctx, gb, out.image, &mask_, out);
+    double extra = 0, weighted = 0;
+    for (size_t i = 0; i < extra_rows.size(); ++i) {
+      extra += extra_rows[i];
+      weighted += weighted_rows[i];
+    }
+    // Display-equivalent samples (FvrsGrid): the coarse pixels' weights, the edge extras' s.
+    const double extra_w = extra * grid.edge_weight;
+    weighted += extra_w;
+    size_t n_mask = 0;
+    for (uint8_t b : mask_) n_mask += b;
+    const double shaded =
+        shade_buffer(ctx, gb, out.image, &mask_, out, n_mask > 0 ? weighted / double(n_mask) : 1.0);
+    const double shaded_w = view.render_scale == 1.0 ? shaded : weighted;
     if (out.image.width != W || out.image.height != H) out.image.resize(W, H, 3);
     // Broadcast each coarse pixel's colour (reads only shaded slots, writes only unshaded ones).
     parallel_rows(H, [&](int y) {
@@ -105,8 +157,10 @@ class FvrsMethod final : public MappingMethod<FvrsGeometry> {
         std::copy_n(&out.image.data[size_t(rep_[i]) * 3], 3, &out.image.data[i * 3]);
       }
     });
-    set_counters(out, shaded, shaded, double(W) * H, shaded, double(W) * H, double(W) * H - shaded);
-    out.counters.set(Counter::edge_samples, extra);
+    set_counters(out, shaded_w, shaded_w, double(W) * H, shaded_w, double(W) * H,
+                 double(W) * H - shaded_w);
+    out.counters.set(Counter::edge_samples, view.render_scale == 1.0 ? extra : extra_w);
+    if (grid.rounded) out.flags.push_back("fvrs_rate_rounded");
     if (ctx.want_debug) debug_density(ctx, s, out);
   }
 
@@ -115,23 +169,31 @@ class FvrsMethod final : public MappingMethod<FvrsGeometry> {
   std::vector<uint32_t> rep_;
 };
 
+// Display samples per pixel: 1 / R^2 of the tile's level, R in display pixels (at s = 1 the
+// simulated coarse pixel; at s < 1 the rate the coarse pixel stands for, FvrsGrid).
 double FvrsGeometry::density(const MappingView& v, double x, double y) const {
-  int bx = std::clamp(int(std::floor(x / 4)), 0, std::max(0, (v.W - 1) / 4));
-  int by = std::clamp(int(std::floor(y / 4)), 0, std::max(0, (v.H - 1) / 4));
-  int r = fvrs_rate(*this, v, bx, by);
-  return 1.0 / (r * r);
+  const FvrsGrid g = fvrs_grid(v.render_scale);
+  const int t = g.tile;
+  int bx = std::clamp(int(std::floor(x / t)), 0, std::max(0, (v.W - 1) / t));
+  int by = std::clamp(int(std::floor(y / t)), 0, std::max(0, (v.H - 1) / t));
+  const int level = fvrs_level(*this, v, t, bx, by);
+  const int r = g.rate[level];
+  return g.weight[level] / (double(r) * r);
 }
 
-// Coarse pixels per 4x4 block (partial blocks at the screen edge count their coarse pixels
-// that intersect the screen).
+// Coarse pixels per tile, each with its weight (FvrsGrid; partial tiles at the screen edge count
+// their coarse pixels that intersect the screen).
 double FvrsGeometry::expected_samples(const MappingView& v) const {
-  const int bw = (v.W + 3) / 4, bh = (v.H + 3) / 4;
+  const FvrsGrid g = fvrs_grid(v.render_scale);
+  const int t = g.tile;
+  const int bw = (v.W + t - 1) / t, bh = (v.H + t - 1) / t;
   return sum_rows(bh, [&](int by) {
     double n = 0;
     for (int bx = 0; bx < bw; ++bx) {
-      const int r = fvrs_rate(*this, v, bx, by);
-      const int ex = std::min(4, v.W - bx * 4), ey = std::min(4, v.H - by * 4);
-      n += double((ex + r - 1) / r) * double((ey + r - 1) / r);
+      const int level = fvrs_level(*this, v, t, bx, by);
+      const int r = g.rate[level];
+      const int ex = std::min(t, v.W - bx * t), ey = std::min(t, v.H - by * t);
+      n += double((ex + r - 1) / r) * double((ey + r - 1) / r) * g.weight[level];
     }
     return n;
   });

@@ -25,7 +25,9 @@ namespace {
 // clipped to the screen; the outer layer is the whole screen) at pixel size s_i.
 struct HyperLayer {
   double x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // screen rectangle (pixels)
-  double s = 1;                           // pixel size
+  double s = 1;                           // pixel size, simulated pixels
+  double ds = 1;                          // pixel size, display pixels (s1, s2, s3)
+  double weight = 1;                      // display samples per layer pixel: (s / ds)^2
   int w = 0, h = 0;                       // layer buffer size = ceil(extent / s)
   double ecc_limit = 1e9;                 // eccentricity (deg) up to which the layer is used
 };
@@ -57,7 +59,13 @@ inline float hyper_weight(double e, double limit, double band) {
 }
 
 // The three layers for this view (pixel sizes s1, s2, s3; inner radii r1, r2 scaled).
-std::vector<HyperLayer> hyperbolic_layers(const HyperbolicGeometry& s, const MappingView& v) {
+// Scale invariance (docs/fidelity.md "Scale invariance of the methods"): s1, s2, s3 are display
+// pixels (Ye et al. 2022 §5.1's 1, 2, 12.35 at the display's resolution); at render.scale k a
+// layer pixel is max(1, k s_i) simulated pixels, and each counts for (max(1, k s_i) / s_i)^2
+// display samples in units of a simulated pixel (HyperLayer::weight), so shaded_samples stays the
+// display's count. A layer below one simulated pixel is held at one (*below_pixel).
+std::vector<HyperLayer> hyperbolic_layers(const HyperbolicGeometry& s, const MappingView& v,
+                                          bool* below_pixel = nullptr) {
   std::vector<HyperLayer> out;
   const double max_px = 4.0 * (v.W + v.H) + std::abs(v.gaze_px.x) + std::abs(v.gaze_px.y);
   auto ecc = [&](double x, double y) { return v.ecc_deg(x, y); };
@@ -65,7 +73,13 @@ std::vector<HyperLayer> hyperbolic_layers(const HyperbolicGeometry& s, const Map
   const double sizes[3] = {s.s1, s.s2, s.s3};
   for (int i = 0; i < 3; ++i) {
     HyperLayer L;
-    L.s = sizes[i];
+    L.ds = sizes[i];
+    L.s = sizes[i] * v.render_scale;
+    if (L.s < 1.0) {
+      if (below_pixel && i > 0) *below_pixel = true;  // s1 = 1: the simulation's own pixel
+      L.s = 1.0;
+    }
+    L.weight = v.render_scale == 1.0 ? 1.0 : (L.s / L.ds) * (L.s / L.ds);
     if (i < 2) {
       const double R = radius_px_for_deg(ecc, v.gaze_px, radii[i], max_px);
       // Snap to whole pixels so an s = 1 layer samples pixel centres exactly.
@@ -135,8 +149,11 @@ double hyperbolic_needed(const HyperbolicGeometry& s, const MappingView& v,
       }
     }
   double n = 0;
-  for (size_t i = 0; i < 3; ++i)
-    for (uint8_t b : m[i]) n += b;
+  for (size_t i = 0; i < 3; ++i) {
+    double k = 0;
+    for (uint8_t b : m[i]) k += b;
+    n += k * layers[i].weight;
+  }
   return n;
 }
 
@@ -149,7 +166,9 @@ class HyperbolicMethod final : public MappingMethod<HyperbolicGeometry> {
     const GBuffer& gb = *ctx.gbuffer;
     const int W = gb.width, H = gb.height;
     const MappingView view = view_of(ctx);
-    const auto layers = hyperbolic_layers(s, view);
+    bool below_pixel = false;
+    const auto layers = hyperbolic_layers(s, view, &below_pixel);
+    if (below_pixel) out.flags.push_back("hyperbolic_layer_below_pixel");
     const double shaded = hyperbolic_needed(s, view, layers, needed_);
     double alloc = 0;
     for (size_t i = 0; i < 3; ++i) {
@@ -162,8 +181,9 @@ class HyperbolicMethod final : public MappingMethod<HyperbolicGeometry> {
       };
       gather_gbuffer(gb, L.w, L.h, inv, index_[i], used_[i]);  // layer = index into gb
       // Only the pixels the composite reads.
-      shade_buffer(ctx, GBufferRef(gb, index_[i].data(), L.w, L.h), col_[i], &needed_[i], out);
-      alloc += double(L.w) * L.h;
+      shade_buffer(ctx, GBufferRef(gb, index_[i].data(), L.w, L.h), col_[i], &needed_[i], out,
+                   L.weight);
+      alloc += double(L.w) * L.h * L.weight;
     }
 
     out.image.resize(W, H, 3);
@@ -211,7 +231,7 @@ double hyper_density_in(const HyperbolicGeometry& s, const std::vector<HyperLaye
                         double x, double y, double e) {
   for (auto& L : layers)
     if (L.w > 0 && e < L.ecc_limit && x >= L.x0 && x < L.x1 && y >= L.y0 && y < L.y1)
-      return 1.0 / (L.s * L.s);
+      return 1.0 / (L.ds * L.ds);  // display samples per pixel (= weight / s^2)
   return 1.0 / (s.s3 * s.s3);
 }
 
@@ -228,7 +248,7 @@ void HyperbolicGeometry::density_image(const MappingView& v, Image& d) const {
       for (auto& L : layers)
         if (L.w > 0 && e < L.ecc_limit && x + 0.5 >= L.x0 && x + 0.5 < L.x1 && y + 0.5 >= L.y0 &&
             y + 0.5 < L.y1) {
-          val = 1.0 / (L.s * L.s);
+          val = 1.0 / (L.ds * L.ds);
           break;
         }
       d.at(x, y)[0] = float(val);

@@ -5,6 +5,9 @@
 // applied to the peripheral (right) part of the LP-buffer (§2.2.3). Pass 2: each screen pixel
 // maps forward (eq. 2.10) and reads the LP-buffer bilinearly, then the eq. 2.14 Gaussian
 // post filter with size eta(r / e^L) runs (§2.3.2; TAA with Halton jitter is not simulated).
+// Both filters are sizes in display pixels, applied at render.scale times that size
+// (docs/fidelity.md "Scale invariance of the methods"); a filter narrower than a simulated
+// pixel keeps its variance and flags kfr_filter_below_pixel.
 //
 // Parameters: the declaration kfr_params() at the end of this file (name, type, default,
 // range, seed section, meaning); docs/methods.md and configs/README.md are generated from it.
@@ -104,9 +107,17 @@ class KfrMethod final : public MappingMethod<KfrGeometry> {
     shade_buffer(ctx, GBufferRef(gb, lp_index_.data(), w, h), lp_col_, &used_, out);
     extend_unused(lp_col_, used_);
     double taps = 0;
+    // Scale invariance: the filters below are defined at the display's resolution (Meng 2018
+    // §2.2.3 in native LP pixels, eq. 2.14 in display pixels) and applied at render.scale s,
+    // i.e. with s^2 times their variance in simulated pixels (mapping.h kernel_with_variance).
+    const double scale = ctx.render_scale;
+    bool below_pixel = false;  // a filter narrower than a simulated pixel (its variance kept)
     // §2.2.3 internal anti-aliasing: 3x3 Gaussian on the right (peripheral) part.
-    if (s.internal_aa)
-      taps += gaussian3x3_from(lp_col_, int(std::floor(s.internal_aa_start * w)), true, &tmp_lp_);
+    if (s.internal_aa) {
+      taps += gaussian3x3_from(lp_col_, int(std::floor(s.internal_aa_start * w)), true, &tmp_lp_,
+                               scale);
+      below_pixel = below_pixel || scale < 1;  // 0.5 s^2 < 0.5 px^2: a sub-pixel 3-tap kernel
+    }
 
     // Pass 2: inverse transformation by sampling the LP-buffer at each pixel's forward map
     // (Alg. 2 as a gather), bilinear, angle wrapping.
@@ -156,8 +167,18 @@ class KfrMethod final : public MappingMethod<KfrGeometry> {
           x = lo + 1;
         }
       });
-      taps += variable_gaussian(out.image, eta_, 39, &tmp_full_);
+      taps += variable_gaussian(out.image, eta_, 39, &tmp_full_, scale);
+      if (scale < 1) {
+        // Codes whose scaled kernel is narrower than a pixel (variance <= 0.5 px^2, the 3-tap
+        // form of kernel_with_variance), and whether one of them is in use.
+        bool sub[40] = {};
+        for (int n = 3; n <= 39; n += 2)
+          sub[n] = scale * scale * kernel_variance(post_aa_kernel_native(n)) <= 0.5;
+        below_pixel = below_pixel || std::any_of(eta_.begin(), eta_.end(),
+                                                 [&](uint8_t e) { return e >= 3 && sub[e]; });
+      }
     }
+    if (below_pixel) out.flags.push_back("kfr_filter_below_pixel");
 
     set_counters(out, double(n_used), double(n_used), double(w) * h, double(n_used), double(W) * H,
                  taps);

@@ -7,6 +7,9 @@
 //
 // Parameters: the declaration linear_params() at the end of this file (name, type, default,
 // range, seed section, meaning); docs/methods.md and configs/README.md are generated from it.
+// p(e) is per display pixel, applied at render.scale (sim_probability below).
+#include <cmath>
+
 #include "sim/core/param_table.h"
 #include "sim/foveation/mapping_method.h"
 #include "sim/foveation/methods.h"
@@ -39,6 +42,16 @@ double linear_probability(const LinearGeometry& s, double e) {
   return 1.0 - (1.0 - s.p_min) * (e - r1) / (r2 - r1);
 }
 
+// Scale invariance (docs/fidelity.md "Scale invariance of the methods"): p(e) is a probability
+// per display pixel (Weier et al. 2016). A simulated pixel at render.scale s covers 1 / s^2
+// display pixels, so it holds a sample with q = 1 - (1 - p)^(1 / s^2), and a sampled simulated
+// pixel stands for p / q display samples in units of a simulated pixel (E = p per pixel: the
+// expected count stays the display's, expected_samples). p itself at s = 1.
+double sim_probability(double p, double s) {
+  if (s == 1.0 || !(p < 1.0)) return p;
+  return 1.0 - std::pow(1.0 - p, 1.0 / (s * s));
+}
+
 class LinearMethod final : public MappingMethod<LinearGeometry> {
  public:
   using MappingMethod::MappingMethod;
@@ -48,14 +61,26 @@ class LinearMethod final : public MappingMethod<LinearGeometry> {
     const GBuffer& gb = *ctx.gbuffer;
     const int W = gb.width, H = gb.height;
     const std::vector<float>& ecc = *ctx.eccentricity;
+    const double scale = ctx.render_scale;
     mask_.assign(gb.size(), 0);
+    std::vector<double> weighted_rows(size_t(H), 0.0);
     parallel_rows(H, [&](int y) {
+      double wsum = 0;
       for (int x = 0; x < W; ++x) {
         const size_t i = size_t(y) * size_t(W) + size_t(x);
-        mask_[i] = hash01(s.seed, uint64_t(ctx.frame), i) < linear_probability(s, ecc[i]) ? 1 : 0;
+        const double p = linear_probability(s, ecc[i]), q = sim_probability(p, scale);
+        mask_[i] = hash01(s.seed, uint64_t(ctx.frame), i) < q ? 1 : 0;
+        if (mask_[i]) wsum += p / q;
       }
+      weighted_rows[size_t(y)] = wsum;
     });
-    const double shaded = shade_buffer(ctx, gb, out.image, &mask_, out);
+    double weighted = 0;
+    for (double v : weighted_rows) weighted += v;
+    size_t n_mask = 0;
+    for (uint8_t b : mask_) n_mask += b;
+    double shaded = shade_buffer(ctx, gb, out.image, &mask_, out,
+                                 scale != 1.0 && n_mask > 0 ? weighted / double(n_mask) : 1.0);
+    if (scale != 1.0) shaded = weighted;  // display samples (sim_probability)
     if (out.image.width != W || out.image.height != H) out.image.resize(W, H, 3);
     if (ctx.want_debug) {
       Image m(W, H, 1);

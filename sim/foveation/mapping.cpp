@@ -317,59 +317,120 @@ void lp_reconstruct(const Image& lp, const LogPolarMap& map, int W, int H, Image
   });
 }
 
-double gaussian3x3_from(Image& img, int x0, bool wrap_y, Image* scratch) {
+std::vector<float> kernel_with_variance(double v) {
+  if (!(v > 0)) return {1.f};
+  if (v <= 0.5) {
+    const float a = float(v * 0.5);
+    return {a, float(1.0 - v), a};
+  }
+  const int half = std::min(127, std::max(2, int(std::ceil(3.0 * std::sqrt(v)))));
+  auto weights = [half](double sg, std::vector<double>& w) {
+    w.assign(size_t(2 * half + 1), 0.0);
+    double sum = 0;
+    for (int i = -half; i <= half; ++i)
+      sum += (w[size_t(i + half)] = std::exp(-i * i / (2 * sg * sg)));
+    double var = 0;
+    for (int i = -half; i <= half; ++i) var += (w[size_t(i + half)] /= sum) * double(i) * i;
+    return var;
+  };
+  // The variance of the normalised sampled Gaussian grows monotonically with sigma: bisect.
+  std::vector<double> w;
+  double lo = 0.05, hi = 4.0 * std::sqrt(v) + 1.0;
+  for (int it = 0; it < 100; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (weights(mid, w) < v ? lo : hi) = mid;
+  }
+  weights(0.5 * (lo + hi), w);
+  return std::vector<float>(w.begin(), w.end());
+}
+
+double kernel_variance(const std::vector<float>& k) {
+  const int half = int(k.size()) / 2;
+  double var = 0;
+  for (int i = -half; i <= half; ++i) var += double(k[size_t(i + half)]) * double(i) * i;
+  return var;
+}
+
+std::vector<float> post_aa_kernel_native(int n) {
+  // The float operations of the kernel as it always was (golden outputs at render.scale 1).
+  const double sg = 0.3 * ((n - 1) * 0.5 - 1.0) + 0.8;
+  std::vector<float> v(static_cast<size_t>(n));
+  double sum = 0;
+  for (int i = 0; i < n; ++i) {
+    double d = i - (n - 1) * 0.5;
+    v[size_t(i)] = float(std::exp(-d * d / (2 * sg * sg)));
+    sum += v[size_t(i)];
+  }
+  for (auto& e : v) e = float(e / sum);
+  return v;
+}
+
+std::vector<float> post_aa_kernel(int n, double scale) {
+  std::vector<float> k = post_aa_kernel_native(n);
+  if (scale == 1.0) return k;
+  return kernel_with_variance(scale * scale * kernel_variance(k));
+}
+
+double gaussian3x3_from(Image& img, int x0, bool wrap_y, Image* scratch, double scale) {
   const int w = img.width, h = img.height;
   x0 = std::clamp(x0, 0, w);
   if (x0 >= w || h == 0) return 0;
+  // Meng 2018 §2.2.3's [1 2 1]/4 (0.5 LP-pixel^2) at the display's resolution: 0.5 s^2 here.
+  const std::vector<float> k = kernel_with_variance(0.5 * scale * scale);
+  const int half = int(k.size()) / 2;
+  const float k0 = k[size_t(half) - 1], k1 = k[size_t(half)];  // the 3-tap form's weights
   Image local;
   Image& tmp = scratch ? *scratch : local;  // horizontal result; only columns >= x0 are used
   ensure_shape(tmp, w, h, img.channels);
   parallel_rows(h, [&](int y) {
     for (int x = x0; x < w; ++x) {
-      const float* l = img.at(std::max(x - 1, 0), y);
-      const float* m = img.at(x, y);
-      const float* r = img.at(std::min(x + 1, w - 1), y);
       float* o = tmp.at(x, y);
-      for (int c = 0; c < 3; ++c) o[c] = 0.25f * l[c] + 0.5f * m[c] + 0.25f * r[c];
+      if (half == 1) {
+        const float* l = img.at(std::max(x - 1, 0), y);
+        const float* m = img.at(x, y);
+        const float* r = img.at(std::min(x + 1, w - 1), y);
+        for (int c = 0; c < 3; ++c) o[c] = k0 * l[c] + k1 * m[c] + k0 * r[c];
+        continue;
+      }
+      float acc[3] = {0, 0, 0};
+      for (int i = -half; i <= half; ++i) {
+        const float* s = img.at(std::clamp(x + i, 0, w - 1), y);
+        for (int c = 0; c < 3; ++c) acc[c] += k[size_t(i + half)] * s[c];
+      }
+      std::copy_n(acc, 3, o);
     }
   });
+  auto row_at = [&](int y) { return wrap_y ? ((y % h) + h) % h : std::clamp(y, 0, h - 1); };
   parallel_rows(h, [&](int y) {
-    int ya = y - 1, yb = y + 1;
-    if (wrap_y) {
-      ya = (ya + h) % h;
-      yb = yb % h;
-    } else {
-      ya = std::max(ya, 0);
-      yb = std::min(yb, h - 1);
-    }
     for (int x = x0; x < w; ++x) {
-      const float* a = tmp.at(x, ya);
-      const float* m = tmp.at(x, y);
-      const float* b = tmp.at(x, yb);
       float* o = img.at(x, y);
-      for (int c = 0; c < 3; ++c) o[c] = 0.25f * a[c] + 0.5f * m[c] + 0.25f * b[c];
+      if (half == 1) {
+        const float* a = tmp.at(x, row_at(y - 1));
+        const float* m = tmp.at(x, y);
+        const float* b = tmp.at(x, row_at(y + 1));
+        for (int c = 0; c < 3; ++c) o[c] = k0 * a[c] + k1 * m[c] + k0 * b[c];
+        continue;
+      }
+      float acc[3] = {0, 0, 0};
+      for (int i = -half; i <= half; ++i) {
+        const float* s = tmp.at(x, row_at(y + i));
+        for (int c = 0; c < 3; ++c) acc[c] += k[size_t(i + half)] * s[c];
+      }
+      std::copy_n(acc, 3, o);
     }
   });
   return 6.0 * double(w - x0) * double(h);
 }
 
-double variable_gaussian(Image& img, const std::vector<uint8_t>& eta, int max_eta, Image* scratch) {
+double variable_gaussian(Image& img, const std::vector<uint8_t>& eta, int max_eta, Image* scratch,
+                         double scale) {
   const int w = img.width, h = img.height;
   max_eta = std::max(1, max_eta | 1);
-  // Kernel weights per odd size (OpenCV getGaussianKernel sigma rule), index by eta.
+  // Kernel weights per odd size code (Meng 2018 eq. 2.14's eta in display pixels; at scale 1
+  // OpenCV's getGaussianKernel sigma rule over eta taps, else the same variance times scale^2 in
+  // simulated pixels), indexed by eta.
   std::vector<std::vector<float>> k(size_t(max_eta) + 1);
-  for (int n = 3; n <= max_eta; n += 2) {
-    const double sg = 0.3 * ((n - 1) * 0.5 - 1.0) + 0.8;
-    std::vector<float> v(static_cast<size_t>(n));
-    double sum = 0;
-    for (int i = 0; i < n; ++i) {
-      double d = i - (n - 1) * 0.5;
-      v[size_t(i)] = float(std::exp(-d * d / (2 * sg * sg)));
-      sum += v[size_t(i)];
-    }
-    for (auto& e : v) e = float(e / sum);
-    k[size_t(n)] = std::move(v);
-  }
+  for (int n = 3; n <= max_eta; n += 2) k[size_t(n)] = post_aa_kernel(n, scale);
   Image local;
   Image& tmp = scratch ? *scratch : local;
   ensure_shape(tmp, w, h, 3);
@@ -378,7 +439,7 @@ double variable_gaussian(Image& img, const std::vector<uint8_t>& eta, int max_et
     int n = std::min<int>(eta[size_t(y) * size_t(w) + size_t(x)], max_eta);
     return (n >= 3) ? (n | 1) : 1;
   };
-  // Calls run(x0, x1, n) for each maximal run [x0, x1) of equal kernel size along row y.
+  // Calls run(x0, x1, n) for each maximal run [x0, x1) of equal kernel size code along row y.
   auto for_runs = [&](int y, auto&& run) {
     int x = 0;
     while (x < w) {
@@ -389,18 +450,19 @@ double variable_gaussian(Image& img, const std::vector<uint8_t>& eta, int max_et
       x = x1;
     }
   };
-  // Horizontal pass. Per pixel: acc = 0; acc += kv[i] * s[x + i - half] for i = 0..n-1 (x
+  // Horizontal pass. Per pixel: acc = 0; acc += kv[i] * s[x + i - half] for i = 0..taps-1 (x
   // clamped at the borders) -- the run form performs exactly these float operations.
   parallel_rows(h, [&](int y) {
     double taps = 0;
     const float* srow = img.row(y);
     float* orow = tmp.row(y);
-    for_runs(y, [&](int x0, int x1, int n) {
+    for_runs(y, [&](int x0, int x1, int code) {
+      const int n = code < 3 ? 1 : int(k[size_t(code)].size());
       if (n < 3) {
         std::copy(srow + 3 * size_t(x0), srow + 3 * size_t(x1), orow + 3 * size_t(x0));
         return;
       }
-      const auto& kv = k[size_t(n)];
+      const auto& kv = k[size_t(code)];
       const int half = n / 2;
       auto clamped = [&](int x) {
         float acc[3] = {0, 0, 0};
@@ -417,28 +479,29 @@ double variable_gaussian(Image& img, const std::vector<uint8_t>& eta, int max_et
       const int a = std::min(std::max(x0, half), x1), b = std::max(a, std::min(x1, w - half));
       for (int x = x0; x < a; ++x) clamped(x);
       if (b > a) {
-        const float* rows[256];  // n <= 255 (eta is uint8)
+        const float* rows[256];  // n <= 255
         for (int i = 0; i < n; ++i) rows[i] = srow + 3 * size_t(a + i - half);
         simd_weighted_rows(orow + 3 * size_t(a), rows, kv.data(), n, 3 * size_t(b - a));
       }
       for (int x = b; x < x1; ++x) clamped(x);
-      taps += double(n) * double(x1 - x0);
+      taps += double(code) * double(x1 - x0);
     });
     row_taps[size_t(y)] = taps;
   });
-  // Vertical pass (rows clamped); pixels with n < 3 keep their value.
+  // Vertical pass (rows clamped); pixels whose kernel is the identity keep their value.
   parallel_rows(h, [&](int y) {
     double taps = 0;
     float* orow = img.row(y);
-    for_runs(y, [&](int x0, int x1, int n) {
+    for_runs(y, [&](int x0, int x1, int code) {
+      const int n = code < 3 ? 1 : int(k[size_t(code)].size());
       if (n < 3) return;
-      const auto& kv = k[size_t(n)];
+      const auto& kv = k[size_t(code)];
       const int half = n / 2;
-      const float* rows[256];  // n <= 255 (eta is uint8)
+      const float* rows[256];  // n <= 255
       for (int i = 0; i < n; ++i)
         rows[i] = tmp.row(std::clamp(y + i - half, 0, h - 1)) + 3 * size_t(x0);
       simd_weighted_rows(orow + 3 * size_t(x0), rows, kv.data(), n, 3 * size_t(x1 - x0));
-      taps += double(n) * double(x1 - x0);
+      taps += double(code) * double(x1 - x0);
     });
     row_taps[size_t(y)] += taps;
   });

@@ -265,19 +265,43 @@ void lp_reconstruct(const Image& lp, const LogPolarMap& map, int W, int H, Image
 // hoisted, integer alpha by ipow): the reference of lp_reconstruct's float path.
 void lp_reconstruct_exact(const Image& lp, const LogPolarMap& map, int W, int H, Image& out);
 
-// Separable 3x3 Gaussian [1 2 1]/4 x [1 2 1]/4 applied to columns x >= x0 of an RGB
-// image (rows wrap when wrap_y). In place; the temporary is *scratch when given (kept by the
-// caller across frames), else a local. Returns taps used.
-double gaussian3x3_from(Image& img, int x0, bool wrap_y, Image* scratch = nullptr);
+// Scale invariance (docs/fidelity.md "Scale invariance of the methods"): a filter a method
+// defines in display pixels is applied at render.scale s in simulated pixels, so its variance
+// in simulated pixels is s^2 times the native one. kernel_with_variance(v) is the symmetric
+// discrete kernel (odd length, weights sum to 1) of variance v (pixels^2): [v/2, 1 - v, v/2] for
+// v <= 0.5 (at v = 0.5 exactly [1 2 1]/4; a blur narrower than a pixel keeps its variance, not
+// its Gaussian shape), else a Gaussian sampled at the integers over +-max(2, ceil(3 sqrt(v)))
+// (at most +-127) whose sigma is solved so the normalised weights have variance v.
+std::vector<float> kernel_with_variance(double v);
+// Variance (pixels^2) of a normalised odd-length kernel, sum_i w_i d_i^2.
+double kernel_variance(const std::vector<float>& k);
+// The native eta-tap kernel of Meng 2018 eq. 2.14's post filter (sigma from OpenCV's
+// getGaussianKernel rule 0.3 ((eta - 1)/2 - 1) + 0.8), normalised.
+std::vector<float> post_aa_kernel_native(int eta);
+// The kernel variable_gaussian applies for size code eta (odd >= 3) at render scale s: the native
+// kernel at s = 1 (bit for bit), else kernel_with_variance(s^2 * variance of the native one).
+std::vector<float> post_aa_kernel(int eta, double scale);
 
-// Spatially varying separable Gaussian: radius_of(x, y) gives the kernel size eta (odd,
-// eta <= 1 means untouched) per pixel; sigma of a size-eta kernel follows OpenCV's
-// getGaussianKernel rule 0.3 ((eta - 1)/2 - 1) + 0.8. Horizontal then vertical pass.
-// Returns the number of taps read. Pixels are processed in runs of equal eta along a row
+// Separable 3x3 Gaussian [1 2 1]/4 x [1 2 1]/4 (Meng 2018 §2.2.3's internal anti-aliasing, a
+// kernel of 0.5 LP-pixel^2 variance per axis at the display's resolution) applied to columns
+// x >= x0 of an RGB image (rows wrap when wrap_y). At render scale s the LP-buffer has s times
+// the native LP-pixel density per axis, so the kernel is kernel_with_variance(0.5 s^2):
+// [a, 1 - 2a, a] with a = s^2 / 4 for s <= 1, wider for s > 1. In place; the temporary is
+// *scratch when given (kept by the caller across frames), else a local. Returns the taps of
+// the native 3x3 kernel (6 per filtered pixel: the work the display-resolution filter does).
+double gaussian3x3_from(Image& img, int x0, bool wrap_y, Image* scratch = nullptr,
+                        double scale = 1.0);
+
+// Spatially varying separable Gaussian: eta[i] gives the kernel size code eta (odd, eta <= 1
+// means untouched) per pixel, defined in display pixels (Meng 2018 eq. 2.14); the kernel of a
+// code is post_aa_kernel(eta, scale) (at scale 1: sigma by OpenCV's getGaussianKernel rule
+// 0.3 ((eta - 1)/2 - 1) + 0.8 over eta taps). Horizontal then vertical pass. Returns the
+// number of taps the native kernels read (eta per pixel and pass, whatever the scale: the
+// display-resolution filter's work). Pixels are processed in runs of equal eta along a row
 // (each run one contiguous, vectorisable multiply-add per tap, same float operation order as
 // a per-pixel loop). The intermediate is *scratch when given, else a local.
 double variable_gaussian(Image& img, const std::vector<uint8_t>& eta, int max_eta,
-                         Image* scratch = nullptr);
+                         Image* scratch = nullptr, double scale = 1.0);
 
 // Push-pull hole filling (Gortler et al. 1996, as used by Ye et al. 2022 §2 for sparse samples):
 // pixels with valid[i] == 0 get an interpolation of valid neighbours at the coarsest needed

@@ -22,6 +22,7 @@ MappingView MappingMethodBase::view_of(const FrameContext& ctx) {
   v.gaze_dir = ctx.gaze_dir;
   v.ecc = ctx.eccentricity;
   v.widen = ctx.widen;
+  v.render_scale = ctx.render_scale;
   return v;
 }
 
@@ -33,6 +34,7 @@ const MappingSpec& MappingMethodBase::resolve(const FrameContext& ctx, FrameOutp
     // Solve at the centre gaze (Ye et al. 2022 §5.1 fixes the theoretical speedup per method, not
     // per frame), with an eccentricity map for that gaze.
     MappingView v = MappingView::at(*ctx.camera, glm::dvec2(W * 0.5, H * 0.5));
+    v.render_scale = ctx.render_scale;  // the tiles and layers render() uses
     std::vector<float> ecc = eccentricity_map(*ctx.camera, v.gaze_dir);
     v.ecc = &ecc;
     reachable_ = solve_iso_budget(spec_, v, spec_.target_shaded_fraction(), active_, &achieved_);
@@ -64,7 +66,7 @@ void MappingMethodBase::debug_density(const FrameContext& ctx, const SamplingGeo
 }
 
 double shade_buffer(const FrameContext& ctx, GBufferRef g, Image& col,
-                    const std::vector<uint8_t>* used, FrameOutput& out) {
+                    const std::vector<uint8_t>* used, FrameOutput& out, double weight) {
   Counters c;
   ctx.renderer->shade(g, ctx.camera->position, col, used ? used->data() : nullptr, &c);
   // The scene's indirect light with the method's lighting strategy, at the same samples.
@@ -76,7 +78,10 @@ double shade_buffer(const FrameContext& ctx, GBufferRef g, Image& col,
     n = double(g.size());
   }
   for (auto& e : c.entries())
-    if (!(e.key == CounterKey{Counter::shaded_samples})) out.counters.add(e.key, e.value);
+    if (!(e.key == CounterKey{Counter::shaded_samples}))
+      out.counters.add(e.key, counter_info(e.key.id).scale == CounterScale::Pixels && weight != 1.0
+                                  ? e.value * weight
+                                  : e.value);
   return n;
 }
 

@@ -79,8 +79,12 @@ inline double widened_sigma(double sigma, double k) {
 // frame's renderer (direct light) and the method's lighting strategy (indirect light, when the
 // scene has VPLs); returns the number of shaded samples (the renderer's shaded_samples counter when
 // it reports one) and merges the renderer's other counters (shadow_rays, ...) into out.counters.
+// `weight` multiplies the merged per-pixel (CounterScale::Pixels) counters: the display-pixel
+// work one simulated sample stands for, relative to a sample of a buffer that scales with the
+// simulated resolution (a coarse pixel sized in display pixels at render.scale < 1 stands for
+// fewer display samples than the pixel_scale the cost model multiplies by; fvrs, hyperbolic).
 double shade_buffer(const FrameContext& ctx, GBufferRef g, Image& col,
-                    const std::vector<uint8_t>* used, FrameOutput& out);
+                    const std::vector<uint8_t>* used, FrameOutput& out, double weight = 1.0);
 
 // Uniform [0,1) from (seed, frame, index): thread-count independent per-pixel randomness.
 inline double hash01(uint64_t seed, uint64_t frame, uint64_t i) {

@@ -30,6 +30,11 @@ struct FrameContext {
   const Scene* scene = nullptr;
   const Renderer* renderer = nullptr;
   const Display* display = nullptr;  // simulated (render-scaled) display
+  // render.scale: simulated pixels per display pixel along each axis. Every size a method
+  // defines on the screen is a size in display pixels (or degrees) and is applied at
+  // render_scale x that size in simulated pixels (docs/fidelity.md "Scale invariance of the
+  // methods"), so a reduced scale approximates the native answer instead of changing the method.
+  double render_scale = 1.0;
   const Camera* camera = nullptr;
   const Camera* prev_camera = nullptr;  // nullptr on the first frame
   glm::dvec3 gaze_dir{0, 0, -1};        // head space, unit

@@ -156,6 +156,8 @@ void TwfrMethod::render(const FrameContext& ctx, FrameOutput& out) {
   for (const Material& m : scene.materials) transparency = transparency || m.transparent;
   if (moving_lights) out.flags.push_back("twfr_moving_lights");
   if (transparency) out.flags.push_back("twfr_transparency");
+  // Holes narrower than a simulated pixel (display levels below -log2 s) cannot occur here.
+  if (ctx.render_scale < 1.0) out.flags.push_back("twfr_holes_below_pixel");
 
   // First frame of a trace, a reset or a new resolution: redraw everything.
   const bool restart = !has_state_ || width_ != W || height_ != H || ctx.prev_camera == nullptr;
@@ -283,7 +285,10 @@ twfr::ConfidenceStats TwfrMethod::confidence(const FrameContext& ctx, bool trans
   ci.age = age_.data();
   ci.fovea = fovea_.data();
   ci.forced = use_forced ? forced_.data() : nullptr;
-  twfr::ConfidenceStats cs = twfr::compute_redraw_map(ci, p_.conf, W, H, conf_, redraw_);
+  // Hole levels in display pixels (Franke et al. 2021 §5.2's m at the display's resolution).
+  twfr::ConfidenceParams cp = p_.conf;
+  cp.level_offset = ctx.render_scale == 1.0 ? 0.f : float(-std::log2(ctx.render_scale));
+  twfr::ConfidenceStats cs = twfr::compute_redraw_map(ci, cp, W, H, conf_, redraw_);
   timings_.confidence_ms = ms_since(t0);
   return cs;
 }

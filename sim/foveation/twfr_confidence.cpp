@@ -6,6 +6,7 @@
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
+#include <cmath>
 
 namespace fovsim {
 namespace twfr {
@@ -20,6 +21,9 @@ ConfidenceStats compute_redraw_map(const ConfidenceInputs& in, const ConfidenceP
   float a_pow[256];
   a_pow[0] = 1.f;
   for (int m = 1; m < 256; ++m) a_pow[m] = a_pow[m - 1] * p.A;
+  if (p.level_offset != 0.f)  // display levels: A^max(0, m + offset) (ConfidenceParams)
+    for (int m = 1; m < 256; ++m)
+      a_pow[m] = std::pow(p.A, std::max(0.f, float(m) + p.level_offset));
   const float logD = p.D > 0.f ? std::log(p.D) : -1e30f;
   return tbb::parallel_reduce(
       tbb::blocked_range<int>(0, H), ConfidenceStats{},

@@ -35,6 +35,11 @@ struct ConfidenceParams {
   float phi_0 = 30.f;    // degrees (§5.2)
   float A = 0.6f;        // hole-size confidence base, c_s(m) = A^m (§5.2)
   float D = 0.75f;       // dynamic confidence base, c_d(t) = D^t (§7)
+  // Scale invariance (docs/fidelity.md "Scale invariance of the methods"): m counts mip levels of
+  // display pixels (§5.2). At render.scale s a simulated level-m texel is a display level
+  // m + log2(1 / s) texel, so c_s = A^max(0, m + level_offset) with level_offset = -log2(s)
+  // (0 at s = 1).
+  float level_offset = 0.f;
 };
 
 // Why a pixel is in the redraw map (bit flags, for debugging and counters).

@@ -86,8 +86,10 @@ TEST(SweepTargetCli, CellsStopEarlyWithTheFullSweepsRanking) {
     // Same conclusions as the full run: the PSNR ranking and frame times within 2%.
     auto order = t.at("achieved").at("ranking:psnr").at("order").at("gtx1080");
     auto fp = means(dir + "/full/runs/" + name + "/summary.csv", "psnr");
+    // Ties allowed: at render.scale 0.03 fvrs's coarse pixels (display pixels, docs/fidelity.md
+    // "Scale invariance of the methods") are below a simulated pixel, so its image is full's.
     for (size_t i = 0; i + 1 < order.size(); ++i)
-      EXPECT_GT(fp[order[i].get<std::string>()], fp[order[i + 1].get<std::string>()]) << name;
+      EXPECT_GE(fp[order[i].get<std::string>()], fp[order[i + 1].get<std::string>()]) << name;
     // full (1 sample per pixel against the 16-spp reference), fvrs and kfr: all finite, ranked.
     EXPECT_EQ(order.size(), 3u);
     auto fe = means(dir + "/full/runs/" + name + "/summary.csv", "est_ms_total");
