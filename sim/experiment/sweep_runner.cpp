@@ -425,7 +425,6 @@ SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const Swee
   rep.out_dir = sweep_out_dir(plan, opt.out_dir);
   rep.cells_total = int(plan.cells.size());
   const std::string& out = rep.out_dir;
-  make_dirs(out + "/runs");
   // Two sweeps on one --out would both compute every cell: the second one stops here with a
   // clear message. Shards of one sweep (different i/N) lock separately and run side by side.
   std::string lock_name = ".lock";
@@ -435,6 +434,7 @@ SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const Swee
                "another fovsim sweep" + (opt.shards > 1 ? " (shard " + std::to_string(opt.shard) +
                                                               "/" + std::to_string(opt.shards) + ")"
                                                         : std::string()));
+  make_dirs(out + "/runs");  // under the lock: a link at runs/ is refused (OutputRoot)
   write_sweep_json(out, plan, cfg);
 
   // Folders of cells that are not in this expansion (an earlier config): reported, never read.
@@ -556,6 +556,7 @@ MergeReport merge_sweep(const std::string& out_dir, const std::vector<std::strin
       throw Error("--from " + s,
                   "a different sweep (plan hash " + h + ", " + out_dir + " has " + plan.hash + ")");
   }
+  DirLock lock(out_dir, ".lock", "another fovsim sweep or merge");
   MergeReport rep;
   rep.cells = int(plan.cells.size());
   ResultTable summary;
@@ -570,8 +571,9 @@ MergeReport merge_sweep(const std::string& out_dir, const std::vector<std::strin
         std::string tmp = here + ".merge-tmp";
         std::error_code ec;
         fs::remove_all(tmp, ec);
-        fs::create_directories(fs::path(tmp).parent_path());
-        fs::copy(there, tmp, fs::copy_options::recursive, ec);
+        make_dirs(fs::path(tmp).parent_path().string());
+        // Links inside a source cell are not followed (nothing outside it is copied in).
+        fs::copy(there, tmp, fs::copy_options::recursive | fs::copy_options::skip_symlinks, ec);
         if (ec) throw Error(there, "cannot copy cell: " + ec.message());
         fs::remove_all(here, ec);
         fs::rename(tmp, here, ec);
