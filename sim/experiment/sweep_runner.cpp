@@ -283,6 +283,9 @@ ResultTable sweep_paired(const std::string& out, const SweepPlan& plan) {
 
 }  // namespace
 
+static MergeReport merge_cells(const std::string& out_dir, const std::vector<std::string>& sources,
+                               bool allow_partial);
+
 std::pair<int, int> shard_range(int cells, int i, int n) {
   long a = long(cells) * i / n, b = long(cells) * (i + 1) / n;
   return {int(a), int(b)};
@@ -529,7 +532,7 @@ SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const Swee
   bool all = true;
   for (auto& c : plan.cells) all = all && cell_complete(cell_dir(out, c), c.hash);
   if (all) {
-    merge_sweep(out, {}, false);
+    merge_cells(out, {}, false);  // this sweep holds the folder's lock
     rep.complete = true;
   }
   rep.wall_ms = ms_since(t0);
@@ -537,8 +540,9 @@ SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const Swee
   return rep;
 }
 
-MergeReport merge_sweep(const std::string& out_dir, const std::vector<std::string>& sources,
-                        bool allow_partial) {
+// merge_sweep without the lock (run_sweep holds it already).
+static MergeReport merge_cells(const std::string& out_dir, const std::vector<std::string>& sources,
+                               bool allow_partial) {
   SweepPlan plan = load_sweep_plan(out_dir);
   // Every --from folder is an output folder of this same sweep: a typo is an error, not
   // "no cells found there".
@@ -556,7 +560,6 @@ MergeReport merge_sweep(const std::string& out_dir, const std::vector<std::strin
       throw Error("--from " + s,
                   "a different sweep (plan hash " + h + ", " + out_dir + " has " + plan.hash + ")");
   }
-  DirLock lock(out_dir, ".lock", "another fovsim sweep or merge");
   MergeReport rep;
   rep.cells = int(plan.cells.size());
   ResultTable summary;
@@ -648,6 +651,12 @@ MergeReport merge_sweep(const std::string& out_dir, const std::vector<std::strin
   write_file_atomic(out_dir + "/sweep_summary.json", ss.dump(2) + "\n");
   rep.summary = std::move(summary);
   return rep;
+}
+
+MergeReport merge_sweep(const std::string& out_dir, const std::vector<std::string>& sources,
+                        bool allow_partial) {
+  DirLock lock(out_dir, ".lock", "another fovsim sweep or merge");
+  return merge_cells(out_dir, sources, allow_partial);
 }
 
 }  // namespace fovsim
