@@ -350,12 +350,7 @@ class AskTell {
                               const std::string& search_json) {
     LoadedConfig cfg = load_config(config, overrides);
     if (!search_json.empty()) {
-      Json s;
-      try {
-        s = Json::parse(search_json);
-      } catch (const std::exception& e) {
-        throw Error("AskTell(search=...)", std::string("not JSON: ") + e.what());
-      }
+      Json s = parse_json_text(search_json, "AskTell(search=...)");
       if (!cfg.doc.contains("sweep") || !cfg.doc["sweep"].is_object())
         cfg.doc["sweep"] = Json::object();
       cfg.doc["sweep"]["search"] = s;

@@ -11,6 +11,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <sstream>
 
 #include "sim/core/error.h"
@@ -133,12 +134,132 @@ static void check_nul(const std::string& path) {
                 "path contains a NUL byte (refused rather than cut at the NUL)");
 }
 
+namespace {
+
+// Why a file cannot be opened, as the error line says it.
+std::string open_failure(int err) {
+  if (err == ELOOP) return "symbolic link loop (too many levels of symbolic links)";
+  return std::string("cannot read file (") + std::strerror(err) + ")";
+}
+
+std::mutex g_roots_mu;
+std::vector<std::string> g_roots;  // OutputRoot folders, absolute and lexically normal
+
+std::string absolute_normal(const std::string& p) {
+  std::error_code ec;
+  fs::path a = fs::absolute(p, ec);
+  if (ec) a = p;
+  std::string s = a.lexically_normal().string();
+  while (s.size() > 1 && s.back() == '/') s.pop_back();
+  return s;
+}
+
+// The outermost registered output folder that contains `abs` (or is it); "" when none does.
+std::string output_root_of(const std::string& abs) {
+  std::lock_guard<std::mutex> lk(g_roots_mu);
+  std::string best;
+  for (const std::string& r : g_roots) {
+    const bool inside = abs == r || (abs.size() > r.size() && abs.compare(0, r.size(), r) == 0 &&
+                                     (r == "/" || abs[r.size()] == '/'));
+    if (inside && (best.empty() || r.size() < best.size())) best = r;
+  }
+  return best;
+}
+
+const char* kind_of(mode_t m) {
+  return S_ISLNK(m)                   ? "a symbolic link"
+         : S_ISDIR(m)                 ? "a directory"
+         : S_ISFIFO(m)                ? "a FIFO"
+         : S_ISSOCK(m)                ? "a socket"
+         : (S_ISCHR(m) || S_ISBLK(m)) ? "a device"
+         : S_ISREG(m)                 ? "a regular file"
+                                      : "not a regular file";
+}
+
+// Walks the components of `abs` below `root` (both absolute, normal) with lstat, creating the
+// missing ones: a symbolic link or a non-directory there is an error naming it.
+void make_dirs_below(const std::string& root, const std::string& abs) {
+  std::string cur = root;
+  const std::string rest = abs.substr(std::min(abs.size(), root.size() + (root == "/" ? 0 : 1)));
+  size_t i = 0;
+  while (i < rest.size()) {
+    size_t j = rest.find('/', i);
+    if (j == std::string::npos) j = rest.size();
+    cur += (cur == "/" ? "" : "/") + rest.substr(i, j - i);
+    i = j + 1;
+    struct stat st {};
+    if (::lstat(cur.c_str(), &st) != 0) {
+      if (errno != ENOENT)
+        throw Error(cur, std::string("cannot create directory: ") + std::strerror(errno));
+      if (::mkdir(cur.c_str(), 0777) != 0 && errno != EEXIST)
+        throw Error(cur, std::string("cannot create directory: ") + std::strerror(errno));
+      if (::lstat(cur.c_str(), &st) != 0)
+        throw Error(cur, std::string("cannot create directory: ") + std::strerror(errno));
+    }
+    if (S_ISLNK(st.st_mode))
+      throw Error(cur, "is a symbolic link inside the output folder " + root +
+                           "; fovsim writes only into real folders there (remove the link)");
+    if (!S_ISDIR(st.st_mode))
+      throw Error(cur, std::string("cannot create directory: the path exists and is ") +
+                           kind_of(st.st_mode));
+  }
+}
+
+}  // namespace
+
+OutputRoot::OutputRoot(const std::string& dir) : dir_(absolute_normal(dir)) {
+  std::lock_guard<std::mutex> lk(g_roots_mu);
+  g_roots.push_back(dir_);
+}
+
+OutputRoot::~OutputRoot() {
+  std::lock_guard<std::mutex> lk(g_roots_mu);
+  auto it = std::find(g_roots.begin(), g_roots.end(), dir_);
+  if (it != g_roots.end()) g_roots.erase(it);
+}
+
 void make_dirs(const std::string& path) {
   if (path.empty()) return;
   check_nul(path);
+  const std::string abs = absolute_normal(path);
+  const std::string root = output_root_of(abs);
   std::error_code ec;
-  fs::create_directories(path, ec);
-  if (ec) throw Error(path, "cannot create directory: " + ec.message());
+  fs::create_directories(root.empty() ? fs::path(path) : fs::path(root), ec);
+  if (ec) throw Error(root.empty() ? path : root, "cannot create directory: " + ec.message());
+  if (!root.empty()) make_dirs_below(root, abs);
+}
+
+PathKind path_kind(const std::string& path, const std::string& what) {
+  check_nul(path);
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0)
+    return S_ISREG(st.st_mode)   ? PathKind::regular
+           : S_ISDIR(st.st_mode) ? PathKind::directory
+                                 : PathKind::other;
+  const int err = errno;
+  if (err == ENOENT || err == ENOTDIR) return PathKind::missing;
+  const std::string where = what.empty() ? path : what + ": " + path;
+  throw Error(where, open_failure(err));
+}
+
+void check_inside(const std::string& root, const std::string& path, const std::string& where,
+                  const std::string& what) {
+  std::error_code ec;
+  const fs::path r = fs::weakly_canonical(root, ec);
+  if (ec) throw Error(where, what + " folder " + root + ": " + ec.message());
+  fs::path p = fs::weakly_canonical(path, ec);
+  if (ec) {
+    if (ec.value() == ELOOP)
+      throw Error(where,
+                  what + " " + path + ": symbolic link loop (too many levels of symbolic links)");
+    throw Error(where, what + " " + path + ": " + ec.message());
+  }
+  const std::string rs = r.string(), ps = p.string();
+  const bool inside = ps.size() > rs.size() && ps.compare(0, rs.size(), rs) == 0 &&
+                      (rs.back() == '/' || ps[rs.size()] == '/');
+  if (!inside)
+    throw Error(where, what + " " + path + " resolves to " + ps + ", outside the model's folder " +
+                           rs + " (a symbolic link out of the folder is refused like \"..\")");
 }
 
 void check_output_target(const std::string& path) {
@@ -147,13 +268,7 @@ void check_output_target(const std::string& path) {
   struct stat st {};
   if (::lstat(path.c_str(), &st) != 0) return;  // nothing there yet (or the rename reports)
   if (S_ISREG(st.st_mode)) return;
-  const char* kind = S_ISLNK(st.st_mode)                            ? "a symbolic link"
-                     : S_ISDIR(st.st_mode)                          ? "a directory"
-                     : S_ISFIFO(st.st_mode)                         ? "a FIFO"
-                     : S_ISSOCK(st.st_mode)                         ? "a socket"
-                     : (S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode)) ? "a device"
-                                                                    : "not a regular file";
-  throw Error(path, std::string("output exists and is ") + kind +
+  throw Error(path, std::string("output exists and is ") + kind_of(st.st_mode) +
                         "; only a regular file is replaced (remove it or choose another path)");
 }
 
@@ -167,6 +282,10 @@ void write_atomic(const std::string& path, const std::function<void(const std::s
   std::string tmp =
       (p.parent_path() / (".tmp." + std::to_string(::getpid()) + "." + p.filename().string()))
           .string();
+  // The temporary name is fovsim's: whatever is there (a stale file, a planted link or FIFO
+  // that the writer would follow) goes first.
+  struct stat tst {};
+  if (::lstat(tmp.c_str(), &tst) == 0 && !S_ISDIR(tst.st_mode)) ::unlink(tmp.c_str());
   try {
     write(tmp);
     std::string why = check ? check(tmp) : std::string();
@@ -177,6 +296,7 @@ void write_atomic(const std::string& path, const std::function<void(const std::s
   }
   try {
     check_output_target(path);
+    if (p.has_parent_path()) make_dirs(p.parent_path().string());  // no link appeared meanwhile
   } catch (...) {
     std::remove(tmp.c_str());
     throw;
@@ -252,8 +372,7 @@ void check_input_file(const std::string& path, const std::string& what) {
   check_nul(path);
   const std::string where = what.empty() ? path : what + ": " + path;
   struct stat st {};
-  if (::stat(path.c_str(), &st) != 0)
-    throw Error(where, std::string("cannot read file (") + std::strerror(errno) + ")");
+  if (::stat(path.c_str(), &st) != 0) throw Error(where, open_failure(errno));
   if (S_ISDIR(st.st_mode)) throw Error(where, "is a directory, expected a file");
   if (!S_ISREG(st.st_mode))
     throw Error(where, "not a regular file (devices, FIFOs and sockets are refused)");
@@ -269,9 +388,10 @@ std::string read_file(const std::string& path) {
   // Checked on the open descriptor (no race between the check and the read).
   int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
   if (fd < 0) {
+    const int err = errno;
     std::error_code ec;
     if (fs::is_directory(path, ec)) throw Error(path, "is a directory, expected a file");
-    throw Error(path, std::string("cannot read file (") + std::strerror(errno) + ")");
+    throw Error(path, open_failure(err));
   }
   struct stat st {};
   if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
@@ -320,7 +440,7 @@ std::string safe_file_name(const std::string& name) {
 DirLock::DirLock(const std::string& dir, const std::string& name, const std::string& what) {
   make_dirs(dir);
   std::string p = dir + "/" + name;
-  fd_ = ::open(p.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  fd_ = ::open(p.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK, 0644);
   if (fd_ < 0) throw Error(p, std::string("cannot create lock file: ") + std::strerror(errno));
   if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
     int err = errno;
@@ -331,10 +451,28 @@ DirLock::DirLock(const std::string& dir, const std::string& name, const std::str
                            "); wait for it, or use another --out");
     throw Error(p, std::string("cannot lock: ") + std::strerror(err));
   }
+  root_ = std::make_unique<OutputRoot>(dir);
 }
 
 DirLock::~DirLock() {
+  root_.reset();
   if (fd_ >= 0) ::close(fd_);
+}
+
+void clear_run_outputs(const std::string& dir, bool earlier_run) {
+  std::error_code ec;
+  std::vector<fs::path> gone;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
+    if (is_temporary_name(it->path().filename().string())) gone.push_back(it->path());
+  if (earlier_run)
+    for (const char* f :
+         {"frames.csv", "summary.csv", "summary.json", "paired.csv", "images", "plots"})
+      gone.push_back(fs::path(dir) / f);
+  for (const fs::path& p : gone) {
+    std::error_code e2;
+    fs::remove_all(p, e2);  // a link itself, not what it points to
+    if (e2) throw Error(p.string(), "cannot remove an earlier run's output: " + e2.message());
+  }
 }
 
 bool file_exists(const std::string& path) {

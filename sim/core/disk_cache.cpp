@@ -156,8 +156,11 @@ std::optional<CacheItem> DiskCache::get(const std::string& key) {
     warn("cache entry " + path + " " + why + ": ignored, recomputed");
     return std::nullopt;
   };
-  int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  // O_NONBLOCK: a FIFO (or device) under an entry's name must not block the open; O_NOFOLLOW:
+  // an entry is a file the cache wrote, never a link. Both are then refused below.
+  int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOFOLLOW);
   if (fd < 0) {
+    if (errno == ELOOP) return ignore("is a symbolic link");
     ++stats_.misses;
     if (errno != ENOENT && errno != ENOTDIR)
       warn("cache entry " + path + ": " + std::strerror(errno));
@@ -196,8 +199,8 @@ std::optional<CacheItem> DiskCache::get(const std::string& key) {
     return ignore("has a header longer than the file");
   Json h;
   try {
-    h = Json::parse(buf.substr(sizeof kMagic + 4, hlen));
-  } catch (const std::exception&) {
+    h = parse_json_text(buf.substr(sizeof kMagic + 4, hlen), path + " header");
+  } catch (const Error&) {  // malformed, or nested deeper than kMaxJsonDepth
     return ignore("has an unreadable header");
   }
   if (!h.is_object() || h.value("format", 0) != kFormat || !h.contains("key") ||

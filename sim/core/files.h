@@ -3,6 +3,7 @@
 #pragma once
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -57,18 +58,6 @@ bool parse_integer(const std::string& s, long lo, long hi, long& out);
 // characters. Whatever the input, the result is a single path component.
 std::string safe_file_name(const std::string& name);
 
-// Exclusive advisory lock on DIR/NAME (flock; released when the process ends, even by
-// SIGKILL). Throws fovsim::Error naming DIR and `holder` when another process holds it.
-class DirLock {
- public:
-  DirLock(const std::string& dir, const std::string& name, const std::string& holder);
-  ~DirLock();
-  DirLock(const DirLock&) = delete;
-  DirLock& operator=(const DirLock&) = delete;
-
- private:
-  int fd_ = -1;
-};
 // While alive, the process's stderr (fd 2) goes to /dev/null. Image decoding is wrapped in it:
 // libpng, called through OpenImageIO, prints its own "libpng error: ..." line to stderr before
 // OpenImageIO reports the same error, which fovsim then gives in its one error line. Open it
@@ -85,6 +74,62 @@ class QuietStderr {
 };
 
 bool file_exists(const std::string& path);
+// Creates `path` and its missing parents. Below a registered output folder (OutputRoot) every
+// component must be a real directory: a symbolic link there (to a folder or not) is refused
+// with an error naming it, so nothing is ever written through a link inside --out.
 void make_dirs(const std::string& path);
+
+// What is at `path`, symbolic links followed. Missing when nothing is there (ENOENT, or a
+// parent that is not a folder); a symbolic-link loop (ELOOP), a name too long or a folder
+// that cannot be searched throw fovsim::Error naming `what` and `path` with the reason
+// ("symbolic link loop (too many levels of symbolic links)"), so a loop is never reported
+// as "not found".
+enum class PathKind { missing, regular, directory, other };
+PathKind path_kind(const std::string& path, const std::string& what = "");
+
+// Containment for files another file refers to (a model's buffers, textures, material
+// libraries): throws fovsim::Error(where, ...) unless `path`, every symbolic link resolved,
+// lies inside `root` (resolved the same way). A link that leaves the folder is refused like
+// "..": fovsim reads only files inside the folder it was pointed at.
+void check_inside(const std::string& root, const std::string& path, const std::string& where,
+                  const std::string& what);
+
+// While alive, `dir` is an output folder: make_dirs and write_atomic refuse a symbolic link at
+// any component below it (images/, images/frame_N/, a sweep's runs/<cell>/), checked with
+// lstat, folder by folder, as they are created or entered. `dir` itself may be a link (a
+// results folder on another disk). Registered process-wide (thread-safe); DirLock registers
+// the folder it locks, so every locked writer gets this.
+class OutputRoot {
+ public:
+  explicit OutputRoot(const std::string& dir);
+  ~OutputRoot();
+  OutputRoot(const OutputRoot&) = delete;
+  OutputRoot& operator=(const OutputRoot&) = delete;
+
+ private:
+  std::string dir_;
+};
+
+// Removes what an earlier run left in its output folder `dir` before a new run writes there:
+// temporaries of write_atomic (".tmp.*", killed writers) always; the run's result files
+// (frames.csv, summary.csv, summary.json, paired.csv) and its images/ and plots/ folders when
+// `earlier_run` (the folder held a manifest.json, so they are fovsim's). A symbolic link there
+// is removed, never followed. Nothing else in `dir` is touched.
+void clear_run_outputs(const std::string& dir, bool earlier_run);
+
+// Exclusive advisory lock on DIR/NAME (flock; released when the process ends, even by
+// SIGKILL). Throws fovsim::Error naming DIR and `holder` when another process (or another
+// writer of this process) holds it. While held, DIR is an OutputRoot.
+class DirLock {
+ public:
+  DirLock(const std::string& dir, const std::string& name, const std::string& holder);
+  ~DirLock();
+  DirLock(const DirLock&) = delete;
+  DirLock& operator=(const DirLock&) = delete;
+
+ private:
+  int fd_ = -1;
+  std::unique_ptr<OutputRoot> root_;
+};
 
 }  // namespace fovsim

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -87,8 +88,25 @@ void write_image(const std::string& path, const Image& img) {
       });
 }
 
+void check_finite_image(const Image& img, const std::string& what) {
+  const size_t n = img.data.size();
+  size_t i = 0;
+  for (; i < n; ++i)
+    if (!std::isfinite(img.data[i])) break;
+  if (i == n) return;
+  const size_t c = size_t(std::max(1, img.channels)), px = i / c;
+  const size_t w = size_t(std::max(1, img.width));
+  char b[200];
+  std::snprintf(b, sizeof b,
+                "pixel (%zu, %zu) channel %zu is %s: a non-finite image is never scored (check the "
+                "scene's colours, lights and transforms, and the method's parameters)",
+                px % w, px / w, i % c, std::isnan(img.data[i]) ? "NaN" : "infinite");
+  throw Error(what, b);
+}
+
 Image read_image(const std::string& path) {
-  QuietStderr quiet;  // libpng's own error line: the thrown error says it once
+  check_input_file(path);  // a FIFO or device never blocks the decoder
+  QuietStderr quiet;       // libpng's own error line: the thrown error says it once
   auto in = OIIO::ImageInput::open(path);
   if (!in) throw Error(path, "cannot read image: " + OIIO::geterror());
   const OIIO::ImageSpec& spec = in->spec();

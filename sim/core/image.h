@@ -40,6 +40,11 @@ Image to_luma(const Image& rgb);
 void write_image(const std::string& path, const Image& img);
 Image read_image(const std::string& path);
 
+// Images are scored only when every value is finite: throws fovsim::Error(what, ...) naming
+// the first pixel (x, y) and channel that holds a NaN or an infinity. `what` names the image
+// ("frame 3: method \"kfr\" (label \"kfr\")", "frame 0: reference").
+void check_finite_image(const Image& img, const std::string& what);
+
 // Map a scalar image through a perceptually ordered colour ramp ('turbo'-like) in [lo, hi].
 Image heatmap(const Image& scalar, float lo, float hi);
 

@@ -25,4 +25,19 @@ constexpr double kDefaultMaxTexturePixels = 67108864;
 // pixels x VPLs: 2^18 VPLs are 4 lights at rsm_size 256 (the default 64 gives 4096 per light).
 constexpr double kDefaultMaxVpls = 262144;
 
+// Smallest size (diagonal of the world bounds, metres) of a scene after every transform: a
+// scene.scale that rounds to nothing in single precision (1e-300) or node scales of 0 leave a
+// point, which renders as a one-colour image every method matches exactly.
+constexpr double kMinSceneExtentM = 1e-6;
+
+// Largest colour component of a material (base colour, emission) and of a light's colour:
+// finite, non-negative and at most this (a glTF factor of 1e39 is infinite as a float).
+constexpr double kMaxColorValue = 1e6;
+
+// Deepest node hierarchy a model file may have (glTF 1.0 and 2, .gltf and .glb: checked on its
+// JSON before the importer sees it; every format: checked again on the imported tree). assimp
+// builds, validates and frees the tree recursively, so a deeper chain (20,000 nested nodes fit
+// in a 450 KB file) would overflow the stack; real models nest a few dozen levels.
+constexpr int kMaxNodeDepth = 256;
+
 }  // namespace fovsim

@@ -251,6 +251,11 @@ Json parse_json_text(const std::string& text, const std::string& file) {
   return j;
 }
 
+nlohmann::ordered_json parse_json_text_ordered(const std::string& text, const std::string& file) {
+  parse_json_text(text, file);  // every check (depth, syntax, duplicates) with its location
+  return nlohmann::ordered_json::parse(text, nullptr, true, /*ignore_comments=*/true);
+}
+
 Json Params::parse_json_file(const std::string& file) {
   return parse_json_text(read_file(file), file);
 }

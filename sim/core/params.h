@@ -24,6 +24,9 @@ constexpr int kMaxJsonDepth = 64;
 // (1e400) and nesting deeper than kMaxJsonDepth throw fovsim::Error located at
 // `file`:line:column; an empty `file` reports "<where>: ...".
 Json parse_json_text(const std::string& text, const std::string& file);
+// As parse_json_text, keeping the keys in file order (for files fovsim rewrites in their
+// authors' layout, such as fitted workloads).
+nlohmann::ordered_json parse_json_text_ordered(const std::string& text, const std::string& file);
 // Throws when `text` nests arrays/objects deeper than kMaxJsonDepth (strings and comments
 // are skipped), with the line and column of the first bracket over the limit.
 void check_json_depth(const std::string& text, const std::string& file);

@@ -111,7 +111,8 @@ CalibrationRun run_calibration(const CalibrateOptions& o) {
     const std::string dir = (o.out.empty() ? o.models : o.out) + "/workloads";
     make_dirs(dir);
     const std::string file = dir + "/" + wl + ".json";
-    auto j = nlohmann::ordered_json::parse(read_file(o.models + "/workloads/" + wl + ".json"));
+    const std::string src = o.models + "/workloads/" + wl + ".json";
+    auto j = parse_json_text_ordered(read_file(src), src);
     const Workload& w = run.fit.workloads.at(wl);
     const std::string p = fitted_param(w);
     j[p] = p == "vpl_flops" ? w.vpl_flops : w.shading_flops;

@@ -4,6 +4,7 @@
 #include <set>
 
 #include "sim/core/error.h"
+#include "sim/core/files.h"
 
 namespace fovsim {
 
@@ -70,7 +71,8 @@ static Json load_with_bases(const std::string& path, LoadedConfig& c) {
         resolve_path(fs::path(f).parent_path().string(), doc["base"].get<std::string>());
     doc.erase("base");
     docs.push_back(std::move(doc));
-    if (!fs::exists(base, ec)) throw Error(f + ": base", "base config \"" + base + "\" not found");
+    if (path_kind(base, f + ": base") == PathKind::missing)
+      throw Error(f + ": base", "base config \"" + base + "\" not found");
     if (int(files.size()) >= kMaxBaseDepth)
       throw Error(f + ": base", "\"base\" chain longer than " + std::to_string(kMaxBaseDepth) +
                                     " files (the limit of config inheritance; starting at " + path +
@@ -87,8 +89,7 @@ LoadedConfig load_config(const std::string& path, const std::vector<std::string>
   LoadedConfig c;
   c.file = path;
   c.base_dir = fs::path(path).parent_path().string();
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw Error(path, "config file not found");
+  if (path_kind(path) == PathKind::missing) throw Error(path, "config file not found");
   c.doc = load_with_bases(path, c);
   for (auto& o : overrides) c.overridden.emplace_back(apply_override(c.doc, o), o);
   return c;

@@ -733,6 +733,8 @@ struct Cell {
     FOVSIM_CHECK(lin.width == sh.sim_display.width && lin.height == sh.sim_display.height &&
                      lin.channels == 3,
                  "method \"" + m.label + "\" produced an image of the wrong size");
+    check_finite_image(lin, "frame " + std::to_string(in.fi) + ": method \"" + m.method +
+                                "\" (label \"" + m.label + "\")");
     sh.tonemap.apply(lin, out_display);
     st.linear = &lin;
     pc = phases.lap("tonemap", pc);
@@ -1096,19 +1098,23 @@ std::vector<std::unique_ptr<Cell>> parse_group(const std::vector<CellJob>& jobs,
   return cells;
 }
 
-// A cell in progress is marked so it never looks complete.
-void start_output_folders(const std::vector<std::unique_ptr<Cell>>& cells) {
+// A cell in progress is marked so it never looks complete. Each folder is locked for the run
+// (a second writer stops with an error naming the lock) and emptied of an earlier run's
+// outputs, so a finished folder holds only this run's files (clear_run_outputs).
+std::vector<std::unique_ptr<DirLock>> start_output_folders(
+    const std::vector<std::unique_ptr<Cell>>& cells) {
+  std::vector<std::unique_ptr<DirLock>> locks;
   for (auto& c : cells) {
     const std::string& out = c->job->out_dir;
     make_dirs(out);
+    locks.push_back(std::make_unique<DirLock>(out, ".lock", "another fovsim run"));
+    const bool earlier_run = path_kind(out + "/manifest.json") != PathKind::missing;
     // "running" replaces an old "complete" manifest before the old results go, so a kill in
     // between never leaves a manifest that claims files that are gone.
     write_file_atomic(out + "/manifest.json", c->manifest.dump(2) + "\n");
-    for (const char* f : {"frames.csv", "summary.csv", "summary.json", "paired.csv"}) {
-      std::error_code ec;
-      fs::remove(fs::path(out) / f, ec);
-    }
+    clear_run_outputs(out, earlier_run);
   }
+  return locks;
 }
 
 // The reference cache when both the caller and the config's cache.enabled want it; a cache
@@ -1608,6 +1614,7 @@ void run_pass(const GroupRun& g, std::vector<std::unique_ptr<Cell>>& cells, size
     watchdog.begin(0, "frame " + std::to_string(fi) + ", reference rendering");
     render_reference(renderer, g.rcache, sh, fi, channels, prev_cam ? &*prev_cam : nullptr, fd);
     watchdog.end(0);
+    check_finite_image(fd.reference, "frame " + std::to_string(fi) + ": reference");
     sh.tonemap.apply(fd.reference, ref_display);
     double ref_ms = ms_since(t0);
     group_phases.lap("reference", rpc);
@@ -1709,7 +1716,7 @@ std::vector<CellResult> run_cells_impl(const std::vector<CellJob>& jobs, const E
   Shared sh;
   sh.models = opt.models_dir.empty() ? default_models_dir() : opt.models_dir;
   std::vector<std::unique_ptr<Cell>> cells = parse_group(jobs, opt, sh);
-  start_output_folders(cells);
+  const auto locks = start_output_folders(cells);
   std::string no_cache_dir;  // the cache is on but has no folder (a warning, not an error)
   std::unique_ptr<ReferenceCache> rcache = open_reference_cache(opt, sh, no_cache_dir);
   const double setup_ms = ms_since(g0);

@@ -184,7 +184,8 @@ RungRun run_rung(size_t i, const FidelityRung& r, const LoadedConfig& top_cfg, b
     d.summary = std::move(rr.summary);
     d.frames = std::move(rr.frames);
     try {
-      d.resolved = Json::parse(read_file(rr.out_dir + "/manifest.json"))["resolved_config"];
+      const std::string mf = rr.out_dir + "/manifest.json";
+      d.resolved = parse_json_text(read_file(mf), mf)["resolved_config"];
     } catch (const std::exception&) {
       d.resolved = nullptr;
     }
@@ -244,7 +245,10 @@ FidelityResult run_fidelity(const LoadedConfig& cfg, const FidelityOptions& opt)
                          ? cfg.doc["name"].get<std::string>()
                          : fs::path(cfg.file).stem().string();
   res.out_dir = opt.out_dir.empty() ? "results/" + safe_file_name(name) + "_fidelity" : opt.out_dir;
-  fs::create_directories(res.out_dir + "/rungs");
+  // Locked (a second fidelity run on this folder stops) and an OutputRoot (no link inside it
+  // is written through).
+  DirLock lock(res.out_dir, ".lock", "another fovsim fidelity run");
+  make_dirs(res.out_dir + "/rungs");
 
   // The top rung's config; every other rung's overrides apply on top of it.
   LoadedConfig top_cfg = cfg;

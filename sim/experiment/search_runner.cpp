@@ -32,7 +32,7 @@ bool cached_eval_complete(const std::string& done_path, const SearchSpec& sp) {
   if (!file_exists(done_path)) return false;
   Json d;
   try {
-    d = Json::parse(read_file(done_path));
+    d = parse_json_text(read_file(done_path), done_path);
   } catch (const std::exception&) {
     return false;
   }
@@ -162,6 +162,7 @@ SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const Sw
   SearchReport rep;
   rep.out_dir = sweep_out_dir(plan, opt.out_dir);
   const std::string evals_dir = rep.out_dir + "/search/evals";
+  DirLock lock(rep.out_dir, ".lock", "another fovsim search or sweep");
   make_dirs(evals_dir);
   EngineOptions eo;
   eo.models_dir = opt.models_dir;
@@ -188,7 +189,8 @@ SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const Sw
       run_batch(jobs, eo, plan, cfg);
       std::vector<SearchEval> ev;
       for (size_t i = 0; i < pts.size(); ++i) {
-        Json done = Json::parse(read_file(dirs[i] + "/done.json"));
+        const std::string done_path = dirs[i] + "/done.json";
+        Json done = parse_json_text(read_file(done_path), done_path);
         SearchEval e;
         e.x = pts[i];
         const Json& cols = done["columns"];

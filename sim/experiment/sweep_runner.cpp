@@ -285,6 +285,9 @@ ResultTable sweep_paired(const std::string& out, const SweepPlan& plan) {
 
 }  // namespace
 
+static MergeReport merge_cells(const std::string& out_dir, const std::vector<std::string>& sources,
+                               bool allow_partial);
+
 std::pair<int, int> shard_range(int cells, int i, int n) {
   long a = long(cells) * i / n, b = long(cells) * (i + 1) / n;
   return {int(a), int(b)};
@@ -427,7 +430,6 @@ SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const Swee
   rep.out_dir = sweep_out_dir(plan, opt.out_dir);
   rep.cells_total = int(plan.cells.size());
   const std::string& out = rep.out_dir;
-  make_dirs(out + "/runs");
   // Two sweeps on one --out would both compute every cell: the second one stops here with a
   // clear message. Shards of one sweep (different i/N) lock separately and run side by side.
   std::string lock_name = ".lock";
@@ -437,6 +439,7 @@ SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const Swee
                "another fovsim sweep" + (opt.shards > 1 ? " (shard " + std::to_string(opt.shard) +
                                                               "/" + std::to_string(opt.shards) + ")"
                                                         : std::string()));
+  make_dirs(out + "/runs");  // under the lock: a link at runs/ is refused (OutputRoot)
   write_sweep_json(out, plan, cfg);
 
   // Folders of cells that are not in this expansion (an earlier config): reported, never read.
@@ -532,7 +535,7 @@ SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const Swee
   bool all = true;
   for (auto& c : plan.cells) all = all && cell_complete(cell_dir(out, c), c.hash);
   if (all) {
-    merge_sweep(out, {}, false);
+    merge_cells(out, {}, false);  // this sweep holds the folder's lock
     rep.complete = true;
   }
   rep.wall_ms = ms_since(t0);
@@ -541,8 +544,9 @@ SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const Swee
   return rep;
 }
 
-MergeReport merge_sweep(const std::string& out_dir, const std::vector<std::string>& sources,
-                        bool allow_partial) {
+// merge_sweep without the lock (run_sweep holds it already).
+static MergeReport merge_cells(const std::string& out_dir, const std::vector<std::string>& sources,
+                               bool allow_partial) {
   SweepPlan plan = load_sweep_plan(out_dir);
   // Every --from folder is an output folder of this same sweep: a typo is an error, not
   // "no cells found there".
@@ -574,8 +578,9 @@ MergeReport merge_sweep(const std::string& out_dir, const std::vector<std::strin
         std::string tmp = here + ".merge-tmp";
         std::error_code ec;
         fs::remove_all(tmp, ec);
-        fs::create_directories(fs::path(tmp).parent_path());
-        fs::copy(there, tmp, fs::copy_options::recursive, ec);
+        make_dirs(fs::path(tmp).parent_path().string());
+        // Links inside a source cell are not followed (nothing outside it is copied in).
+        fs::copy(there, tmp, fs::copy_options::recursive | fs::copy_options::skip_symlinks, ec);
         if (ec) throw Error(there, "cannot copy cell: " + ec.message());
         fs::remove_all(here, ec);
         fs::rename(tmp, here, ec);
@@ -650,6 +655,12 @@ MergeReport merge_sweep(const std::string& out_dir, const std::vector<std::strin
   write_file_atomic(out_dir + "/sweep_summary.json", ss.dump(2) + "\n");
   rep.summary = std::move(summary);
   return rep;
+}
+
+MergeReport merge_sweep(const std::string& out_dir, const std::vector<std::string>& sources,
+                        bool allow_partial) {
+  DirLock lock(out_dir, ".lock", "another fovsim sweep or merge");
+  return merge_cells(out_dir, sources, allow_partial);
 }
 
 }  // namespace fovsim

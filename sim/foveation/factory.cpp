@@ -142,8 +142,9 @@ MethodArg parse_method_arg(const std::string& text, const std::string& flag) {
       throw Error(where, "expected key=value, got \"" + kv + "\"");
     const std::string key = kv.substr(0, eq), v = kv.substr(eq + 1);
     if (m.params.contains(key)) throw Error(where, "key \"" + key + "\" given twice");
-    Json jv = Json::parse(v, nullptr, false);
-    m.params[key] = (jv.is_discarded() || jv.is_object() || jv.is_array()) ? Json(v) : jv;
+    // The checked parser (nesting bounded); text that is not JSON stays a string.
+    Json jv = parse_value_or_string(v, where);
+    m.params[key] = (jv.is_object() || jv.is_array()) ? Json(v) : jv;
     i = j + 1;
   }
   return m;

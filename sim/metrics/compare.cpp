@@ -151,7 +151,7 @@ std::string comparison_text(const ImageComparison& c) {
 std::vector<std::string> frame_files(const std::string& path) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  if (!fs::exists(path, ec)) throw Error(path, "no such file or folder");
+  if (path_kind(path) == PathKind::missing) throw Error(path, "no such file or folder");
   if (!fs::is_directory(path, ec)) return {path};
   std::vector<std::string> files;
   for (const auto& e : fs::directory_iterator(path, ec)) {

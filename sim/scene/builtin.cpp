@@ -493,6 +493,7 @@ namespace {
 // checked at their keys.
 void check_geometry(const Scene& s, Params& p, const std::string& key) {
   size_t zero_area = 0, total = 0;
+  AABB bounds;
   for (const Object& o : s.objects) {
     const Mesh& m = s.meshes[size_t(o.mesh)];
     std::vector<glm::mat4> xfs{o.transform};
@@ -511,15 +512,64 @@ void check_geometry(const Scene& s, Params& p, const std::string& key) {
                             num(w[c]) + " m in the world, beyond the coordinate bound +-1e5 m");
         }
       }
+    // Areas after the object's transform: a node scale of 0 or a scene.scale that rounds to
+    // 0 in single precision (1e-300) flattens triangles that have area in the mesh.
     for (const glm::uvec3& t : m.triangles) {
       ++total;
-      const glm::vec3 a = m.positions[t.x], b = m.positions[t.y], c = m.positions[t.z];
+      const glm::vec3 a = xfs[0] * glm::vec4(m.positions[t.x], 1.f),
+                      b = xfs[0] * glm::vec4(m.positions[t.y], 1.f),
+                      c = xfs[0] * glm::vec4(m.positions[t.z], 1.f);
       if (!(glm::length(glm::cross(b - a, c - a)) > 0.f)) ++zero_area;
+      bounds.extend(a);
+      bounds.extend(b);
+      bounds.extend(c);
     }
   }
   if (total > 0 && zero_area == total)
     p.fail(key, "all " + std::to_string(total) +
-                    " triangles have zero area (nothing would be rendered)");
+                    " triangles have zero area in the world, after every transform (nothing "
+                    "would be rendered; check scene.scale and the model's node scales)");
+  const double extent = total > 0 ? double(glm::length(bounds.hi - bounds.lo)) : 1.0;
+  if (!(extent >= kMinSceneExtentM))
+    p.fail(key, "the scene is " + num(extent) + " m across after every transform, under " +
+                    num(kMinSceneExtentM) +
+                    " m (degenerate: check scene.scale and the model's node scales)");
+}
+
+// Colours and lights as the renderer will use them: every component finite and in
+// [0, kMaxColorValue] (a glTF factor of 1e39 overflows a float to infinity, an OBJ Kd may be
+// "nan"); lights finite with a non-negative intensity.
+void check_materials_and_lights(const Scene& s, Params& p, const std::string& key) {
+  auto bad = [](float v) { return !(v >= 0.f && v <= float(kMaxColorValue)); };
+  for (size_t i = 0; i < s.materials.size(); ++i) {
+    const Material& m = s.materials[i];
+    const std::string name =
+        "material " + std::to_string(i) + (m.name.empty() ? "" : " \"" + m.name + "\"");
+    const std::pair<const char*, glm::vec3> colours[] = {
+        {"base colour", m.base_color}, {"second colour", m.color2}, {"emission", m.emission}};
+    for (const auto& [what, c] : colours)
+      for (int k = 0; k < 3; ++k)
+        if (bad(c[k]))
+          p.fail(key, name + ": " + what + " component " + num(c[k]) +
+                          " is not a finite value in [0, " + num(kMaxColorValue) + "]");
+    for (const auto& [what, v] : {std::pair<const char*, float>{"specular", m.specular},
+                                  {"shininess", m.shininess},
+                                  {"alpha", m.alpha},
+                                  {"normal scale", std::fabs(m.normal_scale)}})
+      if (bad(v))
+        p.fail(key, name + ": " + what + " " + num(v) + " is not a finite value in [0, " +
+                        num(kMaxColorValue) + "]");
+  }
+  for (size_t i = 0; i < s.lights.size(); ++i) {
+    const Light& l = s.lights[i];
+    bool ok = std::isfinite(l.intensity) && l.intensity >= 0.f && std::isfinite(l.spot_inner_deg) &&
+              std::isfinite(l.spot_outer_deg);
+    for (int k = 0; k < 3; ++k)
+      ok = ok && std::isfinite(l.position[k]) && std::isfinite(l.direction[k]) && !bad(l.color[k]);
+    if (!ok)
+      p.fail(key, "light " + std::to_string(i) +
+                      ": a non-finite or negative position, direction, colour or intensity");
+  }
 }
 
 }  // namespace
@@ -543,6 +593,7 @@ Scene make_scene(Params& p, const std::string& models_dir) {
                                 " triangles, over the limit of " + num(max_tris) +
                                 " (raise scene.max_triangles)");
   check_geometry(s, p, type == "file" ? "path" : "type");
+  check_materials_and_lights(s, p, type == "file" ? "path" : "type");
   for (int c = 0; c < 3; ++c)
     if (!(std::fabs(s.default_eye[c]) <= kMaxCoordinateM))
       p.fail("default_eye", "eye point coordinate " + num(s.default_eye[c]) +

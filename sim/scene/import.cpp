@@ -11,8 +11,10 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <map>
+#include <optional>
 
 #include "sim/core/error.h"
 #include "sim/core/files.h"
@@ -83,9 +85,111 @@ std::string confined_path(const std::string& dir, const std::string& ref, const 
       throw Error(where, what + " " + printable_name(ref) +
                              ": \"..\" is refused (only files inside the model's folder are read)");
   const std::string full = (fs::path(dir) / p).string();
-  std::error_code ec;
-  if (fs::exists(full, ec)) check_input_file(full, where + ": " + what);
+  // A symbolic-link loop says so (path_kind throws); a link out of the folder is refused.
+  if (path_kind(full, where + ": " + what) != PathKind::missing) {
+    check_inside(dir.empty() ? "." : dir, full, where, what);
+    check_input_file(full, where + ": " + what);
+  }
   return full;
+}
+
+// The JSON of a .gltf file, or of a .glb file's JSON chunk (glTF 2's binary container and
+// glTF 1.0's KHR_binary_glTF put it at byte 20), through the checked parser: syntax errors
+// located, nesting bounded (kMaxJsonDepth). nullopt for a .glb without the glTF header (the
+// importer then says it is not readable).
+std::optional<Json> gltf_document(const fs::path& model, bool glb, const std::string& where) {
+  const std::string text = read_file(model.string());
+  std::string json = text;
+  if (glb) {
+    auto u32 = [&](size_t off) {
+      uint32_t v = 0;
+      std::memcpy(&v, text.data() + off, 4);
+      return v;
+    };
+    if (text.size() < 20 || text.compare(0, 4, "glTF") != 0) return std::nullopt;
+    const uint32_t version = u32(4), length = u32(12), type = u32(16);
+    if ((version == 1 ? type != 0 : type != 0x4E4F534Au) || length > text.size() - 20)
+      return std::nullopt;
+    json = text.substr(20, length);
+  }
+  try {
+    Json j = parse_json_text(json, model.string());
+    if (!j.is_object())
+      throw Error(where, model.string() + ": not a glTF file (the JSON is not an object)");
+    return j;
+  } catch (const Error& e) {
+    if (e.where() == where) throw;
+    throw Error(where, std::string("not a glTF file: ") + e.what());
+  }
+}
+
+// glTF nodes form trees (glTF 2.0 §3.5.3, glTF 1.0 §5.19): every node has at most one parent,
+// no cycles, and here at most kMaxNodeDepth levels. Checked breadth-first (no recursion) on
+// the JSON before assimp, whose importer, validation and destructor recurse once per level.
+// glTF 2 lists nodes in an array with integer children; glTF 1.0 in an object keyed by id.
+void check_node_tree(const Json& j, const std::string& file, const std::string& where) {
+  if (!j.contains("nodes")) return;
+  const Json& nodes = j["nodes"];
+  std::vector<const Json*> list;
+  std::vector<std::string> names;
+  std::map<std::string, size_t> by_id;
+  if (nodes.is_array()) {
+    for (size_t i = 0; i < nodes.size(); ++i) {
+      list.push_back(&nodes[i]);
+      names.push_back(std::to_string(i));
+    }
+  } else if (nodes.is_object()) {
+    for (auto it = nodes.begin(); it != nodes.end(); ++it) {
+      by_id[it.key()] = list.size();
+      list.push_back(&it.value());
+      names.push_back(printable_name(it.key()));
+    }
+  } else {
+    return;
+  }
+  const size_t n = list.size();
+  std::vector<std::vector<size_t>> kids(n);
+  std::vector<int> parents(n, 0);
+  for (size_t i = 0; i < n; ++i) {
+    const Json& nd = *list[i];
+    if (!nd.is_object() || !nd.contains("children") || !nd["children"].is_array()) continue;
+    for (const Json& c : nd["children"]) {
+      size_t k = n;  // a reference to no node is the importer's to report
+      if (c.is_number_unsigned() && c.get<uint64_t>() < n)
+        k = size_t(c.get<uint64_t>());
+      else if (c.is_string() && by_id.count(c.get<std::string>()))
+        k = by_id[c.get<std::string>()];
+      if (k == n) continue;
+      if (++parents[k] > 1)
+        throw Error(where, file + ": glTF node " + names[k] +
+                               " is a child of more than one node (glTF node hierarchies are "
+                               "trees)");
+      kids[i].push_back(k);
+    }
+  }
+  std::vector<int> depth(n, 0);
+  std::vector<size_t> queue;
+  for (size_t i = 0; i < n; ++i)
+    if (parents[i] == 0) {
+      depth[i] = 1;
+      queue.push_back(i);
+    }
+  for (size_t q = 0; q < queue.size(); ++q) {
+    const size_t i = queue[q];
+    if (depth[i] > kMaxNodeDepth)
+      throw Error(where, file + ": node hierarchy nested deeper than " +
+                             std::to_string(kMaxNodeDepth) + " levels (glTF node " + names[i] +
+                             "; the limit for any model)");
+    for (size_t k : kids[i]) {
+      depth[k] = depth[i] + 1;
+      queue.push_back(k);
+    }
+  }
+  if (queue.size() < n)
+    for (size_t i = 0; i < n; ++i)
+      if (depth[i] == 0)
+        throw Error(where, file + ": glTF node " + names[i] +
+                               " is its own ancestor (a cycle in \"children\")");
 }
 
 // The files a glTF (buffers, images) or OBJ (mtllib) file names, checked with confined_path
@@ -94,33 +198,25 @@ void check_references(const fs::path& model, const std::string& where) {
   std::string ext = model.extension().string();
   for (char& c : ext) c = char(std::tolower((unsigned char)c));
   const std::string dir = model.parent_path().string();
-  if (ext == ".gltf") {
-    Json j;
-    try {
-      j = Json::parse(read_file(model.string()));
-    } catch (const Json::exception& e) {  // parse_error; out_of_range for a number like 1e999
-      // "[json.exception.parse_error.101] parse error at line 1, column 38: ..." -> the part
-      // after the bracket, which says where and why.
-      std::string why = e.what();
-      if (why.rfind('[', 0) == 0 && why.find("] ") != std::string::npos)
-        why = why.substr(why.find("] ") + 2);
-      throw Error(where, model.string() + ": not a glTF file, its JSON does not parse: " +
-                             escape_control(why, 200));
-    }
-    if (!j.is_object())
-      throw Error(where, model.string() + ": not a glTF file (the JSON is not an object)");
-    for (const char* list : {"buffers", "images"}) {
-      if (!j.contains(list) || !j[list].is_array()) continue;
+  if (ext == ".gltf" || ext == ".glb") {
+    const std::optional<Json> doc = gltf_document(model, ext == ".glb", where);
+    if (!doc) return;
+    const Json& j = *doc;
+    check_node_tree(j, model.string(), where);
+    // glTF 2 lists them in arrays, glTF 1.0 in objects keyed by id (shaders only in 1.0).
+    for (const char* list : {"buffers", "images", "shaders"}) {
+      if (!j.contains(list) || !(j[list].is_array() || j[list].is_object())) continue;
+      const std::string kind = std::string(list) == "buffers"  ? "buffer"
+                               : std::string(list) == "images" ? "image"
+                                                               : "shader";
       for (const Json& e : j[list]) {
         if (!e.is_object() || !e.contains("uri")) continue;
         if (!e["uri"].is_string())
           throw Error(where, model.string() + ": " + list + "[].uri is not a string");
         const std::string u = e["uri"].get<std::string>();
         if (u.rfind("data:", 0) == 0) continue;
-        const std::string f =
-            confined_path(dir, u, where, std::string(list) == "buffers" ? "buffer" : "image");
-        std::error_code ec;
-        if (std::string(list) == "buffers" && !fs::exists(f, ec))
+        const std::string f = confined_path(dir, u, where, kind);
+        if (kind == "buffer" && path_kind(f, where + ": buffer") == PathKind::missing)
           throw Error(where,
                       "buffer " + printable_name(u) + " of " + model.string() + " not found");
       }
@@ -162,6 +258,20 @@ void fill_texels(const float* px, int nc, bool srgb, TextureImage& out) {
   }
 }
 
+// "" when every texel is finite, else why the texture is refused (an EXR may hold NaN or
+// infinities; a shaded NaN would reach the scored images).
+std::string check_texels(const TextureImage& t) {
+  for (size_t i = 0; i < t.texels.size(); ++i)
+    for (int c = 0; c < 3; ++c)
+      if (!std::isfinite(t.texels[i][c]))
+        return "texel " + std::to_string(i % size_t(std::max(1, t.width))) + ", " +
+               std::to_string(i / size_t(std::max(1, t.width))) +
+               " is not finite (NaN or infinity)";
+  for (float a : t.alpha)
+    if (!std::isfinite(a)) return "an alpha value is not finite (NaN or infinity)";
+  return "";
+}
+
 // Header checks before any pixel is decoded: a positive size within max_pixels and 1 to 4
 // channels. "" when fine, else why not.
 std::string check_header(const OIIO::ImageSpec& spec, double max_pixels) {
@@ -194,7 +304,7 @@ std::string load_image_file(const std::string& path, bool srgb, double max_pixel
   out.height = spec.height;
   out.texels.resize(size_t(spec.width) * size_t(spec.height));
   fill_texels(px.data(), nc, srgb, out);
-  return "";
+  return check_texels(out);
 }
 
 std::string load_image_memory(const aiTexture* t, bool srgb, double max_pixels, TextureImage& out) {
@@ -220,7 +330,7 @@ std::string load_image_memory(const aiTexture* t, bool srgb, double max_pixels, 
     out.height = spec.height;
     out.texels.resize(size_t(spec.width) * size_t(spec.height));
     fill_texels(px.data(), nc, srgb, out);
-    return "";
+    return check_texels(out);
   }
   if (t->mWidth == 0 || double(t->mWidth) * double(t->mHeight) > max_pixels)
     return "embedded image of " + std::to_string(t->mWidth) + "x" + std::to_string(t->mHeight) +
@@ -267,8 +377,7 @@ struct Loader {
       // Confined to the model's folder (throws for "..", absolute paths, devices, FIFOs).
       const std::string p = confined_path(dir, ref, where, "texture");
       name = p;
-      std::error_code ec;
-      if (!fs::exists(p, ec))
+      if (path_kind(p, where + ": texture") == PathKind::missing)
         why = "texture not found";
       else
         why = load_image_file(p, srgb, max_pixels, img);
@@ -414,20 +523,42 @@ struct Loader {
     }
   }
 
-  void nodes(const aiNode* n, const glm::mat4& parent, const glm::mat4& root) {
-    glm::mat4 xf = parent * to_glm(n->mTransformation);
-    for (unsigned i = 0; i < n->mNumMeshes; ++i) {
-      int mi = mesh_map[n->mMeshes[i]];
-      if (mi < 0) continue;
-      Object o;
-      o.name = std::string(n->mName.C_Str());
-      if (o.name.empty()) o.name = s->meshes[size_t(mi)].name;
-      o.mesh = mi;
-      o.transform = root * xf;
-      s->objects.push_back(o);
+  // Every node's meshes become objects, in the order of a depth-first pre-order walk (the
+  // order of the former recursion), with an explicit stack: no recursion, whatever the depth,
+  // and a depth over kMaxNodeDepth (any format, after import) is an error naming the file.
+  // Records each node name's world transform (the first node of that name in the walk, as
+  // aiNode::FindNode finds it) for the file's lights.
+  void nodes(const aiNode* top, const glm::mat4& root, const std::string& file) {
+    struct Item {
+      const aiNode* n;
+      glm::mat4 parent;
+      int depth;
+    };
+    std::vector<Item> stack{{top, glm::mat4(1.f), 1}};
+    while (!stack.empty()) {
+      const Item it = stack.back();
+      stack.pop_back();
+      const aiNode* n = it.n;
+      if (it.depth > kMaxNodeDepth)
+        throw Error(where, file + ": node hierarchy nested deeper than " +
+                               std::to_string(kMaxNodeDepth) + " levels (the limit for any model)");
+      const glm::mat4 xf = it.parent * to_glm(n->mTransformation);
+      node_xf.emplace(std::string(n->mName.C_Str()), xf);
+      for (unsigned i = 0; i < n->mNumMeshes; ++i) {
+        int mi = n->mMeshes[i] < mesh_map.size() ? mesh_map[n->mMeshes[i]] : -1;
+        if (mi < 0) continue;
+        Object o;
+        o.name = std::string(n->mName.C_Str());
+        if (o.name.empty()) o.name = s->meshes[size_t(mi)].name;
+        o.mesh = mi;
+        o.transform = root * xf;
+        s->objects.push_back(o);
+      }
+      for (unsigned c = n->mNumChildren; c-- > 0;)
+        if (n->mChildren[c]) stack.push_back({n->mChildren[c], xf, it.depth + 1});
     }
-    for (unsigned c = 0; c < n->mNumChildren; ++c) nodes(n->mChildren[c], xf, root);
   }
+  std::map<std::string, glm::mat4> node_xf;  // node name -> node-to-model transform
 };
 
 // ---- load_file_scene stages
@@ -443,9 +574,13 @@ fs::path resolve_model_path(Params& p, const std::string& rel, const std::string
                     : p.file().empty() ? fs::current_path()
                                        : fs::path(p.file()).parent_path();
     fs::path a = base / rel, b = fs::path(models_dir) / "scenes" / rel;
-    path = fs::exists(a) ? a : (fs::exists(b) ? b : a);
+    const std::string w = p.where("path");
+    path = path_kind(a.string(), w) != PathKind::missing   ? a
+           : path_kind(b.string(), w) != PathKind::missing ? b
+                                                           : a;
   }
-  if (!fs::exists(path)) throw Error(p.where("path"), "scene file not found: " + path.string());
+  if (path_kind(path.string(), p.where("path")) == PathKind::missing)
+    throw Error(p.where("path"), "scene file not found: " + path.string());
   check_input_file(path.string(), p.where("path"));
   check_references(path, p.where("path"));
   return path;
@@ -487,17 +622,14 @@ glm::mat4 root_transform(const FileSceneKeys& k) {
 }
 
 // Lights from the file (point/spot/directional), in world space.
-void add_file_lights(const aiScene* ai, const glm::mat4& root, Scene& s) {
+// `node_xf`: each node name's node-to-model transform (Loader::nodes; no recursive FindNode).
+void add_file_lights(const aiScene* ai, const glm::mat4& root,
+                     const std::map<std::string, glm::mat4>& node_xf, Scene& s) {
   for (unsigned i = 0; i < ai->mNumLights; ++i) {
     const aiLight* al = ai->mLights[i];
     Light l;
-    const aiNode* n = ai->mRootNode->FindNode(al->mName);
-    glm::mat4 xf = root;
-    if (n) {
-      glm::mat4 acc(1.f);
-      for (const aiNode* k = n; k; k = k->mParent) acc = to_glm(k->mTransformation) * acc;
-      xf = root * acc;
-    }
+    const auto n = node_xf.find(std::string(al->mName.C_Str()));
+    const glm::mat4 xf = n != node_xf.end() ? root * n->second : root;
     glm::vec3 pos =
         glm::vec3(xf * glm::vec4(al->mPosition.x, al->mPosition.y, al->mPosition.z, 1.f));
     glm::vec3 dir =
@@ -566,7 +698,7 @@ Scene load_file_scene(Params& p, const std::string& models_dir) {
   L.materials();
   L.meshes();
   const glm::mat4 root = root_transform(k);
-  L.nodes(ai->mRootNode, glm::mat4(1.f), root);
+  L.nodes(ai->mRootNode, root, path.string());
   if (s.objects.empty()) throw Error(p.where("path"), "no triangles in " + path.string());
 
   // World bounds, for default lights and viewpoint.
@@ -577,7 +709,7 @@ Scene load_file_scene(Params& p, const std::string& models_dir) {
   glm::vec3 ctr = 0.5f * (wb.lo + wb.hi);
   float radius = std::max(1e-3f, 0.5f * glm::length(wb.hi - wb.lo));
 
-  add_file_lights(ai, root, s);
+  add_file_lights(ai, root, L.node_xf, s);
   if (s.lights.empty() && k.default_lights) add_default_lights(s, ctr, radius);
   s.ambient = glm::vec3(0.06f);
   s.background = glm::vec3(0.05f, 0.05f, 0.07f);

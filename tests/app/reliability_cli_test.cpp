@@ -394,7 +394,7 @@ TEST(Reliability, MisleadingMessagesAreFixed) {
   write_text(d + "/gltf.json",
              small_config(R"({"type": "file", "path": ")" + d + R"(/bad.gltf"})"));
   expect_user_error(run_cmd(bin + " run " + d + "/gltf.json --out " + d + "/o"),
-                    "bad.gltf: not a glTF file, its JSON does not parse: parse error at line 2");
+                    "not a glTF file: " + d + "/bad.gltf:2:1: malformed JSON");
   write_text(d + "/bad.glb", "garbage\x01\x02");
   write_text(d + "/glb.json", small_config(R"({"type": "file", "path": ")" + d + R"(/bad.glb"})"));
   expect_user_error(run_cmd(bin + " run " + d + "/glb.json --out " + d + "/o"),
