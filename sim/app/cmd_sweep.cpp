@@ -161,10 +161,9 @@ void register_sweep(CLI::App& app, Action& action) {
   c->add_option("--shard", a->shard,
                 "Run only shard i of N (\"i/N\", contiguous index ranges); default from "
                 "SLURM_ARRAY_TASK_ID/COUNT");
-  c->add_option("--batch", a->batch,
-                "Cells per reference pass (default 0: all pending cells of a reference group share "
-                "one pass)")
-      ->check(CLI::Range(0, 1000000));
+  add_number(c, "--batch", a->batch, "Cells per reference pass (default 0)",
+             {Range::closed(0, 1000000), "cells", true,
+              "all pending cells of a reference group share one pass"});
   c->add_flag("--bench", a->bench,
               "Print the timing report (references vs. cells' own work) and write bench.json");
   add_plot_flags(c, a->plot);
@@ -234,8 +233,8 @@ void register_search(CLI::App& app, Action& action) {
       ->required();
   options_common(c, *a);
   c->add_option("-o,--out", a->out, "Output directory (default: results/<name>)");
-  c->add_option("-j,--threads", a->run.threads, "Worker threads (default: all cores)")
-      ->check(CLI::Range(0, 4096));
+  add_number(c, "-j,--threads", a->run.threads, "Worker threads (default: all cores)",
+             {RunControl::threads_range(), "threads", true, "all cores"});
   c->add_option("--shard", a->shard, "Search only contexts of shard i of N (\"i/N\")");
   c->add_flag("-q,--quiet", a->quiet, "Print only errors");
   c->add_flag("--no-cache", a->run.no_cache,

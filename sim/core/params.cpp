@@ -27,12 +27,20 @@ bool Range::contains(double v) const {
 std::string shortest_number(double v) {
   if (std::isnan(v)) return "nan";
   if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-  char b[40];
+  // The shortest round-tripping %.*g text; on a tie the one without an exponent ("10000",
+  // not "1e+04"; "10", not "1e+01").
+  std::string best;
   for (int digits = 1; digits <= 17; ++digits) {
+    char b[40];
     std::snprintf(b, sizeof b, "%.*g", digits, v);
-    if (std::strtod(b, nullptr) == v) break;
+    if (std::strtod(b, nullptr) != v) continue;
+    const std::string t = b;
+    const bool shorter = best.empty() || t.size() < best.size() ||
+                         (t.size() == best.size() && best.find('e') != std::string::npos &&
+                          t.find('e') == std::string::npos);
+    if (shorter) best = t;
   }
-  return b;
+  return best;
 }
 
 std::string Range::str() const {
