@@ -61,7 +61,9 @@ TEST(CostInputs, EveryWorkloadAndProfileNumberHasABoundedRange) {
     EXPECT_LT(r.hi, 1e300) << r.str();
   // The documented range is the checked one (configs/README.md "Workload" is generated).
   for (const ParamInfo& i : workload_table().info())
-    if (std::string(i.name) == "lights") EXPECT_STREQ(i.range, "[-1, 1e6]");
+    if (std::string(i.name) == "lights") {
+      EXPECT_STREQ(i.range, "[-1, 1e6]");
+    }
 }
 
 TEST(CostInputs, OverflowingWorkloadValuesAreRefusedWhereTheyAreRead) {
