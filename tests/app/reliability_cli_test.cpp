@@ -127,7 +127,7 @@ TEST(Reliability, HugeInRangeValuesAreErrorsNotSignals) {
   const std::string png = std::string(FOVSIM_SOURCE_DIR) + "/tests/data/metrics/gray_a.png";
   if (fs::exists(png)) {
     expect_user_error(run_cmd(bin + " compare " + png + " " + png + " --ppd 1e12"),
-                      "is over the FLIP limit of");
+                      "--ppd: value 1e+12 is out of range [0.01, 1e+06] px/deg");
     expect_user_error(run_cmd(bin + " compare " + png + " " + png + " --ppd 1e5"),
                       "is over the FLIP limit of");
   }
