@@ -59,7 +59,7 @@ RunControl run_control(int threads, const std::string& models, double watchdog, 
   RunControl c;
   c.threads = int(check_integer("threads", threads, RunControl::threads_range()));
   c.models_dir = models;
-  c.watchdog_s = check_number("watchdog", watchdog, RunControl::watchdog_range());
+  c.watchdog_s = RunControl::check_watchdog("watchdog", watchdog);
   // The reference cache as in `fovsim run` (config cache.*; FOVSIM_NO_CACHE=1 turns it off).
   c.use_cache = cache && !cache_disabled_by_env();
   for (auto& t : targets) (void)parse_target(t);

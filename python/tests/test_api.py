@@ -93,6 +93,25 @@ class CostTest(unittest.TestCase):
             with self.assertRaises(fovsim.FovsimError) as cm:
                 fovsim.predict(gpu="gtx1080", workload="kfr_bistro", methods=["full"], **kw)
             self.assertIn(msg, str(cm.exception))
+        # A profile with "passes": {} used to cost every method 0 ms and fit every budget; an
+        # overflowing workload used to make a frame cheaper. Both are errors naming the file.
+        with tempfile.TemporaryDirectory() as d:
+            with open(os.path.join(REPO, "models", "gpus", "gtx1080.json")) as f:
+                prof = json.load(f)
+            prof["passes"] = {}
+            empty = os.path.join(d, "empty.json")
+            with open(empty, "w") as f:
+                json.dump(prof, f)
+            with self.assertRaises(fovsim.FovsimError) as cm:
+                fovsim.budget(gpu=empty, workload="kfr_bistro", methods=["full"])
+            self.assertIn("empty.json: GPU profile 'gtx1080' has no coefficients for pass", str(cm.exception))
+            self.assertIn("which method 'full' declares", str(cm.exception))
+            big = os.path.join(d, "big.json")
+            with open(big, "w") as f:
+                json.dump({"name": "big", "lights": 1e300}, f)
+            with self.assertRaises(fovsim.FovsimError) as cm:
+                fovsim.predict(gpu="gtx1080", workload=big, methods=["full"])
+            self.assertIn("big.json: lights: value 1e+300 is out of range [-1, 1e+06]", str(cm.exception))
 
     def test_dataframe_when_pandas(self):
         try:

@@ -94,7 +94,7 @@ class EngineTest(unittest.TestCase):
         self.assertEqual(target["frames_used"], 2)  # fewer frames than a unit: all of them
         with self.assertRaises(fovsim.FovsimError) as cm:
             fovsim.run(self.cfg, out=os.path.join(self.d, "wd"), watchdog=-1)
-        self.assertIn("watchdog: value -1 is out of range [0, 1e+09]", str(cm.exception))
+        self.assertIn("watchdog: value -1 is out of range [1, 86400] s (0: off)", str(cm.exception))
         with self.assertRaises(fovsim.FovsimError) as cm:
             fovsim.run(self.cfg, out=os.path.join(self.d, "bt"), targets=["nope"])
         self.assertIn("--target nope", str(cm.exception))
@@ -109,7 +109,7 @@ class EngineTest(unittest.TestCase):
         # The run options are run()'s, checked the same way (RunControl).
         with self.assertRaises(fovsim.FovsimError) as cm:
             fovsim.Evaluator(self.cfg, out=os.path.join(self.d, "ev2"), watchdog=-1)
-        self.assertIn("watchdog: value -1 is out of range [0, 1e+09]", str(cm.exception))
+        self.assertIn("watchdog: value -1 is out of range [1, 86400] s (0: off)", str(cm.exception))
         with self.assertRaises(fovsim.FovsimError) as cm:
             fovsim.Evaluator(self.cfg, out=os.path.join(self.d, "ev3"), targets=["nope"])
         self.assertIn("--target nope", str(cm.exception))

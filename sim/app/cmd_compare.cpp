@@ -32,8 +32,9 @@ void register_compare(CLI::App& app, Action& action) {
                 "Reference image (PNG, ...); with --fvvdp also a folder of PNG frames")
       ->required();
   c->add_option("TEST", a->test, "Test image (or folder), same size (and frame count)")->required();
-  c->add_option("--ppd", a->ppd,
-                "Pixels per degree for FLIP (default: FLIP's 0.7 m from a 0.7 m, 3840 px display)")
+  add_number(c, "--ppd", a->ppd,
+             "Pixels per degree for FLIP (default: FLIP's 0.7 m from a 0.7 m, 3840 px display)",
+             {flip_ppd_range(), "px/deg"})
       ->capture_default_str();
   c->add_flag("--json", a->json,
               "Print one JSON object with keys psnr, ssim, flip, ppd, width, height");
@@ -43,7 +44,8 @@ void register_compare(CLI::App& app, Action& action) {
                 "With --fvvdp: display name (models/displays/, e.g. standard_4k) or path");
   c->add_option("--gaze", a->gaze,
                 "With --fvvdp: gaze X,Y in pixels from the top-left (implies --foveated)");
-  c->add_option("--fps", a->fps, "With --fvvdp: frame rate of PNG sequences (Hz, > 4)");
+  add_number(c, "--fps", a->fps, "With --fvvdp: frame rate of PNG sequences",
+             {fvvdp_fps_range(), "Hz"});
   c->add_flag("--foveated", a->foveated,
               "With --fvvdp: foveated mode (gaze at the image centre unless --gaze)");
   c->callback([a, &action] {

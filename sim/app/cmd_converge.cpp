@@ -23,14 +23,16 @@ void register_converge(CLI::App& app, Action& action) {
   c->add_option("config", a->config, "Run config (JSON), e.g. configs/convergence.json")
       ->required();
   c->add_option("overrides", a->overrides, "Overrides key.path=value applied to every level");
-  c->add_option("--spp", a->spps, "Increasing perfect squares (default 1,4,16,64)")->delimiter(',');
+  add_number(c, "--spp", a->spps, "Increasing perfect squares (default 1,4,16,64)",
+             {Range::closed(1, 1024), "samples per pixel (render.spp)"})
+      ->delimiter(',');
   c->add_option("-o,--out", a->out, "Output directory (default results/convergence)");
   add_run_flags(c, a->run);  // no --target: the spp levels are fixed
   c->add_option("--models", a->run.models,
                 "Models directory (default: $FOVSIM_MODELS, ./models, or the source tree's)");
-  c->add_option("--tol-jod", a->tol_jod,
-                "FovVideoVDP tolerance in JOD between levels (default 0.05)")
-      ->check(CLI::Range(1e-6, 10.0));
+  add_number(c, "--tol-jod", a->tol_jod,
+             "FovVideoVDP tolerance in JOD between levels (default 0.05)",
+             {Range::closed(1e-6, 10.0), "JOD"});
   c->callback([a, &action]() {
     action = [a]() {
       ConvergenceOptions o;

@@ -73,12 +73,11 @@ void add_target_options(CLI::App* c, Target& t, const std::string& default_metho
                 "lights and shading cost decide every method's cost");
   c->add_option("--display", t.display, "Display name or path (models/displays/NAME.json)")
       ->capture_default_str();
-  c->add_option("--width", t.width, "Override the per-eye width in pixels")
-      ->check(integer_checked(CostArgRanges::pixels()));
-  c->add_option("--height", t.height, "Override the per-eye height in pixels")
-      ->check(integer_checked(CostArgRanges::pixels()));
-  c->add_option("--eyes", t.eyes, "Override the number of eyes rendered (1 or 2)")
-      ->check(integer_checked(CostArgRanges::eyes()));
+  add_number(c, "--width", t.width, "Override the per-eye width", {CostArgRanges::pixels(), "px"});
+  add_number(c, "--height", t.height, "Override the per-eye height",
+             {CostArgRanges::pixels(), "px"});
+  add_number(c, "--eyes", t.eyes, "Override the number of eyes rendered",
+             {CostArgRanges::eyes(), "eyes"});
   c->add_option(
       "-m,--method", t.methods,
       "Method and parameters, e.g. full, kfr:sigma=1.8, rmfr:sigma=2.6, twfr:redraw_fraction=0.06, "
@@ -161,15 +160,19 @@ FrameCost cost_for(const GpuProfile& g, const MethodSpec& m, const Resolved& r) 
 void print_uncalibrated_note(const std::vector<GpuProfile>& gs) {
   for (auto& g : gs)
     if (!g.calibrated)
-      std::cout << "* " << g.name
+      std::cout << "* " << escape_control(g.name, 80)
                 << ": calibrated = no, a spec-sheet transfer (no calibration table used this GPU); "
                    "its interval is widened x"
                 << fmt("%.2f", g.interval.widen) << " in log space"
                 << (g.architecture.empty() ? std::string() : "; " + g.architecture) << "\n";
 }
 
-void print_table(const std::vector<std::vector<std::string>>& rows) {
+// Every cell escaped (escape_control): a GPU, workload or method name from a file never
+// carries an ESC sequence or a line break into the terminal.
+void print_table(std::vector<std::vector<std::string>> rows) {
   if (rows.empty()) return;
+  for (auto& r : rows)
+    for (auto& cell : r) cell = escape_control(cell, 80);
   std::vector<size_t> wd(rows[0].size(), 0);
   for (auto& r : rows)
     for (size_t i = 0; i < r.size() && i < wd.size(); ++i) wd[i] = std::max(wd[i], r[i].size());
@@ -292,9 +295,9 @@ int do_predict_results(const PredictArgs& a) {
   if (a.json) {
     std::cout << out.dump(2) << "\n";
   } else {
-    std::cout << "results " << a.results << " re-costed for display " << d.name << " " << d.width
-              << "x" << d.height << " x" << d.eyes << " eye(s), workload " << res.workload
-              << "; mean ms per frame ('-': pass does not exist)\n";
+    std::cout << "results " << a.results << " re-costed for display " << escape_control(d.name, 80)
+              << " " << d.width << "x" << d.height << " x" << d.eyes << " eye(s), workload "
+              << res.workload << "; mean ms per frame ('-': pass does not exist)\n";
     print_table(rows);
   }
   return 0;
@@ -390,8 +393,8 @@ int do_predict(const PredictArgs& a) {
   if (a.json) {
     std::cout << out.dump(2) << "\n";
   } else {
-    std::cout << "workload " << w.name << ", display " << d.name << " " << d.width << "x"
-              << d.height << " x" << d.eyes
+    std::cout << "workload " << escape_control(w.name, 80) << ", display "
+              << escape_control(d.name, 80) << " " << d.width << "x" << d.height << " x" << d.eyes
               << " eye(s); ms per frame ('-': pass does not exist); interval_ms: the profile's "
               << "prediction interval on the total (docs/cost_model.md)"
               << (a.t.config.empty() ? std::string()
@@ -565,8 +568,8 @@ int do_budget(const BudgetArgs& a) {
   if (a.json) {
     std::cout << out.dump(2) << "\n";
   } else {
-    std::cout << "budget " << fmt("%.2f", budget) << " ms; workload " << w.name << ", display "
-              << d.width << "x" << d.height << " x" << d.eyes
+    std::cout << "budget " << fmt("%.2f", budget) << " ms; workload " << escape_control(w.name, 80)
+              << ", display " << d.width << "x" << d.height << " x" << d.eyes
               << " eye(s); what-if throughput x shading " << a.s_shading << ", geometry "
               << a.s_geometry << ", raster " << a.s_raster << ", memory " << a.s_memory
               << ", fixed " << a.s_fixed << "\n"
@@ -647,18 +650,18 @@ void register_cost(CLI::App& app, Action& action) {
         "A results directory of `fovsim run`: re-cost its measured counters (frames.csv) for "
         "--gpu, and for "
         "--display/--width/--height/--eyes when given (default: the run's display); -m is ignored");
-    c->add_option("--tracking-loss", a->tracking_loss,
-                  "Fraction of frames with tracking lost: adds lost_ms and with_loss_ms "
-                  "(docs/tracking.md)")
-        ->check(finite_in(0.0, 1.0));
+    add_number(c, "--tracking-loss", a->tracking_loss,
+               "Fraction of frames with tracking lost: adds lost_ms and with_loss_ms "
+               "(docs/tracking.md)",
+               {Range::closed(0, 1), "fraction"});
     c->add_option("--on-invalid", a->on_invalid,
                   "Policy on lost frames with --tracking-loss (docs/tracking.md)")
         ->check(CLI::IsMember(on_invalid_choices()))
         ->capture_default_str();
-    c->add_option("--widen-k", a->widen_k,
-                  "With --on-invalid widen: mean foveal growth factor k over the lost frames "
-                  "(default 1.75 = 1 + 10/s x 75 ms, the middle of a 150 ms blink)")
-        ->check(finite_in(1.0, 1000.0))
+    add_number(c, "--widen-k", a->widen_k,
+               "With --on-invalid widen: mean foveal growth factor k over the lost frames "
+               "(default 1.75 = 1 + 10/s x 75 ms, the middle of a 150 ms blink)",
+               {Range::closed(1, 1000), "factor"})
         ->capture_default_str();
     c->callback([a, &action, c]() {
       a->display_given = c->get_option("--display")->count() > 0;
@@ -673,28 +676,28 @@ void register_cost(CLI::App& app, Action& action) {
                            "Which configurations fit a refresh-rate budget, their headroom, and "
                            "the throughput factor each resource would need");
     add_target_options(c, a->t, join_names(budget_default_methods()) + " (every method)");
-    c->add_option("--hz", a->hz,
-                  "Refresh rate whose frame time is the budget (e.g. 72, 90, 120, 144)")
-        ->capture_default_str()
-        ->check(checked(CostArgRanges::hz()));
-    c->add_option("--budget-ms", a->budget_ms, "Frame budget in ms (overrides --hz)")
-        ->check(checked(CostArgRanges::budget_ms()));
-    c->add_option("--scale-shading", a->s_shading, "What-if: multiply shading (FP32) throughput")
-        ->check(checked(CostArgRanges::scale()));
-    c->add_option("--scale-geometry", a->s_geometry,
-                  "What-if: multiply geometry (triangle) throughput")
-        ->check(checked(CostArgRanges::scale()));
-    c->add_option("--scale-raster", a->s_raster, "What-if: multiply raster (fill) throughput")
-        ->check(checked(CostArgRanges::scale()));
-    c->add_option("--scale-memory", a->s_memory, "What-if: multiply memory bandwidth")
-        ->check(checked(CostArgRanges::scale()));
-    c->add_option("--scale-fixed", a->s_fixed,
-                  "What-if: divide fixed per-pass overheads by this factor")
-        ->check(checked(CostArgRanges::scale()));
+    add_number(c, "--hz", a->hz,
+               "Refresh rate whose frame time is the budget (e.g. 72, 90, 120, 144)",
+               {CostArgRanges::hz(), "Hz"})
+        ->capture_default_str();
+    add_number(c, "--budget-ms", a->budget_ms, "Frame budget (overrides --hz)",
+               {CostArgRanges::budget_ms(), "ms"});
+    add_number(c, "--scale-shading", a->s_shading, "What-if: multiply shading (FP32) throughput",
+               {CostArgRanges::scale(), "factor"});
+    add_number(c, "--scale-geometry", a->s_geometry,
+               "What-if: multiply geometry (triangle) throughput",
+               {CostArgRanges::scale(), "factor"});
+    add_number(c, "--scale-raster", a->s_raster, "What-if: multiply raster (fill) throughput",
+               {CostArgRanges::scale(), "factor"});
+    add_number(c, "--scale-memory", a->s_memory, "What-if: multiply memory bandwidth",
+               {CostArgRanges::scale(), "factor"});
+    add_number(c, "--scale-fixed", a->s_fixed,
+               "What-if: divide fixed per-pass overheads by this factor",
+               {CostArgRanges::scale(), "factor"});
     c->add_flag("--json", a->json, "Print JSON");
-    c->add_option("--p", a->target_p,
-                  "Probability of fitting the cheapest change must reach (default 0.8)")
-        ->check(CLI::Range(0.05, 0.99));
+    add_number(c, "--p", a->target_p,
+               "Probability of fitting the cheapest change must reach (default 0.8)",
+               {Range::closed(0.05, 0.99), "probability"});
     c->add_option("--results", a->results,
                   "A results directory of `fovsim run` (or a sweep folder: every cell): the "
                   "verdict, probability and headroom of its measured counters re-costed for --gpu");

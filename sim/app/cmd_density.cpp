@@ -161,25 +161,25 @@ void register_density(CLI::App& app, Action& action) {
   c->add_option("--display", a->display, "Display name or path (models/displays/NAME.json)")
       ->capture_default_str();
   c->add_option("--models", a->models, "Models directory");
-  c->add_option("--gaze-u", a->gaze_u, "Gaze x as a fraction of W")
-      ->capture_default_str()
-      ->check(finite_in(0.0, 1.0));
-  c->add_option("--gaze-v", a->gaze_v, "Gaze y as a fraction of H")
-      ->capture_default_str()
-      ->check(finite_in(0.0, 1.0));
-  c->add_option("--target", a->target,
-                "Iso-budget: shaded fraction every method is tuned to (Ye et al. 2022 §5.1)")
-      ->check(finite_above(0.0, 1.0));
-  c->add_option("--directions", a->directions, "Directions from the gaze")
-      ->check(CLI::Range(1, 360))
+  add_number(c, "--gaze-u", a->gaze_u, "Gaze x as a fraction of W",
+             {Range::closed(0, 1), "fraction"})
       ->capture_default_str();
-  c->add_option("--samples", a->samples, "Samples per direction")
-      ->check(CLI::Range(1, 100000))
+  add_number(c, "--gaze-v", a->gaze_v, "Gaze y as a fraction of H",
+             {Range::closed(0, 1), "fraction"})
       ->capture_default_str();
-  c->add_option("--max-rows", a->max_rows,
-                "Most rows (methods x --directions x --samples), checked before any is computed")
-      ->capture_default_str()
-      ->check(finite_in(1.0, 1e9));
+  add_number(c, "--target", a->target,
+             "Iso-budget: shaded fraction every method is tuned to (Ye et al. 2022 §5.1)",
+             {Range::above(0, 1), "fraction"});
+  add_number(c, "--directions", a->directions, "Directions from the gaze",
+             {Range::closed(1, 360), "directions"})
+      ->capture_default_str();
+  add_number(c, "--samples", a->samples, "Samples per direction",
+             {Range::closed(1, 100000), "samples"})
+      ->capture_default_str();
+  add_number(c, "--max-rows", a->max_rows,
+             "Most rows (methods x --directions x --samples), checked before any is computed",
+             {Range::closed(1, 1e9), "rows"})
+      ->capture_default_str();
   c->add_option("--out", a->out, "Output prefix (writes PREFIX.csv, PREFIX.json)")
       ->capture_default_str();
   c->add_flag("--plot", a->plot, "Plot with viz/plot_density.py (PREFIX.png)");

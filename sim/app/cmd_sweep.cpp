@@ -163,15 +163,14 @@ void register_sweep(CLI::App& app, Action& action) {
   c->add_option("--shard", a->shard,
                 "Run only shard i of N (\"i/N\", contiguous index ranges); default from "
                 "SLURM_ARRAY_TASK_ID/COUNT");
-  c->add_option("--batch", a->batch,
-                "Cells per reference pass (default 0: all pending cells of a reference group share "
-                "one pass)")
-      ->check(CLI::Range(0, 1000000));
-  c->add_option("--memory-budget", a->memory_budget_gb,
-                "Memory budget of the cells run together, GB (10^9 bytes; over the config's "
-                "run.memory_gb; default: 75% of MemAvailable): as many cells as fit share one pass "
-                "over the frames, the rest run in later passes with the same numbers")
-      ->check(CLI::Range(0.0, 1e6));
+  add_number(c, "--batch", a->batch, "Cells per reference pass (default 0)",
+             {Range::closed(0, 1000000), "cells", true,
+              "all pending cells of a reference group share one pass"});
+  add_number(c, "--memory-budget", a->memory_budget_gb,
+             "Memory budget of the cells run together (over the config's run.memory_gb; 10^9 "
+             "bytes): as many cells as fit share one pass over the frames, the rest run in later "
+             "passes with the same numbers",
+             {Range::above(0, 1e6), "GB", false, "75% of MemAvailable"});
   c->add_flag("--bench", a->bench,
               "Print the timing report (references vs. cells' own work) and write bench.json");
   add_plot_flags(c, a->plot);
@@ -242,8 +241,8 @@ void register_search(CLI::App& app, Action& action) {
       ->required();
   options_common(c, *a);
   c->add_option("-o,--out", a->out, "Output directory (default: results/<name>)");
-  c->add_option("-j,--threads", a->run.threads, "Worker threads (default: all cores)")
-      ->check(CLI::Range(0, 4096));
+  add_number(c, "-j,--threads", a->run.threads, "Worker threads (default: all cores)",
+             {RunControl::threads_range(), "threads", true, "all cores"});
   c->add_option("--shard", a->shard, "Search only contexts of shard i of N (\"i/N\")");
   c->add_flag("-q,--quiet", a->quiet, "Print only errors");
   c->add_flag("--no-cache", a->run.no_cache,

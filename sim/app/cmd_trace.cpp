@@ -119,10 +119,9 @@ void register_trace_validate(CLI::App* t, const std::shared_ptr<TraceArgs>& a, A
                   "Bad-sample policy: fail (first problem is an error), skip or hold")
       ->check(CLI::IsMember({"fail", "skip", "hold"}))
       ->capture_default_str();
-  val->add_option("--max-gap", a->max_gap,
-                  "Seconds: flag intervals between samples longer than this (0: no check)")
-      ->capture_default_str()
-      ->check(finite_in(0.0, 1e9));
+  add_number(val, "--max-gap", a->max_gap, "Flag intervals between samples longer than this",
+             {Range::above(0, 1e9), "s", false, "no check"})
+      ->capture_default_str();
   add_display_opts(val, *a);
   val->callback([a, &action] {
     action = [a] {
@@ -182,18 +181,17 @@ void register_trace_synth(CLI::App* t, const std::shared_ptr<TraceArgs>& a, Acti
   syn->add_option("--scenario", a->scenario, "Scenario: " + names)
       ->required()
       ->check(CLI::IsMember(synth_scenarios()));
-  syn->add_option("--seed", a->seed, "Random seed, an integer in [0, 2^53] (same seed, same trace)")
-      ->capture_default_str()
-      ->check(integer_in(0.0, kMaxSynthSeed));
-  syn->add_option("--duration", a->duration, "Duration in seconds")
-      ->capture_default_str()
-      ->check(finite_above(0.0, 36000.0));
-  syn->add_option("--rate", a->rate, "Output rate in Hz (default: the display's refresh rate)")
-      ->check(finite_above(0.0, 10000.0));
-  syn->add_option("--max-samples", a->max_samples,
-                  "Most samples generated (output or internal rate, whichever is higher)")
-      ->capture_default_str()
-      ->check(finite_in(1.0, 2e9));
+  add_number(syn, "--seed", a->seed, "Random seed (same seed, same trace)",
+             {Range::closed(0, kMaxSynthSeed), "seed", true})
+      ->capture_default_str();
+  add_number(syn, "--duration", a->duration, "Duration of the trace", {Range::above(0, 36000), "s"})
+      ->capture_default_str();
+  add_number(syn, "--rate", a->rate, "Output rate (default: the display's refresh rate)",
+             {Range::above(0, 10000), "Hz"});
+  add_number(syn, "--max-samples", a->max_samples,
+             "Most samples generated (output or internal rate, whichever is higher)",
+             {Range::closed(1, 2e9), "samples"})
+      ->capture_default_str();
   syn->add_option("--params", a->params,
                   "Eye-model overrides JSON (any subset of models/eyemodel/default.json)");
   syn->add_option("-o,--output", a->out, "Canonical CSV to write")->required();

@@ -2,66 +2,17 @@
 // explicitly from main.cpp (no static registration).
 #pragma once
 #include <CLI/CLI.hpp>
-#include <cmath>
-#include <cstdio>
 #include <functional>
 #include <string>
 #include <vector>
 
+#include "sim/app/flags.h"
 #include "sim/core/disk_cache.h"
 #include "sim/core/error.h"
 #include "sim/core/params.h"
 #include "sim/experiment/run_options.h"
 
 namespace fovsim::app {
-
-// Flag validators that refuse NaN, infinities and values outside the range (CLI11's Range
-// and PositiveNumber let NaN through), through the library's check_number (params.h), the
-// check the Python bindings make too: "[lo, hi]" and "(lo, hi]".
-inline CLI::Validator checked(const Range& r) {
-  return CLI::Validator(
-      [r](std::string& s) -> std::string {
-        double v = 0;
-        if (!CLI::detail::lexical_cast(s, v))
-          return "value \"" + escape_control(s, 40) + "\" is not a number in " + r.str();
-        try {
-          check_number("", v, r);
-        } catch (const Error& e) {
-          return e.message();
-        }
-        return "";
-      },
-      "FLOAT in " + r.str());
-}
-// An integer flag in [lo, hi] through check_integer: "1e20", "2.5", "nan" and values past the
-// range are errors (CLI11's integer conversion would clamp 2^64 to the largest long long).
-inline CLI::Validator integer_checked(const Range& r) {
-  return CLI::Validator(
-      [r](std::string& s) -> std::string {
-        double v = 0;
-        if (!CLI::detail::lexical_cast(s, v))
-          return "value \"" + escape_control(s, 40) + "\" is not an integer in " + r.str();
-        try {
-          check_integer("", v, r);
-        } catch (const Error& e) {
-          return e.message();
-        }
-        return "";
-      },
-      "INT in " + r.str());
-}
-inline CLI::Validator integer_in(double lo, double hi) {
-  return integer_checked(Range::closed(lo, hi));
-}
-inline CLI::Validator finite_range(double lo, double hi, bool lo_open) {
-  return checked(lo_open ? Range::above(lo, hi) : Range::closed(lo, hi));
-}
-inline CLI::Validator finite_in(double lo, double hi) {
-  return finite_range(lo, hi, false);
-}
-inline CLI::Validator finite_above(double lo, double hi) {
-  return finite_range(lo, hi, true);
-}
 
 // A registered subcommand sets `action`; main runs it inside the one try/catch.
 using Action = std::function<int()>;
@@ -81,6 +32,8 @@ void register_compare(CLI::App& app, Action& action);  // fovsim compare REF TES
 void register_converge(CLI::App& app, Action& action);
 // fovsim fidelity CONFIG (docs/fidelity.md)
 void register_fidelity(CLI::App& app, Action& action);
+// Every command group above, in --help order (main.cpp; tests/app/flags_test.cpp walks them).
+void register_commands(CLI::App& app, Action& action);
 
 // The run options every command that runs configs shares (RunControl,
 // sim/experiment/run_options.h; the Python bindings take the same): -j/--threads, --no-cache,
@@ -106,19 +59,18 @@ struct RunFlags {
 // -j/--threads, --no-cache, --watchdog: commands with no --target (`fidelity` runs a fixed
 // ladder, `converge` fixed spp levels).
 inline void add_run_flags(CLI::App* c, RunFlags& f) {
-  const Range th = RunControl::threads_range(), wd = RunControl::watchdog_range();
-  c->add_option("-j,--threads", f.threads,
-                "Worker threads (default: all cores); results are identical at any count")
-      ->check(CLI::Range(int(th.lo), int(th.hi)));
+  add_number(c, "-j,--threads", f.threads,
+             "Worker threads (default: all cores); results are identical at any count",
+             {RunControl::threads_range(), "threads", true, "all cores"});
   c->add_flag("--no-cache", f.no_cache,
               "Do not read or write the reference cache (cache.dir, default "
               "~/.cache/fovsim; configs/README.md \"cache\"); FOVSIM_NO_CACHE=1 does the same");
-  c->add_option("--watchdog", f.watchdog_s,
-                "Seconds: stop with an error naming the frame and method when one method's frame "
-                "runs longer than\n"
-                "max(SECONDS, 50x the median of its previous frames) (its first frame: 10x "
-                "SECONDS); 0 disables")
-      ->check(finite_in(wd.lo, wd.hi));
+  add_number(c, "--watchdog", f.watchdog_s,
+             "Stop with an error naming the frame and method when one method's frame runs "
+             "longer than\n"
+             "max(SECONDS, 50x the median of its previous frames) (its first frame: 10x "
+             "SECONDS); 0 disables",
+             {RunControl::watchdog_range(), "s", false, "off"});
 }
 // The same and --target; `target_help` says what --target stops.
 inline void add_run_flags(CLI::App* c, RunFlags& f, const std::string& target_help) {
@@ -136,8 +88,8 @@ void add_plot_flags(CLI::App* c, Flags& f) {
   c->add_option("--plot-format", f.format,
                 "Also write every plot as pdf or svg next to its png (viz --format)")
       ->check(CLI::IsMember({"png", "pdf", "svg"}));
-  c->add_option("--plot-dpi", f.dpi, "Resolution of raster plots (default 110)")
-      ->check(CLI::Range(1.0, 2400.0));
+  add_number(c, "--plot-dpi", f.dpi, "Resolution of raster plots (default 110)",
+             {Range::closed(10, 2400), "dpi"});
   c->add_option("--plot-configs", f.configs,
                 "Comma-separated configurations (labels) to draw, in that order (default: all)");
 }

@@ -6,6 +6,7 @@
 
 #include "sim/app/commands.h"
 #include "sim/core/error.h"
+#include "sim/core/message_text.h"
 #include "sim/core/params.h"
 #include "sim/core/version.h"
 #include "sim/core/watchdog.h"
@@ -109,17 +110,7 @@ int main(int argc, char** argv) {
     std::fflush(stderr);
     std::_Exit(3);
   });
-  // Explicit registration, one line per command group.
-  fovsim::app::register_run(app, action);
-  fovsim::app::register_cost(app, action);
-  fovsim::app::register_trace(app, action);
-  fovsim::app::register_sweeps(app, action);
-  fovsim::app::register_density(app, action);
-  fovsim::app::register_info(app, action);
-  fovsim::app::register_methods(app, action);
-  fovsim::app::register_compare(app, action);
-  fovsim::app::register_converge(app, action);
-  fovsim::app::register_fidelity(app, action);
+  fovsim::app::register_commands(app, action);
 
   try {
     app.parse(argc, argv);
@@ -130,7 +121,7 @@ int main(int argc, char** argv) {
   try {
     return action ? action() : 0;
   } catch (const fovsim::Error& e) {
-    std::fprintf(stderr, "fovsim: error: %s\n", fovsim::escape_control(e.what()).c_str());
+    std::fprintf(stderr, "fovsim: error: %s\n", fovsim::escape_control(e.what(), 4000).c_str());
     return 2;
   } catch (const fovsim::InternalError& e) {  // FOVSIM_CHECK: a bug, not the input
     std::fprintf(stderr, "fovsim: internal error: %s (a bug in fovsim, not in the input)\n",
@@ -142,6 +133,10 @@ int main(int argc, char** argv) {
     std::fprintf(stderr,
                  "fovsim: error: out of memory (not attributed to a phase that names its key; "
                  "give the process more memory)\n");
+    return 3;
+  } catch (const nlohmann::json::exception& e) {  // JSON read without a check: a bug
+    std::fprintf(stderr, "fovsim: internal error: unchecked JSON: %s (a bug in fovsim)\n",
+                 fovsim::escape_control(fovsim::json_error_text(e), 200).c_str());
     return 3;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "fovsim: internal error: %s\n", e.what());

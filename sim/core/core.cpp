@@ -477,7 +477,10 @@ void clear_run_outputs(const std::string& dir, bool earlier_run) {
 
 bool file_exists(const std::string& path) {
   std::error_code ec;
-  return fs::exists(path, ec);
+  if (fs::exists(path, ec)) return true;
+  // A symbolic link loop is there but cannot be followed: "exists", so the reader names why it
+  // cannot read it ("Too many levels of symbolic links") instead of the caller's "not found".
+  return ec.value() == ELOOP;
 }
 
 Progress::Progress(std::string label, size_t total)

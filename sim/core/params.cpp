@@ -3,12 +3,14 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <set>
 #include <sstream>
 
 #include "sim/core/error.h"
 #include "sim/core/files.h"
+#include "sim/core/message_text.h"
 
 namespace fovsim {
 
@@ -19,36 +21,53 @@ bool Range::contains(double v) const {
   return true;
 }
 
-// A bound as it is: the default upper bound 1e300 prints "1e+300" (a value of 1e301 is out of
-// it, which "inf" would hide); only a true infinity prints "inf".
-static std::string fmt_num(double v) {
-  char b[40];
-  std::snprintf(b, sizeof b, "%.6g", v);
-  if (std::strtod(b, nullptr) != v) std::snprintf(b, sizeof b, "%.17g", v);  // e.g. 2^53
-  return b;
+// Shortest text that reads back as the same double (%.*g with 1..17 digits): a bound or a
+// value prints as given -- 4.0000001 is not "4", the default upper bound 1e300 is "1e+300"
+// (a value of 1e301 is out of it, which "inf" would hide) -- and never as 300 digits.
+std::string shortest_number(double v) {
+  if (std::isnan(v)) return "nan";
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  // The shortest round-tripping %.*g text; on a tie the one without an exponent ("10000",
+  // not "1e+04"; "10", not "1e+01").
+  std::string best;
+  for (int digits = 1; digits <= 17; ++digits) {
+    char b[40];
+    std::snprintf(b, sizeof b, "%.*g", digits, v);
+    if (std::strtod(b, nullptr) != v) continue;
+    const std::string t = b;
+    const bool shorter = best.empty() || t.size() < best.size() ||
+                         (t.size() == best.size() && best.find('e') != std::string::npos &&
+                          t.find('e') == std::string::npos);
+    if (shorter) best = t;
+  }
+  return best;
 }
 
 std::string Range::str() const {
-  return std::string(lo_open ? "(" : "[") + fmt_num(lo) + ", " + fmt_num(hi) +
+  return std::string(lo_open ? "(" : "[") + shortest_number(lo) + ", " + shortest_number(hi) +
          (hi_open ? ")" : "]");
 }
 
-static std::string short_num(double v) {
-  char b[40];
-  std::snprintf(b, sizeof b, "%.6g", v);
-  return b;
-}
-
 double check_number(const std::string& where, double v, const Range& r) {
-  if (!r.contains(v)) throw Error(where, "value " + short_num(v) + " is out of range " + r.str());
+  if (!r.contains(v))
+    throw Error(where, "value " + shortest_number(v) + " is out of range " + r.str());
   return v;
 }
 
 long check_integer(const std::string& where, double v, const Range& r) {
   check_number(where, v, r);
   if (v != std::floor(v) || std::fabs(v) > 9007199254740992.0)
-    throw Error(where, "value " + short_num(v) + " is not an integer in " + r.str());
+    throw Error(where, "value " + shortest_number(v) + " is not an integer in " + r.str());
   return long(v);
+}
+
+std::string json_error_text(const std::exception& e) {
+  std::string s = e.what();
+  if (s.rfind("[json.exception.", 0) == 0) {
+    const size_t p = s.find("] ");
+    if (p != std::string::npos) s = s.substr(p + 2);
+  }
+  return s;
 }
 
 std::string describe_json(const Json& v) {
@@ -348,7 +367,7 @@ void Params::ignore(const std::string& key) {
 }
 
 void Params::check_range(const std::string& key, double v, const Range& r) const {
-  if (!r.contains(v)) fail(key, "value " + short_num(v) + " is out of range " + r.str());
+  if (!r.contains(v)) fail(key, "value " + shortest_number(v) + " is out of range " + r.str());
 }
 
 double Params::number(const std::string& key, double def, Range r) {
@@ -388,7 +407,8 @@ int Params::integer(const std::string& key, Range r) {
   if (!v->is_number())
     fail(key, "expected an integer in " + r.str() + ", got " + describe_json(*v));
   double d = v->get<double>();
-  if (d != std::floor(d)) fail(key, "expected an integer in " + r.str() + ", got " + short_num(d));
+  if (d != std::floor(d))
+    fail(key, "expected an integer in " + r.str() + ", got " + shortest_number(d));
   check_range(key, d, r);
   mark(key, *v);
   return int(d);
@@ -430,7 +450,8 @@ std::string Params::string(const std::string& key, const std::vector<std::string
   if (!allowed.empty()) {
     bool ok = false;
     for (auto& a : allowed) ok = ok || a == s;
-    if (!ok) fail(key, "unknown value \"" + s + "\" (allowed: " + join(allowed) + ")");
+    if (!ok)
+      fail(key, "unknown value \"" + escape_control(s, 80) + "\" (allowed: " + join(allowed) + ")");
   }
   mark(key, *v);
   return s;
@@ -521,7 +542,7 @@ void Params::finish_rec(const Json& j, const Json::json_pointer& ptr,
             known.push_back(Json::json_pointer("/" + rest).back());
         }
         std::string hint = closest_name(it.key(), known);
-        throw Error(locate(sp), "unknown key \"" + it.key() + "\" (" +
+        throw Error(locate(sp), "unknown key \"" + escape_control(it.key(), 80) + "\" (" +
                                     (hint.empty() ? "not a parameter here; check spelling"
                                                   : "did you mean \"" + hint + "\"?") +
                                     ")");
@@ -554,7 +575,7 @@ Json parse_value_or_string(const std::string& text, const std::string& where) {
     }
     return s;
   } catch (const Json::exception& e) {  // valid syntax but unrepresentable (1e400)
-    throw Error(where, std::string("bad value: ") + e.what());
+    throw Error(where, "bad value: " + json_error_text(e));
   }
 }
 

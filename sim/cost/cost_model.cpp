@@ -5,6 +5,8 @@
 #include <cmath>
 #include <map>
 
+#include "sim/core/error.h"
+#include "sim/core/message_text.h"
 #include "sim/cost/gpu_profile.h"
 #include "sim/cost/passes.h"
 #include "sim/cost/workload.h"
@@ -33,50 +35,74 @@ Counters shared_counters(const CostInputs& in) {
   return out;
 }
 
+// The profile as errors name it: its file, else its name.
+static std::string profile_where(const GpuProfile& g) {
+  return g.file.empty() ? "GPU profile '" + g.name + "'" : g.file;
+}
+
 FrameCost estimate_frame(const GpuProfile& gpu, const CostInputs& in) {
   const Workload defaults;
   const Workload& w = in.workload ? *in.workload : defaults;
   FrameCost fc;
+  // A time that is not finite is an error naming the pass (assemble_passes checks the terms;
+  // this checks coefficient x term and the sums), never an "infinitely slow" frame that sorts
+  // last or an infinity charged as 0.
+  auto finite = [&](double v, const std::string& pass, const char* what) {
+    if (!std::isfinite(v))
+      throw Error(profile_where(gpu), "method '" + in.method + "', pass '" + pass + "': " + what +
+                                          " is " + shortest_number(v) +
+                                          " (not finite: the workload's or the counters' values "
+                                          "are too large for the cost model)");
+    return v;
+  };
   for (const PassWork& pw : assemble_passes(in, w, &fc.missing_counters)) {
     double ms = 0;
     auto it = gpu.passes.find(pw.pass);
-    if (it != gpu.passes.end()) {
-      ms = it->second.overhead_ms;
-      fc.resource_ms["fixed"] += it->second.overhead_ms;
-      std::map<Resource, double> per_res;  // work / throughput per resource (ms)
-      for (const Term& t : pw.terms) {
-        auto c = it->second.terms.find(t.name);
-        if (c == it->second.terms.end()) continue;
-        const double ws = gpu.model == CostModelKind::Roofline
-                              ? working_set_factor(pw.pass, t.name, gpu.spec, in.display)
-                              : 1.0;
-        per_res[t.res] += c->second * t.value * ws;
-      }
-      if (gpu.model == CostModelKind::Roofline) {
-        // Bottleneck: the pass takes as long as its slowest resource (docs/architecture.md §6); the
-        // time is charged to that resource in resource_ms.
-        Resource bound = Resource::Fixed;
-        double worst = 0;
-        for (auto& [r, v] : per_res)
-          if (v > worst) worst = v, bound = r;
-        ms += worst;
-        if (worst > 0) fc.resource_ms[resource_name(bound)] += worst;
-      } else {
-        for (auto& [r, v] : per_res) {
-          ms += v;
-          fc.resource_ms[resource_name(r)] += v;
-        }
+    // A pass the method declares must be in the profile: without it the pass would cost
+    // nothing, and a profile with "passes": {} would fit every budget.
+    if (it == gpu.passes.end()) {
+      std::string have;
+      for (auto& [p, pc] : gpu.passes) have += (have.empty() ? "" : ", ") + p;
+      throw Error(profile_where(gpu),
+                  "GPU profile '" + gpu.name + "' has no coefficients for pass '" + pw.pass +
+                      "', which method '" + in.method + "' declares (its passes: " +
+                      (have.empty() ? "none" : have) + "; add passes." + pw.pass + ")");
+    }
+    ms = it->second.overhead_ms;
+    fc.resource_ms["fixed"] += it->second.overhead_ms;
+    std::map<Resource, double> per_res;  // work / throughput per resource (ms)
+    for (const Term& t : pw.terms) {
+      auto c = it->second.terms.find(t.name);
+      if (c == it->second.terms.end()) continue;
+      const double ws = gpu.model == CostModelKind::Roofline
+                            ? working_set_factor(pw.pass, t.name, gpu.spec, in.display)
+                            : 1.0;
+      per_res[t.res] += finite(c->second * t.value * ws, pw.pass, "a term's time");
+    }
+    if (gpu.model == CostModelKind::Roofline) {
+      // Bottleneck: the pass takes as long as its slowest resource (docs/architecture.md §6); the
+      // time is charged to that resource in resource_ms.
+      Resource bound = Resource::Fixed;
+      double worst = 0;
+      for (auto& [r, v] : per_res)
+        if (v > worst) worst = v, bound = r;
+      ms += worst;
+      if (worst > 0) fc.resource_ms[resource_name(bound)] += worst;
+    } else {
+      for (auto& [r, v] : per_res) {
+        ms += v;
+        fc.resource_ms[resource_name(r)] += v;
       }
     }
-    if (!std::isfinite(ms)) ms = HUGE_VAL;  // overflow on absurd inputs stays ordered
+    finite(ms, pw.pass, "the pass time");
     PassCost pc{pw.pass, ms, ms, ms};
     if (gpu.interval.level > 0) {  // this pass's held-out error quantiles (docs/cost_model.md)
       const IntervalFactors f = gpu.interval.for_pass(pw.pass);
       pc.lo_ms = ms * f.lo_factor;
-      pc.hi_ms = ms * f.hi_factor;
+      pc.hi_ms = finite(ms * f.hi_factor, pw.pass, "the interval's upper end");
     }
     fc.passes.push_back(pc);
-    fc.total_ms += ms;
+    fc.total_ms = finite(fc.total_ms + ms, pw.pass, "the frame total up to this pass");
   }
   fc.total_lo_ms = fc.total_hi_ms = fc.total_ms;
   if (gpu.interval.level > 0) {
@@ -90,7 +116,7 @@ FrameCost estimate_frame(const GpuProfile& gpu, const CostInputs& in) {
     } else {
       combine_pass_intervals(parts, &fc.total_lo_ms, &fc.total_hi_ms);
     }
-    if (!std::isfinite(fc.total_ms)) fc.total_lo_ms = fc.total_hi_ms = HUGE_VAL;
+    finite(fc.total_hi_ms, "total", "the total's interval upper end");
   }
   return fc;
 }

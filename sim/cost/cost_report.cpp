@@ -17,7 +17,9 @@ namespace fovsim {
 
 namespace {
 
-std::string pad(const std::string& s, size_t w) {
+// A table cell: user text (GPU, workload, entry names) escaped, then padded.
+std::string pad(const std::string& raw, size_t w) {
+  const std::string s = escape_control(raw, 80);
   return s.size() >= w ? s : s + std::string(w - s.size(), ' ');
 }
 

@@ -50,21 +50,21 @@ const ParamTable<GpuSpec>& gpu_spec_table() {
   // A new spec field: its member in GpuSpec and one row here (parsing, docs, profile files).
   static const auto t =
       ParamTable<S>()
-          .number("fp32_gflops", 0, Range::above(0), &S::fp32_gflops)
+          .number("fp32_gflops", 0, Range::above(0, 1e7), &S::fp32_gflops)
           .required()
           .doc("vendor spec sheet", "FP32 throughput, GFLOP/s (shading)")
-          .number("mem_gbps", 0, Range::above(0), &S::mem_gbps)
+          .number("mem_gbps", 0, Range::above(0, 1e6), &S::mem_gbps)
           .required()
           .doc("vendor spec sheet", "memory bandwidth, GB/s")
-          .number("fill_gpix", 0, Range::above(0), &S::fill_gpix)
+          .number("fill_gpix", 0, Range::above(0, 1e5), &S::fill_gpix)
           .required()
           .doc("vendor spec sheet", "ROP fill rate, Gpixel/s (raster)")
-          .number("tri_gtris", 0, Range::above(0), &S::tri_gtris)
+          .number("tri_gtris", 0, Range::above(0, 1e5), &S::tri_gtris)
           .required()
           .doc("vendor spec sheet", "primitive rate, Gtriangles/s (geometry)")
-          .number("boost_mhz", 0, Range::at_least(0), &S::boost_mhz)
+          .number("boost_mhz", 0, Range::closed(0, 1e5), &S::boost_mhz)
           .doc("vendor spec sheet", "boost clock, MHz (0: unknown)")
-          .number("l2_mb", 0, Range::at_least(0), &S::l2_mb)
+          .number("l2_mb", 0, Range::closed(0, 1e5), &S::l2_mb)
           .doc("vendor spec sheet", "last-level (L2) cache, MB (0: unknown: no working-set effect)")
           .text("source", "", {}, &S::source)
           .doc("", "where the numbers come from");
@@ -136,6 +136,7 @@ GpuProfile GpuProfile::load(const std::string& name_or_path, const std::string& 
 GpuProfile GpuProfile::from_json(const Json& j, const std::string& file) {
   Params p(j, file);
   GpuProfile g;
+  g.file = file;
   g.data = j;
   g.name = p.string("name");
   g.description = p.string("description", "");
@@ -146,12 +147,11 @@ GpuProfile GpuProfile::from_json(const Json& j, const std::string& file) {
   if (p.has("interval")) {
     Params iv = p.child("interval");
     g.interval.level = iv.number("level", Range::above(0, 1));
+    // Multiplicative factors around the estimate: lo <= 1 <= hi (gpu_profile.h).
     auto factors = [](Params& f, IntervalFactors& out) {
-      out.lo_factor = f.number("lo_factor", Range::above(0));
-      out.hi_factor = f.number("hi_factor", Range::above(0));
+      out.lo_factor = f.number("lo_factor", kProfileRanges.lo_factor);
+      out.hi_factor = f.number("hi_factor", kProfileRanges.hi_factor);
       out.n = f.integer("n", 0, Range::at_least(0));
-      if (out.lo_factor > out.hi_factor)
-        f.fail("hi_factor", "must be >= lo_factor (" + std::to_string(out.lo_factor) + ")");
     };
     IntervalFactors pooled;
     factors(iv, pooled);
@@ -166,10 +166,7 @@ GpuProfile GpuProfile::from_json(const Json& j, const std::string& file) {
       t.finish();
     }
     if (iv.has("total_scores")) {
-      for (auto& v : iv.raw("total_scores")) {
-        if (!v.is_number()) iv.fail("total_scores", "must be an array of numbers");
-        g.interval.total_scores.push_back(v.get<double>());
-      }
+      g.interval.total_scores = iv.numbers("total_scores", {}, kProfileRanges.score);
       std::sort(g.interval.total_scores.begin(), g.interval.total_scores.end());
     }
     if (iv.has("passes")) {
@@ -201,12 +198,12 @@ GpuProfile GpuProfile::from_json(const Json& j, const std::string& file) {
       ps.fail(pass, "unknown pass '" + pass + "' (known: " + all + ")");
     }
     PassCoef pc;
-    pc.overhead_ms = pp.number("overhead_ms", 0.0, Range::at_least(0));
+    pc.overhead_ms = pp.number("overhead_ms", 0.0, kProfileRanges.overhead_ms);
     Params terms = pp.child("terms");
     if (!terms.json().is_object()) terms.fail("", "must be an object term -> ms per unit");
     for (auto t = terms.json().begin(); t != terms.json().end(); ++t) {
       term_resource(pass, t.key(), terms.where(t.key()));
-      pc.terms[t.key()] = terms.number(t.key(), Range::at_least(0));
+      pc.terms[t.key()] = terms.number(t.key(), kProfileRanges.coefficient);
     }
     g.passes[pass] = pc;
   }
@@ -219,9 +216,9 @@ GpuProfile GpuProfile::from_json(const Json& j, const std::string& file) {
     for (Params r : cal.children("residuals")) {
       CalibrationResidual cr;
       cr.id = r.string("id");
-      cr.published_ms = r.number("published_ms");
-      cr.model_ms = r.number("model_ms");
-      cr.rel_err = r.number("rel_err");
+      cr.published_ms = r.number("published_ms", kProfileRanges.residual_ms);
+      cr.model_ms = r.number("model_ms", kProfileRanges.residual_ms);
+      cr.rel_err = r.number("rel_err", kProfileRanges.rel_err);
       cr.fitted = r.boolean("fitted", true);
       g.residuals.push_back(cr);
     }

@@ -112,8 +112,23 @@ struct CalibrationResidual {
 // written; Python reads it as fovsim.DEFAULT_GPU).
 inline constexpr const char* kDefaultGpu = "gtx1080";
 
+// The ranges of a profile's numbers outside `spec` (gpu_spec_table has those), as
+// GpuProfile::from_json checks them and docs/cost_model.md "Profile format" states them. They
+// keep every product of the cost evaluation finite for inputs in the workload's ranges.
+struct ProfileRanges {
+  Range overhead_ms = Range::closed(0, 1e4);  // passes.P.overhead_ms, ms
+  Range coefficient = Range::closed(0, 1e3);  // passes.P.terms.T, ms per unit
+  Range lo_factor = Range::above(0, 1);       // interval[.total|.passes.P].lo_factor
+  Range hi_factor = Range::closed(1, 1e3);    // interval[.total|.passes.P].hi_factor
+  Range score = Range::closed(-20, 20);       // interval.total_scores[i], log(published/model)
+  Range residual_ms = Range::closed(0, 1e6);  // calibration.residuals[i].published_ms, model_ms
+  Range rel_err = Range::closed(-1e6, 1e6);   // calibration.residuals[i].rel_err
+};
+inline const ProfileRanges kProfileRanges{};
+
 struct GpuProfile {
   std::string name;
+  std::string file;  // where it was loaded from (errors name it); "" when built in code
   std::string description;
   Json data;  // the profile document as loaded
   GpuSpec spec;

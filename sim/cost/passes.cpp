@@ -18,6 +18,7 @@
 #include <cmath>
 
 #include "sim/core/error.h"
+#include "sim/core/message_text.h"
 #include "sim/foveation/factory.h"
 
 namespace fovsim {
@@ -143,7 +144,21 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
     if (missing && std::find(missing->begin(), missing->end(), name) == missing->end())
       missing->push_back(name);
   };
-  auto fin0 = [](double v) { return std::isfinite(v) ? std::max(0.0, v) : 0.0; };
+  // Every input and intermediate value must be finite: an infinity or NaN (a workload, a
+  // counter read from a frames.csv, or their product beyond any real scene) is an error naming
+  // the method and the value, never dropped -- an infinity charged as 0 made a frame cheaper.
+  // Negative counts are charged as 0.
+  auto pos = [&](double v, const std::string& what) {
+    if (!std::isfinite(v))
+      throw Error("cost of method '" + m + "'",
+                  what + " is " + shortest_number(v) +
+                      " (not finite: the workload's or the counters' values are too large for "
+                      "the cost model)");
+    return std::max(0.0, v);
+  };
+  auto counter = [&](Counter id) {
+    return pos(c.get(id), std::string("counter ") + counter_name(id));
+  };
   // A counter the method should have filled, at the real display: a Pixels counter
   // (counter_list.h) measured at the simulated resolution is scaled by pixel_scale. Absent: noted
   // and `fallback` (already at the display).
@@ -153,18 +168,18 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
       return fallback;
     }
     if (counter_info(id).scale == CounterScale::Pixels)
-      return fin0(c.get(id)) * fin0(display_scale(id, in.pixel_scale));
-    return std::max(0.0, c.get(id));
+      return pos(counter(id) * pos(display_scale(id, in.pixel_scale), "pixel_scale"),
+                 std::string("counter ") + counter_name(id) + " at the display's resolution");
+    return counter(id);
   };
-  auto fin = [](double v) { return std::isfinite(v) ? std::max(0.0, v) : 0.0; };
 
   const SceneFeatures& f = in.features;
-  const double scale = fin(in.pixel_scale);
+  const double scale = pos(in.pixel_scale, "pixel_scale");
   const double eyes = std::max(1, in.display.eyes);
   const double P = double(std::max(0, in.display.width)) * double(std::max(0, in.display.height));
-  const double T = fin(w.tris(f) * w.submitted_fraction);
-  const double lights = fin(w.nlights(f));
-  const double shadowed = fin(w.nshadowed(f));
+  const double T = pos(w.tris(f) * w.submitted_fraction, "the submitted triangles");
+  const double lights = pos(w.nlights(f), "the lights");
+  const double shadowed = pos(w.nshadowed(f), "the shadowed lights");
   const CostFamily fam = decl.family;
   const bool twfr = fam == CostFamily::Twfr, flc = fam == CostFamily::Flc;
   // Lighting passes (docs/architecture.md §5 lighting axis): a scene with indirect light charges
@@ -179,7 +194,7 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
   const double S =
       fam == CostFamily::Full
           ? (c.has(Counter::shaded_samples)
-                 ? c.get(Counter::shaded_samples) * display_scale(Counter::shaded_samples, scale)
+                 ? counter(Counter::shaded_samples) * display_scale(Counter::shaded_samples, scale)
                  : P)
           : (flc && c.has(Counter::direct_shaded_samples)
                  ? need(Counter::direct_shaded_samples, P)  // FLC: direct at every pixel
@@ -187,7 +202,7 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
 
   std::vector<PassWork> out;
   auto add = [&](const char* pass, std::vector<Term> terms) {
-    for (auto& t : terms) t.value = fin(t.value);
+    for (auto& t : terms) t.value = pos(t.value, "pass " + std::string(pass) + ", term " + t.name);
     out.push_back({pass, std::move(terms)});
   };
   const double Tsub =
@@ -205,8 +220,9 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
     // shared work it declares (a run).
     const Counters& rc = !c.has(Counter::rsm_texels) && in.shared ? *in.shared : c;
     const double fallback = w.rsm_res * w.rsm_res * std::max(1.0, lights);
-    double texels = rc.has(Counter::rsm_texels) ? std::max(0.0, rc.get(Counter::rsm_texels))
-                                                : (note(Counter::rsm_texels), fallback);
+    double texels = rc.has(Counter::rsm_texels)
+                        ? pos(rc.get(Counter::rsm_texels), "counter rsm_texels")
+                        : (note(Counter::rsm_texels), fallback);
     add("rsm", {{"tris", Resource::Geometry, T * std::max(1.0, lights)},
                 {"texels", Resource::Raster, texels}});
   }
@@ -214,7 +230,7 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
     double rp = need(Counter::reprojected_pixels, P);
     double holes = 0;
     for (auto& e : c.entries())
-      if (e.key.id == Counter::holes_mip) holes += std::max(0.0, e.value);
+      if (e.key.id == Counter::holes_mip) holes += pos(e.value, "counter holes_mip");
     add("reproject",
         {{"pixels", Resource::Memory, rp * eyes},
          {"holes", Resource::Memory, holes * display_scale(Counter::holes_mip, scale) * eyes}});
@@ -233,10 +249,10 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
                        {"samples", Resource::Shading, ns * w.chain_length * eyes}});
   }
   if (vpl && has_culling) {  // per-VPL importance (FLC: eq. 14 with BLSO) + culling
-    double ns = c.has(Counter::importance_samples) ? c.get(Counter::importance_samples) : 0;
+    double ns = c.has(Counter::importance_samples) ? counter(Counter::importance_samples) : 0;
     double vt = need(Counter::vpls_total, 0);
     double evals =
-        c.has(Counter::contribution_evals) ? c.get(Counter::contribution_evals) : vt * ns;
+        c.has(Counter::contribution_evals) ? counter(Counter::contribution_evals) : vt * ns;
     if (!c.has(Counter::contribution_evals)) note(Counter::contribution_evals);
     add("contribution", {{"evals", Resource::Shading, evals * eyes}});  // eq. 14 with BLSO
     add("light_culling", {{"vpls", Resource::Shading, vt * eyes}});
@@ -252,7 +268,7 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
       // the workload's vpl_exponent (1: linear) scales the per-VPL work by
       // (kept / vpl_ref)^(exponent - 1), so at the calibrated budget vpl_ref it is unchanged.
       if (w.vpl_exponent != 1.0 && c.has(Counter::vpls_kept) && w.vpl_ref > 0)
-        vf *= std::pow(std::max(0.0, c.get(Counter::vpls_kept)) / w.vpl_ref, w.vpl_exponent - 1.0);
+        vf *= std::pow(counter(Counter::vpls_kept) / w.vpl_ref, w.vpl_exponent - 1.0);
       t.push_back(
           {"vpl_flops", Resource::Shading, need(Counter::shaded_sample_vpls, 0) * vf * eyes});
     }

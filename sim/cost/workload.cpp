@@ -7,12 +7,16 @@
 
 #include "sim/core/error.h"
 #include "sim/core/files.h"
+#include "sim/core/message_text.h"
 
 namespace fovsim {
 
 const ParamTable<Workload>& workload_table() {
   using W = Workload;
-  const Range from_scene = Range::at_least(-1), nonneg = Range::at_least(0);
+  // Every number has an upper bound far above any real scene (and far below overflow: the
+  // largest products of passes.cpp, e.g. shadow_map_res^2 x shadowed_lights or shaded samples x
+  // lights x shading_flops, stay finite); -1 takes the scene's value (validator below).
+  const auto from_scene = [](double hi) { return Range::closed(-1, hi); };
   static const auto t =
       ParamTable<W>()
           .text("name", "generic", {}, &W::name)
@@ -23,21 +27,21 @@ const ParamTable<Workload>& workload_table() {
           .documented("comment", "any", "", "", "", "ignored")
           .documented("assumptions", "any", "", "", "", "free text: what the numbers assume")
           .documented("fitted_by", "any", "", "", "", "free text: what fitted the numbers")
-          .number("triangles", -1, from_scene, &W::triangles)
+          .number("triangles", -1, from_scene(1e10), &W::triangles)
           .doc("", "triangles of the scene; -1: from the scene's features")
-          .number("lights", -1, from_scene, &W::lights)
+          .number("lights", -1, from_scene(1e6), &W::lights)
           .doc("", "lights evaluated per shaded sample; -1: from the scene's features")
-          .number("shadowed_lights", -1, from_scene, &W::shadowed_lights)
+          .number("shadowed_lights", -1, from_scene(1e4), &W::shadowed_lights)
           .doc("", "shadow maps rendered per frame; -1: from the scene's features")
           .number("submitted_fraction", 1.0, Range::closed(0, 1), &W::submitted_fraction)
           .doc("", "triangles left after frustum culling")
           .number("overdraw", 1.5, Range::closed(0, 100), &W::overdraw)
           .doc("", "rasterised fragments per pixel")
-          .number("gbuffer_bytes", 16, nonneg, &W::gbuffer_bytes)
+          .number("gbuffer_bytes", 16, Range::closed(0, 1024), &W::gbuffer_bytes)
           .doc("", "bytes written per G-buffer fragment")
-          .number("shadow_map_res", 2048, nonneg, &W::shadow_map_res)
+          .number("shadow_map_res", 2048, Range::closed(0, 65536), &W::shadow_map_res)
           .doc("", "texels per side of a shadow map")
-          .number("shading_flops", 3000, nonneg, &W::shading_flops)
+          .number("shading_flops", 3000, Range::closed(0, 1e9), &W::shading_flops)
           .doc("",
                "effective FP32 operations per shaded sample and light at the GPU's peak rate "
                "(fitted by `fovsim calibrate`; the default is the mean of the fitted scenes)")
@@ -45,23 +49,23 @@ const ParamTable<Workload>& workload_table() {
           .doc("",
                "cost of a submitted triangle in the G-buffer pass relative to the mean of the "
                "calibrated scenes (fitted; 1 = the mean)")
-          .number("vpl_flops", -1, from_scene, &W::vpl_flops)
+          .number("vpl_flops", -1, from_scene(1e9), &W::vpl_flops)
           .doc("Yang et al. 2021 §6", "per-VPL shading cost (fitted); -1: `shading_flops`")
-          .number("rsm_res", 64, nonneg, &W::rsm_res)
+          .number("rsm_res", 64, Range::closed(0, 16384), &W::rsm_res)
           .doc("Yang et al. 2021 §6", "RSM texels per side")
-          .number("importance_samples", 4096, nonneg, &W::importance_samples)
+          .number("importance_samples", 4096, Range::closed(0, 1e8), &W::importance_samples)
           .doc("Yang et al. 2021 Alg. 1", "importance samples N_s")
-          .number("chain_length", 8, nonneg, &W::chain_length)
+          .number("chain_length", 8, Range::closed(0, 1e4), &W::chain_length)
           .doc("Yang et al. 2021 Alg. 1", "proposals per chain M")
-          .number("vpl_budget", 1024, nonneg, &W::vpl_budget)
+          .number("vpl_budget", 1024, Range::closed(0, 1e8), &W::vpl_budget)
           .doc("Yang et al. 2021 §7", "VPLs kept for shading")
           .number("vpl_exponent", 1.0, Range::closed(1, 3), &W::vpl_exponent)
           .doc("Yang et al. 2021 §7, Fig. 7",
                "VPL shading work per VPL grows as (kept / vpl_ref)^(vpl_exponent - 1); 1 = "
                "linear in the VPLs kept")
-          .number("vpl_ref", 1024, Range::above(0), &W::vpl_ref)
+          .number("vpl_ref", 1024, Range::closed(1, 1e8), &W::vpl_ref)
           .doc("Yang et al. 2021 §7", "reference VPL count of `vpl_exponent`")
-          .number("interleave", 4, Range::at_least(1), &W::interleave)
+          .number("interleave", 4, Range::closed(1, 1e4), &W::interleave)
           .doc("Yang et al. 2021 §6",
                "interleaved-sampling factor (each pixel shades 1/interleave of the VPLs)")
           .number("lpt_fraction", 1.0, Range::closed(0, 1), &W::lpt_fraction)
@@ -74,7 +78,19 @@ const ParamTable<Workload>& workload_table() {
           .doc("",
                "fVRS and the baselines: shaded fraction when no density model is given; -1: "
                "computed")
-          .documented("pipeline", "object", "", "", "", "optional passes: `pipeline` below");
+          .documented("pipeline", "object", "", "", "", "optional passes: `pipeline` below")
+          .validate([](const W& w, Params& p) {
+            // -1 is "from the scene"; any other negative value is a typo, not a default.
+            const std::pair<const char*, double> keys[] = {{"triangles", w.triangles},
+                                                           {"lights", w.lights},
+                                                           {"shadowed_lights", w.shadowed_lights},
+                                                           {"vpl_flops", w.vpl_flops},
+                                                           {"shaded_fraction", w.shaded_fraction}};
+            for (auto& [key, v] : keys)
+              if (v < 0 && v != -1)
+                p.fail(key, "value " + shortest_number(v) +
+                                " is out of range: -1 (from the scene) or a value >= 0");
+          });
   return t;
 }
 

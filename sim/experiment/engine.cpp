@@ -582,6 +582,8 @@ struct Cell {
       MethodRun m;
       m.method = mp.string("method");
       m.label = mp.string("label", m.method);
+      if (m.label.empty())
+        mp.fail("label", "empty label (give the entry a name, or omit \"label\" for the method's)");
       if (!labels.insert(m.label).second)
         mp.fail("label",
                 "duplicate label \"" + m.label + "\" (give each method entry a unique \"label\")");

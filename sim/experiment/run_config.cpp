@@ -1,5 +1,8 @@
 #include "sim/experiment/run_config.h"
 
+#include <cmath>
+
+#include "sim/core/message_text.h"
 #include "sim/cost/gpu_profile.h"
 #include "sim/cost/workload.h"
 #include "sim/display/display.h"
@@ -155,7 +158,14 @@ const ParamTable<OutputsBlock>& outputs_block_table() {
           .doc("", "methods' debug buffers (LP/RS buffer, redraw map, importance map, ...)")
           .boolean("print_summary", true, &B::print_summary)
           .default_from_member("true")
-          .doc("", "print the summary table on stdout at the end");
+          .doc("", "print the summary table on stdout at the end")
+          .validate([](const B& b, Params& p) {  // frame indices: whole numbers only
+            for (size_t i = 0; i < b.image_frames.size(); ++i)
+              if (b.image_frames[i] != std::floor(b.image_frames[i]))
+                p.fail("image_frames[" + std::to_string(i) + "]",
+                       "expected a frame index (an integer), got " +
+                           shortest_number(b.image_frames[i]));
+          });
   return t;
 }
 

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "sim/core/error.h"
+#include "sim/core/message_text.h"
 #include "sim/core/params.h"
 
 namespace fovsim {
@@ -22,8 +24,19 @@ struct RunControl {
   // true too. Off by default (library use, tests, Python); `fovsim run` / `sweep` turn it on.
   bool use_cache = false;
 
-  static Range threads_range() { return Range::closed(0, 4096); }
-  static Range watchdog_range() { return Range::closed(0, 1e9); }
+  static Range threads_range() { return Range::closed(0, 4096); }  // 0: all cores
+  // Seconds; 0, outside the range, disables the watchdog (a limit below a second would
+  // report every frame as a hang).
+  static Range watchdog_range() { return Range::closed(1, 86400); }
+  // v when it is 0 or in watchdog_range(), else fovsim::Error(where, "value V is out of range
+  // [1, 86400] s (0: off)"): the check of the CLI's --watchdog and Python's watchdog=.
+  static double check_watchdog(const std::string& where, double v) {
+    if (v == 0) return 0;
+    if (!watchdog_range().contains(v))
+      throw Error(where, "value " + shortest_number(v) + " is out of range " +
+                             watchdog_range().str() + " s (0: off)");
+    return v;
+  }
 };
 
 }  // namespace fovsim

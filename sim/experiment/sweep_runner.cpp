@@ -15,6 +15,7 @@
 #include "sim/core/error.h"
 #include "sim/core/files.h"
 #include "sim/core/memory_info.h"
+#include "sim/core/message_text.h"
 #include "sim/core/version.h"
 #include "sim/experiment/engine.h"
 #include "sim/experiment/intervals.h"
@@ -387,7 +388,7 @@ ResultTable read_cell_summary(const std::string& dir) {
       t.add(std::move(row));
     }
   } catch (const Json::exception& e) {
-    throw Error(p, std::string("corrupt cell record: ") + e.what());
+    throw Error(p, "corrupt cell record: " + json_error_text(e));
   }
   return t;
 }
@@ -395,22 +396,32 @@ ResultTable read_cell_summary(const std::string& dir) {
 SweepPlan load_sweep_plan(const std::string& dir) {
   std::string p = dir + "/sweep.json";
   if (!file_exists(p)) throw Error(p, "not found: is " + dir + " the output folder of a sweep?");
-  Json j = Params::parse_json_file(p);
+  // Read through Params: a damaged or hand-edited record ({}, a number for a string) is a
+  // located error naming the key, never the JSON library's exception text.
+  Params r(Params::parse_json_file(p), p);
   LoadedConfig cfg;
-  try {
-    cfg.doc = j.at("config");
-    cfg.file = j.value("config_file", "");
-    cfg.base_dir = j.value("base_dir", "");
-    if (j.contains("inherited"))
-      for (auto& e : j["inherited"])
-        cfg.inherited.emplace_back(e.at(0).get<std::string>(), e.at(1).get<std::string>());
-  } catch (const Json::exception& e) {
-    throw Error(p, std::string("corrupt sweep record: ") + e.what());
+  if (!r.has("config")) r.fail("config", "missing: not a sweep record written by fovsim sweep");
+  cfg.doc = r.raw("config");
+  if (!cfg.doc.is_object())
+    r.fail("config", "expected the sweep's config object, got " + describe_json(cfg.doc));
+  cfg.file = r.string("config_file", "");
+  cfg.base_dir = r.string("base_dir", "");
+  if (r.has("inherited")) {
+    const Json& inh = r.raw("inherited");
+    for (size_t i = 0; inh.is_array() && i < inh.size(); ++i) {
+      const Json& e = inh[i];
+      if (!e.is_array() || e.size() != 2 || !e[0].is_string() || !e[1].is_string())
+        r.fail("inherited[" + std::to_string(i) + "]",
+               "expected [\"json.path\", \"base file\"], got " + describe_json(e));
+      cfg.inherited.emplace_back(e[0].get<std::string>(), e[1].get<std::string>());
+    }
+    if (!inh.is_array()) r.fail("inherited", "expected an array, got " + describe_json(inh));
   }
+  const std::string recorded = r.string("plan_hash", "");
   SweepPlan plan = expand_sweep(cfg);
-  if (plan.hash != j.value("plan_hash", ""))
+  if (plan.hash != recorded)
     throw Error(p, "the recorded sweep expands differently with this fovsim version (plan hash " +
-                       plan.hash + " vs " + j.value("plan_hash", "") + ")");
+                       plan.hash + " vs " + escape_control(recorded, 80) + ")");
   return plan;
 }
 

@@ -165,6 +165,10 @@ std::vector<std::string> frame_files(const std::string& path) {
   return files;
 }
 
+Range fvvdp_fps_range() {
+  return Range::above(4, 1e4);
+}
+
 std::pair<double, double> parse_gaze(const std::string& s) {
   // "X,Y": each a number, then the one numeric check of every flag (params.h check_number:
   // NaN and infinities are refused there, as for --ppd and --fps).
@@ -216,7 +220,7 @@ FvvdpComparison compare_fvvdp(const std::string& ref_path, const std::string& te
   if (N >= 2 && opt.fps == 0)
     throw Error("--fps", "a sequence of " + std::to_string(N) +
                              " frames needs its frame rate: --fps F (Hz, > 4)");
-  if (N >= 2) check_number("--fps", opt.fps, Range::above(4, 1e4));
+  if (N >= 2) check_number("--fps", opt.fps, fvvdp_fps_range());
   if (N >= 2 && fvvdp_detail::filter_length(opt.fps) < 2) {
     char b[64];
     std::snprintf(b, sizeof b, "frame rate must be > 4 Hz, got %.6g", opt.fps);

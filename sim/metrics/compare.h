@@ -52,6 +52,10 @@ std::vector<std::string> frame_files(const std::string& path);
 // "X,Y" in pixels from the top-left; throws fovsim::Error("--gaze", ...) when malformed.
 std::pair<double, double> parse_gaze(const std::string& s);
 
+// The frame rates FovVideoVDP accepts for a sequence (`compare --fps`): its temporal filters
+// need more than 4 Hz (FovVideoVDP.md §4).
+Range fvvdp_fps_range();
+
 struct FvvdpCompareOptions {
   std::string display;     // a name from models/displays/ or a path
   std::string models_dir;  // where models/displays/ lives

@@ -27,6 +27,7 @@
 
 #include "sim/core/error.h"
 #include "sim/core/math.h"
+#include "sim/core/message_text.h"
 #include "sim/core/params.h"
 
 namespace fovsim {
@@ -555,10 +556,11 @@ static std::string dims(const Image& a) {
          std::to_string(a.channels);
 }
 
-static void check_ppd(double ppd) {
-  if (!(std::isfinite(ppd) && ppd > 0))
-    throw Error("metrics.flip",
-                "pixels per degree must be finite and > 0, got " + std::to_string(ppd));
+// Below this the filters of kernels() underflow (E is NaN at 1e-300).
+constexpr double kFlipMinPpd = 1e-2;
+
+Range flip_ppd_range() {
+  return Range::closed(kFlipMinPpd, 1e6);
 }
 
 double flip_max_ppd(int width, int height) {
@@ -569,18 +571,12 @@ double flip_max_ppd(int width, int height) {
   return std::floor(side / per_ppd);
 }
 
-static std::string short_number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
-
 void check_flip_ppd(double ppd, int width, int height, const std::string& where) {
-  check_number(where, ppd, Range::above(0, 1e300));  // the one numeric check (params.h)
+  check_number(where, ppd, flip_ppd_range());  // the one numeric check (params.h)
   const double mx = flip_max_ppd(width, height);
   if (ppd > mx)
-    throw Error(where, "pixels per degree " + short_number(ppd) + " is over the FLIP limit of " +
-                           short_number(mx) + " for a " + std::to_string(width) + "x" +
+    throw Error(where, "pixels per degree " + shortest_number(ppd) + " is over the FLIP limit of " +
+                           shortest_number(mx) + " for a " + std::to_string(width) + "x" +
                            std::to_string(height) +
                            " image (filter radius at most max(64, longer side) pixels)");
 }
@@ -589,7 +585,6 @@ void flip_prepare(const Image& img, double ppd, FlipPrepared& out, FlipWorkspace
   if (img.empty()) throw Error("metrics.flip", "empty image");
   if (img.channels > 4)
     throw Error("metrics.flip", "expected 1 to 4 channels, got " + std::to_string(img.channels));
-  check_ppd(ppd);
   check_flip_ppd(ppd, img.width, img.height, "metrics.flip");
   const size_t N = img.pixels();
   const flip_detail::Kernels k = flip_detail::kernels(ppd);

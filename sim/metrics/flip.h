@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "sim/core/image.h"
+#include "sim/core/params.h"
 
 namespace fovsim {
 
@@ -44,7 +45,11 @@ struct FlipWorkspace {
 // flip_prepare, flip and compare_images throw fovsim::Error naming the limit (no allocation
 // or work sized by ppd happens first).
 double flip_max_ppd(int width, int height);
-// Throws fovsim::Error(where, ...) unless ppd is finite, > 0 and <= flip_max_ppd(width, height).
+// The pixels per degree FLIP accepts for any image (`compare --ppd`'s range): below its lower
+// bound the CSF filters are narrower than a pixel's numerical floor and E is NaN.
+Range flip_ppd_range();
+// Throws fovsim::Error(where, ...) unless ppd is in flip_ppd_range() and <= flip_max_ppd(width,
+// height).
 void check_flip_ppd(double ppd, int width, int height, const std::string& where);
 void flip_prepare(const Image& img, double ppd, FlipPrepared& out, FlipWorkspace* ws = nullptr);
 // As flip() above on prepared images (same size, same ppd, else fovsim::Error).

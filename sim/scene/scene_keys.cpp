@@ -104,7 +104,7 @@ const ParamTable<PatternsKeys>& patterns_table() {
                "Pro Eye)")
           .number("distance", 1.0, Range::above(0, 1e4), &K::distance)
           .doc("", "plane distance from `default_eye`")
-          .number("size", 0.0, Range::at_least(0), &K::size)
+          .number("size", 0.0, Range::closed(0, kMaxCoordinateM), &K::size)
           .doc("", "plane edge in metres; 0 = 8 x distance")
           .number("contrast", 1.0, Range::closed(0, 1), &K::contrast)
           .doc("", "pattern contrast around mid-grey");

@@ -133,7 +133,7 @@ void decode_time_and_valid(const RowFields& f, double last_t, const std::string&
       s.valid = false;
     else
       probs.push_back({Part::Row, f.col_of(VALID), "bad valid flag",
-                       "column \"valid\": expected 0 or 1, got \"" + t + "\""});
+                       "column \"valid\": expected 0 or 1, got \"" + escape_control(t, 80) + "\""});
   }
 }
 

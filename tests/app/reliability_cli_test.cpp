@@ -127,7 +127,7 @@ TEST(Reliability, HugeInRangeValuesAreErrorsNotSignals) {
   const std::string png = std::string(FOVSIM_SOURCE_DIR) + "/tests/data/metrics/gray_a.png";
   if (fs::exists(png)) {
     expect_user_error(run_cmd(bin + " compare " + png + " " + png + " --ppd 1e12"),
-                      "is over the FLIP limit of");
+                      "--ppd: value 1e+12 is out of range [0.01, 1e+06] px/deg");
     expect_user_error(run_cmd(bin + " compare " + png + " " + png + " --ppd 1e5"),
                       "is over the FLIP limit of");
   }
@@ -243,7 +243,7 @@ TEST(Reliability, NaNAndZeroOnFlagsAreErrors) {
   expect_user_error(run_cmd(bin + " budget --gpu gtx1080 --workload atrium --budget-ms nan"),
                     "--budget-ms: value nan is out of range");
   expect_user_error(run_cmd(bin + " run configs/quickstart.json --watchdog nan"),
-                    "--watchdog: value nan is out of range [0, 1e+09]");
+                    "--watchdog: value nan is out of range [1, 86400] s (0: off)");
   expect_user_error(run_cmd(bin + " trace synth --scenario fixate --rate nan -o " + d + "/t.csv"),
                     "--rate: value nan is out of range (0, 10000]");
   expect_user_error(run_cmd(bin + " trace validate " + kTrace + " --max-gap nan"),
@@ -356,11 +356,12 @@ TEST(Reliability, MisleadingMessagesAreFixed) {
   const std::string d = temp_dir("rel_msgs"), bin = fovsim_bin();
   write_text(d + "/cfg.json", small_config());
   // Seeds past 2^53 are errors, not clamped to one value.
-  expect_user_error(run_cmd(bin +
-                            " trace synth --scenario fixate --duration 1 --seed "
-                            "18446744073709551616 -o " +
-                            d + "/t.csv"),
-                    "--seed: value 1.84467e+19 is out of range [0, 9007199254740992]");
+  expect_user_error(
+      run_cmd(bin +
+              " trace synth --scenario fixate --duration 1 --seed "
+              "18446744073709551616 -o " +
+              d + "/t.csv"),
+      "--seed: value 1.8446744073709552e+19 is out of range [0, 9007199254740992] seed");
   expect_user_error(
       run_cmd(bin + " run " + d + "/cfg.json --out " + d +
               R"(/o 'trace={"synthetic": {"scenario": "fixate", "duration": 1, "seed": 1e20}}')"),

@@ -146,12 +146,18 @@ TEST(CostModel, FiniteForZeroAndHugeInputs) {
       EXPECT_TRUE(std::isfinite(fc.total_ms)) << m << " " << v;
       EXPECT_GE(fc.total_ms, 0) << m;
     }
-    // NaN counters are treated as 0, never propagate.
+    // A NaN counter is an error naming it, never charged as 0.
     Counters c;
     c.set(Counter::shaded_samples, std::nan(""));
     CostInputs in = base_inputs(m, &c);
     in.workload = &w;
-    EXPECT_TRUE(std::isfinite(estimate_frame(g, in).total_ms)) << m;
+    try {
+      estimate_frame(g, in);
+      ADD_FAILURE() << m;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("counter shaded_samples is nan"), std::string::npos)
+          << e.what();
+    }
   }
 }
 
@@ -248,7 +254,8 @@ TEST(CostModel, WhatIfScalingDividesOneResource) {
 TEST(CostModel, RooflineTakesTheBottleneckResource) {
   Json j = Json::parse(R"({"name": "toy", "model": "roofline",
     "spec": {"fp32_gflops": 1, "mem_gbps": 1, "fill_gpix": 1, "tri_gtris": 1},
-    "passes": {"gbuffer": {"overhead_ms": 0.5, "terms": {"tris": 1e-6, "frags": 1e-7, "gbuffer_bytes": 1e-8}}},
+    "passes": {"gbuffer": {"overhead_ms": 0.5, "terms": {"tris": 1e-6, "frags": 1e-7, "gbuffer_bytes": 1e-8}},
+               "lighting": {"overhead_ms": 0, "terms": {}}},
     "interval": {"level": 0.8, "lo_factor": 0.9, "hi_factor": 1.3, "n": 10}})");
   GpuProfile roof = GpuProfile::from_json(j, "toy.json");
   j["model"] = "linear";

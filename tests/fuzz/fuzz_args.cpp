@@ -2,7 +2,8 @@
 // the library's check_number/check_integer, check_cost_args (the what-if overrides of
 // fovsim.estimate/budget with the CLI flags' ranges), parse_method_arg and the analytic
 // estimate it feeds. Input: 8 doubles as raw bytes (any bit pattern: NaN, inf, subnormals),
-// then text lines: a `where` string, a method argument ("kfr:sigma=1.8"), a resource name.
+// then text lines: a `where` string, a method argument ("kfr:sigma=1.8"), a resource name,
+// and the rest a workload or GPU profile JSON.
 // Every failure must be a fovsim::Error; anything else is a bug. Build: `make fuzz`.
 #include <algorithm>
 #include <cstddef>
@@ -57,9 +58,31 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const MethodArg m = parse_method_arg(lines[1], "method");
     if (!is_cost_method(m.name)) return 0;
     static const GpuProfile gpu = GpuProfile::load("gtx1080", "models");
-    static const Workload w = Workload::load("atrium", "models");
+    static const Workload w = Workload::load("kfr_bistro", "models");
     static const Display d = Display::load("htc_vive_pro_eye", "models");
     (void)analytic_frame(gpu, m.name, m.params, w, d, "method " + m.text);
+  } catch (const Error&) {
+  }
+  // The rest of the input: a workload or a GPU profile document (one with "spec" is a
+  // profile), read and costed for a method of every cost family: the ranges of its numbers,
+  // the missing-pass and non-finite checks of the cost evaluation.
+  if (rest.empty()) return 0;
+  try {
+    static const GpuProfile gtx = GpuProfile::load("gtx1080", "models");
+    static const Workload bistro = Workload::load("kfr_bistro", "models");
+    static const Display d = Display::load("htc_vive_pro_eye", "models");
+    const Json j = parse_json_text(rest, "fuzz.json");
+    GpuProfile g = gtx;
+    Workload w = bistro;
+    if (j.is_object() && j.contains("spec")) {
+      g = GpuProfile::from_json(j, "fuzz.json");
+    } else {
+      Params p(j, "fuzz.json");
+      w = Workload::from_params(p);
+      p.finish();
+    }
+    for (const char* m : {"full", "kfr", "fvrs", "twfr", "flc"})
+      (void)analytic_frame(g, m, Json::object(), w, d, m, true);
   } catch (const Error&) {
   }
   return 0;
