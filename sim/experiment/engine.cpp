@@ -37,6 +37,7 @@
 #include "sim/experiment/reference_cache.h"
 #include "sim/experiment/run_config.h"
 #include "sim/experiment/runner.h"
+#include "sim/experiment/startup.h"
 #include "sim/experiment/tracking_summary.h"
 #include "sim/foveation/factory.h"
 #include "sim/foveation/frame.h"
@@ -166,7 +167,8 @@ struct Shared {
   TrackingPolicy tracking;       // trace.on_invalid (sim/trace/tracking.h)
   bool tracking_column = false;  // frames.csv `tracking`: a policy given or invalid frames
   int start = 0, stride = 1, count = 0;
-  int warmup = 0;  // frames.warmup: rendered before `start`, not recorded
+  int warmup = 0;                // frames.warmup: rendered before `start`, not recorded
+  bool include_startup = false;  // frames.include_startup (startup.h)
   double pixel_scale = 1;
   Json resolved;                 // resolved shared keys (for every cell's manifest)
   ReferenceCacheSettings cache;  // the `cache` block (reference_cache.h)
@@ -190,6 +192,7 @@ struct Shared {
     // fed to every method (TWFR's cold first frame, temporal history) but not recorded; the
     // recorded frames, frames.count of them, follow.
     warmup = fb.warmup;
+    include_startup = fb.include_startup;
     start += warmup * stride;
     parse_trace(root, base_dir, top.trace_placement);
     check_frame_range(fp, fb.on_short_trace);
@@ -1258,6 +1261,27 @@ struct GroupOutputs {
   const MethodMemo* memo;
 };
 
+// The start-up frames the cell's means leave out (startup.h): each method's declared warm-up,
+// each stateful metric's settle time at the run's frame rate.
+StartupPlan startup_plan(const Cell& c, const Shared& sh) {
+  StartupPlan p;
+  p.include = sh.include_startup;
+  p.warmup_rendered = sh.warmup;
+  for (const MethodRun& m : c.methods) p.method_frames[m.label] = m.impl->warmup_frames();
+  const double fps = c.seq_setup.fps;
+  for (auto& d : metric_registry()) {
+    if (!d.sequence || !d.sequence->enabled(c.mcfg) || !d.sequence->settle_frames) continue;
+    StartupPlan::Metric m;
+    m.name = d.name;
+    m.frames = d.sequence->settle_frames(fps);
+    m.seconds = fps > 0 ? m.frames / fps : 0.0;
+    for (const std::string& col : {d.pooled_column, d.name})
+      m.columns.insert(m.columns.end(), {col, col + kFoveationLossSuffix});
+    p.metrics.push_back(std::move(m));
+  }
+  return p;
+}
+
 // One cell's outputs, written atomically with the manifest ("complete") last: frames.csv,
 // summary.csv (means with intervals, reference floor, latency phases, tracking states),
 // paired.csv with the fidelity's known bias, summary.json; the --target record.
@@ -1283,11 +1307,19 @@ CellResult write_cell_outputs(Cell& c, const Shared& sh, const GroupOutputs& g) 
   if (c.manifest["fidelity"].contains("note"))
     r.fidelity_note = c.manifest["fidelity"]["note"].get<std::string>();
   r.cell_ms = c.cell_ms;
-  r.summary = summarize(c.frames, r.budget_ms);
-  if (c.mcfg.foveation_loss) mark_reference_floor(r.summary, c.frames, c.floor_vals);
-  if (c.latency.enabled) r.summary = summarize_phases(c.frames, r.summary, c.metric_names);
+  // The means leave out the start-up frames (startup.h; frames.csv keeps them).
+  const StartupPlan plan = startup_plan(c, sh);
+  StartupReport startup;
+  const ResultTable means = exclude_startup(c.frames, plan, startup);
+  c.manifest["startup"] = startup.manifest;
+  r.summary = summarize(means, r.budget_ms);
+  mark_startup(r.summary, startup, plan);
+  r.notes = startup.notes;
+  for (auto& n : interval_notes(r.summary)) r.notes.push_back(n);
+  if (c.mcfg.foveation_loss) mark_reference_floor(r.summary, means, c.floor_vals);
+  if (c.latency.enabled) r.summary = summarize_phases(means, r.summary, c.metric_names);
   // Tracking states (docs/tracking.md): means with intervals per state, next to the phases.
-  if (sh.tracking_column) r.summary = summarize_tracking(c.frames, r.summary);
+  if (sh.tracking_column) r.summary = summarize_tracking(means, r.summary);
   if (g.order.sampled()) {  // what --target asked for and what it achieved (results/README.md)
     Json specs = Json::array(), achieved;
     for (auto& t : g.opt.targets) specs.push_back(t.spec);
@@ -1310,7 +1342,7 @@ CellResult write_cell_outputs(Cell& c, const Shared& sh, const GroupOutputs& g) 
   // difference whose interval excludes 0 but that is smaller than the bias is named.
   size_t n_below = 0;
   const ResultTable paired =
-      with_fidelity_bias(paired_differences(c.frames), c.manifest["fidelity"], &n_below);
+      with_fidelity_bias(paired_differences(means), c.manifest["fidelity"], &n_below);
   write_file_atomic(out + "/paired.csv", paired.to_csv());
   if (c.manifest["fidelity"]["known_bias"].is_object())
     c.manifest["fidelity"]["paired_real_below_bias"] = n_below;
