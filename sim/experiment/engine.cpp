@@ -1419,9 +1419,12 @@ std::vector<CellResult> run_cells_impl(const std::vector<CellJob>& jobs, const E
   FrameData fd;
   Image ref_display;
   std::optional<Camera> prev_cam;
+  // Frames of the group, warm-up frames included (progress.h; inside a sweep's or a
+  // ladder's progress this is its innermost level).
   Progress progress(
       jobs.size() > 1 ? "frames x " + std::to_string(jobs.size()) + " cells" : "frames",
-      size_t(sh.count));
+      size_t(sh.count + sh.warmup));
+  progress.phase("frames");
   double ref_total = 0;
   auto do_frame = [&](int k, bool record) {
     int fi = sh.start + k * sh.stride;
@@ -1477,7 +1480,7 @@ std::vector<CellResult> run_cells_impl(const std::vector<CellJob>& jobs, const E
     return all;
   };
   order.run(steps);
-  progress.done();
+  progress.phase("outputs");
   if (memo)  // the cells completed: their computed method entries go to the memo
     for (auto& c : cells)
       for (auto& m : c->methods)
@@ -1489,6 +1492,7 @@ std::vector<CellResult> run_cells_impl(const std::vector<CellJob>& jobs, const E
                        renderer,  group_phases, PhaseClock::now(), threads,
                        memo.get()};
   for (auto& c : cells) results.push_back(write_cell_outputs(*c, sh, g));
+  progress.done();
   if (stats) {
     stats->frames += order.recorded() + order.warmup();
     stats->ref_ms += ref_total;

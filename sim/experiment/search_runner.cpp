@@ -10,6 +10,7 @@
 #include "sim/core/error.h"
 #include "sim/core/files.h"
 #include "sim/core/hash.h"
+#include "sim/core/progress.h"
 #include "sim/experiment/engine.h"
 #include "sim/experiment/search.h"
 
@@ -217,6 +218,8 @@ SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const Sw
 
   ResultTable history, best;
   auto [first, last] = shard_range(int(plan.cells.size()), opt.shard, opt.shards);
+  Progress progress("search evaluations",
+                    size_t(std::max(0, last - first)) * size_t(std::max(0, sp.evaluations)));
   for (int ci = first; ci < last; ++ci) {
     const SweepCell& ctx = plan.cells[size_t(ci)];
     ++rep.contexts;
@@ -259,9 +262,11 @@ SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const Sw
         history.add(std::move(h));
       }
       n += int(pts.size());
+      progress.step(pts.size());
       s.tell(ev);
     }
     rep.evaluations += n;
+    if (n < sp.evaluations) progress.step(size_t(sp.evaluations - n));  // the searcher stopped
     best.add(best_row(ctx, ci, n, sp, s, seen_cv, rep.notes));
   }
   std::string suffix =
