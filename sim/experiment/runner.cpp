@@ -279,7 +279,8 @@ std::vector<std::string> interval_notes(const ResultTable& summary) {
   for (const ResultRow& r : summary.rows()) {
     const std::string* id = r.text_of("label");
     if (!id) id = r.text_of("config_id");
-    const std::string label = id ? *id : "?";
+    // Labels are user text: control bytes escaped before they reach a terminal.
+    const std::string label = id ? escape_control(*id) : "?";
     const std::string* kinds = r.text_of("ci_method");
     if (kinds && kinds->find("short_run") != std::string::npos) add_unique(short_labels, label);
     const std::string* m = r.text_of("ci_missing");

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "sim/core/error.h"
 #include "sim/core/stats.h"
 
 namespace fovsim {
@@ -101,7 +102,9 @@ ResultTable exclude_startup(const ResultTable& frames, const StartupPlan& plan,
   }
   std::string what;
   for (auto& [label, n] : dropped_by_label)
-    if (n > 0) what += (what.empty() ? "" : ", ") + label + " " + frames_word(n) + " (warm-up)";
+    if (n > 0)  // labels are user text: control bytes escaped for the terminal
+      what +=
+          (what.empty() ? "" : ", ") + escape_control(label) + " " + frames_word(n) + " (warm-up)";
   for (const auto& m : plan.metrics) {
     const int settle = std::max(0, m.frames - plan.warmup_rendered);
     if (settle > 0 && !unsettled.count(m.name))
