@@ -54,6 +54,7 @@ void register_run(CLI::App& app, Action& action) {
       for (auto& t : a->run.targets) opt.command_line += " --target " + t;
       RunResult r = run_experiment(cfg, opt);
       for (auto& w : r.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+      for (auto& n : r.notes) std::fprintf(stderr, "note: %s\n", n.c_str());
       if (!r.printed_summary) {
         std::printf("results in %s\n", r.out_dir.c_str());
         if (!a->quiet && !r.fidelity_note.empty())

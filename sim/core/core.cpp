@@ -1,4 +1,4 @@
-// Small core utilities: locations, hashes, version, atomic file I/O, progress.
+// Small core utilities: locations, hashes, version, atomic file I/O.
 #include <fcntl.h>
 #include <sys/file.h>
 #include <sys/stat.h>
@@ -17,7 +17,6 @@
 #include "sim/core/error.h"
 #include "sim/core/files.h"
 #include "sim/core/hash.h"
-#include "sim/core/progress.h"
 #include "sim/core/version.h"
 
 namespace fovsim {
@@ -481,37 +480,6 @@ bool file_exists(const std::string& path) {
   // A symbolic link loop is there but cannot be followed: "exists", so the reader names why it
   // cannot read it ("Too many levels of symbolic links") instead of the caller's "not found".
   return ec.value() == ELOOP;
-}
-
-Progress::Progress(std::string label, size_t total)
-    : label_(std::move(label)), total_(total), enabled_(::isatty(2) == 1) {
-  start_ = last_ = std::chrono::steady_clock::now();
-}
-
-Progress::~Progress() {
-  done();
-}
-
-void Progress::step(size_t n) {
-  count_ += n;
-  if (!enabled_) return;
-  auto now = std::chrono::steady_clock::now();
-  if (count_ < total_ && now - last_ < std::chrono::milliseconds(200)) return;
-  last_ = now;
-  double el = std::chrono::duration<double>(now - start_).count();
-  double eta = count_ ? el * double(total_ - std::min(count_, total_)) / double(count_) : 0.0;
-  std::fprintf(stderr, "\r%s %zu/%zu (%3.0f%%) elapsed %.1fs ETA %.1fs   ", label_.c_str(), count_,
-               total_, total_ ? 100.0 * double(count_) / double(total_) : 100.0, el, eta);
-  std::fflush(stderr);
-}
-
-void Progress::done() {
-  if (finished_) return;
-  finished_ = true;
-  if (enabled_) {
-    std::fprintf(stderr, "\r%*s\r", 80, "");
-    std::fflush(stderr);
-  }
 }
 
 }  // namespace fovsim

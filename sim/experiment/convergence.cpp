@@ -8,6 +8,7 @@
 
 #include "sim/core/error.h"
 #include "sim/core/files.h"
+#include "sim/core/progress.h"
 #include "sim/experiment/runner.h"
 #include "sim/metrics/registry.h"
 
@@ -152,7 +153,9 @@ ConvergenceResult run_convergence(const std::string& config,
   ConvergenceResult r;
   r.spps = opt.spps;
   const size_t nm = convergence_metrics().size();
+  Progress progress("converge spp levels", opt.spps.size());  // each level's frames nest inside
   for (int spp : opt.spps) {
+    progress.phase("render.spp " + std::to_string(spp));
     std::vector<std::string> ov = overrides;
     ov.push_back("render.spp=" + std::to_string(spp));
     LoadedConfig cfg = load_config(config, ov);
@@ -180,6 +183,7 @@ ConvergenceResult run_convergence(const std::string& config,
     if (r.labels.empty()) r.labels = labels;
     FOVSIM_CHECK(labels == r.labels, "converge: method labels differ between spp levels");
     r.value.push_back(lvl);
+    progress.step();
   }
   evaluate_convergence(r, opt);
   write_file_atomic((std::filesystem::path(opt.out_dir) / "convergence.csv").string(), r.csv());

@@ -38,6 +38,7 @@
 #include "sim/experiment/reference_cache.h"
 #include "sim/experiment/run_config.h"
 #include "sim/experiment/runner.h"
+#include "sim/experiment/startup.h"
 #include "sim/experiment/tracking_summary.h"
 #include "sim/foveation/factory.h"
 #include "sim/foveation/frame.h"
@@ -167,7 +168,8 @@ struct Shared {
   TrackingPolicy tracking;       // trace.on_invalid (sim/trace/tracking.h)
   bool tracking_column = false;  // frames.csv `tracking`: a policy given or invalid frames
   int start = 0, stride = 1, count = 0;
-  int warmup = 0;  // frames.warmup: rendered before `start`, not recorded
+  int warmup = 0;                // frames.warmup: rendered before `start`, not recorded
+  bool include_startup = false;  // frames.include_startup (startup.h)
   double pixel_scale = 1;
   Json resolved;                 // resolved shared keys (for every cell's manifest)
   ReferenceCacheSettings cache;  // the `cache` block (reference_cache.h)
@@ -192,6 +194,7 @@ struct Shared {
     // fed to every method (TWFR's cold first frame, temporal history) but not recorded; the
     // recorded frames, frames.count of them, follow.
     warmup = fb.warmup;
+    include_startup = fb.include_startup;
     start += warmup * stride;
     parse_trace(root, base_dir, top.trace_placement);
     check_frame_range(fp, fb.on_short_trace);
@@ -1335,6 +1338,27 @@ struct GroupOutputs {
   const Json& memory;  // the pass's manifest "memory" record (MemoryPlan::record)
 };
 
+// The start-up frames the cell's means leave out (startup.h): each method's declared warm-up,
+// each stateful metric's settle time at the run's frame rate.
+StartupPlan startup_plan(const Cell& c, const Shared& sh) {
+  StartupPlan p;
+  p.include = sh.include_startup;
+  p.warmup_rendered = sh.warmup;
+  for (const MethodRun& m : c.methods) p.method_frames[m.label] = m.impl->warmup_frames();
+  const double fps = c.seq_setup.fps;
+  for (auto& d : metric_registry()) {
+    if (!d.sequence || !d.sequence->enabled(c.mcfg) || !d.sequence->settle_frames) continue;
+    StartupPlan::Metric m;
+    m.name = d.name;
+    m.frames = d.sequence->settle_frames(fps);
+    m.seconds = fps > 0 ? m.frames / fps : 0.0;
+    for (const std::string& col : {d.pooled_column, d.name})
+      m.columns.insert(m.columns.end(), {col, col + kFoveationLossSuffix});
+    p.metrics.push_back(std::move(m));
+  }
+  return p;
+}
+
 // One cell's outputs, written atomically with the manifest ("complete") last: frames.csv,
 // summary.csv (means with intervals, reference floor, latency phases, tracking states),
 // paired.csv with the fidelity's known bias, summary.json; the --target record.
@@ -1360,11 +1384,19 @@ CellResult write_cell_outputs(Cell& c, const Shared& sh, const GroupOutputs& g) 
   if (c.manifest["fidelity"].contains("note"))
     r.fidelity_note = c.manifest["fidelity"]["note"].get<std::string>();
   r.cell_ms = c.cell_ms;
-  r.summary = summarize(c.frames, r.budget_ms);
-  if (c.mcfg.foveation_loss) mark_reference_floor(r.summary, c.frames, c.side->floor_vals);
-  if (c.latency.enabled) r.summary = summarize_phases(c.frames, r.summary, c.metric_names);
+  // The means leave out the start-up frames (startup.h; frames.csv keeps them).
+  const StartupPlan plan = startup_plan(c, sh);
+  StartupReport startup;
+  const ResultTable means = exclude_startup(c.frames, plan, startup);
+  c.manifest["startup"] = startup.manifest;
+  r.summary = summarize(means, r.budget_ms);
+  mark_startup(r.summary, startup, plan);
+  r.notes = startup.notes;
+  for (auto& n : interval_notes(r.summary)) r.notes.push_back(n);
+  if (c.mcfg.foveation_loss) mark_reference_floor(r.summary, means, c.side->floor_vals);
+  if (c.latency.enabled) r.summary = summarize_phases(means, r.summary, c.metric_names);
   // Tracking states (docs/tracking.md): means with intervals per state, next to the phases.
-  if (sh.tracking_column) r.summary = summarize_tracking(c.frames, r.summary);
+  if (sh.tracking_column) r.summary = summarize_tracking(means, r.summary);
   if (g.order.sampled()) {  // what --target asked for and what it achieved (results/README.md)
     Json specs = Json::array(), achieved;
     for (auto& t : g.opt.targets) specs.push_back(t.spec);
@@ -1387,7 +1419,7 @@ CellResult write_cell_outputs(Cell& c, const Shared& sh, const GroupOutputs& g) 
   // difference whose interval excludes 0 but that is smaller than the bias is named.
   size_t n_below = 0;
   const ResultTable paired =
-      with_fidelity_bias(paired_differences(c.frames), c.manifest["fidelity"], &n_below);
+      with_fidelity_bias(paired_differences(means), c.manifest["fidelity"], &n_below);
   write_file_atomic(out + "/paired.csv", paired.to_csv());
   if (c.manifest["fidelity"]["known_bias"].is_object())
     c.manifest["fidelity"]["paired_real_below_bias"] = n_below;
@@ -1604,10 +1636,13 @@ void run_pass(const GroupRun& g, std::vector<std::unique_ptr<Cell>>& cells, size
       g.plan.passes.size() > 1
           ? ", pass " + std::to_string(pass + 1) + "/" + std::to_string(g.plan.passes.size())
           : std::string();
+  // Frames of the group, warm-up frames included (progress.h; inside a sweep's or a
+  // ladder's progress this is its innermost level).
   Progress progress(
       (cells.size() > 1 ? "frames x " + std::to_string(cells.size()) + " cells" : "frames") +
           of_passes,
-      size_t(sh.count));
+      size_t(sh.count + sh.warmup));
+  progress.phase("frames");
   double ref_total = 0;
   auto do_frame = [&](int k, bool record) {
     int fi = sh.start + k * sh.stride;
@@ -1672,7 +1707,7 @@ void run_pass(const GroupRun& g, std::vector<std::unique_ptr<Cell>>& cells, size
     return all;
   };
   order.run(steps);
-  progress.done();
+  progress.phase("outputs");
   if (memo)  // the cells completed: their computed method entries go to the memo
     for (auto& c : cells)
       for (auto& m : c->methods)
@@ -1690,6 +1725,7 @@ void run_pass(const GroupRun& g, std::vector<std::unique_ptr<Cell>>& cells, size
                         renderer,   group_phases, PhaseClock::now(), threads,
                         memo.get(), memory};
   for (auto& c : cells) results.push_back(write_cell_outputs(*c, sh, go));
+  progress.done();
   if (g.stats) {
     g.stats->frames += order.recorded() + order.warmup();
     g.stats->ref_ms += ref_total;

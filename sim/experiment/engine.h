@@ -60,6 +60,9 @@ struct CellResult {
   std::string fidelity_note;  // manifest "fidelity" note: the known bias of this render.scale
   double cell_ms = 0;  // wall time spent in this cell's own work (methods, metrics, cost, images)
   Json target;         // with targets: the manifest's "target" record (else null)
+  // Notes for stderr (the CLI prints them): missing or short-run intervals (interval_notes,
+  // runner.h), start-up frames left out of the means.
+  std::vector<std::string> notes;
 };
 
 struct GroupStats {

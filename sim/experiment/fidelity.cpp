@@ -10,6 +10,7 @@
 
 #include "sim/core/error.h"
 #include "sim/core/files.h"
+#include "sim/core/progress.h"
 #include "sim/core/text.h"
 #include "sim/experiment/fidelity_report.h"
 #include "sim/experiment/runner.h"
@@ -264,18 +265,23 @@ FidelityResult run_fidelity(const LoadedConfig& cfg, const FidelityOptions& opt)
   std::vector<RungRun> runs(rungs.size());
   std::vector<size_t> order{rungs.size() - 1};
   for (size_t i = 0; i + 1 < rungs.size(); ++i) order.push_back(i);
+  Progress progress("fidelity rungs", order.size());  // a rung's sweep or frames nest inside
   for (size_t i : order) {
     const FidelityRung& r = rungs[i];
     if (!r.skipped.empty()) {
       res.notes.push_back("rung " + r.name + " skipped: " + r.skipped);
+      progress.step();
       continue;
     }
+    progress.phase("rung " + r.name);
     if (opt.progress) {
       std::printf("fidelity: rung %s%s ...\n", r.name.c_str(), r.top ? " (top, the truth)" : "");
       std::fflush(stdout);
     }
     runs[i] = run_rung(i, r, top_cfg, is_sweep, opt, res.out_dir, res.notes);
+    progress.step();
   }
+  progress.phase("report");
   write_fidelity_report(name, cfg, opt, rungs, runs, res);
   return res;
 }

@@ -144,6 +144,13 @@ RecostResult recost_one(const RecostOptions& o) {
   std::vector<std::vector<RecostRow>> acc(gpus.size());
   std::string first_gpu;
   std::map<std::string, CostPasses> declared;  // per method + lighting strategy
+  // The run's means left out each method's warm-up rows (manifest `startup`,
+  // sim/experiment/startup.h): so do these, to match its summary.
+  std::map<std::string, int> skip, seen;
+  if (man.contains("startup") && man["startup"].value("excluded", false) &&
+      man["startup"].contains("methods") && man["startup"]["methods"].is_object())
+    for (auto& [label, n] : man["startup"]["methods"].items())
+      if (n.is_number_integer()) skip[label] = n.get<int>();
   for (size_t ri = 1; ri < rows.size(); ++ri) {
     const CsvRow& row = rows[ri];
     if (row.fields.size() != header.size())
@@ -159,6 +166,7 @@ RecostResult recost_one(const RecostOptions& o) {
     const Counters c = row_counters(header, row, csv_path, sim_px);
     std::string id = cell(c_id);
     if (auto at = id.find('@'); at != std::string::npos) id = id.substr(0, at);
+    if (auto sk = skip.find(id); sk != skip.end() && seen[id]++ < sk->second) continue;
     for (size_t gi = 0; gi < gpus.size(); ++gi) {
       CostInputs ci;
       ci.method = cell(c_method);

@@ -134,6 +134,12 @@ const ParamTable<FramesBlock>& frames_block_table() {
           .doc("",
                "frames rendered before the recorded ones and fed to every method (TWFR's "
                "cold first frame, temporal history), but not recorded: no rows, no images")
+          .boolean("include_startup", false, &B::include_startup)
+          .doc("",
+               "keep the start-up frames in the means: by default the first frames a method "
+               "declares as warm-up (TWFR: 1) and a metric's settle time (FovVideoVDP: 15 "
+               "frames at 90 Hz) are in frames.csv but left out of summary.csv and "
+               "paired.csv (docs/intervals.md)")
           .text("on_short_trace", "fail", {"fail", "truncate"}, &B::on_short_trace)
           .doc("", "what to do when the trace has fewer frames than requested");
   return t;

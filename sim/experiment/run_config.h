@@ -46,6 +46,7 @@ const ParamTable<ToneMapBlock>& tonemap_block_table();
 // `frames`.
 struct FramesBlock {
   int start = 0, stride = 1, count = 0, warmup = 0;
+  bool include_startup = false;  // keep methods' warm-up and metrics' settle frames in means
   std::string on_short_trace = "fail";
 };
 const ParamTable<FramesBlock>& frames_block_table();

@@ -49,7 +49,6 @@ RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt) {
   for (auto& t : opt.targets) eo.targets.push_back(parse_target(t));
   auto cells = run_cells({job}, eo);
   CellResult& c = cells.front();
-
   RunResult result;
   result.out_dir = c.out_dir;
   result.frames = std::move(c.frames);
@@ -58,6 +57,7 @@ RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt) {
   result.warnings = c.warnings;
   result.printed_summary = c.print_summary;
   result.fidelity_note = c.fidelity_note;
+  result.notes = c.notes;
   if (c.print_summary) {
     // `+-`: half-widths of the 95% intervals (summary.csv `<col>_ci95`; nan below 20 frames).
     // The metric columns are the registry's headline metrics present in the run.
@@ -140,6 +140,40 @@ RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt) {
   return result;
 }
 
+namespace {
+
+// Which estimator each interval of a summary row came from, and why the undefined ones are
+// undefined: the row's `ci_method` and `ci_missing` text columns.
+struct IntervalLog {
+  std::vector<std::string> kinds;                            // in first-use order
+  std::vector<std::pair<std::string, std::string>> missing;  // (why, columns)
+  void add(const std::string& column, const MeanInterval& mi) {
+    if (mi.kind != IntervalKind::none) {
+      const std::string k = interval_kind_name(mi.kind);
+      if (std::find(kinds.begin(), kinds.end(), k) == kinds.end()) kinds.push_back(k);
+      return;
+    }
+    if (mi.n == 0) return;  // no finite value: the column has no mean for this config either
+    for (auto& [why, cols] : missing)  // a sequence metric's column is seen twice: once
+      if ((" " + cols + " ").find(" " + column + " ") != std::string::npos) return;
+    for (auto& [why, cols] : missing)
+      if (why == mi.why) {
+        cols += " " + column;
+        return;
+      }
+    missing.emplace_back(mi.why, column);
+  }
+  void write(ResultRow& s) const {
+    std::string k, m;
+    for (auto& x : kinds) k += (k.empty() ? "" : " ") + x;
+    for (auto& [why, cols] : missing) m += (m.empty() ? "" : "; ") + cols + ": " + why;
+    s.set_text("ci_method", k);
+    s.set_text("ci_missing", m);
+  }
+};
+
+}  // namespace
+
 ResultTable summarize(const ResultTable& frames, double budget_ms) {
   std::vector<std::string> order;
   std::map<std::string, std::vector<const ResultRow*>> groups;
@@ -156,6 +190,7 @@ ResultTable summarize(const ResultTable& frames, double budget_ms) {
     ResultRow s;
     for (auto& kv : rows.front()->text) s.set_text(kv.first, kv.second);
     s.set("frames", double(rows.size()));
+    IntervalLog ivlog;
     for (auto& c : cols) {
       if (c == "frame" || c == "t" || c == "gaze_x" || c == "gaze_y") continue;
       // Mean of the finite values; a column that is +inf on every frame (PSNR of an exact
@@ -174,8 +209,13 @@ ResultTable summarize(const ResultTable& frames, double budget_ms) {
         }
       }
       s.set(c, n ? sum / double(n) : (pos_inf ? INFINITY : NAN));
-      // 95% half-width over the same finite values (sim/core/stats.h; nan when undefined).
-      if (has_interval(c)) s.set(c + "_ci95", batch_means_interval(finite).half_width);
+      // 95% half-width over the same finite values (sim/core/stats.h mean_interval: batch
+      // means, the short-run interval below 20 frames; nan when undefined, `ci_missing` says why).
+      if (has_interval(c)) {
+        const MeanInterval mi = mean_interval(finite);
+        s.set(c + "_ci95", mi.half_width);
+        if (!(pos_inf && !n)) ivlog.add(c, mi);
+      }
     }
     // Sequence-pooled metrics (sim/metrics/registry.h): the pooled value of the whole run and
     // its interval, the batch-means interval of the pooled column's mean mapped through the
@@ -192,7 +232,8 @@ ResultTable summarize(const ResultTable& frames, double budget_ms) {
           if (std::isfinite(v)) q.push_back(v);
         }
         if (!present) continue;
-        MeanInterval ci = batch_means_interval(q);
+        MeanInterval ci = mean_interval(q);
+        ivlog.add(name, ci);
         const double v = q.empty() ? NAN : d.from_mean(ci.mean);
         double a = d.from_mean(ci.lo()), b = d.from_mean(ci.hi());
         if (a > b) std::swap(a, b);
@@ -201,6 +242,7 @@ ResultTable summarize(const ResultTable& frames, double budget_ms) {
         s.set(name + "_lo", a);
         s.set(name + "_hi", b);
       }
+    ivlog.write(s);
     std::vector<double> tot;
     for (auto* r : rows) tot.push_back(r->get("est_ms_total", NAN));
     std::sort(tot.begin(), tot.end());
@@ -224,6 +266,75 @@ ResultTable summarize(const ResultTable& frames, double budget_ms) {
 }  // namespace fovsim
 
 namespace fovsim {
+
+std::vector<std::string> interval_notes(const ResultTable& summary) {
+  // why -> (headline columns, config labels), in first-seen order
+  std::vector<std::pair<std::string, std::pair<std::vector<std::string>, std::vector<std::string>>>>
+      missing;
+  std::vector<std::string> short_labels;
+  auto add_unique = [](std::vector<std::string>& v, const std::string& x) {
+    if (std::find(v.begin(), v.end(), x) == v.end()) v.push_back(x);
+  };
+  const std::vector<std::string>& shown = headline_metrics();
+  for (const ResultRow& r : summary.rows()) {
+    const std::string* id = r.text_of("label");
+    if (!id) id = r.text_of("config_id");
+    // Labels are user text: control bytes escaped before they reach a terminal.
+    const std::string label = id ? escape_control(*id) : "?";
+    const std::string* kinds = r.text_of("ci_method");
+    if (kinds && kinds->find("short_run") != std::string::npos) add_unique(short_labels, label);
+    const std::string* m = r.text_of("ci_missing");
+    if (!m || m->empty()) continue;
+    // "col col: why; col: why" (summarize's IntervalLog)
+    size_t pos = 0;
+    while (pos < m->size()) {
+      size_t end = m->find("; ", pos);
+      if (end == std::string::npos) end = m->size();
+      const std::string seg = m->substr(pos, end - pos);
+      pos = end + 2;
+      const size_t colon = seg.find(": ");
+      if (colon == std::string::npos) continue;
+      const std::string why = seg.substr(colon + 2);
+      std::vector<std::string> cols;
+      size_t c0 = 0;
+      const std::string list = seg.substr(0, colon);
+      while (c0 <= list.size()) {
+        size_t c1 = list.find(' ', c0);
+        if (c1 == std::string::npos) c1 = list.size();
+        const std::string c = list.substr(c0, c1 - c0);
+        if (std::find(shown.begin(), shown.end(), c) != shown.end()) cols.push_back(c);
+        c0 = c1 + 1;
+      }
+      if (cols.empty()) continue;
+      auto it = std::find_if(missing.begin(), missing.end(),
+                             [&](const auto& e) { return e.first == why; });
+      if (it == missing.end()) {
+        missing.push_back({why, {}});
+        it = missing.end() - 1;
+      }
+      for (auto& c : cols) add_unique(it->second.first, c);
+      add_unique(it->second.second, label);
+    }
+  }
+  auto join = [](const std::vector<std::string>& v, size_t most) {
+    std::string s;
+    for (size_t i = 0; i < v.size() && i < most; ++i) s += (i ? ", " : "") + v[i];
+    if (v.size() > most) s += ", ... (" + std::to_string(v.size()) + " in all)";
+    return s;
+  };
+  std::vector<std::string> notes;
+  for (auto& [why, e] : missing)
+    notes.push_back("no 95% interval for " + join(e.first, 8) + " (" + join(e.second, 3) +
+                    "): " + why + " (summary.csv ci_missing; docs/intervals.md)");
+  if (!short_labels.empty())
+    notes.push_back(
+        "intervals over fewer than 20 frames are short-run t-intervals with an AR(1) effective "
+        "sample size (" +
+        join(short_labels, 3) +
+        "; summary.csv ci_method short_run): indicative only, they undercover strongly "
+        "correlated frames (docs/intervals.md)");
+  return notes;
+}
 
 void mark_reference_floor(ResultTable& summary, const ResultTable& frames,
                           const std::map<std::string, std::map<int, double>>& floor) {

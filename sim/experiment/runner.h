@@ -26,6 +26,9 @@ struct RunResult {
   std::vector<std::string> warnings;  // suspicious but valid values (manifest "warnings")
   bool printed_summary = false;       // the summary table (with the results path) was printed
   std::string fidelity_note;          // manifest "fidelity" note (empty at scale >= 0.5)
+  // Notes for stderr: intervals that are missing or short-run (interval_notes), start-up
+  // frames left out of the means.
+  std::vector<std::string> notes;
 };
 
 RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt);
@@ -33,7 +36,15 @@ RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt);
 // Per-config summary of a frames table: means of numeric columns, each followed by its 95%
 // batch-means half-width `<col>_ci95` (sim/experiment/intervals.h), frames, est_ms_total
 // p50/p95/p99, fits_budget (p95 <= budget_ms).
+// Each interval's estimator is in the text column `ci_method` (the kinds used in the row:
+// "batch_means", "short_run"; sim/core/stats.h mean_interval) and every column whose interval is
+// undefined though it has a mean in `ci_missing` ("col col: why; col: why").
 ResultTable summarize(const ResultTable& frames, double budget_ms);
+
+// The run's notes about its intervals (printed on stderr by the CLI): one per reason a headline
+// column (est_ms_total, shaded_fraction, the registry's headline metrics) has no interval,
+// naming the columns and configs, and one when short-run intervals were used.
+std::vector<std::string> interval_notes(const ResultTable& summary);
 
 // The reference's floor (docs/metrics.md "Two references"): `floor[column][frame]` holds each
 // metric of `full` at the methods' sampling rate against the converged reference. Adds the

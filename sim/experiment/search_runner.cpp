@@ -2,6 +2,7 @@
 
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -9,6 +10,7 @@
 #include "sim/core/error.h"
 #include "sim/core/files.h"
 #include "sim/core/hash.h"
+#include "sim/core/progress.h"
 #include "sim/experiment/engine.h"
 #include "sim/experiment/search.h"
 
@@ -42,6 +44,50 @@ bool cached_eval_complete(const std::string& done_path, const SearchSpec& sp) {
     if (!d["columns"].contains(k.column)) return false;
   return true;
 }
+
+}  // namespace
+
+void refuse_undefined_bounds(const ResultRow& r, const SearchSpec& sp, const std::string& file) {
+  const std::string* missing = r.text_of("ci_missing");
+  if (!missing || missing->empty()) return;
+  auto reason = [&](const std::string& base) -> std::string {
+    size_t pos = 0;
+    while (pos < missing->size()) {
+      size_t end = missing->find("; ", pos);
+      if (end == std::string::npos) end = missing->size();
+      const std::string seg = missing->substr(pos, end - pos);
+      pos = end + 2;
+      const size_t colon = seg.find(": ");
+      if (colon == std::string::npos) continue;
+      const std::string cols = " " + seg.substr(0, colon) + " ";
+      if (cols.find(" " + base + " ") != std::string::npos) return seg.substr(colon + 2);
+    }
+    return "";
+  };
+  auto check = [&](const std::string& column, const std::string& where) {
+    if (!std::isnan(r.get(column, NAN))) return;
+    for (const char* suffix : {"_lo", "_hi", "_ci95"}) {
+      const std::string sfx = suffix;
+      if (column.size() <= sfx.size() ||
+          column.compare(column.size() - sfx.size(), sfx.size(), sfx))
+        continue;
+      const std::string base = column.substr(0, column.size() - sfx.size());
+      const std::string why = reason(base);
+      if (why.empty()) continue;
+      const std::string* label = r.text_of("label");
+      throw Error(file + ": " + where,
+                  column + " is nan for " + (label ? *label : std::string("the scored row")) +
+                      ": the 95% interval of " + base + " is undefined (" + why +
+                      "), so no point could meet a bound on it; run more frames "
+                      "(frames.count, docs/intervals.md) or bound " +
+                      base + " itself");
+    }
+  };
+  for (auto& k : sp.constraints) check(k.column, "sweep.search.subject_to." + k.column);
+  check(sp.objective.column, "sweep.search");
+}
+
+namespace {
 
 // The jobs of one batch of points of context `ci`, each point's folder appended to `dirs`. A
 // point whose folder holds a complete evaluation is not run again (counted in `cached`).
@@ -93,6 +139,7 @@ void run_batch(std::vector<CellJob>& jobs, const EngineOptions& eo, const SweepP
       // The objective and constraint name columns of the summary (else every score would
       // be NaN and the "best" arbitrary): checked on the first evaluation.
       check_plan_columns(plan, res[i].summary, true);
+      refuse_undefined_bounds(*r, sp, cfg.file);
       auto num = [](double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); };
       // Every column a search may score, keyed by name: a rerun with another objective or
       // constraint reuses the run when its columns are here (cached_eval_complete).
@@ -172,6 +219,8 @@ SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const Sw
 
   ResultTable history, best;
   auto [first, last] = shard_range(int(plan.cells.size()), opt.shard, opt.shards);
+  Progress progress("search evaluations",
+                    size_t(std::max(0, last - first)) * size_t(std::max(0, sp.evaluations)));
   for (int ci = first; ci < last; ++ci) {
     const SweepCell& ctx = plan.cells[size_t(ci)];
     ++rep.contexts;
@@ -215,9 +264,11 @@ SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const Sw
         history.add(std::move(h));
       }
       n += int(pts.size());
+      progress.step(pts.size());
       s.tell(ev);
     }
     rep.evaluations += n;
+    if (n < sp.evaluations) progress.step(size_t(sp.evaluations - n));  // the searcher stopped
     best.add(best_row(ctx, ci, n, sp, s, seen_cv, rep.notes));
   }
   std::string suffix =

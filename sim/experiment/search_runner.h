@@ -20,6 +20,13 @@ struct SearchReport {
   std::vector<std::string> notes;
 };
 
+// A search scores a summary row; when one of its constraint (or objective) columns is an
+// interval bound (`<X>_lo`, `<X>_hi`, `<X>_ci95`) that is nan because X's interval is undefined
+// (the row's `ci_missing`), every point would be "infeasible" for a reason the search cannot
+// change: throws fovsim::Error at `file: sweep.search.subject_to.<column>` with that reason.
+void refuse_undefined_bounds(const ResultRow& scored, const SearchSpec& sp,
+                             const std::string& file);
+
 SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const SweepOptions& opt);
 
 }  // namespace fovsim

@@ -16,6 +16,7 @@
 #include "sim/core/files.h"
 #include "sim/core/memory_info.h"
 #include "sim/core/message_text.h"
+#include "sim/core/progress.h"
 #include "sim/core/version.h"
 #include "sim/experiment/engine.h"
 #include "sim/experiment/intervals.h"
@@ -496,6 +497,9 @@ SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const Swee
   eo.use_cache = opt.use_cache;
   eo.memory_budget_gb = opt.memory_budget_gb;
   for (auto& t : opt.targets) eo.targets.push_back(parse_target(t));  // per cell (engine.h)
+  size_t pending_cells = 0;
+  for (auto& k : order) pending_cells += groups[k].size();
+  Progress progress("sweep cells", pending_cells);  // the engine's frames nest inside
   for (auto& k : order) {
     auto& cells = groups[k];
     size_t step = opt.batch > 0 ? size_t(opt.batch) : cells.size();
@@ -533,6 +537,7 @@ SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const Swee
         rep.cell_ms += res[i].cell_ms;
       }
       rep.cells_run += int(res.size());
+      progress.step(res.size());
       rep.reference_passes += gs.passes;
       rep.reference_frames += gs.frames;
       rep.reference_frames_from_cache += gs.frames_from_cache;

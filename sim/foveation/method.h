@@ -73,6 +73,10 @@ class FoveationMethod {
   virtual void render(const FrameContext& ctx, FrameOutput& out) = 0;
   virtual void reset() {}
   virtual bool temporal() const { return false; }
+  // Frames after a (re)start whose rows are not yet representative of the method's steady
+  // state: left out of the run's means by default (sim/experiment/startup.h; TWFR's cold first
+  // frame redraws every pixel). 0 for a method without temporal state.
+  virtual int warmup_frames() const { return 0; }
   // Parameter values as named columns for frames.csv (e.g. {"sigma", 1.8}).
   virtual std::vector<std::pair<std::string, double>> param_columns() const { return {}; }
   // String parameters as text columns, written as given (kfr {"kernel", "sine"}), never as

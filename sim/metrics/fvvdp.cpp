@@ -560,6 +560,18 @@ void temporal_taps(double fps, std::vector<double>& fs, std::vector<double>& ft)
     ft[size_t(k)] = kTransientK2 * (fs[size_t(k) + 1] - fs[size_t(k)]) / (t[1] - t[0]);
 }
 
+int settle_frames(double fps) {
+  if (fps <= 0) return 0;
+  std::vector<double> fs, ft;
+  temporal_taps(fps, fs, ft);
+  double cum = 0;
+  for (size_t k = 0; k < fs.size(); ++k) {
+    cum += fs[k];
+    if (cum >= 0.95) return int(k);
+  }
+  return int(fs.size()) - 1;
+}
+
 std::vector<double> band_frequencies(int height, int width, double ppd) {
   const int n_max = int(std::floor(std::log2(double(std::min(height, width))))) - 1;
   int istar = 14;
@@ -1137,6 +1149,7 @@ const SequenceMetric& fvvdp_sequence_metric() {
       return plane * (1 + L + (video ? 2 : 0) + c / 3) + 2 * plane;
     };
     x.manifest_key = "fvvdp";
+    x.settle_frames = [](double fps) { return fvvdp_detail::settle_frames(fps); };
     x.heatmap_suffix = "_fvvdp";
     return x;
   }();

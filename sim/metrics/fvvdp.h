@@ -190,6 +190,11 @@ double csf_formula(double rho, double omega, double L, double e);
 double csf_table(double rho, double omega, double L, double e);
 int filter_length(double fps);
 void temporal_taps(double fps, std::vector<double>& fs, std::vector<double>& ft);
+// Frames after a (re)start until the sustained temporal filter (§5.2) has 95% of its weight on
+// frames of the video instead of the replicated first frame: the smallest k with
+// fs[0] + ... + fs[k] >= 0.95 (frames 0 .. k-1 are still settling). 15 frames (0.167 s) at
+// 90 Hz; 0 for still images (fps <= 0).
+int settle_frames(double fps);
 std::vector<double> band_frequencies(int height, int width, double ppd);
 }  // namespace fvvdp_detail
 

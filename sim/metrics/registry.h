@@ -71,6 +71,10 @@ struct SequenceMetric {
   // and "why" (video or still images, and why).
   Json (*describe)(const SequenceSetup&) = nullptr;
   const char* manifest_key = "";
+  // Frames after a (re)start before the metric's temporal filters have settled at `fps` (0:
+  // still images, nothing to settle); the run leaves them out of the metric's means by default
+  // (sim/experiment/startup.h). nullptr: 0.
+  int (*settle_frames)(double fps) = nullptr;
   // Saved frames get `<label><heatmap_suffix>.png` (and `<label><heatmap_suffix>_fl.png`
   // against `full` at the same sampling); "" = no heat map.
   const char* heatmap_suffix = "";

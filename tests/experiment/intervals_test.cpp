@@ -31,7 +31,7 @@ ResultRow frame_row(const std::string& id, const std::string& gpu, int frame, do
 TEST(Intervals, SummaryHasHalfWidthsOnlyForAggregates) {
   ResultTable f;
   for (int i = 0; i < 40; ++i) f.add(frame_row("a", "g", i, 30.0 + (i % 2), 5.0));
-  for (int i = 0; i < 10; ++i) f.add(frame_row("short", "g", i, 30.0, 5.0));
+  for (int i = 0; i < 5; ++i) f.add(frame_row("short", "g", i, 30.0, 5.0));
   ResultTable s = summarize(f, 11.1);
   ASSERT_EQ(s.rows().size(), 2u);
   const ResultRow& a = s.rows()[0];
@@ -44,10 +44,39 @@ TEST(Intervals, SummaryHasHalfWidthsOnlyForAggregates) {
   auto cols = s.numeric_columns();
   EXPECT_EQ(std::count(cols.begin(), cols.end(), "ref_ms_ci95"), 0);
   EXPECT_EQ(std::count(cols.begin(), cols.end(), "sigma_ci95"), 0);
-  // Below kCiMinSamples frames the interval is undefined, the mean still reported.
+  EXPECT_EQ(*a.text_of("ci_method"), "batch_means");
+  EXPECT_EQ(*a.text_of("ci_missing"), "");
+  // Below kCiShortMinSamples frames the interval is undefined, the mean still reported, and
+  // `ci_missing` says why, naming the columns.
   const ResultRow& sh = s.rows()[1];
   EXPECT_DOUBLE_EQ(sh.get("psnr", NAN), 30.0);
   EXPECT_TRUE(std::isnan(sh.get("psnr_ci95", 0.0)));
+  EXPECT_EQ(*sh.text_of("ci_method"), "");
+  EXPECT_EQ(*sh.text_of("ci_missing"),
+            "est_ms_total psnr: 5 finite frames (an interval needs >= 8)");
+  const std::vector<std::string> notes = interval_notes(s);
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_EQ(notes[0],
+            "no 95% interval for est_ms_total, psnr (short): 5 finite frames (an interval needs "
+            ">= 8) (summary.csv ci_missing; docs/intervals.md)");
+}
+
+// 8..19 frames: the short-run interval (sim/core/stats.h), named in ci_method and in a note.
+TEST(Intervals, ShortRunsGetTheShortRunInterval) {
+  ResultTable f;
+  std::vector<double> v;
+  for (int i = 0; i < 12; ++i) {
+    v.push_back(30 + std::sin(1.3 * i));
+    f.add(frame_row("a", "g", i, v.back(), 5.0));
+  }
+  ResultTable s = summarize(f, 11.1);
+  const ResultRow& a = s.rows()[0];
+  EXPECT_DOUBLE_EQ(a.get("psnr_ci95", NAN), short_run_interval(v).half_width);
+  EXPECT_GT(a.get("psnr_ci95", NAN), 0.0);
+  EXPECT_EQ(*a.text_of("ci_method"), "short_run");
+  const std::vector<std::string> notes = interval_notes(s);
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_NE(notes[0].find("short-run t-intervals"), std::string::npos) << notes[0];
 }
 
 TEST(Intervals, SummaryHalfWidthMatchesBatchMeans) {

@@ -12,6 +12,7 @@
 
 #include "sim/core/error.h"
 #include "sim/metrics/fvvdp.h"
+#include "sim/metrics/registry.h"
 
 using namespace fovsim;
 
@@ -361,3 +362,25 @@ TEST(Fvvdp, HeatMap) {
   same.push(r, rs);
   for (float v : same.heatmap().data) ASSERT_EQ(v, 0.f);
 }
+
+namespace fovsim {
+namespace {
+
+// The settle time the run leaves out of FovVideoVDP's means (sim/experiment/startup.h): the
+// sustained filter's 95% weight point, ~0.17 s at any frame rate; nothing for still images.
+TEST(Fvvdp, SettleFramesFromTheSustainedFilter) {
+  EXPECT_EQ(fvvdp_detail::settle_frames(90), 15);  // 0.167 s
+  EXPECT_EQ(fvvdp_detail::settle_frames(60), 9);
+  EXPECT_EQ(fvvdp_detail::settle_frames(120), 20);
+  EXPECT_EQ(fvvdp_detail::settle_frames(0), 0);
+  std::vector<double> fs, ft;
+  fvvdp_detail::temporal_taps(90, fs, ft);
+  double before = 0;
+  for (int k = 0; k < 15; ++k) before += fs[size_t(k)];
+  EXPECT_LT(before, 0.95);
+  EXPECT_GE(before + fs[15], 0.95);
+  EXPECT_EQ(fvvdp_sequence_metric().settle_frames(90), 15);
+}
+
+}  // namespace
+}  // namespace fovsim
