@@ -1345,7 +1345,7 @@ StartupPlan startup_plan(const Cell& c, const Shared& sh) {
   p.include = sh.include_startup;
   p.warmup_rendered = sh.warmup;
   for (const MethodRun& m : c.methods) p.method_frames[m.label] = m.impl->warmup_frames();
-  const double fps = c.seq_setup.fps;
+  const double fps = c.side->video ? sh.display.refresh_hz : 0.0;  // as the streams ran
   for (auto& d : metric_registry()) {
     if (!d.sequence || !d.sequence->enabled(c.mcfg) || !d.sequence->settle_frames) continue;
     StartupPlan::Metric m;
