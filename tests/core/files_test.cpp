@@ -213,10 +213,9 @@ TEST(SourceScan, FilesAreOpenedOnlyThroughTheCoreHelpers) {
   // The helpers themselves, and the decoders handed a path the helpers checked first
   // (check_input_file / confined_path): textures, compare's images; the kernel's /proc
   // counters (memory_info.cpp: fixed paths, not input).
-  const std::set<std::string> allowed = {"sim/core/core.cpp", "sim/core/disk_cache.cpp",
-                                         "sim/core/memory_info.cpp",
-                                         "sim/core/image.cpp", "sim/scene/import.cpp",
-                                         "sim/metrics/compare.cpp"};
+  const std::set<std::string> allowed = {"sim/core/core.cpp",        "sim/core/disk_cache.cpp",
+                                         "sim/core/memory_info.cpp", "sim/core/image.cpp",
+                                         "sim/scene/import.cpp",     "sim/metrics/compare.cpp"};
   const auto hits = uses(std::regex(R"(std::[io]?fstream\b|\bfopen\s*\(|::open\s*\(|)"
                                     R"(create_director(y|ies)\s*\(|ImageInput::open|)"
                                     R"(ImageOutput::create)"),
