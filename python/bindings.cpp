@@ -175,10 +175,11 @@ py::object from_json(const Json& j) {
 py::dict estimate_py(const std::string& gpu, const std::string& workload, const std::string& method,
                      const std::string& display, double width, double height, double eyes,
                      const std::map<std::string, double>& scale, double budget_ms,
-                     const std::string& models_in) {
+                     const std::string& models_in, double level) {
   // The checks `fovsim predict` / `budget` make on their flags (params.h check_number): 0
   // keeps the display's own value, anything else must be in the flag's range.
   check_cost_args(width, height, eyes, budget_ms, scale);  // the CLI flags' ranges (budget.h)
+  check_number("p", level, fit_level_range());             // `fovsim budget --p`
   const std::string models = models_in.empty() ? default_models_dir() : models_in;
   MethodArg m = parse_method_arg(method, "method");
   if (!is_cost_method(m.name))
@@ -228,8 +229,12 @@ py::dict estimate_py(const std::string& gpu, const std::string& workload, const 
   r["resource_ms"] = fc.resource_ms;
   r["missing_counters"] = fc.missing_counters;
   if (budget_ms > 0) {
-    // The same verdict and factors as `fovsim budget` (sim/cost/budget.h), not a copy.
-    r["verdict"] = std::string(budget_verdict(fc, budget_ms));
+    // The same decision and factors as `fovsim budget` (sim/cost/budget.h), not a copy.
+    const BudgetDecision bd = decide_budget(g.interval, fc.total_ms, budget_ms, level);
+    r["verdict"] = std::string(bd.verdict);
+    r["p_fit"] = bd.p_fit;
+    r["fits"] = bd.fits;
+    r["fit_level"] = level;
     const BudgetFactors bf = budget_factors(fc, budget_ms);
     for (auto& [res, x] : bf.x) r[py::str("factor_" + res)] = x;
     r["factor_all"] = bf.x_all;
@@ -417,8 +422,9 @@ PYBIND11_MODULE(_fovsim, m) {
         py::arg("display") = std::string(kDefaultDisplay), py::arg("width") = 0,
         py::arg("height") = 0, py::arg("eyes") = 0,
         py::arg("scale") = std::map<std::string, double>{}, py::arg("budget_ms") = 0.0,
-        py::arg("models") = "",
-        "One frame estimate of the analytic cost model (fovsim predict / budget)");
+        py::arg("models") = "", py::arg("p") = kDefaultFitLevel,
+        "One frame estimate of the analytic cost model (fovsim predict / budget); with "
+        "budget_ms > 0 also budget's verdict, p_fit and fits at level p");
   m.def("recost", &recost_py, py::arg("results"), py::arg("gpus"), py::arg("display") = "",
         py::arg("width") = 0, py::arg("height") = 0, py::arg("eyes") = 0, py::arg("workload") = "",
         py::arg("models") = "",

@@ -72,9 +72,20 @@ class CostTest(unittest.TestCase):
                         "twfr", "--hz", "120", "--scale-shading", "2"])
         self.assertEqual(len(py), 3)
         for p, c in zip(py, cli):
-            for k in ("est_ms_total", "budget_ms", "headroom_ms", "verdict", "fits", "factor_shading",
-                      "factor_geometry", "factor_fixed", "factor_all"):
+            for k in ("est_ms_total", "budget_ms", "headroom_ms", "verdict", "fits", "p_fit", "fit_level",
+                      "factor_shading", "factor_geometry", "factor_fixed", "factor_all"):
                 self.assertTrue(close(p[k], c[k]), (k, p[k], c[k]))
+        # The level: the same decision as `--p`, the same probability.
+        py9 = fovsim.budget(gpu="gtx1080", workload="twfr_sponza", methods=["full", "kfr", "twfr"], hz=120,
+                            scale={"shading": 2}, p=0.95, as_frame=False)
+        cli9 = cli_json(["budget", "--gpu", "gtx1080", "--workload", "twfr_sponza", "-m", "full", "-m", "kfr", "-m",
+                         "twfr", "--hz", "120", "--scale-shading", "2", "--p", "0.95"])
+        for p, c in zip(py9, cli9):
+            self.assertEqual((p["verdict"], p["fits"], p["p_fit"]), (c["verdict"], c["fits"], c["p_fit"]))
+            self.assertEqual(p["fits"], p["p_fit"] >= 0.95)
+        with self.assertRaises(fovsim.FovsimError) as cm:
+            fovsim.budget(gpu="gtx1080", workload="twfr_sponza", methods=["full"], p=0.3)
+        self.assertIn("p: value 0.3 is out of range [0.5, 0.99]", str(cm.exception))
 
     def test_errors(self):
         with self.assertRaises(fovsim.FovsimError) as cm:

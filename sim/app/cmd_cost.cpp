@@ -416,7 +416,7 @@ int do_predict(const PredictArgs& a) {
 // ---------------------------------------------------------------- budget
 struct BudgetArgs {
   Target t;
-  double hz = 90, budget_ms = 0, target_p = 0.8;
+  double hz = 90, budget_ms = 0, target_p = kDefaultFitLevel;
   double s_shading = 1, s_geometry = 1, s_raster = 1, s_memory = 1, s_fixed = 1;
   bool json = false, display_given = false, workload_given = false;
   std::string results;  // budget of a finished run's measured counters
@@ -452,12 +452,10 @@ int do_budget_results(const BudgetArgs& a, double budget) {
     const GpuProfile* g = nullptr;
     for (auto& [n, p] : gs)
       if (p.name == x.gpu) g = &p;
-    FrameCost fc;
-    fc.total_ms = x.total_ms;
-    if (x.level > 0)
-      fc.interval_level = x.level, fc.total_lo_ms = x.lo_ms, fc.total_hi_ms = x.hi_ms;
-    const double pf = g ? fit_probability(*g, fc, budget) : (x.total_ms <= budget ? 1.0 : 0.0);
-    const char* verdict = budget_verdict(fc, budget);
+    const BudgetDecision bd =
+        decide_budget(g ? g->interval : PredictionInterval{}, x.total_ms, budget, a.target_p);
+    const double pf = bd.p_fit;
+    const char* verdict = bd.verdict;
     rows.push_back({x.gpu, g && !g->calibrated ? "no*" : "yes", x.config_id,
                     fmt("%.3f", x.total_ms),
                     x.level > 0 ? fmt("%.2f-", x.lo_ms) + fmt("%.2f", x.hi_ms) : "-",
@@ -469,6 +467,8 @@ int do_budget_results(const BudgetArgs& a, double budget) {
                    {"budget_ms", budget},
                    {"verdict", verdict},
                    {"p_fit", pf},
+                   {"fits", bd.fits},
+                   {"fit_level", a.target_p},
                    {"headroom_ms", budget - x.total_ms}});
   }
   if (a.json) {
@@ -477,7 +477,10 @@ int do_budget_results(const BudgetArgs& a, double budget) {
     std::cout << "results " << a.results << " re-costed for display " << res.display.name << " "
               << res.display.width << "x" << res.display.height << " x" << res.display.eyes
               << " eye(s), workload " << res.workload << "; budget " << fmt("%.2f", budget)
-              << " ms; p_fit: probability that the frame fits (held-out total errors)\n";
+              << " ms; p_fit: probability that the frame fits (held-out total errors); fits: "
+                 "p_fit >= "
+              << pct(a.target_p) << ", does not fit: p_fit <= " << pct(1 - a.target_p)
+              << ", else uncertain (--p)\n";
     print_table(rows);
     print_uncalibrated_note(used);
   }
@@ -509,8 +512,9 @@ int do_budget(const BudgetArgs& a) {
       FrameCost fc = cost_for(g, m, res);
       const double T = fc.total_ms;
       const bool iv = fc.interval_level > 0;
-      const char* verdict = budget_verdict(fc, budget);
-      const double pf = fit_probability(g, fc, budget);
+      const BudgetDecision bd = decide_budget(g.interval, T, budget, a.target_p);
+      const char* verdict = bd.verdict;
+      const double pf = bd.p_fit;
       BudgetQuery q;
       q.gpu = &g, q.method = m.name, q.params = m.params, q.workload = &w, q.display = d;
       q.indirect = res.indirect, q.where = "--method " + m.text;
@@ -532,7 +536,8 @@ int do_budget(const BudgetArgs& a) {
                                   {"method", m.text},
                                   {"est_ms_total", T},
                                   {"budget_ms", budget},
-                                  {"fits", T <= budget},
+                                  {"fits", bd.fits},
+                                  {"fit_level", a.target_p},
                                   {"verdict", verdict},
                                   {"p_fit", pf},
                                   {"headroom_ms", budget - T}};
@@ -574,10 +579,11 @@ int do_budget(const BudgetArgs& a) {
               << a.s_geometry << ", raster " << a.s_raster << ", memory " << a.s_memory
               << ", fixed " << a.s_fixed << "\n"
               << "p_fit: probability that the frame fits (held-out frame-total errors, "
-                 "docs/cost_model.md); change_for_"
-              << pct(a.target_p) << ": the cheapest change reaching that probability (the "
-              << "method's parameter, then resolution, then GPU throughput); fits: at the "
-                 "interval's confidence (uncertain: it straddles the budget)\n"
+                 "docs/cost_model.md); fits: p_fit >= "
+              << pct(a.target_p) << ", does not fit: p_fit <= " << pct(1 - a.target_p)
+              << ", else uncertain (--p); change_for_" << pct(a.target_p)
+              << ": the cheapest change reaching that probability (the "
+              << "method's parameter, then resolution, then GPU throughput)\n"
               << "x_<resource>: throughput factor that resource alone needs to fit (<1: slack; "
                  "inf: cannot fit alone); x_all: uniform factor on everything but fixed "
                  "overheads\n";
@@ -696,8 +702,10 @@ void register_cost(CLI::App& app, Action& action) {
                {CostArgRanges::scale(), "factor"});
     c->add_flag("--json", a->json, "Print JSON");
     add_number(c, "--p", a->target_p,
-               "Probability of fitting the cheapest change must reach (default 0.8)",
-               {Range::closed(0.05, 0.99), "probability"});
+               "Level of every budget decision: a configuration fits when its probability of "
+               "fitting (p_fit) reaches it, does not fit at or below 1 - it, and the cheapest "
+               "change must reach it (default 0.8)",
+               {fit_level_range(), "probability"});
     c->add_option("--results", a->results,
                   "A results directory of `fovsim run` (or a sweep folder: every cell): the "
                   "verdict, probability and headroom of its measured counters re-costed for --gpu");

@@ -60,6 +60,38 @@ double fit_probability(const GpuProfile& g, const FrameCost& fc, double budget_m
   return fit_probability(g.interval, fc.total_ms, budget_ms);
 }
 
+BudgetDecision decide_budget(const PredictionInterval& iv, double ms, double budget_ms,
+                             double level) {
+  BudgetDecision d;
+  d.p_fit = fit_probability(iv, ms, budget_ms);
+  d.fits = d.p_fit >= level;
+  d.verdict = d.fits ? "fits" : (d.p_fit <= 1 - level ? "does not fit" : "uncertain");
+  return d;
+}
+
+double fit_threshold_ms(const PredictionInterval& iv, double budget_ms, double level) {
+  if (!(budget_ms > 0)) return 0;
+  if (iv.total_scores.empty() && iv.level <= 0) return budget_ms;  // the point estimate
+  auto fits = [&](double ms) { return fit_probability(iv, ms, budget_ms) >= level; };
+  // p_fit is a non-increasing function of ms (a step function with held-out scores, continuous
+  // with only the factors): bisection on log(ms), keeping `lo` on the fitting side, so the
+  // returned threshold itself fits.
+  double lo = budget_ms * 1e-6, hi = budget_ms * 1e6;
+  if (!fits(lo)) return 0;
+  if (fits(hi)) return hi;
+  for (int it = 0; it < 200 && hi - lo > 1e-12 * hi; ++it) {
+    const double mid = std::sqrt(lo * hi);
+    (fits(mid) ? lo : hi) = mid;
+  }
+  return lo;
+}
+
+const PredictionInterval& FitRule::interval_of(const std::string& gpu) const {
+  static const PredictionInterval none;
+  auto it = intervals.find(gpu);
+  return it == intervals.end() ? none : it->second;
+}
+
 namespace {
 
 FrameCost eval(const BudgetQuery& q, const GpuProfile& g, const Json& params, const Display& d) {

@@ -72,6 +72,43 @@ struct BudgetQuery {
   std::string where;  // names the method in errors
 };
 double fit_probability(const GpuProfile& g, const FrameCost& fc, double budget_ms);
+
+// The one definition of a budget decision, used by every command that decides one (`fovsim
+// budget` and `budget --results`, a run's and a sweep's `fits_budget`, `sweep.search.p_fit`,
+// `sweep.iso_budget` on a cost column, the plots' budget line, the Python API):
+//   p_fit = P(true frame time <= budget) for a model estimate `ms`, under the GPU profile's
+//           held-out frame-total errors (fit_probability, gpu_profile.h);
+//   "fits" when p_fit >= level, "does not fit" when p_fit <= 1 - level, else "uncertain".
+// Without an interval (a profile no calibration covers) p_fit is 1 or 0: the point estimate.
+// The level must be above 1/2 so that "fits" and "does not fit" cannot both hold.
+constexpr double kDefaultFitLevel = 0.8;
+inline Range fit_level_range() {
+  return Range::closed(0.5, 0.99);
+}
+struct BudgetDecision {
+  double p_fit = 0;
+  bool fits = false;
+  const char* verdict = "";  // "fits", "does not fit", "uncertain"
+};
+BudgetDecision decide_budget(const PredictionInterval& iv, double ms, double budget_ms,
+                             double level);
+// The largest model estimate that still fits at `level`: ms <= fit_threshold_ms(...) exactly
+// when decide_budget(...).fits (p_fit does not increase with ms). budget_ms itself without an
+// interval; 0 when nothing fits at that level (too few held-out rows for it). For lines drawn
+// on cost axes and for cost columns compared with a budget.
+double fit_threshold_ms(const PredictionInterval& iv, double budget_ms, double level);
+
+// A run's budget decisions: the level (`budget.p_fit`) and each GPU profile's interval by
+// profile name (a name not in the map: no interval, the point estimate decides).
+struct FitRule {
+  double level = kDefaultFitLevel;
+  std::map<std::string, PredictionInterval> intervals;
+  const PredictionInterval& interval_of(const std::string& gpu) const;
+  BudgetDecision decide(const std::string& gpu, double ms, double budget_ms) const {
+    return decide_budget(interval_of(gpu), ms, budget_ms, level);
+  }
+};
+
 std::vector<BudgetChange> fitting_changes(const BudgetQuery& q, double budget_ms, double target);
 // The first of fitting_changes (kind "" when none).
 BudgetChange cheapest_fitting_change(const BudgetQuery& q, double budget_ms, double target);

@@ -20,12 +20,6 @@ double FrameCost::pass_ms(const std::string& pass) const {
   return 0;
 }
 
-const char* budget_verdict(const FrameCost& fc, double budget_ms) {
-  if (fc.interval_level <= 0) return fc.total_ms <= budget_ms ? "fits" : "does not fit";
-  if (fc.total_hi_ms <= budget_ms) return "fits";
-  return fc.total_lo_ms > budget_ms ? "does not fit" : "uncertain";
-}
-
 Counters shared_counters(const CostInputs& in) {
   Counters out;
   const CostPasses decl = in.passes ? *in.passes : declared_passes(in.method);

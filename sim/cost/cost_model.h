@@ -63,9 +63,4 @@ FrameCost estimate_frame(const GpuProfile& gpu, const CostInputs& in);
 // The shared counters (CostInputs::shared) the method declares it uses, for its frames.csv row.
 Counters shared_counters(const CostInputs& in);
 
-// Budget verdict at the interval's confidence: "fits" when the interval's upper
-// end is within the budget, "does not fit" when its lower end exceeds it, else "uncertain".
-// Without an interval, the point estimate decides ("fits" / "does not fit").
-const char* budget_verdict(const FrameCost& fc, double budget_ms);
-
 }  // namespace fovsim

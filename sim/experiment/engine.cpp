@@ -59,9 +59,9 @@ using Clock = std::chrono::steady_clock;
 const std::vector<std::string>& per_cell_keys() {
   // Keys a cell reads for itself (Cell::parse); everything else is shared by the group and
   // enters reference_key. `workload` only changes the cost model's charges, never the images.
-  static const std::vector<std::string> k = {"name",        "methods", "metrics",
-                                             "gpus",        "outputs", "comment",
-                                             "description", "latency", "workload"};
+  static const std::vector<std::string> k = {"name",     "methods", "metrics",     "gpus",
+                                             "outputs",  "comment", "description", "latency",
+                                             "workload", "budget"};
   return k;
 }
 
@@ -538,6 +538,7 @@ struct Cell {
   std::vector<MethodRun> methods;
   MetricsConfig mcfg;
   std::vector<GpuProfile> gpus;
+  double fit_level = kDefaultFitLevel;  // budget.p_fit
   Workload workload;
   ImageOutputs io;
   OutputsBlock outputs;  // the `outputs` block as read (run_config.h)
@@ -606,6 +607,10 @@ struct Cell {
       mcfg = MetricsConfig::from_params(mp);
     }
     for (auto& n : GpuProfile::names_from_config(root)) gpus.push_back(GpuProfile::load(n, models));
+    {
+      Params bp = root.child("budget");
+      fit_level = budget_block_table().read(bp).p_fit;
+    }
     // Workload descriptor for what the scene does not say (overdraw, bytes, flops per sample).
     workload = Workload::load(keys.workload, models);
 
@@ -1389,7 +1394,10 @@ CellResult write_cell_outputs(Cell& c, const Shared& sh, const GroupOutputs& g) 
   StartupReport startup;
   const ResultTable means = exclude_startup(c.frames, plan, startup);
   c.manifest["startup"] = startup.manifest;
-  r.summary = summarize(means, r.budget_ms);
+  FitRule fit;  // the budget decisions: budget.p_fit and each profile's interval
+  fit.level = c.fit_level;
+  for (auto& g : c.gpus) fit.intervals.emplace(g.name, g.interval);
+  r.summary = summarize(means, r.budget_ms, &fit);
   mark_startup(r.summary, startup, plan);
   r.notes = startup.notes;
   for (auto& n : interval_notes(r.summary)) r.notes.push_back(n);

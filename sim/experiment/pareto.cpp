@@ -80,6 +80,16 @@ ResultTable iso_budget_table(const ResultTable& summary, const IsoBudgetSpec& sp
     if (std::find(ls.begin(), ls.end(), l) == ls.end()) ls.push_back(l);
   }
   const std::string& q0 = spec.quality.front();
+  // A frame-time column (est_ms_*) is decided as every budget decision is (sim/cost/budget.h):
+  // p_fit >= the cell's budget.p_fit. p_fit depends on budget / ms only, so the cell's
+  // fit_threshold_ms / budget_ms (the largest estimate that fits, as a fraction of the budget)
+  // carries its whole rule to any budget B: within B when value <= B x that fraction. Other
+  // columns (shaded_fraction, ...) are compared as given.
+  const bool time_column = spec.column.rfind("est_ms_", 0) == 0;
+  auto fit_fraction = [&](const ResultRow& r) {
+    const double t = r.get("fit_threshold_ms", NAN), b = r.get("budget_ms", NAN);
+    return time_column && t >= 0 && b > 0 ? t / b : 1.0;
+  };
   for (double budget : spec.budgets) {
     for (auto& gk : gorder) {
       for (auto& l : labels[gk]) {
@@ -88,7 +98,7 @@ ResultTable iso_budget_table(const ResultTable& summary, const IsoBudgetSpec& sp
           const std::string* lab = r.text_of("label");
           if ((lab ? *lab : "") != l || group_key(r, spec.group_by) != gk) continue;
           double c = r.get(spec.column, NAN);
-          if (!(c <= budget * (1 + spec.tolerance))) continue;
+          if (!(c <= budget * fit_fraction(r) * (1 + spec.tolerance))) continue;
           double q = r.get(q0, NAN);
           if (std::isnan(q)) continue;
           // Ties on quality go to the cheaper row, then to the earlier one (stable).
@@ -109,6 +119,10 @@ ResultTable iso_budget_table(const ResultTable& summary, const IsoBudgetSpec& sp
           row.set_text("config_id", "none_within_budget");
         }
         row.set("budget", budget);
+        if (time_column && best) {  // the rule the chosen cell met
+          row.set("fit_level", best->get("fit_level", NAN));
+          row.set("within_ms", budget * fit_fraction(*best));
+        }
         // Each value with its 95% half-width from the cell's summary (nan when it has none).
         row.set(spec.column, best ? best->get(spec.column, NAN) : NAN);
         row.set(spec.column + "_ci95", best ? best->get(spec.column + "_ci95", NAN) : NAN);

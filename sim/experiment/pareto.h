@@ -22,8 +22,11 @@ std::vector<size_t> pareto_front(const ResultTable& t, const std::vector<Objecti
                                  const std::vector<std::string>& group_by = {});
 
 // Per group × method label × budget: the row with the best first quality column among
-// rows whose `column` <= budget·(1 + tolerance). Columns: budget, group columns, label,
-// method, config_id, cell, the budget column, every quality column, the swept parameters.
+// rows whose `column` <= budget·(1 + tolerance); for a frame-time column (est_ms_*) the budget
+// decision of sim/cost/budget.h instead (p_fit >= the cell's budget.p_fit, through its
+// fit_threshold_ms / budget_ms; also fit_level and within_ms columns). Columns: budget, group
+// columns, label, method, config_id, cell, the budget column, every quality column, the swept
+// parameters.
 ResultTable iso_budget_table(const ResultTable& summary, const IsoBudgetSpec& spec,
                              const std::vector<std::string>& param_columns);
 

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "sim/core/message_text.h"
+#include "sim/cost/budget.h"
 #include "sim/cost/gpu_profile.h"
 #include "sim/cost/workload.h"
 #include "sim/display/display.h"
@@ -74,6 +75,8 @@ const ParamTable<RunCellKeys>& run_cell_table() {
           .documented("outputs", "object", "", "", "", "`outputs` below")
           .documented("cache", "object", "", "", "", "the reference cache: `cache` below")
           .documented("run", "object", "", "", "", "the memory budget: `run` below")
+          .documented("budget", "object", "", "", "",
+                      "the level of the frame-time budget decisions: `budget` below")
           .documented("latency", "object", "absent", "", "",
                       "latency what-if (`docs/latency.md`): methods foveate around the gaze at "
                       "t - latency, metrics use the true gaze at t; adds the columns of "
@@ -224,6 +227,20 @@ const ParamTable<RunBlock>& run_block_table() {
   return t;
 }
 
+const ParamTable<BudgetBlock>& budget_block_table() {
+  using B = BudgetBlock;
+  static const auto t =
+      ParamTable<B>()
+          .number("p_fit", kDefaultFitLevel, fit_level_range(), &B::p_fit)
+          .doc("",
+               "level of every budget decision of the run (docs/cost_model.md \"Budget "
+               "decisions\"): a configuration fits (`fits_budget` 1) when the probability that "
+               "its p95 frame fits the display's budget (`p_fit`, from the GPU profile's "
+               "held-out frame-total errors) reaches it; `fit_threshold_ms` is the largest p95 "
+               "estimate that does. The same rule as `fovsim budget --p`");
+  return t;
+}
+
 const ParamTable<MethodEntryKeys>& method_entry_table() {
   static const auto t =
       ParamTable<MethodEntryKeys>()
@@ -286,6 +303,7 @@ std::string config_keys_markdown() {
   md += section("`scene` of `\"type\": \"file\"`", file_scene_table().markdown(false));
   md += section("`cache` (the reference cache)", cache_block_table().markdown(false));
   md += section("`run` (the memory budget)", run_block_table().markdown(false));
+  md += section("`budget` (frame-time budget decisions)", budget_block_table().markdown(false));
   md += section("`sweep` (docs/sweeps.md)", sweep_table().markdown(false));
   md += section("`sweep.iso_budget`", iso_budget_table().markdown());
   md += section("`sweep.search`", search_table().markdown(false));

@@ -65,6 +65,12 @@ struct RunBlock {
 };
 const ParamTable<RunBlock>& run_block_table();
 
+// `budget`: the level of the run's budget decisions (sim/cost/budget.h decide_budget).
+struct BudgetBlock {
+  double p_fit = 0.8;  // kDefaultFitLevel
+};
+const ParamTable<BudgetBlock>& budget_block_table();
+
 // `cache` (the reference cache, reference_cache.h).
 struct ReferenceCacheSettings;
 const ParamTable<ReferenceCacheSettings>& cache_block_table();

@@ -174,7 +174,9 @@ struct IntervalLog {
 
 }  // namespace
 
-ResultTable summarize(const ResultTable& frames, double budget_ms) {
+ResultTable summarize(const ResultTable& frames, double budget_ms, const FitRule* rule) {
+  const FitRule no_intervals;
+  const FitRule& fit = rule ? *rule : no_intervals;
   std::vector<std::string> order;
   std::map<std::string, std::vector<const ResultRow*>> groups;
   for (auto& r : frames.rows()) {
@@ -256,8 +258,20 @@ ResultTable summarize(const ResultTable& frames, double budget_ms) {
     s.set("est_ms_total_p95", pct(0.95));
     s.set("est_ms_total_p99", pct(0.99));
     s.set("budget_ms", budget_ms);
-    s.set("fits_budget", pct(0.95) <= budget_ms ? 1 : 0);
-    s.set("headroom_ms", budget_ms - pct(0.95));
+    const std::string* gpu = rows.front()->text_of("gpu");
+    const std::string gpu_name = gpu ? *gpu : "";
+    const double p95 = pct(0.95);
+    if (std::isfinite(p95)) {
+      const BudgetDecision bd = fit.decide(gpu_name, p95, budget_ms);
+      s.set("p_fit", bd.p_fit);
+      s.set("fits_budget", bd.fits ? 1 : 0);
+    } else {
+      s.set("p_fit", NAN);
+      s.set("fits_budget", 0);
+    }
+    s.set("fit_level", fit.level);
+    s.set("fit_threshold_ms", fit_threshold_ms(fit.interval_of(gpu_name), budget_ms, fit.level));
+    s.set("headroom_ms", budget_ms - p95);
     t.add(std::move(s));
   }
   return t;

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "sim/cost/budget.h"
 #include "sim/experiment/config.h"
 #include "sim/experiment/run_options.h"
 #include "sim/experiment/table.h"
@@ -35,11 +36,15 @@ RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt);
 
 // Per-config summary of a frames table: means of numeric columns, each followed by its 95%
 // batch-means half-width `<col>_ci95` (sim/experiment/intervals.h), frames, est_ms_total
-// p50/p95/p99, fits_budget (p95 <= budget_ms).
+// p50/p95/p99; the budget decision on the p95 frame (sim/cost/budget.h decide_budget, the one
+// definition): p_fit (probability that it fits under the row's GPU profile's held-out errors),
+// fit_level, fits_budget (p_fit >= fit_level), fit_threshold_ms (the largest p95 estimate that
+// fits at that level) and headroom_ms (budget_ms - p95, the point estimate's margin). Without
+// `rule`, no profile has an interval: the point estimate decides at the default level.
 // Each interval's estimator is in the text column `ci_method` (the kinds used in the row:
 // "batch_means", "short_run"; sim/core/stats.h mean_interval) and every column whose interval is
 // undefined though it has a mean in `ci_missing` ("col col: why; col: why").
-ResultTable summarize(const ResultTable& frames, double budget_ms);
+ResultTable summarize(const ResultTable& frames, double budget_ms, const FitRule* rule = nullptr);
 
 // The run's notes about its intervals (printed on stderr by the CLI): one per reason a headline
 // column (est_ms_total, shaded_fraction, the registry's headline metrics) has no interval,

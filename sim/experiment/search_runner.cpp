@@ -146,6 +146,9 @@ void run_batch(std::vector<CellJob>& jobs, const EngineOptions& eo, const SweepP
       Json cols = Json::object();
       cols[sp.objective.column] = num(r->get(sp.objective.column, NAN));
       for (auto& k : sp.constraints) cols[k.column] = num(r->get(k.column, NAN));
+      // Every candidate's probability of fitting the budget (sim/cost/budget.h), constrained
+      // or not: search_history.csv reports it.
+      cols["p_fit"] = num(r->get("p_fit", NAN));
       Json done{{"score", cols[sp.objective.column]}, {"columns", cols}};
       write_file_atomic(js[i].out_dir + "/done.json", done.dump() + "\n");
     }
@@ -260,6 +263,7 @@ SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const Sw
         for (size_t d = 0; d < e.x.size(); ++d) h.set(sp.space[d].path, e.x[d]);
         h.set(sp.objective.column, e.score);
         for (size_t k = 0; k < cv.size(); ++k) h.set(sp.constraints[k].column, cv[k]);
+        h.set("p_fit", col("p_fit"));  // (a p_fit constraint set it already: the same value)
         h.set("feasible", e.violation <= 0 ? 1 : 0);
         history.add(std::move(h));
       }

@@ -10,6 +10,7 @@
 #include "sim/core/error.h"
 #include "sim/core/hash.h"
 #include "sim/core/rng.h"
+#include "sim/cost/budget.h"
 #include "sim/experiment/table.h"
 #include "sim/foveation/factory.h"
 #include "sim/trace/csv_table.h"
@@ -594,9 +595,9 @@ std::vector<SearchConstraint> parse_constraints(const Json& c, const std::string
 SearchSpec parse_search(Params& sp, const std::string& w) {
   const Json& s = sp.json();
   if (!s.is_object()) throw Error(w, "expected an object");
-  only_keys(
-      s, w,
-      {"space", "maximize", "minimize", "subject_to", "label", "evaluations", "batch", "seed"});
+  only_keys(s, w,
+            {"space", "maximize", "minimize", "subject_to", "label", "evaluations", "batch", "seed",
+             "p_fit"});
   SearchSpec out;
   if (!s.contains("space"))
     throw Error(w, "missing \"space\": {\"config.path\": {\"from\": a, \"to\": b}, ...}");
@@ -613,7 +614,18 @@ SearchSpec parse_search(Params& sp, const std::string& w) {
   out.objective = {oc.get<std::string>(), s.contains("maximize")};
   if (s.contains("subject_to"))
     out.constraints = parse_constraints(s["subject_to"], w + ".subject_to");
-  search_table().read_into(sp, out);  // label, evaluations, batch, seed
+  search_table().read_into(sp, out);  // label, evaluations, batch, seed, p_fit
+  if (out.fit_level > 0) {            // the budget decision at a stated level (sim/cost/budget.h)
+    for (const SearchConstraint& k : out.constraints)
+      if (k.column == "p_fit")
+        throw Error(w + ".subject_to.p_fit",
+                    "give the level once: as \"p_fit\": " + format_number(out.fit_level) +
+                        " or as this constraint");
+    SearchConstraint k;
+    k.column = "p_fit";
+    k.min = out.fit_level;
+    out.constraints.push_back(k);
+  }
   return out;
 }
 
@@ -698,6 +710,18 @@ SweepPlan expand_sweep(const LoadedConfig& cfg) {
     if (sw.contains("search")) {
       Params ss = sp.child("search");
       plan.search = parse_search(ss, W + ".search");
+      // The cells decide fits_budget at the search's level too (one rule per search); a base
+      // that states another budget.p_fit is a contradiction.
+      if (plan.search.fit_level > 0) {
+        Json& b = plan.base["budget"];
+        if (b.is_object() && b.contains("p_fit") && b["p_fit"] != Json(plan.search.fit_level))
+          throw Error(W + ".search.p_fit", format_number(plan.search.fit_level) +
+                                               " differs from the config's "
+                                               "budget.p_fit " +
+                                               b["p_fit"].dump() + ": give the level once");
+        if (b.is_null()) b = Json::object();
+        if (b.is_object()) b["p_fit"] = plan.search.fit_level;
+      }
     }
   }
   expand_cells(plan, blocks, cap, W);
@@ -787,6 +811,15 @@ const ParamTable<SearchSpec>& search_table() {
           .doc("", "cells evaluated per context")
           .integer("batch", 8, Range::closed(1, 1024), &K::batch)
           .doc("", "cells proposed at once (run side by side)")
+          .number("p_fit", 0, fit_level_range(), &K::fit_level)
+          .optional()
+          .shown("absent")
+          .doc("",
+               "feasible only where the probability that the p95 frame fits the budget "
+               "(`p_fit`, docs/cost_model.md \"Budget decisions\") reaches this level: the "
+               "constraint `p_fit >= level`, and the cells' `budget.p_fit` (so `fits_budget` "
+               "agrees). The budget decision to use instead of `headroom_ms >= 0`, which is "
+               "the point estimate's")
           .number("seed", 1, Range::closed(0, 9007199254740992.0), &K::seed)
           .shown("1", "[0, 2^53], an integer")
           .doc("", "seed of the searcher")

@@ -79,6 +79,9 @@ struct SearchSpec {
   // missing (NaN) value is infinitely violated.
   double violation(const std::vector<double>& values) const;
   std::string select_label;  // which summary row is scored (label); "" = first row
+  // sweep.search.p_fit: feasible only where the summary's p_fit reaches this level (appended to
+  // `constraints` as p_fit >= level, and the cells' budget.p_fit); 0 = not given.
+  double fit_level = 0;
   int evaluations = 32;
   int batch = 8;
   uint64_t seed = 1;

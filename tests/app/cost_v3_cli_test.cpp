@@ -82,3 +82,23 @@ TEST(CostV3Cli, GenericWorkloadRefusedAndBudgetGivesProbability) {
   ASSERT_EQ(t.code, 0) << t.output;
   EXPECT_NE(t.output.find("* rtx4070: calibrated = no"), std::string::npos) << t.output;
 }
+
+// `budget`'s verdict is the one budget decision (sim/cost/budget.h): p_fit against --p.
+TEST(CostV3Cli, BudgetVerdictIsTheProbabilityAtTheLevel) {
+  for (const char* level : {"0.5", "0.8", "0.95"}) {
+    auto b = run_cmd(fovsim_bin() +
+                     " budget --gpu gtx1080 --workload kfr_bistro --display desktop_1920x1080 "
+                     "--hz 75 -m kfr:sigma=1.2 -m kfr:sigma=1.6 -m kfr:sigma=2.0 -m full --json "
+                     "--p " +
+                     level);
+    ASSERT_EQ(b.code, 0) << b.output;
+    const double L = std::stod(level);
+    for (auto& e : nlohmann::json::parse(b.output)) {
+      const double p = e["p_fit"].get<double>();
+      const std::string v = e["verdict"].get<std::string>();
+      EXPECT_EQ(e["fits"].get<bool>(), p >= L) << e["method"];
+      EXPECT_EQ(v, p >= L ? "fits" : (p <= 1 - L ? "does not fit" : "uncertain")) << e["method"];
+      EXPECT_EQ(e["fit_level"].get<double>(), L);
+    }
+  }
+}

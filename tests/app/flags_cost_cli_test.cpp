@@ -46,7 +46,7 @@ TEST(FlagsCli, ReportedFlagValuesAreErrorsNamingRangeAndUnit) {
   const std::string bin = fovsim_bin(), d = temp_dir("v4_flags");
   const std::string png = std::string(FOVSIM_SOURCE_DIR) + "/tests/data/metrics/gray_a.png";
   expect_user_error(run_cmd(bin + " budget --gpu gtx1080 --workload kfr_bistro --p nan"),
-                    "--p: value nan is out of range [0.05, 0.99] probability");
+                    "--p: value nan is out of range [0.5, 0.99] probability");
   expect_user_error(run_cmd(bin + " converge configs/convergence.json --tol-jod nan"),
                     "--tol-jod: value nan is out of range [1e-06, 10] JOD");
   for (const char* fps : {"nan", "0", "-5"})
@@ -74,7 +74,7 @@ TEST(FlagsCli, ReportedFlagValuesAreErrorsNamingRangeAndUnit) {
       "--duration: value 36000.0001 is out of range (0, 36000] s");
   // --help shows each numeric flag's range and unit.
   const CmdResult h = run_cmd(bin + " budget --help");
-  EXPECT_NE(h.output.find("--p FLOAT in [0.05, 0.99] probability"), std::string::npos) << h.output;
+  EXPECT_NE(h.output.find("--p FLOAT in [0.5, 0.99] probability"), std::string::npos) << h.output;
   EXPECT_NE(run_cmd(bin + " run --help").output.find("--watchdog FLOAT in [1, 86400] s (0: off)"),
             std::string::npos);
 }

@@ -285,14 +285,3 @@ TEST(CostModel, RooflineTakesTheBottleneckResource) {
   j["interval"]["hi_factor"] = 0.5;
   EXPECT_THROW(GpuProfile::from_json(j, "toy.json"), Error);
 }
-
-TEST(CostModel, BudgetVerdictUsesTheInterval) {
-  FrameCost fc;
-  fc.total_ms = 10;
-  EXPECT_STREQ(budget_verdict(fc, 11), "fits");  // no interval: the point estimate
-  EXPECT_STREQ(budget_verdict(fc, 9), "does not fit");
-  fc.interval_level = 0.8, fc.total_lo_ms = 8, fc.total_hi_ms = 14;
-  EXPECT_STREQ(budget_verdict(fc, 15), "fits");
-  EXPECT_STREQ(budget_verdict(fc, 11), "uncertain");
-  EXPECT_STREQ(budget_verdict(fc, 7.5), "does not fit");
-}

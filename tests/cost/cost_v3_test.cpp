@@ -176,3 +176,79 @@ TEST(CostV3, CheapestFittingChange) {
   const BudgetChange none = cheapest_fitting_change(q, 1000, 0.8);
   EXPECT_EQ(none.kind, "none");
 }
+
+// The one budget decision (decide_budget): fits at p_fit >= level, does not fit at
+// p_fit <= 1 - level, uncertain between; fit_threshold_ms is the largest estimate that fits.
+TEST(CostV3, BudgetDecisionOnTheProbabilityAtALevel) {
+  PredictionInterval iv;
+  iv.level = 0.8;
+  // 19 scores: p_fit takes the values (k + 1/2) / 20, k = 0..19.
+  for (int i = 0; i < 19; ++i) iv.total_scores.push_back(-0.45 + 0.05 * i);
+  // 10 ms against budgets where 17, 10 and 2 of the 19 scores fit: p 0.875, 0.525, 0.125.
+  const double ms = 10;
+  auto budget_for_k = [&](int k) {  // between score k-1 and score k
+    return ms * std::exp(0.5 * (iv.total_scores[size_t(k - 1)] + iv.total_scores[size_t(k)]));
+  };
+  const BudgetDecision a = decide_budget(iv, ms, budget_for_k(17), 0.8);
+  EXPECT_NEAR(a.p_fit, 17.5 / 20, 1e-12);
+  EXPECT_TRUE(a.fits);
+  EXPECT_STREQ(a.verdict, "fits");
+  const BudgetDecision b = decide_budget(iv, ms, budget_for_k(10), 0.8);
+  EXPECT_NEAR(b.p_fit, 10.5 / 20, 1e-12);
+  EXPECT_FALSE(b.fits);  // a point estimate well inside the budget, but a coin flip
+  EXPECT_LT(ms, budget_for_k(10));
+  EXPECT_STREQ(b.verdict, "uncertain");
+  const BudgetDecision c = decide_budget(iv, ms, budget_for_k(2), 0.8);
+  EXPECT_FALSE(c.fits);
+  EXPECT_STREQ(c.verdict, "does not fit");
+  // The level moves the decision, not the probability.
+  EXPECT_TRUE(decide_budget(iv, ms, budget_for_k(10), 0.5).fits);
+  EXPECT_EQ(decide_budget(iv, ms, budget_for_k(10), 0.5).p_fit, b.p_fit);
+
+  // The threshold agrees with the decision on every side of it, at any budget.
+  for (double budget : {5.0, 11.1, 16.7, 1000.0})
+    for (double level : {0.5, 0.8, 0.9}) {
+      const double t = fit_threshold_ms(iv, budget, level);
+      ASSERT_GT(t, 0);
+      EXPECT_TRUE(decide_budget(iv, t, budget, level).fits) << budget << " " << level;
+      EXPECT_FALSE(decide_budget(iv, t * (1 + 1e-9), budget, level).fits) << budget;
+      // budget / ms is all that matters: the threshold is a fixed fraction of the budget.
+      EXPECT_NEAR(t / budget, fit_threshold_ms(iv, 11.1, level) / 11.1, 1e-9);
+    }
+  // Stricter levels need more room.
+  EXPECT_LT(fit_threshold_ms(iv, 11.1, 0.9), fit_threshold_ms(iv, 11.1, 0.8));
+  // Without an interval the point estimate decides and the threshold is the budget itself.
+  PredictionInterval none;
+  EXPECT_EQ(fit_threshold_ms(none, 11.1, 0.8), 11.1);
+  EXPECT_TRUE(decide_budget(none, 11.1, 11.1, 0.8).fits);
+  EXPECT_FALSE(decide_budget(none, 11.2, 11.1, 0.8).fits);
+  EXPECT_STREQ(decide_budget(none, 11.2, 11.1, 0.8).verdict, "does not fit");
+  // Too few held-out rows for the level: nothing fits, said by a threshold of 0.
+  PredictionInterval two;
+  two.level = 0.8;
+  two.total_scores = {0.0, 0.1};  // p_fit at most 2.5 / 3 = 0.83
+  EXPECT_EQ(fit_threshold_ms(two, 11.1, 0.9), 0);
+  EXPECT_FALSE(decide_budget(two, 1e-3, 11.1, 0.9).fits);
+}
+
+TEST(CostV3, FitRuleLooksUpTheRowsProfile) {
+  FitRule r;
+  r.level = 0.8;
+  PredictionInterval iv;
+  iv.level = 0.8;
+  iv.total_scores = {0.5, 0.6, 0.7, 0.8, 0.9};  // the model underestimates by e^0.5 or more
+  r.intervals["slow"] = iv;
+  EXPECT_FALSE(r.decide("slow", 10, 11.1).fits);    // 10 * e^0.5 > 11.1 on every score
+  EXPECT_TRUE(r.decide("unknown", 10, 11.1).fits);  // no interval: the point estimate
+}
+
+// The fractions of the budget below which an estimate fits (docs/cost_model.md "Budget
+// decisions" quotes them): the committed profiles' held-out scores at 0.5, 0.8 and 0.9.
+TEST(CostV3, CommittedProfilesFitFractions) {
+  const GpuProfile g = GpuProfile::load("gtx1080", kModels);
+  EXPECT_NEAR(fit_threshold_ms(g.interval, 11.1, 0.5) / 11.1, 0.969, 1e-3);
+  EXPECT_NEAR(fit_threshold_ms(g.interval, 11.1, 0.8) / 11.1, 0.832, 1e-3);
+  EXPECT_NEAR(fit_threshold_ms(g.interval, 11.1, 0.9) / 11.1, 0.731, 1e-3);
+  const GpuProfile r = GpuProfile::load("rtx3090", kModels);
+  EXPECT_NEAR(fit_threshold_ms(r.interval, 11.1, 0.8) / 11.1, 0.795, 1e-3);
+}

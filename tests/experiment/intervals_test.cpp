@@ -312,4 +312,37 @@ TEST(Intervals, PairedDifferencesBelowTheFidelityBiasAreMarked) {
   }
 }
 
+// fits_budget is the budget decision of sim/cost/budget.h on the p95 frame: p_fit against the
+// level, with the row's own GPU profile's interval; not the point estimate's p95 <= budget.
+TEST(Intervals, FitsBudgetIsTheProbabilityAtTheLevel) {
+  ResultTable f;
+  for (int i = 0; i < 30; ++i) f.add(frame_row("a@wide", "wide", i, 30.0, 10.0));
+  for (int i = 0; i < 30; ++i) f.add(frame_row("a@none", "none", i, 30.0, 10.0));
+  FitRule rule;
+  rule.level = 0.8;
+  PredictionInterval wide;  // the model is as likely 20% low as 20% high
+  wide.level = 0.8;
+  for (int i = 0; i < 19; ++i) wide.total_scores.push_back(-0.2 + 0.4 * i / 18.0);
+  rule.intervals["wide"] = wide;
+  ResultTable s = summarize(f, 11.1, &rule);
+  ASSERT_EQ(s.rows().size(), 2u);
+  const ResultRow& w = s.rows()[0];
+  // 10 ms: log(11.1 / 10) = 0.104 is above 14 of the 19 scores (-0.2 .. 0.089): p 14.5 / 20.
+  EXPECT_NEAR(w.get("p_fit", NAN), 14.5 / 20, 1e-12);
+  EXPECT_EQ(w.get("fits_budget", NAN), 0);  // 0.725 < 0.8, though 10 ms < 11.1 ms
+  EXPECT_NEAR(w.get("headroom_ms", NAN), 1.1, 1e-9);
+  EXPECT_EQ(w.get("fit_level", NAN), 0.8);
+  const double t = w.get("fit_threshold_ms", NAN);
+  EXPECT_LT(t, 10.0);
+  EXPECT_EQ(decide_budget(wide, t, 11.1, 0.8).fits, true);
+  const ResultRow& n = s.rows()[1];  // no interval: the point estimate decides
+  EXPECT_EQ(n.get("p_fit", NAN), 1.0);
+  EXPECT_EQ(n.get("fits_budget", NAN), 1);
+  EXPECT_EQ(n.get("fit_threshold_ms", NAN), 11.1);
+  rule.level = 0.7;  // a laxer level: the same probability now fits
+  ResultTable s6 = summarize(f, 11.1, &rule);
+  EXPECT_EQ(s6.rows()[0].get("fits_budget", NAN), 1);
+  EXPECT_EQ(s6.rows()[0].get("p_fit", NAN), w.get("p_fit", NAN));
+}
+
 }  // namespace fovsim

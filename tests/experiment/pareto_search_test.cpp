@@ -71,6 +71,31 @@ TEST(Pareto, IsoBudgetPicksBestQualityWithinBudget) {
   EXPECT_TRUE(std::isnan(none.rows()[0].get("fpsnr", 0)));
 }
 
+// A frame-time budget column is decided on the cells' own fit rule (fit_threshold_ms /
+// budget_ms, sim/cost/budget.h): a cell whose estimate is under the budget but whose p_fit
+// misses the level is not within it.
+TEST(Pareto, IsoBudgetOnFrameTimeUsesTheCellsFitRule) {
+  auto t = points({{"g", "kfr", 1.0, 20}, {"g", "kfr", 1.8, 25}});
+  ResultTable ruled;
+  for (ResultRow r : t.rows()) {
+    r.set("budget_ms", 11.1);
+    r.set("fit_level", 0.8);
+    r.set("fit_threshold_ms", 11.1 * 0.8);  // fits at 0.8 up to 80% of any budget
+    ruled.add(r);
+  }
+  IsoBudgetSpec s;
+  s.column = "est_ms_total";
+  s.budgets = {2.0, 2.5};
+  s.quality = {"fpsnr"};
+  s.group_by = {"gpu"};
+  auto r = iso_budget_table(ruled, s, {});
+  ASSERT_EQ(r.rows().size(), 2u);
+  EXPECT_EQ(r.rows()[0].get("fpsnr", 0), 20);  // 1.8 > 2.0 x 0.8: not within 2 ms
+  EXPECT_DOUBLE_EQ(r.rows()[0].get("within_ms", 0), 1.6);
+  EXPECT_EQ(r.rows()[0].get("fit_level", 0), 0.8);
+  EXPECT_EQ(r.rows()[1].get("fpsnr", 0), 25);  // 1.8 <= 2.5 x 0.8
+}
+
 TEST(Search, FindsConstrainedOptimum) {
   // maximize -(x-0.3)^2 - (y-0.6)^2 subject to x + y <= 0.8: optimum (0.25, 0.55).
   std::vector<SearchDim> space = {{"x", 0, 1}, {"y", 0, 1}};

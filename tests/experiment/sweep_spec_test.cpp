@@ -195,3 +195,27 @@ TEST(SweepSpec, SearchConstraintsMinMaxAndViolation) {
                 .find("sweep.search.subject_to.fvvdp_jod: expected"),
             std::string::npos);
 }
+
+// sweep.search.p_fit: the budget decision at a stated level, as the constraint p_fit >= level
+// and the cells' budget.p_fit; given once.
+TEST(SweepSpec, SearchFitLevelIsAConstraintAndTheCellsLevel) {
+  auto p = expand_sweep(cfg_of(R"({"search": {"space": {"methods[kfr].sigma": {"from": 1.2,
+      "to": 3}}, "maximize": "fvvdp_jod_fl", "p_fit": 0.8,
+      "subject_to": {"shaded_fraction": {"max": 0.5}}}})"));
+  ASSERT_EQ(p.search.constraints.size(), 2u);
+  EXPECT_EQ(p.search.constraints[1].describe(), "p_fit >= 0.8");
+  EXPECT_EQ(p.search.violation({0.4, 0.85}), 0.0);  // 0.85 is feasible at 0.8
+  EXPECT_GT(p.search.violation({0.4, 0.5}), 0.0);   // 0.5 is not
+  EXPECT_EQ(p.base["budget"]["p_fit"], 0.8);
+  for (auto& c : p.cells) EXPECT_EQ(c.doc["budget"]["p_fit"], 0.8);
+  EXPECT_NE(err_of(R"({"search": {"space": {"a": {"from": 0, "to": 1}}, "maximize": "q",
+                 "p_fit": 0.3}})")
+                .find("sweep.search.p_fit: value 0.3 is out of range [0.5, 0.99]"),
+            std::string::npos)
+      << err_of(R"({"search": {"space": {"a": {"from": 0, "to": 1}}, "maximize": "q",
+                 "p_fit": 0.3}})");
+  EXPECT_NE(err_of(R"({"search": {"space": {"a": {"from": 0, "to": 1}}, "maximize": "q",
+                 "p_fit": 0.8, "subject_to": {"p_fit": {"min": 0.9}}}})")
+                .find("give the level once"),
+            std::string::npos);
+}
