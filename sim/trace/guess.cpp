@@ -8,27 +8,17 @@
 
 #include "sim/core/error.h"
 #include "sim/core/files.h"
+#include "sim/core/text.h"
 #include "sim/trace/csv_table.h"
 
 namespace fovsim {
 
 namespace {
 
-std::string lower(std::string s) {
-  for (char& c : s) c = char(std::tolower((unsigned char)c));
-  return s;
-}
-
-bool has(const std::string& s, std::initializer_list<const char*> words) {
-  for (const char* w : words)
-    if (s.find(w) != std::string::npos) return true;
-  return false;
-}
-
 // "Head Position. x" -> ("head position.", 'x'); "gaze_direction_L.x [mm]" -> ("gaze_direction_l.",
 // 'x').
 bool split_component(const std::string& name, std::string& base, char& comp) {
-  std::string n = lower(name);
+  std::string n = ascii_lower(name);
   size_t b = n.find_first_of("[(");
   if (b != std::string::npos && b > 0) n = n.substr(0, b);
   while (!n.empty() && n.back() == ' ') n.pop_back();
@@ -124,8 +114,8 @@ VecStats vec_stats(const std::vector<CsvRow>& rows, int ix, int iy, int iz) {
 // Time unit named in a column name: "time(100ns)", "timestamp [ms]", "t_us", "time_s",
 // "ticks" (100 ns, .NET DateTime ticks). Empty when none.
 std::string unit_from_name(const std::string& name) {
-  std::string n = lower(name);
-  if (has(n, {"tick"})) return "100ns";
+  std::string n = ascii_lower(name);
+  if (contains_any(n, {"tick"})) return "100ns";
   // Inside brackets or parentheses.
   size_t b = n.find_first_of("[(");
   if (b != std::string::npos) {
@@ -153,8 +143,8 @@ std::string unit_from_name(const std::string& name) {
 // A time column by name: "t", "...time...", "...timestamp...", "...TS" (oculoTS, unityTS),
 // "..._ts", "ticks".
 bool timeish(const std::string& name) {
-  std::string n = lower(name);
-  if (n == "t" || has(n, {"timestamp", "time", "tick"})) return true;
+  std::string n = ascii_lower(name);
+  if (n == "t" || contains_any(n, {"timestamp", "time", "tick"})) return true;
   if (n.size() > 2 && n[0] == 't' && std::string("_ [(").find(n[1]) != std::string::npos)
     return true;  // "t_ns", "t [s]"
 
@@ -288,9 +278,10 @@ void classify_groups(MapGuess& G, const std::vector<Group>& groups, PoseGuess& P
   Json& m = G.m;
   for (auto& g : groups) {
     const std::string& b = g.base;
-    bool headish = has(b, {"head", "hmd", "cam", "camera", "pose"});
-    bool eyeish = has(b, {"gaze", "eye"});
-    if (!P.pos && headish && is3(g) && !g.cols.count('w') && has(b, {"pos", "_p", "translation"})) {
+    bool headish = contains_any(b, {"head", "hmd", "cam", "camera", "pose"});
+    bool eyeish = contains_any(b, {"gaze", "eye"});
+    if (!P.pos && headish && is3(g) && !g.cols.count('w') &&
+        contains_any(b, {"pos", "_p", "translation"})) {
       m["head_position"] = {{"columns", G.xyz(g)}, {"unit", "m"}};
       G.assume("head position from \"" + g.cols.at('x') + "\"...: metres");
       P.pos = true;
@@ -304,7 +295,7 @@ void classify_groups(MapGuess& G, const std::vector<Group>& groups, PoseGuess& P
       G.assume("gaze is the -Z axis of the world-space gaze pose \"" + g.cols.at('x') + "\"...");
       P.gaze = true;
     } else if (!P.rot && headish && is3(g) &&
-               has(b, {"rot", "quat", "orient", "_q", "_r", "euler"})) {
+               contains_any(b, {"rot", "quat", "orient", "_q", "_r", "euler"})) {
       if (g.cols.count('w')) {
         m["head_orientation"] = {{"type", "quaternion"},
                                  {"columns", G.quat(g)},
@@ -320,14 +311,14 @@ void classify_groups(MapGuess& G, const std::vector<Group>& groups, PoseGuess& P
         P.unity_hint = true;
       }
       P.rot = true;
-    } else if (headish && is3(g) && has(b, {"forward", "fwd"}) && !P.rot) {
+    } else if (headish && is3(g) && contains_any(b, {"forward", "fwd"}) && !P.rot) {
       m["head_orientation"] = {{"type", "forward"}, {"forward", G.xyz(g)}};
       G.assume("head orientation from the forward vector \"" + g.cols.at('x') + "\"..., no roll");
       P.rot = true;
-    } else if (eyeish && is3(g) && has(b, {"dir", "vector", "forward", "normal"}) &&
-               !has(b, {"origin"})) {
-      bool l = has(b, {"left", "_l.", "_l_", " l."}) && !has(b, {"right"});
-      bool r = has(b, {"right", "_r.", "_r_", " r."}) && !l;
+    } else if (eyeish && is3(g) && contains_any(b, {"dir", "vector", "forward", "normal"}) &&
+               !contains_any(b, {"origin"})) {
+      bool l = contains_any(b, {"left", "_l.", "_l_", " l."}) && !contains_any(b, {"right"});
+      bool r = contains_any(b, {"right", "_r.", "_r_", " r."}) && !l;
       if (l && P.left.is_null())
         P.left = G.xyz(g);
       else if (r && P.right.is_null())
@@ -337,8 +328,9 @@ void classify_groups(MapGuess& G, const std::vector<Group>& groups, PoseGuess& P
         P.combined_st = vec_stats(G.rows, g.idx.at('x'), g.idx.at('y'), g.idx.at('z'));
         P.combined_name = g.cols.at('x');
       }
-    } else if (eyeish && is3(g) && has(b, {"point"}) && P.point.is_null()) {
-      P.point = {{"type", "point"}, {"columns", G.xyz(g)}, {"unit", has(b, {"3d"}) ? "mm" : "m"}};
+    } else if (eyeish && is3(g) && contains_any(b, {"point"}) && P.point.is_null()) {
+      P.point = {
+          {"type", "point"}, {"columns", G.xyz(g)}, {"unit", contains_any(b, {"3d"}) ? "mm" : "m"}};
     } else if (is3(g) && !g.cols.count('w') && !eyeish) {
       P.other.push_back(&g);
     }
@@ -351,12 +343,12 @@ void guess_gaze_angles(MapGuess& G, PoseGuess& P) {
   const auto& names = G.names();
   int az = -1, el = -1;
   for (size_t i = 0; i < names.size(); ++i) {
-    std::string n = lower(names[i].text);
-    if (az < 0 && has(n, {"azimuth"})) az = int(i);
-    if (el < 0 && has(n, {"elevation"})) el = int(i);
+    std::string n = ascii_lower(names[i].text);
+    if (az < 0 && contains_any(n, {"azimuth"})) az = int(i);
+    if (el < 0 && contains_any(n, {"elevation"})) el = int(i);
   }
   if (az < 0 || el < 0) return;
-  bool rad = has(lower(names[size_t(az)].text), {"rad"});
+  bool rad = contains_any(ascii_lower(names[size_t(az)].text), {"rad"});
   G.m["gaze"] = {{"type", "angles"},
                  {"columns", {G.ref(az), G.ref(el)}},
                  {"unit", rad ? "rad" : "deg"},
@@ -423,7 +415,7 @@ void guess_unnamed_triples(MapGuess& G, PoseGuess& P) {
     bool named = false;
     for (size_t k = 0; k < dirs.size(); ++k) {
       const std::string& b = dirs[k].first->base;
-      if (has(b, {"forward", "fwd"}) || b == "f_" || b == "f" || b == "f.") {
+      if (contains_any(b, {"forward", "fwd"}) || b == "f_" || b == "f" || b == "f.") {
         f = k;
         named = true;
       }
@@ -509,15 +501,15 @@ void guess_validity(MapGuess& G, bool per_eye) {
   Json& m = G.m;
   Json valid = Json::array();
   for (auto& f : names) {
-    std::string n = lower(f.text);
-    if (has(n, {"blink"})) {
+    std::string n = ascii_lower(f.text);
+    if (contains_any(n, {"blink"})) {
       valid.push_back(
           {{"column", G.ref(int(&f - &names[0]))}, {"valid_values", {"False", "false", "0"}}});
       G.assume("\"" + f.text + "\" True/1 means blinking (invalid)");
-    } else if (has(n, {"confidence"})) {
+    } else if (contains_any(n, {"confidence"})) {
       valid.push_back({{"column", G.ref(int(&f - &names[0]))}, {"min", 0.6}});
       G.assume("\"" + f.text + "\" >= 0.6 is a valid sample");
-    } else if (has(n, {"valid"})) {
+    } else if (contains_any(n, {"valid"})) {
       // A bitmask (SRanipal eye_valid = 31 with every bit set) has integer values above 1.
       const int ci = int(&f - &names[0]);
       std::vector<double> v = column_values(G.rows, size_t(ci));
@@ -529,8 +521,8 @@ void guess_validity(MapGuess& G, bool per_eye) {
       }
       Json cond = {{"column", G.ref(ci)}};
       if (per_eye && m["gaze"].contains("left")) {
-        bool l = has(n, {"left", "_l"}) && !has(n, {"right"});
-        bool r = has(n, {"right", "_r"}) && !l;
+        bool l = contains_any(n, {"left", "_l"}) && !contains_any(n, {"right"});
+        bool r = contains_any(n, {"right", "_r"}) && !l;
         if (l) cond["eye"] = "left";
         if (r) cond["eye"] = "right";
       }
@@ -608,7 +600,8 @@ Json guess_map(const std::string& in) {
   for (auto& f : G.names()) ++G.name_count[f.text];
   PoseGuess P;
   for (auto& f : G.names())
-    P.unity_hint = P.unity_hint || has(lower(f.text), {"unity", "euler", "eulerangles"});
+    P.unity_hint =
+        P.unity_hint || contains_any(ascii_lower(f.text), {"unity", "euler", "eulerangles"});
   guess_time(G);
   classify_groups(G, groups, P);
   guess_gaze_angles(G, P);

@@ -15,6 +15,7 @@
 
 #include "sim/core/error.h"
 #include "sim/core/files.h"
+#include "sim/core/text.h"
 #include "sim/trace/csv_table.h"
 #include "sim/trace/guess.h"
 #include "sim/trace/stats.h"
@@ -25,16 +26,8 @@ namespace {
 
 constexpr size_t kSampleRows = 1500;  // data rows each hypothesis imports
 
-std::string lower(std::string s) {
-  for (char& c : s) c = char(std::tolower((unsigned char)c));
-  return s;
-}
-bool has(const std::string& s, std::initializer_list<const char*> words) {
-  for (const char* w : words)
-    if (s.find(w) != std::string::npos) return true;
-  return false;
-}
-std::string fmt(const char* f, double a, double b = 0, double c = 0, double d = 0) {
+// Up to four numbers through one printf format.
+std::string fmt_n(const char* f, double a, double b = 0, double c = 0, double d = 0) {
   char buf[256];
   std::snprintf(buf, sizeof buf, f, a, b, c, d);
   return buf;
@@ -98,7 +91,7 @@ struct Data {
       for (auto& f : rows.front().fields) names.push_back(f.text);
       rows.erase(rows.begin());
     }
-    for (auto& n : names) all_names += lower(n) + "|";
+    for (auto& n : names) all_names += ascii_lower(n) + "|";
   }
   int col(const Json& ref) const {
     if (ref.is_number_integer()) return ref.get<int>() - 1;
@@ -197,38 +190,38 @@ Score score_map(const Json& map, const Sample& s, const Display& d) {
   sc.outside = valid ? double(out) / double(valid) : 0;
   sc.upside_down = tr.samples.empty() ? 0 : double(down) / double(tr.samples.size());
   double t = 6 * sc.skipped;
-  if (sc.skipped > 0.01) sc.problems.push_back(fmt("%.0f %% of rows refused", 100 * sc.skipped));
+  if (sc.skipped > 0.01) sc.problems.push_back(fmt_n("%.0f %% of rows refused", 100 * sc.skipped));
   const double f = st.invalid_fraction;
   t += 0.5 * f + 4 * std::max(0.0, f - 0.25) + 10 * std::max(0.0, f - 0.9);
-  if (f > 0.25) sc.problems.push_back(fmt("%.0f %% invalid", 100 * f));
+  if (f > 0.25) sc.problems.push_back(fmt_n("%.0f %% invalid", 100 * f));
   t += st.ecc_p50 / 90;
   if (st.ecc_p95 > kPlausibleEccP95) {
     t += 1 + (st.ecc_p95 - kPlausibleEccP95) / 10;
-    sc.problems.push_back(fmt("eccentricity p95 %.0f deg", st.ecc_p95));
+    sc.problems.push_back(fmt_n("eccentricity p95 %.0f deg", st.ecc_p95));
   }
   if (st.speed_p99 > kPlausibleSpeedP99) {
     t += 1 + std::log2(st.speed_p99 / kPlausibleSpeedP99);
-    sc.problems.push_back(fmt("eye speed p99 %.0f deg/s", st.speed_p99));
+    sc.problems.push_back(fmt_n("eye speed p99 %.0f deg/s", st.speed_p99));
   }
   if (!(st.rate_hz >= 10 && st.rate_hz <= 5000)) {
     t += 3 + std::fabs(std::log10(std::max(st.rate_hz, 1e-9) / (st.rate_hz < 10 ? 10 : 5000)));
-    sc.problems.push_back(fmt("rate %.3g Hz", st.rate_hz));
+    sc.problems.push_back(fmt_n("rate %.3g Hz", st.rate_hz));
   }
   if (st.head_speed_max > kPlausibleHeadSpeed) {
     t += 1 + 0.5 * std::log2(st.head_speed_max / kPlausibleHeadSpeed);
-    sc.problems.push_back(fmt("head speed max %.0f deg/s", st.head_speed_max));
+    sc.problems.push_back(fmt_n("head speed max %.0f deg/s", st.head_speed_max));
   }
   if (st.head_speed_p50 > kPlausibleHeadSpeedP50) t += 1;
   // Tracker noise alone moves the gaze by several deg/s between samples: a gaze that hardly
   // moves is a column that is not the gaze (or angles read in the wrong unit).
   if (st.samples >= 10 && st.speed_p50 < 0.5) {
     t += 0.3;
-    sc.problems.push_back(fmt("eye speed p50 %.2g deg/s", st.speed_p50));
+    sc.problems.push_back(fmt_n("eye speed p50 %.2g deg/s", st.speed_p50));
   }
   t += 3 * sc.outside + 3 * sc.upside_down;
-  if (sc.outside > 0.05) sc.problems.push_back(fmt("%.0f %% outside the FOV", 100 * sc.outside));
+  if (sc.outside > 0.05) sc.problems.push_back(fmt_n("%.0f %% outside the FOV", 100 * sc.outside));
   if (sc.upside_down > 0.05)
-    sc.problems.push_back(fmt("head upside down on %.0f %%", 100 * sc.upside_down));
+    sc.problems.push_back(fmt_n("head upside down on %.0f %%", 100 * sc.upside_down));
   if (st.samples < 10) t += 5;
   sc.total = t;
   return sc;
@@ -237,10 +230,10 @@ Score score_map(const Json& map, const Sample& s, const Display& d) {
 std::string evidence(const Score& sc) {
   if (!sc.imported) return "import fails: " + sc.error;
   const TraceStats& st = sc.st;
-  std::string e = fmt("invalid %.1f %%, eccentricity p95 %.1f deg, eye speed p99 %.0f deg/s",
-                      100 * st.invalid_fraction, st.ecc_p95, st.speed_p99) +
-                  fmt(", head speed max %.0f deg/s, rate %.4g Hz", st.head_speed_max, st.rate_hz);
-  if (sc.skipped > 0) e += fmt(", %.1f %% of rows refused", 100 * sc.skipped);
+  std::string e = fmt_n("invalid %.1f %%, eccentricity p95 %.1f deg, eye speed p99 %.0f deg/s",
+                        100 * st.invalid_fraction, st.ecc_p95, st.speed_p99) +
+                  fmt_n(", head speed max %.0f deg/s, rate %.4g Hz", st.head_speed_max, st.rate_hz);
+  if (sc.skipped > 0) e += fmt_n(", %.1f %% of rows refused", 100 * sc.skipped);
   if (!sc.problems.empty()) {
     e += " (implausible:";
     for (auto& p : sc.problems) e += " " + p + (&p == &sc.problems.back() ? ")" : ";");
@@ -324,7 +317,7 @@ Dimension frame_dimension(const Data& D, const Json& base) {
   int sign;
   dominant_axis(D, base, dom, sign);
   const std::string& nm = D.all_names;
-  const bool pupil = has(nm, {"norm_pos", "gaze_normal", "gaze_point_3d"});
+  const bool pupil = contains_any(nm, {"norm_pos", "gaze_normal", "gaze_point_3d"});
   std::string expect = dom == 'x' ? "unreal" : sign > 0 ? (pupil ? "opencv" : "unity") : "opengl";
   if (dom == 0) expect = base.value("coordinates", "opengl");
   std::vector<std::string> coords = {"opengl", "unity"};
@@ -335,7 +328,8 @@ Dimension frame_dimension(const Data& D, const Json& base) {
   const Json& ho = base["head_orientation"];
   const bool head_rot = !ho.contains("constant");
   const bool dir = gtype == "direction" || gtype == "orientation";
-  const bool mirror_hint = has(nm, {"validata", "gaze_direction_normalized", "gaze direction"});
+  const bool mirror_hint =
+      contains_any(nm, {"validata", "gaze_direction_normalized", "gaze direction"});
   std::vector<std::pair<std::string, double>> spaces = {{g.value("space", "head"), 0}};
   if (dir && head_rot) spaces.push_back({spaces[0].first == "head" ? "world" : "head", 0.08});
   std::vector<int> mirrors = {0};
@@ -459,11 +453,11 @@ std::vector<std::pair<Json, double>> encodings(const Data& D, int c, const std::
     }
   }
   if (texts.empty()) return out;
-  const bool neg_name = has(name, {"blink", "invalid", "lost", "missing", "closed"});
+  const bool neg_name = contains_any(name, {"blink", "invalid", "lost", "missing", "closed"});
   if (v.size() < texts.size() / 2 + 1 || v.empty()) {  // words: True/False, Valid/Invalid
     if (texts.size() > 6) return out;
     for (auto& t : texts) {
-      const std::string lt = lower(t);
+      const std::string lt = ascii_lower(t);
       const bool good =
           (lt == "true" || lt == "valid" || lt == "1") != neg_name || (neg_name && lt == "false");
       out.push_back({enc("valid_values", Json::array({t})), good ? 0.0 : 0.1});
@@ -546,14 +540,16 @@ Dimension validity_dimension(const Data& D, const Json& base) {
   };
   std::vector<Col> cols;
   for (size_t i = 0; i < D.names.size(); ++i) {
-    const std::string n = lower(D.names[i]);
-    const bool val = n == "val" || n.rfind("val_", 0) == 0 || has(n, {"_val"});
-    if (used.count(int(i)) ||
-        !(val || has(n, {"valid", "confidence", "blink", "status", "mask", "quality", "tracked"})))
+    const std::string n = ascii_lower(D.names[i]);
+    const bool val = n == "val" || n.rfind("val_", 0) == 0 || contains_any(n, {"_val"});
+    if (used.count(int(i)) || !(val || contains_any(n, {"valid", "confidence", "blink", "status",
+                                                        "mask", "quality", "tracked"})))
       continue;
     Col col{int(i), D.names[i], "", encodings(D, int(i), n)};
-    if (per_eye && (has(n, {"left", "_l", " l", "l_"}) && !has(n, {"right"}))) col.eye = "left";
-    if (per_eye && col.eye.empty() && has(n, {"right", "_r", " r", "r_"})) col.eye = "right";
+    if (per_eye && (contains_any(n, {"left", "_l", " l", "l_"}) && !contains_any(n, {"right"})))
+      col.eye = "left";
+    if (per_eye && col.eye.empty() && contains_any(n, {"right", "_r", " r", "r_"}))
+      col.eye = "right";
     if (!col.enc.empty()) cols.push_back(col);
   }
   Option none;
@@ -680,7 +676,7 @@ Dimension gaze_form_dimension(const Data& D, const Json& base) {
     // "x"/"y", "gaze_x"/"gaze_y", "X [deg]"/"Y [deg]": named as a pair.
     bool named = false;
     if (!D.names.empty()) {
-      std::string a = lower(D.names[c]), b = lower(D.names[c + 1]);
+      std::string a = ascii_lower(D.names[c]), b = ascii_lower(D.names[c + 1]);
       const size_t k = a.rfind('x');
       named = k != std::string::npos && (a[k] = 'y', a == b);
     }
@@ -752,7 +748,7 @@ void position_unit(const Data& D, Json& m, std::vector<std::string>& notes) {
   const std::string unit = s > 300 ? "mm" : s > 30 ? "cm" : "m";
   m["head_position"]["unit"] = unit;
   notes.push_back("head_position.unit: " + unit +
-                  fmt(" from the positions' spread (%.3g; median |x| %.3g)", spread, far));
+                  fmt_n(" from the positions' spread (%.3g; median |x| %.3g)", spread, far));
 }
 
 struct Tested {
@@ -996,10 +992,10 @@ std::string import_failure_hint(const std::string& in, const Json& map, const Di
   const std::string diff = map_diff(map, best->map);
   if (diff.find("coordinates") != std::string::npos) {
     const double zpos = fraction_positive(D, map, 2);
-    if (std::isfinite(zpos)) ev = fmt("gaze z > 0 on %.0f %% of rows", 100 * zpos);
+    if (std::isfinite(zpos)) ev = fmt_n("gaze z > 0 on %.0f %% of rows", 100 * zpos);
   } else if (diff.find("valid") != std::string::npos && now.imported) {
-    ev = fmt("the map's valid conditions leave %.0f %% of the sample invalid",
-             100 * now.st.invalid_fraction);
+    ev = fmt_n("the map's valid conditions leave %.0f %% of the sample invalid",
+               100 * now.st.invalid_fraction);
   } else if (diff.find("valid") != std::string::npos) {
     ev = "the map's valid conditions flag every sampled row invalid";
   }
