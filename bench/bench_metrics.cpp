@@ -17,7 +17,9 @@
 // pooling); BM_FvvdpReference = the reference side of one frame (temporal filtering, pyramid,
 // adaptation, CSF), done once per frame for all methods; BM_FvvdpImage = the still-image path
 // (test side) for comparison. Time column: ms per call at the given TBB thread count (1: the
-// calling thread's CPU time).
+// calling thread's CPU time). The `_native` cases are the same at the headset's own 1440x1600
+// per eye (render.scale 1, the resolution the perceptual verdicts need): FovVideoVDP's cost per
+// megapixel and as a ratio to FLIP on that frame (bench/report.sh prints both).
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
 
@@ -40,11 +42,11 @@ struct Setup {
   std::vector<float> ecc;
   Image ref, test;  // display-encoded
 
-  Setup() {
+  explicit Setup(double scale) {
     const std::string models = std::string(FOVSIM_SOURCE_DIR) + "/models";
     Params sp(Json{{"type", "atrium"}, {"complexity", 1}}, "bench");
     Scene scene = make_scene(sp, models);
-    display = Display::load("htc_vive_pro_eye", models).scaled(0.25);
+    display = Display::load("htc_vive_pro_eye", models).scaled(scale);
     Renderer renderer(scene, RenderSettings{});
     Params mp(Json::object(), "bench");
     std::unique_ptr<FoveationMethod> kfr = make_method("kfr", mp);
@@ -65,9 +67,12 @@ struct Setup {
   }
 };
 
-Setup& setup() {
-  static Setup s;
-  return s;
+// The quickstart's render.scale 0.25 (360x400), or the display's own resolution.
+Setup& setup(bool native = false) {
+  static Setup quarter(0.25);
+  if (!native) return quarter;
+  static Setup full(1.0);
+  return full;
 }
 
 MetricsConfig only(const std::string& name) {
@@ -81,8 +86,8 @@ MetricsConfig only(const std::string& name) {
   return c;
 }
 
-void BM_Metrics(benchmark::State& state, std::string name) {
-  Setup& S = setup();
+void BM_Metrics(benchmark::State& state, std::string name, bool native = false) {
+  Setup& S = setup(native);
   tbb::global_control gc(tbb::global_control::max_allowed_parallelism, size_t(state.range(0)));
   const MetricsConfig cfg = only(name);
   MetricsScratch scratch;
@@ -125,8 +130,8 @@ struct FvvdpSetup {
   }
 };
 
-void BM_FvvdpMethodFrame(benchmark::State& state, bool video) {
-  Setup& S = setup();
+void BM_FvvdpMethodFrame(benchmark::State& state, bool video, bool native = false) {
+  Setup& S = setup(native);
   tbb::global_control gc(tbb::global_control::max_allowed_parallelism, size_t(state.range(0)));
   FvvdpSetup F(S);
   FvvdpOptions opt;
@@ -144,22 +149,31 @@ void BM_FvvdpMethodFrame(benchmark::State& state, bool video) {
   }
   state.counters["bands"] = ref.bands();
   state.counters["ppd"] = F.display.ppd;
+  state.counters["pixels"] = double(S.ref.pixels());
 }
 
-void BM_FvvdpReference(benchmark::State& state) {
-  Setup& S = setup();
+void BM_FvvdpReference(benchmark::State& state, bool native = false) {
+  Setup& S = setup(native);
   tbb::global_control gc(tbb::global_control::max_allowed_parallelism, size_t(state.range(0)));
   FvvdpSetup F(S);
   FvvdpReferenceStream ref(F.display, S.ref.width, S.ref.height, {90.0, true});
   ref.push(S.ref, F.gx, F.gy);
   for (auto _ : state) ref.push(S.ref, F.gx, F.gy);
+  state.counters["pixels"] = double(S.ref.pixels());
 }
 
 }  // namespace
 
 BENCHMARK_CAPTURE(BM_FvvdpMethodFrame, video, true)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_FvvdpMethodFrame, image, false)->Arg(1)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_FvvdpReference)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_FvvdpReference, quarter, false)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_FvvdpMethodFrame, video_native, true, true)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_FvvdpReference, native, true)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Metrics, flip_native, std::string("flip"), true)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Metrics, all, std::string("all"))->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Metrics, errsums, std::string("errsums"))
     ->Arg(1)

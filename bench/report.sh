@@ -11,7 +11,8 @@
 #   - KFR forward (lp_gather) and inverse (lp_reconstruct) map time / cv::warpPolar's time
 #     (bench_methods; needs OpenCV, `make deps-bench`);
 #   - FovVideoVDP per method-frame (reference side prepared) and its reference side / the FLIP
-#     mean of the same frame pair (bench_metrics, quickstart size);
+#     mean of the same frame pair (bench_metrics, quickstart size), and at the headset's own
+#     1440x1600 in ms per megapixel and / FLIP on that frame;
 #   - `fovsim run configs/quickstart.json` at 1 and 2 threads: its render.scale and frames (the
 #     shipped fidelity, docs/fidelity.md) and the 44 s wall target, wall and CPU (user + sys) time,
 #     the 2-thread speed-up (wall), the serial fraction estimated from the 2-thread run's
@@ -41,18 +42,30 @@ else
   echo '{"benchmarks": []}' > "$tmp/methods.json"
   echo "bench_methods has no OpenCV cases (make deps-bench, then reconfigure): KFR ratios skipped"
 fi
-"$B/bench_metrics" --benchmark_filter='BM_Metrics/flip/1|BM_Fvvdp' --benchmark_min_time="$T" \
+"$B/bench_metrics" --benchmark_filter='BM_Metrics/flip|BM_Fvvdp' --benchmark_min_time="$T" \
   --benchmark_format=json > "$tmp/metrics.json"
 python3 - "$tmp/metrics.json" <<'PY'
 import json, sys
-m = {b["name"]: b["cpu_time"] for b in json.load(open(sys.argv[1]))["benchmarks"]}
+bs = json.load(open(sys.argv[1]))["benchmarks"]
+m = {b["name"]: b["cpu_time"] for b in bs}
+px = {b["name"]: b.get("pixels", 0) for b in bs}
 f = m.get("BM_Metrics/flip/1")
 for k, label in (("BM_FvvdpMethodFrame/video/1", "one method-frame, video, foveated"),
                  ("BM_FvvdpMethodFrame/image/1", "one method-frame, still image, foveated"),
-                 ("BM_FvvdpReference/1", "reference side of a frame (once for all methods)")):
+                 ("BM_FvvdpReference/quarter/1", "reference side of a frame (once for all methods)")):
     if f and k in m:
         print(f"FovVideoVDP {label} / FLIP: {m[k]:.1f} / {f:.1f} ms = {m[k]/f:.2f}"
               + (" (target <= 2.0)" if "MethodFrame" in k else ""))
+# At the headset's own 1440x1600 per eye (the native perceptual studies): per megapixel and
+# against FLIP on the same frame. The reference PyTorch FovVideoVDP takes 1.2-4.2 s per such
+# image on one thread (the reference implementation of Mantiuk et al. 2021).
+fn = m.get("BM_Metrics/flip_native/1")
+for k, label in (("BM_FvvdpMethodFrame/video_native/1", "one method-frame, video, foveated"),
+                 ("BM_FvvdpReference/native/1", "reference side of a frame")):
+    if k in m and px.get(k):
+        mpx = px[k] / 1e6
+        print(f"FovVideoVDP at 1440x1600 ({mpx:.2f} Mpx), {label}: {m[k]:.0f} ms = "
+              f"{m[k] / mpx:.0f} ms/Mpx" + (f"; / FLIP ({fn:.0f} ms) = {m[k] / fn:.2f}" if fn else ""))
 PY
 python3 - "$tmp/render.json" "$tmp/methods.json" <<'PY'
 import json, sys
