@@ -190,6 +190,23 @@ TEST(Workflow, SearchSaysWhenTheBudgetDoesNotBind) {
   EXPECT_NE(vs.str().find("budget does not bind: unfoveated full fits at"), std::string::npos)
       << vs.str();
 
+  // With 12 frames the winner and the runner-up are compared on their paired per-frame
+  // differences; `tied` says whether the difference lies within its interval.
+  r = run_cmd(fovsim_bin() + " search " + d + "/s.json --out " + d + "/o12 frames.count=12");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find(", paired over 12 frames); runner-up at methods[kfr].sigma = "),
+            std::string::npos)
+      << r.output;
+  Csv b12 = read_csv(d + "/o12/search_best.csv");
+  ASSERT_EQ(b12.rows.size(), 1u);
+  const double delta = std::stod(b12.rows[0][b12.col("runner_up_delta")]);
+  const double ci = std::stod(b12.rows[0][b12.col("runner_up_delta_ci95")]);
+  ASSERT_TRUE(std::isfinite(ci) && ci > 0) << ci;
+  EXPECT_EQ(b12.rows[0][b12.col("tied")], std::fabs(delta) <= ci ? "1" : "0");
+  EXPECT_NE(r.output.find(std::fabs(delta) <= ci ? "tied within noise" : "beyond noise"),
+            std::string::npos)
+      << r.output;
+
   // With a budget only a few points meet, the search says it binds.
   r = run_cmd(fovsim_bin() + " search " + d + "/s.json --out " + d +
               "/o2 sweep.search.subject_to.headroom_ms.min=11.1");
