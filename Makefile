@@ -15,7 +15,7 @@ DEB_OPT  := python3-skimage assimp-testmodels python3-pandas
 
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
-.PHONY: all deps deps-bench build demo test bench bench-report clean format update-golden docs
+.PHONY: all deps deps-bench build demo test bench bench-report clean format update-golden docs docs-check
 
 all: build
 
@@ -74,10 +74,16 @@ clean:
 	rm -rf $(BUILD)
 
 # Regenerates the method parameter tables in docs/methods.md and configs/README.md, and the
-# worked numbers of docs/ from their tiny runs (scripts/docs_numbers.py).
+# worked numbers of docs/ from their runs (scripts/docs_numbers.py; --slow: also the worked
+# examples on shipped configs, a few minutes, which ctest leaves out).
 docs: build
 	scripts/gen_method_docs.sh $(BUILD)
-	$(PY) scripts/docs_numbers.py --update --fovsim $(BUILD)/fovsim
+	$(PY) scripts/docs_numbers.py --update --slow --fovsim $(BUILD)/fovsim
+
+# Checks every worked number of docs/, the slow ones included (ctest's
+# Workflow.DocsNumbersReproduce checks only the tiny runs).
+docs-check: build
+	$(PY) scripts/docs_numbers.py --check --slow --fovsim $(BUILD)/fovsim
 
 # Rewrites the regression goldens from the current build (review the diff before committing).
 update-golden: build

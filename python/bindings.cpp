@@ -264,6 +264,7 @@ py::list recost_py(const std::string& results, const std::vector<std::string>& g
   py::list out;
   for (auto& x : res.rows) {
     py::dict r;
+    r["label"] = x.label;  // first: two configurations may share a method (full, fir)
     r["gpu"] = x.gpu;
     r["config_id"] = x.config_id;
     r["method"] = x.method;

@@ -10,8 +10,17 @@ committed number differs from the reproduced one by more than its stated interva
 printed with it), or, without an interval, by more than half a unit of its last printed digit.
 `--update` rewrites the numbers in the pages instead.
 
-    scripts/docs_numbers.py [--fovsim build/fovsim] [--check | --update]
+Runs of a minute or more (a worked example on a shipped config) are in SLOW_RUNS and are
+reproduced only with `--slow` (`make docs` and `make docs-check`, never ctest): their numbers
+are skipped without it. Besides CSV cells, a number may come from a JSON file of the run
+(`where` = (list of keys to a list of objects, filter dict); `col` the object's key) or from the
+command's stdout (`file` "stdout", `where` a regular expression, `col` its group). Words that
+must match a run (an order of configurations) sit between `<!--s:ID-->` and `<!--/s-->` and
+are given by TEXTS: (run, "stdout" or a JSON file, a function of the parsed output).
+
+    scripts/docs_numbers.py [--fovsim build/fovsim] [--check | --update] [--slow]
 """
+import json
 import argparse
 import csv
 import os
@@ -27,6 +36,16 @@ RUNS = {
     "pairs_tiny": ["run", "docs/examples/pairs_tiny.json", "-q", "--no-plots"],
     "latency_tiny": ["sweep", "docs/examples/latency_tiny.json", "-q", "--no-plots"],
     "converge_tiny": ["converge", "docs/examples/converge_tiny.json"],
+}
+
+# Slow runs (`--slow` only): name -> fovsim arguments, or {"cmd": [...]} with "{fovsim}" and
+# "{out}" replaced (a Python example; /usr/bin/python3 as in docs/python.md).
+SLOW_RUNS = {
+    # docs/intervals.md "The ranking target" (about a minute on 2 cores)
+    "rank_long": ["run", "configs/target_long.json", "--target", "ranking:fpsnr", "--no-plots", "-q"],
+    # docs/python.md "Worked examples": asktell_kfr.py on a 10-frame quickstart at 0.25
+    "asktell": {"cmd": ["/usr/bin/python3", "python/examples/asktell_kfr.py", "configs/quickstart.json",
+                        "frames.count=10", "render.scale=0.25", "--evaluations", "8", "--out", "{out}"]},
 }
 
 # id -> (run, csv file, row filter, column, interval column or None, decimals)
@@ -78,6 +97,37 @@ for _m in ("full_tbds", "flc", "kfr", "rmfr", "fvrs", "twfr"):
 for _s in ("1", "4", "16"):
     NUMBERS[f"cv_ok_{_s}"] = ("converge_tiny", "convergence.csv", {"label": "kfr", "spp": _s}, "level_ok", None, 0)
 
+# docs/intervals.md "The ranking target": the neighbour pairs of the ranking run.
+_RANK = ["target", "achieved", "ranking:fpsnr", "pairs"]
+for _a, _b in (("full", "fvrs"), ("fvrs", "rmfr"), ("rmfr", "kfr")):
+    NUMBERS[f"rk_{_a}_{_b}"] = ("rank_long", "manifest.json", (_RANK, {"a": _a, "b": _b}), "diff", "ci95", 2)
+NUMBERS["rk_frames"] = ("rank_long", "manifest.json", (["target"], {}), "frames_used", None, 0)
+NUMBERS["rk_warmup"] = ("rank_long", "manifest.json", (["target"], {}), "warmup_frames", None, 0)
+NUMBERS["rk_common"] = ("rank_long", "manifest.json", (_RANK, {"a": "fvrs", "b": "rmfr"}), "frames", None, 0)
+
+# docs/python.md: asktell_kfr.py's printed answer.
+_N = r"([+\-]?\d+(?:\.\d+)?)"
+NUMBERS["at_sigma"] = ("asktell", "stdout", r"best sigma " + _N, 1, None, 2)
+NUMBERS["at_fpsnr"] = ("asktell", "stdout", r"best sigma \S+: fpsnr " + _N, 1, None, 3)
+for _m, _i in (("est_ms_total", "at_est_ms_total"), ("fpsnr", "at_mean_fpsnr"), ("ssim", "at_ssim"),
+               ("shaded_fraction", "at_shaded_fraction")):
+    NUMBERS[_i] = ("asktell", "stdout", r"mean " + _m + r"\s+" + _N, 1, None, 4)
+for _g in ("gtx1080", "rtx2080ti"):
+    NUMBERS[f"at_{_g}_ms"] = ("asktell", "stdout", _g + r"\s+kfr:\S+ " + _N + " ms", 1, None, 3)
+    NUMBERS[f"at_{_g}_x"] = ("asktell", "stdout", _g + r"\s+kfr:\S+ \S+ ms, " + _N + "x", 1, None, 2)
+
+
+def _rank_order(man):
+    order = man["target"]["achieved"]["ranking:fpsnr"]["order"]
+    return " > ".join(next(iter(order.values())))
+
+
+TEXTS = {
+    "rk_order": ("rank_long", "manifest.json", _rank_order),
+    "at_asks": ("asktell", "stdout",
+                lambda out: ", ".join(f"{float(x):g}" for x in re.findall(r"^  sigma (\S+): fpsnr", out, re.M))),
+}
+
 DOCS = ["docs/intervals.md", "docs/python.md", "docs/latency.md", "docs/fidelity.md", "docs/metrics.md"]
 
 # A marker, the number (unicode or ASCII minus, optional +; "inf" for an image equal to its
@@ -95,22 +145,60 @@ def fmt(v, decimals, signed):
     return s.replace("-", "\u2212")
 
 
-def reproduce(fovsim, out):
-    values = {}
-    tables = {}
-    for name, args in RUNS.items():
+def _json_rows(path, where):
+    keys, filt = where
+    with open(path) as fh:
+        node = json.load(fh)
+    for k in keys:
+        node = node[k]
+    rows = node if isinstance(node, list) else [node]
+    return [r for r in rows if all(r.get(k) == v for k, v in filt.items())]
+
+
+def reproduce(fovsim, out, runs):
+    values, texts = {}, {}
+    tables, stdout = {}, {}
+    for name, args in runs.items():
         d = os.path.join(out, name)
-        r = subprocess.run([fovsim] + args + ["--out", d], cwd=ROOT, capture_output=True, text=True)
+        if isinstance(args, dict):
+            cmd = [a.replace("{fovsim}", fovsim).replace("{out}", d) for a in args["cmd"]]
+        else:
+            cmd = [fovsim] + args + ["--out", d]
+        r = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
         if r.returncode != 0:
-            sys.exit(f"docs_numbers: fovsim {' '.join(args)} failed:\n{r.stdout}{r.stderr}")
+            sys.exit(f"docs_numbers: {' '.join(cmd)} failed:\n{r.stdout}{r.stderr}")
         tables[name] = d
+        stdout[name] = r.stdout
     for nid, (run, f, where, col, ci, dec) in NUMBERS.items():
-        with open(os.path.join(tables[run], f), newline="") as fh:
-            rows = [r for r in csv.DictReader(fh) if all(r.get(k) == v for k, v in where.items())]
+        if run not in runs:
+            continue
+        if f == "stdout":
+            m = re.search(where, stdout[run], re.M)
+            if not m:
+                sys.exit(f"docs_numbers: {nid}: /{where}/ not in the output of {run}:\n{stdout[run]}")
+            values[nid] = (float(m.group(col)), None, dec)
+            continue
+        path = os.path.join(tables[run], f)
+        if f.endswith(".json"):
+            rows = _json_rows(path, where)
+        else:
+            with open(path, newline="") as fh:
+                rows = [r for r in csv.DictReader(fh) if all(r.get(k) == v for k, v in where.items())]
         if len(rows) != 1:
             sys.exit(f"docs_numbers: {nid}: {len(rows)} rows of {f} match {where}")
         values[nid] = (float(rows[0][col]), float(rows[0][ci]) if ci else None, dec)
-    return values
+    for tid, (run, f, fn) in TEXTS.items():
+        if run not in runs:
+            continue
+        if f == "stdout":
+            texts[tid] = fn(stdout[run])
+        else:
+            with open(os.path.join(tables[run], f)) as fh:
+                texts[tid] = fn(json.load(fh))
+    return values, texts
+
+
+TEXT = re.compile(r"<!--s:(\w+)-->(.*?)<!--/s-->", re.S)
 
 
 def main():
@@ -119,9 +207,14 @@ def main():
     g = ap.add_mutually_exclusive_group()
     g.add_argument("--check", action="store_true", default=True)
     g.add_argument("--update", action="store_true")
+    ap.add_argument("--slow", action="store_true",
+                    help="also the slow runs (SLOW_RUNS, a minute or more each): make docs, make docs-check")
     a = ap.parse_args()
+    runs = dict(RUNS, **(SLOW_RUNS if a.slow else {}))
+    skipped = {nid for nid, n in NUMBERS.items() if n[0] not in runs} | \
+              {tid for tid, t in TEXTS.items() if t[0] not in runs}
     with tempfile.TemporaryDirectory(prefix="fovsim_docs_") as tmp:
-        values = reproduce(a.fovsim, tmp)
+        values, texts = reproduce(a.fovsim, tmp, runs)
     failures, seen = [], set()
     for doc in DOCS:
         path = os.path.join(ROOT, doc)
@@ -129,6 +222,8 @@ def main():
 
         def check(m):
             nid = m.group(1)
+            if nid in skipped:
+                return m.group(0)
             if nid not in values:
                 failures.append(f"{doc}: unknown number id {nid}")
                 return m.group(0)
@@ -147,17 +242,33 @@ def main():
                                 "run `make docs`")
             return m.group(0)
 
-        new_text = PATTERN.sub(check, text)
+        def check_text(m):
+            tid = m.group(1)
+            if tid in skipped:
+                return m.group(0)
+            if tid not in texts:
+                failures.append(f"{doc}: unknown text id {tid}")
+                return m.group(0)
+            seen.add(tid)
+            if a.update:
+                return f"<!--s:{tid}-->{texts[tid]}<!--/s-->"
+            if m.group(2) != texts[tid]:
+                failures.append(f"{doc}: {tid} is \"{m.group(2)}\" in the page, the run gives "
+                                f"\"{texts[tid]}\"; run `make docs`")
+            return m.group(0)
+
+        new_text = TEXT.sub(check_text, PATTERN.sub(check, text))
         if a.update and new_text != text:
             open(path, "w", encoding="utf-8").write(new_text)
             print(f"updated {doc}")
-    for nid in NUMBERS:
-        if nid not in seen:
+    for nid in list(NUMBERS) + list(TEXTS):
+        if nid not in seen and nid not in skipped:
             failures.append(f"number {nid} is quoted in none of {', '.join(DOCS)}")
     if failures:
         print("\n".join(failures), file=sys.stderr)
         return 1
-    print(f"docs_numbers: {len(seen)} numbers {'updated' if a.update else 'reproduce'}")
+    print(f"docs_numbers: {len(seen)} numbers {'updated' if a.update else 'reproduce'}" +
+          (f" ({len(skipped)} of the slow runs not checked: --slow)" if skipped else ""))
     return 0
 
 

@@ -229,8 +229,8 @@ def plot_quality_vs_cost(run, out):
 
 
 def plot_quality_vs_budget(run, out):
-    """Best mean quality attainable within a frame budget B (x), per method and over all
-    methods: a configuration counts once its mean est_ms_total <= B (common.draw_quality_vs_budget)."""
+    """Best mean quality attainable within a frame budget B (x), per configuration and over
+    all of them: a configuration counts once its mean est_ms_total <= B (common.draw_quality_vs_budget)."""
     if not run.mean_available("est_ms_total"):
         raise Skip("no est_ms_total column")
     metrics = [m for m in common.headline_metrics() if m != "psnr" and run.mean_available(m)]
@@ -239,7 +239,8 @@ def plot_quality_vs_budget(run, out):
     b = common.budget_ms(run.manifest, run.summary)
     fig, axes = plt.subplots(1, len(metrics), figsize=(6 * len(metrics), 4.5), squeeze=False, sharex=True)
     for ax, m in zip(axes[0], metrics):
-        entries = [(run.method(c), c, run.mean(c, "est_ms_total"), run.mean(c, m), run.ci(c, m))
+        # Keyed by configuration, not method: `full` and `fir` (method full) are two lines.
+        entries = [(c, c, run.mean(c, "est_ms_total"), run.mean(c, m), run.ci(c, m))
                    for c in run.configs]
         common.draw_quality_vs_budget(ax, entries, m, b)
     common.dedup_legend(axes[0, -1], fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0))

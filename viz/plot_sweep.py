@@ -182,7 +182,7 @@ def plot_pareto(sw, out):
 
 
 def plot_quality_vs_budget(sw, out):
-    """Best quality attainable within a frame budget B per method (distinct rows; one GPU at a
+    """Best quality attainable within a frame budget B per label (distinct rows; one GPU at a
     time when several are costed)."""
     if "est_ms_total" not in sw.cols:
         raise Skip("summary.csv has no est_ms_total")
@@ -196,7 +196,9 @@ def plot_quality_vs_budget(sw, out):
         rs = [r for r in rows if r.get("gpu", "") == g]
         fig, axes = plt.subplots(1, len(metrics), figsize=(6 * len(metrics), 4.5), squeeze=False, sharex=True)
         for ax, m in zip(axes[0], metrics):
-            entries = [(r.get("method") or r.get("label"), f"{r.get('label')} {sw.params_text(r)}".strip(),
+            # One line per label (a method entry), not per method: two entries of one method
+            # (full and fir) stay apart.
+            entries = [(r.get("label") or r.get("method"), f"{r.get('label')} {sw.params_text(r)}".strip(),
                         sw.num(r, "est_ms_total"), sw.num(r, m), sw.num(r, m + "_ci95")) for r in rs]
             common.draw_quality_vs_budget(ax, entries, m, sw.budget())
         common.dedup_legend(axes[0, -1], fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0))

@@ -179,7 +179,9 @@ def to_dataframe(arr):
 
 
 # Columns that identify a row of frames.csv / summary.csv (results/README.md "Keys", "Per frame").
-KEY_COLUMNS = ("config_id", "method", "label", "gpu", "frame", "t")
+# The label first: it names one configuration (config_id adds "@gpu"), while two
+# configurations may share a method (`full` and `full` with FIR lighting): group by label.
+KEY_COLUMNS = ("label", "config_id", "method", "gpu", "frame", "t")
 # Per-frame columns that are not metrics: gaze, validity, latency bookkeeping.
 CONTEXT_COLUMNS = ("gaze_x", "gaze_y", "gaze_valid", "phase", "gaze_est_x", "gaze_est_y")
 # Wall-clock columns: differ run to run (results/README.md); left out of the tidy form.
@@ -206,7 +208,8 @@ def parameter_columns(run):
 
 def tidy(run, metrics=None, drop_nan=True, as_frame=True):
     """Tidy (long) form of a run's frames.csv: one row per frame × configuration × metric, with
-    the keys (config_id, method, label, gpu, frame, t), the method parameters (sigma, alpha, …;
+    the keys (label, config_id, method, gpu, frame, t; group by label, not method: two
+    configurations may share a method), the method parameters (sigma, alpha, …;
     nan where a method lacks one) and the gaze as columns, then `metric` and `value`.
 
     `run` is load_run's dict or a run folder. `metrics` defaults to every numeric column that is
@@ -239,7 +242,7 @@ def tidy(run, metrics=None, drop_nan=True, as_frame=True):
 
 def tidy_sweep(directory, metrics=None, drop_nan=True, as_frame=True):
     """Tidy (long) form of a sweep's summary.csv: one row per cell × configuration × metric with
-    the keys (config_id, cell_id, method, label, gpu), the swept axes (columns named by their
+    the keys (label, config_id, cell_id, method, gpu), the swept axes (columns named by their
     path, e.g. `methods[kfr].sigma`), the method parameters and `frames` as columns, then
     `metric`, `value` (the mean over the cell's frames) and `ci95` (its 95% half-width from
     `<metric>_ci95`; nan when absent), `lo` and `hi` (value ∓ ci95). `metrics` defaults to every
@@ -260,7 +263,7 @@ def tidy_sweep(directory, metrics=None, drop_nan=True, as_frame=True):
             if man:
                 params = [p for p in parameter_columns({"summary": s, "manifest": man}) if p not in axes]
                 break
-    keys = [c for c in ("config_id", "cell_id", "cell", "method", "label", "gpu") if c in names]
+    keys = [c for c in ("label", "config_id", "cell_id", "cell", "method", "gpu") if c in names]
     ids = keys + axes + params + (["frames"] if "frames" in names else [])
     if metrics is None:
         skip = set(ids) | set(WALL_CLOCK) | {"pareto"}

@@ -187,7 +187,25 @@ class RunBased(unittest.TestCase):
     def test_predict_from_results(self):
         rows = fovsim.predict(results=self.res["out_dir"], gpu="rtx2080ti", as_frame=False)
         self.assertEqual([r["config_id"] for r in rows], ["full", "kfr"])
+        self.assertEqual([r["label"] for r in rows], ["full", "kfr"])
+        self.assertEqual(list(rows[0])[0], "label")  # the label first
         self.assertLess(rows[1]["est_ms_total"], rows[0]["est_ms_total"])
+
+    def test_two_configurations_of_one_method_stay_apart(self):
+        # Two entries of method "full" under their own labels (as the quickstart's full_tbds and
+        # fir): predict(results=...), the CLI and the tidy form keep them apart by label.
+        cfg = os.path.join(self.d, "two_full.json")
+        with open(cfg, "w") as f:
+            json.dump(dict(CONFIG, methods=[{"method": "full", "label": "full_a"},
+                                            {"method": "full", "label": "full_b"}]), f)
+        res = fovsim.run(cfg, out=os.path.join(self.d, "two_full"), threads=0)
+        rows = fovsim.predict(results=res["out_dir"], gpu="rtx2080ti", as_frame=False)
+        self.assertEqual([(r["label"], r["method"]) for r in rows], [("full_a", "full"), ("full_b", "full")])
+        t = fovsim.tidy(res["out_dir"], as_frame=False)
+        self.assertEqual(t.dtype.names[0], "label")
+        self.assertEqual(sorted(set(t["label"])), ["full_a", "full_b"])
+        cli = cli_json(["predict", "--results", res["out_dir"], "--gpu", "rtx2080ti"])
+        self.assertEqual([r["label"] for r in cli], ["full_a", "full_b"])
 
 
 class AskTellTest(unittest.TestCase):

@@ -119,6 +119,34 @@ class LoaderTest(unittest.TestCase):
         self.assertIsNone(s["sweep"])
 
 
+class SameMethodTwoConfigsTest(unittest.TestCase):
+    """Two configurations of one method (the quickstart's full_tbds and fir are both method
+    `full`): the tidy form carries the label first, and grouping by it keeps them apart."""
+
+    def test_tidy_label_first_and_groups_by_label(self):
+        with tempfile.TemporaryDirectory() as d:
+            write(d, "frames.csv", "config_id,method,label,frame,t,ssim,est_ms_total\n"
+                                   "full_tbds,full,full_tbds,0,0,1,30\n"
+                                   "full_tbds,full,full_tbds,1,0.011,1,32\n"
+                                   "fir,full,fir,0,0,0.8,12\n"
+                                   "fir,full,fir,1,0.011,0.82,14\n")
+            write(d, "manifest.json", "{}")
+            t = fovsim.tidy(d, as_frame=False)
+            self.assertEqual(t.dtype.names[:3], ("label", "config_id", "method"))
+            ms = t[t["metric"] == "est_ms_total"]
+            by_label = {lab: ms["value"][ms["label"] == lab].mean() for lab in set(ms["label"])}
+            self.assertEqual(by_label, {"full_tbds": 31.0, "fir": 13.0})
+            self.assertEqual(set(ms["method"]), {"full"})  # by method they would be one row
+            try:
+                import pandas  # noqa: F401
+            except ImportError:
+                return
+            df = fovsim.tidy(d)
+            self.assertEqual(list(df.columns[:2]), ["label", "config_id"])
+            g = df[df.metric == "est_ms_total"].groupby(["label"])["value"].mean()
+            self.assertEqual(dict(g), {"fir": 13.0, "full_tbds": 31.0})
+
+
 class TidySweepTest(unittest.TestCase):
     def test_one_row_per_cell_config_metric_with_axes_and_ci(self):
         with tempfile.TemporaryDirectory() as d:

@@ -151,6 +151,36 @@ class Palette(unittest.TestCase):
         self.assertIn("5–10°", common.metric_label("rmse_ecc_5_10"))
 
 
+class SameMethodConfigs(unittest.TestCase):
+    """full_tbds and fir are both method `full`: quality_vs_budget draws them as two lines under
+    their own labels, never FIR's line under the legend "full"."""
+
+    def test_quality_vs_budget_keys_by_configuration(self):
+        rows = ["config_id,method,label,frame,t,gaze_x,gaze_y,psnr,fpsnr,ssim,est_ms_total"]
+        for f in range(4):
+            rows.append(f"full_tbds,full,full_tbds,{f},{f / 90},100,80,inf,inf,1,30")
+            rows.append(f"fir,full,fir,{f},{f / 90},100,80,{30 + f},{35 + f},0.95,12")
+            rows.append(f"kfr,kfr,kfr,{f},{f / 90},100,80,{28 + f},{33 + f},0.9,5")
+        summary = ("config_id,method,label,frames,est_ms_total,psnr,fpsnr,ssim\n"
+                   "full_tbds,full,full_tbds,4,30,inf,inf,1\nfir,full,fir,4,12,31.5,36.5,0.95\n"
+                   "kfr,kfr,kfr,4,5,29.5,34.5,0.9\n")
+        seen = []
+        orig = common.draw_quality_vs_budget
+
+        def grab(ax, entries, metric, budget=None):
+            seen.extend(e[0] for e in entries)
+            return orig(ax, entries, metric, budget)
+        with tempfile.TemporaryDirectory() as d:
+            write(os.path.join(d, "frames.csv"), "\n".join(rows) + "\n")
+            write(os.path.join(d, "summary.csv"), summary)
+            common.draw_quality_vs_budget = grab
+            try:
+                plot_run.plot_quality_vs_budget(plot_run.Run(d), d)
+            finally:
+                common.draw_quality_vs_budget = orig
+        self.assertEqual(set(seen), {"full_tbds", "fir", "kfr"})
+
+
 class RunFiles(unittest.TestCase):
     """plot_run.py on a tiny run folder produces every plot its columns allow."""
 

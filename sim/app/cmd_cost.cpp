@@ -265,6 +265,7 @@ int do_predict_results(const PredictArgs& a) {
   rows.push_back(hdr);
   for (const RecostRow& x : res.rows) {
     nlohmann::ordered_json j;
+    j["label"] = x.label;
     j["gpu"] = x.gpu;
     j["config_id"] = x.config_id;
     j["method"] = x.method;

@@ -269,6 +269,7 @@ void register_search(CLI::App& app, Action& action) {
         std::printf("search %s: %d context%s, %d evaluations (%d from cache)\n", plan.name.c_str(),
                     r.contexts, r.contexts == 1 ? "" : "s", r.evaluations, r.cached);
         std::printf("%s", r.best.to_csv().c_str());
+        for (auto& v : r.verdicts) std::printf("%s\n", v.c_str());
         std::printf("results in %s (search_best.csv, search_history.csv)\n", r.out_dir.c_str());
       }
       return 0;

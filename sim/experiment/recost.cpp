@@ -49,7 +49,7 @@ Counters row_counters(const std::vector<std::string>& header, const CsvRow& row,
 // One frame costed on one GPU, added to the row of its configuration in `acc`. A counter the
 // cost model needs but the row lacks is an error at `where`.
 void add_frame(std::vector<RecostRow>& acc, const GpuProfile& gpu, const CostInputs& ci,
-               const std::string& id, const std::string& where) {
+               const std::string& id, const std::string& label, const std::string& where) {
   const FrameCost fc = estimate_frame(gpu, ci);
   // A counter the cost model needs for this method but the row lacks (its column removed
   // or its cell empty) would be costed as 0: an error naming it, never a cheaper frame.
@@ -66,7 +66,7 @@ void add_frame(std::vector<RecostRow>& acc, const GpuProfile& gpu, const CostInp
   for (auto& x : acc)
     if (x.config_id == id) r = &x;
   if (!r) {
-    acc.push_back(RecostRow{gpu.name, id, ci.method});
+    acc.push_back(RecostRow{gpu.name, id, ci.method, label});
     r = &acc.back();
   }
   r->frames += 1;
@@ -130,9 +130,10 @@ RecostResult recost_one(const RecostOptions& o) {
   if (rows.empty()) throw Error(csv_path, "empty frames.csv");
   std::vector<std::string> header;
   for (const CsvField& h : rows.front().fields) header.push_back(h.text);
-  int c_id = -1, c_method = -1, c_gpu = -1, c_lighting = -1;
+  int c_id = -1, c_method = -1, c_gpu = -1, c_lighting = -1, c_label = -1;
   for (size_t i = 0; i < header.size(); ++i) {
     if (header[i] == "config_id") c_id = int(i);
+    if (header[i] == "label") c_label = int(i);
     if (header[i] == "method") c_method = int(i);
     if (header[i] == "gpu") c_gpu = int(i);
     if (header[i] == "lighting") c_lighting = int(i);
@@ -183,7 +184,8 @@ RecostResult recost_one(const RecostOptions& o) {
       ci.display = d;
       ci.pixel_scale = double(d.width) * double(d.height) / sim_px;
       ci.workload = &w;
-      add_frame(acc[gi], gpus[gi], ci, id, file_location(csv_path, row.line));
+      add_frame(acc[gi], gpus[gi], ci, id, c_label >= 0 ? cell(c_label) : id,
+                file_location(csv_path, row.line));
     }
   }
   for (size_t gi = 0; gi < gpus.size(); ++gi)

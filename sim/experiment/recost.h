@@ -20,7 +20,9 @@ struct RecostOptions {
 };
 
 struct RecostRow {
-  std::string gpu, config_id, method;
+  // label: the method entry's label (frames.csv `label`, else config_id without "@gpu"); in a
+  // sweep config_id is "<cell>/<config_id>" and label stays the entry's label.
+  std::string gpu, config_id, method, label;
   double frames = 0, total_ms = 0;
   double lo_ms = -1, hi_ms = -1, level = 0;  // prediction interval of the mean (level 0: none)
   std::vector<std::pair<std::string, double>> pass_ms = {};  // mean per existing pass

@@ -13,6 +13,7 @@
 #include "sim/core/progress.h"
 #include "sim/experiment/engine.h"
 #include "sim/experiment/search.h"
+#include "sim/experiment/search_verdict.h"
 
 namespace fovsim {
 
@@ -121,6 +122,46 @@ std::vector<CellJob> batch_jobs(const std::vector<std::vector<double>>& pts, con
   return jobs;
 }
 
+// The per-point inputs of the search's verdict (search_verdict.h), kept in done.json: the
+// scored row's p95 frame time, budget, the objective's 95% half-width and per-frame values
+// (its start-up frames left out, as the means do), and the frame-budget columns of the first
+// `full` entry of the run (the unfoveated frame: when it fits, no budget binds).
+Json verdict_inputs(const CellResult& res, const ResultRow& r, const SearchSpec& sp) {
+  auto num = [](double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); };
+  const std::string& col = sp.objective.column;
+  Json v{{"est_ms_total_p95", num(r.get("est_ms_total_p95", NAN))},
+         {"budget_ms", num(r.get("budget_ms", NAN))},
+         {"score_ci95", num(r.get(col + "_ci95", NAN))}};
+  const std::string* id = r.text_of("config_id");
+  Json frames = Json::array();
+  int skip = int(r.get("startup_frames", 0));
+  bool has_col = false;
+  for (auto& f : res.frames.rows()) {
+    const std::string* fid = f.text_of("config_id");
+    if (!id || !fid || *fid != *id) continue;
+    if (skip > 0) {
+      --skip;
+      continue;
+    }
+    const double x = f.get(col, NAN);
+    has_col = has_col || !std::isnan(x);
+    frames.push_back(num(x));
+  }
+  if (has_col) v["frame_scores"] = frames;
+  for (auto& o : res.summary.rows()) {
+    const std::string* m = o.text_of("method");
+    const std::string* l = o.text_of("label");
+    if (!m || *m != "full" || &o == &r) continue;
+    Json fc{{"label", l ? *l : std::string("full")},
+            {"est_ms_total_p95", num(o.get("est_ms_total_p95", NAN))},
+            {"budget_ms", num(o.get("budget_ms", NAN))}};
+    for (auto& k : sp.constraints) fc[k.column] = num(o.get(k.column, NAN));
+    v["full"] = fc;
+    break;
+  }
+  return v;
+}
+
 // Runs a batch's jobs, one reference pass per reference group, and records each point's
 // scored columns in its done.json.
 void run_batch(std::vector<CellJob>& jobs, const EngineOptions& eo, const SweepPlan& plan,
@@ -150,9 +191,149 @@ void run_batch(std::vector<CellJob>& jobs, const EngineOptions& eo, const SweepP
       // or not: search_history.csv reports it.
       cols["p_fit"] = num(r->get("p_fit", NAN));
       Json done{{"score", cols[sp.objective.column]}, {"columns", cols}};
+      // What the verdict (search_verdict.h) needs: the frame time against the budget, the
+      // score's interval and per-frame values, and `full`'s frame time when the run has it.
+      done["verdict"] = verdict_inputs(res[i], *r, sp);
       write_file_atomic(js[i].out_dir + "/done.json", done.dump() + "\n");
     }
   }
+}
+
+// The frame time and its limit of frame-budget constraint `c` at a point whose value of c's
+// column is `value` (v: the point's verdict inputs); false when c sets no upper limit on time.
+bool frame_budget_terms(const SearchConstraint& c, double value, const Json& v, double& ms,
+                        double& limit) {
+  auto get = [&](const char* k) {
+    return v.contains(k) && v[k].is_number() ? v[k].get<double>() : double(NAN);
+  };
+  const double budget = get("budget_ms");
+  if (c.column == "headroom_ms") {  // budget - p95 >= min
+    if (!std::isfinite(c.min)) return false;
+    ms = budget - value;
+    limit = budget - c.min;
+  } else if (c.column == "fits_budget") {
+    if (!std::isfinite(c.min) || c.min <= 0) return false;
+    ms = get("est_ms_total_p95");
+    limit = budget;
+  } else {  // est_ms_total and its percentiles or interval ends: <= max
+    if (!std::isfinite(c.max)) return false;
+    ms = value;
+    limit = c.max;
+  }
+  return true;
+}
+
+std::vector<double> frame_scores(const Json& v) {
+  std::vector<double> out;
+  if (!v.contains("frame_scores") || !v["frame_scores"].is_array()) return out;
+  for (auto& x : v["frame_scores"]) out.push_back(x.is_number() ? x.get<double>() : NAN);
+  return out;
+}
+
+std::string point_text(const SearchSpec& sp, const std::vector<double>& x) {
+  std::string at;
+  for (size_t d = 0; d < x.size() && d < sp.space.size(); ++d)
+    at += (d ? ", " : "") + sp.space[d].path + " = " + format_number(x[d]);
+  return at;
+}
+
+// The verdict of context `ctx` (search_verdict.h) into its search_best.csv row `b` and
+// `lines`: does the budget bind, is the optimum on an end of the space, is the winner ahead
+// of the runner-up beyond noise. `cv[i]` and `vin[i]` belong to s.history()[i].
+void add_verdict(ResultRow& b, const SearchSpec& sp, const Searcher& s,
+                 const std::vector<std::pair<std::vector<double>, std::vector<double>>>& cv,
+                 const std::vector<Json>& vin, std::vector<std::string>& lines) {
+  const auto& hist = s.history();
+  const size_t n = hist.size();
+  if (!s.has_best() || n == 0 || cv.size() != n || vin.size() != n) return;
+  const SearchEval& w = s.best();
+  // (a) Does a constraint bind?
+  if (!sp.constraints.empty()) {
+    double budget_binds = NAN;
+    bool any_violated = false;
+    SearchSpec other;  // the constraints that are not frame budgets
+    std::vector<std::vector<double>> other_values(n);
+    for (size_t k = 0; k < sp.constraints.size(); ++k) {
+      const SearchConstraint& c = sp.constraints[k];
+      size_t violators = 0;
+      for (size_t i = 0; i < n; ++i) {
+        const double x = cv[i].second[k];
+        if (std::isnan(x) || x < c.min || x > c.max) ++violators;
+      }
+      any_violated = any_violated || violators > 0;
+      if (!is_frame_budget_column(c.column)) {
+        other.constraints.push_back(c);
+        for (size_t i = 0; i < n; ++i) other_values[i].push_back(cv[i].second[k]);
+        continue;
+      }
+      double ms = NAN, limit = NAN;
+      if (!frame_budget_terms(c, 0, vin[0], ms, limit)) continue;
+      if (violators > 0) {
+        budget_binds = 1;
+        lines.push_back("budget binds: " + std::to_string(violators) + " of " + std::to_string(n) +
+                        " evaluated points miss " + c.describe());
+        continue;
+      }
+      if (std::isnan(budget_binds)) budget_binds = 0;
+      std::string sentence;
+      const Json& f = vin[size_t(0)].contains("full") ? vin[0]["full"] : Json();
+      if (f.is_object() && f.contains(c.column) && f[c.column].is_number()) {
+        const double fx = f[c.column].get<double>();
+        if (fx >= c.min && fx <= c.max && frame_budget_terms(c, fx, f, ms, limit))
+          sentence =
+              budget_sentence("unfoveated " + f.value("label", std::string("full")), ms, limit);
+      }
+      if (sentence.empty()) {  // the most expensive evaluated point
+        size_t worst = 0;
+        double worst_ms = -INFINITY;
+        for (size_t i = 0; i < n; ++i) {
+          double m = NAN, l = NAN;
+          if (frame_budget_terms(c, cv[i].second[k], vin[i], m, l) && m > worst_ms)
+            worst = i, worst_ms = m, ms = m, limit = l;
+        }
+        sentence = budget_sentence("the most expensive of the " + std::to_string(n) +
+                                       " evaluated points (" + point_text(sp, hist[worst].x) + ")",
+                                   ms, limit);
+      }
+      if (!sentence.empty()) lines.push_back(sentence + " (" + c.describe() + ")");
+    }
+    for (auto& l : non_binding_constraints(other, other_values)) lines.push_back(l);
+    if (!std::isnan(budget_binds)) b.set("budget_binds", budget_binds);
+    b.set("constraints_bind", any_violated ? 1 : 0);
+  }
+  // (b) The optimum on an end of the space.
+  if (w.violation <= 0) {
+    const auto hits = boundary_hits(sp.space, w.x);
+    std::string axes;
+    for (auto& h : hits)
+      axes += (axes.empty() ? "" : " ") + sp.space[h.dim].path + (h.end < 0 ? ":lower" : ":upper");
+    b.set_text("boundary", axes);
+    if (!hits.empty()) lines.push_back(describe_boundary(sp.space, hits));
+  }
+  // (c) Winner against the runner-up (the best other point; a feasible winner's runner-up
+  // must be feasible too).
+  const SearchEval* r = nullptr;
+  size_t ri = 0, wi = 0;
+  for (size_t i = 0; i < n; ++i) {
+    if (hist[i].x == w.x) {
+      wi = i;
+      continue;
+    }
+    if (!r || s.better(hist[i], *r)) r = &hist[i], ri = i;
+  }
+  if (!r || (w.violation <= 0 && r->violation > 0)) return;
+  auto ci = [&](size_t i) {
+    return vin[i].contains("score_ci95") && vin[i]["score_ci95"].is_number()
+               ? vin[i]["score_ci95"].get<double>()
+               : double(NAN);
+  };
+  const std::vector<double> fw = frame_scores(vin[wi]), fr = frame_scores(vin[ri]);
+  const ScoreComparison c = compare_scores(w.score, r->score, fw, fr, ci(wi), ci(ri));
+  b.set("runner_up_delta", c.delta);
+  b.set("runner_up_delta_ci95", c.ci95);
+  if (c.tied >= 0) b.set("tied", c.tied);
+  lines.push_back(describe_comparison(c, sp.objective.column) + "; runner-up at " +
+                  point_text(sp, r->x));
 }
 
 // search_best.csv's row of context `ci` after `n` evaluations; a context without a feasible
@@ -221,6 +402,7 @@ SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const Sw
   eo.use_cache = opt.use_cache;
 
   ResultTable history, best;
+  Json verdicts = Json::array();
   auto [first, last] = shard_range(int(plan.cells.size()), opt.shard, opt.shards);
   Progress progress("search evaluations",
                     size_t(std::max(0, last - first)) * size_t(std::max(0, sp.evaluations)));
@@ -231,6 +413,7 @@ SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const Sw
     int n = 0;
     // (point, constraint values): the best point's values for search_best.csv
     std::vector<std::pair<std::vector<double>, std::vector<double>>> seen_cv;
+    std::vector<Json> vin;  // each point's verdict inputs (done.json "verdict")
     while (n < sp.evaluations) {
       auto pts = s.ask();
       if (pts.empty()) break;
@@ -255,6 +438,7 @@ SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const Sw
         e.violation = sp.violation(cv);
         ev.push_back(e);
         seen_cv.emplace_back(e.x, cv);
+        vin.push_back(done.contains("verdict") ? done["verdict"] : Json::object());
         ResultRow h;
         h.set_text("context_id", ctx.id());
         h.set_text("eval_dir", "search/evals/" + dirs[i].substr(dirs[i].rfind('/') + 1));
@@ -273,13 +457,22 @@ SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const Sw
     }
     rep.evaluations += n;
     if (n < sp.evaluations) progress.step(size_t(sp.evaluations - n));  // the searcher stopped
-    best.add(best_row(ctx, ci, n, sp, s, seen_cv, rep.notes));
+    ResultRow b = best_row(ctx, ci, n, sp, s, seen_cv, rep.notes);
+    std::vector<std::string> lines;
+    add_verdict(b, sp, s, seen_cv, vin, lines);
+    std::string joined;
+    for (auto& l : lines) joined += (joined.empty() ? "" : "; ") + l;
+    b.set_text("verdict", joined);
+    verdicts.push_back({{"context_id", ctx.id()}, {"context", ci}, {"verdict", lines}});
+    for (auto& l : lines) rep.verdicts.push_back("context " + ctx.id() + ": " + l);
+    best.add(std::move(b));
   }
   std::string suffix =
       opt.shards > 1 ? ".shard" + std::to_string(opt.shard) + "of" + std::to_string(opt.shards)
                      : "";
   write_file_atomic(rep.out_dir + "/search_history" + suffix + ".csv", history.to_csv());
   write_file_atomic(rep.out_dir + "/search_best" + suffix + ".csv", best.to_csv());
+  write_file_atomic(rep.out_dir + "/search_verdict" + suffix + ".json", verdicts.dump(2) + "\n");
   rep.best = std::move(best);
   return rep;
 }

@@ -3,7 +3,7 @@
 // sweep.search.space; each point is a run config evaluated by the frame engine (a batch
 // shares its references) and cached by hash under <out>/search/evals/, so a rerun after an
 // interruption replays the same asks from the cache. Outputs: search_history.csv (every
-// evaluation), search_best.csv (one row per context).
+// evaluation), search_best.csv (one row per context), search_verdict.json (search_verdict.h).
 #pragma once
 #include <string>
 #include <vector>
@@ -18,6 +18,10 @@ struct SearchReport {
   ResultTable best;  // per context; with a constraint: its value and "violation" (0 = met)
   // One line per context where no evaluated point met the constraint (its least violation).
   std::vector<std::string> notes;
+  // What the answer means, per context (search_verdict.h): "context <id>: budget does not
+  // bind: ...", "... the optimum lies on the lower end of ...", "winner and runner-up tied
+  // within noise (...)". Also in search_best.csv (`verdict`) and search_verdict.json.
+  std::vector<std::string> verdicts;
 };
 
 // A search scores a summary row; when one of its constraint (or objective) columns is an

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <sstream>
 
 #include "tests/app/app_util.h"
 
@@ -149,6 +150,72 @@ TEST(Workflow, SearchWithoutFeasiblePointSaysSo) {
   ASSERT_EQ(b.rows.size(), 1u);
   EXPECT_EQ(b.rows[0][b.col("feasible")], "0");
   EXPECT_GT(std::stod(b.rows[0][b.col("violation")]), 0);
+}
+
+// On the RTX 3090 profile the Vive Pro Eye's 90 Hz budget never binds: even unfoveated `full`
+// fits, so "best fpsnr within the budget" is "best fpsnr", on the space's lower sigma end. The
+// search says so on stdout, in search_best.csv and in search_verdict.json.
+TEST(Workflow, SearchSaysWhenTheBudgetDoesNotBind) {
+  std::string d = temp_dir("wf_search_nobind");
+  write_text(d + "/s.json",
+             "{\"name\": \"s\", \"base\": \"" + kBase +
+                 "\", \"display\": \"htc_vive_pro_eye\", \"gpus\": [\"rtx3090\"], "
+                 "\"frames\": {\"count\": 3}, \"render\": {\"scale\": 0.05}, \"methods\": "
+                 "[{\"method\": \"full\"}, {\"method\": \"kfr\"}], \"sweep\": {\"search\": "
+                 "{\"space\": [{\"methods[kfr].sigma\": {\"from\": 1.2, \"to\": 2.4, \"step\": "
+                 "0.4}}], \"maximize\": \"fpsnr\", \"subject_to\": {\"headroom_ms\": {\"min\": "
+                 "0}}, \"label\": \"kfr\", \"evaluations\": 4, \"batch\": 4, \"seed\": 1}}}");
+  auto r = run_cmd(fovsim_bin() + " search " + d + "/s.json --out " + d + "/o");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("budget does not bind: unfoveated full fits at "), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find(" ms of 11.11 ms (headroom_ms >= 0)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("the optimum lies on the lower end of methods[kfr].sigma (1.2)"),
+            std::string::npos)
+      << r.output;
+  // Three frames: no interval of either score, and the verdict says the noise is unknown.
+  EXPECT_NE(r.output.find("noise unknown: 3 finite frames"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("runner-up at methods[kfr].sigma = 1.6"), std::string::npos) << r.output;
+  Csv b = read_csv(d + "/o/search_best.csv");
+  ASSERT_EQ(b.rows.size(), 1u);
+  EXPECT_EQ(b.rows[0][b.col("budget_binds")], "0");
+  EXPECT_EQ(b.rows[0][b.col("constraints_bind")], "0");
+  EXPECT_EQ(b.rows[0][b.col("boundary")], "methods[kfr].sigma:lower");
+  EXPECT_DOUBLE_EQ(std::stod(b.rows[0][b.col("methods[kfr].sigma")]), 1.2);
+  EXPECT_NE(b.rows[0][b.col("verdict")].find("budget does not bind"), std::string::npos);
+  EXPECT_GT(std::stod(b.rows[0][b.col("runner_up_delta")]), 0);
+  std::ifstream vf(d + "/o/search_verdict.json");
+  std::stringstream vs;
+  vs << vf.rdbuf();
+  EXPECT_NE(vs.str().find("budget does not bind: unfoveated full fits at"), std::string::npos)
+      << vs.str();
+
+  // With 12 frames the winner and the runner-up are compared on their paired per-frame
+  // differences; `tied` says whether the difference lies within its interval.
+  r = run_cmd(fovsim_bin() + " search " + d + "/s.json --out " + d + "/o12 frames.count=12");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find(", paired over 12 frames); runner-up at methods[kfr].sigma = "),
+            std::string::npos)
+      << r.output;
+  Csv b12 = read_csv(d + "/o12/search_best.csv");
+  ASSERT_EQ(b12.rows.size(), 1u);
+  const double delta = std::stod(b12.rows[0][b12.col("runner_up_delta")]);
+  const double ci = std::stod(b12.rows[0][b12.col("runner_up_delta_ci95")]);
+  ASSERT_TRUE(std::isfinite(ci) && ci > 0) << ci;
+  EXPECT_EQ(b12.rows[0][b12.col("tied")], std::fabs(delta) <= ci ? "1" : "0");
+  EXPECT_NE(r.output.find(std::fabs(delta) <= ci ? "tied within noise" : "beyond noise"),
+            std::string::npos)
+      << r.output;
+
+  // With a budget only a few points meet, the search says it binds.
+  r = run_cmd(fovsim_bin() + " search " + d + "/s.json --out " + d +
+              "/o2 sweep.search.subject_to.headroom_ms.min=11.1");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("budget binds: "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(" evaluated points miss headroom_ms >= 11.1"), std::string::npos)
+      << r.output;
+  Csv b2 = read_csv(d + "/o2/search_best.csv");
+  EXPECT_EQ(b2.rows.at(0)[b2.col("budget_binds")], "1");
 }
 
 // Design decisions in JOD: "the cheapest configuration whose JOD >= T within the frame budget"
