@@ -211,7 +211,7 @@ bool frame_budget_terms(const SearchConstraint& c, double value, const Json& v, 
     if (!std::isfinite(c.min)) return false;
     ms = budget - value;
     limit = budget - c.min;
-  } else if (c.column == "fits_budget") {
+  } else if (c.column == "fits_budget" || c.column == "p_fit") {  // the p95 frame's decision
     if (!std::isfinite(c.min) || c.min <= 0) return false;
     ms = get("est_ms_total_p95");
     limit = budget;

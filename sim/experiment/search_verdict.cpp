@@ -86,7 +86,8 @@ std::string describe_comparison(const ScoreComparison& c, const std::string& col
 }
 
 bool is_frame_budget_column(const std::string& c) {
-  return c == "headroom_ms" || c == "fits_budget" || c.rfind("est_ms_total", 0) == 0;
+  return c == "headroom_ms" || c == "fits_budget" || c == "p_fit" ||
+         c.rfind("est_ms_total", 0) == 0;
 }
 
 std::vector<std::string> non_binding_constraints(const SearchSpec& sp,

@@ -44,7 +44,7 @@ ScoreComparison compare_scores(double winner, double runner_up, const std::vecto
 std::string describe_comparison(const ScoreComparison& c, const std::string& column);
 
 // Frame-time columns: a constraint on one of them is a frame budget (headroom_ms, fits_budget,
-// est_ms_total and its percentiles and interval ends).
+// p_fit, est_ms_total and its percentiles and interval ends).
 bool is_frame_budget_column(const std::string& column);
 
 // Whether the search's constraints bind: `values[p][k]` is constraint k's value at evaluated
