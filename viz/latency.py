@@ -93,7 +93,8 @@ def plot_latency(sweep_dir, out, metric="rmse_fovea", threshold=0.0, report=prin
     ax = ax[0]
     lines = [f"line,latency_ms,{metric},{metric}_ci95,worse_by,worse_by_lo,worse_by_hi,degraded"]
     worse = "drops" if higher_is_better else "rises"
-    cond = "its paired 95% interval excludes 0" + (f" and lies beyond {threshold:g}" if threshold > 0 else "")
+    cond = ("the paired 95% interval of how much worse it got lies entirely above "
+            + (f"{threshold:g}" if threshold > 0 else "0"))
     handles = []
     for key, pts in sorted(by.items()):
         pts.sort(key=lambda p: p[0])
@@ -119,17 +120,18 @@ def plot_latency(sweep_dir, out, metric="rmse_fovea", threshold=0.0, report=prin
                          + ("" if deg is None else str(deg)))
 
         def ival(c):
-            return f"{c[0]:+.4g} (95% [{c[1]:+.4g}, {c[2]:+.4g}])"
+            c = [v + 0.0 for v in c]  # no "-0"
+            return f"{c[0]:+.4g} worse (95% [{c[1]:+.4g}, {c[2]:+.4g}])"
 
         if first is not None:
-            report(f"{key}: {metric} {worse} at {first[0]:.0f} ms vs {base[0]:.0f} ms: {ival(first[1])}, "
+            report(f"{key}: {metric} {worse} at {first[0]:.0f} ms vs {base[0]:.0f} ms: {ival(first[1])}: "
                    f"a degradation ({cond})")
         elif undecided and largest is None:
             report(f"{key}: {metric}: no paired interval in paired.csv, so no degradation is decided "
                    f"(paired.csv pairs {', '.join(sorted({r.get('metric', '') for r in paired or []})) or 'nothing'})")
         else:
-            tail = f"; largest change at {largest[0]:.0f} ms: {ival(largest[1])}" if largest else ""
-            report(f"{key}: {metric}: no swept latency degrades it ({cond}){tail}")
+            tail = f"; least favourable change at {largest[0]:.0f} ms: {ival(largest[1])}" if largest else ""
+            report(f"{key}: {metric}: no swept latency degrades it (a degradation: {cond}){tail}")
     ax.set_xlabel("end-to-end latency [ms]")
     ax.set_ylabel(common.wrap(common.metric_label(metric) + " (95% interval)", 40))
     ax.grid(alpha=0.3)

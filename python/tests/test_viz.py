@@ -353,7 +353,7 @@ class LatencyDecision(unittest.TestCase):
             # +0.0037 at 50 ms is +7% of the mean but its interval (+-0.010) contains 0: the first
             # degradation is at 80 ms, where the pair is listed high latency first.
             self.assertIn("at 80 ms", kfr)
-            self.assertIn("+0.02 (95% [+0.016, +0.024])", kfr)
+            self.assertIn("+0.02 worse (95% [+0.016, +0.024])", kfr)
             self.assertIn("no paired interval", rmfr)
             _, rows = common.read_csv(os.path.join(d, "plots", "latency_rmse_fovea_fl.csv"))
             deg = {(r["line"], r["latency_ms"]): r["degraded"] for r in rows}
@@ -364,7 +364,7 @@ class LatencyDecision(unittest.TestCase):
             said = []
             latency.plot_latency(d, os.path.join(d, "plots"), "rmse_fovea_fl", threshold=0.02, report=said.append)
             self.assertIn("no swept latency degrades it", next(x for x in said if x.startswith("kfr")))
-            self.assertIn("largest change at 80 ms", next(x for x in said if x.startswith("kfr")))
+            self.assertIn("least favourable change at 80 ms", next(x for x in said if x.startswith("kfr")))
 
     def test_orientation_for_higher_is_better(self):
         import latency
