@@ -439,6 +439,7 @@ SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const Swee
     threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                     size_t(opt.threads));
   SweepReport rep;
+  std::vector<GroupStats> group_stats;  // per run_cells call: the reference cache's growth
   rep.out_dir = sweep_out_dir(plan, opt.out_dir);
   rep.cells_total = int(plan.cells.size());
   const std::string& out = rep.out_dir;
@@ -543,8 +544,10 @@ SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const Swee
       rep.reference_frames_from_cache += gs.frames_from_cache;
       rep.ref_ms += gs.ref_ms;
       rep.setup_ms += gs.setup_ms;
+      group_stats.push_back(gs);
     }
   }
+  rep.cache_note = cache_growth_note(group_stats);
 
   // Summaries once every cell of the sweep is complete here (the last shard to finish writes
   // them; concurrent writers produce the same bytes, atomically).
