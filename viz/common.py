@@ -12,6 +12,7 @@ import matplotlib
 
 matplotlib.use("Agg")  # no display needed; must precede pyplot imports
 import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.transforms  # noqa: E402,F401  (place_labels)
 
 
 def log(msg):
@@ -337,14 +338,14 @@ def draw_quality_vs_budget(ax, entries, metric, budget=None):
     logx = xmax > 4 * xmin  # a wide range (flc's indirect light next to the others): log scale
     if logx:
         plain_log_x(ax)
-    ax.set_xlabel("frame budget B [ms" + (", log scale" if logx else "") +
-                  "] (configurations with mean estimated frame time ≤ B)", fontsize=8)
-    ax.set_ylabel(f"best mean {metric_label(metric)}")
-    ax.set_title(metric + (" (higher is better)" if higher else " (lower is better)"), fontsize=9)
+    ax.set_xlabel(wrap("frame budget B [ms" + (", log scale" if logx else "") +
+                       "] (configurations with mean estimated frame time ≤ B)", 46))
+    ax.set_ylabel(wrap(f"best mean {metric_label(metric)}", 34))
+    title = metric + (" (higher is better)" if higher else " (lower is better)")
+    if bad:  # in the title, where it cannot run into the data or the tick labels
+        title += "\nnot drawn (no finite mean): " + ", ".join(short(b) for b in bad[:3]) + (" …" if len(bad) > 3 else "")
+    ax.set_title(title)
     ax.grid(alpha=0.3)
-    if bad:
-        ax.text(0.01, 0.01, "not drawn (no finite mean, e.g. fpsnr = inf when exact): " + ", ".join(bad[:4]) +
-                (" …" if len(bad) > 4 else ""), transform=ax.transAxes, fontsize=7, color="0.3")
     return bad
 
 
@@ -413,38 +414,45 @@ def draw_strip(cols, gx, gy, title, colors=None):
     mx, my = min(max(gx, 0), w - 1), min(max(gy, 0), h - 1)
     has_err = any(c[2] is not None for c in cols)
     nrow = 4 if has_err else 3
-    fig, axes = plt.subplots(nrow, len(cols), figsize=(3.2 * len(cols), 3.0 * nrow), squeeze=False)
+    # The page width whatever the number of columns: narrower columns, titles wrapped to fit.
+    colw = min(PAGE_WIDTH_IN / len(cols), 2.4)
+    chars = max(8, int(colw * 72 / (0.55 * 6.5)))
+    fig, axes = plt.subplots(nrow, len(cols), figsize=(colw * len(cols), (colw * h / w + 0.35) * nrow + 0.5),
+                             squeeze=False, layout="constrained")
     for k, (name, im, err) in enumerate(cols):
         a = axes[0][k]
         a.imshow(im)
         a.add_patch(plt.Rectangle((fx0 - 0.5, fy0 - 0.5), fx1 - fx0, fy1 - fy0, fill=False, ec="lime", lw=1.2))
         a.add_patch(plt.Rectangle((px0 - 0.5, py0 - 0.5), px1 - px0, py1 - py0, fill=False, ec="orange", lw=1.2))
-        a.plot([mx], [my], marker="x" if off else "+", color="red", ms=10, mew=1.5)
+        a.plot([mx], [my], marker="x" if off else "+", color="red", ms=8, mew=1.5)
         a.set_xlim(-0.5, w - 0.5)  # the image, nothing around it
         a.set_ylim(h - 0.5, -0.5)
-        a.set_title(name, fontsize=8, color=(colors or {}).get(name, "k"))
+        a.set_title(wrap(name, chars), fontsize=6.5, color=(colors or {}).get(name, "k"))
         z = axes[1][k]
         z.imshow(im[fy0:fy1, fx0:fx1], interpolation="nearest")
         if not off:
-            z.plot([gx - fx0], [gy - fy0], marker="+", color="red", ms=12, mew=1.5)
+            z.plot([gx - fx0], [gy - fy0], marker="+", color="red", ms=10, mew=1.5)
             z.set_xlim(-0.5, fx1 - fx0 - 0.5)
             z.set_ylim(fy1 - fy0 - 0.5, -0.5)
-        z.set_title("at the gaze (green box)", fontsize=7)
+        z.set_title("gaze (green)", fontsize=6)
         axes[2][k].imshow(im[py0:py1, px0:px1], interpolation="nearest")
-        axes[2][k].set_title("periphery (orange box)", fontsize=7)
+        axes[2][k].set_title("periphery (orange)", fontsize=6)
         if has_err:
             if err is not None:
                 axes[3][k].imshow(err)
-                axes[3][k].set_title("|luma error|", fontsize=7)
+                axes[3][k].set_title("|luma error|", fontsize=6)
             axes[3][k].axis("off")
         for a in (axes[0][k], axes[1][k], axes[2][k]):
             a.set_xticks([])
             a.set_yticks([])
     if has_err:  # colour bar in the reference's (empty) error slot, so columns stay aligned
         sm = cm.ScalarMappable(norm=mcolors.Normalize(0, 0.25), cmap="turbo")
-        cax = axes[3][0].inset_axes([0.45, 0.05, 0.1, 0.9])
-        fig.colorbar(sm, cax=cax, label="|luma error| (display-encoded)")
-    fig.suptitle(title + (" (gaze off the screen: x at the nearest edge)" if off else ""), fontsize=10)
+        cax = axes[3][0].inset_axes([0.55, 0.05, 0.1, 0.9])
+        cb = fig.colorbar(sm, cax=cax)
+        cb.ax.tick_params(labelsize=5)
+        axes[3][0].text(0.3, 0.5, "|luma error|", rotation=90, ha="center", va="center", fontsize=6,
+                        transform=axes[3][0].transAxes)
+    fig.suptitle(wrap(title + (" (gaze off the screen: x at the nearest edge)" if off else ""), 100), fontsize=8)
     return fig
 
 
@@ -453,14 +461,212 @@ def draw_strip(cols, gx, gy, title, colors=None):
 OUTPUT = {"format": "png", "dpi": 110}
 FORMATS = ("png", "pdf", "svg")
 
+# Layout for a paper: every figure is PAGE_WIDTH_IN wide (a two-column paper's text width, the
+# IEEE and ACM templates' 7 in; COLUMN_WIDTH_IN for one column) at any --dpi, panels in a grid
+# of at most MAX_COLUMNS columns, fonts of 7-9 pt, legends below the panels (never over the
+# data), long labels wrapped or shortened. `figure()` builds the grid, `legend_below()` fills
+# its legend row, `place_labels()` labels points without collisions, and `layout_problems()`
+# (python/tests/test_viz.py) checks a drawn figure: no text outside the canvas, no two texts
+# overlapping.
+PAGE_WIDTH_IN = 7.0
+COLUMN_WIDTH_IN = 3.5
+PANEL_HEIGHT_IN = 2.5
+MAX_COLUMNS = 2
+matplotlib.rcParams.update({"font.size": 8, "axes.titlesize": 8, "axes.labelsize": 8, "xtick.labelsize": 7,
+                            "ytick.labelsize": 7, "legend.fontsize": 7, "figure.titlesize": 9,
+                            "legend.title_fontsize": 7})
+_LEGEND_FONT_IN = 7 / 72.0  # legend.fontsize in inches
 
-def add_output_args(ap):
-    """--format, --dpi and --configs, shared by plot_run.py and plot_sweep.py."""
+
+def wrap(text, width=90):
+    """`text` broken into lines of at most `width` characters (a title or axis label that would
+    run past its panel)."""
+    import textwrap
+
+    if not text:
+        return text
+    return "\n".join(w for line in text.split("\n") for w in (textwrap.wrap(line, width) or [""]))
+
+
+def short(text, n=18):
+    """`text` cut to at most `n` characters with an ellipsis (tick labels of long config names)."""
+    text = str(text)
+    return text if len(text) <= n else text[:n - 1] + "…"
+
+
+def _legend_geometry(labels, width):
+    """(columns, rows) of a legend of `labels` that fits `width` inches."""
+    if not labels:
+        return 1, 0
+    colw = max(len(str(lab)) for lab in labels) * 0.62 * _LEGEND_FONT_IN + 0.45  # text + handle + gaps
+    ncol = max(1, min(len(labels), int((width - 0.2) // colw)))
+    return ncol, math.ceil(len(labels) / ncol)
+
+
+def figure(n, ncols=None, height=PANEL_HEIGHT_IN, width=PAGE_WIDTH_IN, legend=None, sharex=False, sharey=False,
+           title_lines=0):
+    """A figure `width` inches wide with `n` panels in a grid of `ncols` (default
+    min(n, MAX_COLUMNS)) columns, each panel `height` inches high, constrained layout, and (with
+    `legend`, the labels the legend will hold) a legend row below the panels sized for them.
+    Returns (fig, [axes] in reading order)."""
+    ncols = max(1, min(ncols or MAX_COLUMNS, n))
+    nrows = math.ceil(n / ncols)
+    lcol, lrows = _legend_geometry(legend or [], width)
+    leg_h = (lrows * 1.45 * _LEGEND_FONT_IN + 0.12) if lrows else 0.0
+    fig = plt.figure(figsize=(width, height * nrows + leg_h + 0.2 * title_lines), layout="constrained")
+    ratios = [height] * nrows + ([leg_h] if lrows else [])
+    gs = fig.add_gridspec(len(ratios), ncols, height_ratios=ratios)
+    axes = []
+    for i in range(n):
+        kw = {}
+        if sharex and axes:
+            kw["sharex"] = axes[0]
+        if sharey and axes:
+            kw["sharey"] = axes[0]
+        axes.append(fig.add_subplot(gs[i // ncols, i % ncols], **kw))
+    if sharex:  # tick labels only on each column's bottom panel
+        for i, a in enumerate(axes):
+            if i + ncols < n:
+                a.tick_params(labelbottom=False)
+    if sharey:
+        for i, a in enumerate(axes):
+            if i % ncols:
+                a.tick_params(labelleft=False)
+    if lrows:
+        lax = fig.add_subplot(gs[nrows, :])
+        lax.axis("off")
+        fig._fovsim_legend = (lax, lcol)
+    return fig, axes
+
+
+def legend_below(fig, handles, labels, title=None):
+    """The figure's legend in the row `figure(legend=...)` reserved below the panels (one entry per
+    label, first handle wins); without that row, nothing is drawn."""
+    slot = getattr(fig, "_fovsim_legend", None)
+    if slot is None:
+        return None
+    seen, hs, ls = set(), [], []
+    for h, lab in zip(handles, labels):
+        if lab in seen or str(lab).startswith("_"):
+            continue
+        seen.add(lab)
+        hs.append(h)
+        ls.append(lab)
+    if not hs:
+        return None
+    lax, ncol = slot
+    return lax.legend(hs, ls, loc="center", ncol=min(ncol, len(hs)), frameon=False, title=title,
+                      borderaxespad=0, handlelength=1.8, columnspacing=1.0, borderpad=0.1)
+
+
+def figure_legend(fig, axes):
+    """legend_below() with the entries of every panel of `axes` (one per label)."""
+    hs, ls = [], []
+    for a in axes:
+        h, lab = a.get_legend_handles_labels()
+        hs += h
+        ls += lab
+    return legend_below(fig, hs, ls)
+
+
+def legend_labels(axes_entries):
+    """The distinct labels, in order, of an iterable of labels (what figure(legend=...) sizes for)."""
+    return list(dict.fromkeys(str(x) for x in axes_entries if not str(x).startswith("_")))
+
+
+def place_labels(ax, points, fontsize=6):
+    """Labels points without collisions: points = [(x, y, text)] in data coordinates. Each label
+    tries eight positions around its point and takes the first that overlaps no label placed so
+    far, no marker and stays inside the axes; a label with no free position is left out. The
+    figure's layout is fixed first (drawn once), so positions in pixels are final. Returns the
+    texts left out."""
+    fig = ax.figure
+    fig.canvas.draw()
+    fig.set_layout_engine(None)  # freeze the constrained layout: pixel positions are final
+    fig._fovsim_fixed = True
+    r = fig.canvas.get_renderer()
+    box = ax.get_window_extent(r)
+    taken = []
+    for x, y, _ in points:
+        if math.isfinite(x) and math.isfinite(y):
+            px, py = ax.transData.transform((x, y))
+            taken.append(matplotlib.transforms.Bbox([[px - 4, py - 4], [px + 4, py + 4]]))
+    dropped = []
+    offsets = [(4, 3, "left", "bottom"), (-4, 3, "right", "bottom"), (4, -3, "left", "top"),
+               (-4, -3, "right", "top"), (0, 6, "center", "bottom"), (0, -6, "center", "top"),
+               (6, 0, "left", "center"), (-6, 0, "right", "center")]
+    for x, y, text in points:
+        if not (math.isfinite(x) and math.isfinite(y)):
+            continue
+        ok = False
+        for dx, dy, ha, va in offsets:
+            t = ax.annotate(text, (x, y), xytext=(dx, dy), textcoords="offset points", fontsize=fontsize,
+                            ha=ha, va=va, color="0.2", annotation_clip=False)
+            bb = t.get_window_extent(r)
+            inside = bb.x0 >= box.x0 and bb.x1 <= box.x1 and bb.y0 >= box.y0 and bb.y1 <= box.y1
+            if inside and not any(bb.overlaps(o) for o in taken):
+                taken.append(bb)
+                ok = True
+                break
+            t.remove()
+        if not ok:
+            dropped.append(text)
+    return dropped
+
+
+def _drawn_texts(fig):
+    """The non-empty texts a draw of `fig` renders, with the renderer."""
+    from matplotlib.text import Text
+
+    drawn, orig = [], Text.draw
+
+    def record(self, renderer):
+        orig(self, renderer)
+        if self.get_visible() and self.get_text().strip():
+            drawn.append(self)
+
+    Text.draw = record
+    try:
+        fig.canvas.draw()
+    finally:
+        Text.draw = orig
+    return drawn, fig.canvas.get_renderer()
+
+
+def layout_problems(fig, tol=1.0):
+    """What is wrong with the layout of `fig` as drawn: texts that extend outside the canvas and
+    pairs of texts whose boxes overlap (by more than `tol` pixels both ways). [] when none."""
+    texts, r = _drawn_texts(fig)
+    W, H = fig.bbox.width, fig.bbox.height
+    out, boxes = [], []
+    for t in texts:
+        bb = t.get_window_extent(r)
+        boxes.append(bb)
+        if bb.x0 < -tol or bb.y0 < -tol or bb.x1 > W + tol or bb.y1 > H + tol:
+            out.append(f"outside the {W:.0f}x{H:.0f} canvas: {t.get_text()!r} at "
+                       f"[{bb.x0:.0f}, {bb.x1:.0f}]x[{bb.y0:.0f}, {bb.y1:.0f}]")
+    for i in range(len(texts)):
+        for j in range(i + 1, len(texts)):
+            a, b = boxes[i], boxes[j]
+            if min(a.x1, b.x1) - max(a.x0, b.x0) > tol and min(a.y1, b.y1) - max(a.y0, b.y0) > tol:
+                out.append(f"overlap: {texts[i].get_text()!r} and {texts[j].get_text()!r}")
+    return out
+
+
+def figure_name(stem):
+    """The file name of figure `stem` in the chosen --format (the PNG is written always)."""
+    return stem + ".png"
+
+
+def add_output_args(ap, configs=True):
+    """--format, --dpi (and --configs), shared by every plot script."""
     ap.add_argument("--format", choices=FORMATS, default="png",
                     help="also write every figure as PDF or SVG next to its PNG (default: png only)")
-    ap.add_argument("--dpi", type=float, default=110, help="resolution of raster output (default 110)")
-    ap.add_argument("--configs", help="comma-separated configurations (labels / config ids) to draw, in "
-                    "this order (default: all)")
+    ap.add_argument("--dpi", type=float, default=110, help="resolution of raster output (default 110; "
+                    f"figures are {PAGE_WIDTH_IN:g} in wide, so 300 gives {PAGE_WIDTH_IN * 300:.0f} px)")
+    if configs:
+        ap.add_argument("--configs", help="comma-separated configurations (labels / config ids) to draw, "
+                        "in this order (default: all)")
 
 
 def set_output(a):
@@ -488,7 +694,10 @@ def save(fig, path):
         paths.append(os.path.splitext(path)[0] + "." + OUTPUT["format"])
     for p in paths:
         tmp = os.path.join(os.path.dirname(p) or ".", ".tmp.%d.%s" % (os.getpid(), os.path.basename(p)))
-        fig.savefig(tmp, dpi=OUTPUT["dpi"], bbox_inches="tight", format=os.path.splitext(p)[1][1:])
+        # A figure with a layout engine (figure()) keeps its size: PAGE_WIDTH_IN at any dpi.
+        tight = {} if fig.get_layout_engine() is not None or getattr(fig, "_fovsim_fixed", False) else \
+            {"bbox_inches": "tight"}
+        fig.savefig(tmp, dpi=OUTPUT["dpi"], format=os.path.splitext(p)[1][1:], **tight)
         os.replace(tmp, p)  # atomic, like every fovsim output
     plt.close(fig)
 

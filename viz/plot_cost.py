@@ -8,10 +8,14 @@ the calibration fit faint behind them, held-out frame totals as squares; rows an
 passes the refit never measured (costed from their nominal work) as down-triangles / diamonds.
 Below, one panel per pass: the same for the single-pass held-out rows of that pass.
 Usage: plot_cost.py validate_cost.csv out.png"""
+import argparse
 import math
+import os
 import sys
 
-from common import plt, read_csv, save, to_float
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import common  # noqa: E402
+from common import read_csv, to_float  # noqa: E402
 
 # prior / total_prior: passes the refit never measured, costed from their nominal work
 KIND_STYLE = {"predicted": ("^", 0.9), "total": ("s", 0.9), "prior": ("v", 0.5),
@@ -49,44 +53,48 @@ def panel(ax, rows, calib, title, colour_by):
     ax.set_yscale("log")
     ax.set_xlim(lo, hi)
     ax.set_ylim(lo, hi)
-    ax.set_xlabel("published ms")
-    ax.set_ylabel("model ms (bar: 80% interval)")
-    ax.set_title(title, fontsize=9)
-    ax.legend(fontsize=6, loc="upper left")
+    ax.set_xlabel("published [ms]")
+    ax.set_ylabel("model [ms] (bar: 80% interval)")
+    ax.set_title(title)
     ax.grid(True, which="both", alpha=0.2)
 
 
-def main():
-    if len(sys.argv) != 3:
-        sys.exit("usage: plot_cost.py validate_cost.csv out.png")
-    _, rows = read_csv(sys.argv[1])
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("validate_csv", help="`fovsim validate-cost` output")
+    ap.add_argument("out_png", help="figure to write (PNG; --format adds PDF or SVG next to it)")
+    common.add_output_args(ap, configs=False)
+    a = ap.parse_args(argv)
+    common.set_output(a)
+    _, rows = read_csv(a.validate_csv)
     if rows is None:
-        sys.exit(f"plot_cost.py: {sys.argv[1]} not found")
+        sys.exit(f"plot_cost.py: {a.validate_csv} not found")
     held = [r for r in rows if r["experiment"].startswith("cross:")
             and r["kind"] in ("predicted", "total", "prior", "total_prior") and to_float(r["published_ms"]) > 0]
     calib = [r for r in rows if r["experiment"] == "calibration" and to_float(r["published_ms"]) > 0]
     gpus = sorted({r["gpu"] for r in held})
     passes = sorted({r["passes"] for r in held if r["kind"] == "predicted" and "+" not in r["passes"]})
-    ncols = max(len(gpus), 4)
-    nrows = 1 + math.ceil(len(passes) / ncols)
-    fig, axes = plt.subplots(nrows, ncols, figsize=(4.2 * ncols, 4.0 * nrows), squeeze=False)
+    entries = []  # legend entries of every panel: "<table or gpu> <kind>"
+    for r in held:
+        entries.append(f"{r['table']} {r['kind']}")
+        if r["kind"] == "predicted" and r["passes"] in passes:
+            entries.append(f"{r['gpu']} {r['kind']}")
+    fig, axes = common.figure(len(gpus) + len(passes), height=2.6, legend=common.legend_labels(entries),
+                              title_lines=2)
     for i, g in enumerate(gpus):
         n = sum(1 for r in held if r["gpu"] == g)
-        panel(axes[0][i], [r for r in held if r["gpu"] == g], [r for r in calib if r["gpu"] == g],
+        panel(axes[i], [r for r in held if r["gpu"] == g], [r for r in calib if r["gpu"] == g],
               f"GPU {g}: {n} held-out rows", "table")
     for i, p in enumerate(passes):
-        ax = axes[1 + i // ncols][i % ncols]
         sel = [r for r in held if r["passes"] == p and r["kind"] == "predicted"]
-        panel(ax, sel, [r for r in calib if r["passes"] == p], f"pass {p}: {len(sel)} held-out rows", "gpu")
-    for k in range(len(gpus), ncols):
-        axes[0][k].axis("off")
-    for k in range(len(passes), (nrows - 1) * ncols):
-        axes[1 + k // ncols][k % ncols].axis("off")
-    fig.suptitle("fovsim validate-cost: held-out predictions vs. published times with 80% intervals, "
-                 "per GPU (top row) and per pass")
-    fig.tight_layout(rect=(0, 0, 1, 0.98))
-    save(fig, sys.argv[2])  # temporary name, then rename, like every fovsim output
+        panel(axes[len(gpus) + i], sel, [r for r in calib if r["passes"] == p],
+              f"pass {p}: {len(sel)} held-out rows", "gpu")
+    common.figure_legend(fig, axes)
+    fig.suptitle(common.wrap("fovsim validate-cost: held-out predictions vs. published times with 80% "
+                             "intervals, per GPU (first panels) and per pass", 95))
+    common.save(fig, a.out_png)  # temporary name, then rename, like every fovsim output
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

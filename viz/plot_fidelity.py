@@ -17,17 +17,19 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import common  # noqa: E402
-from common import log, plt, read_csv, to_float  # noqa: E402
+from common import log, read_csv, to_float  # noqa: E402
 
 RELATIVE = {"est_ms_total", "est_ms_total_p95"}
 COSTS = ["est_ms_total", "est_ms_total_p95", "shaded_fraction"]  # + the headline metrics (registry)
 
 
-def main():
-    ap = argparse.ArgumentParser()
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("dir")
     ap.add_argument("--out")
-    a = ap.parse_args()
+    common.add_output_args(ap, configs=False)
+    a = ap.parse_args(argv)
+    common.set_output(a)
     cols, rows = read_csv(os.path.join(a.dir, "fidelity.csv"))
     if rows is None:
         log(f"no fidelity.csv in {a.dir}")
@@ -66,11 +68,9 @@ def main():
             rung_order.append(r["rung"])
     colour = {rung: f"C{i % 10}" for i, rung in enumerate(rung_order)}  # same colour per rung
     n = len(outputs)
-    ncol = min(n, 3)
-    nrow = (n + ncol - 1) // ncol
-    fig, axes = plt.subplots(nrow, ncol, figsize=(4.2 * ncol, 3.4 * nrow), squeeze=False)
+    fig, axes = common.figure(n, height=2.3, legend=rung_order)
     for i, o in enumerate(outputs):
-        ax = axes[i // ncol][i % ncol]
+        ax = axes[i]
         pts = [(rung, *v) for (oo, rung), v in data.items() if oo == o and v[1] >= 0]
         pos = [p[2] for p in pts if p[2] > 0]
         floor = min(pos) / 10 if pos else 1e-6
@@ -79,21 +79,18 @@ def main():
             if not (math.isfinite(w) and w > 0):
                 continue
             yerr = [[0], [c]] if math.isfinite(c) and c > 0 else None
-            ax.errorbar([w], [y], yerr=yerr, fmt="o", capsize=3, color=colour[rung])
-            ax.annotate(rung, (w, y), textcoords="offset points", xytext=(4, 4), fontsize=7)
+            # The rung is named by its colour in the legend below (labels beside the points collide).
+            ax.errorbar([w], [y], yerr=yerr, fmt="o", capsize=3, color=colour[rung], label=rung)
         ax.set_xscale("log")
         ax.set_yscale("log")
-        ax.set_xlabel("wall time of the rung (s)")
-        ax.set_ylabel(("max |relative error| " if o in RELATIVE else "max |error| ") + o)
-        ax.set_title(o, fontsize=9)
+        ax.set_xlabel("wall time of the rung [s]")
+        ax.set_ylabel("max |relative error|" if o in RELATIVE else "max |error|")
+        ax.set_title(o)
         ax.grid(True, which="both", alpha=0.3)
-    for j in range(n, nrow * ncol):
-        axes[j // ncol][j % ncol].axis("off")
-    fig.suptitle("fidelity ladder: error vs simulation time (top rung = truth, at the floor)",
-                 fontsize=10)
-    fig.tight_layout()
+    common.figure_legend(fig, axes)
+    fig.suptitle("Fidelity ladder: error vs. simulation time (top rung = truth, drawn at the floor)")
     path = os.path.join(out, "fidelity.png")
-    fig.savefig(path, dpi=110)
+    common.save(fig, path)
     log(f"wrote {path}")
     return 0
 

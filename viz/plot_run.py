@@ -143,7 +143,18 @@ def need(run, *cols):
 
 def legend(ax, n):
     if n <= MAX_LEGEND:
-        ax.legend(fontsize=7, loc="best")
+        common.legend_below(ax.figure, *ax.get_legend_handles_labels())
+
+
+def legend_entries(run, *extra):
+    """What the legend row of a figure holds: every configuration (when at most MAX_LEGEND) and
+    the extra entries (budget line, Pareto front)."""
+    return (list(run.configs) if len(run.configs) <= MAX_LEGEND else []) + [e for e in extra if e]
+
+
+def tick_names(names, n=14):
+    """Configuration names shortened for tick labels (the legend and index.html give them whole)."""
+    return [common.short(c, n) for c in names]
 
 
 def plot_timeline(run, out):
@@ -151,13 +162,14 @@ def plot_timeline(run, out):
     xcol = "frame" if run.has("frame") else ("t" if run.has("t") else None)
     if xcol is None:
         raise Skip("frames.csv has neither frame nor t")
-    fig, ax = plt.subplots(figsize=(9, 4.5))
+    b = common.budget_ms(run.manifest, run.summary)
+    blabel = f"budget {b:.2f} ms ({1000 / b:.0f} Hz)" if b is not None else None
+    fig, (ax,) = common.figure(1, height=2.8, legend=legend_entries(run, blabel))
     for cid in run.configs:
         ax.plot(run.series(cid, xcol), run.series(cid, "est_ms_total"), lw=1, label=cid, color=run.color(cid),
                 ls=run.linestyle(cid))
-    b = common.budget_ms(run.manifest, run.summary)
     if b is not None:
-        ax.axhline(b, color="red", ls="--", lw=1.2, label=f"budget {b:.2f} ms ({1000 / b:.0f} Hz)")
+        ax.axhline(b, color="red", ls="--", lw=1.2, label=blabel)
     else:
         log("timeline: no display.refresh_hz in manifest.json and no budget_ms in summary.csv; no budget line")
     ax.set_xlabel("frame [index]" if xcol == "frame" else "t [s]")
@@ -165,7 +177,7 @@ def plot_timeline(run, out):
     ax.set_title("Estimated frame time per frame")
     ax.set_ylim(bottom=0)
     ax.grid(alpha=0.3)
-    legend(ax, len(run.configs) + 1)
+    legend(ax, len(run.configs) + 1)  # below the axes: never over a line
     common.save(fig, os.path.join(out, "timeline.png"))
     return "timeline.png"
 
@@ -178,49 +190,44 @@ def plot_quality_vs_cost(run, out):
     if not metrics:
         raise Skip("no headline quality column (metric registry)")
     b = common.budget_ms(run.manifest, run.summary)
-    fig, axes = plt.subplots(1, len(metrics), figsize=(5.2 * len(metrics), 4.5), squeeze=False)
-    for ax, m in zip(axes[0], metrics):
+    fig, axes = common.figure(len(metrics), legend=legend_entries(run, "Pareto front", "budget" if b else None))
+    for ax, m in zip(axes, metrics):
         pts = [(run.mean(c, "est_ms_total"), run.mean(c, m)) for c in run.configs]
-        seen = set()
         for cid, (x, y) in zip(run.configs, pts):
             if not (math.isfinite(x) and math.isfinite(y)):
                 continue
             mk, col = run.style(cid)
-            meth = run.method(cid)
-            ax.scatter([x], [y], marker=mk, color=col, s=40, label=cid, zorder=3)
+            # Named by colour and marker in the legend: labels beside the points collide.
+            ax.scatter([x], [y], marker=mk, color=col, s=30, label=cid, zorder=3)
             ex, ey = run.ci(cid, "est_ms_total"), run.ci(cid, m)
             if math.isfinite(ex) or math.isfinite(ey):
                 ax.errorbar([x], [y], xerr=[ex] if math.isfinite(ex) else None,
                             yerr=[ey] if math.isfinite(ey) else None, fmt="none", ecolor=col, elinewidth=1,
                             capsize=2, zorder=2)
-            seen.add(meth)
-            if len(run.configs) <= 20:
-                ax.annotate(cid, (x, y), fontsize=6, xytext=(3, 3), textcoords="offset points")
         front = common.pareto_front(pts)
         if front:
             fx = [pts[i][0] for i in front]
             fy = [pts[i][1] for i in front]
             # Staircase of the attainable set: at cost >= x_i, quality >= y_i is reachable.
             ax.step(fx, fy, where="post", color="k", ls="--", lw=1, zorder=2)
-            ax.scatter(fx, fy, s=130, facecolors="none", edgecolors="k", lw=1, label="Pareto front", zorder=4)
+            ax.scatter(fx, fy, s=100, facecolors="none", edgecolors="k", lw=1, label="Pareto front", zorder=4)
         nonfinite = [c for c, (x, y) in zip(run.configs, pts) if not (math.isfinite(x) and math.isfinite(y))]
+        title = f"{m} vs. frame time"
         if nonfinite:
-            shown = ", ".join(nonfinite[:4]) + (" …" if len(nonfinite) > 4 else "")
-            note = f"\nnot drawn (no finite mean; psnr is inf when exact): {shown}"
-        else:
-            note = ""
+            shown = ", ".join(common.short(c) for c in nonfinite[:3]) + (" …" if len(nonfinite) > 3 else "")
+            title += f"\nnot drawn (no finite mean): {shown}"
         if b is not None:
             ax.axvline(b, color="red", ls=":", lw=1, label="budget")
         xs = [x for x, y in pts if math.isfinite(x) and x > 0]
         logx = xs and max(xs) > 4 * min(xs)  # e.g. flc's indirect light next to the others
         if logx:
             common.plain_log_x(ax)
-        ax.set_xlabel("mean estimated frame time [ms]" + (", log scale" if logx else "") + note, fontsize=9)
-        ax.set_ylabel("mean " + common.metric_label(m))
-        ax.set_title(f"{m} vs. frame time")
+        ax.set_xlabel("mean estimated frame time [ms" + (", log]" if logx else "]"))
+        ax.set_ylabel(common.wrap("mean " + common.metric_label(m), 34))
+        ax.set_title(title)
         ax.grid(alpha=0.3)
     if len(run.configs) <= MAX_LEGEND:  # one legend for the figure (every panel has the same entries)
-        common.dedup_legend(axes[0, -1], fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0))
+        common.figure_legend(fig, axes)
     skipped = [m for m in ("fpsnr", "psnr") if m not in metrics]
     if skipped:
         log("quality_vs_cost: no column " + ", ".join(skipped) + " (panel left out)")
@@ -237,14 +244,18 @@ def plot_quality_vs_budget(run, out):
     if not metrics:
         raise Skip("no headline quality column (metric registry)")
     b = common.budget_ms(run.manifest, run.summary)
-    fig, axes = plt.subplots(1, len(metrics), figsize=(6 * len(metrics), 4.5), squeeze=False, sharex=True)
-    for ax, m in zip(axes[0], metrics):
-        # Keyed by configuration, not method: `full` and `fir` (method full) are two lines.
+    # Keyed by configuration, not method: `full` and `fir` (method full) are two lines.
+    entries = list(run.configs) + ["best of all methods"] + ([f"display budget {b:.2f} ms"] if b else [])
+    fig, axes = common.figure(len(metrics), legend=entries, sharex=True, title_lines=1)
+    for ax, m in zip(axes, metrics):
         entries = [(c, c, run.mean(c, "est_ms_total"), run.mean(c, m), run.ci(c, m))
                    for c in run.configs]
         common.draw_quality_vs_budget(ax, entries, m, b)
-    common.dedup_legend(axes[0, -1], fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0))
-    fig.suptitle("Quality vs. frame budget (best configuration of each method that fits)", fontsize=10)
+    for i, ax in enumerate(axes):
+        if i + common.MAX_COLUMNS < len(axes):
+            ax.set_xlabel("")  # shared x: the label under each column's bottom panel only
+    common.figure_legend(fig, axes)
+    fig.suptitle("Quality vs. frame budget (best configuration of each method that fits)")
     common.save(fig, os.path.join(out, "quality_vs_budget.png"))
     return "quality_vs_budget.png"
 
@@ -253,24 +264,26 @@ def plot_shaded_fraction(run, out):
     if not run.mean_available("shaded_fraction"):
         raise Skip("no shaded_fraction column")
     vals = [run.mean(c, "shaded_fraction") for c in run.configs]
-    fig, ax = plt.subplots(figsize=(max(5, 0.45 * len(run.configs) + 2), 4.5))
+    n = len(vals)
+    fig, (ax,) = common.figure(1, height=3.0, width=min(common.PAGE_WIDTH_IN, max(common.COLUMN_WIDTH_IN,
+                                                                                0.35 * n + 1.2)))
     colors = [run.style(c)[1] for c in run.configs]
     errs = [run.ci(c, "shaded_fraction") for c in run.configs]
-    bars = ax.bar(range(len(vals)), [v if math.isfinite(v) else 0 for v in vals], color=colors,
+    bars = ax.bar(range(n), [v if math.isfinite(v) else 0 for v in vals], color=colors,
                   yerr=[e if math.isfinite(e) else 0 for e in errs], capsize=3, ecolor="k")
     for b, c in zip(bars, run.configs):  # the 2nd, 3rd ... configuration of a method: hatched
         if run.linestyle(c) != "-":
             b.set_hatch({"--": "//", ":": "..", "-.": "xx"}[run.linestyle(c)])
             b.set_edgecolor("white")
-    for i, v in enumerate(vals):
-        ax.text(i, (v if math.isfinite(v) else 0) + 0.01, f"{v:.3f}" if math.isfinite(v) else "n/a",
-                ha="center", fontsize=7)
-    ax.set_xticks(range(len(vals)))
-    ax.set_xticklabels(run.configs, rotation=45 if len(vals) > 4 else 0, ha="right" if len(vals) > 4 else "center",
-                       fontsize=8)
+    for i, v in enumerate(vals):  # vertical when the bars are narrow, so values never touch
+        ax.text(i, (v if math.isfinite(v) else 0) + 0.02, f"{v:.3f}" if math.isfinite(v) else "n/a",
+                ha="center", va="bottom", fontsize=6, rotation=90 if n > 8 else 0)
+    ax.set_xticks(range(n))
+    # Vertical names when there are several: rotated text never runs into its neighbour.
+    ax.set_xticklabels(tick_names(run.configs), rotation=90 if n > 3 else 0)
     ax.set_ylabel("mean shaded fraction [of W·H]")
-    ax.set_ylim(0, max([1.05] + [v + 0.08 for v in vals if math.isfinite(v)]))
-    ax.set_title("Shaded samples per configuration (error bars: 95% interval)")
+    ax.set_ylim(0, max([1.05] + [v + (0.2 if n > 8 else 0.1) for v in vals if math.isfinite(v)]))
+    ax.set_title(common.wrap("Shaded samples per configuration (error bars: 95% interval)", 44))
     ax.grid(axis="y", alpha=0.3)
     common.save(fig, os.path.join(out, "shaded_fraction.png"))
     return "shaded_fraction.png"
@@ -287,21 +300,20 @@ def plot_gaze(run, out):
     bad = [i for i in range(len(xs)) if math.isfinite(xs[i]) and math.isfinite(ys[i]) and valid[i] == 0]
     if not ok and not bad:
         raise Skip("no finite gaze samples")
-    fig, ax = plt.subplots(figsize=(6, 6))
+    fig, (ax,) = common.figure(1, height=3.6, width=4.6)
     ax.plot([xs[i] for i in ok], [ys[i] for i in ok], color="0.7", lw=0.8, zorder=1)
     sc = ax.scatter([xs[i] for i in ok], [ys[i] for i in ok], c=[ts[i] for i in ok], cmap="viridis", s=8, zorder=2)
     if ok:
-        fig.colorbar(sc, ax=ax, label="t [s]" if tcol == "t" else "frame [index]", shrink=0.8)
+        fig.colorbar(sc, ax=ax, label="t [s]" if tcol == "t" else "frame [index]", shrink=0.9)
     if bad:
         ax.scatter([xs[i] for i in bad], [ys[i] for i in bad], marker="x", color="red", s=12, label="gaze_valid = 0")
-        ax.legend(fontsize=7)
     d = common.find_display(run.manifest)
     if d and isinstance(d.get("width"), (int, float)) and isinstance(d.get("height"), (int, float)):
         w, h = d["width"], d["height"]
         ax.plot([0, w, w, 0, 0], [0, 0, h, h, 0], color="k", lw=1)
-        ax.set_title(f"Gaze path on the {int(w)}×{int(h)} screen")
+        ax.set_title(f"Gaze path on the {int(w)}×{int(h)} screen" + ("\n(red x: gaze_valid = 0)" if bad else ""))
     else:
-        ax.set_title("Gaze path (screen size unknown)")
+        ax.set_title("Gaze path (screen size unknown)" + ("\n(red x: gaze_valid = 0)" if bad else ""))
     ax.set_aspect("equal", adjustable="datalim")
     ax.invert_yaxis()  # row 0 on top (sim/core/math.h)
     ax.set_xlabel("gaze_x [px]")
@@ -319,12 +331,12 @@ def plot_quality_timeline(run, out):
     xcol = "frame" if run.has("frame") else "t"
     if not run.has(xcol):
         raise Skip("frames.csv has neither frame nor t")
-    fig, axes = plt.subplots(len(metrics), 1, figsize=(9, 2.6 * len(metrics)), sharex=True, squeeze=False)
+    fig, axes = common.figure(len(metrics), height=2.1, legend=legend_entries(run), sharex=True, title_lines=1)
     # Colour per configuration fixed across panels (run.style); one figure-level legend built from
     # every configuration, so a configuration missing from a panel (psnr inf) cannot shift labels.
     handles = {}
     not_drawn = {}
-    for ax, m in zip(axes[:, 0], metrics):
+    for ax, m in zip(axes, metrics):
         for cid in run.configs:
             x, y = run.series(cid, xcol), run.series(cid, m)
             pts = [(a, b) for a, b in zip(x, y) if math.isfinite(b)]
@@ -339,19 +351,28 @@ def plot_quality_timeline(run, out):
                 handles.setdefault(cid, h)
             else:
                 not_drawn.setdefault(m, []).append(cid)
-        ax.set_ylabel(common.metric_label(m), fontsize=9)
+        ax.set_ylabel(common.wrap(common.metric_label(m), 26))
+        title = m
         if m in not_drawn:
-            ax.set_title("not drawn (no finite value, e.g. psnr = inf when exact): " +
-                         ", ".join(not_drawn[m][:4]) + (" …" if len(not_drawn[m]) > 4 else ""),
-                         fontsize=7, color="0.3", loc="left")
+            title += "\nnot drawn (no finite value): " + ", ".join(common.short(c) for c in not_drawn[m][:3]) + \
+                (" …" if len(not_drawn[m]) > 3 else "")
+        ax.set_title(title, color="0.2")
         ax.grid(alpha=0.3)
+    for i, ax in enumerate(axes):
+        if i + common.MAX_COLUMNS >= len(axes):  # the bottom panel of each column
+            ax.set_xlabel("frame [index]" if xcol == "frame" else "t [s]")
     if len(handles) <= MAX_LEGEND:
         hs = [handles[c] for c in run.configs if c in handles]
-        axes[0, 0].legend(hs, [h.get_label() for h in hs], fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
-    axes[-1, 0].set_xlabel("frame [index]" if xcol == "frame" else "t [s]")
+        common.legend_below(fig, hs, [h.get_label() for h in hs])
     fig.suptitle("Quality per frame (non-finite values not drawn)")
     common.save(fig, os.path.join(out, "quality_timeline.png"))
     return "quality_timeline.png"
+
+
+def _paired_panels(n_panels, n_rows):
+    """The grid of the paired plots: one panel per metric, one row per pair, the pairs' names on
+    the first column only."""
+    return common.figure(n_panels, height=0.17 * n_rows + 0.9, sharey=True, title_lines=3)
 
 
 def plot_paired(run, out):
@@ -367,9 +388,8 @@ def plot_paired(run, out):
         if p not in pairs and p[0] in run.configs and p[1] in run.configs:
             pairs.append(p)
     # One row per pair, the same rows in every panel (shared y): its labels only on the left.
-    fig, axes = plt.subplots(1, len(metrics), figsize=(3.4 * len(metrics) + 1.5, 0.28 * len(pairs) + 2),
-                             squeeze=False, sharey=True)
-    for ax, m in zip(axes[0], metrics):
+    fig, axes = _paired_panels(len(metrics), len(pairs))
+    for ax, m in zip(axes, metrics):
         by = {(r.get("config_a"), r.get("config_b")): r for r in run.paired if r.get("metric") == m}
         rows = [by.get(p, {}) for p in pairs]
         for i, r in enumerate(rows):
@@ -377,18 +397,19 @@ def plot_paired(run, out):
             if not math.isfinite(d):
                 continue
             filled = to_float(r.get("differs")) == 1
-            ax.errorbar([d], [i], xerr=[h] if math.isfinite(h) else None, fmt="o", ms=4, capsize=2,
+            ax.errorbar([d], [i], xerr=[h] if math.isfinite(h) else None, fmt="o", ms=3.5, capsize=2,
                         color="C0" if filled else "0.5", mfc="C0" if filled else "white")
         ax.axvline(0, color="k", lw=0.8)
-        ax.set_title(m, fontsize=9)
-        ax.set_xlabel("difference A − B, " + common.metric_label(m), fontsize=8)
+        ax.set_title(m)
+        ax.set_xlabel(common.wrap("A − B, " + common.metric_label(m), 40))
         ax.grid(axis="x", alpha=0.3)
-    axes[0, 0].set_yticks(range(len(pairs)))
-    axes[0, 0].set_yticklabels([f"{a} − {b}" for a, b in pairs], fontsize=7)
-    axes[0, 0].set_ylim(len(pairs) - 0.5, -0.5)
-    fig.suptitle("Paired differences A − B (same frames, same gaze), 95% intervals; filled: the interval "
-                 "excludes 0; not drawn: a difference that is not finite (e.g. PSNR against an identical "
-                 "image)", fontsize=9)
+        ax.xaxis.set_major_locator(matplotlib_ticker().MaxNLocator(4))
+    axes[0].set_yticks(range(len(pairs)))
+    axes[0].set_yticklabels([f"{common.short(a, 12)} − {common.short(b, 12)}" for a, b in pairs], fontsize=6)
+    axes[0].set_ylim(len(pairs) - 0.5, -0.5)
+    fig.suptitle(common.wrap("Paired differences A − B (same frames, same gaze), 95% intervals; filled: the "
+                             "interval excludes 0; not drawn: a difference that is not finite (e.g. PSNR "
+                             "against an identical image)", 100))
     common.save(fig, os.path.join(out, "paired.png"))
     return ["paired.png"] + plot_paired_baseline(run, out, metrics)
 
@@ -411,27 +432,34 @@ def plot_paired_baseline(run, out, metrics):
     m0 = metrics[0]
     order = sorted(rows, key=lambda c: -abs(rows[c].get(m0, (0, 0, 0))[0])
                    if math.isfinite(rows[c].get(m0, (math.nan,))[0]) else 0)
-    fig, axes = plt.subplots(1, len(metrics), figsize=(3.4 * len(metrics) + 1.5, 0.3 * len(order) + 2),
-                             squeeze=False, sharey=True)
-    for ax, m in zip(axes[0], metrics):
+    fig, axes = _paired_panels(len(metrics), len(order))
+    for ax, m in zip(axes, metrics):
         for i, c in enumerate(order):
             d, h, sig = rows[c].get(m, (math.nan, math.nan, False))
             if not math.isfinite(d):
                 continue
             col = run.color(c)
-            ax.errorbar([d], [i], xerr=[h] if math.isfinite(h) else None, fmt=run.style(c)[0], ms=5, capsize=2,
+            ax.errorbar([d], [i], xerr=[h] if math.isfinite(h) else None, fmt=run.style(c)[0], ms=4, capsize=2,
                         color=col, mfc=col if sig else "white")
         ax.axvline(0, color="k", lw=0.8)
-        ax.set_title(m, fontsize=9)
-        ax.set_xlabel(f"configuration − {base}, " + common.metric_label(m), fontsize=8)
+        ax.set_title(m)
+        ax.set_xlabel(common.wrap(f"configuration − {base}, " + common.metric_label(m), 40))
         ax.grid(axis="x", alpha=0.3)
-    axes[0, 0].set_yticks(range(len(order)))
-    axes[0, 0].set_yticklabels(order, fontsize=8)
-    axes[0, 0].set_ylim(len(order) - 0.5, -0.5)
-    fig.suptitle(f"Each configuration vs. {base} (paired: same frames, same gaze), 95% intervals, sorted by "
-                 f"|effect| on {m0}; filled: the interval excludes 0; not drawn: not finite", fontsize=9)
+        ax.xaxis.set_major_locator(matplotlib_ticker().MaxNLocator(4))
+    axes[0].set_yticks(range(len(order)))
+    axes[0].set_yticklabels(tick_names(order, 18), fontsize=6)
+    axes[0].set_ylim(len(order) - 0.5, -0.5)
+    fig.suptitle(common.wrap(f"Each configuration vs. {base} (paired: same frames, same gaze), 95% intervals, "
+                             f"sorted by |effect| on {m0}; filled: the interval excludes 0; not drawn: not finite",
+                             100))
     common.save(fig, os.path.join(out, "paired_vs_baseline.png"))
     return ["paired_vs_baseline.png"]
+
+
+def matplotlib_ticker():
+    from matplotlib import ticker
+
+    return ticker
 
 
 def pass_columns(run):
@@ -450,8 +478,6 @@ def plot_passes(run, out):
     if not passes:
         raise Skip("summary.csv has no est_ms_<pass> columns")
     cfgs = run.configs
-    w = max(5, 0.6 * len(cfgs) + 2.5)
-    fig, (ax, axp) = plt.subplots(1, 2, figsize=(2 * w + 2, 4.8))
     cmap = plt.get_cmap("tab20")
     table = []
     for k, pcol in enumerate(passes):
@@ -459,6 +485,9 @@ def plot_passes(run, out):
         vals = [v if math.isfinite(v) else 0.0 for v in vals]
         if any(vals):
             table.append((pcol[len("est_ms_"):], cmap(k % 20), vals))
+    b = common.budget_ms(run.manifest, run.summary)
+    entries = [t[0] for t in table] + ["est_ms_total (95% interval)"] + ([f"budget {b:.2f} ms"] if b else [])
+    fig, (ax, axp) = common.figure(2, height=2.8, legend=entries, title_lines=1)
     sums = [sum(t[2][i] for t in table) for i in range(len(cfgs))]
     bottom, bottom_p = [0.0] * len(cfgs), [0.0] * len(cfgs)
     for name, col, vals in table:
@@ -470,24 +499,23 @@ def plot_passes(run, out):
     tot = [run.mean(c, "est_ms_total") for c in cfgs]
     err = [run.ci(c, "est_ms_total") for c in cfgs]
     ax.errorbar(range(len(cfgs)), tot, yerr=[e if math.isfinite(e) else 0 for e in err], fmt="_", color="k",
-                ms=14, capsize=3, label="est_ms_total (95% interval)")
-    b = common.budget_ms(run.manifest, run.summary)
+                ms=10, capsize=3, label="est_ms_total (95% interval)")
     if b is not None:
         ax.axhline(b, color="red", ls="--", lw=1, label=f"budget {b:.2f} ms")
     for a in (ax, axp):
         a.set_xticks(range(len(cfgs)))
-        a.set_xticklabels(cfgs, rotation=45 if len(cfgs) > 4 else 0, ha="right" if len(cfgs) > 4 else "center",
-                          fontsize=8)
+        a.set_xticklabels(tick_names(cfgs, 12), rotation=90 if len(cfgs) > 2 else 0,
+                          fontsize=6 if len(cfgs) > 8 else 7)
         for lbl, c in zip(a.get_xticklabels(), cfgs):
             lbl.set_color(run.color(c))  # the method's colour, as in every plot
         a.grid(axis="y", alpha=0.3)
     ax.set_ylabel("mean estimated GPU time [ms]")
-    ax.set_title("Estimated frame time per pass (stacked)", fontsize=10)
-    axp.set_ylabel("share of the estimated frame time [%]")
+    ax.set_title("Estimated frame time per pass (stacked)")
+    axp.set_ylabel("share of the frame time [%]")
     axp.set_ylim(0, 100)
-    axp.set_title("Share of each pass", fontsize=10)
-    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(2.25, 1.0))  # one legend, right of both panels
-    fig.suptitle("Cost model per pass (docs/cost_model.md)", fontsize=10)
+    axp.set_title("Share of each pass")
+    common.figure_legend(fig, [ax])  # one legend, below both panels
+    fig.suptitle("Cost model per pass (docs/cost_model.md)")
     common.save(fig, os.path.join(out, "passes.png"))
     return "passes.png"
 
@@ -498,8 +526,8 @@ def plot_eccentricity(run, out):
             if any(re.match(re.escape(f) + r"[0-9p]+_[0-9p]+$", c) for c in run.scols)]
     if not run.summary or not fams:
         raise Skip("summary.csv has no rmse_ecc_<a>_<b> / flip_ecc_<a>_<b> columns")
-    fig, axes = plt.subplots(1, len(fams), figsize=(6 * len(fams), 4.5), squeeze=False)
-    for ax, fam in zip(axes[0], fams):
+    fig, axes = common.figure(len(fams), height=2.6, legend=legend_entries(run))
+    for ax, fam in zip(axes, fams):
         # <fam><a>_<b> only: not the _ci95 half-widths nor the _fl foveation-loss columns.
         band = re.compile(re.escape(fam) + r"[0-9p]+_[0-9p]+$")
         bands = [c for c in run.scols if band.match(c)]
@@ -519,8 +547,8 @@ def plot_eccentricity(run, out):
         ax.set_ylabel("RMSE [display-encoded, 0–1]" if fam == "rmse_ecc_" else "LDR-FLIP [0–1]")
         ax.set_title(("RMSE" if fam == "rmse_ecc_" else "LDR-FLIP") + " vs. eccentricity (95% intervals)")
         ax.grid(alpha=0.3)
-    if len(run.configs) <= MAX_LEGEND:  # one legend, outside the data
-        common.dedup_legend(axes[0, -1], fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0))
+    if len(run.configs) <= MAX_LEGEND:  # one legend, below the panels
+        common.figure_legend(fig, axes)
     common.save(fig, os.path.join(out, "eccentricity.png"))
     return "eccentricity.png"
 
@@ -666,13 +694,13 @@ def colorbar_legend(out):
     (|luma error| turbo 0–0.25, LDR-FLIP magma 0–1; results/README.md), shown above them."""
     from matplotlib import cm, colors
 
-    fig, axes = plt.subplots(2, 1, figsize=(5.2, 1.3))
+    fig = plt.figure(figsize=(common.COLUMN_WIDTH_IN * 1.4, 1.5), layout="constrained")
+    axes = fig.subplots(2, 1)
     for ax, (cmap, hi, label) in zip(axes, (("turbo", 0.25, "<label>_error.png: |luma error| (display-encoded)"),
                                             ("magma", 1.0, "<label>_flip.png: LDR-FLIP error"))):
         fig.colorbar(cm.ScalarMappable(norm=colors.Normalize(0, hi), cmap=cmap), cax=ax, orientation="horizontal")
-        ax.set_title(label, fontsize=8)
-        ax.tick_params(labelsize=7)
-    fig.subplots_adjust(hspace=1.6)
+        ax.set_title(label, fontsize=7)
+        ax.tick_params(labelsize=6)
     common.save(fig, os.path.join(out, "error_colorbars.png"))
     return "error_colorbars.png"
 

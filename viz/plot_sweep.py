@@ -137,7 +137,9 @@ def plot_pareto(sw, out):
     if cx not in sw.cols or cy not in sw.cols:
         raise Skip(f"summary.csv lacks {cx} or {cy}")
     rows, dups = sw.distinct()
-    fig, ax = plt.subplots(figsize=(9, 6))
+    b = sw.budget()
+    entries = list(sw.labels()) + ["Pareto front"] + ([f"frame budget {b:.2f} ms"] if b is not None else [])
+    fig, (ax,) = common.figure(1, height=3.6, legend=entries, title_lines=1)
     for lab in sw.labels():
         rs = [r for r in rows if r.get("label") == lab]
         col = sw.color(lab)
@@ -151,32 +153,31 @@ def plot_pareto(sw, out):
                             yerr=[ey] if math.isfinite(ey) else None, fmt="none", lw=0.8, alpha=0.6, ecolor=col)
     front = [r for r in rows if r.get("pareto") == "1"]
     labelled = front if len(rows) > 30 else rows  # label every point when few, else the front
-    for r in labelled:
-        x, y = sw.num(r, cx), sw.num(r, cy)
-        if math.isfinite(x) and math.isfinite(y):
-            txt = sw.row_name(r)  # label and its swept parameters
-            ax.annotate(txt, (x, y), fontsize=7, xytext=(4, 3), textcoords="offset points", color="0.2")
     if front:
         front.sort(key=lambda r: sw.num(r, cx))
         ax.plot([sw.num(r, cx) for r in front], [sw.num(r, cy) for r in front], "k-", lw=1.2, label="Pareto front")
         ax.scatter([sw.num(r, cx) for r in front], [sw.num(r, cy) for r in front], s=60, facecolors="none",
                    edgecolors="k", zorder=4)
-    b = sw.budget()
     if b is not None and cx == "est_ms_total":
         ax.axvline(b, color="red", ls="--", lw=1, label=f"frame budget {b:.2f} ms")
     hidden = sorted({f"{r.get('label')} {sw.params_text(r)}".strip() for r in rows
                      if not (math.isfinite(sw.num(r, cx)) and math.isfinite(sw.num(r, cy)))})
-    if hidden:
-        ax.text(0.01, 0.01, "not drawn (non-finite, e.g. fpsnr = inf when exact): " + ", ".join(hidden[:4]) +
-                (" …" if len(hidden) > 4 else ""), transform=ax.transAxes, fontsize=7, color="0.3")
-    ax.set_xlabel(axis_label(cx) + " — minimize")
-    ax.set_ylabel(axis_label(cy) + (" — maximize" if maxy else " — minimize"))
+    ax.set_xlabel(common.wrap(axis_label(cx) + " — minimize", 80))
+    ax.set_ylabel(common.wrap(axis_label(cy) + (" — maximize" if maxy else " — minimize"), 45))
     title = f"{sw.meta.get('name', '')}: {len(rows)} distinct configurations"
     if dups:
         title += f" ({dups} identical rows of unswept methods not repeated)"
-    ax.set_title(title, fontsize=10)
+    if hidden:  # in the title, where it cannot run into the data
+        title += "\nnot drawn (non-finite, e.g. fpsnr = inf when exact): " + ", ".join(hidden[:4]) + \
+            (" …" if len(hidden) > 4 else "")
+    ax.set_title(common.wrap(title, 100))
     ax.grid(alpha=0.3)
-    common.dedup_legend(ax, fontsize=7)
+    common.figure_legend(fig, [ax])
+    # Labels (label and swept parameters) where they collide with nothing; the rest are named in
+    # index.html's Pareto table.
+    dropped = common.place_labels(ax, [(sw.num(r, cx), sw.num(r, cy), sw.row_name(r)) for r in labelled])
+    if dropped:
+        note(f"pareto: {len(dropped)} point labels left out where they would overlap (pareto.csv lists them)")
     common.save(fig, os.path.join(out, "pareto.png"))
     return ["pareto.png"]
 
@@ -194,16 +195,19 @@ def plot_quality_vs_budget(sw, out):
     made = []
     for g in gpus:
         rs = [r for r in rows if r.get("gpu", "") == g]
-        fig, axes = plt.subplots(1, len(metrics), figsize=(6 * len(metrics), 4.5), squeeze=False, sharex=True)
-        for ax, m in zip(axes[0], metrics):
-            # One line per label (a method entry), not per method: two entries of one method
-            # (full and fir) stay apart.
+        b = sw.budget()
+        # One line per label (a method entry), not per method: two entries of one method
+        # (full and fir) stay apart.
+        leg = list(dict.fromkeys(r.get("label") or r.get("method") for r in rs)) + ["best of all methods"] + \
+            ([f"display budget {b:.2f} ms"] if b else [])
+        fig, axes = common.figure(len(metrics), legend=leg, title_lines=1)
+        for ax, m in zip(axes, metrics):
             entries = [(r.get("label") or r.get("method"), f"{r.get('label')} {sw.params_text(r)}".strip(),
                         sw.num(r, "est_ms_total"), sw.num(r, m), sw.num(r, m + "_ci95")) for r in rs]
-            common.draw_quality_vs_budget(ax, entries, m, sw.budget())
-        common.dedup_legend(axes[0, -1], fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0))
-        fig.suptitle(f"{sw.meta.get('name', '')}: quality vs. frame budget" + (f" on {g}" if g else "") +
-                     f" ({len(rs)} distinct configurations)", fontsize=10)
+            common.draw_quality_vs_budget(ax, entries, m, b)
+        common.figure_legend(fig, axes)
+        fig.suptitle(common.wrap(f"{sw.meta.get('name', '')}: quality vs. frame budget" + (f" on {g}" if g else "") +
+                                 f" ({len(rs)} distinct configurations)", 100))
         f = "quality_vs_budget.png" if len(gpus) == 1 else f"quality_vs_budget_{g}.png"
         common.save(fig, os.path.join(out, f))
         made.append(f)
@@ -223,8 +227,8 @@ def plot_heatmaps(sw, out):
         for px, py in pairs:
             xs = sorted({sw.num(r, px) for r in rs})
             ys = sorted({sw.num(r, py) for r in rs})
-            fig, axes = plt.subplots(1, len(metrics), figsize=(4.8 * len(metrics), 3.8), squeeze=False)
-            for ax, m in zip(axes[0], metrics):
+            fig, axes = common.figure(len(metrics), height=2.6, title_lines=1)
+            for ax, m in zip(axes, metrics):
                 grid = np.full((len(ys), len(xs)), np.nan)
                 cnt = np.zeros_like(grid)
                 for r in rs:
@@ -237,21 +241,21 @@ def plot_heatmaps(sw, out):
                 grid = np.where(cnt > 0, grid / np.maximum(cnt, 1), np.nan)  # mean over other axes
                 im = ax.imshow(grid, origin="lower", aspect="auto", cmap="viridis" if m in ("fpsnr", "ssim") else "magma")
                 ax.set_xticks(range(len(xs)))
-                ax.set_xticklabels([f"{x:g}" for x in xs], fontsize=9 if len(xs) <= 8 else 7,
-                                   rotation=0 if len(xs) <= 8 else 45)
+                ax.set_xticklabels([f"{x:g}" for x in xs], fontsize=7 if len(xs) <= 8 else 6,
+                                   rotation=0 if len(xs) <= 6 else 90)
                 ax.set_yticks(range(len(ys)))
-                ax.set_yticklabels([f"{y:g}" for y in ys], fontsize=9 if len(ys) <= 12 else 7)
+                ax.set_yticklabels([f"{y:g}" for y in ys], fontsize=7 if len(ys) <= 12 else 6)
                 ax.set_xlabel(px)
                 ax.set_ylabel(py)
-                ax.set_title(axis_label(m), fontsize=9)
-                fig.colorbar(im, ax=ax, shrink=0.8)  # unit in the panel title
-                if len(xs) * len(ys) <= 64:  # readable cell labels (8 pt) only where they fit
+                ax.set_title(common.wrap(axis_label(m), 40))
+                fig.colorbar(im, ax=ax, shrink=0.9)  # unit in the panel title
+                if len(xs) <= 6 and len(ys) <= 8:  # cell labels (6 pt) only where they fit
                     lo, hi = np.nanmin(grid), np.nanmax(grid)
                     for i in range(len(ys)):
                         for j in range(len(xs)):
                             if math.isfinite(grid[i, j]):
                                 dark = hi > lo and (grid[i, j] - lo) / (hi - lo) < 0.5
-                                ax.text(j, i, f"{grid[i, j]:.3g}", ha="center", va="center", fontsize=8,
+                                ax.text(j, i, f"{grid[i, j]:.3g}", ha="center", va="center", fontsize=6,
                                         color="w" if dark else "k")
             fig.suptitle(f"{lab}: {px} x {py}")
             f = f"heatmap_{lab}_{px}_{py}.png"
@@ -296,7 +300,10 @@ def plot_timelines(sw, out):
     sel = selected(sw)
     if not sel:
         raise Skip("no rows")
-    fig, ax = plt.subplots(figsize=(10, 4.8))
+    b = sw.budget()
+    entries = [sw.row_name(r) for r in sel] + ([f"budget {b:.2f} ms"] if b is not None else []) + \
+        ["gaze speed (right axis)"]
+    fig, (ax,) = common.figure(1, height=3.0, legend=entries, title_lines=1)
     gaze = None
     sty = sw.row_styles(sel)
     for r in sel:
@@ -309,7 +316,6 @@ def plot_timelines(sw, out):
                 color=col, ls=ls, label=sw.row_name(r))
         if gaze is None:
             gaze = fr
-    b = sw.budget()
     if b is not None:
         ax.axhline(b, color="red", ls="--", lw=1.2, label=f"budget {b:.2f} ms")
     ax.set_xlabel("frame [index]")
@@ -327,9 +333,9 @@ def plot_timelines(sw, out):
                          label="gaze speed (right axis)")
         ax.plot([], [], color="0.5", lw=0.8, ls=":", label=gl.get_label())  # in the one legend
         ax2.set_ylabel("gaze speed [deg/s]" if deg_per_px(sw) else "gaze speed [px/s]", color="0.4")
-    common.dedup_legend(ax, fontsize=7, loc="upper left")
-    ax.set_title("Per-frame estimated time: Pareto configurations and each other method's best; gaze speed",
-                 fontsize=10)
+    common.figure_legend(fig, [ax])  # below the axes: never over a line
+    ax.set_title(common.wrap("Per-frame estimated time: Pareto configurations and each other method's best; "
+                             "gaze speed", 100))
     common.save(fig, os.path.join(out, "timelines.png"))
     return ["timelines.png"]
 
@@ -344,8 +350,8 @@ def plot_profiles(sw, out):
         a, b = c[len("rmse_ecc_"):].replace("p", ".").split("_")
         return 0.5 * (float(a) + float(b))
 
-    fig, ax = plt.subplots(figsize=(8, 4.5))
     sel = selected(sw)
+    fig, (ax,) = common.figure(1, height=3.0, legend=[sw.row_name(r) for r in sel])
     sty = sw.row_styles(sel)
     for r in sel:
         err = [sw.num(r, c + "_ci95") for c in bands]
@@ -355,9 +361,9 @@ def plot_profiles(sw, out):
     ax.set_xlabel("eccentricity [deg] (band centre)")
     ax.set_ylabel("RMSE [display-encoded, 0–1]")
     ax.set_title("Error vs. eccentricity: Pareto configurations and each other method's best\n"
-                 "(error bars: 95% interval)", fontsize=10)
+                 "(error bars: 95% interval)")
     ax.grid(alpha=0.3)
-    common.dedup_legend(ax, fontsize=7)
+    common.figure_legend(fig, [ax])
     common.save(fig, os.path.join(out, "eccentricity_profiles.png"))
     return ["eccentricity_profiles.png"]
 
@@ -425,7 +431,7 @@ def plot_latency(sw, out):
     # Quality vs latency per method (docs/latency.md), only for sweeps with a latency block.
     import latency  # noqa: E402  (viz/latency.py)
     try:
-        return [latency.plot_latency(sw.dir, out, "rmse_fovea", 0.10, report=log)]
+        return [latency.plot_latency(sw.dir, out, "rmse_fovea", report=log)]
     except latency.NoLatency as e:
         raise Skip(str(e))
 

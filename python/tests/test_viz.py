@@ -75,7 +75,9 @@ class RunPlots(unittest.TestCase):
         self.assertTrue(all(len(c) == 1 for c in colours.values()), colours)
         self.assertEqual(len({next(iter(c)) for c in colours.values()}), 3)
         self.assertIn("[dB]", fig.axes[0].get_ylabel())
-        legend_labels = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+        legends = [a.get_legend() for a in fig.axes if a.get_legend() is not None]
+        self.assertEqual(len(legends), 1)  # one legend, in its own row below the panels
+        legend_labels = [t.get_text() for t in legends[0].get_texts()]
         self.assertEqual(legend_labels, ["full", "kfr", "rmfr"])
 
     def test_index_has_summary_table_and_images(self):
@@ -334,11 +336,214 @@ class FidelityPlot(unittest.TestCase):
                              f"90,10,{10 + e},{e},{e / 10},{ci},nan,1,0")
         with tempfile.TemporaryDirectory() as d:
             write(os.path.join(d, "fidelity.csv"), "\n".join(lines) + "\n")
-            sys.argv = ["plot_fidelity.py", d]
-            self.assertEqual(plot_fidelity.main(), 0)
+            self.assertEqual(plot_fidelity.main([d, "--format", "pdf"]), 0)
             self.assertTrue(os.path.exists(os.path.join(d, "plots", "fidelity.png")))
-            sys.argv = ["plot_fidelity.py", os.path.join(d, "missing")]
-            self.assertEqual(plot_fidelity.main(), 2)
+            self.assertTrue(os.path.exists(os.path.join(d, "plots", "fidelity.pdf")))
+            common.OUTPUT.update({"format": "png", "dpi": 110})
+            self.assertEqual(plot_fidelity.main([os.path.join(d, "missing")]), 2)
+
+
+LAT_CELLS = [("0000-t0", 0), ("0001-t20", 20), ("0002-t50", 50), ("0003-t80", 80)]
+
+
+def make_latency_sweep(d):
+    """A latency sweep's summary.csv and paired.csv: kfr's rmse_fovea_fl rises by +0.0037 at
+    50 ms with a paired interval of +-0.010 (not a degradation) and by +0.02 +- 0.004 at 80 ms
+    (one); rmfr's paired.csv rows are missing (undecided)."""
+    head = "config_id,cell_id,label,method,gpu,latency.tracker_ms,latency_ms,frames,rmse_fovea_fl,rmse_fovea_fl_ci95"
+    lines = [head]
+    for cell, ms in LAT_CELLS:
+        i = cell[:4]
+        lines.append(f"{i}/kfr,{cell},kfr,kfr,gtx1080,{ms},{ms},40,{0.05 + {0: 0, 20: 0.001, 50: 0.0037, 80: 0.02}[ms]},0.02")
+        lines.append(f"{i}/rmfr,{cell},rmfr,rmfr,gtx1080,{ms},{ms},40,0.04,0.02")
+    write(os.path.join(d, "summary.csv"), "\n".join(lines) + "\n")
+    p = ["kind,cell_a_id,cell_b_id,config_a,config_b,gpu,metric,axis,value_a,value_b,cell_a,cell_b,frames,"
+         "mean_a,mean_b,diff,diff_ci95,diff_lo,diff_hi,differs"]
+    # cell a is the low latency one for 20 and 50 ms, the high one for 80 ms (either order is read)
+    for idx, cell, ms, diff, ci in ((1, "0001-t20", 20, -0.001, 0.002), (2, "0002-t50", 50, -0.0037, 0.010)):
+        p.append(f"across,0000-t0,{cell},kfr,kfr,gtx1080,rmse_fovea_fl,latency.tracker_ms,0,{ms},0,{idx},"
+                 f"40,0.05,{0.05 - diff},{diff},{ci},{diff - ci},{diff + ci},{int(abs(diff) > ci)}")
+    p.append("across,0003-t80,0000-t0,kfr,kfr,gtx1080,rmse_fovea_fl,latency.tracker_ms,80,0,3,0,40,0.07,0.05,"
+             "0.02,0.004,0.016,0.024,1")
+    write(os.path.join(d, "paired.csv"), "\n".join(p) + "\n")
+    write(os.path.join(d, "sweep_summary.json"), '{"name": "lat", "axes": ["latency.tracker_ms"]}')
+
+
+class LatencyDecision(unittest.TestCase):
+    """viz/latency.py decides a degradation from the paired interval, not the relative change."""
+
+    def test_degradation_needs_the_paired_interval(self):
+        import latency
+        with tempfile.TemporaryDirectory() as d:
+            make_latency_sweep(d)
+            said = []
+            latency.plot_latency(d, os.path.join(d, "plots"), "rmse_fovea_fl", report=said.append)
+            kfr = next(x for x in said if x.startswith("kfr"))
+            rmfr = next(x for x in said if x.startswith("rmfr"))
+            # +0.0037 at 50 ms is +7% of the mean but its interval (+-0.010) contains 0: the first
+            # degradation is at 80 ms, where the pair is listed high latency first.
+            self.assertIn("at 80 ms", kfr)
+            self.assertIn("+0.02 worse (95% [+0.016, +0.024])", kfr)
+            self.assertIn("no paired interval", rmfr)
+            _, rows = common.read_csv(os.path.join(d, "plots", "latency_rmse_fovea_fl.csv"))
+            deg = {(r["line"], r["latency_ms"]): r["degraded"] for r in rows}
+            self.assertEqual(deg[("kfr", "50")], "0")
+            self.assertEqual(deg[("kfr", "80")], "1")
+            self.assertEqual(deg[("rmfr", "80")], "")
+            # A threshold beyond the interval's near end: no degradation at all.
+            said = []
+            latency.plot_latency(d, os.path.join(d, "plots"), "rmse_fovea_fl", threshold=0.02, report=said.append)
+            self.assertIn("no swept latency degrades it", next(x for x in said if x.startswith("kfr")))
+            self.assertIn("least favourable change at 80 ms", next(x for x in said if x.startswith("kfr")))
+
+    def test_orientation_for_higher_is_better(self):
+        import latency
+        paired = [{"kind": "across", "metric": "fpsnr", "config_a": "kfr", "gpu": "g", "cell_a_id": "lo",
+                   "cell_b_id": "hi", "diff": "0.5", "diff_lo": "0.2", "diff_hi": "0.8"}]
+        ch = latency.paired_change(paired, "fpsnr", "kfr", "g", "lo", "hi", True)
+        self.assertEqual(ch, (0.5, 0.2, 0.8))  # lo - hi = +0.5 dB: worse at the higher latency
+        self.assertEqual(latency.degraded(ch), 1)
+        ch = latency.paired_change(paired, "fpsnr", "kfr", "g", "lo", "hi", False)
+        self.assertEqual(ch, (-0.5, -0.8, -0.2))
+        self.assertEqual(latency.degraded(ch), 0)
+        self.assertIsNone(latency.degraded(None))
+
+    def test_cli_format_and_bad_threshold(self):
+        import subprocess
+        with tempfile.TemporaryDirectory() as d:
+            make_latency_sweep(d)
+            script = os.path.join(REPO, "viz", "latency.py")
+            r = subprocess.run([sys.executable, script, d, "--metric", "rmse_fovea_fl", "--format", "svg"],
+                               capture_output=True, text=True)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertTrue(os.path.exists(os.path.join(d, "plots", "latency_rmse_fovea_fl.svg")))
+            r = subprocess.run([sys.executable, script, d, "--threshold", "-1"], capture_output=True, text=True)
+            self.assertNotEqual(r.returncode, 0)
+            self.assertIn("--threshold -1", r.stderr)
+
+
+class Layout(unittest.TestCase):
+    """Every shipped figure, rendered from the small test data, is PAGE_WIDTH_IN wide, keeps every
+    text inside the canvas and no two texts overlap (matplotlib's renderer: the drawn texts'
+    window extents)."""
+
+    def setUp(self):
+        if not common.load_metric_registry():  # no fovsim binary: the registry's headline rows
+            common.set_metric_registry([
+                {"name": "psnr", "label": "PSNR [dB]", "better": "higher", "headline": True},
+                {"name": "fpsnr", "label": "FPSNR [dB]", "better": "higher", "headline": True, "show_fl": True},
+                {"name": "ssim", "label": "SSIM [0-1]", "better": "higher", "headline": True},
+                {"name": "flip", "label": "LDR-FLIP [0-1, lower is better]", "better": "lower", "headline": True},
+                {"name": "rmse_fovea", "label": "RMSE in the fovea [0-1]", "better": "lower", "paired": True}])
+
+    def collect(self, fn):
+        got = []
+        orig = common.save
+
+        def grab(fig, path):
+            got.append((os.path.basename(path), common.layout_problems(fig), fig.get_size_inches()[0]))
+            return orig(fig, path)
+
+        common.save = grab
+        try:
+            fn()
+        finally:
+            common.save = orig
+        return got
+
+    def check(self, got, want):
+        names = [g[0] for g in got]
+        for w in want:
+            self.assertIn(w, names)
+        bad = [f"{name}: {p}" for name, problems, _ in got for p in problems]
+        bad += [f"{name}: {w:.2f} in wide" for name, _, w in got if w > common.PAGE_WIDTH_IN + 1e-6]
+        self.assertEqual(bad, [], "\n".join(bad))
+
+    def test_run_figures(self):
+        import matplotlib.pyplot as plt
+        with tempfile.TemporaryDirectory() as d:
+            frames = [FRAMES[0] + ",shaded_fraction,flip"]
+            names = ["full", "full_tbds", "kfr", "kfr_sigma_2.4_long_label", "rmfr", "rmfr_fx_0.3_fy_0.3"]
+            meth = ["full", "full", "kfr", "kfr", "rmfr", "rmfr"]
+            for f in range(24):
+                for k, (n, m) in enumerate(zip(names, meth)):
+                    ps = "inf" if n == "full" else 28 + k + 0.1 * f
+                    frames.append(f"{n},{m},{n},{f},{f / 90},{100 + f},{80 - f},{ps},{ps},{0.9 + 0.01 * k},"
+                                  f"{4 + k + 0.05 * (f % 3)},{0.3 + 0.1 * k},{0.1 - 0.01 * k}")
+            write(os.path.join(d, "frames.csv"), "\n".join(frames) + "\n")
+            summ = ["config_id,method,label,frames,est_ms_total,est_ms_total_ci95,psnr,psnr_ci95,fpsnr,fpsnr_ci95,"
+                    "ssim,ssim_ci95,flip,shaded_fraction,shaded_fraction_ci95,est_ms_gbuffer,est_ms_lighting,"
+                    "est_ms_tonemap,rmse_ecc_0_5,rmse_ecc_5_10,rmse_ecc_10_20,flip_ecc_0_5,flip_ecc_5_10"]
+            for k, (n, m) in enumerate(zip(names, meth)):
+                ps = "inf" if n == "full" else 28 + k
+                summ.append(f"{n},{m},{n},24,{4 + k * 0.3},0.05,{ps},0.3,{ps},0.3,{0.9 + 0.01 * k},0.01,0.1,"
+                            f"{0.3 + 0.1 * k},0.01,{1 + 0.1 * k},{2 + 0.2 * k},0.3,0.01,0.02,0.03,0.05,0.06")
+            write(os.path.join(d, "summary.csv"), "\n".join(summ) + "\n")
+            pr = ["config_a,config_b,gpu,metric,frames,mean_a,mean_b,diff,diff_ci95,diff_lo,diff_hi,differs"]
+            for i in range(len(names)):
+                for j in range(i + 1, len(names)):
+                    for m in ("est_ms_total", "ssim", "fpsnr"):
+                        pr.append(f"{names[i]},{names[j]},g,{m},24,1,1,{0.1 * (j - i)},0.05,0,0.2,1")
+            write(os.path.join(d, "paired.csv"), "\n".join(pr) + "\n")
+            write(os.path.join(d, "manifest.json"), '{"display": {"width": 200, "height": 160, "refresh_hz": 90}}')
+            fd = os.path.join(d, "images", "frame_0")
+            os.makedirs(fd)
+            for name, v in (("reference", 1.0), ("kfr", 0.5), ("rmfr", 0.2)):
+                plt.imsave(os.path.join(fd, name + ".png"), np.full((40, 50, 3), v))
+            got = self.collect(lambda: plot_run.main([d]))
+        self.check(got, ["timeline.png", "quality_vs_cost.png", "quality_vs_budget.png", "quality_timeline.png",
+                         "shaded_fraction.png", "gaze.png", "paired.png", "paired_vs_baseline.png", "passes.png",
+                         "eccentricity.png", "strip_0.png"])
+
+    def test_sweep_figures(self):
+        with tempfile.TemporaryDirectory() as d:
+            make_sweep(d)
+            got = self.collect(lambda: plot_sweep.main([d]))
+        self.check(got, ["pareto.png", "quality_vs_budget.png", "eccentricity_profiles.png"])
+
+    def test_latency_figure(self):
+        import latency
+        with tempfile.TemporaryDirectory() as d:
+            make_latency_sweep(d)
+            got = self.collect(lambda: latency.plot_latency(d, d, "rmse_fovea_fl", report=lambda s: None))
+        self.check(got, ["latency_rmse_fovea_fl.png"])
+
+    def test_fidelity_figure(self):
+        import plot_fidelity
+        head = ("rung,config_id,method,output,rung_index,wall_s,wall_ratio,cpu_s,cpu_ratio,"
+                "frames,top,value,err,err_rel,err_ci95,err_ci95_paired,ranking_same,ranking_resolved_swaps")
+        lines = [head]
+        for i, (rung, wall, e) in enumerate([("analytic", 0.1, 0.3), ("scale=0.125", 9, 0.05),
+                                              ("scale=0.25", 10, 0.02), ("scale=0.5", 40, 0.0)]):
+            for o in ["est_ms_total", "psnr", "ssim"]:
+                lines.append(f"{rung},kfr,kfr,{o},{i},{wall},{wall / 40},{wall},{wall / 40},90,10,{10 + e},{e},"
+                             f"{e / 10},0.01,nan,1,0")
+        with tempfile.TemporaryDirectory() as d:
+            write(os.path.join(d, "fidelity.csv"), "\n".join(lines) + "\n")
+            got = self.collect(lambda: plot_fidelity.main([d]))
+        self.check(got, ["fidelity.png"])
+
+    def test_density_and_cost_figures(self):
+        import plot_cost
+        import plot_density
+        with tempfile.TemporaryDirectory() as d:
+            rows = ["method,direction_deg,ecc_deg,density_capped"]
+            for m in ("kfr", "rmfr", "fvrs"):
+                for dd in (0, 45, 90):
+                    for e in range(0, 50, 5):
+                        rows.append(f"{m},{dd},{e},{max(0.05, 1 - e / 50)}")
+            write(os.path.join(d, "density.csv"), "\n".join(rows) + "\n")
+            got = self.collect(lambda: plot_density.main([os.path.join(d, "density.csv"),
+                                                          os.path.join(d, "density.png")]))
+            cost = ["experiment,kind,gpu,table,passes,published_ms,model_ms,model_lo_ms,model_hi_ms"]
+            for g in ("gtx1080", "rtx2080ti"):
+                for k, p in enumerate(("gbuffer", "lighting", "tonemap")):
+                    cost.append(f"cross:seed,predicted,{g},kfr,{p},{1 + k},{1.1 + k},{0.8 + k},{1.4 + k}")
+                    cost.append(f"calibration,fit,{g},kfr,{p},{1 + k},{1.05 + k},nan,nan")
+                cost.append(f"cross:seed,total,{g},kfr,gbuffer+lighting,5,5.5,4.5,6.5")
+            write(os.path.join(d, "cost.csv"), "\n".join(cost) + "\n")
+            got += self.collect(lambda: plot_cost.main([os.path.join(d, "cost.csv"), os.path.join(d, "cost.png")]))
+        self.check(got, ["density.png", "cost.png"])
 
 
 if __name__ == "__main__":

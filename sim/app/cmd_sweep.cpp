@@ -81,6 +81,7 @@ void print_sweep_report(const SweepArgs& a, const SweepPlan& plan, const SweepOp
   } else {
     std::printf("results in %s\n", r.out_dir.c_str());
   }
+  if (!r.cache_note.empty()) std::fprintf(stderr, "note: %s\n", r.cache_note.c_str());
 }
 
 // --bench: the timing report and bench.json.

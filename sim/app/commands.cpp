@@ -16,6 +16,7 @@ void register_commands(CLI::App& app, Action& action) {
   register_compare(app, action);
   register_converge(app, action);
   register_fidelity(app, action);
+  register_cache(app, action);
 }
 
 }  // namespace fovsim::app

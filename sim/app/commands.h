@@ -32,6 +32,8 @@ void register_compare(CLI::App& app, Action& action);  // fovsim compare REF TES
 void register_converge(CLI::App& app, Action& action);
 // fovsim fidelity CONFIG (docs/fidelity.md)
 void register_fidelity(CLI::App& app, Action& action);
+// fovsim cache info | prune (the reference cache's size and cap)
+void register_cache(CLI::App& app, Action& action);
 // Every command group above, in --help order (main.cpp; tests/app/flags_test.cpp walks them).
 void register_commands(CLI::App& app, Action& action);
 

@@ -4,12 +4,14 @@
 #include <dlfcn.h>
 #include <fcntl.h>
 #include <sys/stat.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -314,19 +316,20 @@ void DiskCache::put(const std::string& key, const CacheItem& item) {
   if (since_trim_ > max_bytes_ / 8) trim();
 }
 
-void DiskCache::trim() {
-  trimmed_ = true;
-  since_trim_ = 0;
-  struct Entry {
-    fs::path path;
-    uint64_t size;
-    int64_t mtime_ns;
-  };
+namespace {
+
+struct Entry {
+  fs::path path;
+  uint64_t size;
+  int64_t mtime_ns;
+};
+
+// The entries (.fce) under `dirs`; temporaries older than an hour (left by a killed writer) are
+// removed, younger ones counted in `tmp` / `tmp_bytes` when given.
+std::vector<Entry> scan_entries(const std::vector<std::string>& dirs, uint64_t* tmp = nullptr,
+                                uint64_t* tmp_bytes = nullptr) {
   std::vector<Entry> entries;
-  uint64_t total = 0;
   const auto now = std::chrono::system_clock::now();
-  std::vector<std::string> dirs{kind_dir_};
-  for (auto& k : cap_kinds_) dirs.push_back((fs::path(dir_) / safe_file_name(k)).string());
   for (const std::string& d : dirs) {
     std::error_code ec;
     fs::recursive_directory_iterator it(d, fs::directory_options::skip_permission_denied, ec), end;
@@ -342,29 +345,210 @@ void DiskCache::trim() {
         const auto age = std::chrono::duration_cast<std::chrono::seconds>(
                              now.time_since_epoch() - std::chrono::nanoseconds(mt))
                              .count();
-        if (age > 3600) fs::remove(p, e2);  // left by a killed writer
+        if (age > 3600) {
+          fs::remove(p, e2);  // left by a killed writer
+        } else {
+          if (tmp) ++*tmp;
+          if (tmp_bytes) *tmp_bytes += uint64_t(st.st_size);
+        }
         continue;
       }
       if (p.extension() != kExt) continue;
       entries.push_back({p, uint64_t(st.st_size), mt});
-      total += uint64_t(st.st_size);
     }
   }
-  if (total <= max_bytes_) return;
+  return entries;
+}
+
+// Removes the least recently used of `entries` (oldest mtime first, then by path) until they
+// take at most `max_bytes`; returns {entries removed, bytes removed}.
+std::pair<uint64_t, uint64_t> evict_lru(std::vector<Entry> entries, uint64_t max_bytes) {
+  uint64_t total = 0;
+  for (auto& e : entries) total += e.size;
+  if (total <= max_bytes) return {0, 0};
   std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
     return a.mtime_ns != b.mtime_ns ? a.mtime_ns < b.mtime_ns : a.path < b.path;
   });
+  uint64_t n = 0, bytes = 0;
   for (auto& e : entries) {
-    if (total <= max_bytes_) break;
+    if (total <= max_bytes) break;
     std::error_code e2;
     // Another process may have removed it already, or a reader may have it open (POSIX keeps
     // an open file readable after unlink).
     if (fs::remove(e.path, e2)) {
-      ++stats_.evicted;
-      stats_.bytes_evicted += e.size;
+      ++n;
+      bytes += e.size;
     }
     total -= e.size;
   }
+  return {n, bytes};
+}
+
+// The kind folders of a cache folder, by name.
+std::vector<std::string> kind_dirs(const std::string& dir) {
+  std::vector<std::string> out;
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    std::error_code e2;
+    if (it->is_directory(e2) && !it->is_symlink(e2)) out.push_back(it->path().string());
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+}  // namespace
+
+void DiskCache::trim() {
+  trimmed_ = true;
+  since_trim_ = 0;
+  std::vector<std::string> dirs{kind_dir_};
+  for (auto& k : cap_kinds_) dirs.push_back((fs::path(dir_) / safe_file_name(k)).string());
+  const auto [n, bytes] = evict_lru(scan_entries(dirs), max_bytes_);
+  stats_.evicted += int(n);
+  stats_.bytes_evicted += bytes;
+}
+
+CacheUsage cache_usage(const std::string& dir) {
+  CacheUsage u;
+  u.dir = dir;
+  std::error_code ec;
+  u.exists = fs::is_directory(dir, ec);
+  if (!u.exists) return u;
+  for (const std::string& k : kind_dirs(dir)) {
+    CacheUsage::Kind kind;
+    kind.name = fs::path(k).filename().string();
+    for (auto& e : scan_entries({k}, &u.temporaries, &u.temporary_bytes)) {
+      ++kind.entries;
+      kind.bytes += e.size;
+    }
+    u.entries += kind.entries;
+    u.bytes += kind.bytes;
+    u.kinds.push_back(kind);
+  }
+  return u;
+}
+
+PruneReport prune_cache(const std::string& dir, uint64_t max_bytes) {
+  PruneReport r;
+  r.before = cache_usage(dir);
+  if (r.before.exists) {
+    const auto [n, bytes] = evict_lru(scan_entries(kind_dirs(dir)), max_bytes);
+    r.removed_entries = n;
+    r.removed_bytes = bytes;
+  }
+  r.after = cache_usage(dir);
+  return r;
+}
+
+std::optional<uint64_t> free_disk_bytes(const std::string& path) {
+  if (path.empty()) return std::nullopt;
+  std::error_code ec;
+  fs::path p = fs::absolute(path, ec);
+  if (ec) return std::nullopt;
+  // The nearest existing ancestor (the cache folder is created on the first write).
+  while (!p.empty() && !fs::exists(p, ec) && p != p.root_path()) p = p.parent_path();
+  struct statvfs st {};
+  if (::statvfs(p.c_str(), &st) != 0) return std::nullopt;
+  return uint64_t(st.f_bavail) * uint64_t(st.f_frsize);
+}
+
+double auto_cache_cap_gb(std::optional<uint64_t> free_bytes, uint64_t cached_bytes) {
+  if (!free_bytes) return kCacheCapMaxGb;
+  const double gib = 1024.0 * 1024.0 * 1024.0;
+  return std::min(kCacheCapMaxGb,
+                  kCacheCapFreeShare * (double(*free_bytes) + double(cached_bytes)) / gib);
+}
+
+double default_cache_cap_gb(const std::string& dir) {
+  return auto_cache_cap_gb(free_disk_bytes(dir), cache_usage(dir).bytes);
+}
+
+std::string cache_size_text(uint64_t bytes) {
+  char b[40];
+  const double kib = 1024.0, mib = kib * 1024, gib = mib * 1024;
+  if (double(bytes) >= gib)
+    std::snprintf(b, sizeof b, "%.2f GB", double(bytes) / gib);
+  else if (double(bytes) >= mib)
+    std::snprintf(b, sizeof b, "%.1f MB", double(bytes) / mib);
+  else if (double(bytes) >= kib)
+    std::snprintf(b, sizeof b, "%.1f KB", double(bytes) / kib);
+  else
+    std::snprintf(b, sizeof b, "%llu B", static_cast<unsigned long long>(bytes));
+  return b;
+}
+
+CacheInfo cache_info(const std::string& dir) {
+  CacheInfo i;
+  i.usage = cache_usage(dir);
+  i.free_bytes = free_disk_bytes(dir);
+  i.default_cap_gb = auto_cache_cap_gb(i.free_bytes, i.usage.bytes);
+  return i;
+}
+
+namespace {
+constexpr const char* kCapRule =
+    "cache.max_gb 0 (the default): min(20 GB, 10% of the free space + what the cache holds)";
+std::string gb_text(double gb) {
+  char b[40];
+  std::snprintf(b, sizeof b, "%.3g GB", gb);
+  return b;
+}
+}  // namespace
+
+std::string cache_info_text(const CacheInfo& i) {
+  const CacheUsage& u = i.usage;
+  std::string s = "cache folder: " + u.dir + (u.exists ? "" : " (does not exist yet)") + "\n";
+  s += "size: " + cache_size_text(u.bytes) + " in " + std::to_string(u.entries) + " entr" +
+       (u.entries == 1 ? "y" : "ies");
+  if (!u.kinds.empty()) {
+    s += " (";
+    for (size_t k = 0; k < u.kinds.size(); ++k)
+      s += (k ? ", " : "") + u.kinds[k].name + ": " + std::to_string(u.kinds[k].entries) + ", " +
+           cache_size_text(u.kinds[k].bytes);
+    s += ")";
+  }
+  if (u.temporaries)
+    s += "; " + std::to_string(u.temporaries) + " temporaries of writers (" +
+         cache_size_text(u.temporary_bytes) + ")";
+  s += "\ncap: " + gb_text(i.default_cap_gb) + " (" + kCapRule +
+       "; a config's cache.max_gb > 0 sets it)\n";
+  s += "free disk space: " + (i.free_bytes ? cache_size_text(*i.free_bytes) : "unknown") + "\n";
+  return s;
+}
+
+Json cache_info_json(const CacheInfo& i) {
+  Json kinds = Json::array();
+  for (auto& k : i.usage.kinds)
+    kinds.push_back(Json{{"name", k.name}, {"entries", k.entries}, {"bytes", k.bytes}});
+  return Json{{"dir", i.usage.dir},
+              {"exists", i.usage.exists},
+              {"entries", i.usage.entries},
+              {"bytes", i.usage.bytes},
+              {"kinds", kinds},
+              {"temporaries", i.usage.temporaries},
+              {"free_bytes", i.free_bytes ? Json(*i.free_bytes) : Json()},
+              {"default_max_gb", i.default_cap_gb},
+              {"cap_rule", kCapRule}};
+}
+
+std::string prune_report_text(const PruneReport& r, double max_gb) {
+  return "pruned " + r.after.dir + " to at most " + gb_text(max_gb) + ": removed " +
+         std::to_string(r.removed_entries) + " entr" + (r.removed_entries == 1 ? "y" : "ies") +
+         " (" + cache_size_text(r.removed_bytes) + "); it holds " + cache_size_text(r.after.bytes) +
+         " in " + std::to_string(r.after.entries) + " entr" + (r.after.entries == 1 ? "y" : "ies") +
+         "\n";
+}
+
+std::string cache_growth_note(const std::string& dir, uint64_t added_bytes, double cap_gb,
+                              uint64_t threshold) {
+  if (added_bytes <= threshold) return "";
+  const CacheUsage u = cache_usage(dir);
+  char cap[40];
+  std::snprintf(cap, sizeof cap, "%.3g GB", cap_gb);
+  return "reference cache " + dir + ": this run wrote " + cache_size_text(added_bytes) + " to it" +
+         ", it holds " + cache_size_text(u.bytes) + " in " + std::to_string(u.entries) +
+         (u.entries == 1 ? " entry" : " entries") + " (cap cache.max_gb " + cap +
+         "); `fovsim cache info` shows it, `fovsim cache prune --max-gb N` shrinks it";
 }
 
 }  // namespace fovsim

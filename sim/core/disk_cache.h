@@ -67,6 +67,71 @@ bool cache_disabled_by_env();
 // cannot be read.
 std::string code_fingerprint();
 
+// What a cache folder holds (`fovsim cache info`): the entries (`.fce` files) of every kind
+// (subfolder), and the temporaries writers left.
+struct CacheUsage {
+  std::string dir;
+  bool exists = false;  // the folder exists
+  uint64_t entries = 0, bytes = 0;
+  struct Kind {
+    std::string name;
+    uint64_t entries = 0, bytes = 0;
+  };
+  std::vector<Kind> kinds;  // by name
+  uint64_t temporaries = 0, temporary_bytes = 0;
+};
+CacheUsage cache_usage(const std::string& dir);
+
+// `fovsim cache prune`: removes the least recently used entries of every kind together (the
+// order DiskCache::trim uses) until the folder's entries take at most `max_bytes`, and
+// temporaries older than an hour.
+struct PruneReport {
+  CacheUsage before, after;
+  uint64_t removed_entries = 0, removed_bytes = 0;
+};
+PruneReport prune_cache(const std::string& dir, uint64_t max_bytes);
+
+// Bytes free for an unprivileged writer on the file system that holds `path` (or its nearest
+// existing ancestor: the cache folder may not exist yet); nullopt when statvfs fails.
+std::optional<uint64_t> free_disk_bytes(const std::string& path);
+
+// The default size cap of the cache (cache.max_gb = 0), in GB of 2^30 bytes:
+// min(kCacheCapMaxGb, kCacheCapFreeShare x (free space + what the cache already holds)), so a
+// cache on a small or nearly full disk stays a tenth of what it could use, and one on a large
+// disk stops at 20 GB. kCacheCapMaxGb when the free space is unknown.
+constexpr double kCacheCapMaxGb = 20;
+constexpr double kCacheCapFreeShare = 0.10;
+double auto_cache_cap_gb(std::optional<uint64_t> free_bytes, uint64_t cached_bytes);
+// auto_cache_cap_gb at `dir`: its free space and its current entries.
+double default_cache_cap_gb(const std::string& dir);
+
+// One line for stderr after a run that added more than `threshold` bytes to the cache at `dir`
+// (default kCacheGrowthNoteBytes): where it is, what it holds now, its cap, and how to look at
+// and shrink it; "" when the run added less.
+constexpr uint64_t kCacheGrowthNoteBytes = 100ull * 1000 * 1000;
+std::string cache_growth_note(const std::string& dir, uint64_t added_bytes, double cap_gb,
+                              uint64_t threshold = kCacheGrowthNoteBytes);
+
+// "1.23 GB" / "45.6 MB" / "7.8 KB" / "789 B" (GB = 2^30 bytes, MB = 2^20, KB = 2^10, as
+// cache.max_gb).
+std::string cache_size_text(uint64_t bytes);
+
+// `fovsim cache info`: what the folder holds, the free space there and the cap a run with
+// cache.max_gb = 0 (the default) would use now.
+struct CacheInfo {
+  CacheUsage usage;
+  std::optional<uint64_t> free_bytes;
+  double default_cap_gb = 0;
+};
+CacheInfo cache_info(const std::string& dir);
+// Lines "cache folder: ...", "size: ...", "cap: ...", "free disk space: ...".
+std::string cache_info_text(const CacheInfo& info);
+// {"dir", "exists", "entries", "bytes", "kinds": [{"name", "entries", "bytes"}],
+//  "temporaries", "free_bytes" (null when unknown), "default_max_gb", "cap_rule"}.
+Json cache_info_json(const CacheInfo& info);
+// "pruned DIR to at most X GB: removed N entries (S); it holds S' in N' entries".
+std::string prune_report_text(const PruneReport& r, double max_gb);
+
 class DiskCache {
  public:
   // Entries of `kind` (a folder name) under `dir`, at most `max_bytes` of them together.

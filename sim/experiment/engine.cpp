@@ -1005,6 +1005,22 @@ std::vector<CellResult> run_cells_impl(const std::vector<CellJob>& jobs, const E
                                        GroupStats* stats);
 }
 
+std::string cache_growth_note(const std::vector<GroupStats>& stats) {
+  std::string dir;
+  double cap = 0, note_mb = -1;
+  uint64_t bytes = 0;
+  for (auto& g : stats) {
+    if (g.cache_dir.empty()) continue;
+    if (dir.empty()) dir = g.cache_dir;
+    if (g.cache_dir != dir) continue;  // one folder per note (a sweep's groups share one)
+    cap = g.cache_cap_gb;
+    note_mb = note_mb < 0 ? g.cache_note_mb : std::min(note_mb, g.cache_note_mb);
+    bytes += g.cache_bytes_written;
+  }
+  if (dir.empty()) return "";
+  return cache_growth_note(dir, bytes, cap, uint64_t(std::max(note_mb, 0.0) * 1e6));
+}
+
 std::vector<CellResult> run_cells(const std::vector<CellJob>& jobs, const EngineOptions& opt,
                                   GroupStats* stats) {
   // Out of memory outside the scene and the trace (which say so themselves): the frames, whose
@@ -1132,7 +1148,7 @@ std::vector<std::unique_ptr<DirLock>> start_output_folders(
 std::unique_ptr<ReferenceCache> open_reference_cache(const EngineOptions& opt, Shared& sh,
                                                      std::string& no_cache_dir) {
   if (!opt.use_cache || !sh.cache.enabled) return nullptr;
-  if (sh.cache.dir.empty()) sh.cache.dir = default_cache_dir();
+  sh.cache.resolve_cap();  // the folder, and cache.max_gb 0 -> from the free disk space
   if (sh.cache.dir.empty()) {
     no_cache_dir =
         "reference cache: no folder (cache.dir, FOVSIM_CACHE_DIR, XDG_CACHE_HOME and HOME are "
@@ -1716,10 +1732,12 @@ void run_pass(const GroupRun& g, std::vector<std::unique_ptr<Cell>>& cells, size
   };
   order.run(steps);
   progress.phase("outputs");
-  if (memo)  // the cells completed: their computed method entries go to the memo
+  if (memo) {  // the cells completed: their computed method entries go to the memo
     for (auto& c : cells)
       for (auto& m : c->methods)
         if (m.rec) memo->store(m.memo_key, *m.rec);
+    if (g.stats) g.stats->cache_bytes_written += memo->disk().stats().bytes_written;
+  }
 
   // ---- outputs (atomic; manifest "complete" last) ----
   const MetricsConfig& m0 = cells.front()->mcfg;
@@ -1783,7 +1801,13 @@ std::vector<CellResult> run_cells_impl(const std::vector<CellJob>& jobs, const E
   if (stats) {
     stats->setup_ms += setup_ms;
     stats->wall_ms += ms_since(g0);
-    if (rcache) stats->frames_from_cache += int(rcache->manifest()["frames_from_cache"].get<int>());
+    if (rcache) {
+      stats->frames_from_cache += int(rcache->manifest()["frames_from_cache"].get<int>());
+      stats->cache_dir = rcache->disk().dir();
+      stats->cache_cap_gb = rcache->max_gb();
+      stats->cache_note_mb = sh.cache.note_mb;
+      stats->cache_bytes_written += rcache->disk().stats().bytes_written;
+    }
     stats->peak_rss_bytes = peak_rss_bytes();
   }
   return results;

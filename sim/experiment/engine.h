@@ -74,7 +74,17 @@ struct GroupStats {
   int frames_from_cache = 0;    // references read from the reference cache (of `frames`)
   int passes = 0;               // frame loops over the group's cells (the memory budget)
   uint64_t peak_rss_bytes = 0;  // the process's peak resident memory at the group's end
+  // The reference cache (references and method memo together), when used: its folder, its
+  // cap (cache.max_gb, resolved), cache.note_mb, and the bytes this group wrote to it.
+  std::string cache_dir;
+  double cache_cap_gb = 0, cache_note_mb = 0;
+  uint64_t cache_bytes_written = 0;
 };
+
+// The line for stderr after a run whose groups (`stats`, one per run_cells call) wrote more
+// than cache.note_mb to the reference cache (cache_growth_note, sim/core/disk_cache.h); "" when
+// they wrote less or used no cache.
+std::string cache_growth_note(const std::vector<GroupStats>& stats);
 
 // Runs `jobs`, which must share one reference_key (checked). Every cell's config is fully
 // validated before the first frame. Each cell's folder receives manifest.json (status

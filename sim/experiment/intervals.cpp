@@ -34,6 +34,15 @@ const std::vector<std::string>& headline_metrics() {
   return m;
 }
 
+const std::vector<std::string>& paired_metrics() {
+  static const std::vector<std::string> m = [] {
+    std::vector<std::string> v = {"est_ms_total", "shaded_fraction"};
+    for (auto& n : paired_metric_names()) v.push_back(n);  // the metric registry
+    return v;
+  }();
+  return m;
+}
+
 namespace {
 
 // A paired difference of a sequence-pooled metric (sim/metrics/registry.h): the difference of
@@ -132,7 +141,7 @@ ResultTable paired_differences(const ResultTable& frames) {
       if (gpu_of[a] != gpu_of[b]) continue;
       std::map<double, const ResultRow*> b_by_frame;
       for (auto* r : rows[b]) b_by_frame[r->get("frame", NAN)] = r;
-      for (auto& m : headline_metrics()) {
+      for (auto& m : paired_metrics()) {
         if (!present.count(paired_source_column(m))) continue;
         ResultRow row;
         row.set_text("config_a", a);

@@ -18,8 +18,14 @@ namespace fovsim {
 // and method parameters (constant per config).
 bool has_interval(const std::string& column);
 
-// The metrics compared pairwise in paired.csv (those present in the frames table).
+// The headline columns: est_ms_total, shaded_fraction and the registry's headline metrics with
+// their shown foveation-loss columns (console notes, tracking states).
 const std::vector<std::string>& headline_metrics();
+
+// The metrics compared pairwise in paired.csv (those present in the frames table): the headline
+// columns, then the registry's `paired` metrics and their `_fl` columns (rmse_fovea,
+// rmse_fovea_fl, rmse_periphery, rmse_periphery_fl: sim/metrics/registry.h paired_metric_names).
+const std::vector<std::string>& paired_metrics();
 
 // One row per (config_a, config_b, metric) for every pair of configs costed on the same GPU,
 // a before b in first-seen order: frames (paired frames with both values finite), mean_a,

@@ -47,10 +47,17 @@ bool pairs_from(const Json& a, std::vector<std::pair<std::string, double>>& out)
 
 }  // namespace
 
+namespace {
+double resolved_cap_gb(ReferenceCacheSettings s) {
+  s.resolve_cap();  // a no-op when the engine resolved it (open_reference_cache)
+  return s.max_gb;
+}
+}  // namespace
+
 MethodMemo::MethodMemo(const ReferenceCacheSettings& s)
     : disk_(s.dir.empty() ? default_cache_dir() : s.dir, "methods",
-            uint64_t(std::min(s.max_gb * kGiB, 9.0e18))),
-      max_gb_(s.max_gb) {
+            uint64_t(std::min(resolved_cap_gb(s) * kGiB, 9.0e18))),
+      max_gb_(resolved_cap_gb(s)) {
   disk_.share_cap_with({"references"});  // one cap, cache.max_gb, for both kinds
 }
 

@@ -63,6 +63,7 @@ class MethodMemo {
 
   // manifest.json "method_memo": the cache's statistics for this kind.
   Json manifest() const;
+  const DiskCache& disk() const { return disk_; }
   std::vector<std::string> warnings() const;
 
  private:

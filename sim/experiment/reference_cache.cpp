@@ -1,5 +1,6 @@
 #include "sim/experiment/reference_cache.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -32,12 +33,27 @@ ReferenceCacheSettings ReferenceCacheSettings::from_params(Params& p) {
   return cache_block_table().read(p);
 }
 
+void ReferenceCacheSettings::resolve_cap() {
+  if (dir.empty()) dir = default_cache_dir();
+  if (max_gb > 0 || dir.empty()) return;
+  max_gb = std::max(default_cache_cap_gb(dir), 1e-6);
+  cap_auto = true;
+}
+
+namespace {
+ReferenceCacheSettings resolved(ReferenceCacheSettings s) {
+  s.resolve_cap();  // a no-op when the engine resolved it (open_reference_cache)
+  return s;
+}
+}  // namespace
+
 ReferenceCache::ReferenceCache(const ReferenceCacheSettings& s, const Scene& scene,
                                const Json& scene_config, const Display& sim_display,
                                const RenderSettings& rs)
-    : max_gb_(s.max_gb),
+    : max_gb_(resolved(s).max_gb),
+      cap_auto_(s.cap_auto || s.max_gb <= 0),
       disk_(s.dir.empty() ? default_cache_dir() : s.dir, "references",
-            uint64_t(std::min(s.max_gb * kGiB, 9.0e18))) {
+            uint64_t(std::min(max_gb_ * kGiB, 9.0e18))) {
   disk_.share_cap_with({"methods"});  // the method memo's entries (method_memo.h) count too
   char h[20];
   std::snprintf(h, sizeof h, "%016llx", static_cast<unsigned long long>(scene_content_hash(scene)));
@@ -120,6 +136,7 @@ void ReferenceCache::store(const std::string& key, const FrameData& fd) {
 Json ReferenceCache::manifest() const {
   Json j{{"dir", disk_.dir()},
          {"max_gb", max_gb_},
+         {"max_gb_auto", cap_auto_},
          {"frames_from_cache", from_cache_},
          {"frames_computed", computed_}};
   const Json st = disk_.stats().to_json();

@@ -32,8 +32,17 @@ namespace fovsim {
 struct ReferenceCacheSettings {
   bool enabled = true;  // cache.enabled
   std::string dir;      // cache.dir; "" = default_cache_dir()
-  double max_gb = 20;   // cache.max_gb: size cap of the reference entries (LRU)
+  // cache.max_gb: size cap of the reference and method memo entries (LRU), GB of 2^30 bytes;
+  // 0: default_cache_cap_gb (sim/core/disk_cache.h), resolved by resolve_cap().
+  double max_gb = 0;
+  bool cap_auto = false;  // max_gb was 0 and resolve_cap() chose it
+  // cache.note_mb: a run that adds more than this to the cache says so on stderr, with the
+  // cache's size, place and cap (cache_growth_note, sim/core/disk_cache.h); MB of 10^6 bytes.
+  double note_mb = 100;
   static ReferenceCacheSettings from_params(Params& p);  // p: the `cache` block
+  // Fills `dir` (default_cache_dir() when empty) and, when max_gb is 0, max_gb from the free
+  // disk space at dir (cap_auto = true). Idempotent.
+  void resolve_cap();
 };
 
 class ReferenceCache {
@@ -52,12 +61,14 @@ class ReferenceCache {
   // entries written, and what was ignored or evicted.
   Json manifest() const;
   const DiskCache& disk() const { return disk_; }
+  double max_gb() const { return max_gb_; }
   // The entries this run found unusable, and other cache warnings (manifest "warnings").
   std::vector<std::string> warnings() const;
 
  private:
   Json base_;  // the frame-independent part of every key
   double max_gb_;
+  bool cap_auto_;
   DiskCache disk_;
   int from_cache_ = 0, computed_ = 0;
 };

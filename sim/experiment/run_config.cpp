@@ -196,13 +196,22 @@ const ParamTable<ReferenceCacheSettings>& cache_block_table() {
                "to the current directory (as `--out` is: one cache for every config). Runs "
                "and sweep shards that point at one folder (also on a shared file system) "
                "reuse each other's frames")
-          .number("max_gb", 20, Range::closed(1e-6, 1e6), &B::max_gb)
+          .number("max_gb", 0, Range::closed(0, 1e6), &B::max_gb)
+          .shown("`0` (automatic)")
           .doc("",
-               "size cap of the folder's cached references and method memo entries together; "
-               "the least recently used entries (by "
+               "size cap of the folder's cached references and method memo entries together, GB "
+               "of 2^30 bytes; `0`: min(20 GB, 10% of the free disk space at the folder plus "
+               "what the cache holds), chosen when a run opens the cache (the manifest's "
+               "`reference_cache.max_gb`, `max_gb_auto`); `fovsim cache info` shows it, `fovsim "
+               "cache prune` shrinks the folder now. The least recently used entries (by "
                "mtime; a read renews it) are removed first. The quickstart writes 5.2 MB per "
                "frame at render.scale 0.25; size grows with render.scale^2 (about 21 MB per "
                "frame at its shipped 0.5)")
+          .number("note_mb", 100, Range::closed(0, 1e9), &B::note_mb)
+          .doc("",
+               "a run that adds more than this many MB (10^6 bytes) to the cache prints one "
+               "line on stderr: the folder, what it holds, its cap, and the `fovsim cache` "
+               "commands")
           .validate([](const B& b, Params& p) {
             if (b.dir.find('\0') != std::string::npos) p.fail("dir", "contains a NUL character");
           });

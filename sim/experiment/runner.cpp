@@ -19,6 +19,25 @@
 
 namespace fovsim {
 
+namespace {
+// What run_experiment returns of its one cell, and the note when it grew the reference cache
+// by more than cache.note_mb (engine.h cache_growth_note).
+RunResult result_of(CellResult& c, const GroupStats& gs) {
+  RunResult result;
+  result.out_dir = c.out_dir;
+  result.frames = std::move(c.frames);
+  result.summary = std::move(c.summary);
+  result.target = c.target;
+  result.warnings = c.warnings;
+  result.printed_summary = c.print_summary;
+  result.fidelity_note = c.fidelity_note;
+  result.notes = c.notes;
+  const std::string grew = cache_growth_note({gs});
+  if (!grew.empty()) result.notes.push_back(grew);
+  return result;
+}
+}  // namespace
+
 RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt) {
   std::unique_ptr<tbb::global_control> threads;
   if (opt.threads > 0)
@@ -47,17 +66,10 @@ RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt) {
   eo.watchdog.min_s = opt.watchdog_s;
   eo.use_cache = opt.use_cache;
   for (auto& t : opt.targets) eo.targets.push_back(parse_target(t));
-  auto cells = run_cells({job}, eo);
+  GroupStats gs;
+  auto cells = run_cells({job}, eo, &gs);
   CellResult& c = cells.front();
-  RunResult result;
-  result.out_dir = c.out_dir;
-  result.frames = std::move(c.frames);
-  result.summary = std::move(c.summary);
-  result.target = c.target;
-  result.warnings = c.warnings;
-  result.printed_summary = c.print_summary;
-  result.fidelity_note = c.fidelity_note;
-  result.notes = c.notes;
+  RunResult result = result_of(c, gs);
   if (c.print_summary) {
     // `+-`: half-widths of the 95% intervals (summary.csv `<col>_ci95`; nan below 20 frames).
     // The metric columns are the registry's headline metrics present in the run.

@@ -141,7 +141,7 @@ std::string cell_dir(const std::string& out, const SweepCell& c) {
   return out + "/runs/" + c.id();
 }
 
-// The columns of a cell's frames.csv that sweep pairing needs (the headline metrics).
+// The columns of a cell's frames.csv that sweep pairing needs (paired_metrics()).
 ResultTable read_frames_for_pairs(const std::string& path) {
   ResultTable t;
   std::vector<CsvRow> rows = read_csv_rows(path, ',', 0);
@@ -149,7 +149,7 @@ ResultTable read_frames_for_pairs(const std::string& path) {
   // The headline metrics and the per-frame columns their paired differences read (a sequence
   // metric's pooled column, e.g. fvvdp_q for fvvdp_jod): metric list from the registry.
   std::set<std::string> metrics;
-  for (auto& m : headline_metrics()) {
+  for (auto& m : paired_metrics()) {
     metrics.insert(m);
     metrics.insert(paired_source_column(m));
   }
@@ -260,8 +260,8 @@ ResultTable sweep_paired(const std::string& out, const SweepPlan& plan) {
           std::map<double, const ResultRow*> b_by_frame;
           for (auto* r : it->second) b_by_frame[r->get("frame", NAN)] = r;
           const std::string* g = by_cfg[i][id].front()->text_of("gpu");
-          for (auto& m : headline_metrics()) {  // metric list: registry
-            if (!present.count(m)) continue;
+          for (auto& m : paired_metrics()) {  // metric list: registry
+            if (!present.count(paired_source_column(m))) continue;
             ResultRow row;
             common(row, "across", a, b);
             row.set_text("config_a", id);
@@ -439,6 +439,7 @@ SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const Swee
     threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                     size_t(opt.threads));
   SweepReport rep;
+  std::vector<GroupStats> group_stats;  // per run_cells call: the reference cache's growth
   rep.out_dir = sweep_out_dir(plan, opt.out_dir);
   rep.cells_total = int(plan.cells.size());
   const std::string& out = rep.out_dir;
@@ -543,8 +544,10 @@ SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const Swee
       rep.reference_frames_from_cache += gs.frames_from_cache;
       rep.ref_ms += gs.ref_ms;
       rep.setup_ms += gs.setup_ms;
+      group_stats.push_back(gs);
     }
   }
+  rep.cache_note = cache_growth_note(group_stats);
 
   // Summaries once every cell of the sweep is complete here (the last shard to finish writes
   // them; concurrent writers produce the same bytes, atomically).

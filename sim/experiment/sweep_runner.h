@@ -45,6 +45,9 @@ struct SweepReport {
   double wall_ms = 0, ref_ms = 0, cell_ms = 0, setup_ms = 0;
   double cpu_ms = 0;      // CPU time (user + system) of the process during this call, all threads
   bool complete = false;  // every cell of the sweep is complete in out_dir (summary written)
+  // The reference cache's growth, when this call added more than cache.note_mb to it
+  // (cache_growth_note, engine.h); "" otherwise.
+  std::string cache_note;
 };
 
 // Contiguous index range [first, last) of shard `i` of `n` over `cells` cells.

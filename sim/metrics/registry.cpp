@@ -53,8 +53,10 @@ std::vector<MetricDecl> make_registry() {
   }
   r.push_back(frame_metric("rmse_fovea", "1", "RMSE in the fovea [0-1]", Better::lower, false,
                            Tol::none, 4, "", "RMSE over the pixels within metrics.fovea_deg"));
+  r.back().paired = true;  // the latency what-if's metric (docs/latency.md)
   r.push_back(frame_metric("rmse_periphery", "1", "RMSE in the periphery [0-1]", Better::lower,
                            false, Tol::none, 4, "", "RMSE over the pixels beyond fovea_deg"));
+  r.back().paired = true;
   {
     MetricDecl d =
         frame_metric("rmse_ecc_", "1", "RMSE in an eccentricity band [0-1]", Better::lower, false,
@@ -137,6 +139,16 @@ std::vector<std::string> headline_metric_names(bool with_fl) {
   return out;
 }
 
+std::vector<std::string> paired_metric_names() {
+  std::vector<std::string> out = headline_metric_names(true);
+  for (auto& d : metric_registry())
+    if (d.paired && !d.headline) {
+      out.push_back(d.name);
+      out.push_back(d.name + kFoveationLossSuffix);
+    }
+  return out;
+}
+
 bool higher_is_better(const std::string& column) {
   const MetricDecl* d = find_metric(column);
   if (!d) return false;
@@ -164,6 +176,7 @@ Json metric_registry_json() {
     j["pooling"] = d.pooling == Pooling::sequence ? "sequence" : "frame_mean";
     j["pooled_column"] = d.pooled_column;
     j["headline"] = d.headline;
+    j["paired"] = d.paired;
     j["show_fl"] = d.show_fl;
     j["convergence_tol"] = tol_name(d.convergence_tol);
     j["precision"] = d.precision;

@@ -125,6 +125,10 @@ struct MetricDecl {
   // Its foveation-loss column (`<name>_fl`) is shown beside the headline metrics in the console
   // summary and the plots.
   bool show_fl = false;
+  // Compared pairwise in paired.csv beside the headline metrics, with its foveation-loss column
+  // (`<name>_fl`): the per-region errors a study reads, e.g. rmse_fovea_fl for the latency
+  // what-if (docs/latency.md).
+  bool paired = false;
   // printf precision of the metric in tables (console summary, fidelity report).
   int precision = 3;
   std::string cite;  // paper, author and year
@@ -146,13 +150,17 @@ bool is_foveation_loss_column(const std::string& column);
 // show_fl.
 std::vector<std::string> headline_metric_names(bool with_fl = false);
 
+// The metrics paired.csv compares: headline_metric_names(true), then for every declaration
+// with `paired` its name and its `_fl` column, in registry order.
+std::vector<std::string> paired_metric_names();
+
 // True when a larger value of `column` is better: the registry's direction for metrics; false
 // (lower is better) for every other column (costs, times, counts).
 bool higher_is_better(const std::string& column);
 
 // The registry as JSON ([{"name", "family", "unit", "label", "better", "pooling",
-// "pooled_column", "headline", "convergence_tol", "precision", "cite", "doc"}]): written into
-// every run's manifest and by `fovsim info --json`, so viz and Python read the same list.
+// "pooled_column", "headline", "paired", "convergence_tol", "precision", "cite", "doc"}]): written
+// into every run's manifest and by `fovsim info --json`, so viz and Python read the same list.
 Json metric_registry_json();
 
 }  // namespace fovsim

@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "app_util.h"
+#include "sim/core/params.h"  // Json
 
 using namespace fovsim_test;
 namespace fs = std::filesystem;
@@ -161,5 +162,78 @@ TEST(CacheCli, BadCacheKeyIsOneLocatedLine) {
       run_cmd(fovsim_bin() + " run " + dir + "/c.json -q --no-plots -o " + dir + "/o cache.size=1");
   EXPECT_EQ(k.code, 2) << k.output;
   EXPECT_NE(k.output.find("cache.size"), std::string::npos) << k.output;
+  fs::remove_all(dir);
+}
+
+// `fovsim cache info` names the folder, its size and entries per kind and the cap; `prune
+// --max-gb` shrinks it (least recently used first); a bad --max-gb is one line naming the flag
+// and its range, exit code 2, the cache untouched. A run that adds more than cache.note_mb says
+// so on stderr.
+TEST(CacheCli, InfoPruneAndGrowthNote) {
+  const std::string dir = temp_dir("cache_info");
+  write_text(dir + "/c.json", kConfig);
+  const std::string env = "env -u FOVSIM_NO_CACHE FOVSIM_CACHE_DIR=" + dir + "/cache ";
+  auto a = run_cmd(env + fovsim_bin() + " run " + dir + "/c.json -q --no-plots -o " + dir +
+                   "/a cache.note_mb=0");
+  ASSERT_EQ(a.code, 0) << a.output;
+  EXPECT_NE(a.output.find("note: reference cache " + dir + "/cache: this run wrote "),
+            std::string::npos)
+      << a.output;
+  EXPECT_NE(a.output.find("`fovsim cache info`"), std::string::npos) << a.output;
+  // The default cache.note_mb (100 MB): these few KB are not worth a line.
+  auto b = run_cmd(env + fovsim_bin() + " run " + dir + "/c.json -q --no-plots -o " + dir +
+                   "/b methods[1].sigma=2.4");
+  ASSERT_EQ(b.code, 0) << b.output;
+  EXPECT_EQ(b.output.find("note: reference cache"), std::string::npos) << b.output;
+  EXPECT_NE(read_text(dir + "/b/manifest.json").find("\"max_gb_auto\": true"), std::string::npos);
+
+  auto info = run_cmd(env + fovsim_bin() + " cache info");
+  ASSERT_EQ(info.code, 0) << info.output;
+  EXPECT_NE(info.output.find("cache folder: " + dir + "/cache\n"), std::string::npos)
+      << info.output;
+  EXPECT_NE(info.output.find("references: 3, "), std::string::npos) << info.output;
+  EXPECT_NE(info.output.find("methods: "), std::string::npos) << info.output;
+  EXPECT_NE(info.output.find("cap: "), std::string::npos) << info.output;
+  EXPECT_NE(info.output.find("free disk space: "), std::string::npos) << info.output;
+  auto js = run_cmd(fovsim_bin() + " cache info --json --dir " + dir + "/cache");
+  ASSERT_EQ(js.code, 0) << js.output;
+  const fovsim::Json j = fovsim::Json::parse(js.output);
+  const uint64_t before = j["bytes"].get<uint64_t>();
+  EXPECT_GT(before, 0u);
+  EXPECT_GE(j["entries"].get<int>(), 3);
+  EXPECT_LE(j["default_max_gb"].get<double>(), 20.0);
+
+  // Bad values: one line naming the flag and the range, exit 2, nothing removed.
+  for (const char* bad : {"-1", "abc", "nan"}) {
+    auto r = run_cmd(fovsim_bin() + " cache prune --dir " + dir + "/cache --max-gb " + bad);
+    EXPECT_EQ(r.code, 2) << bad << ": " << r.output;
+    EXPECT_NE(r.output.find("--max-gb"), std::string::npos) << r.output;
+  }
+  auto r0 = run_cmd(fovsim_bin() + " cache prune --dir " + dir + "/cache --max-gb -1");
+  EXPECT_NE(r0.output.find("[0, 1e+06]"), std::string::npos) << r0.output;
+  auto same = fovsim::Json::parse(
+      run_cmd(fovsim_bin() + " cache info --json --dir " + dir + "/cache").output);
+  EXPECT_EQ(same["bytes"].get<uint64_t>(), before);
+
+  // Prune to a size below what it holds: fewer bytes, at most the size asked for.
+  const double half_gb = double(before) / 2 / (1024.0 * 1024.0 * 1024.0);
+  auto p = run_cmd(fovsim_bin() + " cache prune --dir " + dir + "/cache --max-gb " +
+                   std::to_string(half_gb));
+  ASSERT_EQ(p.code, 0) << p.output;
+  EXPECT_NE(p.output.find("pruned " + dir + "/cache to at most"), std::string::npos) << p.output;
+  auto after = fovsim::Json::parse(
+      run_cmd(fovsim_bin() + " cache info --json --dir " + dir + "/cache").output);
+  EXPECT_LT(after["bytes"].get<uint64_t>(), before);
+  EXPECT_LE(double(after["bytes"].get<uint64_t>()), double(before) / 2 + 1);
+  auto p0 = run_cmd(fovsim_bin() + " cache prune --dir " + dir + "/cache --max-gb 0");
+  ASSERT_EQ(p0.code, 0) << p0.output;
+  EXPECT_NE(p0.output.find("it holds 0 B in 0 entries"), std::string::npos) << p0.output;
+  // No folder at all: an error naming what to give.
+  auto none =
+      run_cmd("env -u FOVSIM_CACHE_DIR -u XDG_CACHE_HOME -u HOME " + fovsim_bin() + " cache info");
+  EXPECT_EQ(none.code, 2) << none.output;
+  EXPECT_NE(none.output.find("give --dir"), std::string::npos) << none.output;
+  auto sub = run_cmd(fovsim_bin() + " cache");
+  EXPECT_NE(sub.code, 0);
   fs::remove_all(dir);
 }

@@ -321,3 +321,80 @@ TEST(DiskCache, DefaultFolderAndSwitch) {
     else
       ::unsetenv(names[i]);
 }
+
+// `fovsim cache info` / `prune` (cache_usage, prune_cache): every kind is counted, and pruning
+// removes the least recently used entries of all kinds together down to the size asked for.
+TEST(DiskCache, UsageAndPruneAcrossKinds) {
+  const std::string d = fresh_dir("prune");
+  const CacheItem it = item_of(25000, 2.f);
+  DiskCache refs(d, "references", 1ull << 30), memo(d, "methods", 1ull << 30);
+  refs.put("a", it);
+  refs.put("b", it);
+  memo.put("m", it);
+  // The headers differ by the key and the kind's name: sizes per file.
+  const uint64_t sa = fs::file_size(refs.path_of("a")), sb = fs::file_size(refs.path_of("b")),
+                 sm = fs::file_size(memo.path_of("m"));
+  const auto now = fs::file_time_type::clock::now();
+  fs::last_write_time(refs.path_of("a"), now - std::chrono::seconds(30));
+  fs::last_write_time(memo.path_of("m"), now - std::chrono::seconds(20));
+  fs::last_write_time(refs.path_of("b"), now - std::chrono::seconds(10));
+  CacheUsage u = cache_usage(d);
+  EXPECT_TRUE(u.exists);
+  EXPECT_EQ(u.entries, 3u);
+  EXPECT_EQ(u.bytes, sa + sb + sm);
+  ASSERT_EQ(u.kinds.size(), 2u);
+  EXPECT_EQ(u.kinds[0].name, "methods");
+  EXPECT_EQ(u.kinds[0].entries, 1u);
+  EXPECT_EQ(u.kinds[1].name, "references");
+  EXPECT_EQ(u.kinds[1].bytes, sa + sb);
+  // Down to one and a half entries: the two oldest (a, then the memo's m) go.
+  PruneReport r = prune_cache(d, sb + sb / 2);
+  EXPECT_EQ(r.removed_entries, 2u);
+  EXPECT_EQ(r.removed_bytes, sa + sm);
+  EXPECT_EQ(r.before.bytes, sa + sb + sm);
+  EXPECT_EQ(r.after.bytes, sb);
+  EXPECT_FALSE(fs::exists(refs.path_of("a")));
+  EXPECT_FALSE(fs::exists(memo.path_of("m")));
+  EXPECT_TRUE(fs::exists(refs.path_of("b")));
+  EXPECT_NE(prune_report_text(r, 1.5).find("removed 2 entries"), std::string::npos);
+  EXPECT_EQ(prune_cache(d, 0).after.entries, 0u);
+  // A folder that does not exist holds nothing and prunes to nothing, without an error.
+  EXPECT_FALSE(cache_usage(d + "/none").exists);
+  EXPECT_EQ(prune_cache(d + "/none", 0).removed_entries, 0u);
+  fs::remove_all(d);
+}
+
+// The default cap (cache.max_gb 0): min(20 GB, 10% of free space + what the cache holds).
+TEST(DiskCache, DefaultCapFollowsTheFreeSpace) {
+  const uint64_t gib = 1ull << 30;
+  EXPECT_DOUBLE_EQ(auto_cache_cap_gb(std::nullopt, 0), kCacheCapMaxGb);
+  EXPECT_DOUBLE_EQ(auto_cache_cap_gb(10 * gib, 0), 1.0);
+  EXPECT_DOUBLE_EQ(auto_cache_cap_gb(9 * gib, 1 * gib), 1.0);  // its own entries count as room
+  EXPECT_DOUBLE_EQ(auto_cache_cap_gb(1000 * gib, 0), 20.0);
+  EXPECT_DOUBLE_EQ(auto_cache_cap_gb(0, 0), 0.0);
+  // A folder not created yet: the free space of its nearest existing parent.
+  const std::string d = fresh_dir("free");
+  const auto f = free_disk_bytes(d + "/not/yet");
+  ASSERT_TRUE(f.has_value());
+  EXPECT_GT(*f, 0u);
+  EXPECT_LE(default_cache_cap_gb(d + "/not/yet"), kCacheCapMaxGb);
+  EXPECT_FALSE(free_disk_bytes("").has_value());
+}
+
+// A run that adds more than the threshold says where the cache is and how big it is.
+TEST(DiskCache, GrowthNoteAboveTheThresholdOnly) {
+  const std::string d = fresh_dir("note");
+  DiskCache refs(d, "references", 1ull << 30);
+  refs.put("a", item_of(1000, 1.f));
+  EXPECT_EQ(cache_growth_note(d, 100, 2.0, 100), "");
+  const std::string n = cache_growth_note(d, 101, 2.0, 100);
+  EXPECT_NE(n.find("reference cache " + d + ": this run wrote 101 B to it"), std::string::npos)
+      << n;
+  EXPECT_NE(n.find("in 1 entry (cap cache.max_gb 2 GB)"), std::string::npos) << n;
+  EXPECT_NE(n.find("fovsim cache prune --max-gb"), std::string::npos) << n;
+  EXPECT_EQ(n.find('\n'), std::string::npos);  // one line
+  EXPECT_EQ(cache_size_text(3ull << 30), "3.00 GB");
+  EXPECT_EQ(cache_size_text(5ull << 20), "5.0 MB");
+  EXPECT_EQ(cache_size_text(1536), "1.5 KB");
+  fs::remove_all(d);
+}

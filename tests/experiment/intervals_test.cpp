@@ -129,6 +129,39 @@ TEST(Intervals, PairedDifferencesMatchFramesAndGpus) {
   EXPECT_EQ(p.rows().size(), 3u * 2u);  // (a,b), (a,c), (b,c) x 2 metrics
 }
 
+// paired.csv has a row for every metric the docs recommend reading pairwise: the latency
+// study's rmse_fovea_fl (docs/latency.md) and rmse_fovea, rmse_periphery and its _fl, beside
+// the headline metrics.
+TEST(Intervals, PairedHasTheRegionErrorsAndTheirFoveationLoss) {
+  for (const char* m : {"rmse_fovea", "rmse_fovea_fl", "rmse_periphery", "rmse_periphery_fl"}) {
+    const auto& pm = paired_metrics();
+    EXPECT_NE(std::find(pm.begin(), pm.end(), m), pm.end()) << m;
+  }
+  ResultTable f;
+  for (int i = 0; i < 40; ++i) {
+    ResultRow a = frame_row("lat0", "g", i, 30, 5), b = frame_row("lat50", "g", i, 30, 5);
+    a.set("rmse_fovea_fl", 0.010 + 0.001 * (i % 3));
+    b.set("rmse_fovea_fl", 0.014 + 0.001 * (i % 3));  // +0.004 on every frame
+    a.set("rmse_fovea", 0.2);
+    b.set("rmse_fovea", 0.2);
+    f.add(a);
+    f.add(b);
+  }
+  ResultTable p = paired_differences(f);
+  std::map<std::string, const ResultRow*> by;
+  for (auto& r : p.rows()) by[*r.text_of("metric")] = &r;
+  ASSERT_TRUE(by.count("rmse_fovea_fl"));
+  ASSERT_TRUE(by.count("rmse_fovea"));
+  EXPECT_FALSE(by.count("rmse_periphery"));  // not in the frames table
+  EXPECT_NEAR(by["rmse_fovea_fl"]->get("diff", NAN), -0.004, 1e-12);
+  EXPECT_NEAR(by["rmse_fovea_fl"]->get("diff_ci95", NAN), 0.0, 1e-12);
+  EXPECT_EQ(by["rmse_fovea_fl"]->get("differs", NAN), 1.0);
+  EXPECT_EQ(by["rmse_fovea"]->get("differs", NAN), 0.0);
+  // The console's headline list is unchanged (the region errors are not headline metrics).
+  const auto& h = headline_metrics();
+  EXPECT_EQ(std::find(h.begin(), h.end(), "rmse_fovea_fl"), h.end());
+}
+
 TEST(Intervals, PairedSkipsNonFiniteFramesAndIsUndefinedWhenShort) {
   ResultTable f;
   for (int i = 0; i < 25; ++i) f.add(frame_row("full", "g", i, INFINITY, 6.0));

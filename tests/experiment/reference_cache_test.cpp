@@ -194,7 +194,8 @@ TEST(ReferenceCache, BadKeysAreLocatedErrors) {
     }
     return std::string("no error");
   };
-  EXPECT_NE(message(Json{{"max_gb", 0}}).find("refcache.json: cache.max_gb"), std::string::npos);
+  EXPECT_NE(message(Json{{"max_gb", -1}}).find("refcache.json: cache.max_gb"), std::string::npos);
+  EXPECT_NE(message(Json{{"note_mb", -1}}).find("refcache.json: cache.note_mb"), std::string::npos);
   EXPECT_NE(message(Json{{"max_gb", "10"}}).find("cache.max_gb"), std::string::npos);
   EXPECT_NE(message(Json{{"enabled", 1}}).find("cache.enabled"), std::string::npos);
   EXPECT_NE(message(Json{{"dirr", "x"}}).find("cache.dirr"), std::string::npos);

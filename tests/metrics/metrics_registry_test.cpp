@@ -62,6 +62,10 @@ TEST(MetricRegistry, NamesAreUniqueAndDeclarationsComplete) {
   }
   const auto h = headline_metric_names();
   EXPECT_EQ(h, (std::vector<std::string>{"psnr", "fpsnr", "ssim", "flip", "fvvdp_jod"}));
+  const auto p = paired_metric_names();
+  EXPECT_EQ(std::vector<std::string>(p.end() - 4, p.end()),
+            (std::vector<std::string>{"rmse_fovea", "rmse_fovea_fl", "rmse_periphery",
+                                      "rmse_periphery_fl"}));
 }
 
 TEST(MetricRegistry, JsonCarriesEveryField) {
@@ -69,7 +73,7 @@ TEST(MetricRegistry, JsonCarriesEveryField) {
   ASSERT_EQ(j.size(), metric_registry().size());
   for (auto& m : j)
     for (const char* k : {"name", "family", "unit", "label", "better", "pooling", "pooled_column",
-                          "headline", "convergence_tol", "precision", "cite", "doc"})
+                          "headline", "paired", "convergence_tol", "precision", "cite", "doc"})
       EXPECT_TRUE(m.contains(k)) << k;
   EXPECT_EQ(j[4]["name"], "fvvdp_jod");
   EXPECT_EQ(j[4]["pooling"], "sequence");
