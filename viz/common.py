@@ -82,6 +82,19 @@ def budget_ms(manifest, summary_rows=None):
     return None
 
 
+def fit_rule(summary_rows):
+    """The run's budget decision (docs/cost_model.md "Budget decisions"): (level, fraction) where a
+    configuration fits a budget B at p_fit >= level when its estimate <= fraction * B
+    (summary.csv's fit_threshold_ms / budget_ms, the same for every budget), from the first row
+    that has them; None for results without the columns, or with no interval (fraction 1)."""
+    for row in summary_rows or []:
+        t, b, lv = to_float(row.get("fit_threshold_ms")), to_float(row.get("budget_ms")), to_float(row.get("fit_level"))
+        if math.isfinite(t) and math.isfinite(b) and b > 0 and math.isfinite(lv):
+            f = t / b
+            return (lv, f) if f < 1 - 1e-9 else None
+    return None
+
+
 def pareto_front(points):
     """Indices of the non-dominated points for (cost to minimise, quality to maximise),
     ordered by increasing cost."""
@@ -294,14 +307,18 @@ def plain_log_x(ax):
     ax.xaxis.set_minor_formatter(ticker.NullFormatter())
 
 
-def draw_quality_vs_budget(ax, entries, metric, budget=None):
+def draw_quality_vs_budget(ax, entries, metric, budget=None, rule=None):
     """Quality vs. budget on `ax`: entries = [(method, name, mean cost [ms], mean quality[,
     95% half-width of the quality])]; the half-widths (when finite) are error bars on the steps.
     For a budget B on the x axis, each method's step line is the best quality among its
-    configurations whose cost <= B (starts at its cheapest configuration); the black line is the
+    configurations that fit B (starts at its cheapest configuration); the black line is the
     best over all methods. Non-finite entries (fpsnr inf for `full`) are named, not drawn.
+    `rule` = fit_rule(summary): a configuration fits B when its cost <= fraction * B (p_fit >=
+    level), so each is drawn at the budget it needs, cost / fraction; without it, at its cost.
     Returns the names not drawn."""
     higher = higher_is_better(metric)
+    if rule:
+        entries = [(e[0], e[1], e[2] / rule[1]) + tuple(e[3:]) for e in entries]
     ok = [e for e in entries if math.isfinite(e[2]) and math.isfinite(e[3])]
     bad = [e[1] for e in entries if e not in ok]
     if not ok:
@@ -338,8 +355,10 @@ def draw_quality_vs_budget(ax, entries, metric, budget=None):
     logx = xmax > 4 * xmin  # a wide range (flc's indirect light next to the others): log scale
     if logx:
         plain_log_x(ax)
-    ax.set_xlabel(wrap("frame budget B [ms" + (", log scale" if logx else "") +
-                       "] (configurations with mean estimated frame time ≤ B)", 46))
+    fits = (f"that fit B at p_fit ≥ {rule[0]:g}: mean estimated frame time ≤ {rule[1]:.3f} B" if rule
+            else "with mean estimated frame time ≤ B")
+    ax.set_xlabel(wrap("frame budget B [ms" + (", log scale" if logx else "") + "] (configurations " + fits + ")",
+                       46))
     ax.set_ylabel(wrap(f"best mean {metric_label(metric)}", 34))
     title = metric + (" (higher is better)" if higher else " (lower is better)")
     if bad:  # in the title, where it cannot run into the data or the tick labels

@@ -6,12 +6,15 @@
 Reads results/<name>/frames.csv, summary.csv and manifest.json (column names:
 results/README.md) and writes PNGs plus an index.html to results/<name>/plots/ (or DIR):
   timeline.png          est_ms_total per frame and config, with the frame-budget line
-                        (1000 / display.refresh_hz from manifest.json)
+                        (1000 / display.refresh_hz from manifest.json) and the budget
+                        decision's line (summary.csv fit_threshold_ms: below it p_fit >=
+                        fit_level, docs/cost_model.md "Budget decisions")
   quality_vs_cost.png   mean fpsnr / psnr / ssim vs mean est_ms_total per config, Pareto
                         front (lower cost, higher quality) drawn; error bars: the 95% intervals
                         `<col>_ci95` of summary.csv (both axes)
   quality_vs_budget.png best mean fpsnr / ssim attainable within a frame budget B, per method
-                        (95% intervals) and over all methods, with the display's budget
+                        (95% intervals) and over all methods, with the display's budget; a
+                        configuration fits B at p_fit >= fit_level (the same decision)
   shaded_fraction.png   mean shaded_fraction per config, with its 95% interval
   paired_vs_baseline.png  every configuration minus the baseline (full), sorted by effect
   paired.png            paired.csv: per headline metric, the mean difference of every pair
@@ -164,12 +167,18 @@ def plot_timeline(run, out):
         raise Skip("frames.csv has neither frame nor t")
     b = common.budget_ms(run.manifest, run.summary)
     blabel = f"budget {b:.2f} ms ({1000 / b:.0f} Hz)" if b is not None else None
-    fig, (ax,) = common.figure(1, height=2.8, legend=legend_entries(run, blabel))
+    rule = common.fit_rule(run.summary) if b is not None else None
+    # The budget decision (docs/cost_model.md "Budget decisions"): below this line the p95 frame
+    # fits with probability >= the level under the GPU profile's held-out errors.
+    flabel = f"fits at p_fit ≥ {rule[0]:g}: ≤ {rule[1] * b:.2f} ms" if rule else None
+    fig, (ax,) = common.figure(1, height=2.8, legend=legend_entries(run, blabel, flabel))
     for cid in run.configs:
         ax.plot(run.series(cid, xcol), run.series(cid, "est_ms_total"), lw=1, label=cid, color=run.color(cid),
                 ls=run.linestyle(cid))
     if b is not None:
         ax.axhline(b, color="red", ls="--", lw=1.2, label=blabel)
+    if rule:
+        ax.axhline(rule[1] * b, color="red", ls=":", lw=1.2, label=flabel)
     else:
         log("timeline: no display.refresh_hz in manifest.json and no budget_ms in summary.csv; no budget line")
     ax.set_xlabel("frame [index]" if xcol == "frame" else "t [s]")
@@ -250,7 +259,7 @@ def plot_quality_vs_budget(run, out):
     for ax, m in zip(axes, metrics):
         entries = [(c, c, run.mean(c, "est_ms_total"), run.mean(c, m), run.ci(c, m))
                    for c in run.configs]
-        common.draw_quality_vs_budget(ax, entries, m, b)
+        common.draw_quality_vs_budget(ax, entries, m, b, common.fit_rule(run.summary))
     for i, ax in enumerate(axes):
         if i + common.MAX_COLUMNS < len(axes):
             ax.set_xlabel("")  # shared x: the label under each column's bottom panel only

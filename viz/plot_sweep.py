@@ -204,7 +204,7 @@ def plot_quality_vs_budget(sw, out):
         for ax, m in zip(axes, metrics):
             entries = [(r.get("label") or r.get("method"), f"{r.get('label')} {sw.params_text(r)}".strip(),
                         sw.num(r, "est_ms_total"), sw.num(r, m), sw.num(r, m + "_ci95")) for r in rs]
-            common.draw_quality_vs_budget(ax, entries, m, b)
+            common.draw_quality_vs_budget(ax, entries, m, b, common.fit_rule(rs))
         common.figure_legend(fig, axes)
         fig.suptitle(common.wrap(f"{sw.meta.get('name', '')}: quality vs. frame budget" + (f" on {g}" if g else "") +
                                  f" ({len(rs)} distinct configurations)", 100))

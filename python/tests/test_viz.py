@@ -27,10 +27,12 @@ for f in range(4):
     FRAMES.append(f"full,full,full,{f},{f / 90},100,80,inf,inf,1,10")
     FRAMES.append(f"kfr,kfr,kfr,{f},{f / 90},100,80,{30 + f},{35 + f},0.9,4")
     FRAMES.append(f"rmfr,rmfr,rmfr,{f},{f / 90},100,80,{28 + f},{33 + f},0.88,5")
-SUMMARY = """config_id,method,frames,est_ms_total,est_ms_total_ci95,psnr,fpsnr,ssim,shaded_fraction
-full,full,4,10,nan,inf,inf,1,1
-kfr,kfr,4,4,0.1,31.5,36.5,0.9,0.3
-rmfr,rmfr,4,5,0.2,29.5,34.5,0.88,0.4
+# budget_ms / fit_level / fit_threshold_ms: the budget decision (docs/cost_model.md "Budget
+# decisions"), so every figure is also laid out with the p_fit line and shifted budget axis.
+SUMMARY = """config_id,method,frames,est_ms_total,est_ms_total_ci95,psnr,fpsnr,ssim,shaded_fraction,budget_ms,fit_level,fit_threshold_ms
+full,full,4,10,nan,inf,inf,1,1,11.11,0.8,9.24
+kfr,kfr,4,4,0.1,31.5,36.5,0.9,0.3,11.11,0.8,9.24
+rmfr,rmfr,4,5,0.2,29.5,34.5,0.88,0.4,11.11,0.8,9.24
 """
 
 
@@ -153,6 +155,47 @@ class Palette(unittest.TestCase):
         self.assertIn("5–10°", common.metric_label("rmse_ecc_5_10"))
 
 
+class FitRule(unittest.TestCase):
+    """The plots' budget line is the budget decision: summary.csv's fit_threshold_ms / budget_ms
+    (the estimate below which p_fit reaches fit_level) moves each configuration to the budget it
+    needs, and the timeline draws that threshold."""
+
+    def test_rule_and_shifted_budget_axis(self):
+        rows = [{"budget_ms": "11.11", "fit_level": "0.8", "fit_threshold_ms": "8.888"}]
+        lv, f = common.fit_rule(rows)
+        self.assertEqual(lv, 0.8)
+        self.assertAlmostEqual(f, 0.8, places=9)
+        self.assertIsNone(common.fit_rule([{"budget_ms": "11.11", "fit_level": "0.8", "fit_threshold_ms": "11.11"}]))
+        self.assertIsNone(common.fit_rule([{"budget_ms": "11.11"}]))  # results from before the columns
+        import matplotlib.pyplot as plt
+        fig, ax = plt.subplots()
+        common.draw_quality_vs_budget(ax, [("kfr", "kfr", 4.0, 30.0), ("kfr", "kfr b", 8.0, 33.0)], "fpsnr",
+                                      11.11, (0.8, 0.8))
+        xs = sorted(set(round(x, 6) for line in ax.get_lines() for x in line.get_xdata()
+                        if line.get_label() == "kfr"))
+        self.assertEqual(xs[:2], [5.0, 10.0])  # 4 / 0.8 and 8 / 0.8: the budgets they need
+        self.assertIn("p_fit ≥ 0.8", ax.get_xlabel())
+        plt.close(fig)
+
+    def test_timeline_draws_the_threshold(self):
+        with tempfile.TemporaryDirectory() as d:
+            write(os.path.join(d, "frames.csv"), "\n".join(FRAMES) + "\n")
+            write(os.path.join(d, "summary.csv"), SUMMARY)
+            seen = []
+            import matplotlib.axes
+            orig = matplotlib.axes.Axes.axhline
+
+            def grab(self_, y=0, *a, **k):
+                seen.append((round(y, 3), k.get("label")))
+                return orig(self_, y, *a, **k)
+            matplotlib.axes.Axes.axhline = grab
+            try:
+                plot_run.plot_timeline(plot_run.Run(d), d)
+            finally:
+                matplotlib.axes.Axes.axhline = orig
+        self.assertIn((9.24, "fits at p_fit ≥ 0.8: ≤ 9.24 ms"), seen)
+
+
 class SameMethodConfigs(unittest.TestCase):
     """full_tbds and fir are both method `full`: quality_vs_budget draws them as two lines under
     their own labels, never FIR's line under the legend "full"."""
@@ -169,9 +212,9 @@ class SameMethodConfigs(unittest.TestCase):
         seen = []
         orig = common.draw_quality_vs_budget
 
-        def grab(ax, entries, metric, budget=None):
+        def grab(ax, entries, metric, budget=None, rule=None):
             seen.extend(e[0] for e in entries)
-            return orig(ax, entries, metric, budget)
+            return orig(ax, entries, metric, budget, rule)
         with tempfile.TemporaryDirectory() as d:
             write(os.path.join(d, "frames.csv"), "\n".join(rows) + "\n")
             write(os.path.join(d, "summary.csv"), summary)
