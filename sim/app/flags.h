@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "sim/core/params.h"
@@ -20,6 +21,10 @@ inline constexpr const char* kCheckedNumber = "fovsim-number";
 // What a numeric flag accepts: a range, the unit shown in --help ("s", "Hz", "ms", "px",
 // "fraction", "count", "factor"), and optionally 0 outside the range with a meaning ("off").
 struct NumberFlag {
+  // {range, unit[, integer[, zero]]} at every add_number call (a constructor, so the short
+  // forms do not leave members to -Wmissing-field-initializers).
+  NumberFlag(Range r, std::string u, bool is_integer = false, std::string zero_means = "")
+      : range(r), unit(std::move(u)), integer(is_integer), zero(std::move(zero_means)) {}
   Range range;
   std::string unit;
   bool integer = false;
