@@ -220,8 +220,9 @@ TEST(Cli, RunWritesIntervalsAndPairedDifferences) {
   Csv p = read_csv(dir + "/out/paired.csv");
   ASSERT_GE(p.col("diff_ci95"), 0);
   // full - rmfr: est_ms_total, shaded_fraction, the headline metrics psnr, fpsnr, ssim, flip,
-  // fvvdp_jod and the foveation-loss columns fpsnr_fl, fvvdp_jod_fl (the metric registry)
-  ASSERT_EQ(p.rows.size(), 9u);
+  // fvvdp_jod, the foveation-loss columns fpsnr_fl, fvvdp_jod_fl and the region errors
+  // rmse_fovea(_fl), rmse_periphery(_fl) (the metric registry's paired list)
+  ASSERT_EQ(p.rows.size(), 13u);
   for (auto& row : p.rows) {
     EXPECT_EQ(row[size_t(p.col("config_a"))], "full");
     if (row[size_t(p.col("metric"))] == "psnr") {  // inf for full on every frame: nothing paired

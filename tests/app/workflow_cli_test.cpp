@@ -219,8 +219,7 @@ TEST(Workflow, SearchSaysWhenTheBudgetDoesNotBind) {
 
   // The budget decided on the probability (sweep.search.p_fit): every candidate's p_fit is in
   // the history, and a level that full meets still does not bind.
-  r = run_cmd(fovsim_bin() + " search " + d + "/s.json --out " + d +
-              "/o3 sweep.search.p_fit=0.8");
+  r = run_cmd(fovsim_bin() + " search " + d + "/s.json --out " + d + "/o3 sweep.search.p_fit=0.8");
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("(p_fit >= 0.8)"), std::string::npos) << r.output;
   Csv h3 = read_csv(d + "/o3/search_history.csv");
