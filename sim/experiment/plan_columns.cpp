@@ -132,7 +132,7 @@ ColumnVocabulary fixed_vocabulary() {
       for (auto& [c, x] : m->param_columns()) v.numeric.insert(c);
       for (auto& [c, x] : m->text_param_columns()) v.text.insert(c);
     } catch (const Error&) {
-      // a method without a default instance: its declared keys above
+      continue;  // a method without a default instance: its declared keys above
     }
   }
   for (auto& e : lighting_table()) {
@@ -142,6 +142,7 @@ ColumnVocabulary fixed_vocabulary() {
       auto l = make_lighting(lp);
       for (auto& [c, x] : l->param_columns()) v.numeric.insert(c);
     } catch (const Error&) {
+      continue;  // a strategy without a default instance: its declared keys above
     }
   }
   v.numeric.erase("method");
