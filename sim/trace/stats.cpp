@@ -14,6 +14,19 @@ static double pct(std::vector<double>& v, double p) {
   return v[k];
 }
 
+namespace {
+
+// A head rotation between consecutive samples; larger first, ties by sample order.
+struct Jump {
+  double speed, deg, dt;
+  size_t i;
+};
+bool jump_before(const Jump& a, const Jump& b) {
+  return a.speed > b.speed || (a.speed == b.speed && a.i < b.i);
+}
+
+}  // namespace
+
 TraceStats trace_stats(const Trace& tr) {
   TraceStats s;
   const auto& x = tr.samples;
@@ -22,16 +35,9 @@ TraceStats trace_stats(const Trace& tr) {
   s.duration_s = tr.duration();
   std::vector<double> dts, ecc, speed, hspeed;
   for (auto* v : {&dts, &ecc, &speed, &hspeed}) v->reserve(x.size());
-  struct Jump {
-    double speed, deg, dt;
-    size_t i;
-  };
-  // The 5 largest head rotations so far, ties by sample order (deterministic): kept as they
-  // come rather than one entry per sample (a long trace's stats cost its samples, not more).
+  // The 5 largest head rotations so far (jump_before): kept as they come rather than one entry
+  // per sample (a long trace's stats cost its samples, not more).
   std::vector<Jump> jumps;
-  auto jump_before = [](const Jump& a, const Jump& b) {
-    return a.speed > b.speed || (a.speed == b.speed && a.i < b.i);
-  };
   s.constant_head = x.size() > 1;
   for (size_t i = 1; i < x.size() && s.constant_head; ++i)
     s.constant_head = x[i].head_pos == x[0].head_pos && x[i].head_rot == x[0].head_rot;
