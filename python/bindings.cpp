@@ -184,7 +184,8 @@ py::dict estimate_py(const std::string& gpu, const std::string& workload, const 
   MethodArg m = parse_method_arg(method, "method");
   if (!is_cost_method(m.name))
     throw Error("method " + method, "no cost model for method \"" + m.name + "\"");
-  Workload w = Workload::load(workload, models);
+  // As `fovsim predict` / `budget --workload`: "generic" describes no scene.
+  Workload w = Workload::load_for_costing(workload, models, "workload", "");
   Display d = Display::load(display, models);
   if (width) d.width = int(width);  // integers in range: check_cost_args above
   if (height) d.height = int(height);
@@ -300,12 +301,21 @@ class AskTell {
         searcher_(spec_.space, spec_.objective.maximize, spec_.seed, spec_.batch) {}
 
   std::vector<std::vector<double>> ask() { return searcher_.ask(); }
+  // `checked` false: the scores came from runs' summaries (scored like `fovsim search`); the
+  // points are checked either way. A bad point or value is a ValueError (check_told's message).
   void tell(const std::vector<std::vector<double>>& xs, const std::vector<double>& scores,
-            const std::vector<double>& violations) {
+            const std::vector<double>& violations, bool checked) {
     if (xs.size() != scores.size() || xs.size() != violations.size())
       throw Error("AskTell.tell", "points, scores and violations differ in length");
     std::vector<SearchEval> ev(xs.size());
-    for (size_t i = 0; i < xs.size(); ++i) ev[i] = {xs[i], scores[i], violations[i]};
+    for (size_t i = 0; i < xs.size(); ++i) {
+      ev[i] = {xs[i], scores[i], violations[i]};
+      try {
+        check_told(spec_.space, ev[i], "AskTell.tell", checked);
+      } catch (const Error& e) {
+        throw py::value_error(e.what());
+      }
+    }
     searcher_.tell(ev);
   }
   py::dict spec() const {
@@ -361,11 +371,13 @@ class AskTell {
         cfg.doc["sweep"] = Json::object();
       cfg.doc["sweep"]["search"] = s;
     }
-    SweepPlan plan = expand_sweep(cfg);
+    SweepPlan plan = expand_sweep(cfg);  // the objective's and constraints' columns
     if (!plan.search.enabled())
       throw Error(config + ": sweep.search",
                   "no search space (give space=... or a config with sweep.search, "
                   "docs/sweeps.md)");
+    // As `fovsim search` before its first evaluation: the space's paths and ends, the label.
+    validate_cells(plan);
     return plan.search;
   }
   SearchSpec spec_;
@@ -434,7 +446,8 @@ PYBIND11_MODULE(_fovsim, m) {
       .def(py::init<std::string, std::vector<std::string>, std::string>(), py::arg("config"),
            py::arg("overrides") = std::vector<std::string>{}, py::arg("search") = "")
       .def("ask", &AskTell::ask, "Next batch of points (real units, one value per dimension)")
-      .def("tell", &AskTell::tell, py::arg("points"), py::arg("scores"), py::arg("violations"))
+      .def("tell", &AskTell::tell, py::arg("points"), py::arg("scores"), py::arg("violations"),
+           py::arg("checked") = true)
       .def_property_readonly("spec", &AskTell::spec)
       .def_property_readonly("best", &AskTell::best)
       .def_property_readonly("told", &AskTell::told)

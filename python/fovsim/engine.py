@@ -215,14 +215,16 @@ class AskTell:
 
     def tell(self, x, result=None, score=None, violation=0.0):
         """Reports a point's result: `result` the summary rows of its run (scored like `fovsim
-        search`: spec's objective, label and constraint), or `score` (and `violation` >= 0, 0 =
-        feasible) computed elsewhere. Returns (score, violation)."""
+        search`: spec's objective, label and constraint), or `score` (finite) and `violation`
+        (>= 0, 0 = feasible, inf = infinitely violated) computed elsewhere. A point outside the
+        space, a non-finite score or a negative or NaN violation is a ValueError (checked by the
+        library, sim/experiment/search.h check_told). Returns (score, violation)."""
         if result is not None:
             score, violation = _score(result, self.spec["objective"], self.spec["label"],
                                       self.spec["constraints"])
         elif score is None:
             raise ValueError("tell: give the run's summary rows or a score")
-        self._at.tell([self._vec(x)], [float(score)], [float(violation)])
+        self._at.tell([self._vec(x)], [float(score)], [float(violation)], result is None)
         self.history.append((dict(x) if isinstance(x, dict) else self._dict(self._vec(x)), score, violation))
         return score, violation
 

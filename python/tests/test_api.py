@@ -280,12 +280,50 @@ class AskTellTest(unittest.TestCase):
             fovsim.AskTell(self.cfg)  # no sweep.search in the config, no space given
         with self.assertRaises(ValueError):
             fovsim.AskTell(self.cfg, space=self.space())  # no objective
+        # An objective no summary can have is refused by the constructor, as by `fovsim search`.
+        with self.assertRaises(fovsim.FovsimError) as cm:
+            fovsim.AskTell(self.cfg, space=self.space(), maximize="fpsnr_typo", batch=2)
+        self.assertIn('sweep.search.maximize: no numeric column "fpsnr_typo"', str(cm.exception))
         # An objective column the summary rows lack is refused, not scored NaN.
-        opt = fovsim.AskTell(self.cfg, space=self.space(), maximize="fpsnr_typo", batch=2)
+        opt = fovsim.AskTell(self.cfg, space=self.space(), maximize="fpsnr", batch=2)
         x = opt.ask()[0]
         with self.assertRaises(KeyError) as cm:
-            opt.tell(x, [{"label": "kfr", "fpsnr": 30.0}])
-        self.assertIn("fpsnr_typo", str(cm.exception))
+            opt.tell(x, [{"label": "kfr", "psnr": 30.0}])
+        self.assertIn("fpsnr", str(cm.exception))
+
+    def test_checked_like_fovsim_search(self):
+        # The constructor: unknown parameters, labels and ranges, before any evaluation.
+        for space, msg in (({"methods[kfr].sigmaa": {"from": 1.2, "to": 3.0}}, 'unknown parameter "sigmaa"'),
+                           ({"methods[kfx].sigma": {"from": 1.2, "to": 3.0}}, 'has label "kfx"'),
+                           ({"methods[kfr].sigma": {"from": 0.5, "to": 3.0}}, "sigma")):
+            with self.assertRaises(fovsim.FovsimError) as cm:
+                fovsim.AskTell(self.cfg, space=space, maximize="fpsnr")
+            self.assertIn(msg, str(cm.exception))
+        with self.assertRaises(fovsim.FovsimError) as cm:
+            fovsim.AskTell(self.cfg, space=self.space(), maximize="fpsnr", label="nope")
+        self.assertIn('sweep.search.label: no method entry has label "nope" (labels: kfr)', str(cm.exception))
+        # tell: finite scores, violations >= 0, points inside the space (ValueError).
+        opt = fovsim.AskTell(self.cfg, space=self.space(), maximize="fpsnr", batch=2)
+        x = opt.ask()[0]
+        for score, viol, msg in ((math.inf, 0.0, "score inf is not a finite number"),
+                                 (math.nan, 0.0, "score nan is not a finite number"),
+                                 (1.0, -1.0, "violation -1 is not a number >= 0"),
+                                 (1.0, math.nan, "violation nan is not a number >= 0")):
+            with self.assertRaises(ValueError) as cm:
+                opt.tell(x, score=score, violation=viol)
+            self.assertIn(msg, str(cm.exception))
+        with self.assertRaises(ValueError) as cm:
+            opt.tell({"methods[kfr].sigma": 5.0}, score=1.0)
+        self.assertIn("methods[kfr].sigma = 5 is outside the search space [1.2, 3]", str(cm.exception))
+        self.assertEqual(opt.history, [])  # nothing refused was recorded
+        opt.tell(x, score=1.0, violation=math.inf)  # inf: infinitely violated, accepted
+        self.assertEqual(len(opt.history), 1)
+
+    def test_budget_refuses_generic_like_the_cli(self):
+        for f in (fovsim.budget, fovsim.predict):
+            with self.assertRaises(fovsim.FovsimError) as cm:
+                f(gpu="gtx1080", workload="generic", methods=["full"])
+            self.assertIn("workload: 'generic' describes no scene", str(cm.exception))
 
 
 class ExampleScript(unittest.TestCase):

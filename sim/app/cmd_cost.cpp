@@ -91,21 +91,10 @@ void add_target_options(CLI::App* c, Target& t, const std::string& default_metho
                 "--workload; --display/--width/--height/--eyes/-m override)");
 }
 
-// Without a scene the generic workload knows no lights, so every method's shading cost (and
-// KFR's speedup) would be meaningless: a workload must be named.
+// A workload must be named (generic knows no scene): Workload::load_for_costing.
 Workload target_workload(const Target& t, const std::string& models) {
-  // generic knows no scene (no triangles, no lights): refused like a missing --workload.
-  if (t.workload.empty() || t.workload == "generic") {
-    std::string av;
-    for (auto& n : Workload::available(models))
-      if (n != "generic") av += (av.empty() ? "" : ", ") + n;
-    throw Error("--workload",
-                std::string(t.workload.empty() ? "required" : "'generic' describes no scene") +
-                    " (the scene's triangles, lights and shading cost decide every estimate; "
-                    "available: " +
-                    av + "; or --config CONFIG for a run config's scene)");
-  }
-  return Workload::load(t.workload, models);
+  return Workload::load_for_costing(t.workload, models, "--workload",
+                                    "or --config CONFIG for a run config's scene");
 }
 
 // What predict/budget cost: --config's scene, or --workload with the display flags.

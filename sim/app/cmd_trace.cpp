@@ -99,6 +99,7 @@ void register_trace_import(CLI::App* t, const std::shared_ptr<TraceArgs>& a, Act
       io.on_fov = policy(a->on_bad);
       io.on_fov_explicit = imp->count("--on-bad") > 0;  // else the map's "on_bad"
       Trace tr = import_trace_hinted(a->in, a->map, d, &rep, io);
+      check_trace_as_written(tr, d, a->in, a->out);  // never a file trace validate refuses
       write_trace_csv(a->out, tr);
       std::printf("imported %s -> %s\n", a->in.c_str(), a->out.c_str());
       std::printf("rows               %ld read, %ld skipped, %ld flagged invalid\n", rep.data_rows,

@@ -364,7 +364,7 @@ uint64_t max_input_bytes() {
 
 double max_image_pixels() {
   auto mp = env_integer("FOVSIM_MAX_IMAGE_MPIXELS", 1, 100000);
-  return mp ? double(*mp) * 1048576.0 : 67108864.0;
+  return mp ? double(*mp) * 1048576.0 : 16777216.0;
 }
 
 void check_input_file(const std::string& path, const std::string& what) {

@@ -44,7 +44,9 @@ void check_input_file(const std::string& path, const std::string& what = "");
 // $FOVSIM_MAX_INPUT_MB (an integer in [1, 1048576]; anything else is an error naming it).
 uint64_t max_input_bytes();
 // Most pixels an image given to `compare` may claim in its header before it is decoded:
-// 64 Mpixels (8192 x 8192), or $FOVSIM_MAX_IMAGE_MPIXELS (an integer in [1, 100000]).
+// 16 Mpixels (4096 x 4096; a pair takes about 140 bytes per pixel, kCompareBytesPerPixel in
+// sim/metrics/compare.h: 2.3 GB at the limit), or $FOVSIM_MAX_IMAGE_MPIXELS (an integer in
+// [1, 100000]).
 double max_image_pixels();
 // Strict integer from the environment: nullopt when unset; an error naming the variable
 // when set to anything but a decimal integer in [lo, hi] (no "12abc", no "", no overflow).

@@ -15,8 +15,9 @@ constexpr double kMaxCoordinateM = 1e5;
 // checked before it is generated, file scenes after import).
 constexpr double kDefaultMaxTriangles = 2e7;
 
-// Default of scene.max_texture_pixels (file scenes) and of `compare --max-pixels`: most pixels
-// an image may claim in its header before it is decoded (8192 x 8192).
+// Default of scene.max_texture_pixels (file scenes): most pixels a texture may claim in its
+// header before it is decoded (8192 x 8192). `compare` has its own limit (files.h
+// max_image_pixels).
 constexpr double kDefaultMaxTexturePixels = 67108864;
 
 // Default of scene.vpl.max_vpls: most VPLs a frame may have, counted as lights x

@@ -579,6 +579,12 @@ Json parse_value_or_string(const std::string& text, const std::string& where) {
   }
 }
 
+size_t json_path_depth(const std::string& path) {
+  size_t n = 1;
+  for (char c : path) n += c == '.' || c == '[';
+  return n;
+}
+
 std::string apply_override(Json& doc, const std::string& assignment) {
   auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
@@ -588,6 +594,11 @@ std::string apply_override(Json& doc, const std::string& assignment) {
   const std::string W = "override '" + escape_control(assignment, 80) + "'";
   Json value = parse_value_or_string(val, W);
   if (!doc.is_object()) throw Error(W, "the config is not a JSON object");
+  // Each component nests the document one level: bounded like JSON text (kMaxJsonDepth), so
+  // no path of a 128 KB argument builds a document the recursive JSON code cannot walk.
+  if (json_path_depth(key) > size_t(kMaxJsonDepth))
+    throw Error(W, "path nested deeper than " + std::to_string(kMaxJsonDepth) +
+                       " levels (the limit for any fovsim input)");
   Json* node = &doc;
   size_t i = 0;
   std::string walked;

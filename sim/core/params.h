@@ -135,6 +135,9 @@ Json parse_value_or_string(const std::string& text, const std::string& where);
 // path (numeric indices) of what it introduced: the first key it created ("rendr" for
 // "rendr.scale=1"), else the key it replaced ("methods[0].sigma" for "methods[kfr].sigma=2").
 std::string apply_override(Json& doc, const std::string& assignment);
+// Levels a config path ("a.b[2].c": 4) nests a document: apply_override and the sweep's axis
+// paths refuse more than kMaxJsonDepth.
+size_t json_path_depth(const std::string& path);
 
 // The name in `names` closest to `word` by edit distance (insertions, deletions,
 // substitutions, transpositions), or "" when none is within max(1, |word| / 2) edits:

@@ -147,6 +147,21 @@ std::vector<std::string> Workload::available(const std::string& models_dir) {
   return names;
 }
 
+Workload Workload::load_for_costing(const std::string& name_or_path, const std::string& models_dir,
+                                    const std::string& where, const std::string& alternative) {
+  if (name_or_path.empty() || name_or_path == "generic") {
+    std::string av;
+    for (auto& n : available(models_dir))
+      if (n != "generic") av += (av.empty() ? "" : ", ") + n;
+    throw Error(where,
+                std::string(name_or_path.empty() ? "required" : "'generic' describes no scene") +
+                    " (the scene's triangles, lights and shading cost decide every estimate; "
+                    "available: " +
+                    av + (alternative.empty() ? "" : "; " + alternative) + ")");
+  }
+  return load(name_or_path, models_dir);
+}
+
 Json Workload::to_json() const {
   Json j = Json::object();
   for (const auto& r : workload_table().rows())

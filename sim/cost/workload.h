@@ -77,6 +77,13 @@ struct Workload {
   static Workload load(const std::string& name_or_path, const std::string& models_dir);
   // Workload names in models_dir/workloads (sorted).
   static std::vector<std::string> available(const std::string& models_dir);
+  // The workload `fovsim predict` / `budget` (and the Python estimate, predict, budget) cost a
+  // method on: a named one. Without a scene the generic workload knows no triangles and no
+  // lights, so every method's shading cost (and KFR's speedup) would be meaningless: "" and
+  // "generic" are an Error at `where` listing the available workloads; `alternative` ends the
+  // message (the CLI's "or --config CONFIG for a run config's scene").
+  static Workload load_for_costing(const std::string& name_or_path, const std::string& models_dir,
+                                   const std::string& where, const std::string& alternative);
   Json to_json() const;
 };
 

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <map>
 
+#include "sim/core/counter_list.h"
 #include "sim/core/error.h"
 #include "sim/core/files.h"
 #include "sim/cost/cost_model.h"
@@ -28,9 +29,21 @@ Counters row_counters(const std::vector<std::string>& header, const CsvRow& row,
   for (size_t i = 0; i < header.size(); ++i) {
     const std::string& h = header[i];
     if (h.rfind("est_ms_", 0) == 0 || row.fields[i].text.empty()) continue;
+    // A counter (counter_list.h, and shaded_fraction that rescales shaded_samples) is a count
+    // or a fraction: finite and >= 0. A negative or non-finite one would be costed as a
+    // cheaper (or a nan) frame, so it is an error naming the cell, like a missing one.
+    const bool counter = h == "shaded_fraction" || find_counter(h).has_value();
     double v = 0;
     std::string why;
-    if (!parse_number(row.fields[i].text, v, why)) continue;
+    if (!parse_number(row.fields[i].text, v, why)) {
+      if (!counter) continue;
+      throw Error(file_location(csv_path, row.line, row.fields[i].col),
+                  "counter " + h + ": " + why + " (a counter is a finite number >= 0)");
+    }
+    if (counter && v < 0)
+      throw Error(file_location(csv_path, row.line, row.fields[i].col),
+                  "counter " + h + " = " + printable(row.fields[i].text) +
+                      " is negative (a counter is a finite number >= 0)");
     if (h == "shaded_fraction") shaded_fraction = v, has_fraction = true;
     c.set_named(h, v);
   }

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "sim/core/error.h"
+
 namespace fovsim {
 
 Searcher::Searcher(std::vector<SearchDim> space, bool maximize, uint64_t seed, int batch)
@@ -112,6 +114,29 @@ std::vector<std::vector<double>> Searcher::ask() {
     }
   }
   return out;
+}
+
+void check_told(const std::vector<SearchDim>& space, const SearchEval& e, const std::string& where,
+                bool values) {
+  if (e.x.size() != space.size())
+    throw Error(where, "the point has " + std::to_string(e.x.size()) + " values, the space " +
+                           std::to_string(space.size()) + " dimensions");
+  for (size_t d = 0; d < space.size(); ++d) {
+    const SearchDim& s = space[d];
+    // A relative slack of 1e-12: points ask() returned went through the same arithmetic.
+    const double slack = 1e-12 * std::max(std::fabs(s.lo), std::fabs(s.hi));
+    if (!(e.x[d] >= s.lo - slack && e.x[d] <= s.hi + slack))
+      throw Error(where, s.path + " = " + format_number(e.x[d]) + " is outside the search space [" +
+                             format_number(s.lo) + ", " + format_number(s.hi) + "]");
+  }
+  if (!values) return;
+  if (!std::isfinite(e.score))
+    throw Error(where, "score " + format_number(e.score) +
+                           " is not a finite number (a point that could not be scored: a finite "
+                           "score with violation=inf)");
+  if (!(e.violation >= 0))
+    throw Error(where, "violation " + format_number(e.violation) +
+                           " is not a number >= 0 (0 = feasible, inf = infinitely violated)");
 }
 
 void Searcher::tell(const std::vector<SearchEval>& evals) {

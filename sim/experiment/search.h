@@ -24,6 +24,15 @@ struct SearchEval {
   double violation = 0;   // max(0, constraint - limit); 0 = feasible
 };
 
+// A result told from outside (the Python AskTell): the point must lie in the space (one
+// finite value per dimension within [lo, hi]), the score must be finite and the violation a
+// number >= 0 (inf: infinitely violated, as SearchSpec::violation gives a missing column).
+// Throws fovsim::Error at `where` naming the dimension's path and its range, or the value.
+// `values` false: the point only (a score taken from a run's summary is scored as `fovsim
+// search` scores it, where a nan objective ranks last).
+void check_told(const std::vector<SearchDim>& space, const SearchEval& e, const std::string& where,
+                bool values = true);
+
 class Searcher {
  public:
   Searcher(std::vector<SearchDim> space, bool maximize, uint64_t seed, int batch);

@@ -282,6 +282,9 @@ struct PathPart {
 };
 
 std::vector<PathPart> split_path(const std::string& path, const std::string& where) {
+  if (json_path_depth(path) > size_t(kMaxJsonDepth))
+    throw Error(where, "path nested deeper than " + std::to_string(kMaxJsonDepth) +
+                           " levels (the limit for any fovsim input)");
   std::vector<PathPart> parts;
   size_t i = 0;
   while (i < path.size()) {
@@ -725,6 +728,7 @@ SweepPlan expand_sweep(const LoadedConfig& cfg) {
     }
   }
   expand_cells(plan, blocks, cap, W);
+  check_plan_column_names(plan);  // before any cell runs (plan_columns.cpp)
   return plan;
 }
 
@@ -831,7 +835,55 @@ const ParamTable<SearchSpec>& search_table() {
   return t;
 }
 
+namespace {
+
+// The search's dimensions and label, checked on every context before any evaluation as the
+// sweep's axes are (validate_cells): each dimension applied at its two ends (an unknown
+// parameter, a label no method entry has, or an end out of the parameter's range fails with
+// the dimension's location), and search.label must name a method entry of every context.
+void validate_search(const SweepPlan& plan) {
+  const SearchSpec& sp = plan.search;
+  if (!sp.enabled()) return;
+  SweepPlan probe;
+  probe.file = plan.file;
+  for (auto& ctx : plan.cells) {
+    for (double end : {0.0, 1.0}) {
+      SweepCell c = ctx;
+      for (auto& d : sp.space) {
+        double v = end == 0.0 ? d.lo : d.hi;
+        if (d.integer) v = std::round(v);
+        const Json value = d.integer ? Json(std::llround(v)) : Json(v);
+        apply_assignment(c.doc, d.path, value, d.where);
+        c.assign.push_back({d.path, value, d.where});
+      }
+      probe.cells.push_back(std::move(c));
+    }
+    if (sp.select_label.empty()) continue;
+    std::string labels;
+    bool found = false;
+    if (ctx.doc.contains("methods") && ctx.doc["methods"].is_array())
+      for (auto& m : ctx.doc["methods"]) {
+        if (!m.is_object()) continue;
+        const std::string l =
+            m.contains("label") && m["label"].is_string()     ? m["label"].get<std::string>()
+            : m.contains("method") && m["method"].is_string() ? m["method"].get<std::string>()
+                                                              : "";
+        found = found || l == sp.select_label;
+        labels += (labels.empty() ? "" : ", ") + l;
+      }
+    if (!found)
+      throw Error((plan.file.empty() ? "" : plan.file + ": ") + "sweep.search.label",
+                  "no method entry has label \"" + printable(sp.select_label) + "\"" +
+                      (plan.cells.size() > 1 ? " in context " + ctx.id() : std::string()) +
+                      " (labels: " + (labels.empty() ? "none" : labels) + ")");
+  }
+  validate_cells(probe);
+}
+
+}  // namespace
+
 void validate_cells(const SweepPlan& plan) {
+  validate_search(plan);
   std::map<std::string, std::vector<std::string>> known;  // method -> parameter names
   for (auto& e : method_table()) {
     auto& v = known[e.name];

@@ -135,6 +135,11 @@ std::vector<Json> axis_values(const Json& spec, const std::string& where);
 // listing the columns there are. `search_only`: check only the search's columns.
 void check_plan_columns(const SweepPlan& plan, const ResultTable& summary,
                         bool search_only = false);
+// The same columns checked when the sweep is parsed (expand_sweep calls it), before any cell
+// runs: each must be a column some cell's summary can have (results/README.md: row keys,
+// counters, est_ms_<pass>, metrics, method and lighting parameter columns, axis paths, with
+// the summary's suffixes); otherwise a fovsim::Error at the key's JSON path listing the names.
+void check_plan_column_names(const SweepPlan& plan);
 
 // Rounds to 12 significant digits so 1.2 + 0.2*k prints and hashes as typed.
 double tidy(double v);

@@ -129,20 +129,26 @@ const ParamTable<MappingSpec>& RmfrGeometry::params_table() {
     t.number("sigma", 2.6, Range::at_least(1), field<G>(&G::sigma))
         .doc("Ye et al. 2022 §3.2, §6.1", "W / w = H / h of the RS-buffer")
         .column()
-        // fx, fy as fractions of W / H, or fx_px, fy_px in pixels (one of each pair).
-        .number("fx", 0.38, Range::above(0), field<G>(&G::fx))
-        .doc("Ye et al. 2022 eq. 4, Fig. 7", "f_x as a fraction of W")
+        // fx, fy as fractions of W / H, or fx_px, fy_px in pixels (one of each pair). Lower
+        // bounds (Ye et al. 2022 eq. 4): a pixel |x'| from the gaze maps to the buffer
+        // coordinate N = |x'|(f + E) / (E (f + |x'|)), so half of the RS-buffer's samples lie
+        // within f of the gaze. Below a pixel (f_px < 1, or fx = 1e-10) every sample falls on
+        // the gaze pixel and the method outputs a one-colour image with a normal shaded
+        // fraction; 0.01 of W is 6 px at 640 px, 26 px at 2560.
+        .number("fx", 0.38, Range::at_least(0.01), field<G>(&G::fx))
+        .doc("Ye et al. 2022 eq. 4, Fig. 7",
+             "f_x as a fraction of W (at least 0.01: below, the samples collapse onto the gaze)")
         .read_if([](const Params& p) { return !p.has("fx_px"); })
         .column(nullptr, {}, [](const S& s) { return !(s.as<G>().fx_px > 0); })
-        .number("fx_px", 0, Range::above(0), field<G>(&G::fx_px))
+        .number("fx_px", 0, Range::at_least(1), field<G>(&G::fx_px))
         .optional()
         .doc("Ye et al. 2022 eq. 4", "f_x in pixels (instead of fx)")
         .column(nullptr, {}, px_given)
-        .number("fy", 0.38, Range::above(0), field<G>(&G::fy))
-        .doc("Ye et al. 2022 eq. 4, Fig. 7", "f_y as a fraction of H")
+        .number("fy", 0.38, Range::at_least(0.01), field<G>(&G::fy))
+        .doc("Ye et al. 2022 eq. 4, Fig. 7", "f_y as a fraction of H (at least 0.01, as fx)")
         .read_if([](const Params& p) { return !p.has("fy_px"); })
         .column(nullptr, {}, [](const S& s) { return !(s.as<G>().fy_px > 0); })
-        .number("fy_px", 0, Range::above(0), field<G>(&G::fy_px))
+        .number("fy_px", 0, Range::at_least(1), field<G>(&G::fy_px))
         .optional()
         .doc("Ye et al. 2022 eq. 4", "f_y in pixels (instead of fy)")
         .column(nullptr, {}, [](const S& s) { return s.as<G>().fy_px > 0; })

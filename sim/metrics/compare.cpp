@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <sstream>
 #include <vector>
 
@@ -22,9 +23,13 @@ namespace fovsim {
 
 namespace {
 
-// `fvvdp`: FovVideoVDP's decoding (FovVideoVDP.md §1): 16-bit values v / 65535, grey kept as one
-// channel; otherwise the FLIP tool's (above).
-Image read_display_encoded(const std::string& path, bool fvvdp) {
+// The header of an image file: its size, checked against max_image_pixels before anything is
+// allocated (files.h). `in` is left open for the decoder.
+struct ImageHeader {
+  int width = 0, height = 0, channels = 0;
+};
+
+std::unique_ptr<OIIO::ImageInput> open_image(const std::string& path, ImageHeader& h) {
   if (!std::filesystem::exists(path)) throw Error(path, "no such file");
   check_input_file(path);  // a FIFO or /dev/zero is refused before the decoder blocks on it
   QuietStderr quiet;       // libpng's own error line: the thrown error says it once
@@ -35,47 +40,65 @@ Image read_display_encoded(const std::string& path, bool fvvdp) {
   auto in = OIIO::ImageInput::open(path, &config);
   if (!in) throw Error(path, "cannot read image: " + OIIO::geterror());
   const OIIO::ImageSpec& spec = in->spec();
-  const int W = spec.width, H = spec.height, C = spec.nchannels;
-  if (W <= 0 || H <= 0 || C <= 0) throw Error(path, "empty image");
-  // The header's size is checked before anything is allocated (files.h max_image_pixels).
-  const double max_px = max_image_pixels();
-  if (double(W) * double(H) > max_px || C > 16)
-    throw Error(path, "image header claims " + std::to_string(W) + "x" + std::to_string(H) + "x" +
-                          std::to_string(C) + ", over the limit of " +
-                          std::to_string(int64_t(max_px)) +
-                          " pixels (set FOVSIM_MAX_IMAGE_MPIXELS to raise it)");
+  h = {spec.width, spec.height, spec.nchannels};
+  if (h.width <= 0 || h.height <= 0 || h.channels <= 0) throw Error(path, "empty image");
+  const double max_px = max_image_pixels(), px = double(h.width) * double(h.height);
+  if (px > max_px || h.channels > 16) {
+    char b[200];
+    std::snprintf(b, sizeof b, " (%.0f pixels), over the limit of %.0f pixels (%.0f Mpx", px,
+                  max_px, max_px / 1048576.0);
+    throw Error(path, "image header claims " + std::to_string(h.width) + "x" +
+                          std::to_string(h.height) + "x" + std::to_string(h.channels) + b +
+                          ": comparing a pair takes about " +
+                          std::to_string(int(kCompareBytesPerPixel)) +
+                          " bytes per pixel; set FOVSIM_MAX_IMAGE_MPIXELS to raise it)");
+  }
+  return in;
+}
+
+// `fvvdp`: FovVideoVDP's decoding (FovVideoVDP.md §1): 16-bit values v / 65535, grey kept as one
+// channel; otherwise the FLIP tool's (above). Decoded straight into the output image (one
+// file-sized buffer beside it, no float copy of the file).
+Image read_display_encoded(const std::string& path, bool fvvdp) {
+  ImageHeader hd;
+  auto in = open_image(path, hd);
+  QuietStderr quiet;
+  const int W = hd.width, H = hd.height, C = hd.channels;
   const size_t n = size_t(W) * size_t(H) * size_t(C);
-  std::vector<float> v(n);
-  const auto base = spec.format.basetype;
+  const bool grey = fvvdp && C < 3;
+  Image out(W, H, grey ? 1 : 3);
+  // Pixel i of the file (C values at `p`) into the output: grey kept (FovVideoVDP) or copied
+  // to RGB, alpha and extra channels dropped.
+  auto put = [&](size_t i, auto&& value_of) {
+    float* o = &out.data[i * size_t(out.channels)];
+    const size_t b = i * size_t(C);
+    if (grey) {
+      o[0] = value_of(b);
+      return;
+    }
+    for (int c = 0; c < 3; ++c) o[c] = value_of(b + size_t(C >= 3 ? c : 0));
+  };
+  const auto base = in->spec().format.basetype;
   if (base == OIIO::TypeDesc::UINT8 || base == OIIO::TypeDesc::UINT16) {
     // Integer files: exact bytes, then byte / 255 as the reference tool (stb_image) does.
     std::vector<uint16_t> raw(n);
     if (!in->read_image(0, 0, 0, C, OIIO::TypeDesc::UINT16, raw.data()))
       throw Error(path, "cannot decode image: " + in->geterror());
     const bool wide = base == OIIO::TypeDesc::UINT16;
-    for (size_t i = 0; i < n; ++i) {
+    auto value = [&](size_t k) {
       // UINT8 read as UINT16 is v * 257; either way the high byte is the 8-bit value.
-      if (fvvdp && wide) {
-        v[i] = float(raw[i]) / 65535.0f;
-        continue;
-      }
-      const unsigned byte = wide ? unsigned(raw[i]) >> 8 : unsigned(raw[i]) / 257u;
-      v[i] = float(byte) / 255.0f;
-    }
-  } else if (!in->read_image(0, 0, 0, C, OIIO::TypeDesc::FLOAT, v.data())) {
-    throw Error(path, "cannot decode image: " + in->geterror());
+      if (fvvdp && wide) return float(raw[k]) / 65535.0f;
+      const unsigned byte = wide ? unsigned(raw[k]) >> 8 : unsigned(raw[k]) / 257u;
+      return float(byte) / 255.0f;
+    };
+    for (size_t i = 0; i < out.pixels(); ++i) put(i, value);
+  } else {
+    std::vector<float> v(n);
+    if (!in->read_image(0, 0, 0, C, OIIO::TypeDesc::FLOAT, v.data()))
+      throw Error(path, "cannot decode image: " + in->geterror());
+    for (size_t i = 0; i < out.pixels(); ++i) put(i, [&](size_t k) { return v[k]; });
   }
   in->close();
-  if (fvvdp && C < 3) {
-    Image grey(W, H, 1);
-    for (size_t i = 0; i < grey.pixels(); ++i) grey.data[i] = v[i * size_t(C)];
-    return grey;
-  }
-  Image out(W, H, 3);
-  for (size_t i = 0; i < out.pixels(); ++i) {
-    const float* p = &v[i * size_t(C)];
-    for (int c = 0; c < 3; ++c) out.data[3 * i + size_t(c)] = C >= 3 ? p[c] : p[0];
-  }
   return out;
 }
 
@@ -111,6 +134,15 @@ ImageComparison compare_images(const Image& ref, const Image& test, double ppd,
 
 ImageComparison compare_files(const std::string& ref_path, const std::string& test_path,
                               double ppd) {
+  // Both headers first: an oversized or mismatched TEST is refused before REF is decoded.
+  ImageHeader hr, ht;
+  open_image(ref_path, hr)->close();
+  open_image(test_path, ht)->close();
+  if (hr.width != ht.width || hr.height != ht.height)
+    throw Error("compare", "images differ in size: " + ref_path + " is " +
+                               std::to_string(hr.width) + "x" + std::to_string(hr.height) + ", " +
+                               test_path + " is " + std::to_string(ht.width) + "x" +
+                               std::to_string(ht.height));
   Image ref = read_ldr_rgb(ref_path), test = read_ldr_rgb(test_path);
   return compare_images(ref, test, ppd, ref_path, test_path);
 }

@@ -16,6 +16,12 @@ namespace fovsim {
 // as they are. Throws fovsim::Error naming the path when the file is missing or unreadable.
 Image read_ldr_rgb(const std::string& path);
 
+// Peak memory of `fovsim compare` per pixel of the pair (both images, FLIP's prepared planes
+// and workspace, the error map; measured with /usr/bin/time -v, bench/README.md "Memory:
+// trace validate/stats and compare"):
+// what the header check's message quotes beside max_image_pixels (files.h).
+inline constexpr double kCompareBytesPerPixel = 140;
+
 struct ImageComparison {
   int width = 0, height = 0;
   double ppd = 0;   // pixels per degree FLIP used

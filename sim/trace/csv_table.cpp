@@ -67,9 +67,30 @@ std::vector<CsvField> split_csv_line(const std::string& line, char delim, const 
 
 CsvReader::CsvReader(const std::string& path, char delim, char comment)
     : path_(path), text_(read_file(path)), delim_(delim), comment_(comment) {
+  skip_bom();
+}
+
+CsvReader::CsvReader(FromText, std::string text, const std::string& name, char delim, char comment)
+    : path_(name), text_(std::move(text)), delim_(delim), comment_(comment) {
+  skip_bom();
+}
+
+CsvReader CsvReader::from_text(std::string text, const std::string& name, char delim,
+                               char comment) {
+  return CsvReader(FromText{}, std::move(text), name, delim, comment);
+}
+
+void CsvReader::skip_bom() {
   if (text_.size() >= 3 && (unsigned char)text_[0] == 0xEF && (unsigned char)text_[1] == 0xBB &&
       (unsigned char)text_[2] == 0xBF)
     pos_ = 3;
+}
+
+size_t CsvReader::lines_left() const {
+  size_t n = 1;
+  for (size_t i = pos_; i < text_.size(); ++i)
+    n += text_[i] == '\n' || (text_[i] == '\r' && (i + 1 == text_.size() || text_[i + 1] != '\n'));
+  return n;
 }
 
 bool CsvReader::next(CsvRow& r) {

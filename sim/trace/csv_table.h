@@ -34,9 +34,19 @@ std::vector<CsvField> split_csv_line(const std::string& line, char delim, const 
 class CsvReader {
  public:
   CsvReader(const std::string& path, char delim, char comment = '#');
+  // Over `text` held in memory (what a writer is about to write); `name` is the file named
+  // in errors.
+  static CsvReader from_text(std::string text, const std::string& name, char delim,
+                             char comment = '#');
   bool next(CsvRow& row);  // false at the end of the file
+  // Line ends left in the text: an upper bound of the rows next() still returns (a reader
+  // reserves its output once instead of doubling it).
+  size_t lines_left() const;
 
  private:
+  struct FromText {};
+  CsvReader(FromText, std::string text, const std::string& name, char delim, char comment);
+  void skip_bom();
   std::string path_, text_;
   char delim_, comment_;
   size_t pos_ = 0;

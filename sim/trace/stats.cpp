@@ -6,12 +6,26 @@
 
 namespace fovsim {
 
-static double pct(std::vector<double> v, double p) {
+// Reorders v (nth_element): callers only take percentiles and extremes of it afterwards.
+static double pct(std::vector<double>& v, double p) {
   if (v.empty()) return 0;
   size_t k = size_t(std::clamp(p / 100.0, 0.0, 1.0) * double(v.size() - 1) + 0.5);
   std::nth_element(v.begin(), v.begin() + long(k), v.end());
   return v[k];
 }
+
+namespace {
+
+// A head rotation between consecutive samples; larger first, ties by sample order.
+struct Jump {
+  double speed, deg, dt;
+  size_t i;
+};
+bool jump_before(const Jump& a, const Jump& b) {
+  return a.speed > b.speed || (a.speed == b.speed && a.i < b.i);
+}
+
+}  // namespace
 
 TraceStats trace_stats(const Trace& tr) {
   TraceStats s;
@@ -20,10 +34,9 @@ TraceStats trace_stats(const Trace& tr) {
   if (x.empty()) return s;
   s.duration_s = tr.duration();
   std::vector<double> dts, ecc, speed, hspeed;
-  struct Jump {
-    double speed, deg, dt;
-    size_t i;
-  };
+  for (auto* v : {&dts, &ecc, &speed, &hspeed}) v->reserve(x.size());
+  // The 5 largest head rotations so far (jump_before): kept as they come rather than one entry
+  // per sample (a long trace's stats cost its samples, not more).
   std::vector<Jump> jumps;
   s.constant_head = x.size() > 1;
   for (size_t i = 1; i < x.size() && s.constant_head; ++i)
@@ -44,7 +57,11 @@ TraceStats trace_stats(const Trace& tr) {
     glm::dquat d = glm::conjugate(x[i - 1].head_rot) * x[i].head_rot;
     double ang = 2 * std::atan2(std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z), std::fabs(d.w));
     hspeed.push_back(rad2deg(ang) / dt);
-    jumps.push_back({hspeed.back(), rad2deg(ang), dt, i});
+    const Jump j{hspeed.back(), rad2deg(ang), dt, i};
+    if (jumps.size() < 5 || jump_before(j, jumps.back())) {
+      jumps.insert(std::upper_bound(jumps.begin(), jumps.end(), j, jump_before), j);
+      if (jumps.size() > 5) jumps.pop_back();
+    }
     s.head_path_m += glm::length(x[i].head_pos - x[i - 1].head_pos);
   }
   s.invalid_fraction = double(invalid) / double(x.size());
@@ -68,12 +85,7 @@ TraceStats trace_stats(const Trace& tr) {
   s.head_speed_p99 = pct(hspeed, 99);
   s.head_speed_max = hspeed.empty() ? 0 : *std::max_element(hspeed.begin(), hspeed.end());
   {
-    // The 5 largest, ties by sample order (deterministic).
-    size_t n = std::min<size_t>(5, jumps.size());
-    std::partial_sort(jumps.begin(), jumps.begin() + long(n), jumps.end(),
-                      [](const Jump& a, const Jump& b) {
-                        return a.speed > b.speed || (a.speed == b.speed && a.i < b.i);
-                      });
+    const size_t n = jumps.size();  // sorted, at most 5
     for (size_t k = 0; k < n && jumps[k].speed > 0; ++k) {
       const Jump& j = jumps[k];
       char jb[200];

@@ -46,6 +46,11 @@ struct TraceReadOptions {
 // every microsecond exactly and t in nanoseconds fits a 64-bit integer; beyond it a time is
 // an error ("time value out of range"), like a bad number.
 constexpr double kMaxTraceTimeS = 9007199254.740992;
+// Shortest interval between consecutive samples: 1 us, the resolution kMaxTraceTimeS keeps
+// exact, so a trace's rate is at most 1 MHz (research eye trackers sample at up to 2 kHz,
+// Holmqvist et al. 2011 ch. 2). A closer sample (t=0 then t=1e-12, or a denormal step whose
+// rate is inf Hz) is refused like a non-increasing time ("interval too short").
+constexpr double kMinTraceIntervalS = 1e-6;
 
 // Reads the canonical CSV. Errors name file:line:column. Gaze given as a normalized screen
 // point (columns gaze_u, gaze_v) is converted with `display`. Rows with valid=0 may carry no
@@ -54,6 +59,12 @@ constexpr double kMaxTraceTimeS = 9007199254.740992;
 Trace read_trace_csv(const std::string& path, const Display& display,
                      const TraceReadOptions& opt = {});
 void write_trace_csv(const std::string& path, const Trace& trace);
+// Checks `trace` as write_trace_csv would write it to `out` with read_trace_csv's checks and
+// defaults (trace validate's): the first problem is an Error naming the line of `source` the
+// sample came from (Trace::lines), the row and column it would have in `out`, and what is wrong.
+// `trace import` runs it before writing, so it never writes a file validate refuses.
+void check_trace_as_written(const Trace& trace, const Display& display, const std::string& source,
+                            const std::string& out);
 
 // Above this fraction of samples flagged invalid, readers add a warning (Trace::warnings):
 // blinks and brief losses are 2-10 % of a recording (Holmqvist et al. 2011 ch. 4); a quarter

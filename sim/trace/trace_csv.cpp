@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <map>
 
 #include "sim/core/error.h"
@@ -123,6 +124,14 @@ void decode_time_and_valid(const RowFields& f, double last_t, const std::string&
     probs.push_back({Part::Row, f.col_of(T), "non-monotonic time",
                      "time not strictly increasing: t=" + printable(f.text(T)) + " after t=" +
                          printable(last_t_text) + " (line " + std::to_string(last_t_line) + ")"});
+  } else if (!(f.v[T] - last_t >= kMinTraceIntervalS)) {
+    char b[96];
+    std::snprintf(b, sizeof b, "%.6g s (a rate of %.6g Hz)", f.v[T] - last_t,
+                  1.0 / (f.v[T] - last_t));
+    probs.push_back({Part::Row, f.col_of(T), "interval too short",
+                     "interval too short: t=" + printable(f.text(T)) + " after t=" +
+                         printable(last_t_text) + " (line " + std::to_string(last_t_line) +
+                         ") is " + b + "; samples must be at least 1e-06 s apart (at most 1 MHz)"});
   }
   s.t = f.v[T];
   if (f.h.idx[VALID] >= 0) {
@@ -227,15 +236,19 @@ bool decode_gaze(const RowFields& f, const Display& display, const TraceReadOpti
   return true;
 }
 
-}  // namespace
+// Where a problem of a row is reported: file:line:column of the file read, by default.
+using RowLocation = std::function<std::string(long line, long col)>;
 
 // Stages: the header (read_header), each row decoded (decode_time_and_valid, decode_pose,
 // decode_gaze), the bad-sample policy (fail, skip, hold the last good part), gap statistics.
-Trace read_trace_csv(const std::string& path, const Display& display, const TraceReadOptions& opt) {
-  std::vector<CsvRow> rows = read_csv_rows(path, ',', '#');
-  if (rows.empty())
+// Rows stream from `rd` (one row and the one before it held at a time): a trace costs its
+// samples, not its parsed text (traces/README.md, "Memory:" under "Commands").
+Trace read_trace_rows(CsvReader& rd, const std::string& path, const Display& display,
+                      const TraceReadOptions& opt, const RowLocation& row_location,
+                      const std::string& fail_hint) {
+  CsvRow head;
+  if (!rd.next(head))
     throw Error(path, "empty trace file: expected a header row (see traces/README.md)");
-  const CsvRow& head = rows[0];
   const Header h = read_header(path, head);
 
   Trace tr;
@@ -252,10 +265,17 @@ Trace read_trace_csv(const std::string& path, const Display& display, const Trac
   double longest_gap = 0;
   std::string first_gap;
 
-  for (size_t r = 1; r < rows.size(); ++r) {
-    const CsvRow& row = rows[r];
+  {
+    const size_t rows = rd.lines_left();  // the header is read: at most the rows left
+    tr.samples.reserve(rows);
+    tr.lines.reserve(rows);
+  }
+  CsvRow row, prev;  // the row and the one before it (the truncation check compares them)
+  bool have_prev = false;
+  for (; rd.next(row); std::swap(prev, row), have_prev = true) {
     std::string cut;
-    if (r + 1 == rows.size() && looks_truncated(row, r >= 2 ? &rows[r - 1] : nullptr, ncols, cut)) {
+    // Only the file's last line can be unterminated.
+    if (row.unterminated && looks_truncated(row, have_prev ? &prev : nullptr, ncols, cut)) {
       tr.warnings.push_back(file_location(path, row.line) + ": " + cut + "; the line was dropped");
       break;
     }
@@ -284,10 +304,8 @@ Trace read_trace_csv(const std::string& path, const Display& display, const Trac
 
     if (!probs.empty()) {
       const Problem& p = probs.front();
-      std::string where = file_location(path, row.line, p.col);
-      if (opt.on_bad == BadSamplePolicy::Fail)
-        throw Error(where,
-                    p.msg + " (set the trace's on_bad_sample to skip or hold to continue past it)");
+      std::string where = row_location(row.line, p.col);
+      if (opt.on_bad == BadSamplePolicy::Fail) throw Error(where, p.msg + " (" + fail_hint + ")");
       bool can_hold = opt.on_bad == BadSamplePolicy::Hold && have_last;
       for (auto& q : probs) can_hold = can_hold && q.part != Part::Row;
       if (!can_hold) {
@@ -336,6 +354,35 @@ Trace read_trace_csv(const std::string& path, const Display& display, const Trac
   return tr;
 }
 
+std::string trace_csv_text(const Trace& trace);
+
+}  // namespace
+
+Trace read_trace_csv(const std::string& path, const Display& display, const TraceReadOptions& opt) {
+  CsvReader rd(path, ',', '#');
+  return read_trace_rows(
+      rd, path, display, opt, [&](long line, long col) { return file_location(path, line, col); },
+      "set the trace's on_bad_sample to skip or hold to continue past it");
+}
+
+void check_trace_as_written(const Trace& trace, const Display& display, const std::string& source,
+                            const std::string& out) {
+  CsvReader rd = CsvReader::from_text(trace_csv_text(trace), out, ',', '#');
+  TraceReadOptions opt;  // trace validate's defaults: the first problem is an error
+  read_trace_rows(
+      rd, out, display, opt,
+      [&](long line, long col) {
+        // Line 1 is the header: line L holds sample L - 2, which came from trace.lines[L - 2].
+        const size_t i = size_t(line - 2);
+        const std::string at = i < trace.lines.size() ? file_location(source, trace.lines[i])
+                                                      : source + ": sample " + std::to_string(i);
+        return at + " (imported as row " + std::to_string(line - 1) + ", column " +
+               std::to_string(col) + " of " + out + ")";
+      },
+      "trace validate would refuse the imported trace: nothing was written; check the map's units "
+      "and constants");
+}
+
 void check_invalid_fraction(Trace& tr, const std::string& hint) {
   long invalid = 0;
   for (auto& s : tr.samples) invalid += s.valid ? 0 : 1;
@@ -355,8 +402,10 @@ void check_invalid_fraction(Trace& tr, const std::string& hint) {
   }
 }
 
+namespace {
+
 // "+ 0.0" turns -0 into 0 so files do not show "-0".
-void write_trace_csv(const std::string& path, const Trace& trace) {
+std::string trace_csv_text(const Trace& trace) {
   std::string out = "t,px,py,pz,qw,qx,qy,qz,gx,gy,gz,valid\n";
   char buf[512];
   for (const TraceSample& s : trace.samples) {
@@ -366,7 +415,13 @@ void write_trace_csv(const std::string& path, const Trace& trace) {
                   s.gaze_dir.x + 0.0, s.gaze_dir.y + 0.0, s.gaze_dir.z + 0.0, s.valid ? 1 : 0);
     out += buf;
   }
-  write_file_atomic(path, out);
+  return out;
+}
+
+}  // namespace
+
+void write_trace_csv(const std::string& path, const Trace& trace) {
+  write_file_atomic(path, trace_csv_text(trace));
 }
 
 }  // namespace fovsim

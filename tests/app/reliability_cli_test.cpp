@@ -295,14 +295,28 @@ TEST(Reliability, PlanColumnsAreCheckedLikeTarget) {
   write_text(d + "/obj.json", with_sweep(R"({"grid": {"render.scale": [0.05]},
                             "objectives": [{"minimize": "est_ms_total"}, {"maximize": "fpsnr_x"}]})"));
   expect_user_error(run_cmd(bin + " sweep " + d + "/obj.json --out " + d + "/so --no-plots"),
-                    "sweep.objectives[1]: no numeric column \"fpsnr_x\" in the cells' summary "
-                    "(columns: ");
-  EXPECT_FALSE(fs::exists(d + "/so/pareto.csv"));
+                    "sweep.objectives[1]: no numeric column \"fpsnr_x\" can be in a cell's "
+                    "summary (did you mean \"fpsnr\"?); checked before any cell runs (columns: ");
+  EXPECT_FALSE(fs::exists(d + "/so"));  // refused before any cell ran
+  // pareto.group_by too; a column some run writes but this one does not (gaze_error_deg needs a
+  // latency block) is still refused by the first cell's summary, before any cell is recorded
+  // complete.
+  write_text(d + "/grp.json", with_sweep(R"({"grid": {"render.scale": [0.05]},
+      "objectives": [{"minimize": "est_ms_total"}], "pareto": {"group_by": ["scene"]}})"));
+  expect_user_error(run_cmd(bin + " sweep " + d + "/grp.json --out " + d + "/sg --no-plots"),
+                    "sweep.pareto.group_by: no column \"scene\" can be in a cell's summary");
+  EXPECT_FALSE(fs::exists(d + "/sg"));
+  write_text(d + "/vdp.json", with_sweep(R"({"grid": {"render.scale": [0.05]},
+      "objectives": [{"minimize": "gaze_error_deg"}]})"));
+  expect_user_error(
+      run_cmd(bin + " sweep " + d + "/vdp.json --out " + d + "/sv --no-plots"),
+      "sweep.objectives[0]: no numeric column \"gaze_error_deg\" in the cells' summary");
+  EXPECT_FALSE(fs::exists(d + "/sv/pareto.csv"));
   write_text(d + "/iso.json", with_sweep(R"({"grid": {"render.scale": [0.05]},
                             "iso_budget": {"column": "shaded", "budgets": [0.5]}})"));
   expect_user_error(run_cmd(bin + " sweep " + d + "/iso.json --out " + d + "/si --no-plots"),
                     "sweep.iso_budget.column: no numeric column \"shaded\"");
-  // search: objective and constraint, refused on the first evaluation (no NaN "best").
+  // search: objective and constraint, refused before the first evaluation (no NaN "best").
   std::string s = base;
   s.replace(s.find(R"([{"method": "full"}])"), std::string(R"([{"method": "full"}])").size(),
             R"([{"method": "kfr", "sigma": 1.8}])");
@@ -450,6 +464,35 @@ TEST(Reliability, MergeAndPredictRefuseWhatTheyCannotUse) {
   write_text(d + "/run/frames.csv", out);
   expect_user_error(run_cmd(bin + " predict --results " + d + "/run --gpu gtx1080"),
                     "frames.csv:2: counter shaded_fraction missing or empty");
+  // A negative or non-finite counter is refused naming the file, row and column (it used to be
+  // costed: a negative count is a cheaper frame, nan a nan one).
+  auto with_value = [&](const std::string& column, const std::string& value) {
+    std::string o;
+    const auto h = split_csv_line(lines[0]);
+    size_t c = 0;
+    while (c < h.size() && h[c] != column) ++c;
+    EXPECT_LT(c, h.size()) << column;
+    for (size_t k = 0; k < lines.size(); ++k) {
+      if (lines[k].empty()) continue;
+      auto f = split_csv_line(lines[k]);
+      if (k == 1 && c < f.size()) f[c] = value;
+      std::string row;
+      for (size_t i = 0; i < f.size(); ++i) row += (i ? "," : "") + f[i];
+      o += row + "\n";
+    }
+    write_text(d + "/run/frames.csv", o);
+  };
+  with_value("shaded_samples", "-5");
+  expect_user_error(run_cmd(bin + " predict --results " + d + "/run --gpu gtx1080"),
+                    "/run/frames.csv:2:");
+  expect_user_error(run_cmd(bin + " predict --results " + d + "/run --gpu gtx1080"),
+                    "counter shaded_samples = -5 is negative (a counter is a finite number >= 0)");
+  with_value("shaded_fraction", "nan");
+  expect_user_error(run_cmd(bin + " predict --results " + d + "/run --gpu gtx1080"),
+                    "counter shaded_fraction: non-finite value");
+  with_value("prims_submitted", "inf");
+  expect_user_error(run_cmd(bin + " budget --results " + d + "/run --gpu gtx1080"),
+                    "counter prims_submitted: non-finite value");
 }
 
 TEST(Reliability, ControlBytesAreEscapedInOutputs) {
@@ -486,4 +529,103 @@ TEST(Reliability, OutOfMemoryNamesWhatWasAllocated) {
             std::string::npos)
       << r.output;
   EXPECT_EQ(r.code, 2) << r.output;
+}
+
+// Check before working: `trace import` runs trace validate's checks on what it would write
+// (a map's constant head position beyond the coordinate bound, a step below 1 us), and trace
+// validate refuses steps a rate cannot describe (1e-12 s, a denormal step: "rate inf Hz").
+TEST(Reliability, ImportWritesOnlyWhatValidateAccepts) {
+  const std::string d = temp_dir("rel_import"), bin = fovsim_bin();
+  write_text(d + "/map.json", R"({"delimiter": "comma", "header": true, "coordinates": "opengl",
+    "time": {"column": "time", "unit": "s"}, "head_position": {"constant": [2e5, 1.6, 0]},
+    "head_orientation": {"constant": [1, 0, 0, 0]},
+    "gaze": {"type": "direction", "space": "head", "columns": ["x", "y", "z"]}})");
+  write_text(d + "/rec.csv", "time,x,y,z\n0,0,0,-1\n0.01,0,0,-1\n0.02,0,0,-1\n");
+  expect_user_error(
+      run_cmd(bin + " trace import " + d + "/rec.csv --map " + d + "/map.json -o " + d + "/o.csv"),
+      "/o.csv): column \"px\": head position 200000 m is beyond the coordinate bound +-1e5 m "
+      "(trace validate would refuse the imported trace: nothing was written");
+  EXPECT_NE(
+      run_cmd(bin + " trace import " + d + "/rec.csv --map " + d + "/map.json -o " + d + "/o.csv")
+          .output.find("rec.csv:2 (imported as row 1, column "),
+      std::string::npos);
+  EXPECT_FALSE(fs::exists(d + "/o.csv"));
+  write_text(d + "/map2.json", R"({"delimiter": "comma", "header": true, "coordinates": "opengl",
+    "time": {"column": "time", "unit": "s"}, "head_position": {"constant": [0, 1.6, 0]},
+    "head_orientation": {"constant": [1, 0, 0, 0]},
+    "gaze": {"type": "direction", "space": "head", "columns": ["x", "y", "z"]}})");
+  write_text(d + "/fast.csv", "time,x,y,z\n0,0,0,-1\n0.01,0,0,-1\n0.0100001,0,0,-1\n");
+  expect_user_error(
+      run_cmd(bin + " trace import " + d + "/fast.csv --map " + d + "/map2.json -o " + d +
+              "/o.csv"),
+      "fast.csv:4 (imported as row 3, column 1 of " + d + "/o.csv): interval too short");
+  EXPECT_FALSE(fs::exists(d + "/o.csv"));
+  auto ok =
+      run_cmd(bin + " trace import " + d + "/rec.csv --map " + d + "/map2.json -o " + d + "/o.csv");
+  ASSERT_EQ(ok.code, 0) << ok.output;
+  EXPECT_EQ(run_cmd(bin + " trace validate " + d + "/o.csv").code, 0);
+  const std::string row = ",0,0,0,1,0,0,0,0,0,-1,1\n";
+  write_text(d + "/tiny.csv", "t,px,py,pz,qw,qx,qy,qz,gx,gy,gz,valid\n0" + row + "1e-12" + row);
+  expect_user_error(run_cmd(bin + " trace validate " + d + "/tiny.csv"),
+                    "tiny.csv:3:1: interval too short: t=1e-12 after t=0 (line 2) is 1e-12 s (a "
+                    "rate of 1e+12 Hz); samples must be at least 1e-06 s apart (at most 1 MHz)");
+  write_text(d + "/denormal.csv",
+             "t,px,py,pz,qw,qx,qy,qz,gx,gy,gz,valid\n0" + row + "4.9e-324" + row);
+  expect_user_error(run_cmd(bin + " trace stats " + d + "/denormal.csv"), "a rate of inf Hz");
+  // skip: the row is dropped and reported, as for a non-increasing time.
+  auto sk = run_cmd(bin + " trace validate --on-bad skip " + d + "/tiny.csv");
+  EXPECT_EQ(sk.code, 1) << sk.output;
+  EXPECT_NE(sk.output.find("interval too short"), std::string::npos) << sk.output;
+}
+
+// Degenerate parameters and nesting are bounded before recursive or per-pixel code: RMFR's
+// f below 1% of the width (fx = 1e-10 collapsed every sample onto the gaze: a one-colour image
+// with a normal shaded fraction), and config paths (overrides, sweep axes) nesting a document
+// deeper than JSON text may (each component is one level).
+TEST(Reliability, DegenerateParametersAndDeepPathsAreRefused) {
+  const std::string d = temp_dir("rel_depth"), bin = fovsim_bin();
+  write_text(d + "/cfg.json", small_config());
+  expect_user_error(run_cmd(bin + " run " + d + "/cfg.json --out " + d +
+                            "/o 'methods=[{\"method\": \"rmfr\", \"fx\": 1e-10}]'"),
+                    "methods[0].fx: value 1e-10 is out of range [0.01, ");
+  expect_user_error(run_cmd(bin + " run " + d + "/cfg.json --out " + d +
+                            "/o 'methods=[{\"method\": \"rmfr\", \"fy_px\": 0.5}]'"),
+                    "methods[0].fy_px: value 0.5 is out of range [1, ");
+  EXPECT_FALSE(fs::exists(d + "/o/manifest.json"));
+  std::string path = "a";
+  for (int i = 0; i < 100; ++i) path += ".a";
+  expect_user_error(run_cmd(bin + " run " + d + "/cfg.json --out " + d + "/o " + path + "=1"),
+                    "path nested deeper than 64 levels (the limit for any fovsim input)");
+  std::string sw = small_config();
+  sw.insert(sw.rfind('}'), ", \"sweep\": {\"grid\": {\"" + path + "\": [1]}}");
+  write_text(d + "/sw.json", sw);
+  expect_user_error(run_cmd(bin + " sweep expand " + d + "/sw.json"),
+                    "path nested deeper than 64 levels");
+}
+
+// Memory within documented limits: `compare` reads both images' headers before decoding
+// either; a pair over max_image_pixels (16 Mpx: about 140 bytes per pixel of working memory) is
+// refused naming the file, its size and the limit. A 57-byte PNG whose header claims 6000x6000.
+TEST(Reliability, CompareChecksHeadersBeforeDecoding) {
+  const std::string d = temp_dir("rel_png"), bin = fovsim_bin();
+  const std::string hex =
+      "89504e470d0a1a0a0000000d49484452000017700000177008020000006c361014000000004944415435af061e"
+      "0000000049454e44ae426082";
+  std::string bytes;
+  for (size_t i = 0; i + 1 < hex.size(); i += 2)
+    bytes += char(std::stoi(hex.substr(i, 2), nullptr, 16));
+  ASSERT_EQ(bytes.size(), 57u);
+  write_text(d + "/big.png", bytes);
+  expect_user_error(run_cmd(bin + " compare " + d + "/big.png " + d + "/big.png"),
+                    d + "/big.png: image header claims 6000x6000x3 (36000000 pixels), over the "
+                        "limit of 16777216 pixels (16 Mpx: comparing a pair takes about 140 bytes "
+                        "per pixel; set FOVSIM_MAX_IMAGE_MPIXELS to raise it)");
+  // TEST over the limit: refused before REF is decoded, naming TEST.
+  const std::string png = std::string(FOVSIM_SOURCE_DIR) + "/tests/data/metrics/gray_a.png";
+  ASSERT_TRUE(fs::exists(png));
+  expect_user_error(run_cmd(bin + " compare " + png + " " + d + "/big.png"),
+                    d + "/big.png: image header claims 6000x6000x3");
+  expect_user_error(
+      run_cmd("FOVSIM_MAX_IMAGE_MPIXELS=40 " + bin + " compare " + png + " " + d + "/big.png"),
+      "compare: images differ in size: ");
 }

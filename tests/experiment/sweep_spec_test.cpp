@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <set>
 
 #include "sim/core/error.h"
@@ -217,5 +218,66 @@ TEST(SweepSpec, SearchFitLevelIsAConstraintAndTheCellsLevel) {
   EXPECT_NE(err_of(R"({"search": {"space": {"a": {"from": 0, "to": 1}}, "maximize": "q",
                  "p_fit": 0.8, "subject_to": {"p_fit": {"min": 0.9}}}})")
                 .find("give the level once"),
+
+// Columns named by objectives, pareto, iso_budget and search are checked when the sweep is
+// parsed, before any cell runs: every column a run writes (the golden frames.csv of every
+// method, and the summary's suffixes) is accepted, a name no cell can produce is refused with
+// its JSON path and the names there are.
+TEST(SweepSpec, PlanColumnsAreKnownBeforeAnyCellRuns) {
+  std::ifstream f(std::string(FOVSIM_SOURCE_DIR) + "/tests/golden/methods_small.frames.csv");
+  std::string header;
+  std::getline(f, header);
+  std::vector<std::string> cols;
+  for (size_t a = 0, b; a <= header.size(); a = b + 1) {
+    b = header.find(',', a);
+    if (b == std::string::npos) b = header.size();
+    cols.push_back(header.substr(a, b - a));
+  }
+  ASSERT_GT(cols.size(), 100u);
+  const std::set<std::string> text{"config_id", "method", "label", "gpu", "lighting", "kernel"};
+  for (auto& c : cols) {
+    if (text.count(c)) {
+      EXPECT_EQ(err_of(R"({"grid": {"render.scale": [0.1]}, "objectives": [{"minimize": "psnr"}],
+                          "pareto": {"group_by": [")" +
+                       c + R"("]}})"),
+                "(no error)")
+          << c;
+      continue;
+    }
+    for (const std::string suffix : {"", "_ci95"})
+      EXPECT_EQ(err_of(R"({"grid": {"render.scale": [0.1]}, "objectives": [{"minimize": ")" + c +
+                       suffix + R"("}]})"),
+                "(no error)")
+          << c << suffix;
+  }
+  for (const std::string c :
+       {"frames", "est_ms_total_p95", "headroom_ms", "fits_budget", "fvvdp_jod_lo", "psnr_saccade",
+        "frames_lost", "shaded_fraction_held_ci95", "render.scale", "startup_frames"})
+    EXPECT_EQ(err_of(R"({"grid": {"render.scale": [0.1]}, "objectives": [{"maximize": ")" + c +
+                     R"("}]})"),
+              "(no error)")
+        << c;
+  const std::string e = err_of(R"({"grid": {"render.scale": [0.1]},
+      "objectives": [{"minimize": "est_ms_total"}, {"maximize": "fpsnr_x"}]})");
+  EXPECT_NE(e.find("s.json: sweep.objectives[1]: no numeric column \"fpsnr_x\" can be in a "
+                   "cell's summary (did you mean \"fpsnr\"?); checked before any cell runs "
+                   "(columns: "),
+            std::string::npos)
+      << e;
+  EXPECT_NE(e.find(", est_ms_total, "), std::string::npos) << e;
+  EXPECT_NE(err_of(R"({"grid": {"render.scale": [0.1]}, "objectives": [{"minimize": "psnr"}],
+                      "pareto": {"group_by": ["gpu", "scene_typo"]}})")
+                .find("sweep.pareto.group_by: no column \"scene_typo\" can be in a cell's summary"),
+            std::string::npos);
+  EXPECT_NE(err_of(R"({"grid": {"render.scale": [0.1]},
+                      "iso_budget": {"column": "shaded", "budgets": [0.5]}})")
+                .find("sweep.iso_budget.column: no numeric column \"shaded\""),
+            std::string::npos);
+  EXPECT_NE(err_of(R"({"grid": {"render.scale": [0.1]}, "objectives": [{"minimize": "label"}]})")
+                .find("sweep.objectives[0]: no numeric column \"label\""),
+            std::string::npos);
+  EXPECT_NE(err_of(R"({"search": {"space": {"render.scale": {"from": 0.1, "to": 0.2}},
+                      "maximize": "psnr", "subject_to": {"ms": {"max": 11}}}})")
+                .find("sweep.search.subject_to.ms: no numeric column \"ms\""),
             std::string::npos);
 }
