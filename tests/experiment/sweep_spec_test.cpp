@@ -8,6 +8,7 @@
 #include <set>
 
 #include "sim/core/error.h"
+#include "sim/experiment/runner.h"
 
 using namespace fovsim;
 
@@ -218,6 +219,8 @@ TEST(SweepSpec, SearchFitLevelIsAConstraintAndTheCellsLevel) {
   EXPECT_NE(err_of(R"({"search": {"space": {"a": {"from": 0, "to": 1}}, "maximize": "q",
                  "p_fit": 0.8, "subject_to": {"p_fit": {"min": 0.9}}}})")
                 .find("give the level once"),
+            std::string::npos);
+}
 
 // Columns named by objectives, pareto, iso_budget and search are checked when the sweep is
 // parsed, before any cell runs: every column a run writes (the golden frames.csv of every
@@ -252,7 +255,24 @@ TEST(SweepSpec, PlanColumnsAreKnownBeforeAnyCellRuns) {
   }
   for (const std::string c :
        {"frames", "est_ms_total_p95", "headroom_ms", "fits_budget", "fvvdp_jod_lo", "psnr_saccade",
-        "frames_lost", "shaded_fraction_held_ci95", "render.scale", "startup_frames"})
+        "frames_lost", "shaded_fraction_held_ci95", "render.scale", "startup_frames", "p_fit",
+        "fit_level", "fit_threshold_ms"})
+    EXPECT_EQ(err_of(R"({"grid": {"render.scale": [0.1]}, "objectives": [{"maximize": ")" + c +
+                     R"("}]})"),
+              "(no error)")
+        << c;
+  // Every column summarize writes (a new one must join the vocabulary, plan_columns.cpp).
+  ResultTable fr;
+  for (int i = 0; i < 4; ++i) {
+    ResultRow r;
+    r.set_text("config_id", "a");
+    r.set_text("gpu", "g");
+    r.set("frame", i);
+    r.set("est_ms_total", 5 + i);
+    r.set("psnr", 30 + i);
+    fr.add(r);
+  }
+  for (auto& c : summarize(fr, 11.1).numeric_columns())
     EXPECT_EQ(err_of(R"({"grid": {"render.scale": [0.1]}, "objectives": [{"maximize": ")" + c +
                      R"("}]})"),
               "(no error)")
