@@ -376,6 +376,10 @@ class AskTell {
       throw Error(config + ": sweep.search",
                   "no search space (give space=... or a config with sweep.search, "
                   "docs/sweeps.md)");
+    if (!plan.search.methods.empty())
+      throw Error(config + ": sweep.search.methods",
+                  "a method axis runs in `fovsim search`; AskTell searches one space (give "
+                  "space and label)");
     // As `fovsim search` before its first evaluation: the space's paths and ends, the label.
     validate_cells(plan);
     return plan.search;

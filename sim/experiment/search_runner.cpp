@@ -381,6 +381,125 @@ ResultRow best_row(const SweepCell& ctx, int ci, int n, const SearchSpec& sp, co
 
 }  // namespace
 
+namespace {
+
+// One context's search of one plan (its sweep.search): the searcher after its evaluations,
+// each point's constraint values and verdict inputs; history rows appended to `history`.
+struct ContextSearch {
+  Searcher searcher;
+  int evaluations = 0;
+  std::vector<std::pair<std::vector<double>, std::vector<double>>> seen_cv;
+  std::vector<Json> vin;  // each point's verdict inputs (done.json "verdict"), history order
+};
+
+ContextSearch search_context(const SweepPlan& plan, const SweepCell& ctx, int ci,
+                             const LoadedConfig& cfg, const SweepOptions& opt,
+                             const EngineOptions& eo, const std::string& evals_dir,
+                             ResultTable& history, Progress& progress, SearchReport& rep,
+                             bool with_label) {
+  const SearchSpec& sp = plan.search;
+  ContextSearch cs{Searcher(sp.space, sp.objective.maximize, sp.seed + uint64_t(ci), sp.batch)};
+  Searcher& s = cs.searcher;
+  int& n = cs.evaluations;
+  while (n < sp.evaluations) {
+    auto pts = s.ask();
+    if (pts.empty()) break;
+    if (int(pts.size()) > sp.evaluations - n) pts.resize(size_t(sp.evaluations - n));
+    std::vector<std::string> dirs;
+    std::vector<CellJob> jobs = batch_jobs(pts, ctx, ci, sp, evals_dir, cfg, opt, dirs, rep.cached);
+    run_batch(jobs, eo, plan, cfg);
+    std::vector<SearchEval> ev;
+    for (size_t i = 0; i < pts.size(); ++i) {
+      const std::string done_path = dirs[i] + "/done.json";
+      Json done = parse_json_text(read_file(done_path), done_path);
+      SearchEval e;
+      e.x = pts[i];
+      const Json& cols = done["columns"];
+      auto col = [&](const std::string& c) {
+        return cols.contains(c) && cols[c].is_number() ? cols[c].get<double>() : NAN;
+      };
+      e.score = col(sp.objective.column);
+      std::vector<double> cv;
+      for (auto& k : sp.constraints) cv.push_back(col(k.column));
+      e.violation = sp.violation(cv);
+      ev.push_back(e);
+      cs.seen_cv.emplace_back(e.x, cv);
+      cs.vin.push_back(done.contains("verdict") ? done["verdict"] : Json::object());
+      ResultRow h;
+      h.set_text("context_id", ctx.id());
+      if (with_label) h.set_text("label", sp.select_label);  // a method axis
+      h.set_text("eval_dir", "search/evals/" + dirs[i].substr(dirs[i].rfind('/') + 1));
+      h.set("context", ci);
+      h.set("eval", n + int(i));
+      for (size_t d = 0; d < e.x.size(); ++d) h.set(sp.space[d].path, e.x[d]);
+      h.set(sp.objective.column, e.score);
+      for (size_t k = 0; k < cv.size(); ++k) h.set(sp.constraints[k].column, cv[k]);
+      h.set("p_fit", col("p_fit"));  // (a p_fit constraint set it already: the same value)
+      h.set("feasible", e.violation <= 0 ? 1 : 0);
+      history.add(std::move(h));
+    }
+    n += int(pts.size());
+    progress.step(pts.size());
+    s.tell(ev);
+  }
+  if (n < sp.evaluations) progress.step(size_t(sp.evaluations - n));  // the searcher stopped
+  return cs;
+}
+
+// A method's best point, as the comparison across methods needs it.
+struct MethodWinner {
+  std::string label, at;  // "methods[kfr].sigma = 1.6"
+  bool found = false;
+  double score = NAN, violation = INFINITY, ci95 = NAN;
+  std::vector<double> frames;
+};
+
+MethodWinner method_winner(const SearchSpec& sp, const ContextSearch& cs) {
+  MethodWinner w;
+  w.label = sp.select_label;
+  const Searcher& s = cs.searcher;
+  if (!s.has_best()) return w;
+  w.found = true;
+  w.score = s.best().score;
+  w.violation = s.best().violation;
+  w.at = point_text(sp, s.best().x);
+  const auto& hist = s.history();
+  for (size_t i = 0; i < hist.size() && i < cs.vin.size(); ++i)
+    if (hist[i].x == s.best().x) {
+      w.frames = frame_scores(cs.vin[i]);
+      if (cs.vin[i].contains("score_ci95") && cs.vin[i]["score_ci95"].is_number())
+        w.ci95 = cs.vin[i]["score_ci95"].get<double>();
+      break;
+    }
+  return w;
+}
+
+// "across methods: kfr (methods[kfr].sigma = 1.6) wins; winner and runner-up tied within noise
+// (...); runner-up rmfr (...)": feasible winners before infeasible ones, then the objective.
+std::string compare_methods(std::vector<MethodWinner> ws, const Objective& obj) {
+  ws.erase(std::remove_if(ws.begin(), ws.end(), [](const MethodWinner& w) { return !w.found; }),
+           ws.end());
+  if (ws.size() < 2) return "";
+  auto better = [&](const MethodWinner& a, const MethodWinner& b) {
+    const bool fa = a.violation <= 0, fb = b.violation <= 0;
+    if (fa != fb) return fa;
+    if (!fa) return a.violation < b.violation;
+    if (std::isnan(b.score)) return !std::isnan(a.score);
+    if (std::isnan(a.score)) return false;
+    return obj.maximize ? a.score > b.score : a.score < b.score;
+  };
+  std::stable_sort(ws.begin(), ws.end(), better);
+  const MethodWinner &w = ws[0], &r = ws[1];
+  std::string line = "across methods: " + w.label + " (" + w.at + ") wins";
+  if (w.violation > 0) return line + ", but no method has a feasible point";
+  if (r.violation > 0) return line + "; no other method has a feasible point";
+  const ScoreComparison c = compare_scores(w.score, r.score, w.frames, r.frames, w.ci95, r.ci95);
+  return line + "; " + describe_comparison(c, obj.column) + "; runner-up " + r.label + " (" + r.at +
+         ")";
+}
+
+}  // namespace
+
 SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const SweepOptions& opt) {
   const SearchSpec& sp = plan.search;
   if (!sp.enabled())
@@ -403,69 +522,47 @@ SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const Sw
 
   ResultTable history, best;
   Json verdicts = Json::array();
+  // One search per method entry with a method axis (sweep.search.methods), else one.
+  std::vector<SweepPlan> subs;
+  for (const SearchSpec& one : sp.per_method()) {
+    subs.push_back(plan);
+    subs.back().search = one;
+  }
+  const bool axis = subs.size() > 1;
   auto [first, last] = shard_range(int(plan.cells.size()), opt.shard, opt.shards);
-  Progress progress("search evaluations",
-                    size_t(std::max(0, last - first)) * size_t(std::max(0, sp.evaluations)));
+  Progress progress("search evaluations", size_t(std::max(0, last - first)) * subs.size() *
+                                              size_t(std::max(0, sp.evaluations)));
   for (int ci = first; ci < last; ++ci) {
     const SweepCell& ctx = plan.cells[size_t(ci)];
     ++rep.contexts;
-    Searcher s(sp.space, sp.objective.maximize, sp.seed + uint64_t(ci), sp.batch);
-    int n = 0;
-    // (point, constraint values): the best point's values for search_best.csv
-    std::vector<std::pair<std::vector<double>, std::vector<double>>> seen_cv;
-    std::vector<Json> vin;  // each point's verdict inputs (done.json "verdict")
-    while (n < sp.evaluations) {
-      auto pts = s.ask();
-      if (pts.empty()) break;
-      if (int(pts.size()) > sp.evaluations - n) pts.resize(size_t(sp.evaluations - n));
-      std::vector<std::string> dirs;
-      std::vector<CellJob> jobs =
-          batch_jobs(pts, ctx, ci, sp, evals_dir, cfg, opt, dirs, rep.cached);
-      run_batch(jobs, eo, plan, cfg);
-      std::vector<SearchEval> ev;
-      for (size_t i = 0; i < pts.size(); ++i) {
-        const std::string done_path = dirs[i] + "/done.json";
-        Json done = parse_json_text(read_file(done_path), done_path);
-        SearchEval e;
-        e.x = pts[i];
-        const Json& cols = done["columns"];
-        auto col = [&](const std::string& c) {
-          return cols.contains(c) && cols[c].is_number() ? cols[c].get<double>() : NAN;
-        };
-        e.score = col(sp.objective.column);
-        std::vector<double> cv;
-        for (auto& k : sp.constraints) cv.push_back(col(k.column));
-        e.violation = sp.violation(cv);
-        ev.push_back(e);
-        seen_cv.emplace_back(e.x, cv);
-        vin.push_back(done.contains("verdict") ? done["verdict"] : Json::object());
-        ResultRow h;
-        h.set_text("context_id", ctx.id());
-        h.set_text("eval_dir", "search/evals/" + dirs[i].substr(dirs[i].rfind('/') + 1));
-        h.set("context", ci);
-        h.set("eval", n + int(i));
-        for (size_t d = 0; d < e.x.size(); ++d) h.set(sp.space[d].path, e.x[d]);
-        h.set(sp.objective.column, e.score);
-        for (size_t k = 0; k < cv.size(); ++k) h.set(sp.constraints[k].column, cv[k]);
-        h.set("p_fit", col("p_fit"));  // (a p_fit constraint set it already: the same value)
-        h.set("feasible", e.violation <= 0 ? 1 : 0);
-        history.add(std::move(h));
-      }
-      n += int(pts.size());
-      progress.step(pts.size());
-      s.tell(ev);
+    std::vector<MethodWinner> winners;
+    for (const SweepPlan& sub : subs) {
+      const SearchSpec& msp = sub.search;
+      ContextSearch cs =
+          search_context(sub, ctx, ci, cfg, opt, eo, evals_dir, history, progress, rep, axis);
+      rep.evaluations += cs.evaluations;
+      ResultRow b = best_row(ctx, ci, cs.evaluations, msp, cs.searcher, cs.seen_cv, rep.notes);
+      if (axis) b.set_text("label", msp.select_label);
+      std::vector<std::string> lines;
+      add_verdict(b, msp, cs.searcher, cs.seen_cv, cs.vin, lines);
+      std::string joined;
+      for (auto& l : lines) joined += (joined.empty() ? "" : "; ") + l;
+      b.set_text("verdict", joined);
+      Json vj{{"context_id", ctx.id()}, {"context", ci}, {"verdict", lines}};
+      if (axis) vj["label"] = msp.select_label;
+      verdicts.push_back(vj);
+      const std::string who = "context " + ctx.id() + (axis ? " " + msp.select_label : "") + ": ";
+      for (auto& l : lines) rep.verdicts.push_back(who + l);
+      if (axis) winners.push_back(method_winner(msp, cs));
+      best.add(std::move(b));
     }
-    rep.evaluations += n;
-    if (n < sp.evaluations) progress.step(size_t(sp.evaluations - n));  // the searcher stopped
-    ResultRow b = best_row(ctx, ci, n, sp, s, seen_cv, rep.notes);
-    std::vector<std::string> lines;
-    add_verdict(b, sp, s, seen_cv, vin, lines);
-    std::string joined;
-    for (auto& l : lines) joined += (joined.empty() ? "" : "; ") + l;
-    b.set_text("verdict", joined);
-    verdicts.push_back({{"context_id", ctx.id()}, {"context", ci}, {"verdict", lines}});
-    for (auto& l : lines) rep.verdicts.push_back("context " + ctx.id() + ": " + l);
-    best.add(std::move(b));
+    if (axis) {  // the methods' winners against each other (docs/sweeps.md)
+      const std::string line = compare_methods(winners, sp.objective);
+      if (!line.empty()) {
+        rep.verdicts.push_back("context " + ctx.id() + ": " + line);
+        verdicts.push_back({{"context_id", ctx.id()}, {"context", ci}, {"across_methods", line}});
+      }
+    }
   }
   std::string suffix =
       opt.shards > 1 ? ".shard" + std::to_string(opt.shard) + "of" + std::to_string(opt.shards)

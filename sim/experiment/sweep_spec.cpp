@@ -479,6 +479,20 @@ std::string SearchConstraint::describe() const {
   return column + " <= " + format_number(max);
 }
 
+std::vector<SearchSpec> SearchSpec::per_method() const {
+  if (methods.empty()) return {*this};
+  std::vector<SearchSpec> out;
+  for (size_t i = 0; i < methods.size(); ++i) {
+    SearchSpec s = *this;
+    s.methods.clear();
+    s.space = methods[i].space;
+    s.select_label = methods[i].label;
+    s.seed = seed + 1000003 * uint64_t(i);
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
 double SearchSpec::violation(const std::vector<double>& values) const {
   double v = 0;
   for (size_t i = 0; i < constraints.size(); ++i) {
@@ -599,16 +613,41 @@ SearchSpec parse_search(Params& sp, const std::string& w) {
   const Json& s = sp.json();
   if (!s.is_object()) throw Error(w, "expected an object");
   only_keys(s, w,
-            {"space", "maximize", "minimize", "subject_to", "label", "evaluations", "batch", "seed",
-             "p_fit"});
+            {"space", "methods", "maximize", "minimize", "subject_to", "label", "evaluations",
+             "batch", "seed", "p_fit"});
   SearchSpec out;
-  if (!s.contains("space"))
-    throw Error(w, "missing \"space\": {\"config.path\": {\"from\": a, \"to\": b}, ...}");
-  for (auto& [path, sv] : ordered_axes(s["space"], w + ".space")) {
-    Dim d = parse_dim(path, sv.first, sv.second);
-    if (!d.choices.empty())
-      throw Error(sv.second, "a search dimension must be a range {\"from\": a, \"to\": b}");
-    out.space.push_back({path, d.lo, d.hi, d.step, d.log, d.integer, d.where});
+  auto parse_space = [&](const Json& space, const std::string& sw) {
+    std::vector<SearchDim> dims;
+    for (auto& [path, sv] : ordered_axes(space, sw)) {
+      Dim d = parse_dim(path, sv.first, sv.second);
+      if (!d.choices.empty())
+        throw Error(sv.second, "a search dimension must be a range {\"from\": a, \"to\": b}");
+      dims.push_back({path, d.lo, d.hi, d.step, d.log, d.integer, d.where});
+    }
+    return dims;
+  };
+  if (s.contains("methods")) {  // a method axis: {"label": {"space": {...}}, ...}
+    const char* eg =
+        "expected {\"label\": {\"space\": {\"config.path\": {\"from\": a, \"to\": b}}}, ...}, "
+        "one entry per method entry to search";
+    if (s.contains("space") || s.contains("label"))
+      throw Error(w + ".methods",
+                  "give either \"methods\" (one space per method entry) or \"space\" and "
+                  "\"label\"");
+    const Json& ms = s["methods"];
+    if (!ms.is_object() || ms.size() < 2)
+      throw Error(w + ".methods", std::string(eg) + " (at least two: one method needs no axis)");
+    for (auto it = ms.begin(); it != ms.end(); ++it) {
+      const std::string mw = w + ".methods." + it.key();
+      if (it.key().empty()) throw Error(mw, "an empty label");
+      if (!it.value().is_object() || !it.value().contains("space")) throw Error(mw, eg);
+      only_keys(it.value(), mw, {"space"});
+      out.methods.push_back({it.key(), parse_space(it.value()["space"], mw + ".space")});
+    }
+  } else {
+    if (!s.contains("space"))
+      throw Error(w, "missing \"space\": {\"config.path\": {\"from\": a, \"to\": b}, ...}");
+    out.space = parse_space(s["space"], w + ".space");
   }
   if (s.contains("maximize") == s.contains("minimize"))
     throw Error(w, "give exactly one of \"maximize\" or \"minimize\": \"column\"");
@@ -799,9 +838,14 @@ const ParamTable<SearchSpec>& search_table() {
   using K = SearchSpec;
   static const auto t =
       ParamTable<K>()
-          .documented("space", "object", "required", "", "",
+          .documented("space", "object", "required (or `methods`)", "", "",
                       "`{\"config.path\": {\"from\": a, \"to\": b[, \"step\", \"log\", "
                       "\"integer\"]}, ...}`: the searched dimensions (ranges only)")
+          .documented("methods", "object", "", "", "",
+                      "a method axis instead of `space` and `label`: `{\"label\": {\"space\": "
+                      "{...}}, ...}`, two or more method entries each searched in its own space "
+                      "(`evaluations` each), then the methods' winners compared (docs/sweeps.md "
+                      "\"Searching across methods\")")
           .documented("maximize", "string", "", "", "",
                       "the summary column to maximize (exactly one of `maximize` / `minimize`)")
           .documented("minimize", "string", "", "", "", "the summary column to minimize")
@@ -842,42 +886,45 @@ namespace {
 // parameter, a label no method entry has, or an end out of the parameter's range fails with
 // the dimension's location), and search.label must name a method entry of every context.
 void validate_search(const SweepPlan& plan) {
-  const SearchSpec& sp = plan.search;
-  if (!sp.enabled()) return;
-  SweepPlan probe;
-  probe.file = plan.file;
-  for (auto& ctx : plan.cells) {
-    for (double end : {0.0, 1.0}) {
-      SweepCell c = ctx;
-      for (auto& d : sp.space) {
-        double v = end == 0.0 ? d.lo : d.hi;
-        if (d.integer) v = std::round(v);
-        const Json value = d.integer ? Json(std::llround(v)) : Json(v);
-        apply_assignment(c.doc, d.path, value, d.where);
-        c.assign.push_back({d.path, value, d.where});
+  if (!plan.search.enabled()) return;
+  for (const SearchSpec& sp : plan.search.per_method()) {
+    SweepPlan probe;
+    probe.file = plan.file;
+    for (auto& ctx : plan.cells) {
+      for (double end : {0.0, 1.0}) {
+        SweepCell c = ctx;
+        for (auto& d : sp.space) {
+          double v = end == 0.0 ? d.lo : d.hi;
+          if (d.integer) v = std::round(v);
+          const Json value = d.integer ? Json(std::llround(v)) : Json(v);
+          apply_assignment(c.doc, d.path, value, d.where);
+          c.assign.push_back({d.path, value, d.where});
+        }
+        probe.cells.push_back(std::move(c));
       }
-      probe.cells.push_back(std::move(c));
+      if (sp.select_label.empty()) continue;
+      std::string labels;
+      bool found = false;
+      if (ctx.doc.contains("methods") && ctx.doc["methods"].is_array())
+        for (auto& m : ctx.doc["methods"]) {
+          if (!m.is_object()) continue;
+          const std::string l =
+              m.contains("label") && m["label"].is_string()     ? m["label"].get<std::string>()
+              : m.contains("method") && m["method"].is_string() ? m["method"].get<std::string>()
+                                                                : "";
+          found = found || l == sp.select_label;
+          labels += (labels.empty() ? "" : ", ") + l;
+        }
+      if (!found)
+        throw Error((plan.file.empty() ? "" : plan.file + ": ") +
+                        (plan.search.methods.empty() ? "sweep.search.label"
+                                                     : "sweep.search.methods." + sp.select_label),
+                    "no method entry has label \"" + printable(sp.select_label) + "\"" +
+                        (plan.cells.size() > 1 ? " in context " + ctx.id() : std::string()) +
+                        " (labels: " + (labels.empty() ? "none" : labels) + ")");
     }
-    if (sp.select_label.empty()) continue;
-    std::string labels;
-    bool found = false;
-    if (ctx.doc.contains("methods") && ctx.doc["methods"].is_array())
-      for (auto& m : ctx.doc["methods"]) {
-        if (!m.is_object()) continue;
-        const std::string l =
-            m.contains("label") && m["label"].is_string()     ? m["label"].get<std::string>()
-            : m.contains("method") && m["method"].is_string() ? m["method"].get<std::string>()
-                                                              : "";
-        found = found || l == sp.select_label;
-        labels += (labels.empty() ? "" : ", ") + l;
-      }
-    if (!found)
-      throw Error((plan.file.empty() ? "" : plan.file + ": ") + "sweep.search.label",
-                  "no method entry has label \"" + printable(sp.select_label) + "\"" +
-                      (plan.cells.size() > 1 ? " in context " + ctx.id() : std::string()) +
-                      " (labels: " + (labels.empty() ? "none" : labels) + ")");
+    validate_cells(probe);
   }
-  validate_cells(probe);
 }
 
 }  // namespace

@@ -69,8 +69,17 @@ struct SearchConstraint {
   double min = -INFINITY, max = INFINITY;
   std::string describe() const;  // "fvvdp_jod_fl >= 9.5", "est_ms_total <= 11.1", "a <= x <= b"
 };
+// One method of a search spanning methods (sweep.search.methods): the method entry's label and
+// its own parameter space.
+struct MethodSpace {
+  std::string label;
+  std::vector<SearchDim> space;
+};
 struct SearchSpec {
   std::vector<SearchDim> space;
+  // sweep.search.methods: a method axis, one space per method entry (then `space` is empty and
+  // select_label unset); per_method() gives the search of each.
+  std::vector<MethodSpace> methods;
   Objective objective;  // maximize/minimize a summary column
   // Optional constraints (subject_to), in column-name order; all must hold.
   std::vector<SearchConstraint> constraints;
@@ -85,7 +94,10 @@ struct SearchSpec {
   int evaluations = 32;
   int batch = 8;
   uint64_t seed = 1;
-  bool enabled() const { return !space.empty(); }
+  bool enabled() const { return !space.empty() || !methods.empty(); }
+  // The searches this one runs: itself, or one per entry of `methods` (its space and label,
+  // the seed offset by the entry's index).
+  std::vector<SearchSpec> per_method() const;
 };
 
 struct SweepPlan {

@@ -230,6 +230,40 @@ TEST(Workflow, SearchSaysWhenTheBudgetDoesNotBind) {
   }
 }
 
+// A search spanning methods (sweep.search.methods): each method entry in its own space, then
+// the methods' winners compared, paired over the frames.
+TEST(Workflow, SearchAcrossMethodsComparesTheirWinners) {
+  std::string d = temp_dir("wf_search_methods");
+  write_text(d + "/s.json",
+             "{\"name\": \"s\", \"base\": \"" + kBase +
+                 "\", \"frames\": {\"count\": 12}, \"render\": {\"scale\": 0.05}, "
+                 "\"methods\": [{\"method\": \"kfr\"}, {\"method\": \"rmfr\"}], \"sweep\": "
+                 "{\"search\": {\"methods\": {\"kfr\": {\"space\": {\"methods[kfr].sigma\": "
+                 "{\"from\": 1.2, \"to\": 2.4, \"step\": 0.4}}}, \"rmfr\": {\"space\": "
+                 "{\"methods[rmfr].fx\": {\"from\": 0.1, \"to\": 0.4, \"step\": 0.1}}}}, "
+                 "\"maximize\": \"fpsnr\", \"evaluations\": 3, \"batch\": 3}}}");
+  auto r = run_cmd(fovsim_bin() + " search " + d + "/s.json --out " + d + "/o");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find(": across methods: "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(", paired over 12 frames); runner-up "), std::string::npos) << r.output;
+  Csv b = read_csv(d + "/o/search_best.csv");
+  ASSERT_EQ(b.rows.size(), 2u);
+  EXPECT_EQ(b.rows[0][size_t(b.col("label"))], "kfr");
+  EXPECT_EQ(b.rows[1][size_t(b.col("label"))], "rmfr");
+  // The winner named across methods is the one with the higher fpsnr.
+  const double fk = std::stod(b.rows[0][size_t(b.col("fpsnr"))]);
+  const double fr = std::stod(b.rows[1][size_t(b.col("fpsnr"))]);
+  EXPECT_NE(r.output.find(std::string("across methods: ") + (fk > fr ? "kfr" : "rmfr")),
+            std::string::npos)
+      << r.output;
+  Csv h = read_csv(d + "/o/search_history.csv");
+  EXPECT_EQ(h.rows.size(), 6u);
+  for (auto& row : h.rows) {
+    const std::string l = row[size_t(h.col("label"))];
+    EXPECT_TRUE(l == "kfr" || l == "rmfr") << l;
+  }
+}
+
 // Design decisions in JOD: "the cheapest configuration whose JOD >= T within the frame budget"
 // and "the best JOD within a cost budget" find the answer a brute-force grid gives.
 TEST(Workflow, SearchOnJodConstraintAndObjective) {

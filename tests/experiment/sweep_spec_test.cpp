@@ -301,3 +301,34 @@ TEST(SweepSpec, PlanColumnsAreKnownBeforeAnyCellRuns) {
                 .find("sweep.search.subject_to.ms: no numeric column \"ms\""),
             std::string::npos);
 }
+
+// sweep.search.methods: a method axis, one space per method entry; per_method() gives one
+// search per entry (its space, its label, its own seed).
+TEST(SweepSpec, SearchMethodAxisGivesOneSearchPerMethod) {
+  auto p = expand_sweep(cfg_of(R"({"search": {"methods": {
+      "full": {"space": {"render.scale": {"from": 0.05, "to": 0.1}}},
+      "kfr": {"space": {"methods[kfr].sigma": {"from": 1.2, "to": 3}}}},
+      "maximize": "fpsnr", "evaluations": 4}})"));
+  ASSERT_TRUE(p.search.enabled());
+  EXPECT_TRUE(p.search.space.empty());
+  const std::vector<SearchSpec> ms = p.search.per_method();
+  ASSERT_EQ(ms.size(), 2u);
+  EXPECT_EQ(ms[0].select_label, "full");
+  EXPECT_EQ(ms[1].select_label, "kfr");
+  EXPECT_EQ(ms[1].space.at(0).path, "methods[kfr].sigma");
+  EXPECT_NE(ms[0].seed, ms[1].seed);
+  EXPECT_EQ(ms[1].evaluations, 4);
+  EXPECT_EQ(p.search.per_method().size(), 2u);
+  EXPECT_NE(err_of(R"({"search": {"methods": {"kfr": {"space": {"methods[kfr].sigma":
+                 {"from": 1.2, "to": 3}}}}, "maximize": "fpsnr"}})")
+                .find("sweep.search.methods: expected"),
+            std::string::npos);  // one method needs no axis
+  EXPECT_NE(err_of(R"({"search": {"methods": {"kfr": {"space": {}}, "full": {"space": {}}},
+                 "space": {"a": {"from": 0, "to": 1}}, "maximize": "fpsnr"}})")
+                .find("give either \"methods\""),
+            std::string::npos);
+  const std::string e = err_of(R"({"search": {"methods": {
+      "full": {"space": {"render.scale": {"from": 0.05, "to": 0.1}}},
+      "rmfr": {"space": {"render.scale": {"from": 0.05, "to": 0.1}}}}, "maximize": "fpsnr"}})");
+  EXPECT_NE(e.find("sweep.search.methods.rmfr"), std::string::npos) << e;  // no such entry
+}
