@@ -72,11 +72,11 @@ def predict(gpu, workload=None, methods=None, display=None, width=0, height=0, e
 
 
 def budget(gpu, workload, methods=None, hz=90.0, budget_ms=None, scale=None, display=None,
-           width=0, height=0, eyes=0, models="", p=0.8, as_frame=True):
+           width=0, height=0, eyes=0, models="", p=None, as_frame=True):
     """Does each method fit a frame budget (1000/hz, or budget_ms) on each GPU, optionally with
     resources' throughput scaled (scale={"shading": 2.0, ...}) — `fovsim budget`. Per row:
     p_fit (probability that the frame fits, from the profile's held-out errors), fits (p_fit >= p)
-    and verdict ("fits"; "does not fit": p_fit <= 1 - p; else "uncertain") — the CLI's one
+    and verdict ("fits"; "does not fit": p_fit <= 1 - p; else "uncertain"; p None: 0.8) — the CLI's one
     definition (decide_budget in the C++, `fovsim budget --p`), headroom_ms,
     factor_<resource> (throughput factor that resource alone needs to fit; inf: cannot) and
     factor_all (uniform factor on everything but fixed overheads)."""
@@ -92,7 +92,9 @@ def budget(gpu, workload, methods=None, hz=90.0, budget_ms=None, scale=None, dis
     rows = []
     for g in _list(gpu):
         for meth in _list(methods) or json.loads(m.info())["budget_default_methods"]:
-            e = m.estimate(g, workload, meth, display, width, height, eyes, scale, b, models, p)
+            # p None: the library's level (kDefaultFitLevel, as `fovsim budget --p`).
+            e = m.estimate(g, workload, meth, display, width, height, eyes, scale, b, models,
+                           *(() if p is None else (p,)))
             t = e["est_ms_total"]
             r = _flat(e)
             r.update(budget_ms=b, headroom_ms=b - t, headroom=(b - t) / b if b > 0 else 0.0)

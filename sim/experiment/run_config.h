@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "sim/core/param_table.h"
+#include "sim/cost/budget.h"
 
 namespace fovsim {
 
@@ -67,7 +68,7 @@ const ParamTable<RunBlock>& run_block_table();
 
 // `budget`: the level of the run's budget decisions (sim/cost/budget.h decide_budget).
 struct BudgetBlock {
-  double p_fit = 0.8;  // kDefaultFitLevel
+  double p_fit = kDefaultFitLevel;
 };
 const ParamTable<BudgetBlock>& budget_block_table();
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <map>
 #include <memory>
+#include <utility>
 
 #include "sim/core/error.h"
 #include "sim/core/files.h"
@@ -386,6 +387,7 @@ namespace {
 // One context's search of one plan (its sweep.search): the searcher after its evaluations,
 // each point's constraint values and verdict inputs; history rows appended to `history`.
 struct ContextSearch {
+  explicit ContextSearch(Searcher s) : searcher(std::move(s)) {}
   Searcher searcher;
   int evaluations = 0;
   std::vector<std::pair<std::vector<double>, std::vector<double>>> seen_cv;
@@ -398,7 +400,7 @@ ContextSearch search_context(const SweepPlan& plan, const SweepCell& ctx, int ci
                              ResultTable& history, Progress& progress, SearchReport& rep,
                              bool with_label) {
   const SearchSpec& sp = plan.search;
-  ContextSearch cs{Searcher(sp.space, sp.objective.maximize, sp.seed + uint64_t(ci), sp.batch)};
+  ContextSearch cs(Searcher(sp.space, sp.objective.maximize, sp.seed + uint64_t(ci), sp.batch));
   Searcher& s = cs.searcher;
   int& n = cs.evaluations;
   while (n < sp.evaluations) {
