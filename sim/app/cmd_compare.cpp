@@ -21,6 +21,7 @@ struct CompareArgs {
   bool fvvdp = false, foveated = false;
   std::string display, gaze;
   double fps = 0;
+  int torch_threads = kFvvdpTorchThreads;
 };
 }  // namespace
 
@@ -46,6 +47,12 @@ void register_compare(CLI::App& app, Action& action) {
                 "With --fvvdp: gaze X,Y in pixels from the top-left (implies --foveated)");
   add_number(c, "--fps", a->fps, "With --fvvdp: frame rate of PNG sequences",
              {fvvdp_fps_range(), "Hz"});
+  add_number(
+      c, "--torch-threads", a->torch_threads,
+      "With --fvvdp: sum each band's pooling (spec section 10) in float32 as the reference's "
+      "torch.norm does on a CPU with N intra-op threads (1: the reference on one thread)",
+      {Range::closed(1, 1024), "threads", true, "sum in double"})
+      ->capture_default_str();
   c->add_flag("--foveated", a->foveated,
               "With --fvvdp: foveated mode (gaze at the image centre unless --gaze)");
   c->callback([a, &action] {
@@ -56,6 +63,7 @@ void register_compare(CLI::App& app, Action& action) {
         o.models_dir = default_models_dir();
         o.fps = a->fps;
         o.foveated = a->foveated;
+        o.torch_threads = a->torch_threads;
         if (!a->gaze.empty()) {
           std::tie(o.gaze_x, o.gaze_y) = parse_gaze(a->gaze);
           o.has_gaze = true;

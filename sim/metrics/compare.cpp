@@ -292,7 +292,9 @@ FvvdpComparison compare_fvvdp(const std::string& ref_path, const std::string& te
   c.foveated = opt.foveated || opt.has_gaze;
   c.gaze_x = opt.has_gaze ? opt.gaze_x : std::floor(c.width / 2);
   c.gaze_y = opt.has_gaze ? opt.gaze_y : std::floor(c.height / 2);
-  c.result = fvvdp(test, ref, c.display, c.fps, c.foveated, {{c.gaze_x, c.gaze_y}});
+  c.torch_threads = opt.torch_threads;
+  c.result =
+      fvvdp(test, ref, c.display, c.fps, c.foveated, {{c.gaze_x, c.gaze_y}}, opt.torch_threads);
   return c;
 }
 
@@ -307,6 +309,7 @@ Json fvvdp_comparison_json(const FvvdpComparison& c) {
   j["y_peak"] = c.display.y_peak;
   j["y_black"] = c.display.y_black;
   j["foveated"] = c.foveated;
+  j["torch_threads"] = c.torch_threads;
   j["gaze"] = c.foveated ? Json::array({c.gaze_x, c.gaze_y}) : Json(nullptr);
   j["frames"] = c.frames;
   j["fps"] = c.frames >= 2 ? Json(c.fps) : Json(nullptr);

@@ -69,6 +69,7 @@ struct FvvdpCompareOptions {
   bool foveated = false;   // implied by a gaze
   bool has_gaze = false;
   double gaze_x = 0, gaze_y = 0;
+  int torch_threads = kFvvdpTorchThreads;  // FvvdpOptions::torch_threads
 };
 
 struct FvvdpComparison {
@@ -78,6 +79,7 @@ struct FvvdpComparison {
   double fps = 0;  // 0 for an image
   bool foveated = false;
   double gaze_x = 0, gaze_y = 0;  // the gaze used (foveated only)
+  int torch_threads = kFvvdpTorchThreads;  // how the pooling sums were formed
 };
 
 // Names of the displays in models_dir/displays (sorted).

@@ -592,6 +592,29 @@ std::vector<double> band_frequencies(int height, int width, double ppd) {
   return f;
 }
 
+double torch_cpu_sum(const float* v, size_t n, int threads) {
+  if (threads <= 0) {
+    double s = 0;
+    for (size_t i = 0; i < n; ++i) s += double(v[i]);
+    return s;
+  }
+  // at::parallel_for(0, n, GRAIN_SIZE): min(threads, ceil(n / grain)) chunks of equal size, each
+  // summed from 0 in its own float accumulator, then combined from thread 0 on. One chunk when
+  // n < grain or on one thread. The adds must stay in this order (no reassociation): they are
+  // the reference's rounding.
+  const size_t g = size_t(kFvvdpTorchGrain);
+  const size_t T = n < g ? 1 : std::min(size_t(threads), (n + g - 1) / g);
+  const size_t chunk = (n + T - 1) / T;
+  float total = 0.f;
+  for (size_t t = 0; t < T; ++t) {
+    float a = 0.f;
+    const size_t end = std::min(n, (t + 1) * chunk);
+    for (size_t i = t * chunk; i < end; ++i) a += v[i];
+    total += a;
+  }
+  return double(total);
+}
+
 }  // namespace fvvdp_detail
 
 double fvvdp_jod_from_q(double mean_q) {
@@ -862,6 +885,7 @@ void FvvdpReferenceStream::push(const Image& ref, double gx, double gy) {
 struct FvvdpTestStream::Impl {
   Frame frame;
   std::vector<float> E, up;
+  std::vector<float> dpow;  // D^beta of the band's pixels in row-major order (torch_cpu_sum)
   std::vector<std::vector<float>> Dmap;  // heat map: per-band D (sustained + 0.25 transient)
   std::vector<double> row_sum;
 };
@@ -937,6 +961,15 @@ double FvvdpTestStream::score(const Image& test, const FvvdpReferenceStream& ref
       I.Dmap[size_t(b)].assign(n, 0.f);
       dmap = I.Dmap[size_t(b)].data();
     }
+    // §10 (1) as the reference accumulates it (fvvdp_detail::torch_cpu_sum); a video's D has one
+    // output per channel and frame, which torch reduces one at a time.
+    const int tthreads =
+        ref.options().torch_threads <= 0 ? 0 : (ref.video() ? 1 : ref.options().torch_threads);
+    float* dpow = nullptr;
+    if (tthreads > 0) {
+      I.dpow.resize(n);
+      dpow = I.dpow.data();
+    }
     for (int c = 0; c < nc; ++c) {
       const float wc = c == 0 ? 1.f : float(kWTransient);
       expand(F.level(c, b + 1), up.w, up.h, B.w, B.h, I.E.data(), I.frame.tmp);
@@ -971,13 +1004,18 @@ double FvvdpTestStream::score(const Image& test, const FvvdpReferenceStream& ref
           for (int j = 0; j < m; ++j) {
             const float D = dv[j];
             if (D > 0.f) acc += double(Pd[j]);  // §10 (1)
+            if (dpow) dpow[o + size_t(x0 + j)] = D > 0.f ? Pd[j] : 0.f;
             if (dmap) dmap[o + size_t(x0 + j)] += wc * D;
           }
         }
         I.row_sum[size_t(y)] = acc;
       });
       double sum = 0;
-      for (double v : I.row_sum) sum += v;  // row order: same bits at any thread count
+      if (dpow) {
+        sum = fvvdp_detail::torch_cpu_sum(dpow, n, tthreads);
+      } else {
+        for (double v : I.row_sum) sum += v;  // row order: same bits at any thread count
+      }
       last_q_[size_t(b)][size_t(c)] = std::pow(sum / double(n), 1.0 / kBeta);
     }
   }
@@ -1025,7 +1063,7 @@ double FvvdpTestStream::jod() const {
 
 FvvdpResult fvvdp(const std::vector<Image>& test, const std::vector<Image>& ref,
                   const FvvdpDisplay& display, double fps, bool foveated,
-                  const std::vector<std::pair<double, double>>& gaze_px) {
+                  const std::vector<std::pair<double, double>>& gaze_px, int torch_threads) {
   if (test.size() != ref.size() || ref.empty())
     throw Error(kWhere, "test has " + std::to_string(test.size()) + " frames, reference " +
                             std::to_string(ref.size()) + " (need the same count, at least 1)");
@@ -1037,6 +1075,7 @@ FvvdpResult fvvdp(const std::vector<Image>& test, const std::vector<Image>& ref,
   FvvdpOptions opt;
   opt.fps = N >= 2 ? fps : 0.0;
   opt.foveated = foveated;
+  opt.torch_threads = torch_threads;
   const int W = ref[0].width, H = ref[0].height;
   FvvdpReferenceStream rs(display, W, H, opt);
   FvvdpTestStream ts(rs);

@@ -6,7 +6,8 @@
 //
 // Inputs are display-encoded sRGB images in [0,1] (fovsim::Image, 3 channels; the values a run
 // compares). Output: JOD (10 = no visible difference). Per-pixel work is float32; every large
-// sum is accumulated in double in a fixed order, so results are bit-identical at any thread
+// sum is formed in a fixed order (the per-band pooling sum as the reference's float32 CPU
+// kernel forms it, FvvdpOptions::torch_threads), so results are bit-identical at any thread
 // count.
 //
 // A run scores N methods against one reference per frame: FvvdpReferenceStream holds the
@@ -57,9 +58,22 @@ struct FvvdpDisplay {
 // Options of a stream. fps <= 0: every pushed frame is a still image (§5.1; no temporal
 // channel). fps > 0: consecutive pushes are a video at fps Hz (§5.2; fps must give L >= 2 taps,
 // i.e. fps > 4).
+// How the per-band pooling sum of §10 (1) is accumulated. The reference computes it with
+// torch.norm, whose CPU kernel (binary_kernel_reduce with NormOps) keeps a float32 accumulator
+// and adds the pixels in row-major order, one chunk per thread. Where D is clamped at 1e4 on
+// many pixels (low pixels per degree, large differences), the equal terms round the same way
+// and the float32 sum drifts: 1e-3 to 2.6e-3 JOD on blurred 1440x1600 pairs on htc_vive_pro
+// (docs/metrics.md, "Pooling precision"). `torch_threads` = N > 0 reproduces the reference run
+// with N intra-op threads (N only matters for a still image: a video's D has one output per
+// channel and frame, which torch reduces one by one); 0 sums in double, as the spec's
+// float64 implementation does.
+constexpr int kFvvdpTorchThreads = 1;    // the reference on one thread
+constexpr int kFvvdpTorchGrain = 32768;  // at::internal::GRAIN_SIZE
+
 struct FvvdpOptions {
   double fps = 0;
   bool foveated = false;
+  int torch_threads = kFvvdpTorchThreads;
 };
 
 struct FvvdpBandState;  // per-band reference data (internal)
@@ -173,7 +187,8 @@ struct FvvdpResult {
 // a video at fps. gaze_px: empty (default gaze), one point for all frames, or one per frame.
 FvvdpResult fvvdp(const std::vector<Image>& test, const std::vector<Image>& ref,
                   const FvvdpDisplay& display, double fps, bool foveated,
-                  const std::vector<std::pair<double, double>>& gaze_px = {});
+                  const std::vector<std::pair<double, double>>& gaze_px = {},
+                  int torch_threads = kFvvdpTorchThreads);
 
 // FovVideoVDP in a run: the registry's sequence-metric interface (sim/metrics/registry.h),
 // registered in registry.cpp. Frames of the simulated size on the display scaled to it, the gaze
@@ -196,6 +211,10 @@ void temporal_taps(double fps, std::vector<double>& fs, std::vector<double>& ft)
 // 90 Hz; 0 for still images (fps <= 0).
 int settle_frames(double fps);
 std::vector<double> band_frequencies(int height, int width, double ppd);
+// The sum of v[0..n) as torch.norm's CPU kernel forms it with `threads` intra-op threads
+// (float32; chunks of ceil(n / min(threads, ceil(n / grain))) values, combined in order), or in
+// double when threads == 0.
+double torch_cpu_sum(const float* v, size_t n, int threads);
 }  // namespace fvvdp_detail
 
 }  // namespace fovsim

@@ -384,3 +384,38 @@ TEST(Fvvdp, SettleFramesFromTheSustainedFilter) {
 
 }  // namespace
 }  // namespace fovsim
+
+TEST(Fvvdp, TorchCpuSumRoundsAsAFloat32Accumulator) {
+  using fvvdp_detail::torch_cpu_sum;
+  // 1e8 has a float32 spacing of 8: one accumulator loses every +1, double keeps them.
+  const std::vector<float> v = {1e8f, 1.f, 1.f, 1.f, 1.f};
+  EXPECT_EQ(torch_cpu_sum(v.data(), v.size(), 1), 1e8);
+  EXPECT_EQ(torch_cpu_sum(v.data(), v.size(), 0), 1e8 + 4);
+  // Chunks only above the grain (32768 values): two chunks of 32768 summed apart, then combined.
+  std::vector<float> w(size_t(2) * kFvvdpTorchGrain, 1.f);
+  w[0] = 1e8f;
+  w[size_t(kFvvdpTorchGrain)] = 0.5f;
+  const double two = torch_cpu_sum(w.data(), w.size(), 2);
+  EXPECT_EQ(two, double(1e8f + float(0.5 + (kFvvdpTorchGrain - 1))));
+  EXPECT_EQ(torch_cpu_sum(w.data(), w.size(), 1), 1e8);  // every later +1 lost
+  EXPECT_EQ(torch_cpu_sum(w.data(), 100, 2), torch_cpu_sum(w.data(), 100, 1));  // below grain
+}
+
+TEST(Fvvdp, PoolingSumsAsTheReferenceDoesWhereDIsClamped) {
+  // A still 1440x1600 pair on htc_vive_pro whose reference has a strong grating and whose test
+  // is flat (an extreme blur): D is clamped at 1e4 on most pixels of the first bands, so the
+  // reference's float32 pooling sum drifts. Expected values from an independent float64
+  // implementation of the spec in numpy with the same sums emulated (not from fovsim).
+  const Image ref = grating(1600, 1440, 60, 10), test = uniform(1600, 1440, 128);
+  const FvvdpDisplay d = FvvdpDisplay::standard("htc_vive_pro");
+  const double exact = fvvdp({test}, {ref}, d, 0, false, {}, 0).jod;
+  const double one = fvvdp({test}, {ref}, d, 0, false, {}, 1).jod;
+  const double two = fvvdp({test}, {ref}, d, 0, false, {}, 2).jod;
+  const double sixteen = fvvdp({test}, {ref}, d, 0, false, {}, 16).jod;
+  EXPECT_NEAR(exact, 3.480937, 1e-5);
+  EXPECT_NEAR(one, 3.478882, 1e-5);
+  EXPECT_NEAR(two, 3.482758, 1e-5);
+  EXPECT_NEAR(sixteen, 3.481619, 1e-5);
+  EXPECT_GT(std::fabs(one - exact), 1.5e-3);  // the effect is larger than the 1e-3 regression bar
+  EXPECT_EQ(fvvdp({test}, {ref}, d, 0, false).jod, one);  // the default: the reference on one thread
+}
