@@ -32,6 +32,7 @@
 #include "sim/experiment/frame_order.h"
 #include "sim/experiment/gaze_source.h"
 #include "sim/experiment/intervals.h"
+#include "sim/experiment/jod_fidelity.h"
 #include "sim/experiment/latency.h"
 #include "sim/experiment/method_memo.h"
 #include "sim/experiment/phase_times.h"
@@ -322,7 +323,7 @@ struct Shared {
 // fidelity` on the quickstart methods, top rung render.scale 0.5, 90 frames) measured for it:
 // the largest |difference| of any method's mean from the top rung's. Rungs not measured say
 // so; nothing is extrapolated.
-Json fidelity_record(double scale, int stride, int spp) {
+Json fidelity_record(double scale, int stride, int spp, double display_ppd) {
   Json bias = nullptr;
   std::string note;
   struct Rung {
@@ -355,7 +356,8 @@ Json fidelity_record(double scale, int stride, int spp) {
   Json j{{"render_scale", scale},
          {"frames_stride", stride},
          {"reference_spp", spp},
-         {"known_bias", bias}};
+         {"known_bias", bias},
+         {"jod", jod_fidelity_record(scale, display_ppd)}};  // JOD against native resolution
   if (!note.empty()) j["note"] = note;
   return j;
 }
@@ -1058,7 +1060,7 @@ Json cell_manifest(const CellJob& job, const Shared& sh, const Json& resolved,
         {"triangles", sh.scene->triangle_count()},
         {"features", sh.scene->features().to_json()}}},
       {"trace", {{"source", sh.trace.source}, {"samples", sh.trace.samples.size()}}},
-      {"fidelity", fidelity_record(sh.scale, sh.stride, sh.rs.spp)},
+      {"fidelity", fidelity_record(sh.scale, sh.stride, sh.rs.spp, jod_display_ppd(sh.display))},
       {"frames",
        {{"start", sh.start}, {"count", sh.count}, {"stride", sh.stride}, {"warmup", sh.warmup}}},
       {"machine", machine_info()},
@@ -1404,6 +1406,7 @@ CellResult write_cell_outputs(Cell& c, const Shared& sh, const GroupOutputs& g) 
   r.warnings = c.warnings;
   if (c.manifest["fidelity"].contains("note"))
     r.fidelity_note = c.manifest["fidelity"]["note"].get<std::string>();
+  r.fidelity = c.manifest["fidelity"];
   r.cell_ms = c.cell_ms;
   // The means leave out the start-up frames (startup.h; frames.csv keeps them).
   const StartupPlan plan = startup_plan(c, sh);
@@ -1437,6 +1440,14 @@ CellResult write_cell_outputs(Cell& c, const Shared& sh, const GroupOutputs& g) 
                 {"achieved", achieved}};
     c.manifest["target"] = r.target;
   }
+  // A JOD metric below native resolution: its bias (or that it has none measured) is said.
+  const Json& jod = c.manifest["fidelity"]["jod"];
+  bool has_jod = false;
+  for (auto& row : r.summary.rows())
+    has_jod = has_jod || !std::isnan(row.get("fvvdp_jod", NAN)) ||
+              !std::isnan(row.get("fvvdp_jod_fl", NAN));
+  if (has_jod && jod.contains("note"))
+    r.fidelity_note += (r.fidelity_note.empty() ? "" : "; ") + jod["note"].get<std::string>();
   write_file_atomic(out + "/frames.csv", c.frames.to_csv());
   write_file_atomic(out + "/summary.csv", r.summary.to_csv());
   // Paired differences with the known bias of the run's fidelity (docs/intervals.md): a

@@ -58,6 +58,7 @@ struct CellResult {
   std::vector<std::string> flags;
   std::vector<std::string> warnings;  // valid but suspicious values (engine.cpp config_warnings)
   std::string fidelity_note;  // manifest "fidelity" note: the known bias of this render.scale
+  Json fidelity;              // the manifest's "fidelity" record (its "jod": JOD vs native)
   double cell_ms = 0;  // wall time spent in this cell's own work (methods, metrics, cost, images)
   Json target;         // with targets: the manifest's "target" record (else null)
   // Notes for stderr (the CLI prints them): missing or short-run intervals (interval_notes,

@@ -9,6 +9,7 @@
 #include "sim/core/error.h"
 #include "sim/core/rng.h"
 #include "sim/core/stats.h"
+#include "sim/experiment/jod_fidelity.h"
 #include "sim/foveation/factory.h"
 #include "sim/metrics/registry.h"
 
@@ -158,6 +159,9 @@ ResultTable paired_differences(const ResultTable& frames) {
 
 double fidelity_bias(const Json& fidelity, const std::string& metric, double mean_a,
                      double mean_b) {
+  if (!jod_metric_of(metric).empty())  // JOD: against native resolution (jod_fidelity.h)
+    return fidelity.is_object() && fidelity.contains("jod") ? jod_bias_of(fidelity["jod"], metric)
+                                                            : double(NAN);
   if (!fidelity.is_object() || !fidelity.contains("known_bias")) return NAN;
   const Json& b = fidelity["known_bias"];
   if (!b.is_object()) return NAN;

@@ -13,6 +13,7 @@
 #include "sim/core/hash.h"
 #include "sim/core/progress.h"
 #include "sim/experiment/engine.h"
+#include "sim/experiment/jod_fidelity.h"
 #include "sim/experiment/search.h"
 #include "sim/experiment/search_verdict.h"
 
@@ -149,6 +150,8 @@ Json verdict_inputs(const CellResult& res, const ResultRow& r, const SearchSpec&
     frames.push_back(num(x));
   }
   if (has_col) v["frame_scores"] = frames;
+  // JOD against native resolution (jod_fidelity.h): a JOD constraint's margin or "needs native".
+  if (res.fidelity.is_object() && res.fidelity.contains("jod")) v["jod"] = res.fidelity["jod"];
   for (auto& o : res.summary.rows()) {
     const std::string* m = o.text_of("method");
     const std::string* l = o.text_of("label");
@@ -299,6 +302,19 @@ void add_verdict(ResultRow& b, const SearchSpec& sp, const Searcher& s,
       if (!sentence.empty()) lines.push_back(sentence + " (" + c.describe() + ")");
     }
     for (auto& l : non_binding_constraints(other, other_values)) lines.push_back(l);
+    // (a') A JOD constraint below native resolution: judged with its measured bias, or the
+    // answer needs native resolution (jod_fidelity.h).
+    const Json jod = vin[0].contains("jod") ? vin[0]["jod"] : Json();
+    bool needs_native = false;
+    for (auto& c : sp.constraints) {
+      const JodJudgement j = judge_jod(c, jod);
+      const std::string line = jod_verdict_sentence(c, j, jod);
+      if (line.empty()) continue;
+      lines.push_back(line);
+      needs_native = needs_native || j.needs_native;
+    }
+    if (jod.is_object() && !jod.value("native", true))
+      b.set("needs_native_resolution", needs_native ? 1 : 0);
     if (!std::isnan(budget_binds)) b.set("budget_binds", budget_binds);
     b.set("constraints_bind", any_violated ? 1 : 0);
   }
@@ -421,9 +437,14 @@ ContextSearch search_context(const SweepPlan& plan, const SweepCell& ctx, int ci
         return cols.contains(c) && cols[c].is_number() ? cols[c].get<double>() : NAN;
       };
       e.score = col(sp.objective.column);
-      std::vector<double> cv;
-      for (auto& k : sp.constraints) cv.push_back(col(k.column));
-      e.violation = sp.violation(cv);
+      std::vector<double> cv, margins;
+      const Json& vj = done.contains("verdict") ? done["verdict"] : Json::object();
+      const Json jod = vj.contains("jod") ? vj["jod"] : Json();
+      for (auto& k : sp.constraints) {
+        cv.push_back(col(k.column));
+        margins.push_back(judge_jod(k, jod).margin);  // 0 unless a JOD column below native
+      }
+      e.violation = sp.violation(cv, margins);
       ev.push_back(e);
       cs.seen_cv.emplace_back(e.x, cv);
       cs.vin.push_back(done.contains("verdict") ? done["verdict"] : Json::object());
@@ -435,7 +456,12 @@ ContextSearch search_context(const SweepPlan& plan, const SweepCell& ctx, int ci
       h.set("eval", n + int(i));
       for (size_t d = 0; d < e.x.size(); ++d) h.set(sp.space[d].path, e.x[d]);
       h.set(sp.objective.column, e.score);
-      for (size_t k = 0; k < cv.size(); ++k) h.set(sp.constraints[k].column, cv[k]);
+      for (size_t k = 0; k < cv.size(); ++k) {
+        h.set(sp.constraints[k].column, cv[k]);
+        if (!jod_metric_of(sp.constraints[k].column).empty() && jod.is_object() &&
+            !jod.value("native", true))  // the margin it was judged with (NaN: none measured)
+          h.set(sp.constraints[k].column + "_bias", jod_bias_of(jod, sp.constraints[k].column));
+      }
       h.set("p_fit", col("p_fit"));  // (a p_fit constraint set it already: the same value)
       h.set("feasible", e.violation <= 0 ? 1 : 0);
       history.add(std::move(h));

@@ -494,11 +494,17 @@ std::vector<SearchSpec> SearchSpec::per_method() const {
 }
 
 double SearchSpec::violation(const std::vector<double>& values) const {
+  return violation(values, {});
+}
+
+double SearchSpec::violation(const std::vector<double>& values,
+                             const std::vector<double>& margins) const {
   double v = 0;
   for (size_t i = 0; i < constraints.size(); ++i) {
     const double x = i < values.size() ? values[i] : NAN;
+    const double m = i < margins.size() ? margins[i] : 0.0;
     if (std::isnan(x)) return INFINITY;
-    v += std::max(0.0, x - constraints[i].max) + std::max(0.0, constraints[i].min - x);
+    v += std::max(0.0, x + m - constraints[i].max) + std::max(0.0, constraints[i].min - (x - m));
   }
   return v;
 }

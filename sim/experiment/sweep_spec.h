@@ -87,6 +87,9 @@ struct SearchSpec {
   // how far the value lies outside [min, max], each in its column's unit; 0 = feasible, a
   // missing (NaN) value is infinitely violated.
   double violation(const std::vector<double>& values) const;
+  // As violation, with each value `margins[k]` further from constraint k's limits (x - m
+  // against min, x + m against max): a measured bias carried into the decision.
+  double violation(const std::vector<double>& values, const std::vector<double>& margins) const;
   std::string select_label;  // which summary row is scored (label); "" = first row
   // sweep.search.p_fit: feasible only where the summary's p_fit reaches this level (appended to
   // `constraints` as p_fit >= level, and the cells' budget.p_fit); 0 = not given.

@@ -316,6 +316,13 @@ TEST(Workflow, SearchOnJodConstraintAndObjective) {
                    sigmas[size_t(cheapest)]);
   EXPECT_GE(std::stod(b.rows[0][size_t(b.col("fvvdp_jod_fl"))]), T);
   EXPECT_GE(std::stod(b.rows[0][size_t(b.col("headroom_ms"))]), 0);
+  // At render.scale 0.08 no JOD bias against native resolution is measured: the verdict says
+  // the answer needs native resolution (docs/fidelity.md).
+  ASSERT_GE(b.col("needs_native_resolution"), 0);
+  EXPECT_EQ(b.rows[0][size_t(b.col("needs_native_resolution"))], "1");
+  EXPECT_NE(b.rows[0][size_t(b.col("verdict"))].find("the answer needs native resolution"),
+            std::string::npos)
+      << b.rows[0][size_t(b.col("verdict"))];
 
   // Best JOD whose frame time stays within a budget between the 2nd and 3rd grid values.
   const double B = 0.5 * (ms[1] + ms[2]);
