@@ -5,8 +5,11 @@ For every row: dJOD = 10 - fvvdp_jod_fl with its 95% interval [10 - fvvdp_jod_fl
 10 - fvvdp_jod_fl_lo], the probability that an observer prefers regular rendering,
 P = Phi(0.6745 * dJOD) (1 JOD = 75% preference, Mantiuk et al. 2021), and the verdict:
 invisible (interval <= T80), noticed (interval >= TMOST), small (inside [T80, TMOST]),
-undecided (straddles a threshold). Prints one Markdown table per sweep folder, stamped with
-the fovsim version and plan hash of the sweep.
+undecided (straddles a threshold). Below the display's own resolution the interval is widened
+by the measured JOD bias of the run's render.scale (manifest fidelity.jod, docs/fidelity.md);
+where none is measured the verdict is "needs native resolution". Prints one Markdown table per
+sweep folder, stamped with the fovsim version, the plan hash of the sweep, and the pixels per
+degree the metric saw against the display's native ones.
 
     scripts/perception_table.py DIR [DIR ...]
 """
@@ -44,18 +47,27 @@ def num(row, key):
 
 
 def stamp(d):
-    version, plan, extra = "?", "?", ""
+    """(version, plan text, JOD record of the run's fidelity: manifest fidelity.jod)."""
+    version, plan, extra, jod = "?", "?", "", {}
     for m in sorted(glob.glob(os.path.join(d, "runs", "*", "manifest.json")))[:1]:
         with open(m) as f:
             j = json.load(f)
         version = f"{j.get('version', '?')} ({j.get('git_commit', '?')})"
         fv = j.get("fvvdp", {})
         extra = f"; {fv.get('mode', '?')} at {fv.get('fps', '?')} Hz; {fv.get('display', '')}"
+        jod = j.get("fidelity", {}).get("jod") or {}
+        if jod:
+            extra += (f"; {jod.get('ppd_simulated', float('nan')):.3g} of the display's "
+                      f"{jod.get('ppd_display', float('nan')):.3g} px/deg")
+            if not jod.get("native", False):
+                b = (jod.get("bias") or {}).get("fvvdp_jod_fl")
+                extra += (f", JOD bias ±{b:.2f} (in the intervals)" if b is not None
+                          else ", no measured JOD bias: verdicts need native resolution")
     sj = os.path.join(d, "sweep_summary.json")
     if os.path.exists(sj):
         with open(sj) as f:
             plan = json.load(f).get("plan_hash", "?")
-    return version, plan + extra
+    return version, plan + extra, jod
 
 
 def table(d):
@@ -64,7 +76,9 @@ def table(d):
     if not rows:
         return
     axes = [k for k in rows[0] if k.startswith("methods[")]
-    version, plan = stamp(d)
+    version, plan, jod = stamp(d)
+    native = jod.get("native", False) if jod else False
+    bias = 0.0 if native else (jod.get("bias") or {}).get("fvvdp_jod_fl") if jod else None
     print(f"\n#### {os.path.basename(os.path.normpath(d))} (fovsim {version}, plan {plan})\n")
     head = axes + ["shaded", "fpsnr_fl [dB]", "fvvdp_jod_fl", "ΔJOD [95%]", "P(prefer full)",
                    "verdict", "fvvdp_jod (vs 16 spp)"]
@@ -75,6 +89,8 @@ def table(d):
     for r in rows:
         j, lo, hi = num(r, "fvvdp_jod_fl"), num(r, "fvvdp_jod_fl_lo"), num(r, "fvvdp_jod_fl_hi")
         d_, dlo, dhi = 10 - j, 10 - hi, 10 - lo
+        if bias is not None:  # the measured bias of the run's render.scale widens the interval
+            dlo, dhi = dlo - bias, dhi + bias
         mark = ""
         if r is best_jod:
             mark += " (max JOD)"
@@ -86,7 +102,7 @@ def table(d):
             f"{j:.3f}",
             f"{d_:.3f} [{dlo:.3f}, {dhi:.3f}]",
             f"{phi(Z75 * d_):.2f}",
-            verdict(dlo, dhi) + mark,
+            (verdict(dlo, dhi) if bias is not None else "needs native resolution") + mark,
             f"{num(r, 'fvvdp_jod'):.3f}",
         ]
         print("| " + " | ".join(cells) + " |")
