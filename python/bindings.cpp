@@ -21,6 +21,7 @@
 #include "sim/cost/passes.h"
 #include "sim/cost/workload.h"
 #include "sim/experiment/config.h"
+#include "sim/experiment/cost_queries.h"
 #include "sim/experiment/info.h"
 #include "sim/experiment/intervals.h"
 #include "sim/experiment/recost.h"
@@ -169,78 +170,44 @@ py::object from_json(const Json& j) {
   return py::module_::import("json").attr("loads")(j.dump());
 }
 
-// One frame estimate of the analytic cost model: `fovsim predict`'s per-method row (without the
-// speedup column) and, with budget_ms > 0, `fovsim budget`'s verdict. `scale` multiplies a
-// resource's throughput (shading, geometry, raster, memory, fixed) as `budget --shading` etc.
-py::dict estimate_py(const std::string& gpu, const std::string& workload, const std::string& method,
-                     const std::string& display, double width, double height, double eyes,
-                     const std::map<std::string, double>& scale, double budget_ms,
-                     const std::string& models_in, double level) {
-  // The checks `fovsim predict` / `budget` make on their flags (params.h check_number): 0
-  // keeps the display's own value, anything else must be in the flag's range.
-  check_cost_args(width, height, eyes, budget_ms, scale);  // the CLI flags' ranges (budget.h)
-  check_number("p", level, fit_level_range());             // `fovsim budget --p`
-  const std::string models = models_in.empty() ? default_models_dir() : models_in;
-  MethodArg m = parse_method_arg(method, "method");
-  if (!is_cost_method(m.name))
-    throw Error("method " + method, "no cost model for method \"" + m.name + "\"");
-  // As `fovsim predict` / `budget --workload`: "generic" describes no scene.
-  Workload w = Workload::load_for_costing(workload, models, "workload", "");
-  Display d = Display::load(display, models);
-  if (width) d.width = int(width);  // integers in range: check_cost_args above
-  if (height) d.height = int(height);
-  if (eyes) d.eyes = int(eyes);
-  GpuProfile g = GpuProfile::load(gpu, models);
-  for (auto& [k, f] : scale) {
-    bool known = false;
-    for (Resource r : {Resource::Geometry, Resource::Raster, Resource::Shading, Resource::Memory,
-                       Resource::Fixed})
-      if (k == resource_name(r)) g = g.scaled(r, f), known = true;
-    if (!known)
-      throw Error("scale." + k, "unknown resource (shading, geometry, raster, memory, fixed)");
-  }
-  const FrameCost fc = analytic_frame(g, m.name, m.params, w, d, "method " + m.text);
-  py::dict r;
-  r["gpu"] = g.name;
-  r["calibrated"] = g.calibrated;
-  r["model"] = model_name(g.model);
-  r["method"] = m.name;
-  r["method_text"] = m.text;
-  r["params"] = from_json(m.params);
-  r["workload"] = w.name;
-  r["display"] = d.name;
-  r["width"] = d.width;
-  r["height"] = d.height;
-  r["eyes"] = d.eyes;
-  r["display_budget_ms"] = d.frame_budget_ms();
-  r["est_ms_total"] = fc.total_ms;
-  if (fc.interval_level > 0) {
-    r["est_ms_total_lo"] = fc.total_lo_ms;
-    r["est_ms_total_hi"] = fc.total_hi_ms;
-    r["interval_level"] = fc.interval_level;
-  }
-  py::dict passes, pass_lo, pass_hi;
-  for (auto& p : fc.passes) {
-    passes[py::str(p.pass)] = p.ms;
-    pass_lo[py::str(p.pass)] = p.lo_ms;
-    pass_hi[py::str(p.pass)] = p.hi_ms;
-  }
-  r["passes"] = passes;
-  if (fc.interval_level > 0) r["passes_lo"] = pass_lo, r["passes_hi"] = pass_hi;
-  r["resource_ms"] = fc.resource_ms;
-  r["missing_counters"] = fc.missing_counters;
-  if (budget_ms > 0) {
-    // The same decision and factors as `fovsim budget` (sim/cost/budget.h), not a copy.
-    const BudgetDecision bd = decide_budget(g.interval, fc.total_ms, budget_ms, level);
-    r["verdict"] = std::string(bd.verdict);
-    r["p_fit"] = bd.p_fit;
-    r["fits"] = bd.fits;
-    r["fit_level"] = level;
-    const BudgetFactors bf = budget_factors(fc, budget_ms);
-    for (auto& [res, x] : bf.x) r[py::str("factor_" + res)] = x;
-    r["factor_all"] = bf.x_all;
-  }
-  return r;
+// `fovsim predict` / `fovsim budget` as the CLI computes them (sim/experiment/cost_queries.h):
+// the same rows, the same checks. Python's argument names locate the errors.
+CostTarget py_cost_target(const std::vector<std::string>& gpus, const std::string& workload,
+                          const std::vector<std::string>& methods, const std::string& display,
+                          double width, double height, double eyes, const std::string& models) {
+  check_cost_args(width, height, eyes, 0, {});  // floats from Python: checked before the cast
+  CostTarget t;
+  t.models = models.empty() ? default_models_dir() : models;
+  t.display = display.empty() ? std::string(kDefaultDisplay) : display;
+  t.workload = workload;
+  t.gpus = gpus;
+  t.methods = methods;
+  t.width = int(width), t.height = int(height), t.eyes = int(eyes);
+  t.where_method = "method", t.where_workload = "workload", t.where_gpu = "gpu";
+  t.workload_hint = "";
+  return t;
+}
+
+py::list rows_py(const CostRows& r) {
+  py::list out;
+  for (auto& j : r.rows) out.append(from_json(Json::parse(j.dump())));
+  return out;
+}
+
+py::list predict_py(const std::vector<std::string>& gpus, const std::string& workload,
+                    const std::vector<std::string>& methods, const std::string& display,
+                    double width, double height, double eyes, const std::string& models) {
+  return rows_py(
+      predict_rows(py_cost_target(gpus, workload, methods, display, width, height, eyes, models)));
+}
+
+py::list budget_py(const std::vector<std::string>& gpus, const std::string& workload,
+                   const std::vector<std::string>& methods, const std::string& display,
+                   double width, double height, double eyes, const std::string& models,
+                   double budget_ms, double level, const std::map<std::string, double>& scale) {
+  return rows_py(
+      budget_rows(py_cost_target(gpus, workload, methods, display, width, height, eyes, models),
+                  budget_ms, level, what_if_from(scale, "scale")));
 }
 
 // `fovsim predict --results DIR`: a finished run's measured counters re-costed (recost.h).
@@ -435,13 +402,17 @@ PYBIND11_MODULE(_fovsim, m) {
         py::arg("watchdog") = 60.0, py::arg("cache") = false,
         py::arg("targets") = std::vector<std::string>{},
         "Runs a sweep config (like `fovsim sweep`, resumable); returns a report dict");
-  m.def("estimate", &estimate_py, py::arg("gpu"), py::arg("workload"), py::arg("method"),
-        py::arg("display") = std::string(kDefaultDisplay), py::arg("width") = 0,
-        py::arg("height") = 0, py::arg("eyes") = 0,
-        py::arg("scale") = std::map<std::string, double>{}, py::arg("budget_ms") = 0.0,
-        py::arg("models") = "", py::arg("p") = kDefaultFitLevel,
-        "One frame estimate of the analytic cost model (fovsim predict / budget); with "
-        "budget_ms > 0 also budget's verdict, p_fit and fits at level p");
+  m.def("predict_rows", &predict_py, py::arg("gpus"), py::arg("workload"),
+        py::arg("methods") = std::vector<std::string>{}, py::arg("display") = "",
+        py::arg("width") = 0, py::arg("height") = 0, py::arg("eyes") = 0, py::arg("models") = "",
+        "`fovsim predict --json`'s rows (GPU-major): the library function the CLI calls");
+  m.def("budget_rows", &budget_py, py::arg("gpus"), py::arg("workload"),
+        py::arg("methods") = std::vector<std::string>{}, py::arg("display") = "",
+        py::arg("width") = 0, py::arg("height") = 0, py::arg("eyes") = 0, py::arg("models") = "",
+        py::arg("budget_ms") = 0.0, py::arg("p") = kDefaultFitLevel,
+        py::arg("scale") = std::map<std::string, double>{},
+        "`fovsim budget --json`'s rows at fit level p with resources scaled: the library "
+        "function the CLI calls");
   m.def("recost", &recost_py, py::arg("results"), py::arg("gpus"), py::arg("display") = "",
         py::arg("width") = 0, py::arg("height") = 0, py::arg("eyes") = 0, py::arg("workload") = "",
         py::arg("models") = "",

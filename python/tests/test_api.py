@@ -63,6 +63,12 @@ class CostTest(unittest.TestCase):
             for k, v in c.items():
                 if k.startswith("est_ms_") or k in ("speedup_vs_full", "interval_level"):
                     self.assertTrue(close(p[k], v), (k, p[k], v))
+            # One library function (predict_rows) behind both: every key of the CLI's row is in
+            # Python's, with the display and resource_ms as columns.
+            for k, v in c.get("resource_ms", {}).items():
+                self.assertEqual(p["resource_ms_" + k], v)
+            self.assertEqual((p["display"], p["width"]), (c["display"]["name"], c["display"]["width"]))
+            self.assertEqual(set(c) - {"resource_ms"} - set(p), set())
 
     @unittest.skipUnless(os.path.exists(CLI), "no fovsim binary beside the module")
     def test_budget_matches_cli(self):

@@ -22,6 +22,7 @@
 #include "sim/cost/workload.h"
 #include "sim/experiment/config.h"
 #include "sim/experiment/config_cost.h"
+#include "sim/experiment/cost_queries.h"
 #include "sim/experiment/info.h"
 #include "sim/experiment/plots.h"
 #include "sim/experiment/recost.h"
@@ -33,24 +34,6 @@ namespace {
 
 std::string models_or_default(const std::string& m) {
   return m.empty() ? default_models_dir() : m;
-}
-
-struct MethodSpec {
-  std::string text, name;
-  Json params = Json::object();
-};
-
-// "kfr:sigma=1.8,alpha=4": the one method syntax (parse_method_arg); keys are validated by
-// the method's own parser inside analytic_counters.
-MethodSpec parse_method(const std::string& s) {
-  MethodArg a = parse_method_arg(s, "--method");
-  if (!is_cost_method(a.name))
-    throw Error("--method " + s, "no cost model for method \"" + a.name + "\"");
-  MethodSpec m;
-  m.text = a.text;
-  m.name = a.name;
-  m.params = a.params;
-  return m;
 }
 
 struct Target {  // display + workload + GPUs shared by predict and budget
@@ -91,58 +74,25 @@ void add_target_options(CLI::App* c, Target& t, const std::string& default_metho
                 "--workload; --display/--width/--height/--eyes/-m override)");
 }
 
-// A workload must be named (generic knows no scene): Workload::load_for_costing.
-Workload target_workload(const Target& t, const std::string& models) {
-  return Workload::load_for_costing(t.workload, models, "--workload",
-                                    "or --config CONFIG for a run config's scene");
+// The CLI's flags as the library's cost target (sim/experiment/cost_queries.h).
+CostTarget cost_target(const Target& t, bool display_given) {
+  CostTarget c;
+  c.models = models_or_default(t.models);
+  c.display = display_given || t.config.empty() ? t.display : "";
+  c.workload = t.workload;
+  c.config = t.config;
+  c.gpus = t.gpus;
+  c.methods = t.methods;
+  c.width = t.width, c.height = t.height, c.eyes = t.eyes;
+  return c;
 }
 
-// What predict/budget cost: --config's scene, or --workload with the display flags.
-struct Resolved {
-  Workload workload;
-  Display display;
-  bool indirect = false;
-  std::vector<MethodSpec> methods;
-  std::vector<std::string> gpus;
-};
-
-Resolved resolve_target(const Target& t, const std::string& models,
-                        const std::vector<std::string>& default_methods, bool display_given) {
-  Resolved r;
-  r.gpus = t.gpus;
-  if (!t.config.empty()) {
-    if (!t.workload.empty())
-      throw Error("--workload", "give either --workload or --config (its scene), not both");
-    const ConfigCostTarget c = config_cost_target(t.config, models);
-    r.workload = c.workload;
-    r.display = display_given ? Display::load(t.display, models) : c.display;
-    r.indirect = c.features.indirect;
-    for (auto& m : c.methods) {
-      if (!is_cost_method(m.method))
-        throw Error(t.config, "no cost model for method \"" + m.method + "\"");
-      r.methods.push_back({m.label, m.method, m.params});
-    }
-    if (r.gpus.empty()) r.gpus = c.gpus;
-  } else {
-    r.workload = target_workload(t, models);
-    r.display = Display::load(t.display, models);
-  }
-  if (t.width) r.display.width = t.width;
-  if (t.height) r.display.height = t.height;
-  if (t.eyes) r.display.eyes = t.eyes;
-  if (!t.methods.empty() || r.methods.empty()) {
-    r.methods.clear();
-    for (auto& m : t.methods.empty() ? default_methods : t.methods)
-      r.methods.push_back(parse_method(m));
-  }
-  if (r.gpus.empty())
-    throw Error("--gpu", "required (a GPU profile name, e.g. " + std::string(kDefaultGpu) + ")");
-  return r;
+double num_of(const nlohmann::ordered_json& j, const std::string& k) {
+  return j.contains(k) && j[k].is_number() ? j[k].get<double>() : double(NAN);
 }
 
-FrameCost cost_for(const GpuProfile& g, const MethodSpec& m, const Resolved& r) {
-  return analytic_frame(g, m.name, m.params, r.workload, r.display, "--method " + m.text,
-                        r.indirect);
+std::string factor_text(const nlohmann::ordered_json& f) {
+  return f.is_number() ? fmt("%.2f", f.get<double>()) : "inf";
 }
 
 // Footnote for spec-transfer profiles.
@@ -295,111 +245,65 @@ int do_predict_results(const PredictArgs& a) {
 
 int do_predict(const PredictArgs& a) {
   if (!a.results.empty()) return do_predict_results(a);
-  const std::string models = models_or_default(a.t.models);
-  const Resolved res = resolve_target(a.t, models, {"full"}, a.display_given);
-  const Workload& w = res.workload;
-  const Display& d = res.display;
-  const std::vector<MethodSpec>& methods = res.methods;
-  nlohmann::ordered_json out = nlohmann::ordered_json::array();
+  PredictLoss loss;
+  loss.fraction = a.tracking_loss;
+  loss.on_invalid = a.on_invalid;
+  loss.widen_k = a.widen_k;
+  const CostRows cr = predict_rows(cost_target(a.t, a.display_given), loss);
+  const ResolvedCostTarget& res = cr.target;
+  const bool with_loss = a.tracking_loss >= 0;
+  if (a.json) {
+    nlohmann::ordered_json out = nlohmann::ordered_json::array();
+    for (auto& j : cr.rows) out.push_back(j);
+    std::cout << out.dump(2) << "\n";
+    return 0;
+  }
   std::vector<std::vector<std::string>> rows;
-  std::vector<GpuProfile> used;
   std::vector<std::string> header = {"gpu", "calibrated", "method"};
   for (auto& p : known_passes()) header.push_back(p);
-  header.push_back("total_ms");
-  header.push_back("interval_ms");
-  header.push_back("speedup");
-  // Tracking loss (docs/tracking.md "What each policy costs"): lost frames costed as the policy
-  // renders them, and the expected frame time with that loss fraction.
-  const bool loss = a.tracking_loss >= 0;
-  OnInvalid policy = OnInvalid::Hold;
-  parse_on_invalid(a.on_invalid, policy);
-  if (loss) {
-    header.push_back("lost_ms");
-    header.push_back("with_loss_ms");
-  }
+  for (const char* h : {"total_ms", "interval_ms", "speedup"}) header.push_back(h);
+  if (with_loss) header.push_back("lost_ms"), header.push_back("with_loss_ms");
   rows.push_back(header);
-  for (auto& gname : res.gpus) {
-    GpuProfile g = GpuProfile::load(gname, models);
-    used.push_back(g);
-    double full_total = cost_for(g, parse_method("full"), res).total_ms;
-    for (auto& m : methods) {
-      FrameCost fc = cost_for(g, m, res);
-      nlohmann::ordered_json j;
-      j["gpu"] = g.name;
-      j["calibrated"] = g.calibrated;
-      j["method"] = m.name;
-      j["params"] = m.params;
-      j["workload"] = w.name;
-      j["display"] = {{"name", d.name}, {"width", d.width}, {"height", d.height}, {"eyes", d.eyes}};
-      j["est_ms_total"] = fc.total_ms;
-      if (fc.interval_level > 0) {
-        j["est_ms_total_lo"] = fc.total_lo_ms;
-        j["est_ms_total_hi"] = fc.total_hi_ms;
-        j["interval_level"] = fc.interval_level;
-      }
-      j["model"] = model_name(g.model);
-      for (auto& p : fc.passes) {
-        j["est_ms_" + p.pass] = p.ms;
-        if (fc.interval_level > 0) {
-          j["est_ms_" + p.pass + "_lo"] = p.lo_ms;
-          j["est_ms_" + p.pass + "_hi"] = p.hi_ms;
-        }
-      }
-      j["speedup_vs_full"] = fc.total_ms > 0 ? full_total / fc.total_ms : 0.0;
-      if (!a.t.config.empty()) j["label"] = m.text, j["indirect"] = res.indirect;
-      if (!fc.missing_counters.empty()) j["missing_counters"] = fc.missing_counters;
-      out.push_back(j);
+  size_t i = 0;
+  for (auto& g : cr.gpus)
+    for (auto& m : res.methods) {
+      const nlohmann::ordered_json& j = cr.rows[i++];
       std::vector<std::string> r = {g.name, g.calibrated ? "yes" : "no*", m.text};
       for (auto& p : known_passes()) {
-        bool exists = false;
-        for (auto& pc : fc.passes) exists |= pc.pass == p;
-        r.push_back(exists ? fmt("%.3f", fc.pass_ms(p)) : "-");
+        const double ms = num_of(j, "est_ms_" + p);
+        r.push_back(std::isnan(ms) ? "-" : fmt("%.3f", ms));
       }
-      r.push_back(fmt("%.3f", fc.total_ms));
-      r.push_back(fc.interval_level > 0 ? fmt("%.2f-", fc.total_lo_ms) + fmt("%.2f", fc.total_hi_ms)
-                                        : "-");
-      r.push_back(fmt("%.2fx", fc.total_ms > 0 ? full_total / fc.total_ms : 0.0));
-      if (loss) {
-        MethodSpec lm = m;
-        lm.name = lost_frame_method(m.name, policy);
-        if (lm.name == "full" && m.name != "full") lm.params = Json::object();
-        bool modelled = true;
-        if (policy == OnInvalid::Widen)
-          lm.params = widened_method_params(lm.name, lm.params, a.widen_k, &modelled, &res.display);
-        const double lost = modelled ? cost_for(g, lm, res).total_ms : double(NAN);
-        const double expect = expected_ms_with_loss(fc.total_ms, lost, a.tracking_loss);
-        j["tracking_loss"] = {{"fraction", a.tracking_loss},
-                              {"on_invalid", a.on_invalid},
-                              {"widen_k", policy == OnInvalid::Widen ? Json(a.widen_k) : Json()},
-                              {"lost_ms", modelled ? Json(lost) : Json()},
-                              {"est_ms_total_with_loss", modelled ? Json(expect) : Json()}};
-        out.back() = j;
-        r.push_back(modelled ? fmt("%.3f", lost) : "-");
-        r.push_back(modelled ? fmt("%.3f", expect) : "-");
+      r.push_back(fmt("%.3f", num_of(j, "est_ms_total")));
+      r.push_back(j.contains("est_ms_total_lo") ? fmt("%.2f-", num_of(j, "est_ms_total_lo")) +
+                                                      fmt("%.2f", num_of(j, "est_ms_total_hi"))
+                                                : "-");
+      r.push_back(fmt("%.2fx", num_of(j, "speedup_vs_full")));
+      if (with_loss) {
+        const auto& tl = j["tracking_loss"];
+        r.push_back(tl["lost_ms"].is_number() ? fmt("%.3f", tl["lost_ms"].get<double>()) : "-");
+        r.push_back(tl["est_ms_total_with_loss"].is_number()
+                        ? fmt("%.3f", tl["est_ms_total_with_loss"].get<double>())
+                        : "-");
       }
       rows.push_back(r);
     }
-  }
-  if (a.json) {
-    std::cout << out.dump(2) << "\n";
-  } else {
-    std::cout << "workload " << escape_control(w.name, 80) << ", display "
-              << escape_control(d.name, 80) << " " << d.width << "x" << d.height << " x" << d.eyes
-              << " eye(s); ms per frame ('-': pass does not exist); interval_ms: the profile's "
-              << "prediction interval on the total (docs/cost_model.md)"
-              << (a.t.config.empty() ? std::string()
-                                     : std::string("; scene of ") + a.t.config +
-                                           (res.indirect ? " (indirect light)" : ""))
-              << "\n";
-    print_table(rows);
-    if (loss)
-      std::cout << "tracking loss: " << fmt("%.3g", a.tracking_loss) << " of the frames under "
-                << "trace.on_invalid = " << a.on_invalid
-                << (policy == OnInvalid::Widen ? " (k = " + fmt("%.3g", a.widen_k) + ")" : "")
-                << "; lost_ms: a lost frame as the policy renders it, with_loss_ms = (1 - f) "
-                   "total_ms + f lost_ms ('-': twfr's widened cost is not analytic; run it)\n";
-    print_uncalibrated_note(used);
-  }
+  const Display& d = res.display;
+  std::cout << "workload " << escape_control(res.workload.name, 80) << ", display "
+            << escape_control(d.name, 80) << " " << d.width << "x" << d.height << " x" << d.eyes
+            << " eye(s); ms per frame ('-': pass does not exist); interval_ms: the profile's "
+            << "prediction interval on the total (docs/cost_model.md)"
+            << (a.t.config.empty() ? std::string()
+                                   : std::string("; scene of ") + a.t.config +
+                                         (res.indirect ? " (indirect light)" : ""))
+            << "\n";
+  print_table(rows);
+  if (with_loss)
+    std::cout << "tracking loss: " << fmt("%.3g", a.tracking_loss) << " of the frames under "
+              << "trace.on_invalid = " << a.on_invalid
+              << (a.on_invalid == "widen" ? " (k = " + fmt("%.3g", a.widen_k) + ")" : "")
+              << "; lost_ms: a lost frame as the policy renders it, with_loss_ms = (1 - f) "
+                 "total_ms + f lost_ms ('-': twfr's widened cost is not analytic; run it)\n";
+  print_uncalibrated_note(cr.gpus);
   return 0;
 }
 
@@ -480,106 +384,56 @@ int do_budget_results(const BudgetArgs& a, double budget) {
 int do_budget(const BudgetArgs& a) {
   const double budget = a.budget_ms > 0 ? a.budget_ms : 1000.0 / a.hz;
   if (!a.results.empty()) return do_budget_results(a, budget);
-  const std::string models = models_or_default(a.t.models);
-  const Resolved res = resolve_target(a.t, models, budget_default_methods(), a.display_given);
-  const Workload& w = res.workload;
-  const Display& d = res.display;
+  WhatIf wi;
+  wi.shading = a.s_shading, wi.geometry = a.s_geometry, wi.raster = a.s_raster;
+  wi.memory = a.s_memory, wi.fixed = a.s_fixed;
+  const CostRows cr = budget_rows(cost_target(a.t, a.display_given), budget, a.target_p, wi);
+  if (a.json) {
+    nlohmann::ordered_json out = nlohmann::ordered_json::array();
+    for (auto& j : cr.rows) out.push_back(j);
+    std::cout << out.dump(2) << "\n";
+    return 0;
+  }
   std::vector<std::vector<std::string>> rows = {
       {"gpu", "calibrated", "method", "total_ms", "interval_ms", "budget_ms", "fits", "p_fit",
        "change_for_" + pct(a.target_p), "headroom_ms", "x_shading", "x_geometry", "x_raster",
        "x_memory", "x_fixed", "x_all"}};
-  nlohmann::ordered_json out = nlohmann::ordered_json::array();
-  WhatIf wi;
-  wi.shading = a.s_shading, wi.geometry = a.s_geometry, wi.raster = a.s_raster;
-  wi.memory = a.s_memory, wi.fixed = a.s_fixed;
-  auto factor_text = [](double f) { return std::isfinite(f) ? fmt("%.2f", f) : "inf"; };
-  auto factor_json = [](double f) { return std::isfinite(f) ? Json(f) : Json("inf"); };
-  std::vector<GpuProfile> used;
-  for (auto& gname : res.gpus) {
-    GpuProfile g = apply_what_if(GpuProfile::load(gname, models), wi);
-    used.push_back(g);
-    for (const MethodSpec& m : res.methods) {
-      FrameCost fc = cost_for(g, m, res);
-      const double T = fc.total_ms;
-      const bool iv = fc.interval_level > 0;
-      const BudgetDecision bd = decide_budget(g.interval, T, budget, a.target_p);
-      const char* verdict = bd.verdict;
-      const double pf = bd.p_fit;
-      BudgetQuery q;
-      q.gpu = &g, q.method = m.name, q.params = m.params, q.workload = &w, q.display = d;
-      q.indirect = res.indirect, q.where = "--method " + m.text;
-      const std::vector<BudgetChange> changes = fitting_changes(q, budget, a.target_p);
-      const std::string change = changes.empty() ? "none found" : changes.front().text;
-      std::vector<std::string> r = {
-          g.name,
-          g.calibrated ? "yes" : "no*",
-          m.text,
-          fmt("%.3f", T),
-          iv ? fmt("%.2f-", fc.total_lo_ms) + fmt("%.2f", fc.total_hi_ms) : "-",
-          fmt("%.2f", budget),
-          verdict,
-          pct(pf),
-          change,
-          fmt("%+.3f", budget - T)};
-      nlohmann::ordered_json j = {{"gpu", g.name},
-                                  {"calibrated", g.calibrated},
-                                  {"method", m.text},
-                                  {"est_ms_total", T},
-                                  {"budget_ms", budget},
-                                  {"fits", bd.fits},
-                                  {"fit_level", a.target_p},
-                                  {"verdict", verdict},
-                                  {"p_fit", pf},
-                                  {"headroom_ms", budget - T}};
-      nlohmann::ordered_json cj = nlohmann::ordered_json::array();
-      for (auto& c : changes)
-        cj.push_back({{"kind", c.kind},
-                      {"change", c.text},
-                      {"value", c.value},
-                      {"est_ms_total", c.total_ms},
-                      {"p_fit", c.probability}});
-      j["changes_for_p"] = a.target_p;
-      j["changes"] = cj;
-      if (iv) {
-        j["est_ms_total_lo"] = fc.total_lo_ms, j["est_ms_total_hi"] = fc.total_hi_ms;
-        j["interval_level"] = fc.interval_level;
-      }
-      for (auto& pc : fc.passes) {
-        j["est_ms_" + pc.pass] = pc.ms;
-        if (iv)
-          j["est_ms_" + pc.pass + "_lo"] = pc.lo_ms, j["est_ms_" + pc.pass + "_hi"] = pc.hi_ms;
-      }
-      const BudgetFactors bf = budget_factors(fc, budget);
-      for (auto& rn : budget_resources()) {
-        r.push_back(factor_text(bf.x.at(rn)));
-        j["factor_" + rn] = factor_json(bf.x.at(rn));
-      }
-      r.push_back(factor_text(bf.x_all));
-      j["factor_all"] = factor_json(bf.x_all);
-      rows.push_back(r);
-      out.push_back(j);
-    }
+  for (auto& j : cr.rows) {
+    const bool calibrated = j["calibrated"].get<bool>();
+    std::vector<std::string> r = {
+        j["gpu"].get<std::string>(),
+        calibrated ? "yes" : "no*",
+        j["method"].get<std::string>(),
+        fmt("%.3f", num_of(j, "est_ms_total")),
+        j.contains("est_ms_total_lo")
+            ? fmt("%.2f-", num_of(j, "est_ms_total_lo")) + fmt("%.2f", num_of(j, "est_ms_total_hi"))
+            : "-",
+        fmt("%.2f", budget),
+        j["verdict"].get<std::string>(),
+        pct(num_of(j, "p_fit")),
+        j["changes"].empty() ? "none found" : j["changes"][0]["change"].get<std::string>(),
+        fmt("%+.3f", num_of(j, "headroom_ms"))};
+    for (auto& rn : budget_resources()) r.push_back(factor_text(j["factor_" + rn]));
+    r.push_back(factor_text(j["factor_all"]));
+    rows.push_back(r);
   }
-  if (a.json) {
-    std::cout << out.dump(2) << "\n";
-  } else {
-    std::cout << "budget " << fmt("%.2f", budget) << " ms; workload " << escape_control(w.name, 80)
-              << ", display " << d.width << "x" << d.height << " x" << d.eyes
-              << " eye(s); what-if throughput x shading " << a.s_shading << ", geometry "
-              << a.s_geometry << ", raster " << a.s_raster << ", memory " << a.s_memory
-              << ", fixed " << a.s_fixed << "\n"
-              << "p_fit: probability that the frame fits (held-out frame-total errors, "
-                 "docs/cost_model.md); fits: p_fit >= "
-              << pct(a.target_p) << ", does not fit: p_fit <= " << pct(1 - a.target_p)
-              << ", else uncertain (--p); change_for_" << pct(a.target_p)
-              << ": the cheapest change reaching that probability (the "
-              << "method's parameter, then resolution, then GPU throughput)\n"
-              << "x_<resource>: throughput factor that resource alone needs to fit (<1: slack; "
-                 "inf: cannot fit alone); x_all: uniform factor on everything but fixed "
-                 "overheads\n";
-    print_table(rows);
-    print_uncalibrated_note(used);
-  }
+  const Display& d = cr.target.display;
+  std::cout << "budget " << fmt("%.2f", budget) << " ms; workload "
+            << escape_control(cr.target.workload.name, 80) << ", display " << d.width << "x"
+            << d.height << " x" << d.eyes << " eye(s); what-if throughput x shading " << a.s_shading
+            << ", geometry " << a.s_geometry << ", raster " << a.s_raster << ", memory "
+            << a.s_memory << ", fixed " << a.s_fixed << "\n"
+            << "p_fit: probability that the frame fits (held-out frame-total errors, "
+               "docs/cost_model.md); fits: p_fit >= "
+            << pct(a.target_p) << ", does not fit: p_fit <= " << pct(1 - a.target_p)
+            << ", else uncertain (--p); change_for_" << pct(a.target_p)
+            << ": the cheapest change reaching that probability (the "
+            << "method's parameter, then resolution, then GPU throughput)\n"
+            << "x_<resource>: throughput factor that resource alone needs to fit (<1: slack; "
+               "inf: cannot fit alone); x_all: uniform factor on everything but fixed "
+               "overheads\n";
+  print_table(rows);
+  print_uncalibrated_note(cr.gpus);
   return 0;
 }
 
