@@ -201,11 +201,7 @@ struct SampleWriter {
   }
 
   // A sample's texture inputs, for a packet's texture loop after its geometry (hit(), finish()).
-  struct Deferred {
-    glm::vec2 uv;
-    int mat;
-    float fw;
-  };
+  using Deferred = TexSample;  // {uv, mat, fw}: eval_albedo_packet's input
 
   // Whether a packet's hits may take the common path (gather / finish): the channels it writes
   // (not kMotion), and at least one that needs the surface attributes.
@@ -220,16 +216,16 @@ struct SampleWriter {
     return t.fast & (tab->plain[size_t(mat)] != 0);
   }
   // The scalar part of hit() for a common-path lane: object, sub-model, material, and Embree's
-  // hit and the triangle's vertices, normals and uvs into F; finish() does the rest.
+  // hit and the triangle's vertices, normals and uvs into F; finish() does the rest. `tri`:
+  // the triangle's vertex indices (tab->objs[obj].tri[prim], loaded by the caller).
   template <class L>
   void gather(L& F, GBuffer& g, int slot, const glm::vec3& dir, float t, int obj, uint32_t prim,
-              float bu, float bv, float cone, int mat, int tex) const {
+              const glm::uvec3& tri, float bu, float bv, float cone, int mat, int tex) const {
     const size_t i = size_t(slot);
     const HitTable::Obj& ob = tab->objs[size_t(obj)];
     if (ch & kObjectId) g.object_id[i] = obj;
     if (ch & kSubModel) g.submodel[i] = ob.tri_sub ? ob.tri_sub[prim] : -1;
     if (ch & kMaterial) g.material[i] = mat;
-    const glm::uvec3 tri = ob.tri[prim];
     const int j = F.m++;
     F.slot[j] = slot;
     F.tex[j] = tex;
@@ -559,8 +555,8 @@ struct Packet {
       const int mat = lane_mat[k];
       if (lane_fast[k]) {
         if (albedo) tex[nh].mat = mat;
-        w.gather(F, st, k, d, rh.ray.tfar[k], obj, prim, rh.hit.u[k], rh.hit.v[k], cone[k], mat,
-                 albedo ? nh : -1);
+        w.gather(F, st, k, d, rh.ray.tfar[k], obj, prim, w.tab->objs[size_t(obj)].tri[prim],
+                 rh.hit.u[k], rh.hit.v[k], cone[k], mat, albedo ? nh : -1);
       } else {
         w.hit(st, size_t(k), o, d, rh.ray.tfar[k], obj, prim, rh.hit.u[k], rh.hit.v[k], px[k],
               cone[k], albedo ? &tex[nh] : nullptr);
@@ -636,7 +632,9 @@ struct Packet {
 // (gbuffer_lanes over up to kBatchLanes lanes), their textures evaluated grouped by material,
 // and the band's samples, staged in pixel order, copied to the frame a row at a time. Each
 // sample's operations are those of Packet::stage, so the bits are the same. One per thread
-// (allocated when the thread runs its first tile, then reused by every tile and frame).
+// (allocated when the thread runs its first tile, then reused by every tile and frame). Its
+// stages are not inlined (one call per packet or band), so a profile shows each apart
+// (bench/profile_gbuffer.sh).
 struct TileBatch {
   Packet pk{kDepth};                          // ray generation and rtcIntersect16 of one block
   int n = 0;                                  // rays in the batch
@@ -651,20 +649,16 @@ struct TileBatch {
   int obj[P], mat[P];
   uint8_t fast[P];
   FastBatch F;
-  // The hits' texture inputs (in hit order), their staging slots, and the same sorted by
-  // material for eval_albedo_packet.
+  // The hits' texture inputs and staging slots (in hit order), and their albedos.
   SampleWriter::Deferred tex[kBatchLanes];
   int hit_slot[P];
-  TexSample q[kBatchLanes];
-  int q_slot[P];
   glm::vec3 alb[kBatchLanes];
-  std::vector<int> mat_start;  // counting sort by material
-  GBuffer st;                  // kBatchLanes slots, every channel allocated (writes: w.ch)
+  GBuffer st;  // kBatchLanes slots, every channel allocated (writes: w.ch)
 
   TileBatch() { st.resize(kBatchLanes, 1, ~0u); }
 
   // Traces pk's lanes and appends their hits; x0, y0: the band's first pixel, bw its width.
-  void trace(const RenderState& I, int x0, int y0, int bw) {
+  __attribute__((noinline)) void trace(const RenderState& I, int x0, int y0, int bw) {
     Packet& p = pk;
     for (int k = p.n; k < 16; ++k) {  // as Packet::stage: inactive lanes get lane 0's ray
       p.valid[k] = 0;
@@ -682,8 +676,9 @@ struct TileBatch {
     rtcInitIntersectContext(&ctx);
     ctx.flags = I.packet_flags;
     rtcIntersect16(p.valid, I.top, &ctx, &p.rh);
+    // All 16 lanes (the arrays have room past n + 16): fixed-size copies, a few vector moves.
+    auto cp = [](auto* dst, const auto* src) { std::memcpy(dst, src, 16 * sizeof(*src)); };
     const int m = p.n;
-    auto cp = [m](auto* dst, const auto* src) { std::memcpy(dst, src, size_t(m) * sizeof(*src)); };
     cp(t + n, p.rh.ray.tfar);
     cp(u + n, p.rh.hit.u);
     cp(v + n, p.rh.hit.v);
@@ -701,8 +696,8 @@ struct TileBatch {
 
   // Every sample of the batch into st (slot = pixel of the band), as Packet::stage does it
   // for a packet's lanes. x0, y0, bw as trace().
-  void shade(const RenderState& I, const SampleWriter& w, const glm::vec3& o, int x0, int y0,
-             int bw) {
+  __attribute__((noinline)) void shade(const RenderState& I, const SampleWriter& w,
+                                       const glm::vec3& o, int x0, int y0, int bw) {
     const bool albedo = (w.ch & kAlbedo) != 0;
     const bool fastch = w.fast_channels();
     for (int k = 0; k < n; ++k) {
@@ -727,8 +722,12 @@ struct TileBatch {
       const glm::vec3 d(dx[k], dy[k], dz[k]);
       if (fast[k]) {
         if (albedo) tex[nh].mat = mat[k];
-        w.gather(F, st, sl, d, t[k], obj[k], prim[k], u[k], v[k], cone[k], mat[k],
-                 albedo ? nh : -1);
+        w.gather(F, st, sl, d, t[k], obj[k], prim[k], w.tab->objs[size_t(obj[k])].tri[prim[k]],
+                 u[k], v[k], cone[k], mat[k], albedo ? nh : -1);
+        if (F.m == FastBatch::kCapacity) {  // a full chunk: its lanes while they are in L1
+          w.finish(F, st, o, tex);
+          F.m = 0;
+        }
       } else {
         const glm::vec2 px(float(x0 + sl % bw) + 0.5f, float(y0 + sl / bw) + 0.5f);
         w.hit(st, size_t(sl), o, d, t[k], obj[k], prim[k], u[k], v[k], px, cone[k],
@@ -741,26 +740,42 @@ struct TileBatch {
     n = 0;
   }
 
-  // The hits' albedos, their lookups sorted by material (a counting sort, stable) so that
-  // eval_albedo_packet's blocks of 16 hold one material; each lookup's value depends only on
-  // its own inputs.
-  void texture(const SampleWriter& w, int nh) {
-    const size_t nm = w.scene.materials.size();
-    mat_start.assign(nm + 1, 0);
-    for (int j = 0; j < nh; ++j) ++mat_start[size_t(tex[j].mat) + 1];
-    for (size_t k = 1; k <= nm; ++k) mat_start[k] += mat_start[k - 1];
-    for (int j = 0; j < nh; ++j) {
-      const int at = mat_start[size_t(tex[j].mat)]++;
-      q[at] = {tex[j].uv, tex[j].mat, tex[j].fw};
-      q_slot[at] = hit_slot[j];
-    }
-    eval_albedo_packet(w.scene, w.I.mat_cs.data(), q, nh, alb);
-    for (int j = 0; j < nh; ++j) put(st.albedo[size_t(q_slot[j])], alb[j]);
+  // The hits' albedos (eval_albedo_packet groups each block of 16 lookups by material;
+  // sorting the band's lookups by material first measured no faster). Each lookup's value
+  // depends only on its own inputs.
+  __attribute__((noinline)) void texture(const SampleWriter& w, int nh) {
+    eval_albedo_packet(w.scene, w.I.mat_cs.data(), tex, nh, alb);
+    for (int j = 0; j < nh; ++j) put(st.albedo[size_t(hit_slot[j])], alb[j]);
+  }
+
+  // Asks for the lines of row i0 .. i0 + bw of every channel flush() writes (a prefetch
+  // changes nothing): one row after each packet of the band, so the lines arrive during the
+  // traversal, not while flush() waits for them.
+  __attribute__((noinline)) static void prefetch_row(const GBuffer& g, uint32_t ch, size_t i0,
+                                                     int bw) {
+    auto pf = [&](const auto& dst) {
+      using T = std::decay_t<decltype(dst[0])>;
+      const char* a = reinterpret_cast<const char*>(dst.data() + i0);
+      const size_t bytes = size_t(bw) * sizeof(T);
+      for (size_t b = 0; b < bytes; b += 64) prefetch_w(a + b);
+      prefetch_w(a + bytes - 1);
+    };
+    pf(g.depth);
+    if (ch & kPosition) pf(g.position);
+    if (ch & kNormal) pf(g.normal);
+    if (ch & kAlbedo) pf(g.albedo);
+    if (ch & kMaterial) pf(g.material);
+    if (ch & kObjectId) pf(g.object_id);
+    if (ch & kSubModel) pf(g.submodel);
+    if (ch & kMotion) pf(g.motion);
+    if (ch & kUV) pf(g.uv);
+    if (ch & kFootprint) pf(g.footprint);
   }
 
   // Copies rows [0, rows) of the band (bw samples each) to g from pixel index i0, a row of
   // the frame (width pixels) after another.
-  void flush(GBuffer& g, uint32_t ch, size_t i0, size_t width, int bw, int rows) const {
+  __attribute__((noinline)) void flush(GBuffer& g, uint32_t ch, size_t i0, size_t width, int bw,
+                                       int rows) const {
     auto copy = [&](auto& dst, const auto& src) {
       using T = std::decay_t<decltype(src[0])>;
       for (int r = 0; r < rows; ++r)
@@ -930,6 +945,12 @@ void Renderer::trace_gbuffer(const Camera& cam, uint32_t channels, GBuffer& out,
           const int bw = x1 - x0;
           for (int y0 = ty0; y0 < ty1; y0 += band) {
             const int y1 = std::min(y0 + band, ty1);
+            int pf_row = y0;  // the next row to prefetch (TileBatch::prefetch_row)
+            auto traced = [&] {
+              if (pf_row < y1)
+                TileBatch::prefetch_row(out, w.ch,
+                                        size_t(pf_row++) * size_t(cam.width) + size_t(x0), bw);
+            };
             for (int by = y0; by < y1; by += 4)
               for (int bx = x0; bx < x1; bx += 4) {
                 if (bx + 4 <= x1 && by + 4 <= y1) {  // a full block: 16 lanes at once
@@ -939,6 +960,7 @@ void Renderer::trace_gbuffer(const Camera& cam, uint32_t channels, GBuffer& out,
                   pk.add16(org, size_t(by) * size_t(cam.width) + size_t(bx), size_t(cam.width), bx,
                            by);
                   tb.trace(I, x0, y0, bw);
+                  traced();
                   continue;
                 }
                 for (int y = by; y < std::min(by + 4, y1); ++y) {
@@ -977,6 +999,7 @@ void Renderer::trace_gbuffer(const Camera& cam, uint32_t channels, GBuffer& out,
                   }
                 }
                 tb.trace(I, x0, y0, bw);
+                traced();
               }
             tb.shade(I, w, org, x0, y0, bw);
             tb.flush(out, w.ch, size_t(y0) * size_t(cam.width) + size_t(x0), size_t(cam.width), bw,
