@@ -8,7 +8,7 @@
 // hits (static, uvs, no normal map) refinement, normals, uvs and footprints with the
 // per-sample code's operations (SampleWriter::gather / finish and gbuffer_lanes.h: 4, 8 or 16
 // lanes per instruction as the CPU allows, the same bits; other hits take SampleWriter::hit),
-// the textures sorted by material, and the band's samples, staged in pixel order, copied to
+// the textures (eval_albedo_packet), and the band's samples, staged in pixel order, copied to
 // the G-buffer a row at a time (TileBatch::flush). trace_points and the reference take one
 // packet at a time (Packet::stage). Performance against Embree's own packet rate:
 // bench/README.md.
@@ -629,12 +629,12 @@ struct Packet {
 // One batch of trace_gbuffer's tile pass: whole 4x4 blocks of a tile (a band of its rows, at
 // most kBatchLanes rays), traced first, block after block, into per-ray hit arrays; then all
 // of the band's hits classified, gathered and given their surface attributes together
-// (gbuffer_lanes over up to kBatchLanes lanes), their textures evaluated grouped by material,
-// and the band's samples, staged in pixel order, copied to the frame a row at a time. Each
-// sample's operations are those of Packet::stage, so the bits are the same. One per thread
-// (allocated when the thread runs its first tile, then reused by every tile and frame). Its
-// stages are not inlined (one call per packet or band), so a profile shows each apart
-// (bench/profile_gbuffer.sh).
+// (gbuffer_lanes, 64 lanes at a time: FastBatch), their textures (eval_albedo_packet: each
+// block of 16 grouped by material), and the band's samples, staged in pixel order, copied to the
+// frame a row at a time. Each sample's operations are those of Packet::stage, so the bits are the
+// same. One per thread (allocated when the thread runs its first tile, then reused by every tile
+// and frame). Its stages are not inlined (one call per packet or band), so a profile shows each
+// apart (bench/profile_gbuffer.sh).
 struct TileBatch {
   Packet pk{kDepth};                          // ray generation and rtcIntersect16 of one block
   int n = 0;                                  // rays in the batch
