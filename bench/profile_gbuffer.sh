@@ -3,13 +3,15 @@
 # with kShadingChannels, one thread) under `perf record`, its samples grouped by function into
 # stages and scaled to the benchmark's ns_per_ray (thread CPU time). Stages:
 #   traversal       Embree (rtcIntersect16)
-#   ray generation  the 4x4 blocks' rays (gbuffer_block_rays) and the packet loop around them
-#   hit loop        Packet::stage: Embree's output per lane, object/material lookup, misses,
-#                   gathering the triangles' vertices, normals and uvs (gather)
+#   ray generation  the 4x4 blocks' rays (gbuffer_block_rays) and the tile loop around them
+#   hit buffer      TileBatch::trace: each packet's hits copied to the band's hit arrays
+#   hit loop        TileBatch::shade: object/material lookup, misses, gathering the triangles'
+#                   vertices, normals and uvs (gather), the per-sample path (SampleWriter::hit)
 #   refine          the double-precision refinement (gbuffer_lanes' refine)
-#   surface         position, uv, footprint and normal (gbuffer_lanes), their stores
-#   texture         eval_albedo and the procedural patterns it calls (box_*, libm)
-#   writes          Packet::flush / prefetch (staged samples to the frame)
+#   surface         position, uv, footprint and normal (gbuffer_lanes), their stores (finish)
+#   texture         TileBatch::texture (sort by material), eval_albedo and the procedural
+#                   patterns it calls (box_*, sincos_packet, libm)
+#   writes          TileBatch::flush / prefetch_row (staged samples to the frame)
 # The first DELAY_MS of the run (scene and BVH build) are not recorded; what is left of the set-up
 # shows as "other" and is not scaled. Needs perf (linux-perf) and permission to record
 # (kernel.perf_event_paranoid <= 2).
@@ -31,10 +33,13 @@ ns = float(sys.argv[1])
 def stage(dso, sym):
     if "embree" in dso: return "traversal (Embree)"
     if "block_rays" in sym or ("trace_gbuffer" in sym and "lambda" in sym): return "ray generation"
-    if "Packet::stage" in sym: return "hit loop (incl. gather)"
+    if "TileBatch::trace" in sym: return "hit buffer"
     if "refine" in sym: return "refine"
     if "lanes" in sym or "finish" in sym: return "surface (position, uv, footprint, normal)"
-    if "libm" in dso or any(s in sym for s in ("eval_albedo", "box_", "sample_image", "material_")):
+    if "TileBatch::shade" in sym or "Packet::stage" in sym or "SampleWriter::hit" in sym:
+        return "hit loop (incl. gather)"
+    if "libm" in dso or any(s in sym for s in ("eval_albedo", "box_", "sample_image", "material_",
+                                               "sincos", "TileBatch::texture")):
         return "texture"
     if any(s in sym for s in ("flush", "prefetch", "memmove", "memcpy")): return "writes"
     return "other"

@@ -65,7 +65,9 @@ void set_gbuffer_lane_width(int w) {
   g_lanes.force(w);
 }
 
-void gbuffer_lanes(FastLanes& F, float org_x, float org_y, float org_z) {
+namespace {
+template <class L>
+void lanes_any(L& F, float org_x, float org_y, float org_z) {
 #if FOVSIM_GB_WIDE
   switch (gbuffer_lane_width()) {
     case 16:
@@ -77,6 +79,15 @@ void gbuffer_lanes(FastLanes& F, float org_x, float org_y, float org_z) {
   }
 #endif
   w4::lanes(F, org_x, org_y, org_z);
+}
+}  // namespace
+
+void gbuffer_lanes(FastLanes& F, float org_x, float org_y, float org_z) {
+  lanes_any(F, org_x, org_y, org_z);
+}
+
+void gbuffer_lanes(FastBatch& F, float org_x, float org_y, float org_z) {
+  lanes_any(F, org_x, org_y, org_z);
 }
 
 void gbuffer_block_rays(const double* hx, const double* hx2, const double* hy, const double* hy2,

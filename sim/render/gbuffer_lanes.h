@@ -10,25 +10,40 @@
 
 namespace fovsim {
 
-// Hits of a packet on the common path. Per-component arrays, lane j = the j-th such hit.
-struct FastLanes {
+// Hits on the common path, per-component arrays, lane j = the j-th such hit: N = 16 for a
+// packet (FastLanes), kBatchLanes for trace_gbuffer's batches of a tile (FastBatch).
+template <int N>
+struct FastLanesN {
+  static constexpr int kCapacity = N;
+  // Arrays of a batch are padded by a cache line: at 4 KiB each, the j-th elements of all of
+  // them would share one L1 set (measured: the batch pass ran 4x slower than unpadded).
+  static constexpr int P = N > 16 ? N + 16 : N;
   int m = 0;
-  int slot[16];  // staging slot (packet lane)
-  int tex[16];   // index into the packet's deferred texture inputs, or -1
+  int slot[P];  // staging slot
+  int tex[P];   // index into the deferred texture inputs, or -1
   // Inputs: Embree's t, u, v; the ray direction and cone width; the triangle's world-space
   // vertices, vertex normals (hasn = 1) and uvs.
-  alignas(64) float t[16], bu[16], bv[16], dx[16], dy[16], dz[16], cone[16], hasn[16];
-  alignas(64) float p0x[16], p0y[16], p0z[16], p1x[16], p1y[16], p1z[16], p2x[16], p2y[16], p2z[16];
-  alignas(64) float n0x[16], n0y[16], n0z[16], n1x[16], n1y[16], n1z[16], n2x[16], n2y[16], n2z[16];
-  alignas(64) float u0x[16], u0y[16], u1x[16], u1y[16], u2x[16], u2y[16];
+  alignas(64) float t[P], bu[P], bv[P], dx[P], dy[P], dz[P], cone[P], hasn[P];
+  alignas(64) float p0x[P], p0y[P], p0z[P], p1x[P], p1y[P], p1z[P], p2x[P], p2y[P], p2z[P];
+  alignas(64) float n0x[P], n0y[P], n0z[P], n1x[P], n1y[P], n1z[P], n2x[P], n2y[P], n2z[P];
+  alignas(64) float u0x[P], u0y[P], u1x[P], u1y[P], u2x[P], u2y[P];
   // Results: position, normal, uv, footprint (t, bu, bv are refined in place).
-  alignas(64) float Px[16], Py[16], Pz[16], Nx[16], Ny[16], Nz[16], U[16], V[16], fw[16];
+  alignas(64) float Px[P], Py[P], Pz[P], Nx[P], Ny[P], Nz[P], U[P], V[P], fw[P];
 };
+using FastLanes = FastLanesN<16>;
+// Rays of one batch of trace_gbuffer (whole 4x4 blocks of a tile, at most this many), and the
+// common-path hits of a batch given their attributes together (a chunk: 64 lanes, 12 KiB of
+// inputs and results, stay in L1 between the gather and the kernel; 1024 lanes, measured
+// slower, do not).
+constexpr int kBatchLanes = 1024;
+using FastBatch = FastLanesN<64>;
 
 // Refines lanes [0, F.m) (F.t, F.bu, F.bv become refine_hit's values, or stay Embree's where
 // refine_hit keeps them) and computes their position, uv, footprint and normal. Lanes from F.m
 // to the next multiple of the lane width get zero inputs and throw-away results.
+// The lanes' results do not depend on m or on the other lanes.
 void gbuffer_lanes(FastLanes& F, float org_x, float org_y, float org_z);
+void gbuffer_lanes(FastBatch& F, float org_x, float org_y, float org_z);
 
 // The 16 primary rays of a full 4x4 pixel block (lane j: column j % 4, row j / 4), as
 // trace_gbuffer computes them one pair at a time: s = 1 / sqrt((hx2 + hy2) + 1), direction

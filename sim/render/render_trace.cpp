@@ -1,13 +1,17 @@
 // Primary rays (docs/architecture.md §4): Embree 4x4 packets (rtcIntersect16; coherent flag on
 // static scenes, incoherent on instanced ones, see renderer.cpp), one tile at a time; tiles run in
 // parallel with TBB. Every pixel is computed independently, so results are identical at any
-// thread count. Hit distance and barycentrics are recomputed portably (refine_hit). Ray
-// generation, and for the common hits (static, uvs, no normal map) refinement, normals, uvs and
-// footprints, run several lanes of a packet at a time with the per-sample code's operations
-// (SampleWriter::gather / finish and gbuffer_lanes.h: 4, 8 or 16 lanes per instruction as the
-// CPU allows, the same bits; other hits take SampleWriter::hit). A packet's
-// samples are staged and copied to the G-buffer row by row (Packet::flush). Performance
-// against Embree's own packet rate: bench/README.md.
+// thread count. Hit distance and barycentrics are recomputed portably (refine_hit). The
+// G-buffer pass traces a whole tile (a band of it, TileBatch: up to kBatchLanes rays) before
+// shading any of it: ray generation and rtcIntersect16 packet after packet into per-ray hit
+// arrays, then for all of its hits together the object and material lookups, for the common
+// hits (static, uvs, no normal map) refinement, normals, uvs and footprints with the
+// per-sample code's operations (SampleWriter::gather / finish and gbuffer_lanes.h: 4, 8 or 16
+// lanes per instruction as the CPU allows, the same bits; other hits take SampleWriter::hit),
+// the textures (eval_albedo_packet), and the band's samples, staged in pixel order, copied to
+// the G-buffer a row at a time (TileBatch::flush). trace_points and the reference take one
+// packet at a time (Packet::stage). Performance against Embree's own packet rate:
+// bench/README.md.
 #include <emmintrin.h>
 #include <tbb/parallel_for.h>
 
@@ -197,11 +201,7 @@ struct SampleWriter {
   }
 
   // A sample's texture inputs, for a packet's texture loop after its geometry (hit(), finish()).
-  struct Deferred {
-    glm::vec2 uv;
-    int mat;
-    float fw;
-  };
+  using Deferred = TexSample;  // {uv, mat, fw}: eval_albedo_packet's input
 
   // Whether a packet's hits may take the common path (gather / finish): the channels it writes
   // (not kMotion), and at least one that needs the surface attributes.
@@ -216,15 +216,16 @@ struct SampleWriter {
     return t.fast & (tab->plain[size_t(mat)] != 0);
   }
   // The scalar part of hit() for a common-path lane: object, sub-model, material, and Embree's
-  // hit and the triangle's vertices, normals and uvs into F; finish() does the rest.
-  void gather(FastLanes& F, GBuffer& g, int slot, const glm::vec3& dir, float t, int obj,
-              uint32_t prim, float bu, float bv, float cone, int mat, int tex) const {
+  // hit and the triangle's vertices, normals and uvs into F; finish() does the rest. `tri`:
+  // the triangle's vertex indices (tab->objs[obj].tri[prim], loaded by the caller).
+  template <class L>
+  void gather(L& F, GBuffer& g, int slot, const glm::vec3& dir, float t, int obj, uint32_t prim,
+              const glm::uvec3& tri, float bu, float bv, float cone, int mat, int tex) const {
     const size_t i = size_t(slot);
     const HitTable::Obj& ob = tab->objs[size_t(obj)];
     if (ch & kObjectId) g.object_id[i] = obj;
     if (ch & kSubModel) g.submodel[i] = ob.tri_sub ? ob.tri_sub[prim] : -1;
     if (ch & kMaterial) g.material[i] = mat;
-    const glm::uvec3 tri = ob.tri[prim];
     const int j = F.m++;
     F.slot[j] = slot;
     F.tex[j] = tex;
@@ -270,7 +271,8 @@ struct SampleWriter {
   // hit()'s and footprint()'s operations for the common-path lanes, refine_hit's included
   // (gbuffer_lanes: static objects, world space, ngw = ng, a_world = a_own = |ng|, the same
   // cross product; nv the same dot product as dot(ng, dir)); then the stores.
-  void finish(FastLanes& F, GBuffer& g, const glm::vec3& org, Deferred* tex) const {
+  template <class L>
+  void finish(L& F, GBuffer& g, const glm::vec3& org, Deferred* tex) const {
     gbuffer_lanes(F, org.x, org.y, org.z);
     for (int j = 0; j < F.m; ++j) g.depth[size_t(F.slot[j])] = F.t[j];
     for (int j = 0; j < F.m; ++j) {
@@ -553,8 +555,8 @@ struct Packet {
       const int mat = lane_mat[k];
       if (lane_fast[k]) {
         if (albedo) tex[nh].mat = mat;
-        w.gather(F, st, k, d, rh.ray.tfar[k], obj, prim, rh.hit.u[k], rh.hit.v[k], cone[k], mat,
-                 albedo ? nh : -1);
+        w.gather(F, st, k, d, rh.ray.tfar[k], obj, prim, w.tab->objs[size_t(obj)].tri[prim],
+                 rh.hit.u[k], rh.hit.v[k], cone[k], mat, albedo ? nh : -1);
       } else {
         w.hit(st, size_t(k), o, d, rh.ray.tfar[k], obj, prim, rh.hit.u[k], rh.hit.v[k], px[k],
               cone[k], albedo ? &tex[nh] : nullptr);
@@ -610,6 +612,175 @@ struct Packet {
         std::memcpy(&dst[idx[k]], &src[size_t(k)], size_t(j - k) * sizeof(T));
         k = j;
       }
+    };
+    copy(g.depth, st.depth);
+    if (ch & kPosition) copy(g.position, st.position);
+    if (ch & kNormal) copy(g.normal, st.normal);
+    if (ch & kAlbedo) copy(g.albedo, st.albedo);
+    if (ch & kMaterial) copy(g.material, st.material);
+    if (ch & kObjectId) copy(g.object_id, st.object_id);
+    if (ch & kSubModel) copy(g.submodel, st.submodel);
+    if (ch & kMotion) copy(g.motion, st.motion);
+    if (ch & kUV) copy(g.uv, st.uv);
+    if (ch & kFootprint) copy(g.footprint, st.footprint);
+  }
+};
+
+// One batch of trace_gbuffer's tile pass: whole 4x4 blocks of a tile (a band of its rows, at
+// most kBatchLanes rays), traced first, block after block, into per-ray hit arrays; then all
+// of the band's hits classified, gathered and given their surface attributes together
+// (gbuffer_lanes, 64 lanes at a time: FastBatch), their textures (eval_albedo_packet: each
+// block of 16 grouped by material), and the band's samples, staged in pixel order, copied to the
+// frame a row at a time. Each sample's operations are those of Packet::stage, so the bits are the
+// same. One per thread (allocated when the thread runs its first tile, then reused by every tile
+// and frame). Its stages are not inlined (one call per packet or band), so a profile shows each
+// apart (bench/profile_gbuffer.sh).
+struct TileBatch {
+  Packet pk{kDepth};                          // ray generation and rtcIntersect16 of one block
+  int n = 0;                                  // rays in the batch
+  static constexpr int P = kBatchLanes + 16;  // arrays padded by a line (as FastLanesN)
+  // Per ray, in trace order: Embree's hit, the ray and the ray's staging slot (pixel
+  // (x0 + slot % bw, y0 + slot / bw) of a band bw pixels wide from (x0, y0)).
+  alignas(64) float t[P], u[P], v[P];
+  alignas(64) float dx[P], dy[P], dz[P], cone[P];
+  alignas(64) uint32_t geom[P], prim[P], inst[P];
+  int slot[P];
+  // Per ray: object, material and path (the common path: gather / finish).
+  int obj[P], mat[P];
+  uint8_t fast[P];
+  FastBatch F;
+  // The hits' texture inputs and staging slots (in hit order), and their albedos.
+  SampleWriter::Deferred tex[kBatchLanes];
+  int hit_slot[P];
+  glm::vec3 alb[kBatchLanes];
+  GBuffer st;  // kBatchLanes slots, every channel allocated (writes: w.ch)
+
+  TileBatch() { st.resize(kBatchLanes, 1, ~0u); }
+
+  // Traces pk's lanes and appends their hits; x0, y0: the band's first pixel, bw its width.
+  __attribute__((noinline)) void trace(const RenderState& I, int x0, int y0, int bw) {
+    Packet& p = pk;
+    for (int k = p.n; k < 16; ++k) {  // as Packet::stage: inactive lanes get lane 0's ray
+      p.valid[k] = 0;
+      p.rh.ray.org_x[k] = p.rh.ray.org_x[0];
+      p.rh.ray.org_y[k] = p.rh.ray.org_y[0];
+      p.rh.ray.org_z[k] = p.rh.ray.org_z[0];
+      p.rh.ray.dir_x[k] = p.rh.ray.dir_x[0];
+      p.rh.ray.dir_y[k] = p.rh.ray.dir_y[0];
+      p.rh.ray.dir_z[k] = p.rh.ray.dir_z[0];
+      p.rh.ray.tfar[k] = kInf;
+      p.rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+      p.rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+    }
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    ctx.flags = I.packet_flags;
+    rtcIntersect16(p.valid, I.top, &ctx, &p.rh);
+    // All 16 lanes (the arrays have room past n + 16): fixed-size copies, a few vector moves.
+    auto cp = [](auto* dst, const auto* src) { std::memcpy(dst, src, 16 * sizeof(*src)); };
+    const int m = p.n;
+    cp(t + n, p.rh.ray.tfar);
+    cp(u + n, p.rh.hit.u);
+    cp(v + n, p.rh.hit.v);
+    cp(dx + n, p.rh.ray.dir_x);
+    cp(dy + n, p.rh.ray.dir_y);
+    cp(dz + n, p.rh.ray.dir_z);
+    cp(cone + n, p.cone);
+    cp(geom + n, p.rh.hit.geomID);
+    cp(prim + n, p.rh.hit.primID);
+    cp(inst + n, p.rh.hit.instID[0]);
+    for (int k = 0; k < m; ++k) slot[n + k] = (int(p.px[k].y) - y0) * bw + (int(p.px[k].x) - x0);
+    n += m;
+    p.n = 0;
+  }
+
+  // Every sample of the batch into st (slot = pixel of the band), as Packet::stage does it
+  // for a packet's lanes. x0, y0, bw as trace().
+  __attribute__((noinline)) void shade(const RenderState& I, const SampleWriter& w,
+                                       const glm::vec3& o, int x0, int y0, int bw) {
+    const bool albedo = (w.ch & kAlbedo) != 0;
+    const bool fastch = w.fast_channels();
+    for (int k = 0; k < n; ++k) {
+      obj[k] = -1;
+      mat[k] = 0;
+      fast[k] = 0;
+      if (geom[k] == RTC_INVALID_GEOMETRY_ID) continue;
+      RTCHit h;
+      h.geomID = geom[k];
+      h.instID[0] = inst[k];
+      obj[k] = hit_object(I, h);
+      fast[k] = fastch && w.fast_hit(obj[k], prim[k], mat[k]);
+    }
+    F.m = 0;
+    int nh = 0;
+    for (int k = 0; k < n; ++k) {
+      const int sl = slot[k];
+      if (geom[k] == RTC_INVALID_GEOMETRY_ID) {
+        w.miss(st, size_t(sl));
+        continue;
+      }
+      const glm::vec3 d(dx[k], dy[k], dz[k]);
+      if (fast[k]) {
+        if (albedo) tex[nh].mat = mat[k];
+        w.gather(F, st, sl, d, t[k], obj[k], prim[k], w.tab->objs[size_t(obj[k])].tri[prim[k]],
+                 u[k], v[k], cone[k], mat[k], albedo ? nh : -1);
+        if (F.m == FastBatch::kCapacity) {  // a full chunk: its lanes while they are in L1
+          w.finish(F, st, o, tex);
+          F.m = 0;
+        }
+      } else {
+        const glm::vec2 px(float(x0 + sl % bw) + 0.5f, float(y0 + sl / bw) + 0.5f);
+        w.hit(st, size_t(sl), o, d, t[k], obj[k], prim[k], u[k], v[k], px, cone[k],
+              albedo ? &tex[nh] : nullptr);
+      }
+      hit_slot[nh++] = sl;
+    }
+    if (F.m > 0) w.finish(F, st, o, tex);
+    if (albedo && nh > 0) texture(w, nh);
+    n = 0;
+  }
+
+  // The hits' albedos (eval_albedo_packet groups each block of 16 lookups by material;
+  // sorting the band's lookups by material first measured no faster). Each lookup's value
+  // depends only on its own inputs.
+  __attribute__((noinline)) void texture(const SampleWriter& w, int nh) {
+    eval_albedo_packet(w.scene, w.I.mat_cs.data(), tex, nh, alb);
+    for (int j = 0; j < nh; ++j) put(st.albedo[size_t(hit_slot[j])], alb[j]);
+  }
+
+  // Asks for the lines of row i0 .. i0 + bw of every channel flush() writes (a prefetch
+  // changes nothing): one row after each packet of the band, so the lines arrive during the
+  // traversal, not while flush() waits for them.
+  __attribute__((noinline)) static void prefetch_row(const GBuffer& g, uint32_t ch, size_t i0,
+                                                     int bw) {
+    auto pf = [&](const auto& dst) {
+      using T = std::decay_t<decltype(dst[0])>;
+      const char* a = reinterpret_cast<const char*>(dst.data() + i0);
+      const size_t bytes = size_t(bw) * sizeof(T);
+      for (size_t b = 0; b < bytes; b += 64) prefetch_w(a + b);
+      prefetch_w(a + bytes - 1);
+    };
+    pf(g.depth);
+    if (ch & kPosition) pf(g.position);
+    if (ch & kNormal) pf(g.normal);
+    if (ch & kAlbedo) pf(g.albedo);
+    if (ch & kMaterial) pf(g.material);
+    if (ch & kObjectId) pf(g.object_id);
+    if (ch & kSubModel) pf(g.submodel);
+    if (ch & kMotion) pf(g.motion);
+    if (ch & kUV) pf(g.uv);
+    if (ch & kFootprint) pf(g.footprint);
+  }
+
+  // Copies rows [0, rows) of the band (bw samples each) to g from pixel index i0, a row of
+  // the frame (width pixels) after another.
+  __attribute__((noinline)) void flush(GBuffer& g, uint32_t ch, size_t i0, size_t width, int bw,
+                                       int rows) const {
+    auto copy = [&](auto& dst, const auto& src) {
+      using T = std::decay_t<decltype(src[0])>;
+      for (int r = 0; r < rows; ++r)
+        std::memcpy(&dst[i0 + size_t(r) * width], &src[size_t(r) * size_t(bw)],
+                    size_t(bw) * sizeof(T));
     };
     copy(g.depth, st.depth);
     if (ch & kPosition) copy(g.position, st.position);
@@ -757,61 +928,83 @@ void Renderer::trace_gbuffer(const Camera& cam, uint32_t channels, GBuffer& out,
   const vd R02 = sp(R[0][2]), R12 = sp(R[1][2]), R22 = sp(R[2][2]);
   const double Rc[9] = {R[0][0], R[0][1], R[0][2], R[1][0], R[1][1],
                         R[1][2], R[2][0], R[2][1], R[2][2]};
+  // Bands of whole 4x4 blocks, as many rows as fit in a batch (a 32x32 tile is one band).
+  const int band = 4 * std::max(1, kBatchLanes / (4 * T));
   tbb::parallel_for(
       tbb::blocked_range<int>(0, tx * ty, 1),
       [&](const tbb::blocked_range<int>& r) {
-        Packet pk(w.ch);
+        static thread_local std::unique_ptr<TileBatch> tls;
+        if (!tls) tls = std::make_unique<TileBatch>();
+        TileBatch& tb = *tls;
+        Packet& pk = tb.pk;
+        pk.reset();
+        tb.n = 0;
         for (int tile = r.begin(); tile != r.end(); ++tile) {
-          const int x0 = (tile % tx) * T, y0 = (tile / tx) * T;
-          const int x1 = std::min(x0 + T, cam.width), y1 = std::min(y0 + T, cam.height);
-          for (int by = y0; by < y1; by += 4)
-            for (int bx = x0; bx < x1; bx += 4) {
-              if (bx + 4 <= x1 && by + 4 <= y1) {  // a full block: 16 lanes at once
-                gbuffer_block_rays(&hx[size_t(bx)], &hx2[size_t(bx)], &hy[size_t(by)],
-                                   &hy2[size_t(by)], Rc, cone1, pk.rh.ray.dir_x, pk.rh.ray.dir_y,
-                                   pk.rh.ray.dir_z, pk.cone);
-                pk.add16(org, size_t(by) * size_t(cam.width) + size_t(bx), size_t(cam.width), bx,
-                         by);
-                pk.trace(I, w, org, out);
-                continue;
-              }
-              for (int y = by; y < std::min(by + 4, y1); ++y) {
-                // == Camera::dir_world(x + 0.5, y + 0.5) and cone_width(cone1, s), two pixels
-                // at a time in double (SSE2, the same operations per lane; hx, hx2 are padded
-                // so the pair past the right edge reads valid, unused values).
-                const int xe = std::min(bx + 4, x1);
-                const vd hyv = sp(hy[size_t(y)]), hy2v = sp(hy2[size_t(y)]);
-                alignas(16) double dx[4], dy[4], dz[4], cw[4];
-                for (int x = bx; x < xe; x += 2) {
-                  vd hxv, hx2v;
-                  __builtin_memcpy(&hxv, &hx[size_t(x)], sizeof hxv);
-                  __builtin_memcpy(&hx2v, &hx2[size_t(x)], sizeof hx2v);
-                  const vd s = one / __builtin_ia32_sqrtpd((hx2v + hy2v) + one);
-                  const vd ux = hxv * s, uy = hyv * s, uz = -s;
-                  const vd ox = (R00 * ux + R10 * uy) + R20 * uz;
-                  const vd oy = (R01 * ux + R11 * uy) + R21 * uz;
-                  const vd oz = (R02 * ux + R12 * uy) + R22 * uz;
-                  const vd c = cone1v * s * __builtin_ia32_sqrtpd(s);
-                  const int j = x - bx;
-                  __builtin_memcpy(dx + j, &ox, sizeof ox);
-                  __builtin_memcpy(dy + j, &oy, sizeof oy);
-                  __builtin_memcpy(dz + j, &oz, sizeof oz);
-                  __builtin_memcpy(cw + j, &c, sizeof c);
-                }
-                if (xe - bx == 4) {
-                  pk.add4(org, dx, dy, dz, cw, size_t(y) * size_t(cam.width) + size_t(bx), bx,
-                          float(y) + 0.5f);
+          const int x0 = (tile % tx) * T, ty0 = (tile / tx) * T;
+          const int x1 = std::min(x0 + T, cam.width), ty1 = std::min(ty0 + T, cam.height);
+          const int bw = x1 - x0;
+          for (int y0 = ty0; y0 < ty1; y0 += band) {
+            const int y1 = std::min(y0 + band, ty1);
+            int pf_row = y0;  // the next row to prefetch (TileBatch::prefetch_row)
+            auto traced = [&] {
+              if (pf_row < y1)
+                TileBatch::prefetch_row(out, w.ch,
+                                        size_t(pf_row++) * size_t(cam.width) + size_t(x0), bw);
+            };
+            for (int by = y0; by < y1; by += 4)
+              for (int bx = x0; bx < x1; bx += 4) {
+                if (bx + 4 <= x1 && by + 4 <= y1) {  // a full block: 16 lanes at once
+                  gbuffer_block_rays(&hx[size_t(bx)], &hx2[size_t(bx)], &hy[size_t(by)],
+                                     &hy2[size_t(by)], Rc, cone1, pk.rh.ray.dir_x, pk.rh.ray.dir_y,
+                                     pk.rh.ray.dir_z, pk.cone);
+                  pk.add16(org, size_t(by) * size_t(cam.width) + size_t(bx), size_t(cam.width), bx,
+                           by);
+                  tb.trace(I, x0, y0, bw);
+                  traced();
                   continue;
                 }
-                for (int x = bx; x < xe; ++x) {
-                  const int j = x - bx;
-                  pk.add(org, glm::vec3(float(dx[j]), float(dy[j]), float(dz[j])),
-                         size_t(y) * size_t(cam.width) + size_t(x),
-                         glm::vec2(float(x) + 0.5f, float(y) + 0.5f), float(cw[j]));
+                for (int y = by; y < std::min(by + 4, y1); ++y) {
+                  // == Camera::dir_world(x + 0.5, y + 0.5) and cone_width(cone1, s), two
+                  // pixels at a time in double (SSE2, the same operations per lane; hx, hx2
+                  // are padded so the pair past the right edge reads valid, unused values).
+                  const int xe = std::min(bx + 4, x1);
+                  const vd hyv = sp(hy[size_t(y)]), hy2v = sp(hy2[size_t(y)]);
+                  alignas(16) double dx[4], dy[4], dz[4], cw[4];
+                  for (int x = bx; x < xe; x += 2) {
+                    vd hxv, hx2v;
+                    __builtin_memcpy(&hxv, &hx[size_t(x)], sizeof hxv);
+                    __builtin_memcpy(&hx2v, &hx2[size_t(x)], sizeof hx2v);
+                    const vd s = one / __builtin_ia32_sqrtpd((hx2v + hy2v) + one);
+                    const vd ux = hxv * s, uy = hyv * s, uz = -s;
+                    const vd ox = (R00 * ux + R10 * uy) + R20 * uz;
+                    const vd oy = (R01 * ux + R11 * uy) + R21 * uz;
+                    const vd oz = (R02 * ux + R12 * uy) + R22 * uz;
+                    const vd c = cone1v * s * __builtin_ia32_sqrtpd(s);
+                    const int j = x - bx;
+                    __builtin_memcpy(dx + j, &ox, sizeof ox);
+                    __builtin_memcpy(dy + j, &oy, sizeof oy);
+                    __builtin_memcpy(dz + j, &oz, sizeof oz);
+                    __builtin_memcpy(cw + j, &c, sizeof c);
+                  }
+                  if (xe - bx == 4) {
+                    pk.add4(org, dx, dy, dz, cw, size_t(y) * size_t(cam.width) + size_t(bx), bx,
+                            float(y) + 0.5f);
+                    continue;
+                  }
+                  for (int x = bx; x < xe; ++x) {
+                    const int j = x - bx;
+                    pk.add(org, glm::vec3(float(dx[j]), float(dy[j]), float(dz[j])),
+                           size_t(y) * size_t(cam.width) + size_t(x),
+                           glm::vec2(float(x) + 0.5f, float(y) + 0.5f), float(cw[j]));
+                  }
                 }
+                tb.trace(I, x0, y0, bw);
+                traced();
               }
-              pk.trace(I, w, org, out);
-            }
+            tb.shade(I, w, org, x0, y0, bw);
+            tb.flush(out, w.ch, size_t(y0) * size_t(cam.width) + size_t(x0), size_t(cam.width), bw,
+                     y1 - y0);
+          }
         }
       },
       tbb::simple_partitioner());

@@ -7,10 +7,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <random>
+#include <vector>
 
 #include "sim/render/renderer.h"
 #include "sim/scene/mesh_builder.h"
@@ -291,6 +294,61 @@ TEST(GBufferLanes, BlockRaysAtEveryWidthMatchTheScalarExpression) {
       EXPECT_EQ(std::memcmp(dy, ey, sizeof dy), 0) << round << " " << w;
       EXPECT_EQ(std::memcmp(dz, ez, sizeof dz), 0) << round << " " << w;
       EXPECT_EQ(std::memcmp(cn, ec, sizeof cn), 0) << round << " " << w;
+    }
+  }
+}
+
+// The batch kernel (FastBatch, 64 lanes: trace_gbuffer's chunks) at every width gives, lane
+// for lane, what the 16-lane kernel at width 4 gives for the same lanes in groups of 16.
+TEST(GBufferLanes, BatchKernelMatchesPacketKernelAtEveryWidth) {
+  WidthReset reset;
+  std::mt19937 rng(777);
+  std::uniform_real_distribution<float> U(-1.f, 1.f);
+  const float org[3] = {0.3f, 0.1f, 2.f};
+  for (int m : {1, 15, 16, 17, 40, 63, 64}) {
+    FastBatch in;
+    in.m = m;
+    for (int j = 0; j < m; ++j) {
+      float* arr[] = {in.p0x, in.p0y, in.p0z, in.p1x, in.p1y, in.p1z, in.p2x, in.p2y,
+                      in.p2z, in.n0x, in.n0y, in.n0z, in.n1x, in.n1y, in.n1z, in.n2x,
+                      in.n2y, in.n2z, in.u0x, in.u0y, in.u1x, in.u1y, in.u2x, in.u2y};
+      for (float* a : arr) a[j] = U(rng) * 3.f;
+      glm::vec3 d = glm::normalize(glm::vec3(U(rng), U(rng), U(rng) - 1.5f));
+      in.dx[j] = d.x;
+      in.dy[j] = d.y;
+      in.dz[j] = d.z;
+      in.t[j] = 2.f + U(rng);
+      in.bu[j] = in.bv[j] = 0.25f;
+      in.cone[j] = (j % 5 == 0) ? 0.f : 1e-3f;
+      in.hasn[j] = (j % 3 == 0) ? 0.f : 1.f;
+    }
+    // Reference: groups of 16 through the packet kernel at width 4.
+    set_gbuffer_lane_width(4);
+    std::vector<float> ref[12];
+    for (int g0 = 0; g0 < m; g0 += 16) {
+      FastLanes F;
+      F.m = std::min(16, m - g0);
+      const float* src[] = {in.t,   in.bu,  in.bv,  in.dx,  in.dy,  in.dz,  in.cone, in.hasn,
+                            in.p0x, in.p0y, in.p0z, in.p1x, in.p1y, in.p1z, in.p2x,  in.p2y,
+                            in.p2z, in.n0x, in.n0y, in.n0z, in.n1x, in.n1y, in.n1z,  in.n2x,
+                            in.n2y, in.n2z, in.u0x, in.u0y, in.u1x, in.u1y, in.u2x,  in.u2y};
+      float* dst[] = {F.t,   F.bu,  F.bv,  F.dx,  F.dy,  F.dz,  F.cone, F.hasn, F.p0x, F.p0y, F.p0z,
+                      F.p1x, F.p1y, F.p1z, F.p2x, F.p2y, F.p2z, F.n0x,  F.n0y,  F.n0z, F.n1x, F.n1y,
+                      F.n1z, F.n2x, F.n2y, F.n2z, F.u0x, F.u0y, F.u1x,  F.u1y,  F.u2x, F.u2y};
+      for (int a = 0; a < 32; ++a) std::memcpy(dst[a], src[a] + g0, sizeof(float) * size_t(F.m));
+      gbuffer_lanes(F, org[0], org[1], org[2]);
+      const float* out[] = {F.t, F.bu, F.bv, F.Px, F.Py, F.Pz, F.Nx, F.Ny, F.Nz, F.U, F.V, F.fw};
+      for (int k = 0; k < 12; ++k) ref[k].insert(ref[k].end(), out[k], out[k] + F.m);
+    }
+    for (int w : gbuffer_lane_widths()) {
+      set_gbuffer_lane_width(w);
+      auto F = std::make_unique<FastBatch>(in);
+      gbuffer_lanes(*F, org[0], org[1], org[2]);
+      const float* out[] = {F->t,  F->bu, F->bv, F->Px, F->Py, F->Pz,
+                            F->Nx, F->Ny, F->Nz, F->U,  F->V,  F->fw};
+      for (int k = 0; k < 12; ++k)
+        ASSERT_EQ(std::memcmp(out[k], ref[k].data(), sizeof(float) * size_t(m)), 0)
+            << "m " << m << " width " << w << " array " << k;
     }
   }
 }
