@@ -174,8 +174,8 @@ Counters analytic_counters(const std::string& method, const Json& params, const 
     c.set(Counter::rsm_texels, total);
     c.set(Counter::vpls_total, total);
     c.set(Counter::vpls_kept, kept);
-    c.set(Counter::importance_samples, ns);
-    c.set(Counter::contribution_evals, total * ns);               // eq. 14 for every VPL and sample
+    // The strategy's selection counters: eq. 14 for every VPL and sample, BLSO lookups.
+    if (const LightingStrategy* L = inst->lighting()) L->analytic_selection_counters(c, total, ns);
     c.set(Counter::shaded_sample_vpls, s * kept / w.interleave);  // interleaved sampling (§6)
   }
   if (indirect && decl.frame_rsm && fam != CostFamily::Flc) {

@@ -218,7 +218,7 @@ GpuProfile profile_from_fit(const CostFit& fit, const std::string& gpu, const Ca
     // Every term the model knows for this pass (term_resource validates the pair).
     for (const char* term :
          {"tris", "frags", "gbuffer_bytes", "shadow_tris", "shadow_texels", "texels", "pixels",
-          "holes", "samples", "evals", "vpls", "shade_flops", "vpl_flops", "taps"}) {
+          "holes", "samples", "flops", "vpls", "shade_flops", "vpl_flops", "taps"}) {
       Resource r;
       try {
         r = term_resource(pass, term, "");
@@ -450,8 +450,11 @@ double nominal_work(const std::string& pass, const std::string& term, std::strin
       {"taa", "pixels", 36, "",
        "current colour 8 B, history 8 B, motion 4 B read; output and history 8 B each written "
        "(the 3x3 clamp neighbourhood from cache)"},
-      {"post_aa", "pixels", 108, "",
-       "Yang et al. 2021 §6: 3x3 Gaussian filter (9 x 8 B) and TAA (36 B)"},
+      {"post_aa", "taps", 8, "",
+       "Yang et al. 2021 §6: per pixel a 3x3 Gaussian (9 taps), TAA whose clamp window is eta x "
+       "eta texels with eta = 3 + 2 floor((r/L - 0.10)/0.05) (eq. 15; mean eta^2 451 at "
+       "1024x1024, gaze at the centre), history and motion (2 taps); one RGBA16F texel (8 B) per "
+       "tap, uncached, as pass 2's taps"},
       {"pass2", "taps", 8, "", "one RGBA16F texel per filter tap, uncached"},
       {"importance", "pixels", 16, "",
        "Yang et al. 2021 eqs. 3-9: depth and normal read (8 B), importance written with its mip "
@@ -459,9 +462,13 @@ double nominal_work(const std::string& pass, const std::string& term, std::strin
       {"importance", "samples", 50, "",
        "Yang et al. 2021 Alg. 1: one quasi-Metropolis-Hastings step (candidate, importance "
        "lookup, acceptance ratio)"},
-      {"contribution", "evals", 300, "",
-       "Yang et al. 2021 eq. 14: geometry term (distance, two cosines, a division, ~20 flops) and "
-       "the BLSO visibility mix of two local-space estimates of a few samples each (~280 flops)"},
+      {"contribution", "flops", 1, "",
+       "Yang et al. 2021 §5: the term counts the stated FP32 work: 80 per VPL-sample pair (eq. 14: "
+       "distance, normalisation, two cosines, the summand with its division, the eq. 11 mix, the "
+       "local frames of the two BLSO estimates) and 120 per BLSO lookup (eqs. 12-13: a random "
+       "position in the cone around d, its light-space projection 4x4 + divide, the depth "
+       "compare, sqrt and exp of eq. 12, the mean of eq. 13; 2 N' lookups per pair, eq. 11), "
+       "transcendentals counted as 4 (their 1/4 issue rate)"},
       {"light_culling", "vpls", 100, "",
        "Yang et al. 2021 §5: one random draw, a comparison and the compaction of a VPL"},
       {"rsm", "tris", 1, "shadow.shadow_tris",
@@ -509,7 +516,7 @@ void finish_priors(CostFit& fit) {
   for (const std::string& pass : known_passes()) {
     if (fit.unseen(pass)) continue;
     std::set<Resource> res;
-    for (const char* term : {"pixels", "taps", "samples", "evals", "vpls", "holes"}) {
+    for (const char* term : {"pixels", "taps", "samples", "flops", "vpls", "holes"}) {
       std::string like;
       const double w = nominal_work(pass, term, &like);
       if (!like.empty() || !(w > 0)) continue;
@@ -520,7 +527,7 @@ void finish_priors(CostFit& fit) {
     }
     // Overheads of the single-resource screen and shading passes (no geometry work).
     bool single = false;
-    for (const char* term : {"pixels", "taps", "evals", "vpls"})
+    for (const char* term : {"pixels", "taps", "flops", "vpls"})
       if (find_term_resource(pass, term)) single = pass != "skybox" && pass != "importance";
     auto o = fit.theta.find(pass + ".overhead_ms");
     if (single && o != fit.theta.end()) oh.push_back(o->second);

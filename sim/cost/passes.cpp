@@ -11,7 +11,11 @@
 //   pixels         full-resolution pixels a screen pass touches
 //   holes          (TWFR) hole pixels filled by push-pull, summed over mip levels
 //   texels         (FLC) RSM texels; samples: importance samples * chain length;
-//   evals          (FLC) contribution evaluations (VPLs * samples, eq. 14); vpls: VPLs culled
+//   flops          (contribution) FP32 operations the paper's algorithm states: eq. 14 per
+//                  VPL-sample pair plus eqs. 12-13 per BLSO lookup (contribution_flops)
+//   vpls           VPLs culled
+//   taps           (post_aa) texel reads: 3x3 Gaussian + TAA clamp window eta^2 (eq. 15) +
+//                  history, per full-resolution pixel (post_aa_taps_per_pixel)
 #include "sim/cost/passes.h"
 
 #include <algorithm>
@@ -47,7 +51,7 @@ const std::vector<TermDef>& term_table() {
       {"reproject", "holes", Resource::Memory},
       {"importance", "pixels", Resource::Memory},
       {"importance", "samples", Resource::Shading},
-      {"contribution", "evals", Resource::Shading},
+      {"contribution", "flops", Resource::Shading},
       {"light_culling", "vpls", Resource::Shading},
       {"lighting", "shade_flops", Resource::Shading},
       {"lighting", "vpl_flops", Resource::Shading},
@@ -55,7 +59,7 @@ const std::vector<TermDef>& term_table() {
       {"ssao", "pixels", Resource::Memory},
       {"tonemap", "pixels", Resource::Memory},
       {"taa", "pixels", Resource::Memory},
-      {"post_aa", "pixels", Resource::Memory},
+      {"post_aa", "taps", Resource::Memory},
   };  // "frame" has no terms: its overhead is the whole pass
   return t;
 }
@@ -113,6 +117,30 @@ Resource term_resource(const std::string& pass, const std::string& term, const s
     throw Error(where, "unknown pass '" + pass + "' (known: " + all + ")");
   }
   throw Error(where, "unknown term '" + term + "' of pass '" + pass + "' (known: " + known + ")");
+}
+
+double contribution_flops(double evals, double lookups) {
+  return evals * kEq14FlopsPerPair + lookups * kBlsoFlopsPerLookup;
+}
+
+double post_aa_taps_per_pixel(int width, int height) {
+  if (width <= 0 || height <= 0) return 0;
+  // Yang et al. 2021 §6, eq. 15: eta = 3 + 2 floor((r / L - 0.10) / 0.05), r the distance to the
+  // gaze (here the centre), L the largest distance from the gaze to a corner (the text's
+  // "/ e^L" read as "/ L": e^L of a pixel distance would make eta negative everywhere). The
+  // window is at least 3 x 3 (the formula's constant; inside r < 0.1 L it gives 1 or -1).
+  // Mean of eta^2 over a grid of at most 256 x 256 cell centres.
+  const int nx = std::min(width, 256), ny = std::min(height, 256);
+  const double cx = 0.5 * width, cy = 0.5 * height, L = std::hypot(cx, cy);
+  double sum = 0;
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      const double x = (i + 0.5) * width / nx - cx, y = (j + 0.5) * height / ny - cy;
+      const double eta =
+          std::max(3.0, 3.0 + 2.0 * std::floor((std::hypot(x, y) / L - 0.10) / 0.05));
+      sum += eta * eta;
+    }
+  return kPostAaGaussianTaps + sum / (double(nx) * ny) + kPostAaHistoryTaps;
 }
 
 double working_set_factor(const std::string& pass, const std::string& term, const GpuSpec& spec,
@@ -254,7 +282,10 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
     double evals =
         c.has(Counter::contribution_evals) ? counter(Counter::contribution_evals) : vt * ns;
     if (!c.has(Counter::contribution_evals)) note(Counter::contribution_evals);
-    add("contribution", {{"evals", Resource::Shading, evals * eyes}});  // eq. 14 with BLSO
+    // BLSO (eqs. 11-13): 2 N' shadow-map lookups per pair; exact visibility casts rays instead
+    // (not costed: no paper measures a ray's cost). A strategy without visibility has none.
+    const double lookups = c.has(Counter::blso_lookups) ? counter(Counter::blso_lookups) : 0;
+    add("contribution", {{"flops", Resource::Shading, contribution_flops(evals, lookups) * eyes}});
     add("light_culling", {{"vpls", Resource::Shading, vt * eyes}});
   }
   {
@@ -287,7 +318,9 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
     add("ssao", {{"pixels", Resource::Memory, post_px * eyes}});  // TWFR skips reprojected
   if (w.pipeline.tonemap) add("tonemap", {{"pixels", Resource::Memory, post_px * eyes}});
   if (w.pipeline.taa) add("taa", {{"pixels", Resource::Memory, P * eyes}});
-  if (w.pipeline.post_aa) add("post_aa", {{"pixels", Resource::Memory, P * eyes}});
+  if (w.pipeline.post_aa)  // Yang et al. 2021 §6: 3x3 Gaussian + TAA with clamp size eta (eq. 15)
+    add("post_aa", {{"taps", Resource::Memory,
+                     P * post_aa_taps_per_pixel(in.display.width, in.display.height) * eyes}});
   // The frame's GPU work outside the listed passes (present, UI, blits): a fixed per-frame
   // cost independent of resolution and method (Meng 2018 Table 4.1: "Total GPU Time" minus
   // "Total"). Its share falls as the per-pixel work grows with resolution, which is why a

@@ -42,6 +42,20 @@ bool is_known_pass(const std::string& p);
 // reprojection gathers the previous frame at reprojected positions (Franke et al. 2021 §4), so its
 // DRAM traffic is the L2 miss fraction of a W*H*kReprojectBytesPerPixel buffer (one eye at
 // a time); every other term streams and is 1.
+// FLC's contribution pass (Yang et al. 2021 §5) in FP32 operations of the algorithm as the paper
+// states it: per VPL-sample pair eq. 14 (geometry term, the eq. 11 mix, the summand) and per BLSO
+// lookup eqs. 12-13 (a position in the cone around d, its light-space projection, the depth
+// compare with its sqrt and exp, the running mean). Counted like docs/cost_model.md says.
+constexpr double kEq14FlopsPerPair = 80;
+constexpr double kBlsoFlopsPerLookup = 120;
+double contribution_flops(double evals, double lookups);
+// FLC's post-antialiasing (Yang et al. 2021 §6) in texel reads per full-resolution pixel: the
+// 3x3 Gaussian (9), the TAA neighbourhood clamp of eta x eta texels with eta from eq. 15
+// (the mean of eta^2 over the display, gaze at the centre), the history (1) and motion (1).
+constexpr double kPostAaGaussianTaps = 9;
+constexpr double kPostAaHistoryTaps = 2;
+double post_aa_taps_per_pixel(int width, int height);
+
 double working_set_factor(const std::string& pass, const std::string& term, const GpuSpec& spec,
                           const Display& display);
 

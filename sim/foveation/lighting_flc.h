@@ -4,6 +4,7 @@
 // {"lighting": {"method": "flc", ...}} and by the `flc` method (full sampling + this strategy,
 // with the paper's own log-polar / interleaved shading, §6).
 #pragma once
+#include <algorithm>
 #include <vector>
 
 #include "sim/core/param_info.h"
@@ -48,6 +49,12 @@ class FlcLighting final : public LightingStrategy {
                                    double importance_samples) const override {
     c.set(Counter::importance_samples, importance_samples);
     c.set(Counter::contribution_evals, vpls * importance_samples);
+    // eq. 11: two local-space estimates of N' lookups each per pair (every pair: a warp pays
+    // for the pairs eq. 14's cosines reject when any of its lanes needs the lookups).
+    c.set(Counter::blso_lookups,
+          s_.visibility == FlcVisibility::Blso
+              ? vpls * importance_samples * 2.0 * std::max(1, s_.blso.samples)
+              : 0.0);
   }
   // Importance map + sampling (eqs. 3-9, Alg. 1), eq. 14 contributions and culling.
   void declare_passes(CostPasses& p) const override {

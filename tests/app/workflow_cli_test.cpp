@@ -218,15 +218,17 @@ TEST(Workflow, SearchSaysWhenTheBudgetDoesNotBind) {
   EXPECT_EQ(b2.rows.at(0)[b2.col("budget_binds")], "1");
 
   // The budget decided on the probability (sweep.search.p_fit): every candidate's p_fit is in
-  // the history, and a level that full meets still does not bind.
-  r = run_cmd(fovsim_bin() + " search " + d + "/s.json --out " + d + "/o3 sweep.search.p_fit=0.8");
+  // the history, and a level that full meets (0.7: full's 8.44 ms of 11.11 ms is above the RTX
+  // 3090 profile's 0.733 x budget that 0.8 needs) still does not bind.
+  r = run_cmd(fovsim_bin() + " search " + d + "/s.json --out " + d + "/o3 sweep.search.p_fit=0.7");
   ASSERT_EQ(r.code, 0) << r.output;
-  EXPECT_NE(r.output.find("(p_fit >= 0.8)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("fits at 8.44 ms of 11.11 ms (p_fit >= 0.7)"), std::string::npos)
+      << r.output;
   Csv h3 = read_csv(d + "/o3/search_history.csv");
   ASSERT_FALSE(h3.rows.empty());
   for (auto& row : h3.rows) {
     const double p = std::stod(row[size_t(h3.col("p_fit"))]);
-    EXPECT_EQ(row[size_t(h3.col("feasible"))], p >= 0.8 ? "1" : "0") << p;
+    EXPECT_EQ(row[size_t(h3.col("feasible"))], p >= 0.7 ? "1" : "0") << p;
   }
 }
 

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <string>
 
+#include "sim/cost/analytic.h"
 #include "sim/cost/cost_model.h"
 #include "sim/cost/gpu_profile.h"
 #include "sim/cost/passes.h"
@@ -85,4 +86,34 @@ TEST(LightingCost, EveryMethodPaysForTheLightingTheSceneNeeds) {
   const double t_direct = estimate_frame(g, inputs("full", &all, false)).total_ms;
   EXPECT_LT(t_flc, t_all);     // FLC cheaper than TBDS (FLC paper Fig. 6)
   EXPECT_GT(t_flc, t_direct);  // but indirect light is not free
+}
+
+// FLC's contribution pass (Yang et al. 2021 §5) counts its BLSO lookups analytically: 2 N' per
+// VPL-sample pair (eq. 11: two local-space estimates of N' positions, eq. 13), none without
+// BLSO; the pass's FP32 work is 80 per pair plus 120 per lookup.
+TEST(LightingCost, FlcContributionCountsBlsoLookups) {
+  const Workload w = Workload::load("flc_sponza", kModels);
+  Display d;
+  d.width = d.height = 1024;
+  d.eyes = 1;
+  const Counters blso = analytic_counters("flc", Json::object(), w, d, "test");
+  const double pairs = blso.get(Counter::contribution_evals);
+  ASSERT_GT(pairs, 0.0);
+  EXPECT_DOUBLE_EQ(blso.get(Counter::blso_lookups), pairs * 2 * 4);  // N' = blso_samples = 4
+  const Counters n8 = analytic_counters("flc", Json{{"blso_samples", 8}}, w, d, "test");
+  EXPECT_DOUBLE_EQ(n8.get(Counter::blso_lookups), pairs * 2 * 8);
+  const Counters none = analytic_counters("flc", Json{{"visibility", "none"}}, w, d, "test");
+  EXPECT_EQ(none.get(Counter::blso_lookups), 0.0);
+  CostInputs in;
+  in.method = "flc";
+  in.counters = &n8;
+  in.display = d;
+  in.passes = declared_passes("flc");
+  for (const PassWork& p : assemble_passes(in, w))
+    if (p.pass == "contribution") {
+      ASSERT_EQ(p.terms.size(), 1u);
+      EXPECT_EQ(p.terms[0].name, "flops");
+      EXPECT_DOUBLE_EQ(p.terms[0].value,
+                       pairs * kEq14FlopsPerPair + pairs * 16 * kBlsoFlopsPerLookup);
+    }
 }
