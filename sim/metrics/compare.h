@@ -78,7 +78,7 @@ struct FvvdpComparison {
   int width = 0, height = 0, frames = 0;
   double fps = 0;  // 0 for an image
   bool foveated = false;
-  double gaze_x = 0, gaze_y = 0;  // the gaze used (foveated only)
+  double gaze_x = 0, gaze_y = 0;           // the gaze used (foveated only)
   int torch_threads = kFvvdpTorchThreads;  // how the pooling sums were formed
 };
 

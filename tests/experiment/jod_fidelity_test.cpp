@@ -1,12 +1,13 @@
 // JOD decisions below native resolution (sim/experiment/jod_fidelity.h): the measured bias is
 // carried into a constraint's feasibility, an unmeasured scale says it needs native resolution.
+#include "sim/experiment/jod_fidelity.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <string>
 
 #include "sim/experiment/intervals.h"
-#include "sim/experiment/jod_fidelity.h"
 #include "sim/experiment/sweep_spec.h"
 
 using namespace fovsim;
@@ -80,7 +81,8 @@ TEST(JodFidelity, MeasuredBiasDecidesFeasibility) {
 
 TEST(JodFidelity, PairedRowsCarryTheJodBias) {
   const JodBiasRung r = jod_bias_rungs().front();
-  const Json fid{{"render_scale", r.scale}, {"known_bias", nullptr},
+  const Json fid{{"render_scale", r.scale},
+                 {"known_bias", nullptr},
                  {"jod", jod_fidelity_record(r.scale, 18.7)}};
   EXPECT_EQ(fidelity_bias(fid, "fvvdp_jod", 7, 8), r.fvvdp_jod);
   EXPECT_EQ(fidelity_bias(fid, "fvvdp_jod_fl", 7, 8), r.fvvdp_jod_fl);

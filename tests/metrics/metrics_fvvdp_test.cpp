@@ -417,5 +417,6 @@ TEST(Fvvdp, PoolingSumsAsTheReferenceDoesWhereDIsClamped) {
   EXPECT_NEAR(two, 3.482758, 1e-5);
   EXPECT_NEAR(sixteen, 3.481619, 1e-5);
   EXPECT_GT(std::fabs(one - exact), 1.5e-3);  // the effect is larger than the 1e-3 regression bar
-  EXPECT_EQ(fvvdp({test}, {ref}, d, 0, false).jod, one);  // the default: the reference on one thread
+  EXPECT_EQ(fvvdp({test}, {ref}, d, 0, false).jod,
+            one);  // the default: the reference on one thread
 }
