@@ -22,10 +22,12 @@
 #     threads: wall time and the 2-thread speed-up;
 #   - the reference cache (configs/README.md "cache"): the quickstart at 2 threads into an empty
 #     cache, then again with one method parameter changed (methods[kfr].sigma=2.2): wall and CPU
-#     time of the second run over the first (target <= 0.5).
-# The runs above the last one use --no-cache, so they time the rendering, not the cache.
-# Usage: bench/report.sh BUILD_DIR [MIN_TIME_S]   (make bench-report). Not covered: peak RSS
-# (measured flat when the performance targets were set).
+#     time of the second run over the first (target <= 0.5);
+#   - the native-resolution perception study (three sweeps, 33 configurations x 40 frames at the
+#     displays' own resolutions): wall and CPU time and peak memory (FOVSIM_BENCH_NATIVE=0 skips).
+# Every run but the reference-cache pair uses --no-cache, so they time the rendering, not the
+# cache. Usage: bench/report.sh BUILD_DIR [MIN_TIME_S]   (make bench-report). Peak RSS is
+# reported for the native perception study only.
 set -euo pipefail
 B=${1:-build}
 T=${2:-2}
@@ -105,7 +107,8 @@ for p in ("forward", "inverse"):
 PY
 
 # timed OUT_JSON FOVSIM_ARGS...: runs $B/fovsim with the arguments (stdout discarded) and writes
-# {"wall_s", "cpu_s"} (wall clock, and user + sys CPU of the child) to OUT_JSON.
+# {"wall_s", "cpu_s", "peak_kb"} (wall clock, user + sys CPU and peak resident set of the child)
+# to OUT_JSON.
 timed() {
   local out=$1
   shift
@@ -115,7 +118,7 @@ t0 = time.monotonic()
 subprocess.run(sys.argv[1:], check=True, stdout=subprocess.DEVNULL)
 wall = time.monotonic() - t0
 ru = resource.getrusage(resource.RUSAGE_CHILDREN)
-print(json.dumps({"wall_s": wall, "cpu_s": ru.ru_utime + ru.ru_stime}))
+print(json.dumps({"wall_s": wall, "cpu_s": ru.ru_utime + ru.ru_stime, "peak_kb": ru.ru_maxrss}))
 PY
 }
 
@@ -188,3 +191,32 @@ print(f"reference cache second run / first: wall {t[2]['wall_s'] / t[1]['wall_s'
       f"CPU {t[2]['cpu_s'] / t[1]['cpu_s']:.2f}; {rc[1].get('bytes_written', 0) / 1e6:.0f} MB written   "
       f"[FOVSIM_CACHE_DIR=DIR {B}/fovsim run configs/quickstart.json -j 2, twice]")
 PY
+
+# The native-resolution perception study (docs/perception.md): the three grids of KFR sigma (8
+# cells, FOVE 2560x1440), TWFR epsilon x phi_F (9, FOVE 1280x1440) and RMFR f_x x f_y (16, Vive Pro
+# Eye 1440x1600), 40 frames each at render.scale 1 and render.spp 1, FovVideoVDP against full, at
+# 2 threads with the default memory budget. Target: all 33 configurations within 15 minutes of
+# wall time on 2 idle cores, within a 16 GB memory budget. Set FOVSIM_BENCH_NATIVE=0 to skip it.
+if [ "${FOVSIM_BENCH_NATIVE:-1}" != 0 ]; then
+  for s in kfr_sigma twfr_eps_phi rmfr_fx_fy; do
+    timed "$tmp/native_$s.json" sweep "configs/perception/$s.json" -o "$tmp/native_$s" -j 2 \
+      --no-plots -q --no-cache
+  done
+  python3 - "$tmp" "$B" <<'PY'
+import glob, json, sys
+d, B = sys.argv[1], sys.argv[2]
+wall = cpu = peak = 0.0
+for s in ("kfr_sigma", "twfr_eps_phi", "rmfr_fx_fy"):
+    t = json.load(open(f"{d}/native_{s}.json"))
+    passes = max((json.load(open(m)).get("memory", {}).get("passes", 1)
+                  for m in glob.glob(f"{d}/native_{s}/runs/*/manifest.json")), default=0)
+    cells = len(glob.glob(f"{d}/native_{s}/runs/*/manifest.json"))
+    print(f"native perception {s}: {cells} cells x 40 frames, wall {t['wall_s'] / 60:.1f} min, "
+          f"CPU {t['cpu_s'] / 60:.1f} min, peak {t['peak_kb'] / 1e6:.2f} GB, {passes} pass(es)   "
+          f"[{B}/fovsim sweep configs/perception/{s}.json -j 2 --no-cache]")
+    wall += t["wall_s"]; cpu += t["cpu_s"]; peak = max(peak, t["peak_kb"])
+print(f"native perception study (33 configurations x 40 frames): wall {wall / 60:.1f} min "
+      f"(target <= 15 on 2 idle cores), CPU {cpu / 60:.1f} min, peak {peak / 1e6:.2f} GB "
+      f"(target <= 16)")
+PY
+fi
