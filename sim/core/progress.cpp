@@ -59,6 +59,12 @@ Progress::Progress(std::string label, size_t total, ProgressSink sink)
   start_ = last_ = sink_.now();
 }
 
+void Progress::spans(size_t offset, size_t n) {
+  std::lock_guard<std::mutex> lock(g_mutex);
+  offset_ = offset;
+  span_ = n;
+}
+
 Progress::~Progress() {
   done();
 }
@@ -95,7 +101,9 @@ void Progress::done() {
 double Progress::fraction_locked() const {
   if (total_ == 0) return 1.0;
   double f = double(std::min(count_, total_));
-  if (child_ && count_ < total_) f += std::min(1.0, std::max(0.0, child_->fraction_locked()));
+  if (child_ && count_ < total_)
+    f += double(child_->offset_) +
+         double(child_->span_) * std::min(1.0, std::max(0.0, child_->fraction_locked()));
   return std::min(1.0, f / double(total_));
 }
 

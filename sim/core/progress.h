@@ -38,6 +38,11 @@ class Progress {
 
   void step(size_t n = 1);
   void phase(const std::string& p);  // the current phase ("reference", "outputs", ...)
+  // What this nested progress stands for in its parent: its 0..1 covers the parent's steps
+  // [offset, offset + n) counted from the parent's steps already done (default 0, 1: one parent
+  // step). A sweep's cell group runs several cells' frames at once, so its frames progress
+  // spans those cells; a later memory pass of the group starts at the cells of the passes before.
+  void spans(size_t offset, size_t n);
   void done();  // clears the terminal line (idempotent; the destructor calls it)
 
   // The line as the outermost Progress would print it now (for tests).
@@ -51,6 +56,7 @@ class Progress {
 
   std::string label_;
   size_t total_ = 0, count_ = 0;
+  size_t offset_ = 0, span_ = 1;  // in the parent's steps (spans())
   std::string phase_;
   Progress* parent_ = nullptr;
   Progress* child_ = nullptr;

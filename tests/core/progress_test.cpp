@@ -89,5 +89,31 @@ TEST(Progress, NestedProgressReportsToTheOutermostLine) {
   EXPECT_TRUE(next.nested());
 }
 
+// A sweep runs a group of cells' frames at once (and a group too large for the memory budget in
+// passes): the frames progress of a pass spans its cells, so the fraction and the ETA count
+// cells, not one cell per group. Fails when the nested fraction is taken as one parent step.
+TEST(Progress, NestedProgressSpansTheCellsItRunsAtOnce) {
+  FakeSink f;
+  Progress cells("sweep cells", 8, f.sink(true));
+  {
+    Progress pass1("frames x 4 cells, pass 1/2", 10);
+    pass1.spans(0, 4);
+    for (int i = 0; i < 5; ++i) pass1.step();
+    const std::string l = pass1.line();
+    EXPECT_NE(l.find("(25%)"), std::string::npos) << l;  // half of 4 of 8 cells
+  }
+  {
+    Progress pass2("frames x 4 cells, pass 2/2", 10);
+    pass2.spans(4, 4);
+    for (int i = 0; i < 5; ++i) pass2.step();
+    f.t = 30;
+    const std::string l = pass2.line();
+    EXPECT_NE(l.find("(75%)"), std::string::npos) << l;
+    EXPECT_NE(l.find("ETA 10s"), std::string::npos) << l;  // 30 s for 75%: 10 s left
+  }
+  cells.step(8);
+  EXPECT_EQ(cells.line().rfind("sweep cells 8/8 (100%)", 0), 0u) << cells.line();
+}
+
 }  // namespace
 }  // namespace fovsim
