@@ -1,5 +1,5 @@
 // The method memo in the frame engine (method_memo.h; docs/architecture.md "Data flow of one
-// frame", "method memo"): per method entry its state (replayed from an earlier run's sequence,
+// frame": method memo): per method entry its state (replayed from an earlier run's sequence,
 // or recorded for the next one), and the group-level step that opens the memo and gives every
 // entry its key. Cell::replay_method, Cell::record_frame and Cell::memo_images (cell_memo.cpp)
 // are the per-frame steps.

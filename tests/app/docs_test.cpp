@@ -160,7 +160,8 @@ TEST(Docs, CitedArchitectureSectionsExist) {
   }
   // architecture.md, then one or more quoted titles separated by ", " (quotes may be escaped
   // inside a C++ string, or single inside a Python one).
-  static const std::regex cite(R"re(architecture\.md[,:]? ((\\?["'][^"'\\]+\\?["'](, )?)+))re");
+  static const std::regex cite(
+      R"re(architecture\.md[,:]? (\\?["'][^"'\\]+\\?["'](, \\?["'][^"'\\]+\\?["'])*))re");
   static const std::regex quoted(R"re(\\?["']([^"'\\]+)\\?["'])re");
   static const std::regex numbered(R"(architecture\.md[,:]? §)");
   const std::vector<std::string> exts{".cpp", ".h", ".inc", ".py", ".sh", ".json", ".md", ".txt"};

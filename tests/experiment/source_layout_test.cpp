@@ -67,8 +67,8 @@ TEST(SourceScan, EngineStaysTheFrameLoop) {
   const size_t n = lines_of("sim/experiment/engine.cpp").size();
   EXPECT_GT(n, 100u) << "engine.cpp not found";
   EXPECT_LE(n, 800u) << "sim/experiment/engine.cpp has " << n
-                     << " lines: give the new concern its own file (docs/architecture.md "
-                        "\"The experiment folder\")";
+                     << " lines: give the new concern its own file, "
+                     << "docs/architecture.md \"The experiment folder\"";
 }
 
 TEST(SourceScan, EngineAndRunnerDoNotIncludeEachOther) {
