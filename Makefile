@@ -1,4 +1,4 @@
-# Thin wrapper (docs/architecture.md §1). `make demo` and `make test` work on a fresh Debian 12 machine:
+# Thin wrapper (docs/architecture.md "Layers and their dependencies"). `make demo` and `make test` work on a fresh Debian 12 machine:
 # they install missing Debian packages with apt, configure, build, then run.
 BUILD ?= build
 JOBS  ?= $(shell nproc)

@@ -28,6 +28,7 @@
 
 #include "sim/foveation/factory.h"
 #include "sim/foveation/frame.h"
+#include "sim/metrics/frame_metric.h"
 #include "sim/metrics/fvvdp.h"
 #include "sim/metrics/metrics.h"
 #include "sim/scene/scene.h"
@@ -78,11 +79,12 @@ Setup& setup(bool native = false) {
 MetricsConfig only(const std::string& name) {
   MetricsConfig c;
   if (name == "all") return c;
-  c.psnr = c.ssim = c.fpsnr = c.regions = c.temporal = c.flip = false;
-  if (name == "errsums") c.psnr = c.fpsnr = c.regions = true;
-  if (name == "ssim") c.ssim = true;
-  if (name == "flip") c.flip = true;  // the mean only (its bands come with regions, in "all")
-  if (name == "temporal") c.temporal = true;
+  for (const FrameMetric& m : frame_metrics()) c.set(m.toggle.key, false);
+  if (name == "errsums")
+    for (const char* k : {"psnr", "fpsnr", "regions"}) c.set(k, true);
+  if (name == "ssim") c.set("ssim", true);
+  if (name == "flip") c.set("flip", true);  // the mean only (its bands come with regions, in "all")
+  if (name == "temporal") c.set("temporal", true);
   return c;
 }
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The longest C++ function bodies under a folder (docs/architecture.md §14).
+"""The longest C++ function bodies under a folder (docs/architecture.md "Long functions and how to split them").
 
     python3 scripts/function_lengths.py sim [--top 15] [--over 120]
     python3 scripts/function_lengths.py sim --over 120 --require-reason [--pending FILE]
@@ -160,7 +160,7 @@ def main():
                 bad.append((ln, name, where))
         for ln, name, where in bad:
             print("%5d  %-40s %s: over %d lines without a '// %s' comment above it (split it, or "
-                  "say why it is long; docs/architecture.md §14)" % (ln, name, where, over, REASON))
+                  "say why it is long; docs/architecture.md 'Long functions and how to split them')" % (ln, name, where, over, REASON))
         return 1 if bad else 0
     shown = [r for r in rows if r[0] > a.over] if a.over else rows[:a.top]
     for ln, name, where in shown:

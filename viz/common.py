@@ -257,6 +257,12 @@ def headline_metrics(available=None, with_fl=True):
     return [n for n in names if available is None or n in available]
 
 
+def metric_families():
+    """The registry's column families (prefixes such as rmse_ecc_, flip_ecc_), in its order."""
+    reg = _REGISTRY or load_metric_registry()
+    return [d["name"] for d in reg.values() if d.get("family")]
+
+
 def metric_label(col):
     """Axis label of a results column with its unit (results/README.md), e.g. "FPSNR [dB]"."""
     c = column_units().get(col)

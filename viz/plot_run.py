@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Plots of one fovsim result directory (docs/architecture.md §8).
+"""Plots of one fovsim result directory (docs/architecture.md "Outputs").
 
     /usr/bin/python3 viz/plot_run.py results/<name> [--out DIR]
 
@@ -531,7 +531,8 @@ def plot_passes(run, out):
 
 def plot_eccentricity(run, out):
     """Mean RMSE and LDR-FLIP per eccentricity band and configuration, 95% intervals."""
-    fams = [f for f in ("rmse_ecc_", "flip_ecc_")
+    # The band families are the registry's (family declarations: rmse_ecc_, flip_ecc_, ...).
+    fams = [f for f in common.metric_families()
             if any(re.match(re.escape(f) + r"[0-9p]+_[0-9p]+$", c) for c in run.scols)]
     if not run.summary or not fams:
         raise Skip("summary.csv has no rmse_ecc_<a>_<b> / flip_ecc_<a>_<b> columns")
@@ -553,8 +554,11 @@ def plot_eccentricity(run, out):
             ax.errorbar(xs, ys, yerr=[e if math.isfinite(e) else 0 for e in es], marker=mk, ms=4, lw=1,
                         capsize=2, color=col, ls=run.linestyle(cid), label=cid)
         ax.set_xlabel("eccentricity [deg] (band centre)")
-        ax.set_ylabel("RMSE [display-encoded, 0–1]" if fam == "rmse_ecc_" else "LDR-FLIP [0–1]")
-        ax.set_title(("RMSE" if fam == "rmse_ecc_" else "LDR-FLIP") + " vs. eccentricity (95% intervals)")
+        short = {"rmse_ecc_": ("RMSE", "RMSE [display-encoded, 0–1]"),
+                 "flip_ecc_": ("LDR-FLIP", "LDR-FLIP [0–1]")}.get(fam)
+        label = (common.metric_decl(fam + "0_1") or {}).get("label", fam)
+        ax.set_ylabel(short[1] if short else label)
+        ax.set_title((short[0] if short else fam.rstrip("_")) + " vs. eccentricity (95% intervals)")
         ax.grid(alpha=0.3)
     if len(run.configs) <= MAX_LEGEND:  # one legend, below the panels
         common.figure_legend(fig, axes)

@@ -1,5 +1,5 @@
-// The one reader of numeric command-line flags (docs/architecture.md §13.5). Every numeric flag
-// of every command is declared with add_number(), which attaches the one check a config key
+// The one reader of numeric command-line flags (docs/architecture.md "… a command"). Every numeric
+// flag of every command is declared with add_number(), which attaches the one check a config key
 // gets (check_number / check_integer, sim/core/params.h: NaN, infinities and values outside
 // the range fail with "--flag: value V is out of range R") and writes the range and unit into
 // --help ("FLOAT in [1, 86400] s"). tests/app/flags_test.cpp walks every command's options and

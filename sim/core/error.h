@@ -1,7 +1,8 @@
-// The one error type of fovsim for bad input (docs/architecture.md §10). Library code throws it
-// with a location (JSON path, file:line:column, parameter); only sim/app catches, prints one line,
-// exits 2. A broken invariant of the code itself is an InternalError (FOVSIM_CHECK): exit 3 with
-// the source file:line, so a bug is never reported as the user's mistake.
+// The one error type of fovsim for bad input (docs/architecture.md "Errors and conventions").
+// Library code throws it with a location (JSON path, file:line:column, parameter); only sim/app
+// catches, prints one line, exits 2. A broken invariant of the code itself is an InternalError
+// (FOVSIM_CHECK): exit 3 with the source file:line, so a bug is never reported as the user's
+// mistake.
 #pragma once
 #include <new>
 #include <stdexcept>

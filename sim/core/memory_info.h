@@ -1,5 +1,5 @@
 // The process's and the machine's memory, for the run engine's memory budget
-// (docs/architecture.md §2 "Memory"): the peak resident set so far (getrusage ru_maxrss), the
+// (docs/architecture.md "Memory"): the peak resident set so far (getrusage ru_maxrss), the
 // current resident set (/proc/self/statm) and the memory available to new allocations
 // (/proc/meminfo MemAvailable).
 #pragma once

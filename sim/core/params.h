@@ -1,7 +1,7 @@
 // JSON parameter wrapper (nori PropertyList / pbrt ParameterDictionary role, docs/architecture.md
-// §10). Every read names its JSON path; wrong types and out-of-range values throw fovsim::Error
-// with "file: json.path"; keys never read are reported by finish() as unknown, so a typo
-// never silently falls back to a default. Reads record the value used (defaults included)
+// "Errors and conventions"). Every read names its JSON path; wrong types and out-of-range values
+// throw fovsim::Error with "file: json.path"; keys never read are reported by finish() as unknown,
+// so a typo never silently falls back to a default. Reads record the value used (defaults included)
 // into a shared "resolved" document written to manifest.json.
 #pragma once
 #include <map>

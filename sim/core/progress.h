@@ -1,6 +1,7 @@
-// Progress of long work on stderr (docs/architecture.md §12): on a terminal one line, updated
-// in place at most 5 times a second; when stderr is not a terminal (logs, CI, Slurm) a short
-// line at most once a minute, the first after a minute, so short commands write nothing.
+// Progress of long work on stderr (docs/architecture.md "Where each concept lives"): on a terminal
+// one line, updated in place at most 5 times a second; when stderr is not a terminal (logs, CI,
+// Slurm) a short line at most once a minute, the first after a minute, so short commands write
+// nothing.
 //
 // Progress objects nest: one made while another is alive (a sweep's cells, each cell group's
 // frames inside it; the fidelity ladder's rungs around a sweep) reports to the outer one, and

@@ -1,5 +1,6 @@
-// Headset/display model (docs/architecture.md §3): per-eye resolution, symmetric FOV, refresh rate,
-// eyes. fovsim simulates one eye's view; the cost model charges per-eye work `eyes` times.
+// Headset/display model (docs/architecture.md "Inputs: displays, traces, scenes, configs"): per-eye
+// resolution, symmetric FOV, refresh rate, eyes. fovsim simulates one eye's view; the cost model
+// charges per-eye work `eyes` times.
 #pragma once
 #include <string>
 #include <vector>
@@ -77,7 +78,8 @@ struct Camera {
   }
 
   // Exact eccentricity (degrees) of pixel point (px,py): angle between the gaze ray and the
-  // pixel's ray through the real projection (docs/architecture.md §3; not a pixel-distance proxy).
+  // pixel's ray through the real projection (docs/architecture.md "Inputs: displays, traces,
+  // scenes, configs"; not a pixel-distance proxy).
   double eccentricity_deg(double px, double py, const glm::dvec3& gaze_dir_head) const {
     return rad2deg(angle_between(dir_head(px, py), gaze_dir_head));
   }

@@ -1,8 +1,8 @@
-// Run configs (docs/architecture.md §3): JSON with optional inheritance ("base": "other.json",
-// merged recursively; arrays replace) and command-line overrides key.path=value. A relative path in
-// a config (trace.file, trace.map, scene.path, a "base" itself) is relative to the folder of
-// the file that wrote it, through any depth of "base"; errors about an inherited value name
-// the file it came from ("inherited from base.json").
+// Run configs (docs/architecture.md "Inputs: displays, traces, scenes, configs"): JSON with
+// optional inheritance ("base": "other.json", merged recursively; arrays replace) and command-line
+// overrides key.path=value. A relative path in a config (trace.file, trace.map, scene.path, a
+// "base" itself) is relative to the folder of the file that wrote it, through any depth of "base";
+// errors about an inherited value name the file it came from ("inherited from base.json").
 #pragma once
 #include <string>
 #include <vector>

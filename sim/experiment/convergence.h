@@ -1,7 +1,8 @@
-// Reference convergence study (docs/architecture.md §4, docs/metrics.md "Reference convergence"):
-// every method of a config measured against references of increasing render.spp. The default spp is
-// the lowest level from which every method's means move by less than a tolerance to the next
-// level (PSNR/FPSNR 0.1 dB, FLIP 0.005) and the ranking of the methods no longer changes.
+// Reference convergence study (docs/architecture.md "Rendering and the shared reference",
+// docs/metrics.md "Reference convergence"): every method of a config measured against references of
+// increasing render.spp. The default spp is the lowest level from which every method's means move
+// by less than a tolerance to the next level (PSNR/FPSNR 0.1 dB, FLIP 0.005) and the ranking of the
+// methods no longer changes.
 #pragma once
 #include <string>
 #include <vector>

@@ -1,8 +1,9 @@
-// The frame engine behind `fovsim run` and `fovsim sweep` (docs/architecture.md §2, §9). A group of
-// cells (run configs) that agree on everything a reference depends on — scene, display, render
-// settings, trace, frame range — is replayed in one frame loop: each frame's G-buffer and
-// reference are rendered once, then every cell's methods run on it in parallel (TBB), each
-// cell writing its own results folder. Frames stream; no whole-trace image storage.
+// The frame engine behind `fovsim run` and `fovsim sweep` (docs/architecture.md "Data flow of one
+// frame", "Sweeps, search and fidelity"). A group of cells (run configs) that agree on everything a
+// reference depends on — scene, display, render settings, trace, frame range — is replayed in one
+// frame loop: each frame's G-buffer and reference are rendered once, then every cell's methods run
+// on it in parallel (TBB), each cell writing its own results folder. Frames stream; no whole-trace
+// image storage.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -41,7 +42,7 @@ struct EngineOptions {
   // Off by default: library callers and tests opt in; `fovsim run`/`sweep` do unless
   // --no-cache or FOVSIM_NO_CACHE.
   bool use_cache = false;
-  // The memory budget of a group's cells, GB (10^9 bytes; docs/architecture.md §2 "Memory"):
+  // The memory budget of a group's cells, GB (10^9 bytes; docs/architecture.md "Memory"):
   // as many cells as the estimate fits run side by side over one pass of the frames, the rest
   // in later passes (the same numbers). > 0: `--memory-budget`, over the config's
   // run.memory_gb; 0: run.memory_gb, else 75% of the machine's MemAvailable at the start.
@@ -56,7 +57,8 @@ struct CellResult {
   double refresh_hz = 0;
   bool print_summary = false;
   std::vector<std::string> flags;
-  std::vector<std::string> warnings;  // valid but suspicious values (engine.cpp config_warnings)
+  std::vector<std::string>
+      warnings;               // valid but suspicious values (cell_manifest.h config_warnings)
   std::string fidelity_note;  // manifest "fidelity" note: the known bias of this render.scale
   Json fidelity;              // the manifest's "fidelity" record (its "jod": JOD vs native)
   double cell_ms = 0;  // wall time spent in this cell's own work (methods, metrics, cost, images)

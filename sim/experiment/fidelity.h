@@ -1,9 +1,9 @@
-// `fovsim fidelity CONFIG` (docs/architecture.md §9, docs/fidelity.md): the user's config
-// run at a ladder of cheaper settings (rungs) -- the analytic prediction (no rendering), lower
-// `render.scale`, a frame stride over the same span, fewer reference samples per pixel when
-// `render.spp` exists -- each compared with the top rung, the truth: wall time, and the error of
-// every headline output per method with a 95% interval, and whether the ranking of the methods
-// is preserved.
+// `fovsim fidelity CONFIG` (docs/architecture.md "Sweeps, search and fidelity", docs/fidelity.md):
+// the user's config run at a ladder of cheaper settings (rungs) -- the analytic prediction (no
+// rendering), lower `render.scale`, a frame stride over the same span, fewer reference samples per
+// pixel when `render.spp` exists -- each compared with the top rung, the truth: wall time, and the
+// error of every headline output per method with a 95% interval, and whether the ranking of the
+// methods is preserved.
 #pragma once
 #include <string>
 #include <vector>

@@ -1,7 +1,7 @@
-// The order a group's frames are evaluated in (docs/architecture.md §2, "frame order"). Frame
-// k of the run (k = 0 .. count-1) is trace frame start + k * stride. First the frames.warmup
-// frames (k = -warmup .. -1: rendered and fed to every method, not recorded), then the
-// recorded frames: in trace order, or under --target in units of kTargetUnitFrames frames
+// The order a group's frames are evaluated in (docs/architecture.md "Data flow of one frame": frame
+// order). Frame k of the run (k = 0 .. count-1) is trace frame start + k * stride. First the
+// frames.warmup frames (k = -warmup .. -1: rendered and fed to every method, not recorded), then
+// the recorded frames: in trace order, or under --target in units of kTargetUnitFrames frames
 // (intervals.h), in a seeded random order when no method is temporal (`shuffled`), each unit
 // that does not follow the previous one preceded by kTargetWarmupFrames unrecorded frames,
 // until the caller says every target holds.

@@ -1,10 +1,10 @@
-// The gaze each method of a cell sees on one frame (docs/architecture.md §2, "gaze source"):
-// the true gaze; under the latency what-if (docs/latency.md) the gaze estimated at
-// t - latency, whose render part can be the method's own previous cost estimate (the
-// feedback, `feedback`); on a frame the tracker lost (docs/tracking.md, trace.on_invalid) the
-// tracking-loss policy's gaze. Metrics always keep the frame's true gaze; only the methods'
-// FrameContext changes. Eccentricity maps around the estimated and the tracking-loss gaze are
-// buffers of the source, computed at most once per frame and gaze, reused across frames.
+// The gaze each method of a cell sees on one frame (docs/architecture.md "Data flow of one frame":
+// gaze source): the true gaze; under the latency what-if (docs/latency.md) the gaze estimated at t
+// - latency, whose render part can be the method's own previous cost estimate (the feedback,
+// `feedback`); on a frame the tracker lost (docs/tracking.md, trace.on_invalid) the tracking-loss
+// policy's gaze. Metrics always keep the frame's true gaze; only the methods' FrameContext changes.
+// Eccentricity maps around the estimated and the tracking-loss gaze are buffers of the source,
+// computed at most once per frame and gaze, reused across frames.
 #pragma once
 #include <vector>
 

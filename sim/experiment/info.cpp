@@ -10,8 +10,8 @@
 namespace fovsim {
 
 const std::vector<ResultColumnDecl>& result_column_decls() {
-  // frames.csv / summary.csv columns written by the run engine (engine.cpp build_rows, runner.cpp
-  // summarize) and the latency what-if (results/README.md).
+  // frames.csv / summary.csv columns written by the run engine (cell_rows.cpp build_rows,
+  // summary.cpp summarize) and the latency what-if (results/README.md).
   static const std::vector<ResultColumnDecl> c = {
       {"est_ms_total", "estimated frame time", "ms"},
       {"est_ms_total_lo", "estimated frame time, interval low", "ms"},

@@ -1,6 +1,6 @@
-// Design-space analysis over a sweep's summary table (docs/architecture.md §9): Pareto fronts over
-// the declared objectives and iso-budget comparison tables (RMFR §5.1: every method tuned to the
-// same budget, then compared on quality).
+// Design-space analysis over a sweep's summary table (docs/architecture.md "Sweeps, search and
+// fidelity"): Pareto fronts over the declared objectives and iso-budget comparison tables (RMFR
+// §5.1: every method tuned to the same budget, then compared on quality).
 #pragma once
 #include <string>
 #include <vector>

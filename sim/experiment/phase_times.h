@@ -20,6 +20,11 @@
 
 namespace fovsim {
 
+// Wall milliseconds since `t0` (the engine's per-frame and per-cell timings).
+inline double elapsed_ms(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
 struct PhaseClock {
   double wall_ms = 0, cpu_ms = 0, main_cpu_ms = 0;
   static PhaseClock now() {

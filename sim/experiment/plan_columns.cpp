@@ -95,8 +95,8 @@ struct ColumnVocabulary {
 // The part that does not depend on the plan, built once.
 ColumnVocabulary fixed_vocabulary() {
   ColumnVocabulary v;
-  // Written by the row builders and the summary (sim/experiment/engine.cpp build_rows,
-  // runner.cpp summarize, latency.cpp, tracking_summary.cpp, startup.cpp, sweep_runner.cpp).
+  // Written by the row builders and the summary (sim/experiment/cell_rows.cpp build_rows,
+  // summary.cpp summarize, latency.cpp, tracking_summary.cpp, startup.cpp, sweep_runner.cpp).
   v.numeric = {"cell",
                "frames",
                "startup_frames",

@@ -2,11 +2,28 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 
 #include "sim/core/files.h"
-#include "sim/experiment/sweep_runner.h"
 
 namespace fovsim {
+
+namespace fs = std::filesystem;
+
+std::string find_viz_script(const std::string& name) {
+  // Beside the running binary first (build/fovsim -> viz/, bin/fovsim -> share/fovsim/viz/),
+  // so a copied or installed fovsim run from any directory finds its own scripts.
+  std::error_code ec;
+  fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec)
+    for (const char* rel : {"../viz/", "../share/fovsim/viz/", "viz/"}) {
+      fs::path p = exe.parent_path() / (rel + name);
+      if (file_exists(p.string())) return p.lexically_normal().string();
+    }
+  std::string src = std::string(FOVSIM_SOURCE_DIR) + "/viz/" + name;
+  if (file_exists(src)) return src;
+  return file_exists("viz/" + name) ? "viz/" + name : "";
+}
 
 std::string shell_quote(const std::string& s) {
   std::string q = "'";

@@ -17,6 +17,10 @@ struct PlotOutcome {
 // Interpreter used for every viz script (Debian's python3 with python3-matplotlib).
 inline constexpr const char* kPlotPython = "/usr/bin/python3";
 
+// Path of a viz/ script, found from the running binary (../viz, ../share/fovsim/viz, viz
+// beside it), else in the source tree fovsim was built from, else ./viz; "" if none.
+std::string find_viz_script(const std::string& name);
+
 // Quotes one argument for /bin/sh (single quotes; embedded ' becomes '\'').
 std::string shell_quote(const std::string& s);
 

@@ -227,7 +227,7 @@ const ParamTable<RunBlock>& run_block_table() {
           .doc("",
                "memory budget of a group of cells sharing references, GB (10^9 bytes): as many "
                "cells as fit (an estimate from the simulated resolution, the methods and "
-               "FovVideoVDP's temporal window, docs/architecture.md §2 \"Memory\") run side by "
+               "FovVideoVDP's temporal window, docs/architecture.md \"Memory\") run side by "
                "side over one pass of the frames, the rest in later passes over the cached "
                "references, with the same numbers; `0` = `--memory-budget GB` when given, else "
                "75% of the machine's available memory (MemAvailable) when the group starts; the "

@@ -1,7 +1,7 @@
-// Ask/tell search over continuous parameters (Timeloop style, docs/architecture.md §10: the search
-// proposes, the sweep engine evaluates; neither knows the other). Used for the per-scene
-// best fx, fy (and sigma, alpha) under a frame-time or shaded-sample budget, which RMFR
-// (Ye et al. 2022 §7) leaves as future work.
+// Ask/tell search over continuous parameters (Timeloop style, docs/architecture.md "Errors and
+// conventions": the search proposes, the sweep engine evaluates; neither knows the other). Used for
+// the per-scene best fx, fy (and sigma, alpha) under a frame-time or shaded-sample budget, which
+// RMFR (Ye et al. 2022 §7) leaves as future work.
 //
 // Algorithm: a seeded Latin-hypercube batch, then a batched compass (pattern) search around
 // the incumbent that halves its step when a whole batch brings no improvement (Torczon 1997;

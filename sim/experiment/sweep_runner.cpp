@@ -327,21 +327,6 @@ bool shard_from_env(int& index, int& count) {
   return true;
 }
 
-std::string find_viz_script(const std::string& name) {
-  // Beside the running binary first (build/fovsim -> viz/, bin/fovsim -> share/fovsim/viz/),
-  // so a copied or installed fovsim run from any directory finds its own scripts.
-  std::error_code ec;
-  fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (!ec)
-    for (const char* rel : {"../viz/", "../share/fovsim/viz/", "viz/"}) {
-      fs::path p = exe.parent_path() / (rel + name);
-      if (file_exists(p.string())) return p.lexically_normal().string();
-    }
-  std::string src = std::string(FOVSIM_SOURCE_DIR) + "/viz/" + name;
-  if (file_exists(src)) return src;
-  return file_exists("viz/" + name) ? "viz/" + name : "";
-}
-
 std::string sweep_out_dir(const SweepPlan& plan, const std::string& out_dir) {
   return out_dir.empty() ? "results/" + safe_file_name(plan.name) : out_dir;
 }

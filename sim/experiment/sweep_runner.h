@@ -1,9 +1,10 @@
-// Executing sweeps (docs/architecture.md §9, docs/sweeps.md): cells run over shared references (one
-// frame loop per reference group), each cell's results in <out>/runs/<index>-<hash>/, completed
-// cells marked by cell.json (written last, atomically) so a rerun resumes and skips them; a
-// cell whose config changed has a new hash and is recomputed, never mixed with old results.
-// Shards (--shard i/N or SLURM_ARRAY_TASK_ID/COUNT) take contiguous index ranges; merge
-// collects cells (also from other folders) into summary.csv, pareto.csv, iso_budget.csv.
+// Executing sweeps (docs/architecture.md "Sweeps, search and fidelity", docs/sweeps.md): cells run
+// over shared references (one frame loop per reference group), each cell's results in
+// <out>/runs/<index>-<hash>/, completed cells marked by cell.json (written last, atomically) so a
+// rerun resumes and skips them; a cell whose config changed has a new hash and is recomputed, never
+// mixed with old results. Shards (--shard i/N or SLURM_ARRAY_TASK_ID/COUNT) take contiguous index
+// ranges; merge collects cells (also from other folders) into summary.csv, pareto.csv,
+// iso_budget.csv.
 #pragma once
 #include <string>
 #include <vector>
@@ -80,10 +81,6 @@ SweepPlan load_sweep_plan(const std::string& dir);
 
 // True when <cell_dir>/cell.json exists and records `hash`.
 bool cell_complete(const std::string& cell_dir, const std::string& hash);
-
-// Path of a viz/ script, found from the running binary (../viz, ../share/fovsim/viz, viz
-// beside it), else in the source tree fovsim was built from, else ./viz; "" if none.
-std::string find_viz_script(const std::string& name);
 
 // Rows of a complete cell (typed: numbers stay numbers, text stays text).
 ResultTable read_cell_summary(const std::string& cell_dir);

@@ -1,6 +1,7 @@
-// Sweep configs (docs/architecture.md §3, §9; docs/sweeps.md): a run config plus a "sweep" block
-// whose parameter axes expand to an ordered list of cells. Cell i is always the same run (same
-// assignments, same hash) for a given config, so any engine can execute it by index.
+// Sweep configs (docs/architecture.md "Inputs: displays, traces, scenes, configs", "Sweeps, search
+// and fidelity"; docs/sweeps.md): a run config plus a "sweep" block whose parameter axes expand to
+// an ordered list of cells. Cell i is always the same run (same assignments, same hash) for a given
+// config, so any engine can execute it by index.
 //
 // Axis kinds: grid (cartesian), list (explicit assignments), zip (advance together),
 // random and lhs (Latin hypercube, seeded). Blocks combine as a cartesian product, the first

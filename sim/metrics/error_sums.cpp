@@ -97,7 +97,7 @@ ErrorSums error_sums(const Image& a, const Image& b, const ErrorSumsRequest& req
         e2 *= invC;
         sq += e2;
         if (req.weighted) {
-          // Lee-Pattichis-Bovik 2002: weight = min(f_c(e), ppd/2) (docs/architecture.md §7).
+          // Lee-Pattichis-Bovik 2002: weight = min(f_c(e), ppd/2) (docs/architecture.md "Metrics").
           const double ppd =
               0.5 * deg * (1.0 + col_u2[size_t(x)] + v2) * (row_a + col_b[size_t(x)]);
           const double wt = fpsnr_weight(er[x], ppd * req.ppd_scale);

@@ -1,7 +1,9 @@
-// Image-quality metrics (docs/architecture.md §7), on display-encoded values in [0,1]. Each metric
-// is declared once here and defined once in sim/metrics/*.cpp. Formulas and config keys:
+// Image-quality metrics (docs/architecture.md "Metrics"), on display-encoded values in [0,1]. Each
+// metric is declared once here and defined once in sim/metrics/*.cpp. Formulas and config keys:
 // docs/metrics.md.
 #pragma once
+#include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -50,9 +52,6 @@ double fpsnr_weight(double ecc_deg, double ppd);
 double local_ppd(const Camera& cam, double px, double py);
 
 struct MetricsConfig {
-  bool psnr = true, ssim = true, fpsnr = true, regions = true, temporal = true;
-  bool flip = true;         // LDR-FLIP mean `flip` (+ flip_ecc_<a>_<b> bands when `regions`)
-  bool flip_images = true;  // <label>_flip.png error maps of image frames (with `flip`)
   // FovVideoVDP (Mantiuk et al. 2021): per-frame `fvvdp_q`, `fvvdp_jod`; summary `fvvdp_jod`
   // pooled over the run (sim/metrics/registry.h). Computed by the run engine through the
   // registry's SequenceMetric (fvvdp_sequence_metric, sim/metrics/fvvdp.h), not by
@@ -69,6 +68,12 @@ struct MetricsConfig {
   // Not a config key: set by the runner to 1 / render.scale so FPSNR's Nyquist clip is that
   // of the real display even when the simulation runs at a reduced resolution.
   double ppd_scale = 1.0;
+  // The per-frame metrics' toggles (each declared by its metric, sim/metrics/frame_metric.h:
+  // `psnr`, `regions`, `flip`, `flip_images`, ...): on(key) is the value set, else the declared
+  // default; a key no metric declares is an internal error.
+  bool on(const std::string& key) const;
+  void set(const std::string& key, bool value) { toggles[key] = value; }
+  std::map<std::string, bool> toggles;  // the ones set (by the config or the caller)
   static MetricsConfig from_params(Params& p);
 };
 // The declaration of the `metrics` block's keys (parsing, defaults, ranges, docs).
@@ -97,34 +102,34 @@ double temporal_error(const Image& test, const Image& ref, const std::vector<flo
                       double fovea_deg, TemporalState& st);
 
 // Scratch that compute_metrics reuses across calls (one per caller thread, e.g. per run cell):
-// the reference's FLIP and SSIM preparations, made once and reused while the reference pixels
-// (and FLIP's ppd) are unchanged (every method of a frame shares them; checked by comparing the
-// pixels, so they are never stale), and the FLIP map of the last call (for the error images).
+// each per-frame metric's own (frame_metric.h: its preparation of the reference, made once and
+// reused while the reference pixels are unchanged — every method of a frame shares it; checked
+// by comparing the pixels, so it is never stale — and what it keeps of the last call, e.g.
+// FLIP's error map for the error images).
+struct FrameMetricScratch;
 struct MetricsScratch {
-  FlipPrepared flip_ref, flip_test;
-  // Whether the last compute_metrics prepared flip_test from its test image (false when it
-  // skipped FLIP, or took the identical-images shortcut).
-  bool flip_test_valid = false;
-  FlipWorkspace flip_workspace;
-  SsimPrepared ssim_ref;
-  Image ref_pixels;  // the pixels flip_ref and ssim_ref were prepared from
-  Image flip_map;
+  MetricsScratch();
+  ~MetricsScratch();
+  MetricsScratch(MetricsScratch&&) noexcept;
+  MetricsScratch& operator=(MetricsScratch&&) noexcept;
+  Image ref_pixels;  // the pixels the metrics' reference preparations were made from
+  std::vector<std::unique_ptr<FrameMetricScratch>> per_metric;  // frame_metrics() order
 };
 
-// Computes every enabled metric and returns them by column name: psnr, ssim, fpsnr, flip,
-// rmse_fovea, rmse_periphery, rmse_ecc_<a>_<b>, flip_ecc_<a>_<b>, temporal_error (NaN on the
-// first frame). Region RMSEs are over all channels of the pixels in the region; FLIP bands are
-// the mean FLIP error of the band's pixels; an empty region is NaN. With `scratch`, FLIP reuses
-// its prepared reference and leaves its error map in scratch->flip_map; the numbers are the
-// same with or without it. `test_flip`: the test image's FLIP preparation at flip_ppd(cam)
-// when the caller already has it (another compute_metrics of the same test image against
-// another reference left it in its scratch: flip_test with flip_test_valid); the numbers are
-// the same with or without it.
+// Computes every enabled per-frame metric (frame_metrics(), in that order) and returns them by
+// column name: psnr, ssim, fpsnr, rmse_fovea, rmse_periphery, rmse_ecc_<a>_<b>, flip,
+// flip_ecc_<a>_<b>, temporal_error (NaN on the first frame). Region RMSEs are over all
+// channels of the pixels in the region; FLIP bands are the mean FLIP error of the band's
+// pixels; an empty region is NaN. With `scratch`, a metric reuses its prepared reference and
+// leaves what it keeps of the call there (FLIP: its error map); the numbers are the same with
+// or without it. `same_test`: the scratch of another compute_metrics of the same test image
+// against another reference, whose preparations of the test image a metric may reuse (FLIP's
+// at flip_ppd(cam)); the numbers are the same with or without it.
 // Metric values are not counters (counter_list.h): their columns depend on the config.
 using MetricValues = NamedValues;
 MetricValues compute_metrics(const MetricsConfig& cfg, const Image& test, const Image& ref,
                              const Camera& cam, const std::vector<float>& ecc_deg,
                              TemporalState* temporal, MetricsScratch* scratch = nullptr,
-                             const FlipPrepared* test_flip = nullptr);
+                             const MetricsScratch* same_test = nullptr);
 
 }  // namespace fovsim

@@ -1,4 +1,5 @@
-// MSE, PSNR and foveated PSNR (docs/architecture.md §7). Values are display-encoded, data range 1.
+// MSE, PSNR and foveated PSNR (docs/architecture.md "Metrics"). Values are display-encoded, data
+// range 1.
 //
 // FPSNR (Lee, Pattichis, Bovik 2002, "Foveated video quality assessment", IEEE TMM 4(1)):
 //   f_c(e) = e2 ln(1/CT0) / (alpha (e + e2))   foveal cutoff frequency, cycles/degree

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "sim/metrics/frame_metric.h"
 #include "sim/metrics/fvvdp.h"
 
 namespace fovsim {
@@ -95,6 +96,22 @@ const char* tol_name(Tol t) {
 }
 
 }  // namespace
+
+// The per-frame metrics (frame_metric.h), one file each; their order is the order of their
+// columns in frames.csv.
+const FrameMetric& psnr_frame_metric();
+const FrameMetric& ssim_frame_metric();
+const FrameMetric& fpsnr_frame_metric();
+const FrameMetric& region_rmse_frame_metric();
+const FrameMetric& flip_frame_metric();
+const FrameMetric& temporal_frame_metric();
+
+const std::vector<FrameMetric>& frame_metrics() {
+  static const std::vector<FrameMetric> m = {psnr_frame_metric(),  ssim_frame_metric(),
+                                             fpsnr_frame_metric(), region_rmse_frame_metric(),
+                                             flip_frame_metric(),  temporal_frame_metric()};
+  return m;
+}
 
 const std::vector<MetricDecl>& metric_registry() {
   static const std::vector<MetricDecl> r = make_registry();

@@ -3,7 +3,8 @@
 // summary and its intervals, paired differences, the fidelity ladder, the convergence study,
 // sweeps (iso-budget quality columns), the console summary, `fovsim info --json` and, through
 // the run's manifest, the Python loaders and the plots (viz/common.py). Adding a metric is its
-// file under sim/metrics/ plus one entry in registry.cpp.
+// file under sim/metrics/ plus one entry in registry.cpp (and, for a per-frame metric, its
+// FrameMetric declaration in that file and one line in frame_metrics(); frame_metric.h).
 #pragma once
 #include <memory>
 #include <string>
@@ -79,7 +80,7 @@ struct SequenceMetric {
   // against `full` at the same sampling); "" = no heat map.
   const char* heatmap_suffix = "";
   // Bytes one reference stream and one test stream of `setup` hold once they run (the run
-  // engine's memory estimate, docs/architecture.md §2 "Memory"); nullptr: negligible.
+  // engine's memory estimate, docs/architecture.md "Memory"); nullptr: negligible.
   double (*reference_bytes)(const SequenceSetup&) = nullptr;
   double (*test_bytes)(const SequenceSetup&) = nullptr;
 };

@@ -1,5 +1,5 @@
-// Temporal error (docs/architecture.md §7): flicker is seen in the periphery, so measure how much
-// the signed luma error changes from one frame to the next there:
+// Temporal error (docs/architecture.md "Metrics"): flicker is seen in the periphery, so measure how
+// much the signed luma error changes from one frame to the next there:
 //   err_t(x) = luma(test_t)(x) - luma(ref_t)(x)
 //   temporal_error = sqrt( mean over x with ecc_t(x) >= fovea_deg of (err_t(x) - err_{t-1}(x))^2 )
 // A static error (same artefact every frame) scores 0; NaN when there is no previous frame.

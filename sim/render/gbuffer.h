@@ -1,5 +1,6 @@
-// G-buffer with channels computed only on request (docs/architecture.md §4). Also used for
-// arbitrary sets of samples (LP-buffer, RS-buffer) gathered from the full-resolution G-buffer.
+// G-buffer with channels computed only on request (docs/architecture.md "Rendering and the shared
+// reference"). Also used for arbitrary sets of samples (LP-buffer, RS-buffer) gathered from the
+// full-resolution G-buffer.
 #pragma once
 #include <cstdint>
 #include <vector>

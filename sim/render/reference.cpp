@@ -1,6 +1,7 @@
-// The converged shared reference (docs/architecture.md §4, render.spp): stratified supersampling
-// with a box reconstruction filter. Each sub-sample is an independent primary ray + shading, so the
-// result is the same at any thread count and on any ISA path as the 1-spp image is.
+// The converged shared reference (docs/architecture.md "Rendering and the shared reference",
+// render.spp): stratified supersampling with a box reconstruction filter. Each sub-sample is an
+// independent primary ray + shading, so the result is the same at any thread count and on any ISA
+// path as the 1-spp image is.
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 

@@ -1,7 +1,7 @@
-// Shading (docs/architecture.md §4): ambient + emission, Lambert + Blinn-Phong per light, shadow
-// rays as rtcOccluded16 packets with a portable occlusion decision (occlusion_filter), the lights
-// of a packet computed 4 lanes at a time (shade_packet). Deterministic per sample: no sampling, the
-// same bits at any thread count.
+// Shading (docs/architecture.md "Rendering and the shared reference"): ambient + emission, Lambert
+// + Blinn-Phong per light, shadow rays as rtcOccluded16 packets with a portable occlusion decision
+// (occlusion_filter), the lights of a packet computed 4 lanes at a time (shade_packet).
+// Deterministic per sample: no sampling, the same bits at any thread count.
 #include <tbb/parallel_for.h>
 
 #include "sim/core/powf_det.h"

@@ -1,11 +1,11 @@
-// Primary rays (docs/architecture.md §4): Embree 4x4 packets (rtcIntersect16; coherent flag on
-// static scenes, incoherent on instanced ones, see renderer.cpp), one tile at a time; tiles run in
-// parallel with TBB. Every pixel is computed independently, so results are identical at any
-// thread count. Hit distance and barycentrics are recomputed portably (refine_hit). The
-// G-buffer pass traces a whole tile (a band of it, TileBatch: up to kBatchLanes rays) before
-// shading any of it: ray generation and rtcIntersect16 packet after packet into per-ray hit
-// arrays, then for all of its hits together the object and material lookups, for the common
-// hits (static, uvs, no normal map) refinement, normals, uvs and footprints with the
+// Primary rays (docs/architecture.md "Rendering and the shared reference"): Embree 4x4 packets
+// (rtcIntersect16; coherent flag on static scenes, incoherent on instanced ones, see renderer.cpp),
+// one tile at a time; tiles run in parallel with TBB. Every pixel is computed independently, so
+// results are identical at any thread count. Hit distance and barycentrics are recomputed portably
+// (refine_hit). The G-buffer pass traces a whole tile (a band of it, TileBatch: up to kBatchLanes
+// rays) before shading any of it: ray generation and rtcIntersect16 packet after packet into
+// per-ray hit arrays, then for all of its hits together the object and material lookups, for the
+// common hits (static, uvs, no normal map) refinement, normals, uvs and footprints with the
 // per-sample code's operations (SampleWriter::gather / finish and gbuffer_lanes.h: 4, 8 or 16
 // lanes per instruction as the CPU allows, the same bits; other hits take SampleWriter::hit),
 // the textures (eval_albedo_packet), and the band's samples, staged in pixel order, copied to

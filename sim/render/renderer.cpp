@@ -1,7 +1,8 @@
-// Embree 3 ray caster (docs/architecture.md §4), scene side. Static objects are flattened into one
-// BVH (world-space vertices); when the scene has dynamic objects, the static BVH becomes one
-// instance and each dynamic object another, so a frame's recommit only rebuilds the small top
-// level. Tracing is in render_trace.cpp, shading in render_shade.cpp (render_internal.h).
+// Embree 3 ray caster (docs/architecture.md "Rendering and the shared reference"), scene side.
+// Static objects are flattened into one BVH (world-space vertices); when the scene has dynamic
+// objects, the static BVH becomes one instance and each dynamic object another, so a frame's
+// recommit only rebuilds the small top level. Tracing is in render_trace.cpp, shading in
+// render_shade.cpp (render_internal.h).
 #include "sim/render/renderer.h"
 
 #include "sim/core/param_table.h"

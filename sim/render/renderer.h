@@ -1,6 +1,7 @@
-// Embree 3 ray caster (docs/architecture.md §4): one BVH per scene (dynamic objects as instances),
-// G-buffer channels on demand, deterministic Lambert + Blinn-Phong shading with shadow
-// rays, tone mapping and display encoding. Parallel over tiles with TBB; counts rays.
+// Embree 3 ray caster (docs/architecture.md "Rendering and the shared reference"): one BVH per
+// scene (dynamic objects as instances), G-buffer channels on demand, deterministic Lambert +
+// Blinn-Phong shading with shadow rays, tone mapping and display encoding. Parallel over tiles with
+// TBB; counts rays.
 #pragma once
 #include <atomic>
 #include <cstdint>

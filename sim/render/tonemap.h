@@ -1,7 +1,7 @@
-// Tone mapping and display encoding (docs/architecture.md §4: metrics are computed on
-// display-encoded values, as the papers do). ONE implementation, used by ToneMap::apply and by
-// every method that needs display values itself (TWFR's contrast confidence, Franke et al. 2021
-// §5.2).
+// Tone mapping and display encoding (docs/architecture.md "Rendering and the shared reference":
+// metrics are computed on display-encoded values, as the papers do). ONE implementation, used by
+// ToneMap::apply and by every method that needs display values itself (TWFR's contrast confidence,
+// Franke et al. 2021 §5.2).
 //
 // The curve is branch-free float arithmetic (selects, no table, no libm call); ToneMap::apply
 // runs the same operations 4 lanes at a time (tonemap.cpp: GCC does not vectorise this scalar

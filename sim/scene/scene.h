@@ -1,6 +1,6 @@
-// Scene model (docs/architecture.md §3): meshes, materials with procedural textures, objects
-// (static or keyframed), lights, sub-models for culling, and the features that decide which passes
-// exist.
+// Scene model (docs/architecture.md "Inputs: displays, traces, scenes, configs"): meshes, materials
+// with procedural textures, objects (static or keyframed), lights, sub-models for culling, and the
+// features that decide which passes exist.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -33,7 +33,8 @@ struct Material {
   float specular = 0.04f;  // Blinn-Phong ks
   float shininess = 32.f;  // Blinn-Phong exponent
   glm::vec3 emission{0.f};
-  bool transparent = false;  // alpha-blended (flagged: methods' limits, docs/architecture.md §5)
+  bool transparent = false;  // alpha-blended (flagged: methods' limits, docs/architecture.md
+                             // "Methods and lighting strategies")
   int image = -1;
   // Imported materials (sim/scene/import.cpp): cut-out (glTF alphaMode MASK): a surface point
   // whose alpha = `alpha` x texture alpha is below alpha_cutoff is not there (rays pass it);
@@ -102,8 +103,8 @@ struct Light {
   bool moving() const { return !keys.empty(); }
 };
 
-struct SceneFeatures {  // decides which passes exist (docs/architecture.md §6: model only what a
-                        // scene requires)
+struct SceneFeatures {  // decides which passes exist (docs/architecture.md "Cost model": model only
+                        // what a scene requires)
   bool shadows = false, dynamic_objects = false, moving_lights = false, transparency = false,
        indirect = false, textures = false;
   size_t triangles = 0, submodels = 0;

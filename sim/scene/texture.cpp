@@ -1,6 +1,6 @@
 // Procedural and image textures, point-sampled or band-limited over a footprint
-// (docs/architecture.md §4: the reference is converged and every method shades with the same
-// filtering).
+// (docs/architecture.md "Rendering and the shared reference": the reference is converged and every
+// method shades with the same filtering).
 //
 // Filtering model: a sample's footprint is an isotropic box of width `fw` in uv units (the
 // renderer derives it from a ray cone, sim/render/render_trace.cpp). Each texture is

@@ -155,7 +155,7 @@ TEST(Cli, SameNumbersAtAnyThreadCount) {
 }
 
 // The images of a frame are queued while the methods run and written together, in parallel
-// (engine.cpp ImageJobs): every file is there, and byte for byte the same at any thread count.
+// (cell_images.h ImageJobs): every file is there, and byte for byte the same at any thread count.
 TEST(Cli, ImagesAreTheSameFilesAtAnyThreadCount) {
   namespace fs = std::filesystem;
   std::string dir = temp_dir("threads_images");

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <regex>
+#include <set>
 #include <sstream>
 
 #include "sim/core/counter_list.h"
@@ -120,4 +121,81 @@ TEST(Docs, CodeCitesPapersNotInternalHandles) {
       EXPECT_FALSE(std::regex_search(line, bad)) << f << ":" << n << ": " << line;
   }
   EXPECT_GT(scanned, 300);  // the walk found the tree
+}
+
+// Comments and docs cite docs/architecture.md by section title (`docs/architecture.md "Cost
+// model"`, several as `"A", "B"`), never by number: every title cited is a heading there
+// (`## ` or `### `), and no file cites a number ("§6") but those
+// tests/style/architecture_citations_pending.txt still lists. A citation may wrap across
+// comment lines.
+TEST(Docs, CitedArchitectureSectionsExist) {
+  namespace fs = std::filesystem;
+  const fs::path root(FOVSIM_SOURCE_DIR);
+  auto slurp = [](const fs::path& p) {
+    std::ifstream f(p, std::ios::binary);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+  };
+  // One line: comment markers at line starts dropped, whitespace runs made one space.
+  auto joined = [](const std::string& s) {
+    static const std::regex wrap(R"(\s*\n\s*(//+|#+|\*)?\s*)");
+    return std::regex_replace(s, wrap, " ");
+  };
+  std::set<std::string> titles;
+  {
+    std::ifstream f(root / "docs/architecture.md");
+    std::string line;
+    while (std::getline(f, line))
+      if (line.rfind("## ", 0) == 0 || line.rfind("### ", 0) == 0)
+        titles.insert(line.substr(line.find(' ') + 1));
+  }
+  ASSERT_TRUE(titles.count("Data flow of one frame"));
+  std::set<std::string> pending;
+  {
+    std::ifstream f(root / "tests/style/architecture_citations_pending.txt");
+    std::string line;
+    while (std::getline(f, line))
+      if (!line.empty() && line[0] != '#') pending.insert(line);
+  }
+  // architecture.md, then one or more quoted titles separated by ", " (quotes may be escaped
+  // inside a C++ string, or single inside a Python one).
+  static const std::regex cite(
+      R"re(architecture\.md[,:]? (\\?["'][^"'\\]+\\?["'](, \\?["'][^"'\\]+\\?["'])*))re");
+  static const std::regex quoted(R"re(\\?["']([^"'\\]+)\\?["'])re");
+  static const std::regex numbered(R"(architecture\.md[,:]? §)");
+  const std::vector<std::string> exts{".cpp", ".h", ".inc", ".py", ".sh", ".json", ".md", ".txt"};
+  std::vector<fs::path> files{root / "CMakeLists.txt", root / "Makefile", root / "README.md"};
+  for (const char* dir : {"sim", "tests", "python", "viz", "scripts", "bench", "configs", "models",
+                          "docs", "results", "traces"}) {
+    if (!fs::is_directory(root / dir)) continue;
+    for (auto& e : fs::recursive_directory_iterator(root / dir)) {
+      const fs::path& p = e.path();
+      if (!e.is_regular_file() || e.file_size() > (1u << 20)) continue;
+      if (std::find(exts.begin(), exts.end(), p.extension().string()) == exts.end()) continue;
+      const std::string rel = fs::relative(p, root).generic_string();
+      if (rel.rfind("tests/golden/", 0) == 0 || rel.rfind("tests/fuzz/corpus/", 0) == 0) continue;
+      files.push_back(p);
+    }
+  }
+  int cited = 0;
+  for (const fs::path& p : files) {
+    const std::string rel = fs::relative(p, root).generic_string();
+    if (rel == "tests/app/docs_test.cpp") continue;  // this test's own examples
+    const std::string raw = slurp(p);
+    if (raw.find("architecture.md") == std::string::npos) continue;
+    const std::string text = joined(raw);
+    if (!pending.count(rel))
+      EXPECT_FALSE(std::regex_search(text, numbered))
+          << rel << " cites docs/architecture.md by section number: cite its title";
+    for (std::sregex_iterator it(text.begin(), text.end(), cite), end; it != end; ++it) {
+      const std::string list = (*it)[1];
+      for (std::sregex_iterator q(list.begin(), list.end(), quoted); q != end; ++q) {
+        ++cited;
+        EXPECT_TRUE(titles.count((*q)[1])) << rel << " cites docs/architecture.md \"" << (*q)[1]
+                                           << "\", which is not a section title there";
+      }
+    }
+  }
+  EXPECT_GT(cited, 40);  // the scan found the citations
 }

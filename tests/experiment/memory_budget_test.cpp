@@ -1,4 +1,4 @@
-// The memory budget (docs/architecture.md §2 "Memory"): a sweep whose budget fits one cell at a
+// The memory budget (docs/architecture.md "Memory"): a sweep whose budget fits one cell at a
 // time runs its cells in several passes over the frames and gives the numbers of one pass; the
 // manifest records the passes and the peak resident memory; at render.spp 1 the cells of a group
 // share one reference side, whose foveation-loss reference is the reference itself (aliased, not

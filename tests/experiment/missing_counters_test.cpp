@@ -1,7 +1,8 @@
 // A counter the cost model needs for a pass the method declares, but the method did not fill,
 // is a flag of the row and of the run (summary.json "flags"), never silence (docs/architecture.md
-// §6). The flc method declares its own VPL passes (RSMs, importance, culling) on any scene; on a
-// scene without indirect light it renders the direct light only and fills none of their counters.
+// "Cost model"). The flc method declares its own VPL passes (RSMs, importance, culling) on any
+// scene; on a scene without indirect light it renders the direct light only and fills none of their
+// counters.
 #include <gtest/gtest.h>
 
 #include <filesystem>

@@ -7,6 +7,7 @@
 #include "sim/core/error.h"
 #include "sim/experiment/runner.h"
 #include "sim/experiment/search_runner.h"
+#include "sim/experiment/summary.h"
 
 namespace fovsim {
 namespace {

@@ -9,6 +9,7 @@
 
 #include "sim/core/error.h"
 #include "sim/experiment/runner.h"
+#include "sim/experiment/summary.h"
 
 using namespace fovsim;
 

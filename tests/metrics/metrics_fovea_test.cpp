@@ -117,7 +117,10 @@ TEST(MetricsRegions, FoveaPeripheryAndBands) {
     for (int x = 0; x < W; ++x)
       for (int c = 0; c < 3; ++c) test.at(x, y)[c] += x < 5 ? 0.1f : (x < 10 ? 0.2f : 0.3f);
   MetricsConfig cfg;
-  cfg.psnr = cfg.ssim = cfg.fpsnr = cfg.temporal = false;
+  cfg.set("psnr", false);
+  cfg.set("ssim", false);
+  cfg.set("fpsnr", false);
+  cfg.set("temporal", false);
   cfg.fovea_deg = 5;
   cfg.band_edges_deg = {0, 5, 10, 20, 50, 60};
   MetricValues m = compute_metrics(cfg, test, ref, cam, ecc, nullptr);

@@ -6,6 +6,7 @@
 
 #include "metrics_test_util.h"
 #include "sim/core/error.h"
+#include "sim/metrics/flip_metric.h"
 #include "sim/metrics/metrics.h"
 
 using namespace fovsim;
@@ -83,7 +84,11 @@ TEST(MetricsCompute, ColumnsInOrderAndConsistentWithStandaloneFunctions) {
   EXPECT_FALSE(std::isnan(compute_metrics(cfg, test, ref, cam, ecc, &st).get("temporal_error")));
   EXPECT_TRUE(std::isnan(compute_metrics(cfg, test, ref, cam, ecc, nullptr).get("temporal_error")));
   // Disabled metrics produce no column.
-  cfg.ssim = cfg.fpsnr = cfg.regions = cfg.temporal = cfg.flip = false;
+  cfg.set("ssim", false);
+  cfg.set("fpsnr", false);
+  cfg.set("regions", false);
+  cfg.set("temporal", false);
+  cfg.set("flip", false);
   MetricValues p = compute_metrics(cfg, test, ref, cam, {}, nullptr);
   ASSERT_EQ(p.items().size(), 1u);
   EXPECT_EQ(p.items()[0].first, "psnr");
@@ -100,12 +105,13 @@ TEST(MetricsCompute, GivenTestFlipPreparationGivesTheSameNumbers) {
   Image ref = testutil::pattern(W, H, 3, 61), ref2 = testutil::pattern(W, H, 3, 62),
         test = testutil::pattern(W, H, 3, 63, 0.4);
   MetricsConfig cfg;
-  cfg.ssim = cfg.temporal = false;
+  cfg.set("ssim", false);
+  cfg.set("temporal", false);
   MetricsScratch a, b;
   compute_metrics(cfg, test, ref, cam, ecc, nullptr, &a);
-  ASSERT_TRUE(a.flip_test_valid);
-  const MetricValues given = compute_metrics(cfg, test, ref2, cam, ecc, nullptr, &b, &a.flip_test);
-  EXPECT_FALSE(b.flip_test_valid);
+  ASSERT_TRUE(flip_scratch(a)->test_valid);
+  const MetricValues given = compute_metrics(cfg, test, ref2, cam, ecc, nullptr, &b, &a);
+  EXPECT_FALSE(flip_scratch(b)->test_valid);
   MetricsScratch c;
   const MetricValues own = compute_metrics(cfg, test, ref2, cam, ecc, nullptr, &c);
   ASSERT_EQ(given.items().size(), own.items().size());
@@ -117,11 +123,12 @@ TEST(MetricsCompute, GivenTestFlipPreparationGivesTheSameNumbers) {
     else
       EXPECT_EQ(g, o) << own.items()[k].first;
   }
-  FlipPrepared other = a.flip_test;
-  other.ppd *= 2;
+  MetricsScratch other;
+  compute_metrics(cfg, test, ref, cam, ecc, nullptr, &other);
+  const_cast<FlipScratch*>(flip_scratch(other))->test.ppd *= 2;
   EXPECT_THROW(compute_metrics(cfg, test, ref2, cam, ecc, nullptr, &b, &other), InternalError);
   compute_metrics(cfg, ref, ref, cam, ecc, nullptr, &a);  // identical: no preparation
-  EXPECT_FALSE(a.flip_test_valid);
+  EXPECT_FALSE(flip_scratch(a)->test_valid);
 }
 
 TEST(MetricsCompute, FlipBandsAreMeansOfTheMapOverTheirPixels) {
@@ -130,10 +137,12 @@ TEST(MetricsCompute, FlipBandsAreMeansOfTheMapOverTheirPixels) {
   Camera cam = testutil::camera(W, H, 60, 40);
   Image ref = testutil::pattern(W, H, 3, 51), test = testutil::pattern(W, H, 3, 52, 0.4);
   MetricsConfig cfg;
-  cfg.ssim = cfg.fpsnr = cfg.temporal = false;
+  cfg.set("ssim", false);
+  cfg.set("fpsnr", false);
+  cfg.set("temporal", false);
   MetricsScratch sc;
   MetricValues m = compute_metrics(cfg, test, ref, cam, ecc, nullptr, &sc);
-  const Image& map = sc.flip_map;
+  const Image& map = flip_scratch(sc)->map;
   ASSERT_EQ(map.width, W);
   ASSERT_EQ(map.height, H);
   double left = 0, right = 0, all = 0;
@@ -152,7 +161,7 @@ TEST(MetricsCompute, FlipBandsAreMeansOfTheMapOverTheirPixels) {
   EXPECT_LT(flip_ppd(testutil::camera(W, H, 90, 60)), flip_ppd(cam));
   EXPECT_NEAR(flip_ppd(cam), local_ppd(cam, W / 2.0, H / 2.0), 1e-12);
   // Without regions: the mean only.
-  cfg.regions = false;
+  cfg.set("regions", false);
   MetricValues n = compute_metrics(cfg, test, ref, cam, ecc, nullptr);
   ASSERT_EQ(n.items().size(), 2u);  // psnr, flip
   EXPECT_EQ(n.get("flip"), m.get("flip"));
@@ -168,15 +177,16 @@ TEST(MetricsCompute, FlipBandsAreMeansOfTheMapOverTheirPixels) {
 TEST(MetricsConfigTest, DefaultsAndOverrides) {
   Params empty(Json::object(), "run.json", "metrics");
   MetricsConfig d = MetricsConfig::from_params(empty);
-  EXPECT_TRUE(d.psnr && d.ssim && d.fpsnr && d.regions && d.temporal && d.flip);
+  for (const char* k : {"psnr", "ssim", "fpsnr", "regions", "temporal", "flip", "flip_images"})
+    EXPECT_TRUE(d.on(k)) << k;
   EXPECT_EQ(d.fovea_deg, 5.0);
   EXPECT_EQ(d.band_edges_deg, (std::vector<double>{0, 5, 10, 20, 30, 60}));
   Params p(Json::parse(R"({"ssim": false, "fovea_deg": 2.5, "band_edges_deg": [0, 2.5, 90]})"),
            "run.json", "metrics");
   MetricsConfig c = MetricsConfig::from_params(p);
   p.finish();
-  EXPECT_FALSE(c.ssim);
-  EXPECT_TRUE(c.psnr);
+  EXPECT_FALSE(c.on("ssim"));
+  EXPECT_TRUE(c.on("psnr"));
   EXPECT_EQ(c.fovea_deg, 2.5);
   EXPECT_EQ(c.band_edges_deg, (std::vector<double>{0, 2.5, 90}));
   Params none(Json::parse(R"({"band_edges_deg": []})"));

@@ -310,7 +310,10 @@ TEST(MetricsKernels, SsimOfIdenticalImagesIsExactlyOne) {
     const Camera cam = testutil::camera(im.width, im.height, 90, 80);
     const std::vector<float> ecc(im.pixels(), 10.f);
     MetricsConfig cfg;
-    cfg.flip = cfg.fpsnr = cfg.regions = cfg.temporal = false;
+    cfg.set("flip", false);
+    cfg.set("fpsnr", false);
+    cfg.set("regions", false);
+    cfg.set("temporal", false);
     EXPECT_EQ(compute_metrics(cfg, copy, im, cam, ecc, nullptr).get("ssim"), 1.0);
   }
 }
@@ -322,7 +325,7 @@ TEST(MetricsKernels, ComputeMetricsReusesThePreparedReferenceOnlyWhileItIsUnchan
   Image ref = testutil::pattern(W, H, 3, 81), t1 = testutil::pattern(W, H, 3, 82, 0.4),
         t2 = testutil::pattern(W, H, 3, 83, 0.4);
   MetricsConfig cfg;
-  cfg.temporal = false;
+  cfg.set("temporal", false);
   MetricsScratch sc;
   auto same = [&](const Image& t, const Image& r) {
     const MetricValues with = compute_metrics(cfg, t, r, cam, ecc, nullptr, &sc);

@@ -97,8 +97,8 @@ TEST(Synth, ParameterErrorsNameThePath) {
   EXPECT_THROW(synth_internal(EyeModel(), opts("dancing", 1), vive()), Error);
 }
 
-// Main sequence (docs/architecture.md §3): duration = 21 ms + 2.2 ms/deg; Vpeak = Vmax (1 -
-// exp(-A/C)).
+// Main sequence (docs/architecture.md "Inputs: displays, traces, scenes, configs"): duration = 21
+// ms + 2.2 ms/deg; Vpeak = Vmax (1 - exp(-A/C)).
 TEST(Synth, SaccadesFollowTheMainSequence) {
   EyeModel m =
       model(Json{{"head", {{"eye_only_range_deg", 90}}}});  // head still: eye-in-head = gaze

@@ -1,0 +1,86 @@
+#include "sim/experiment/memory_plan.h"
+
+#include <algorithm>
+
+#include "sim/core/memory_info.h"
+#include "sim/experiment/cell.h"
+
+namespace fovsim {
+
+double MemoryEstimator::cell(const Cell& c) const {
+  const MetricsConfig& m = c.metric.cfg;
+  const bool fl = m.foveation_loss && !aliased();
+  const double test = sequence(m).second;
+  double b = image() + scratch(m) + (fl ? scratch(m) : 0);
+  const double per_method =
+      3 * image() + frame_metrics_state_bytes(m, pixels()) + test + (fl ? 5 * plane() : 0);
+  b += double(c.methods.size()) * per_method;
+  b += double(sh.count) * double(c.methods.size() * c.cost.gpus.size()) * 4096;
+  return b;
+}
+
+Json MemoryPlan::record(size_t p, size_t sides_in_pass, double side_bytes, double seq_ref,
+                        const std::string& fl_reference) const {
+  double pass_bytes = group + double(sides_in_pass) * side_bytes;
+  for (size_t i : passes[p]) pass_bytes += cell[i];
+  return Json{{"budget_bytes", std::isfinite(budget) ? Json(budget) : Json("unlimited")},
+              {"budget_from", budget_from},
+              {"passes", passes.size()},
+              {"pass", p + 1},
+              {"cells_in_pass", passes[p].size()},
+              {"reference_sides", sides_in_pass},
+              {"foveation_loss_reference", fl_reference},
+              {"resident_at_start_bytes", resident},
+              {"estimate_bytes",
+               {{"group", group},
+                {"reference_side", side_bytes},
+                {"sequence_reference", seq_ref},
+                {"cell", cell.empty() ? 0.0 : cell[passes[p].front()]},
+                {"pass", pass_bytes}}}};
+}
+
+// The budget (--memory-budget, run.memory_gb, else 75% of MemAvailable) and the passes: cells
+// in order, as many per pass as the estimate fits in what the budget leaves after the memory
+// resident now and the group's shared data; at least one per pass.
+MemoryPlan plan_memory(const EngineOptions& opt, const Shared& sh,
+                       const std::vector<std::unique_ptr<Cell>>& cells,
+                       const MemoryEstimator& est) {
+  MemoryPlan p;
+  if (opt.memory_budget_gb > 0) {
+    p.budget = opt.memory_budget_gb * 1e9;
+    p.budget_from = "--memory-budget";
+  } else if (sh.memory_gb > 0) {
+    p.budget = sh.memory_gb * 1e9;
+    p.budget_from = "run.memory_gb";
+  } else if (const uint64_t avail = available_memory_bytes(); avail > 0) {
+    p.budget = 0.75 * double(avail);
+    p.budget_from = "75% of MemAvailable";
+  } else {
+    p.budget_from = "unlimited (MemAvailable unreadable)";
+  }
+  p.resident = double(current_rss_bytes());
+  p.group = est.group();
+  const double room = p.budget - p.resident - p.group;
+  std::vector<std::string> keys;  // the metrics blocks of the current pass (one side each)
+  double used = 0;
+  for (size_t i = 0; i < cells.size(); ++i) {
+    p.cell.push_back(est.cell(*cells[i]));
+    const std::string key = side_key(*cells[i]);
+    const bool new_side = std::find(keys.begin(), keys.end(), key) == keys.end();
+    const double cost = p.cell.back() + (new_side ? est.side(cells[i]->metric.cfg) : 0);
+    if (p.passes.empty() || (used + cost > room && !p.passes.back().empty())) {
+      p.passes.emplace_back();
+      keys.clear();
+      used = 0;
+    }
+    if (std::find(keys.begin(), keys.end(), key) == keys.end()) {
+      keys.push_back(key);
+      used += est.side(cells[i]->metric.cfg);
+    }
+    used += p.cell.back();
+    p.passes.back().push_back(i);
+  }
+  return p;
+}
+
+}  // namespace fovsim

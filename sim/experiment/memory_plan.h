@@ -1,0 +1,93 @@
+// The memory plan of a reference group (docs/architecture.md "Data flow of one frame",
+// "Memory"): the estimate of what the group, a reference side and a cell hold, and the split of
+// the group's cells into passes under the budget. run_cells_impl (engine.cpp) makes the plan;
+// each pass (run_pass) runs the frame loop over its cells.
+#pragma once
+#include <cmath>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "sim/core/params.h"
+#include "sim/experiment/engine.h"
+#include "sim/experiment/shared_config.h"
+#include "sim/metrics/frame_metric.h"
+#include "sim/metrics/metrics.h"
+#include "sim/metrics/registry.h"
+
+namespace fovsim {
+
+struct Cell;
+
+// The memory estimate (docs/architecture.md "Memory"), bytes, from the simulated size, the
+// cells' methods and metrics, and the sequence metrics' windows. Calibrated against
+// `/usr/bin/time -v` peaks (bench/README.md "Memory"); an estimate, not a bound.
+struct MemoryEstimator {
+  const Shared& sh;
+  bool video = true;  // sequence metrics run as a video (their temporal window is held)
+  double pixels() const { return double(sh.sim_display.width) * double(sh.sim_display.height); }
+  double image() const { return 12 * pixels(); }  // RGB float
+  double plane() const { return 4 * pixels(); }
+  // At render.spp 1 `full` is the reference: the foveation-loss reference is aliased.
+  bool aliased() const { return sh.rs.spp <= 1; }
+  // Once per group: the frame's reference, direct light, G-buffer (up to ~16 floats a pixel)
+  // and eccentricity, the tone-mapped reference, a saved frame's image jobs.
+  double group() const { return 5 * image() + 17 * plane(); }
+  // A MetricsScratch: its copy of the reference and every enabled per-frame metric's scratch
+  // (frame_metric.h).
+  double scratch(const MetricsConfig& m) const { return frame_metrics_scratch_bytes(m, pixels()); }
+  // One reference stream and one test stream of every sequence metric `m` enables.
+  std::pair<double, double> sequence(const MetricsConfig& m) const {
+    SequenceSetup su;
+    su.display = &sh.display;
+    su.width = sh.sim_display.width;
+    su.height = sh.sim_display.height;
+    su.fps = video ? sh.display.refresh_hz : 0.0;
+    su.config = &m;
+    double ref = 0, test = 0;
+    for (auto& d : metric_registry())
+      if (d.sequence && d.sequence->enabled(m)) {
+        if (d.sequence->reference_bytes) ref += d.sequence->reference_bytes(su);
+        if (d.sequence->test_bytes) test += d.sequence->test_bytes(su);
+      }
+    return {ref, test};
+  }
+  // A reference side (RefSide): the streams against the reference; with the foveation loss the
+  // floor's test streams and scratch and, unless aliased, `full`'s images and streams.
+  double side(const MetricsConfig& m) const {
+    const auto [ref, test] = sequence(m);
+    double b = ref;
+    if (m.foveation_loss) {
+      b += test + scratch(m);
+      if (!aliased()) b += ref + 2 * image();
+    }
+    return b;
+  }
+  // A cell: its tone-mapped image and scratch; per method its image and working buffers,
+  // its per-frame metrics' state (temporal_error's planes), its test streams (against `full` too
+  // unless aliased); rows.
+  double cell(const Cell& c) const;
+};
+
+// How a group's cells are split into passes under the memory budget (run_cells_impl).
+struct MemoryPlan {
+  double budget = INFINITY;  // bytes
+  std::string budget_from;
+  double resident = 0;  // resident memory when the plan was made (scene, trace, cells parsed)
+  double group = 0;
+  std::vector<double> cell;                 // per cell
+  std::vector<std::vector<size_t>> passes;  // cell indices, in order
+
+  // The manifest's "memory" record of pass `p`.
+  Json record(size_t p, size_t sides_in_pass, double side_bytes, double seq_ref,
+              const std::string& fl_reference) const;
+};
+
+// The budget (--memory-budget, run.memory_gb, else 75% of MemAvailable) and the passes: cells
+// in order, as many per pass as the estimate fits in what the budget leaves after the memory
+// resident now and the group's shared data; at least one per pass.
+MemoryPlan plan_memory(const EngineOptions& opt, const Shared& sh,
+                       const std::vector<std::unique_ptr<Cell>>& cells, const MemoryEstimator& est);
+
+}  // namespace fovsim
