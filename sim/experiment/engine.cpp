@@ -339,6 +339,9 @@ void run_pass(const GroupRun& g, std::vector<std::unique_ptr<Cell>>& cells, size
       (cells.size() > 1 ? "frames x " + std::to_string(cells.size()) + " cells" : "frames") +
           of_passes,
       size_t(sh.count + sh.warmup));
+  // A group's cells come from a sweep or a search, whose progress counts cells: this pass
+  // stands for its cells, after the cells of the group's earlier passes (progress.h spans).
+  progress.spans(results.size(), cells.size());
   progress.phase("frames");
   double ref_total = 0;
   // One frame, in the steps of docs/architecture.md "Data flow of one frame".
