@@ -10,7 +10,6 @@
 #include "sim/cost/passes.h"
 #include "sim/cost/workload.h"
 #include "sim/foveation/factory.h"
-#include "sim/foveation/mapping_spec.h"
 
 namespace fovsim {
 
@@ -109,39 +108,22 @@ std::vector<BudgetChange> fitting_changes(const BudgetQuery& q, double budget_ms
     out.push_back({"none", "none needed", 0, base.total_ms, p0});
     return out;
   }
-  // 1. The method's own quality knob.
-  // Methods that shade a whole (W / sigma) x (H / sigma) buffer with sigma as their free
-  // parameter (their SamplingGeometry says so: kfr, rmfr, rmfr_auto) raise sigma from the
-  // configured or declared value.
-  // The method with its declared defaults: its declared passes (family) and sampling geometry.
+  // 1. The method's own quality knob, as the method declares it (budget_knob, method_cost.h:
+  // kfr, rmfr, rmfr_auto raise sigma; flc halves vpl_budget), from the configured value or the
+  // method's default.
   Params dp(Json::object(), "budget", "");
   const std::unique_ptr<FoveationMethod> inst = make_method(q.method, dp);
-  const CostFamily fam = declared_passes(*inst).family;
-  const MappingSpec* spec = inst->mapping_spec();
-  if (fam == CostFamily::Mapping && spec && spec->geometry().shades_whole_buffer() &&
-      std::string(spec->geometry().free_param().key) == "sigma") {
-    const double s0 = q.params.value("sigma", spec->geometry().free_value());
-    for (int k = 1; s0 + 0.1 * k <= 4.0 + 1e-9; ++k) {
-      const double s = std::round((s0 + 0.1 * k) * 10) / 10;
+  const BudgetKnob knob = inst->budget_knob(analytic_workload(*q.workload));
+  if (!knob.key.empty() && knob.steps) {
+    const double v0 = q.params.value(knob.key, knob.value);
+    const std::string f = "%." + std::to_string(knob.decimals) + "f";
+    for (const double v : knob.steps(v0)) {
       Json p = q.params;
-      p["sigma"] = s;
+      p[knob.key] = knob.integer ? Json(int(v)) : Json(v);
       const FrameCost fc = eval(q, g, p, q.display);
       const double pr = fit_probability(g, fc, budget_ms);
       if (pr >= target) {
-        out.push_back(
-            {"param", "sigma " + fmt("%.1f", s0) + " -> " + fmt("%.1f", s), s, fc.total_ms, pr});
-        break;
-      }
-    }
-  } else if (fam == CostFamily::Flc) {
-    const double b0 = q.params.value("vpl_budget", q.workload->vpl_budget);
-    for (double b = std::floor(b0 / 2); b >= 64; b = std::floor(b / 2)) {
-      Json p = q.params;
-      p["vpl_budget"] = int(b);
-      const FrameCost fc = eval(q, g, p, q.display);
-      const double pr = fit_probability(g, fc, budget_ms);
-      if (pr >= target) {
-        out.push_back({"param", "vpl_budget " + fmt("%.0f", b0) + " -> " + fmt("%.0f", b), b,
+        out.push_back({"param", knob.key + " " + fmt(f.c_str(), v0) + " -> " + fmt(f.c_str(), v), v,
                        fc.total_ms, pr});
         break;
       }

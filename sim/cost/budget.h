@@ -53,8 +53,9 @@ struct Workload;
 
 // The cheapest change that makes a configuration fit a budget with probability >= target
 // (fit_probability on the profile's interval, gpu_profile.h). Searched in order of what it
-// costs the user: the method's own parameter (kfr/rmfr: sigma up in steps of 0.1 to 4; flc:
-// vpl_budget halved down to 64), then the per-eye resolution (steps of 5% down to 50%), then
+// costs the user: the method's own parameter as it declares it (FoveationMethod::budget_knob,
+// sim/foveation/method_cost.h: kfr/rmfr sigma up in steps of 0.1 to 4; flc vpl_budget halved
+// down to 64), then the per-eye resolution (steps of 5% down to 50%), then
 // a faster GPU (one throughput factor on every resource but the fixed overheads). `kind`:
 // "none" (already fits), "param", "resolution", "gpu", or "" when nothing found.
 struct BudgetChange {

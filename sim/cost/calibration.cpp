@@ -9,6 +9,7 @@
 #include "sim/cost/analytic.h"
 #include "sim/cost/nnls.h"
 #include "sim/cost/passes.h"
+#include "sim/foveation/factory.h"
 
 namespace fovsim {
 
@@ -31,8 +32,11 @@ Workload apply_overrides(const Workload& w, const Json& ov, const std::string& w
   return r;
 }
 
+// A table's baseline rows are those of the full-resolution pipeline (CostPasses::full_resolution
+// in the method's declaration).
 bool is_baseline_method(const std::string& m) {
-  return m == "full";
+  const MethodEntry* e = find_method(m);
+  return e && e->cost().passes.full_resolution;
 }
 
 }  // namespace

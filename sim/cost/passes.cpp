@@ -79,8 +79,8 @@ bool is_known_pass(const std::string& p) {
   return std::find(k.begin(), k.end(), p) != k.end();
 }
 
-// Every method of the factory has a cost model: its declared cost family (method_list.h)
-// selects the pass structure below.
+// Every method of the factory has a cost model: its declared passes (MethodCost::passes in
+// its file, with its lighting strategy's) select the pass structure below.
 const std::vector<std::string>& cost_methods() {
   static const std::vector<std::string> m = [] {
     std::vector<std::string> v;
@@ -92,12 +92,6 @@ const std::vector<std::string>& cost_methods() {
 
 bool is_cost_method(const std::string& m) {
   return find_method(m) != nullptr;
-}
-
-CostFamily cost_family(const std::string& m) {
-  const MethodEntry* e = find_method(m);
-  if (!e) throw Error("cost", "unknown method '" + m + "'");
-  return e->family;
 }
 
 std::optional<Resource> find_term_resource(const std::string& pass, const std::string& term) {
@@ -208,8 +202,6 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
   const double T = pos(w.tris(f) * w.submitted_fraction, "the submitted triangles");
   const double lights = pos(w.nlights(f), "the lights");
   const double shadowed = pos(w.nshadowed(f), "the shadowed lights");
-  const CostFamily fam = decl.family;
-  const bool twfr = fam == CostFamily::Twfr, flc = fam == CostFamily::Flc;
   // Lighting passes (docs/architecture.md §5 lighting axis): a scene with indirect light charges
   // every method that declares the frame's RSMs for them and the VPL shading of its samples
   // (the flc method builds VPLs on any scene); the importance / contribution / culling passes
@@ -218,13 +210,14 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
   const bool has_importance = decl.importance;
   const bool has_culling = decl.culling;
 
-  // Shaded samples per eye at the real resolution. `full` shades every pixel by definition.
+  // Shaded samples per eye at the real resolution. A full-resolution pipeline shades every
+  // pixel by definition.
   const double S =
-      fam == CostFamily::Full
+      decl.full_resolution
           ? (c.has(Counter::shaded_samples)
                  ? counter(Counter::shaded_samples) * display_scale(Counter::shaded_samples, scale)
                  : P)
-          : (flc && c.has(Counter::direct_shaded_samples)
+          : (decl.direct_at_every_pixel && c.has(Counter::direct_shaded_samples)
                  ? need(Counter::direct_shaded_samples, P)  // FLC: direct at every pixel
                  : need(Counter::shaded_samples, 0));
 
@@ -233,8 +226,8 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
     for (auto& t : terms) t.value = pos(t.value, "pass " + std::string(pass) + ", term " + t.name);
     out.push_back({pass, std::move(terms)});
   };
-  const double Tsub =
-      twfr ? need(Counter::prims_submitted, T) : T;  // foveation culling (Franke et al. 2021 §6.1)
+  const double Tsub = decl.culls_primitives ? need(Counter::prims_submitted, T)
+                                            : T;  // foveation culling (Franke et al. 2021 §6.1)
 
   if (w.pipeline.depth_prepass)
     add("depth", {{"tris", Resource::Geometry, T * eyes},
@@ -254,7 +247,7 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
     add("rsm", {{"tris", Resource::Geometry, T * std::max(1.0, lights)},
                 {"texels", Resource::Raster, texels}});
   }
-  if (twfr) {  // reprojection + push-pull + confidence (Franke et al. 2021 §4-§5)
+  if (decl.reprojection) {  // reprojection + push-pull + confidence (Franke et al. 2021 §4-§5)
     double rp = need(Counter::reprojected_pixels, P);
     double holes = 0;
     for (auto& e : c.entries())
@@ -265,7 +258,7 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
   }
   // G-buffer (deferred) or forward geometry pass (fVRS); TWFR discards confident pixels.
   {
-    double written = twfr ? need(Counter::pixels_redrawn, S) : P;
+    double written = decl.redraws_marked_pixels ? need(Counter::pixels_redrawn, S) : P;
     add("gbuffer", {{"tris", Resource::Geometry, Tsub * w.tri_cost * eyes},
                     {"frags", Resource::Raster, P * w.overdraw * eyes},
                     {"gbuffer_bytes", Resource::Memory, written * w.gbuffer_bytes * eyes}});
@@ -290,7 +283,7 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
   }
   {
     // fVRS is a forward renderer (Franke et al. 2021 §8.4): every rasterised fragment is shaded.
-    const double fwd = fam == CostFamily::Fvrs ? std::max(1.0, w.overdraw) : 1.0;
+    const double fwd = decl.forward_shading ? std::max(1.0, w.overdraw) : 1.0;
     std::vector<Term> t = {
         {"shade_flops", Resource::Shading, S * fwd * lights * w.shading_flops * eyes}};
     if (vpl) {  // indirect light: shaded samples x VPLs used (all of them for all_vpls)
@@ -305,7 +298,7 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
     }
     add("lighting", std::move(t));
   }
-  if (fam == CostFamily::Mapping) {  // inverse map to the screen (pass 2)
+  if (decl.inverse_map) {  // inverse map to the screen (pass 2)
     // filter_taps is the frame's total of texture taps (like every counter, a total, scaled
     // to the display like other pixel counters); without it, bilinear = 4 taps per pixel.
     double full = need(Counter::fullres_pixels, P);
@@ -313,7 +306,7 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
     if (!c.has(Counter::filter_taps)) note(Counter::filter_taps);
     add("pass2", {{"taps", Resource::Memory, taps * eyes}});
   }
-  const double post_px = twfr ? need(Counter::pixels_redrawn, S) : P;
+  const double post_px = decl.redraws_marked_pixels ? need(Counter::pixels_redrawn, S) : P;
   if (w.pipeline.ssao)
     add("ssao", {{"pixels", Resource::Memory, post_px * eyes}});  // TWFR skips reprojected
   if (w.pipeline.tonemap) add("tonemap", {{"pixels", Resource::Memory, post_px * eyes}});

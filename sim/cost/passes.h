@@ -27,7 +27,6 @@ struct PassWork {
 // Method names the cost model knows (the factory's); the passes it charges come from the
 // declaration (CostInputs::passes, declared_passes in factory.h).
 bool is_cost_method(const std::string& m);
-CostFamily cost_family(const std::string& m);  // throws Error for an unknown method
 const std::vector<std::string>& cost_methods();
 
 // The resource class of a (pass, term); throws fovsim::Error(where, ...) for unknown pairs.

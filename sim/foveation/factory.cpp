@@ -6,11 +6,12 @@
 namespace fovsim {
 
 const std::vector<MethodEntry>& method_table() {
-  // One line per method in method_list.h; each method's file defines create_<name> and
-  // <name>_params.
+  // One line per method in method_list.h; each method's file defines create_<name>,
+  // <name>_params and <name>_cost. A line's third argument is not read: a method's cost is its
+  // own declaration (method_cost.h).
   static const std::vector<MethodEntry> table = {
-#define FOVSIM_METHOD(name, summary, family) \
-  {#name, summary, create_##name, name##_params, CostFamily::family},
+#define FOVSIM_METHOD(name, summary, unused) \
+  {#name, summary, create_##name, name##_params, name##_cost},
 #include "sim/foveation/method_list.h"
 #undef FOVSIM_METHOD
   };
@@ -71,11 +72,19 @@ std::unique_ptr<FoveationMethod> make_method(const std::string& name, Params& p)
 CostPasses declared_passes(const FoveationMethod& m) {
   const MethodEntry* e = find_method(m.name());
   FOVSIM_CHECK(e, "method \"" + m.name() + "\" is not in method_list.h");
-  CostPasses p;
-  p.family = e->family;
-  p.own_vpls = e->family == CostFamily::Flc;  // FLC builds its VPLs on any scene
+  CostPasses p = e->cost().passes;
   if (m.lighting()) m.lighting()->declare_passes(p);
   return p;
+}
+
+const std::string& full_resolution_method() {
+  static const std::string name = [] {
+    for (const auto& e : method_table())
+      if (e.cost().passes.full_resolution) return std::string(e.name);
+    FOVSIM_CHECK(false, "no method in method_list.h declares full-resolution shading");
+    return std::string();
+  }();
+  return name;
 }
 
 CostPasses declared_passes(const std::string& method, const std::string& lighting) {

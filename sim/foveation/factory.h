@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "sim/foveation/method.h"
+#include "sim/foveation/method_cost.h"
 
 namespace fovsim {
 
@@ -13,7 +14,8 @@ struct MethodEntry {
   const char* summary;
   std::unique_ptr<FoveationMethod> (*create)(Params& p);
   const std::vector<ParamInfo>& (*params)();
-  CostFamily family;  // the pass structure the cost model charges (method_list.h)
+  // Its declaration to the cost model (method_cost.h): `<name>_cost()` in the method's file.
+  const MethodCost& (*cost)();
 };
 
 const std::vector<MethodEntry>& method_table();
@@ -27,11 +29,14 @@ const std::vector<std::string>& methods_with_sampling_geometry();
 // Creates a method by name from its parameter block; unknown names and keys are errors.
 std::unique_ptr<FoveationMethod> make_method(const std::string& name, Params& p);
 
-// The cost passes a method declares: its cost family (method_list.h) and what its lighting
+// The cost passes a method declares: its pipeline (MethodCost::passes) and what its lighting
 // strategy adds (LightingStrategy::declare_passes). By name: the method with the strategy
 // `lighting` (empty: its default); unknown names are errors.
 CostPasses declared_passes(const FoveationMethod& m);
 CostPasses declared_passes(const std::string& method, const std::string& lighting = "");
+// The first registered method that declares full-resolution shading
+// (CostPasses::full_resolution): what a frame under `trace.on_invalid = full` is costed as.
+const std::string& full_resolution_method();
 
 // A method with parameters on the command line, in the one syntax every command accepts:
 // "kfr", "kfr:sigma=1.8,alpha=4" (the keys of the method's config block; values are JSON,

@@ -67,6 +67,39 @@ class FlcMethod final : public FoveationMethod {
             {"interleave", s_.interleave}};
   }
 
+  // Direct light at every pixel, one VPL per RSM texel (§3), its strategy's selection passes
+  // and the kept VPLs at the shaded samples of the log-polar transform, interleaved (§6).
+  void analytic_counters(const AnalyticFrame& f, Counters& c) const override {
+    const AnalyticWorkload& w = *f.workload;
+    const double P = f.pixels;
+    double lights = std::max(1.0, w.lights);
+    double total = w.rsm_res * w.rsm_res * lights;  // one VPL per RSM texel (Yang et al. 2021 §3)
+    // The budget given on the command line (validated by FLC's parser), else the workload's.
+    const double budget =
+        f.given->contains("vpl_budget") ? f.column("vpl_budget", w.vpl_budget) : w.vpl_budget;
+    double kept = std::min(total, budget);
+    double ns = w.importance_samples;
+    double s = P * w.lpt_fraction;
+    c.set(Counter::shaded_samples, s);
+    c.set(Counter::gbuffer_samples, P);
+    c.set(Counter::rsm_texels, total);
+    c.set(Counter::vpls_total, total);
+    c.set(Counter::vpls_kept, kept);
+    // The strategy's selection counters: eq. 14 for every VPL and sample, BLSO lookups.
+    flc_->analytic_selection_counters(c, total, ns);
+    c.set(Counter::shaded_sample_vpls, s * kept / w.interleave);  // interleaved sampling (§6)
+  }
+  // Fewer VPLs kept (§7, Fig. 7: the cost falls almost quadratically with them).
+  BudgetKnob budget_knob(const AnalyticWorkload& w) const override {
+    return halved_count_knob("vpl_budget", w.vpl_budget);
+  }
+  // Under tracking loss the log-polar buffer grows by k per axis: lp_sigma' = max(1, lp_sigma /
+  // k), as render() widens it; its foveal region does not change the analytic cost (the VPL
+  // budget is a count).
+  void widen_cost_keys(double k, Json& p) const override {
+    if (s_.log_polar) p["lp_sigma"] = std::max(1.0, s_.lp_sigma / k);
+  }
+
   void render(const FrameContext& ctx, FrameOutput& out) override {
     const GBuffer& g = *ctx.gbuffer;
     const int W = g.width, H = g.height;
@@ -176,6 +209,18 @@ std::unique_ptr<FoveationMethod> create_flc(Params& p) {
                         " (models/scenes/README.md)");
   const FlcLightingSettings ls = FlcLightingSettings::from_params(p);
   return std::make_unique<FlcMethod>(ls, flc_shade_table().read(p));
+}
+
+// Direct light at every pixel plus its own VPLs, built and counted even on a scene without
+// indirect light; the strategy's importance, contribution and culling passes come from its
+// lighting strategy (declared_passes).
+const MethodCost& flc_cost() {
+  static const MethodCost m = [] {
+    MethodCost d;
+    d.passes.direct_at_every_pixel = d.passes.own_vpls = true;
+    return d;
+  }();
+  return m;
 }
 
 const std::vector<ParamInfo>& flc_params() {

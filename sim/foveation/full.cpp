@@ -17,6 +17,11 @@ class FullMethod final : public FoveationMethod {
  public:
   std::string name() const override { return "full"; }
   uint32_t required_channels() const override { return kShadingChannels; }
+  // Every pixel is shaded (its declaration: full_resolution).
+  void analytic_counters(const AnalyticFrame& f, Counters& c) const override {
+    c.set(Counter::shaded_samples, f.pixels);
+    c.set(Counter::gbuffer_samples, f.pixels);
+  }
   void render(const FrameContext& ctx, FrameOutput& out) override {
     const double n = double(ctx.gbuffer->size());
     out.counters.set(Counter::shaded_samples, n);
@@ -48,6 +53,16 @@ std::unique_ptr<FoveationMethod> create_full(Params&) {
 const std::vector<ParamInfo>& full_params() {
   static const std::vector<ParamInfo> t;
   return t;
+}
+
+// Deferred shading of every pixel: the unfoveated pipeline the others are compared with.
+const MethodCost& full_cost() {
+  static const MethodCost m = [] {
+    MethodCost d;
+    d.passes.full_resolution = true;
+    return d;
+  }();
+  return m;
 }
 
 }  // namespace fovsim

@@ -9,6 +9,8 @@
 //
 // Parameters: the declaration fvrs_params() at the end of this file (name, type, default,
 // range, seed section, meaning); docs/methods.md and configs/README.md are generated from it.
+#include "sim/foveation/fvrs.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -95,6 +97,16 @@ int fvrs_level(const FvrsGeometry& s, const MappingView& v, int t, int bx, int b
 class FvrsMethod final : public MappingMethod<FvrsGeometry> {
  public:
   using MappingMethod::MappingMethod;
+
+  // Its shaded samples from the rate bands at the gaze (fvrs_shaded_fraction, the radius-scaled
+  // r1 and r2), or the analytic key shaded_fraction; every pixel is rasterised.
+  void analytic_counters(const AnalyticFrame& f, Counters& c) const override {
+    const FvrsGeometry* g = f.geometry ? &f.geometry->as<FvrsGeometry>() : nullptr;
+    c.set(Counter::shaded_samples, f.baseline_fraction(1.0, [&](double gu, double gv) {
+      return fvrs_shaded_fraction(*f.display, gu, gv, g->r1_eff(), g->r2_eff());
+    }) * f.pixels);
+    c.set(Counter::gbuffer_samples, f.pixels);
+  }
 
   void render(const FrameContext& ctx, FrameOutput& out) override {
     const FvrsGeometry& s = frame_geometry(ctx, out);
@@ -215,12 +227,41 @@ const ParamTable<MappingSpec>& FvrsGeometry::params_table() {
 
 }  // namespace
 
+double fvrs_shaded_fraction(const Display& d, double gu, double gv, double r1, double r2) {
+  if (d.width <= 0 || d.height <= 0) return 0;
+  Camera cam = Camera::from_pose(d, glm::dvec3(0), glm::dquat(1, 0, 0, 0));
+  glm::dvec3 g = gaze_dir_from_screen(d, gu, gv);
+  const int nx = std::min(d.width, 256), ny = std::min(d.height, 256);
+  double sum = 0;
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      double px = (i + 0.5) * d.width / nx, py = (j + 0.5) * d.height / ny;
+      double e = cam.eccentricity_deg(px, py, g);
+      // The share of its pixels a band shades: 1 / R^2 for coarse pixels of R x R display pixels.
+      const int R = FvrsGrid::kDisplayRate[e < r1 ? 0 : (e < r2 ? 1 : 2)];
+      sum += 1.0 / (double(R) * R);
+    }
+  return sum / (double(nx) * ny);
+}
+
 std::unique_ptr<FoveationMethod> create_fvrs(Params& p) {
   return std::make_unique<FvrsMethod>(read_mapping_spec<FvrsGeometry>(p));
 }
 
 const std::vector<ParamInfo>& fvrs_params() {
   return FvrsGeometry::params_table().info();
+}
+
+// A forward renderer at coarse shading rates (Franke et al. 2021 §8.4): no reduced buffer, no
+// inverse map; the baselines' shaded fraction and gaze are analytic-only keys.
+const MethodCost& fvrs_cost() {
+  static const MethodCost m = [] {
+    MethodCost d;
+    d.passes.forward_shading = true;
+    d.analytic_keys = {"shaded_fraction", "gaze_u", "gaze_v"};
+    return d;
+  }();
+  return m;
 }
 
 }  // namespace fovsim

@@ -293,4 +293,8 @@ const std::vector<ParamInfo>& hyperbolic_params() {
   return HyperbolicGeometry::params_table().info();
 }
 
+const MethodCost& hyperbolic_cost() {
+  return mapping_method_cost();
+}
+
 }  // namespace fovsim

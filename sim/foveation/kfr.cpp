@@ -80,6 +80,9 @@ struct KfrGeometry final : GeometryOf<KfrGeometry> {
   double density(const MappingView& v, double x, double y) const override;
   double expected_samples(const MappingView& v) const override;
   bool shades_whole_buffer() const override { return true; }
+  double buffer_reduction() const override { return sigma; }
+  // The LP-buffer shades (W / sigma) x (H / sigma) samples (eq. 2.8): sigma is the budget knob.
+  BudgetKnob budget_knob() const override { return coarser_buffer_knob("sigma", sigma); }
   FreeParam free_param() const override { return {"sigma", 1.0, 1e4, nullptr}; }
   double& free_ref() override { return sigma; }
   // Under tracking loss the LP-buffer grows by k per axis: sigma' = max(1, sigma / k) (Meng 2018
@@ -257,6 +260,10 @@ std::unique_ptr<FoveationMethod> create_kfr(Params& p) {
 
 const std::vector<ParamInfo>& kfr_params() {
   return KfrGeometry::params_table().info();
+}
+
+const MethodCost& kfr_cost() {
+  return mapping_method_cost();
 }
 
 }  // namespace fovsim

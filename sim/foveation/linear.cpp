@@ -141,4 +141,8 @@ const std::vector<ParamInfo>& linear_params() {
   return LinearGeometry::params_table().info();
 }
 
+const MethodCost& linear_cost() {
+  return mapping_method_cost();
+}
+
 }  // namespace fovsim

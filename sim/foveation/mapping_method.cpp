@@ -65,6 +65,40 @@ void MappingMethodBase::debug_density(const FrameContext& ctx, const SamplingGeo
   out.debug.emplace_back("sample_density", std::move(d));
 }
 
+void MappingMethodBase::analytic_counters(const AnalyticFrame& f, Counters& c) const {
+  mapping_analytic_counters(f, c);
+}
+
+const MethodCost& mapping_method_cost() {
+  static const MethodCost m = [] {
+    MethodCost d;
+    d.passes.inverse_map = true;
+    d.analytic_keys = {"shaded_fraction", "gaze_u", "gaze_v", "filter_taps_per_pixel"};
+    return d;
+  }();
+  return m;
+}
+
+void mapping_analytic_counters(const AnalyticFrame& f, Counters& c) {
+  const double P = f.pixels;
+  const bool whole_buffer = f.geometry && f.geometry->geometry().shades_whole_buffer();
+  const double r = whole_buffer ? f.geometry->geometry().buffer_reduction() : 1.0;
+  const double buf = P / (r * r);
+  const double s = whole_buffer ? buf : f.baseline_fraction(1.0, [&](double gu, double gv) {
+    const Display& d = *f.display;
+    Camera cam = Camera::from_pose(d, glm::dvec3(0), glm::dquat(1, 0, 0, 0));
+    MappingView v = MappingView::at(cam, {gu * d.width, gv * d.height});
+    return expected_shaded_samples(*f.geometry, v) / P;
+  }) * P;
+  c.set(Counter::shaded_samples, s);
+  c.set(Counter::gbuffer_samples, s);
+  c.set(Counter::buffer_pixels_allocated, whole_buffer ? buf : s);
+  c.set(Counter::buffer_pixels_used, s);
+  c.set(Counter::fullres_pixels, P);
+  // Total taps of pass 2 (bilinear inverse map: 4 per full-resolution pixel).
+  c.set(Counter::filter_taps, P * f.keys->number("filter_taps_per_pixel", 4, Range::at_least(0)));
+}
+
 double shade_buffer(const FrameContext& ctx, GBufferRef g, Image& col,
                     const std::vector<uint8_t>* used, FrameOutput& out, double weight) {
   Counters c;

@@ -27,6 +27,13 @@ class MappingMethodBase : public FoveationMethod {
   }
   const MappingSpec& active_spec() const { return active_; }
   const MappingSpec* mapping_spec() const override { return &active_; }
+  // Its cost (method_cost.h) from its geometry: mapping_analytic_counters, the geometry's budget
+  // knob and widened keys.
+  void analytic_counters(const AnalyticFrame& f, Counters& c) const override;
+  BudgetKnob budget_knob(const AnalyticWorkload&) const override {
+    return active_.geometry().budget_knob();
+  }
+  void widen_cost_keys(double k, Json& p) const override { active_.geometry().widen_keys(k, p); }
 
  protected:
   // Resolves target_shaded_fraction (if any) for this screen: solves the free parameter with
@@ -69,6 +76,17 @@ class MappingMethod : public MappingMethodBase {
  private:
   G widened_;  // the geometry of a frame under tracking loss
 };
+
+// The cost declaration of the image-mapping methods and baselines (kfr, rmfr, rmfr_auto,
+// hyperbolic, linear): deferred shading of the reduced buffer's samples, then the inverse map
+// to the screen (pass2); the baselines' shaded fraction and gaze and every method's pass-2 taps
+// per pixel are analytic-only keys (mapping_analytic_counters).
+const MethodCost& mapping_method_cost();
+// Their analytic counters: a whole (W / r) x (H / r) buffer (SamplingGeometry::buffer_reduction)
+// for kfr and rmfr (Meng 2018 §2.2, Ye et al. 2022 §3.2), the expected samples of the layers or
+// sample pattern at the gaze for the baselines (AnalyticFrame::baseline_fraction), and the
+// pass-2 taps (key filter_taps_per_pixel, default 4: a bilinear inverse map).
+void mapping_analytic_counters(const AnalyticFrame& f, Counters& c);
 
 // sigma' = max(1, sigma / k) for k > 1, sigma itself otherwise.
 inline double widened_sigma(double sigma, double k) {

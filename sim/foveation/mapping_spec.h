@@ -17,6 +17,7 @@
 #include "sim/core/param_table.h"
 #include "sim/core/params.h"
 #include "sim/foveation/mapping.h"  // parallel_rows
+#include "sim/foveation/method_cost.h"
 
 namespace fovsim {
 
@@ -53,6 +54,11 @@ class SamplingGeometry {
   // True when a whole (W / sigma) x (H / sigma) buffer is allocated and shaded (kfr, rmfr):
   // the analytic counters then charge the buffer, else the expected samples.
   virtual bool shades_whole_buffer() const = 0;
+  // With shades_whole_buffer: the buffer's reduction per axis, W / w = H / h (kfr, rmfr: sigma);
+  // the analytic counters charge (W / r) x (H / r) samples.
+  virtual double buffer_reduction() const { return 1.0; }
+  // The parameter `fovsim budget` may change first (method_cost.h; none by default).
+  virtual BudgetKnob budget_knob() const { return {}; }
   // Iso-budget: the free parameter and the member holding its value.
   virtual FreeParam free_param() const = 0;
   virtual double& free_ref() = 0;

@@ -16,6 +16,7 @@
 #include "sim/display/display.h"
 #include "sim/foveation/cost_passes.h"
 #include "sim/foveation/lighting.h"
+#include "sim/foveation/method_cost.h"
 #include "sim/render/gbuffer.h"
 #include "sim/render/renderer.h"
 #include "sim/scene/scene.h"
@@ -92,6 +93,18 @@ class FoveationMethod {
   void set_lighting(std::unique_ptr<LightingStrategy> l) { lighting_ = std::move(l); }
   // True when the method brings its own strategy (flc): a `lighting` block is then an error.
   virtual bool own_lighting() const { return false; }
+
+  // Its cost without rendering (method_cost.h; its declaration is `<name>_cost()`).
+  // The counters it would report per eye for f's workload on f's display at pixel_scale 1
+  // (`fovsim predict`, `budget`, calibration); its lighting strategy's VPL counters are added
+  // by the caller unless it declares own_vpls.
+  virtual void analytic_counters(const AnalyticFrame& f, Counters& c) const = 0;
+  // The parameter `fovsim budget` may change first (none by default).
+  virtual BudgetKnob budget_knob(const AnalyticWorkload&) const { return {}; }
+  // Tracking loss with growth factor k > 1 (FrameContext::widen): sets in p the widened value
+  // of every key the widening changes, as its render widens (`predict --tracking-loss`).
+  // Default: none (the method does not widen, or widens through the eccentricity map only).
+  virtual void widen_cost_keys(double k, Json& p) const { (void)k, (void)p; }
 
  protected:
   std::unique_ptr<LightingStrategy> lighting_;

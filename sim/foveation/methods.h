@@ -5,12 +5,14 @@
 #include <vector>
 
 #include "sim/foveation/method.h"
+#include "sim/foveation/method_cost.h"
 
 namespace fovsim {
 
-#define FOVSIM_METHOD(name, summary, family)                 \
+#define FOVSIM_METHOD(name, summary, unused)                 \
   std::unique_ptr<FoveationMethod> create_##name(Params& p); \
-  const std::vector<ParamInfo>& name##_params();
+  const std::vector<ParamInfo>& name##_params();             \
+  const MethodCost& name##_cost();
 #include "sim/foveation/method_list.h"
 #undef FOVSIM_METHOD
 

@@ -35,6 +35,9 @@ struct RmfrGeometry final : GeometryOf<RmfrGeometry> {
     return double(reduced_size(v.W, sigma)) * reduced_size(v.H, sigma);
   }
   bool shades_whole_buffer() const override { return true; }
+  double buffer_reduction() const override { return sigma; }
+  // The RS-buffer shades (W / sigma) x (H / sigma) samples (§3.2): sigma is the budget knob.
+  BudgetKnob budget_knob() const override { return coarser_buffer_knob("sigma", sigma); }
   FreeParam free_param() const override { return {"sigma", 1.0, 1e4, sigma_for}; }
   double& free_ref() override { return sigma; }
   // Under tracking loss the RS-buffer grows by k per axis, sigma' = max(1, sigma / k) (§3.2:
@@ -172,6 +175,10 @@ std::unique_ptr<FoveationMethod> create_rmfr(Params& p) {
 
 const std::vector<ParamInfo>& rmfr_params() {
   return RmfrGeometry::params_table().info();
+}
+
+const MethodCost& rmfr_cost() {
+  return mapping_method_cost();
 }
 
 }  // namespace fovsim

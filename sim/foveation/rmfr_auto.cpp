@@ -17,6 +17,7 @@
 
 #include "sim/core/math.h"
 #include "sim/core/param_table.h"
+#include "sim/foveation/mapping_method.h"
 #include "sim/foveation/mapping_spec.h"
 #include "sim/foveation/methods.h"
 
@@ -44,6 +45,18 @@ class RmfrAutoMethod final : public FoveationMethod {
   }
   const MappingSpec* mapping_spec() const override {
     return current_ ? current_->mapping_spec() : nullptr;
+  }
+  // Its cost is RMFR's at its sigma (the f_x, f_y chosen per frame do not change the
+  // RS-buffer's samples): the mapping methods' counters, sigma as the budget knob, and under
+  // tracking loss sigma' = max(1, sigma / k) as RMFR widens.
+  void analytic_counters(const AnalyticFrame& f, Counters& c) const override {
+    mapping_analytic_counters(f, c);
+  }
+  BudgetKnob budget_knob(const AnalyticWorkload&) const override {
+    return coarser_buffer_knob("sigma", p_.sigma);
+  }
+  void widen_cost_keys(double k, Json& p) const override {
+    p["sigma"] = widened_sigma(p_.sigma, k);
   }
 
   void render(const FrameContext& ctx, FrameOutput& out) override {
@@ -137,6 +150,10 @@ std::unique_ptr<FoveationMethod> create_rmfr_auto(Params& p) {
 
 const std::vector<ParamInfo>& rmfr_auto_params() {
   return auto_table().info();
+}
+
+const MethodCost& rmfr_auto_cost() {
+  return mapping_method_cost();
 }
 
 }  // namespace fovsim

@@ -104,6 +104,20 @@ uint32_t TwfrMethod::required_channels() const {
   return kShadingChannels | kObjectId | kSubModel;
 }
 
+void TwfrMethod::analytic_counters(const AnalyticFrame& f, Counters& c) const {
+  const AnalyticWorkload& w = *f.workload;
+  const double P = f.pixels;
+  double rf = f.keys->number("redraw_fraction", w.redraw_fraction, Range::closed(0, 1));
+  double pf = f.keys->number("prims_fraction", w.prims_fraction, Range::closed(0, 1));
+  double T = std::max(0.0, w.triangles) * w.submitted_fraction;
+  c.set(Counter::shaded_samples, rf * P);
+  c.set(Counter::gbuffer_samples, rf * P);
+  c.set(Counter::pixels_redrawn, rf * P);
+  c.set(Counter::reprojected_pixels, P);
+  c.set(Counter::prims_submitted, pf * T);
+  c.set(Counter::prims_culled, (1 - pf) * T);
+}
+
 std::vector<std::pair<std::string, double>> TwfrMethod::param_columns() const {
   std::vector<std::pair<std::string, double>> c = {{"epsilon", p_.conf.epsilon},
                                                    {"phi_f", p_.conf.phi_f},
@@ -498,6 +512,20 @@ std::unique_ptr<FoveationMethod> create_twfr(Params& p) {
 
 const std::vector<ParamInfo>& twfr_params() {
   return twfr_table().info();
+}
+
+// Reprojection with push-pull and confidence (§4-§5), a redraw of the marked pixels only, on
+// the primitives foveated culling keeps (§6.1). Its redraw fraction is measured, not derived
+// from phi_f, so its cost under tracking loss is not modelled.
+const MethodCost& twfr_cost() {
+  static const MethodCost m = [] {
+    MethodCost d;
+    d.passes.reprojection = d.passes.redraws_marked_pixels = d.passes.culls_primitives = true;
+    d.analytic_keys = {"redraw_fraction", "prims_fraction"};
+    d.widening_modelled = false;
+    return d;
+  }();
+  return m;
 }
 
 }  // namespace fovsim

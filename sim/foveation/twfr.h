@@ -45,6 +45,9 @@ class TwfrMethod final : public FoveationMethod {
   // median of 21.6 ms. From the second frame on the redraw is the confidence map's.
   int warmup_frames() const override { return 1; }
   std::vector<std::pair<std::string, double>> param_columns() const override;
+  // The redrawn pixels and the primitives kept by foveated culling from the analytic keys
+  // redraw_fraction, prims_fraction (default: the workload's, Franke et al. 2021 §8.4).
+  void analytic_counters(const AnalyticFrame& f, Counters& c) const override;
 
   const TwfrParams& params() const { return p_; }
   TwfrParams& mutable_params() { return p_; }  // tests: change epsilon between frames

@@ -12,6 +12,7 @@
 #include "sim/cost/nnls.h"
 #include "sim/cost/passes.h"
 #include "sim/cost/validate.h"
+#include "sim/foveation/fvrs.h"
 
 using namespace fovsim;
 

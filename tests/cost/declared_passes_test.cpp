@@ -130,22 +130,28 @@ TEST(CounterList, EveryCounterAMethodFillsIsDeclared) {
 
 TEST(DeclaredPasses, MethodsAndStrategiesDeclareTheirPasses) {
   const CostPasses all = declared_passes("kfr");
-  EXPECT_EQ(all.family, CostFamily::Mapping);
+  EXPECT_TRUE(all.inverse_map);
+  EXPECT_FALSE(all.full_resolution || all.reprojection || all.forward_shading);
   EXPECT_TRUE(all.frame_rsm);
   EXPECT_FALSE(all.importance || all.culling || all.own_vpls);
   const CostPasses flc = declared_passes("kfr", "flc");
   EXPECT_TRUE(flc.frame_rsm && flc.importance && flc.culling);
   const CostPasses fir = declared_passes("full", "fir");
-  EXPECT_EQ(fir.family, CostFamily::Full);
+  EXPECT_TRUE(fir.full_resolution);
+  EXPECT_FALSE(fir.inverse_map);
   EXPECT_TRUE(fir.frame_rsm && fir.culling);
   EXPECT_FALSE(fir.importance);
   // The flc method brings its own strategy (a lighting name is ignored) and builds VPLs anywhere.
   for (const char* l : {"", "flc", "all_vpls"}) {
     const CostPasses m = declared_passes("flc", l);
-    EXPECT_EQ(m.family, CostFamily::Flc);
+    EXPECT_TRUE(m.direct_at_every_pixel);
     EXPECT_TRUE(m.own_vpls && m.importance && m.culling && m.frame_rsm) << l;
   }
-  EXPECT_EQ(declared_passes("rmfr_auto").family, CostFamily::Mapping);
+  EXPECT_TRUE(declared_passes("rmfr_auto").inverse_map);
+  const CostPasses twfr = declared_passes("twfr");
+  EXPECT_TRUE(twfr.reprojection && twfr.redraws_marked_pixels && twfr.culls_primitives);
+  EXPECT_TRUE(declared_passes("fvrs").forward_shading);
+  EXPECT_FALSE(declared_passes("fvrs").inverse_map);
   EXPECT_THROW(declared_passes("kfr_typo"), Error);
 }
 
