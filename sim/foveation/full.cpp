@@ -15,7 +15,7 @@ namespace {
 
 class FullMethod final : public FoveationMethod {
  public:
-  std::string name() const override { return "full"; }
+  std::string name() const override { return method_id::full; }
   uint32_t required_channels() const override { return kShadingChannels; }
   void render(const FrameContext& ctx, FrameOutput& out) override {
     const double n = double(ctx.gbuffer->size());

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "sim/foveation/method.h"
+#include "sim/foveation/method_ids.h"
 
 namespace fovsim {
 
