@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Regenerates the method parameter tables in docs/methods.md and configs/README.md from the
 # methods' declarations (`fovsim methods --markdown`), between the BEGIN/END GENERATED markers,
-# and configs/README.md's tables of every other run-config key from their declarations
-# (`fovsim methods --markdown --config-keys`), between BEGIN/END GENERATED KEYS.
+# configs/README.md's tables of every other run-config key from their declarations
+# (`fovsim methods --markdown --config-keys`), between BEGIN/END GENERATED KEYS, and
+# traces/README.md's column-map keys (`fovsim trace keys --markdown`), between BEGIN/END
+# GENERATED MAP KEYS.
 # Usage: scripts/gen_method_docs.sh [BUILD_DIR]   (make docs). tests/app/docs_test.cpp checks it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -42,5 +44,16 @@ b = s.index("\n", b) + 1
 e = s.index("<!-- END GENERATED COUNTERS -->")
 open(path, "w").write(s[:b] + "\n" + gen + s[e:])
 PY
+# The column map's keys (sim/trace/map_keys.cpp).
+"$B/fovsim" trace keys --markdown > "$gen"
+python3 - traces/README.md "$gen" <<'PY'
+import sys
+path, gen = sys.argv[1], open(sys.argv[2]).read()
+s = open(path).read()
+b = s.index("<!-- BEGIN GENERATED MAP KEYS")
+b = s.index("\n", b) + 1
+e = s.index("<!-- END GENERATED MAP KEYS -->")
+open(path, "w").write(s[:b] + "\n" + gen + s[e:])
+PY
 rm -f "$gen"
-echo "updated docs/methods.md, configs/README.md and docs/cost_model.md"
+echo "updated docs/methods.md, configs/README.md, docs/cost_model.md and traces/README.md"

@@ -80,7 +80,7 @@ def main(argv=None):
     meth = f"kfr:sigma={sigma:g},alpha=4"
     pred = fovsim.predict(gpu=gpus, workload="kfr_bistro", methods=["full", meth], as_frame=False)
     bud = fovsim.budget(gpu=gpus, workload="kfr_bistro", methods=[meth], hz=90, as_frame=False)
-    print("cost model (workload kfr_bistro, htc_vive_pro_eye, 90 Hz budget 11.11 ms):")
+    print(f"cost model (workload kfr_bistro, {fovsim.DEFAULT_DISPLAY}, 90 Hz budget 11.11 ms):")
     for p in pred:
         if p["method"] == "kfr":
             b = [x for x in bud if x["gpu"] == p["gpu"]][0]

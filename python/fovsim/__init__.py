@@ -27,12 +27,13 @@ from .cost import budget, predict  # noqa: F401,E402
 __all__ = ["load_csv", "load_run", "load_sweep", "long_format", "numeric_columns", "parameter_columns", "select",
            "tidy", "tidy_sweep", "to_dataframe",
            "run", "sweep", "make_plots", "predict", "budget",
-           "AskTell", "Evaluator", "overrides_list", "FovsimError"]
+           "AskTell", "Evaluator", "overrides_list", "FovsimError", "DEFAULT_DISPLAY", "DEFAULT_GPU"]
 
 
 def __getattr__(name):
-    if name == "FovsimError":
+    if name in ("FovsimError", "DEFAULT_DISPLAY", "DEFAULT_GPU"):
         from . import engine
 
-        return engine._module().FovsimError
+        # The defaults are the library's (kDefaultDisplay, kDefaultGpu), not a second literal.
+        return getattr(engine._module(), name)
     raise AttributeError(name)

@@ -27,7 +27,7 @@ EXT = os.environ.get("FOVSIM_PYTHON_EXT", os.path.join(REPO, "build", "python"))
 CLI = os.path.join(os.path.dirname(os.path.abspath(EXT)), "fovsim")
 CONFIG = {
     "name": "py_api_test",
-    "display": "htc_vive_pro_eye",
+    "display": fovsim.DEFAULT_DISPLAY,
     "render": {"scale": 0.05},
     "scene": {"type": "atrium", "complexity": 1},
     "trace": {"file": os.path.join(REPO, "tests/golden/golden_trace.csv")},

@@ -23,7 +23,7 @@ except ImportError as e:
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 CONFIG = {
     "name": "py_engine_test",
-    "display": "htc_vive_pro_eye",
+    "display": fovsim.DEFAULT_DISPLAY,
     "render": {"scale": 0.05},
     "scene": {"type": "atrium", "complexity": 1},
     "trace": {"file": os.path.join(REPO, "tests/golden/golden_trace.csv")},

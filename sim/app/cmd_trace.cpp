@@ -1,4 +1,4 @@
-// `fovsim trace import|validate|stats|synth` (traces/README.md).
+// `fovsim trace import|validate|stats|synth|keys` (traces/README.md).
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -8,6 +8,7 @@
 #include "sim/core/files.h"
 #include "sim/experiment/config.h"
 #include "sim/trace/importer.h"
+#include "sim/trace/map_keys.h"
 #include "sim/trace/map_search.h"
 #include "sim/trace/stats.h"
 #include "sim/trace/synth.h"
@@ -226,6 +227,24 @@ void register_trace_synth(CLI::App* t, const std::shared_ptr<TraceArgs>& a, Acti
   });
 }
 
+// `trace keys`: the column map's keys, as declared (sim/trace/map_keys.cpp).
+void register_trace_keys(CLI::App* t, Action& action) {
+  CLI::App* k = t->add_subcommand("keys", "List the keys of a column map (traces/README.md)");
+  auto markdown = std::make_shared<bool>(false);
+  k->add_flag("--markdown", *markdown, "As the Markdown table embedded in traces/README.md");
+  k->callback([markdown, &action] {
+    action = [markdown] {
+      if (*markdown) {
+        std::cout << map_keys_markdown();
+        return 0;
+      }
+      for (const MapKey& m : map_keys())
+        std::cout << m.path << (m.variant.empty() ? "" : " (" + m.variant + ")") << "\n";
+      return 0;
+    };
+  });
+}
+
 }  // namespace
 
 void register_trace(CLI::App& app, Action& action) {
@@ -238,6 +257,7 @@ void register_trace(CLI::App& app, Action& action) {
   register_trace_validate(t, a, action);
   register_trace_stats(t, a, action);
   register_trace_synth(t, a, action);
+  register_trace_keys(t, action);
 }
 
 }  // namespace fovsim::app

@@ -5,6 +5,14 @@
 #pragma once
 #include <atomic>
 
+// Whether kernels compiled twice (a generic copy and one with __attribute__((target("avx2"))),
+// dispatched at run time) get their AVX2 copy: GCC on x86-64.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define FOVSIM_HAVE_AVX2_PATH 1
+#else
+#define FOVSIM_HAVE_AVX2_PATH 0
+#endif
+
 namespace fovsim {
 
 enum class LaneIsa { sse2 = 0, avx2 = 1, avx512f = 2 };

@@ -533,10 +533,7 @@ SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const Sw
   if (!sp.enabled())
     throw Error(cfg.file + ": sweep.search",
                 "missing: a search needs sweep.search.space and an objective");
-  std::unique_ptr<tbb::global_control> threads;
-  if (opt.threads > 0)
-    threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                                    size_t(opt.threads));
+  const auto threads = thread_limit(opt.threads);
   SearchReport rep;
   rep.out_dir = sweep_out_dir(plan, opt.out_dir);
   const std::string evals_dir = rep.out_dir + "/search/evals";

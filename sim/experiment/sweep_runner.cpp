@@ -327,6 +327,12 @@ bool shard_from_env(int& index, int& count) {
   return true;
 }
 
+std::unique_ptr<tbb::global_control> thread_limit(int threads) {
+  if (threads <= 0) return nullptr;
+  return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                               size_t(threads));
+}
+
 std::string sweep_out_dir(const SweepPlan& plan, const std::string& out_dir) {
   return out_dir.empty() ? "results/" + safe_file_name(plan.name) : out_dir;
 }
@@ -419,10 +425,7 @@ SweepPlan load_sweep_plan(const std::string& dir) {
 SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const SweepOptions& opt) {
   auto t0 = Clock::now();
   const double cpu0 = process_cpu_ms();
-  std::unique_ptr<tbb::global_control> threads;
-  if (opt.threads > 0)
-    threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                                    size_t(opt.threads));
+  const auto threads = thread_limit(opt.threads);
   SweepReport rep;
   std::vector<GroupStats> group_stats;  // per run_cells call: the reference cache's growth
   rep.out_dir = sweep_out_dir(plan, opt.out_dir);

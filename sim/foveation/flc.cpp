@@ -58,7 +58,7 @@ class FlcMethod final : public FoveationMethod {
     flc_ = l.get();
     lighting_ = std::move(l);
   }
-  std::string name() const override { return "flc"; }
+  std::string name() const override { return method_id::flc; }
   uint32_t required_channels() const override { return kShadingChannels; }
   bool own_lighting() const override { return true; }
   std::vector<std::pair<std::string, double>> param_columns() const override {

@@ -13,6 +13,32 @@
 
 namespace fovsim {
 
+namespace {
+// One thread's (or a whole pass's) shading work: samples shaded, sample x VPL pairs, shadow
+// rays, as the counters report them.
+struct ShadeTally {
+  uint64_t shaded = 0, pairs = 0, rays = 0;
+};
+struct ShadeTotals {
+  std::atomic<uint64_t> shaded{0}, pairs{0}, rays{0};
+  void add(const ShadeTally& t) {
+    shaded += t.shaded;
+    pairs += t.pairs;
+    rays += t.rays;
+  }
+};
+// G-buffer sample i shaded by the VPLs of `grp` into o (RGB), counted in t.
+inline void shade_sample(const GBuffer& g, size_t i, const VplSoA& grp, const VplShading& s,
+                         const Renderer* r, float* o, ShadeTally& t) {
+  const glm::vec3 L = shade_vpls(grp, g.position[i], g.normal[i], g.albedo[i], s, r, 1.f, &t.rays);
+  ++t.shaded;
+  t.pairs += grp.size();
+  o[0] = L.x;
+  o[1] = L.y;
+  o[2] = L.z;
+}
+}  // namespace
+
 std::vector<VplSoA> flc_interleave_groups(const std::vector<VPL>& vpls,
                                           const std::vector<uint32_t>& idx,
                                           const std::vector<float>& weight, int n) {
@@ -67,9 +93,9 @@ void flc_shade_cartesian(const GBuffer& g, const std::vector<VplSoA>& groups, in
   n = std::max(1, n);
   if (out.width != g.width || out.height != g.height || out.channels != 3)
     out.resize(g.width, g.height, 3);
-  std::atomic<uint64_t> shaded{0}, pairs{0}, rays{0};
+  ShadeTotals tot;
   tbb::parallel_for(tbb::blocked_range<int>(0, g.height, 4), [&](const tbb::blocked_range<int>& b) {
-    uint64_t ns = 0, np = 0, nr = 0;
+    ShadeTally t;
     for (int y = b.begin(); y < b.end(); ++y)
       for (int x = 0; x < g.width; ++x) {
         const size_t i = size_t(y) * size_t(g.width) + size_t(x);
@@ -78,17 +104,9 @@ void flc_shade_cartesian(const GBuffer& g, const std::vector<VplSoA>& groups, in
           o[0] = o[1] = o[2] = 0.f;
           continue;
         }
-        const VplSoA& grp = groups[size_t(x % n) + size_t(n) * size_t(y % n)];
-        glm::vec3 L = shade_vpls(grp, g.position[i], g.normal[i], g.albedo[i], s, r, 1.f, &nr);
-        ++ns;
-        np += grp.size();
-        o[0] = L.x;
-        o[1] = L.y;
-        o[2] = L.z;
+        shade_sample(g, i, groups[size_t(x % n) + size_t(n) * size_t(y % n)], s, r, o, t);
       }
-    shaded += ns;
-    pairs += np;
-    rays += nr;
+    tot.add(t);
   });
   if (n > 1) {
     std::vector<uint8_t> local;
@@ -98,9 +116,9 @@ void flc_shade_cartesian(const GBuffer& g, const std::vector<VplSoA>& groups, in
     flc_gauss3(out, valid, false, scratch ? &scratch->filter_src : nullptr);
   }
   if (c) {
-    c->add(Counter::shaded_samples, double(shaded.load()));
-    c->add(Counter::shaded_sample_vpls, double(pairs.load()));
-    if (s.visibility) c->add(Counter::vpl_shadow_rays, double(rays.load()));
+    c->add(Counter::shaded_samples, double(tot.shaded.load()));
+    c->add(Counter::shaded_sample_vpls, double(tot.pairs.load()));
+    if (s.visibility) c->add(Counter::vpl_shadow_rays, double(tot.rays.load()));
   }
 }
 
@@ -127,10 +145,10 @@ void flc_shade_logpolar(const GBuffer& g, const glm::dvec2& gaze_px, double sigm
   std::vector<uint8_t>& valid = scratch ? scratch->lp_valid : valid_local;
   if (lp.width != w || lp.height != h || lp.channels != 3) lp.resize(w, h, 3);
   valid.assign(size_t(w) * size_t(h), 0);  // every texel's o[] is written below
-  std::atomic<uint64_t> shaded{0}, pairs{0}, rays{0};
+  ShadeTotals tot;
   // Backward transform: each LP texel fetches the G-buffer sample it maps to, then is shaded.
   tbb::parallel_for(0, h, [&](int v) {
-    uint64_t ns = 0, np = 0, nr = 0;
+    ShadeTally t;
     for (int u = 0; u < w; ++u) {
       const double rho = std::exp((u + 0.5) / w * L);
       const double th = (v + 0.5) / h * two_pi;
@@ -141,24 +159,17 @@ void flc_shade_logpolar(const GBuffer& g, const glm::dvec2& gaze_px, double sigm
       const size_t i = size_t(int(y)) * size_t(W) + size_t(int(x));
       if (!g.hit(i)) continue;
       valid[size_t(v) * size_t(w) + size_t(u)] = 1;
-      const VplSoA& grp = groups[size_t(u % n) + size_t(n) * size_t(v % n)];
-      glm::vec3 Lo = shade_vpls(grp, g.position[i], g.normal[i], g.albedo[i], s, r, 1.f, &nr);
-      ++ns;
-      np += grp.size();
-      o[0] = Lo.x;
-      o[1] = Lo.y;
-      o[2] = Lo.z;
+      shade_sample(g, i, groups[size_t(u % n) + size_t(n) * size_t(v % n)], s, r, o, t);
     }
-    shaded += ns;
-    pairs += np;
-    rays += nr;
+    tot.add(t);
   });
   if (n > 1) flc_gauss3(lp, valid, true, scratch ? &scratch->filter_src : nullptr);
   // Full VPL set for the rare pixels with no valid LP neighbour (weights / n^2 undo the groups).
   const float inv_g = 1.f / float(n * n);
   std::atomic<uint64_t> fallback{0};
   tbb::parallel_for(0, H, [&](int y) {
-    uint64_t nf = 0, np = 0, nr = 0;
+    uint64_t nf = 0;
+    ShadeTally t;
     for (int x = 0; x < W; ++x) {
       const size_t i = size_t(y) * size_t(W) + size_t(x);
       float* o = out.at(x, y);
@@ -188,8 +199,8 @@ void flc_shade_logpolar(const GBuffer& g, const glm::dvec2& gaze_px, double sigm
       }
       glm::vec3 Lo(0.f);
       for (const VplSoA& grp : groups) {
-        Lo += shade_vpls(grp, g.position[i], g.normal[i], g.albedo[i], s, r, inv_g, &nr);
-        np += grp.size();
+        Lo += shade_vpls(grp, g.position[i], g.normal[i], g.albedo[i], s, r, inv_g, &t.rays);
+        t.pairs += grp.size();
       }
       ++nf;
       o[0] = Lo.x;
@@ -197,15 +208,14 @@ void flc_shade_logpolar(const GBuffer& g, const glm::dvec2& gaze_px, double sigm
       o[2] = Lo.z;
     }
     fallback += nf;
-    pairs += np;
-    rays += nr;
+    tot.add(t);
   });
   if (c) {
-    c->add(Counter::shaded_samples, double(shaded.load() + fallback.load()));
-    c->add(Counter::shaded_sample_vpls, double(pairs.load()));
+    c->add(Counter::shaded_samples, double(tot.shaded.load() + fallback.load()));
+    c->add(Counter::shaded_sample_vpls, double(tot.pairs.load()));
     c->add(Counter::lp_texels, double(size_t(w) * size_t(h)));
     c->add(Counter::lp_fallback_samples, double(fallback.load()));
-    if (s.visibility) c->add(Counter::vpl_shadow_rays, double(rays.load()));
+    if (s.visibility) c->add(Counter::vpl_shadow_rays, double(tot.rays.load()));
   }
   if (lp_debug) *lp_debug = lp;  // a copy: lp may be the reused scratch
 }

@@ -15,7 +15,7 @@ namespace {
 
 class FullMethod final : public FoveationMethod {
  public:
-  std::string name() const override { return "full"; }
+  std::string name() const override { return method_id::full; }
   uint32_t required_channels() const override { return kShadingChannels; }
   // Every pixel is shaded (its declaration: full_resolution).
   void analytic_counters(const AnalyticFrame& f, Counters& c) const override {

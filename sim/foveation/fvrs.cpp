@@ -34,8 +34,9 @@ inline bool same_surface(const GBuffer& g, size_t a, size_t b) {
 // fvrs's parameters and sampling geometry (density, samples, iso-budget free parameter); the
 // keys are the table params_table() at the end of this file.
 struct FvrsGeometry final : GeometryOf<FvrsGeometry>, RadialThresholds {
-  static constexpr const char* kMethod = "fvrs";
-  bool edge_aware = true;  // pixels on another surface than their coarse sample shade themselves
+  static constexpr const char* kMethod = method_id::fvrs;
+  bool edge_aware = false;  // (default: params_table()) pixels on another surface than their coarse
+                            // sample shade themselves
 
   static const ParamTable<MappingSpec>& params_table();
   double density(const MappingView& v, double x, double y) const override;

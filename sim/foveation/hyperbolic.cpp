@@ -35,9 +35,10 @@ struct HyperLayer {
 // hyperbolic's parameters and sampling geometry (density, samples, iso-budget free parameter);
 // the keys are the table params_table() at the end of this file.
 struct HyperbolicGeometry final : GeometryOf<HyperbolicGeometry>, RadialThresholds {
-  static constexpr const char* kMethod = "hyperbolic";
-  double s1 = 1, s2 = 2, s3 = 12.35;  // layer pixel sizes
-  double blend_deg = 1.0;             // width of the smoothstep blend inside each layer edge
+  static constexpr const char* kMethod = method_id::hyperbolic;
+  // Defaults: params_table() (read_mapping_spec sets them).
+  double s1 = 0, s2 = 0, s3 = 0;  // layer pixel sizes
+  double blend_deg = 0;           // width of the smoothstep blend inside each layer edge
 
   static const ParamTable<MappingSpec>& params_table();
   double density(const MappingView& v, double x, double y) const override;

@@ -69,12 +69,13 @@ void extend_unused(Image& img, const std::vector<uint8_t>& used) {
 // kfr's parameters and sampling geometry (density, samples, iso-budget free parameter, widening);
 // the keys are the table params_table() at the end of this file.
 struct KfrGeometry final : GeometryOf<KfrGeometry> {
-  static constexpr const char* kMethod = "kfr";
-  double sigma = 1.8;              // W / w (= H / h), Meng 2018 eq. 2.8
-  KernelFn kernel;                 // kernel K and alpha
-  bool internal_aa = true;         // §2.2.3 3x3 Gaussian on the peripheral part of the LP-buffer
-  double internal_aa_start = 0.5;  // fraction of the LP-buffer width where "the right part" starts
-  bool post_aa = true;             // §2.3.2 eq. 2.14 Gaussian post filter
+  static constexpr const char* kMethod = method_id::kfr;
+  // Defaults: params_table() (read_mapping_spec sets them).
+  double sigma = 0;              // W / w (= H / h), Meng 2018 eq. 2.8
+  KernelFn kernel;               // kernel K and alpha
+  bool internal_aa = false;      // §2.2.3 3x3 Gaussian on the peripheral part of the LP-buffer
+  double internal_aa_start = 0;  // fraction of the LP-buffer width where "the right part" starts
+  bool post_aa = false;          // §2.3.2 eq. 2.14 Gaussian post filter
 
   static const ParamTable<MappingSpec>& params_table();
   double density(const MappingView& v, double x, double y) const override;

@@ -8,18 +8,13 @@
 #include <atomic>
 
 #include "sim/core/error.h"
+#include "sim/core/lane_choice.h"  // FOVSIM_HAVE_AVX2_PATH
 #include "sim/foveation/method.h"
 #include "sim/foveation/simd_kernels.h"
 #include "sim/render/renderer.h"
 
 namespace fovsim {
 namespace {
-
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define FOVSIM_HAVE_AVX2_PATH 1
-#else
-#define FOVSIM_HAVE_AVX2_PATH 0
-#endif
 
 #define FOVSIM_KERNEL(name) name##_generic
 #define FOVSIM_KERNEL_ATTR

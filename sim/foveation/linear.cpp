@@ -20,9 +20,9 @@ namespace {
 // linear's parameters and sampling geometry (density, samples, iso-budget free parameter); the
 // keys are the table params_table() at the end of this file.
 struct LinearGeometry final : GeometryOf<LinearGeometry>, RadialThresholds {
-  static constexpr const char* kMethod = "linear";
-  double p_min = 0.047;  // minimum sampling probability
-  uint64_t seed = 0;     // stochastic sample pattern
+  static constexpr const char* kMethod = method_id::linear;
+  double p_min = 0;   // minimum sampling probability (default: params_table())
+  uint64_t seed = 0;  // stochastic sample pattern
 
   static const ParamTable<MappingSpec>& params_table();
   double density(const MappingView& v, double x, double y) const override;

@@ -7,6 +7,10 @@ namespace fovsim {
 
 MappingSpec read_mapping_spec(std::unique_ptr<SamplingGeometry> g, Params& p) {
   MappingSpec s(std::move(g));
+  // Every member starts from its row's default (also one a read_if leaves unread): the
+  // geometry structs write no default of their own.
+  for (const auto& r : s.geometry().table().rows())
+    if (!r.doc_only && !r.member_default && !r.def.is_null()) r.set(s, r.def);
   s.geometry().table().read_into(p, s);
   return s;
 }

@@ -116,7 +116,8 @@ class MappingSpec {
 };
 
 // Reads geometry G's keys from p through its table (unknown keys are left for
-// Params::finish()).
+// Params::finish()). Each member first takes its row's default, so a geometry struct's members
+// start at zero and the table is the one place a default is written.
 MappingSpec read_mapping_spec(std::unique_ptr<SamplingGeometry> g, Params& p);
 template <class G>
 MappingSpec read_mapping_spec(Params& p) {
@@ -158,8 +159,9 @@ void GeometryOf<G>::density_image(const MappingView& v, Image& d) const {
 
 // The eccentricity thresholds shared by the baselines (hyperbolic, linear, fvrs).
 struct RadialThresholds {
-  double r1 = 10, r2 = 20;    // eccentricity thresholds, degrees
-  double radius_scale = 1.0;  // multiplies r1 and r2 (the iso-budget free parameter)
+  // Defaults: add_radius_rows (read_mapping_spec sets them).
+  double r1 = 0, r2 = 0;    // eccentricity thresholds, degrees
+  double radius_scale = 0;  // multiplies r1 and r2 (the iso-budget free parameter)
   double r1_eff() const { return r1 * radius_scale; }
   double r2_eff() const { return r2 * radius_scale; }
   // A render divides the frame's eccentricities by k (MappingView::widen); on the keys that is

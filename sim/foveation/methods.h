@@ -6,6 +6,7 @@
 
 #include "sim/foveation/method.h"
 #include "sim/foveation/method_cost.h"
+#include "sim/foveation/method_ids.h"
 
 namespace fovsim {
 

@@ -21,9 +21,10 @@ namespace {
 // rmfr's parameters and sampling geometry (density, samples, iso-budget free parameter, widening);
 // the keys are the table params_table() at the end of this file.
 struct RmfrGeometry final : GeometryOf<RmfrGeometry> {
-  static constexpr const char* kMethod = "rmfr";
-  double sigma = 2.6;           // W / w (= H / h)
-  double fx = 0.38, fy = 0.38;  // as fractions of W / H ...
+  static constexpr const char* kMethod = method_id::rmfr;
+  // Defaults: params_table() (read_mapping_spec sets them).
+  double sigma = 0;             // W / w (= H / h)
+  double fx = 0, fy = 0;        // as fractions of W / H ...
   double fx_px = 0, fy_px = 0;  // ... or in pixels when > 0 (keys fx_px / fy_px)
   double fx_pixels(int W) const { return fx_px > 0 ? fx_px : fx * W; }
   double fy_pixels(int H) const { return fy_px > 0 ? fy_px : fy * H; }

@@ -24,14 +24,15 @@
 namespace fovsim {
 namespace {
 
+// Defaults: auto_table() (ParamTable::read sets every key).
 struct AutoParams {
-  double sigma = 2.6, f_sum = 0.76, f_min = 0.1, f_max = 0.8, adapt = 0.5, periphery_deg = 10;
+  double sigma = 0, f_sum = 0, f_min = 0, f_max = 0, adapt = 0, periphery_deg = 0;
 };
 
 class RmfrAutoMethod final : public FoveationMethod {
  public:
   explicit RmfrAutoMethod(const AutoParams& p) : p_(p) { reset(); }
-  std::string name() const override { return "rmfr_auto"; }
+  std::string name() const override { return method_id::rmfr_auto; }
   uint32_t required_channels() const override { return kShadingChannels; }
   bool temporal() const override { return true; }
   void reset() override {
@@ -104,7 +105,7 @@ class RmfrAutoMethod final : public FoveationMethod {
     const auto key = std::make_pair(int(std::lround(fx * 50)), int(std::lround(fy * 50)));
     auto it = cache_.find(key);
     if (it == cache_.end()) {
-      Params p(Json{{"sigma", p_.sigma}, {"fx", fx}, {"fy", fy}}, "rmfr_auto", "");
+      Params p(Json{{"sigma", p_.sigma}, {"fx", fx}, {"fy", fy}}, method_id::rmfr_auto, "");
       it = cache_.emplace(key, create_rmfr(p)).first;
     }
     return *it->second;

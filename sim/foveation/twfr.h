@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "sim/foveation/method.h"
+#include "sim/foveation/method_ids.h"
 #include "sim/foveation/twfr_confidence.h"
 #include "sim/foveation/twfr_cull.h"
 #include "sim/foveation/twfr_pushpull.h"
@@ -35,7 +36,7 @@ struct TwfrTimings {
 class TwfrMethod final : public FoveationMethod {
  public:
   explicit TwfrMethod(const TwfrParams& p);
-  std::string name() const override { return "twfr"; }
+  std::string name() const override { return method_id::twfr; }
   uint32_t required_channels() const override;
   void render(const FrameContext& ctx, FrameOutput& out) override;
   void reset() override;

@@ -58,26 +58,14 @@ FOVSIM_TM_INL typename Lanes<N>::vf pow_inv24(typename Lanes<N>::vf x) {
   const vu b = (vu)x;
   const vf e = __builtin_convertvector((vi)(b >> 23u) - 127, vf);
   const vf t = (vf)((b & 0x007fffffu) | 0x3f800000u) - 1.f;
-  vf p = splat<N>(0.00758054546f);
-  p = p * t - 0.0426933035f;
-  p = p * t + 0.113062905f;
-  p = p * t - 0.197295566f;
-  p = p * t + 0.275725247f;
-  p = p * t - 0.358430199f;
-  p = p * t + 0.480695752f;
-  p = p * t - 0.721340349f;
-  p = p * t + 1.442695f;
+  vf p = splat<N>(tonemap_detail::kLog2Poly[0]);
+  for (int i = 1; i < 9; ++i) p = p * t + tonemap_detail::kLog2Poly[i];
   const vf z = (e + t * p) * (1.f / 2.4f);
   const vi ki = __builtin_convertvector(z + 8.f, vi) - 8;  // truncation, as int32_t(float)
   const vf k = __builtin_convertvector(ki, vf);
   const vf f = z - k;
-  vf q = splat<N>(0.000218775114f);
-  q = q * f + 0.00123878263f;
-  q = q * f + 0.00968457898f;
-  q = q * f + 0.0554804277f;
-  q = q * f + 0.240230501f;
-  q = q * f + 0.693146929f;
-  q = q * f + 1.f;
+  vf q = splat<N>(tonemap_detail::kExp2Poly[0]);
+  for (int i = 1; i < 7; ++i) q = q * f + tonemap_detail::kExp2Poly[i];
   return q * (vf)((vu)(ki + 127) << 23u);
 }
 

@@ -32,30 +32,31 @@ inline uint32_t float_to_bits(float f) {
   return u;
 }
 
+// The polynomials of pow_inv24 (here and lane-wise in tonemap.cpp), Horner order from the
+// highest degree: log2(1 + t) / t for the mantissa t in [0, 1), and 2^f for f in [0, 1).
+inline constexpr float kLog2Poly[9] = {0.00758054546f, -0.0426933035f, 0.113062905f,
+                                       -0.197295566f,  0.275725247f,   -0.358430199f,
+                                       0.480695752f,   -0.721340349f,  1.442695f};
+inline constexpr float kExp2Poly[7] = {0.000218775114f,
+                                       0.00123878263f,
+                                       0.00968457898f,
+                                       0.0554804277f,
+                                       0.240230501f,
+                                       0.693146929f,
+                                       1.f};
+
 // x^(1/2.4) for x in [0.0031308, 1] (normal floats).
 inline float pow_inv24(float x) {
   const uint32_t b = float_to_bits(x);
   const float e = float(int32_t(b >> 23) - 127);
   const float t = bits_to_float((b & 0x007fffffu) | 0x3f800000u) - 1.f;  // mantissa - 1
-  float p = 0.00758054546f;
-  p = p * t - 0.0426933035f;
-  p = p * t + 0.113062905f;
-  p = p * t - 0.197295566f;
-  p = p * t + 0.275725247f;
-  p = p * t - 0.358430199f;
-  p = p * t + 0.480695752f;
-  p = p * t - 0.721340349f;
-  p = p * t + 1.442695f;
+  float p = kLog2Poly[0];
+  for (int i = 1; i < 9; ++i) p = p * t + kLog2Poly[i];
   const float z = (e + t * p) * (1.f / 2.4f);   // log2(x) / 2.4, in [-3.5, 0]
   const float k = float(int32_t(z + 8.f) - 8);  // floor(z) (z > -8)
   const float f = z - k;                        // [0, 1)
-  float q = 0.000218775114f;
-  q = q * f + 0.00123878263f;
-  q = q * f + 0.00968457898f;
-  q = q * f + 0.0554804277f;
-  q = q * f + 0.240230501f;
-  q = q * f + 0.693146929f;
-  q = q * f + 1.f;
+  float q = kExp2Poly[0];
+  for (int i = 1; i < 7; ++i) q = q * f + kExp2Poly[i];
   return q * bits_to_float(uint32_t(int32_t(k) + 127) << 23);  // * 2^k
 }
 

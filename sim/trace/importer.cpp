@@ -1,36 +1,6 @@
-// Column-map importer (traces/README.md "Column maps"). Map keys:
-//   delimiter      "comma" | "tab" | "semicolon" | "space"            (required)
-//   header         true: columns by name; false: by 1-based index   (required)
-//   skip_lines     lines before the header / first row               (0)
-//   comment_prefix prefix of comment lines, "" for none              ("")
-//   on_bad_row     "fail" | "skip": wrong field count, bad numbers, non-monotonic time ("fail")
-//   max_skipped_fraction  skipping more than this fraction of rows is an error (0.5)
-//   row_fields     "exact" | "used": accept rows of another length whose used columns exist
-//   ("exact") coordinates    "fovsim" | "unity" | "unreal" | {"x":"+x","y":"+y","z":"-z"}
-//   (required) time           {"column", "unit": s|ms|us|ns|100ns, "rebase": true, "wrap_bits": 0,
-//                   "max_step_s": 3600, "burst_below_s": 0 (= median/4), "on_burst":
-//                   keep|drop|retime}
-//   head_position  {"columns": [x,y,z], "unit": m|cm|mm} | {"constant": [x,y,z]}   (required)
-//   head_orientation {"type": "quaternion", "columns": [4], "order": "wxyz"|"xyzw"} |
-//                  {"type": "euler", "columns": [about x, about y, about z], "order": "ZXY",
-//                   "sequence": "extrinsic"|"intrinsic", "unit": "deg"|"rad", "signs": [1,1,1]} |
-//                  {"type": "forward", "forward": [3], "up": [3] (optional)} |
-//                  {"constant": [w,x,y,z]};
-//                  optional "inverse": true when the source stores head-from-world
-//   repeated_pose  "keep" | "interpolate": head pose repeated for several samples ("keep",
-//   reported) gaze           {"type": "direction", "space": "head"|"world", "columns": [3]} |
-//                  {"type": "direction", ..., "left": [3], "right": [3], "combine":
-//                  "mean"|"left"|"right"} |
-//                  {"type": "screen", "columns": [u,v], "origin": "top-left"|"bottom-left"} |
-//                  {"type": "point", "columns": [x,y,z], "unit": "m"|"cm"|"mm"} (world point looked
-//                  at); optional "coordinates": the gaze vectors' own axes when they differ from
-//                  the head's
-//   fused          [{"column", "suffixes": [...] | "pattern": "(a)(b)"}]: split a fused field
-//   on_bad         "fail" | "skip" | "hold" (default of --on-bad); on_invalid (runs' default)
-//   head_position.recentre "none"|"first"|"mean", head_*.dequantise (run centres)
-//   valid          [{"column", "valid_values"|"invalid_values": [...] | "all_bits": int |
-//   "min"/"max": x,
-//                    "eye": "left"|"right"}]  ([])
+// Column-map importer (traces/README.md "Column maps"). The map's keys -- type, default,
+// values, meaning -- are the table in sim/trace/map_keys.cpp; every typed key is read through
+// it (map_string, map_number, ...), the column references through Resolver below.
 #include "sim/trace/importer.h"
 
 #include <algorithm>
@@ -46,7 +16,7 @@
 #include "sim/trace/convert.h"
 #include "sim/trace/csv_table.h"
 #include "sim/trace/issue_log.h"
-#include "sim/trace/tracking.h"
+#include "sim/trace/map_keys.h"
 
 namespace fovsim {
 
@@ -70,8 +40,8 @@ struct Map {
   double time_scale = 1;
   bool rebase = true;
   int wrap_bits = 0;
-  double max_step_s = 3600;
-  double burst_below_s = 0;
+  double max_step_s = 0;     // time.max_step_s (read from map_keys.cpp's table)
+  double burst_below_s = 0;  // time.burst_below_s
   enum { BurstKeep, BurstDrop, BurstRetime } on_burst = BurstKeep;
   bool burst_pose_arrival = true;  // time.burst_pose: retimed samples keep the arrival pose
   bool pos_const = false;
@@ -242,14 +212,14 @@ struct Resolver {
   }
 };
 
-double length_unit(Params& p, const std::string& key) {
-  std::string u = p.string(key, {"m", "cm", "mm"});
+double length_unit(Params& p, const std::string& path, const std::string& variant) {
+  std::string u = map_string(p, path, variant);
   return u == "m" ? 1.0 : u == "cm" ? 0.01 : 0.001;
 }
 
-glm::dvec3 vec3_of(Params& p, const std::string& key) {
-  std::vector<double> v = p.numbers(key, {});
-  if (v.size() != 3) p.fail(key, "expected 3 numbers");
+glm::dvec3 vec3_of(Params& p, const std::string& path, const std::string& variant) {
+  std::vector<double> v = map_numbers(p, path, variant);
+  if (v.size() != 3) p.fail(path.substr(path.rfind('.') + 1), "expected 3 numbers");
   return {v[0], v[1], v[2]};
 }
 
@@ -303,13 +273,13 @@ Map::Cond read_cond(Params& c, Resolver& res, bool per_eye) {
     cond.kind = hv ? Map::Cond::ValidList : Map::Cond::InvalidList;
   } else if (c.has("all_bits")) {
     cond.kind = Map::Cond::AllBits;
-    cond.bits = c.integer("all_bits", Range::closed(1, 2147483647.0));
+    cond.bits = map_integer(c, "valid[i].all_bits");
   } else {
     bool mn = c.has("min");
     cond.kind = mn ? Map::Cond::Min : Map::Cond::Max;
-    cond.bound = c.number(mn ? "min" : "max");
+    cond.bound = map_number(c, mn ? "valid[i].min" : "valid[i].max");
   }
-  std::string eye = c.string("eye", "both", {"both", "left", "right"});
+  std::string eye = map_string(c, "valid[i].eye");
   cond.eye = eye == "left" ? 1 : eye == "right" ? 2 : 0;
   if (cond.eye != 0 && !per_eye)
     c.fail("eye", "per-eye validity needs per-eye gaze (gaze.left and gaze.right)");
@@ -349,21 +319,19 @@ bool cond_holds(const Map::Cond& c, const std::string& f) {
 // The map's layout: delimiter, header, skipped lines, bad-row policy, source axes.
 Map read_map_layout(Params& p) {
   Map m;
-  std::string d =
-      p.string("delimiter", std::vector<std::string>{"comma", "tab", "semicolon", "space"});
+  std::string d = map_string(p, "delimiter");
   m.delim = d == "comma" ? ',' : d == "tab" ? '\t' : d == "semicolon" ? ';' : ' ';
-  m.header = p.boolean("header", true);
+  m.header = map_boolean(p, "header");
   if (!p.has("header"))
     p.fail("header", "required: true if the first line names the columns, false otherwise");
-  m.skip_lines = p.integer("skip_lines", 0, Range::closed(0, 1000000));
-  std::string cm = p.string("comment_prefix", "");
+  m.skip_lines = map_integer(p, "skip_lines");
+  std::string cm = map_string(p, "comment_prefix");
   if (cm.size() > 1) p.fail("comment_prefix", "expected one character or \"\"");
   m.comment = cm.empty() ? 0 : cm[0];
-  m.skip_bad = p.string("on_bad_row", "fail", {"fail", "skip"}) == "skip";
-  m.max_skipped = p.number("max_skipped_fraction", 0.5, Range::closed(0, 1));
-  m.used_fields_only = p.string("row_fields", "exact", {"exact", "used"}) == "used";
-  m.interpolate_repeats =
-      p.string("repeated_pose", "keep", {"keep", "interpolate"}) == "interpolate";
+  m.skip_bad = map_string(p, "on_bad_row") == "skip";
+  m.max_skipped = map_number(p, "max_skipped_fraction");
+  m.used_fields_only = map_string(p, "row_fields") == "used";
+  m.interpolate_repeats = map_string(p, "repeated_pose") == "interpolate";
   if (!p.has("coordinates"))
     p.fail(
         "coordinates",
@@ -407,17 +375,17 @@ Resolver read_header(CsvReader& reader, const Map& m, const std::string& in, Csv
 void read_time_keys(Params& p, Resolver& res, Map& m) {
   Params tp = p.child("time");
   m.time = res.one(tp, "column");
-  std::string tu = tp.string("unit", std::vector<std::string>{"s", "ms", "us", "ns", "100ns"});
+  std::string tu = map_string(tp, "time.unit");
   m.time_scale = tu == "s" ? 1.0 : tu == "ms" ? 1e-3 : tu == "us" ? 1e-6 : tu == "ns" ? 1e-9 : 1e-7;
-  m.rebase = tp.boolean("rebase", true);
-  m.wrap_bits = tp.integer("wrap_bits", 0, Range::closed(0, 62));
+  m.rebase = map_boolean(tp, "time.rebase");
+  m.wrap_bits = map_integer(tp, "time.wrap_bits");
   if (m.wrap_bits != 0 && m.wrap_bits < 8)
     tp.fail("wrap_bits", "expected 0 (no wrap) or 8..62 bits of the counter");
-  m.max_step_s = tp.number("max_step_s", 3600.0, Range::above(0));
-  m.burst_below_s = tp.number("burst_below_s", 0.0, Range::at_least(0));
-  std::string ob = tp.string("on_burst", "keep", {"keep", "drop", "retime"});
+  m.max_step_s = map_number(tp, "time.max_step_s");
+  m.burst_below_s = map_number(tp, "time.burst_below_s");
+  std::string ob = map_string(tp, "time.on_burst");
   m.on_burst = ob == "keep" ? Map::BurstKeep : ob == "drop" ? Map::BurstDrop : Map::BurstRetime;
-  m.burst_pose_arrival = tp.string("burst_pose", "arrival", {"arrival", "sample"}) == "arrival";
+  m.burst_pose_arrival = map_string(tp, "time.burst_pose") == "arrival";
   tp.ignore("comment");
 }
 
@@ -429,12 +397,12 @@ void read_head_keys(Params& p, Resolver& res, Map& m) {
   hp.ignore("comment");
   if (hp.has("constant")) {
     m.pos_const = true;
-    m.pos_value = vec3_of(hp, "constant");
+    m.pos_value = vec3_of(hp, "head_position.constant", "constant");
   } else {
     m.pos = res.many(hp, "columns", 3);
-    m.pos_scale = length_unit(hp, "unit");
-    m.recentre = hp.string("recentre", "none", {"none", "first", "mean"});
-    m.dequant_pos = hp.boolean("dequantise", false);
+    m.pos_scale = length_unit(hp, "head_position.unit", "columns");
+    m.recentre = map_string(hp, "head_position.recentre", "columns");
+    m.dequant_pos = map_boolean(hp, "head_position.dequantise", "columns");
   }
 
   if (!p.has("head_orientation"))
@@ -442,12 +410,12 @@ void read_head_keys(Params& p, Resolver& res, Map& m) {
            "required: quaternion, euler or forward columns, or {\"constant\": [1, 0, 0, 0]}");
   Params ho = p.child("head_orientation");
   ho.ignore("comment");
-  m.inverse = ho.boolean("inverse", false);
-  m.dequant_rot = ho.boolean("dequantise", false);
+  m.inverse = map_boolean(ho, "head_orientation.inverse");
+  m.dequant_rot = map_boolean(ho, "head_orientation.dequantise");
   if (m.dequant_rot && ho.has("constant"))
     ho.fail("dequantise", "a constant orientation has nothing to dequantise");
   if (ho.has("constant")) {
-    std::vector<double> q = ho.numbers("constant", {});
+    std::vector<double> q = map_numbers(ho, "head_orientation.constant", "constant");
     if (q.size() != 4) ho.fail("constant", "expected 4 numbers (w, x, y, z) in fovsim coordinates");
     const double qn = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
     if (!(qn > 1e-6) || !std::isfinite(qn))
@@ -456,12 +424,11 @@ void read_head_keys(Params& p, Resolver& res, Map& m) {
     m.rot_kind = Map::ConstRot;
     m.rot_value = glm::normalize(glm::dquat(q[0], q[1], q[2], q[3]));
   } else {
-    std::string type =
-        ho.string("type", std::vector<std::string>{"quaternion", "euler", "forward"});
+    std::string type = map_string(ho, "head_orientation.type");
     if (type == "quaternion") {
       m.rot_kind = Map::Quat;
       m.rot = res.many(ho, "columns", 4);
-      m.xyzw = ho.string("order", std::vector<std::string>{"wxyz", "xyzw"}) == "xyzw";
+      m.xyzw = map_string(ho, "head_orientation.order", "quaternion") == "xyzw";
     } else if (type == "forward") {
       m.rot_kind = Map::Forward;
       m.rot = res.many(ho, "forward", 3);
@@ -469,7 +436,7 @@ void read_head_keys(Params& p, Resolver& res, Map& m) {
     } else {
       m.rot_kind = Map::Euler;
       m.rot = res.many(ho, "columns", 3);
-      m.euler_order = ho.string("order");
+      m.euler_order = map_string(ho, "head_orientation.order", "euler");
       bool okord = m.euler_order.size() == 3;
       for (char c : m.euler_order) okord = okord && (c == 'X' || c == 'Y' || c == 'Z');
       // Each axis once: "XXY" would ignore the Z column.
@@ -478,11 +445,9 @@ void read_head_keys(Params& p, Resolver& res, Map& m) {
       if (!okord)
         ho.fail("order",
                 "expected three of X, Y, Z, each once, such as \"ZXY\" (Unity) or \"ZYX\"");
-      m.intrinsic =
-          ho.string("sequence", std::vector<std::string>{"extrinsic", "intrinsic"}) == "intrinsic";
-      m.angle_scale =
-          ho.string("unit", std::vector<std::string>{"deg", "rad"}) == "deg" ? kPi / 180 : 1.0;
-      std::vector<double> sg = ho.numbers("signs", {1, 1, 1});
+      m.intrinsic = map_string(ho, "head_orientation.sequence", "euler") == "intrinsic";
+      m.angle_scale = map_string(ho, "head_orientation.unit", "euler") == "deg" ? kPi / 180 : 1.0;
+      std::vector<double> sg = map_numbers(ho, "head_orientation.signs", "euler");
       if (sg.size() != 3) ho.fail("signs", "expected 3 numbers, each 1 or -1");
       for (int i = 0; i < 3; ++i) {
         if (sg[size_t(i)] != 1 && sg[size_t(i)] != -1)
@@ -498,8 +463,7 @@ void read_gaze_keys(Params& p, Resolver& res, Map& m) {
   if (!p.has("gaze"))
     p.fail("gaze", "required: how the gaze is given (direction, screen or point)");
   gp.ignore("comment");
-  std::string gt = gp.string(
-      "type", std::vector<std::string>{"direction", "orientation", "angles", "screen", "point"});
+  std::string gt = map_string(gp, "gaze.type");
   if (gp.has("coordinates")) {
     if (gt == "screen")
       gp.fail("coordinates", "a screen gaze has no axes (only direction and point gaze do)");
@@ -514,27 +478,24 @@ void read_gaze_keys(Params& p, Resolver& res, Map& m) {
     m.gaze_angles = true;
     m.gaze_axes = AxisMap{};
     m.gaze = res.many(gp, "columns", 2);
-    double sc =
-        gp.string("unit", std::vector<std::string>{"deg", "rad"}) == "deg" ? kPi / 180 : 1.0;
-    std::vector<double> sg = gp.numbers("signs", {1, 1});
+    double sc = map_string(gp, "gaze.unit", "angles") == "deg" ? kPi / 180 : 1.0;
+    std::vector<double> sg = map_numbers(gp, "gaze.signs", "angles");
     if (sg.size() != 2 || (sg[0] != 1 && sg[0] != -1) || (sg[1] != 1 && sg[1] != -1))
       gp.fail("signs", "expected 2 numbers (azimuth, elevation), each 1 or -1");
     m.angle_signs = glm::dvec2(sg[0], sg[1]) * sc;
   } else if (gt == "orientation") {
     // A gaze pose (OpenXR eye gaze): the gaze is the orientation's forward axis.
-    m.gaze_kind = gp.string("space", std::vector<std::string>{"head", "world"}) == "head"
-                      ? Map::DirHead
-                      : Map::DirWorld;
+    m.gaze_kind = map_string(gp, "gaze.space", "direction, orientation") == "head" ? Map::DirHead
+                                                                                   : Map::DirWorld;
     m.gaze_orient = true;
     m.gaze = res.many(gp, "columns", 4);
-    m.gaze_xyzw = gp.string("order", std::vector<std::string>{"wxyz", "xyzw"}) == "xyzw";
-    std::string fa = gp.string("forward", "-z", {"+x", "-x", "+y", "-y", "+z", "-z"});
+    m.gaze_xyzw = map_string(gp, "gaze.order", "orientation") == "xyzw";
+    std::string fa = map_string(gp, "gaze.forward", "orientation");
     m.gaze_forward = glm::dvec3(0.0);
     m.gaze_forward[fa[1] - 'x'] = fa[0] == '-' ? -1.0 : 1.0;
   } else if (gt == "direction") {
-    m.gaze_kind = gp.string("space", std::vector<std::string>{"head", "world"}) == "head"
-                      ? Map::DirHead
-                      : Map::DirWorld;
+    m.gaze_kind = map_string(gp, "gaze.space", "direction, orientation") == "head" ? Map::DirHead
+                                                                                   : Map::DirWorld;
     bool per_eye = gp.has("left") || gp.has("right");
     if (per_eye == gp.has("columns"))
       gp.fail("", per_eye
@@ -543,19 +504,18 @@ void read_gaze_keys(Params& p, Resolver& res, Map& m) {
     if (per_eye) {
       m.left = res.many(gp, "left", 3);
       m.right = res.many(gp, "right", 3);
-      m.combine = gp.string("combine", std::vector<std::string>{"mean", "left", "right"});
+      m.combine = map_string(gp, "gaze.combine", "direction with left, right");
     } else {
       m.gaze = res.many(gp, "columns", 3);
     }
   } else if (gt == "screen") {
     m.gaze_kind = Map::Screen;
     m.gaze = res.many(gp, "columns", 2);
-    m.screen_bottom_left =
-        gp.string("origin", std::vector<std::string>{"top-left", "bottom-left"}) == "bottom-left";
+    m.screen_bottom_left = map_string(gp, "gaze.origin", "screen") == "bottom-left";
   } else {
     m.gaze_kind = Map::Point;
     m.gaze = res.many(gp, "columns", 3);
-    m.point_scale = length_unit(gp, "unit");
+    m.point_scale = length_unit(gp, "gaze.unit", "point");
   }
 }
 
@@ -565,12 +525,12 @@ void read_row_keys(Params& p, Resolver& res, Map& m) {
   for (Params& c : p.children("valid")) m.valid.push_back(read_cond(c, res, per_eye));
   if (p.has("on_bad")) {
     m.has_on_bad = true;
-    std::string ob = p.string("on_bad", {"fail", "skip", "hold"});
+    std::string ob = map_string(p, "on_bad");
     m.on_bad = ob == "fail"   ? BadSamplePolicy::Fail
                : ob == "skip" ? BadSamplePolicy::Skip
                               : BadSamplePolicy::Hold;
   }
-  if (p.has("on_invalid")) m.on_invalid = p.string("on_invalid", on_invalid_choices());
+  if (p.has("on_invalid")) m.on_invalid = map_string(p, "on_invalid");
   for (Params& f : p.children("fused")) {
     f.ignore("comment");
     Map::Fused fu;
@@ -581,7 +541,7 @@ void read_row_keys(Params& p, Resolver& res, Map& m) {
              "\"^(.*[0-9])(True|False)$\"");
     if (f.has("pattern")) {
       fu.use_pattern = true;
-      std::string pat = f.string("pattern");
+      std::string pat = map_string(f, "fused[i].pattern");
       try {
         fu.pattern = std::regex(pat);
       } catch (const std::regex_error& e) {

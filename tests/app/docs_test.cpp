@@ -12,6 +12,7 @@
 #include "sim/core/counter_list.h"
 #include "sim/experiment/run_config.h"
 #include "sim/foveation/factory.h"
+#include "sim/trace/map_keys.h"
 
 namespace {
 std::string generated_section(const std::string& rel, const char* begin = fovsim::kMethodDocsBegin,
@@ -43,6 +44,15 @@ TEST(Docs, CounterTableMatchesDeclarations) {
       generated_section("docs/cost_model.md", fovsim::kCounterDocsBegin, fovsim::kCounterDocsEnd),
       want)
       << "docs/cost_model.md differs from the counter list: run `make docs`";
+}
+
+// The column map's keys in traces/README.md are the table the importer reads them through
+// (sim/trace/map_keys.cpp).
+TEST(Docs, MapKeyTableMatchesDeclarations) {
+  const std::string want = "\n" + fovsim::map_keys_markdown();
+  EXPECT_EQ(generated_section("traces/README.md", fovsim::kMapKeyDocsBegin, fovsim::kMapKeyDocsEnd),
+            want)
+      << "traces/README.md differs from the map-key declarations: run `make docs`";
 }
 
 // Docs, --help and every comment name papers by author and year (README.md "References") and

@@ -71,6 +71,7 @@ TEST(TrackingCli, PerStateMeansPolicyCostAndWidenOnEveryMethod) {
 
   // Per-state means next to the overall ones; the per-frame text is not a summary column.
   EXPECT_LT(hold.summary.col("tracking"), 0);
+  // The config's methods (cfg above: a subset, one of each kind a policy treats differently).
   for (const char* m : {"full", "kfr", "rmfr", "linear"}) {
     EXPECT_EQ(at(hold.summary, m, "frames_valid"), 20.0) << m;
     EXPECT_EQ(at(hold.summary, m, "frames_held"), 10.0) << m;
@@ -90,13 +91,15 @@ TEST(TrackingCli, PerStateMeansPolicyCostAndWidenOnEveryMethod) {
 
   // `full`: every method's lost frames are charged as a full render.
   const double full_held = at(full.summary, "full", "est_ms_total_held");
+  // The config's foveated methods (a subset, cfg above).
   for (const char* m : {"kfr", "rmfr", "linear"}) {
     EXPECT_EQ(at(full.summary, m, "shaded_fraction_held"), 1.0) << m;
     EXPECT_NEAR(at(full.summary, m, "est_ms_total_held"), full_held, 1e-9 * full_held) << m;
     EXPECT_LT(at(hold.summary, m, "est_ms_total_held"), full_held) << m;
   }
   // `widen`: every foveated method shades more and costs more on the lost frames; the valid
-  // frames are the same as under `hold` (none of these methods is temporal).
+  // frames are the same as under `hold` (none of these methods is temporal; the config's
+  // subset, cfg above).
   for (const char* m : {"kfr", "rmfr", "linear"}) {
     EXPECT_GT(at(widen.summary, m, "shaded_fraction_held"),
               at(hold.summary, m, "shaded_fraction_held"))

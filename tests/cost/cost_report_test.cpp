@@ -127,6 +127,7 @@ TEST(BudgetWhatIf, FactorsAreWhatEachResourceNeeds) {
 }
 
 TEST(CostReport, TableListsAreCommaSeparated) {
+  // Table ids parsed from text (a subset of the calibration tables).
   EXPECT_EQ(parse_id_list("kfr, rmfr,,twfr", "--tables"),
             (std::set<std::string>{"kfr", "rmfr", "twfr"}));
   EXPECT_TRUE(parse_id_list("", "--tables").empty());

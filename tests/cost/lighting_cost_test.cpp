@@ -46,6 +46,7 @@ bool has_term(const std::vector<PassWork>& ps, const std::string& term) {
 TEST(LightingCost, NoIndirectNoVplPasses) {
   Counters c;
   c.set(Counter::shaded_samples, 1440.0 * 1600 * 0.3);
+  // A subset: one method of each cost family that builds no VPLs of its own (not flc).
   for (const char* m : {"full", "kfr", "twfr", "fvrs"}) {
     CostInputs in = inputs(m, &c, false);
     Workload w;

@@ -8,6 +8,7 @@
 
 #include "sim/cost/analytic.h"
 #include "sim/foveation/factory.h"
+#include "tests/common/method_lists.h"
 
 using namespace fovsim;
 
@@ -76,7 +77,7 @@ TEST(AnalyticCounters, IsoBudgetTargetIsSolvedBeforeTheColumns) {
   Display d = Display::load("htc_vive_pro_eye", kModels);
   d.width = 360, d.height = 400;  // a quarter per axis: the solver runs over every pixel
   const double P = double(d.width) * d.height;
-  for (const char* m : {"kfr", "rmfr", "hyperbolic", "linear", "fvrs"}) {
+  for (const std::string& m : test::iso_budget_methods()) {
     const Json iso{{"target_shaded_fraction", 0.1}};
     const Counters c = analytic_counters(m, iso, w, d, "test");
     // The solver matches the samples a run shades (kfr: the LP-buffer slots that land on the
@@ -86,7 +87,7 @@ TEST(AnalyticCounters, IsoBudgetTargetIsSolvedBeforeTheColumns) {
     EXPECT_LE(f, 0.1 + 0.02) << m;
     const double ms = analytic_frame(g, m, iso, w, d).total_ms;
     // kfr and rmfr shade more than 10% by default (sigma 1.8, 2.6): the target is cheaper.
-    if (std::string(m) == "kfr" || std::string(m) == "rmfr") {
+    if (m == "kfr" || m == "rmfr") {
       EXPECT_LT(ms, analytic_frame(g, m, Json::object(), w, d).total_ms) << m;
     }
     // Under tracking loss a run widens the resolved geometry: the lost frame costs more.

@@ -41,7 +41,8 @@ const Shipped& shipped() {
 TEST(CostTransfer, UnseenPassesTakeNominalWorkAtPooledEfficiency) {
   const Shipped& s = shipped();
   FitOptions o;
-  o.tables = {"kfr", "rmfr", "flc"};  // TWFR left out: reprojection, SSAO, tonemap unseen
+  // A subset of the calibration tables: TWFR left out, reprojection, SSAO, tonemap unseen.
+  o.tables = {"kfr", "rmfr", "flc"};
   const CostFit f = fit_cost_model(s.data, o);
   EXPECT_TRUE(f.unseen("ssao"));
   EXPECT_TRUE(f.unseen("reproject"));
@@ -57,7 +58,7 @@ TEST(CostTransfer, UnseenPassesTakeNominalWorkAtPooledEfficiency) {
   EXPECT_NEAR(g.coef("reproject", "pixels") * rate, nominal_work("reproject", "pixels") / eff,
               1e-6);
   EXPECT_NEAR(g.passes.at("ssao").overhead_ms, f.prior_overhead_ms, 1e-12);
-  // FLC left out: its RSM pass is costed like KFR's and RMFR's shadow maps.
+  // A subset, FLC left out: its RSM pass is costed like KFR's and RMFR's shadow maps.
   FitOptions o2;
   o2.tables = {"kfr", "rmfr", "twfr"};
   const CostFit f2 = fit_cost_model(s.data, o2);

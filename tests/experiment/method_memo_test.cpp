@@ -118,6 +118,7 @@ TEST(MethodMemo, SecondRunComputesOnlyTheChangedMethodByteIdentically) {
   EXPECT_EQ(manifest(tmp("first"))["method_memo"]["writes"].get<int>(), 4);
   RunResult second = run(config(dir, 2.4), true, tmp("second"));
   run(config(dir, 2.4), false, tmp("plain"));
+  // The config's methods but the changed kfr (a subset).
   EXPECT_EQ(memoised(tmp("second")), (std::vector<std::string>{"full", "twfr", "fvrs"}));
   const Json mm = manifest(tmp("second"))["method_memo"];
   EXPECT_EQ(mm["hits"].get<int>(), 3);

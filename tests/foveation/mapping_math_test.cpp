@@ -10,6 +10,7 @@
 #include "sim/foveation/factory.h"
 #include "sim/foveation/mapping.h"
 #include "sim/foveation/mapping_spec.h"
+#include "tests/common/method_lists.h"
 
 using namespace fovsim;
 
@@ -239,7 +240,7 @@ TEST(IsoBudget, SolvesEachMethodToTarget) {
   Camera cam = Camera::from_pose(d, glm::dvec3(0), glm::dquat(1, 0, 0, 0));
   MappingView v = MappingView::at(cam, {d.width * 0.5, d.height * 0.5});
   const double total = double(d.width) * d.height;
-  for (std::string m : {"kfr", "rmfr", "hyperbolic", "linear", "fvrs"}) {
+  for (const std::string& m : test::iso_budget_methods()) {
     Params p(Json::object());
     MappingSpec s = MappingSpec::from_params(m, p), out;
     double got = 0;
@@ -262,6 +263,7 @@ TEST(Density, RmfrAndKfrScaleAsInverseSigmaSquared) {
   d.height = 320;
   Camera cam = Camera::from_pose(d, glm::dvec3(0), glm::dquat(1, 0, 0, 0));
   MappingView v = MappingView::at(cam, {144, 160});
+  // The subset whose whole W/sigma x H/sigma buffer is shaded (rmfr_auto: f chosen per frame).
   for (std::string m : {"kfr", "rmfr"}) {
     Params p(Json{{"sigma", 1.5}}), q(Json{{"sigma", 3.0}});
     double a = expected_shaded_samples(MappingSpec::from_params(m, p), v);

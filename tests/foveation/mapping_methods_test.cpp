@@ -15,6 +15,7 @@
 #include "sim/foveation/factory.h"
 #include "sim/foveation/frame.h"
 #include "sim/trace/tracking.h"
+#include "tests/common/method_lists.h"
 
 using namespace fovsim;
 
@@ -197,9 +198,10 @@ TEST(MappingExtremes, BaselinesGazeGrid) {
   for (auto g : gazes()) {
     w.set_gaze(g);
     for (double rs : {1e-3, 1.0, 1e3})
-      for (const char* m : {"hyperbolic", "linear", "fvrs"}) {
+      for (const std::string& m : test::radial_methods()) {
         char what[128];
-        std::snprintf(what, sizeof what, "%s radius_scale=%g gaze=(%g,%g)", m, rs, g.x, g.y);
+        std::snprintf(what, sizeof what, "%s radius_scale=%g gaze=(%g,%g)", m.c_str(), rs, g.x,
+                      g.y);
         expect_sane(w.run(m, {{"radius_scale", rs}}), kW, kH, what);
       }
   }
@@ -233,6 +235,7 @@ TEST(MappingTrends, QualityNonIncreasingInSigma) {
   World w({{"type", "patterns"}, {"pattern", "grating"}, {"frequency", 3.0}}, 192, 160);
   w.set_gaze({96, 80});
   const Image ref = w.display(w.fd.reference);
+  // The subset with one buffer of W/sigma x H/sigma (rmfr_auto: f chosen per frame).
   for (const char* m : {"kfr", "rmfr"}) {
     double prev_p = 1e9, prev_f = 1e9;
     for (double sg : {1.0, 1.8, 2.6, 8.0, 32.0}) {
@@ -251,6 +254,7 @@ TEST(MappingTrends, QualityNonIncreasingInSigma) {
 TEST(MappingTrends, ShadedSamplesFallAsInverseSigmaSquared) {
   World w({{"type", "patterns"}, {"pattern", "grating"}, {"frequency", 3.0}}, 192, 160);
   w.set_gaze({96, 80});
+  // The subset with one buffer of W/sigma x H/sigma (rmfr_auto: f chosen per frame).
   for (const char* m : {"kfr", "rmfr"}) {
     double a = w.run(m, {{"sigma", 1.3}}).counters.get(Counter::shaded_samples);
     double b = w.run(m, {{"sigma", 2.6}}).counters.get(Counter::shaded_samples);

@@ -10,11 +10,17 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <set>
+#include <sstream>
 
 #include "sim/core/error.h"
 #include "sim/foveation/factory.h"
 #include "sim/foveation/lighting_flc.h"
 #include "sim/foveation/mapping_spec.h"
+#include "tests/common/method_lists.h"
 #include "tests/common/param_table_check.h"
 
 using namespace fovsim;
@@ -129,8 +135,11 @@ TEST(MethodDecl, NameListsComeFromTheRegistry) {
   const auto& names = method_names();
   ASSERT_EQ(names.size(), method_table().size());
   for (size_t i = 0; i < names.size(); ++i) EXPECT_EQ(names[i], method_table()[i].name);
-  for (const char* m : {"full", "kfr", "rmfr", "rmfr_auto", "flc", "twfr", "fvrs"})
-    EXPECT_NE(std::find(names.begin(), names.end(), m), names.end()) << m;
+  // Each method names itself by its registered name (method_ids.h, generated from the list).
+  for (const auto& e : method_table()) {
+    Params p(Json::object(), "test", e.name);
+    EXPECT_EQ(make_method(e.name, p)->name(), e.name);
+  }
   const auto& geo = methods_with_sampling_geometry();
   for (const auto& e : method_table()) {
     Params p(Json::object(), "test", e.name);
@@ -139,4 +148,68 @@ TEST(MethodDecl, NameListsComeFromTheRegistry) {
   }
   EXPECT_EQ(std::find(geo.begin(), geo.end(), "full"), geo.end());
   EXPECT_NE(std::find(geo.begin(), geo.end(), "kfr"), geo.end());
+}
+
+// A hand-written list of method names outside the registry leaves a new method out silently:
+// in sim/, bench/, tests/ and the bindings, every braced list of two or more registered method
+// names is an error unless a comment on it (its line or the two above) says why it is a
+// subset; the lists come from the registry (method_names(), tests/common/method_lists.h). A
+// method's file names itself through method_ids.h, never by a second literal.
+TEST(SourceScan, MethodNamesAreListedOnlyInTheRegistry) {
+  namespace fs = std::filesystem;
+  const std::set<std::string> names(method_names().begin(), method_names().end());
+  const std::regex list(R"re(\{\s*"\w+"(\s*,\s*"\w+")+\s*,?\s*\})re");
+  const std::regex word(R"re("(\w+)")re");
+  const std::regex self(R"re(kMethod\s*=\s*")re");
+  std::string bad;
+  for (const char* top : {"sim", "bench", "tests", "python"})
+    for (auto& e : fs::recursive_directory_iterator(std::string(FOVSIM_SOURCE_DIR) + "/" + top)) {
+      const std::string ext = e.path().extension().string();
+      if (!e.is_regular_file() || (ext != ".cpp" && ext != ".h" && ext != ".inc")) continue;
+      const std::string rel = fs::relative(e.path(), FOVSIM_SOURCE_DIR).string();
+      std::ifstream in(e.path());
+      std::stringstream ss;
+      ss << in.rdbuf();
+      const std::string text = ss.str();
+      auto line_of = [&](size_t pos) {
+        return std::count(text.begin(), text.begin() + long(pos), '\n') + 1;
+      };
+      for (std::sregex_iterator it(text.begin(), text.end(), list), end; it != end; ++it) {
+        const std::string m = it->str();
+        size_t n = 0, listed = 0;
+        for (std::sregex_iterator w(m.begin(), m.end(), word); w != end; ++w, ++n)
+          listed += names.count((*w)[1].str());
+        if (listed < 2 || listed != n) continue;
+        const size_t bol = text.rfind('\n', size_t(it->position()));
+        const size_t start = bol == std::string::npos ? 0 : bol + 1;
+        if (text.substr(start, size_t(it->position()) - start).find("//") != std::string::npos)
+          continue;  // in a comment
+        // The match's line and the two before it: a comment saying it is a subset.
+        size_t from = size_t(it->position());
+        for (int k = 0; k < 3 && from != std::string::npos && from > 0; ++k)
+          from = text.rfind('\n', from - 1);
+        if (from == std::string::npos) from = 0;
+        const size_t to = text.find('\n', size_t(it->position()) + m.size());
+        if (text.substr(from, to - from).find("subset") != std::string::npos) continue;
+        bad += rel + ":" + std::to_string(line_of(size_t(it->position()))) + ": " + m + "\n";
+      }
+      for (std::sregex_iterator it(text.begin(), text.end(), self), end; it != end; ++it)
+        bad += rel + ":" + std::to_string(line_of(size_t(it->position()))) +
+               ": a method named by a second literal (use method_id::<name>, method_ids.h)\n";
+    }
+  EXPECT_TRUE(bad.empty()) << "method names listed outside the registry (iterate method_names() "
+                              "or tests/common/method_lists.h, or say why the list is a "
+                              "subset):\n"
+                           << bad;
+}
+
+// The lists tests iterate are the registry's.
+TEST(MethodDecl, TestMethodListsComeFromTheRegistry) {
+  EXPECT_EQ(test::all_methods(), method_names());
+  // An iso-budget target is solved on a sampling geometry.
+  const auto& geo = methods_with_sampling_geometry();
+  for (const std::string& m : test::iso_budget_methods())
+    EXPECT_NE(std::find(geo.begin(), geo.end(), m), geo.end()) << m;
+  EXPECT_FALSE(test::iso_budget_methods().empty());
+  EXPECT_FALSE(test::radial_methods().empty());
 }

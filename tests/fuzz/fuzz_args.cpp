@@ -81,7 +81,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       w = Workload::from_params(p);
       p.finish();
     }
-    for (const char* m : {"full", "kfr", "fvrs", "twfr", "flc"})
+    for (const std::string& m : method_names())
       (void)analytic_frame(g, m, Json::object(), w, d, m, true);
   } catch (const Error&) {
   }
