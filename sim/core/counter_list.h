@@ -1,7 +1,7 @@
-// Every per-frame counter, declared once (docs/architecture.md §6, §13.4): its frames.csv
-// column name, unit, how it scales from the simulated resolution to the real display, and a doc
-// line. Code writes `counters.set(Counter::shaded_samples, v)`, so a misspelt counter does not
-// compile; the cost model (sim/cost/passes.cpp) and the row builder scale a counter by its
+// Every per-frame counter, declared once (docs/architecture.md "Cost model", "… a counter"): its
+// frames.csv column name, unit, how it scales from the simulated resolution to the real display,
+// and a doc line. Code writes `counters.set(Counter::shaded_samples, v)`, so a misspelt counter
+// does not compile; the cost model (sim/cost/passes.cpp) and the row builder scale a counter by its
 // declared Scale; docs/cost_model.md's counter table is generated from this list
 // (`fovsim methods --markdown --counters`, checked by Docs.CounterTableMatchesDeclarations).
 //

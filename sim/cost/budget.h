@@ -1,6 +1,7 @@
-// Budget what-if (docs/architecture.md §1 "Does it still fit 90 Hz if the GPU had 2x shading
-// throughput?"): a GPU profile with scaled resource throughputs, and the throughput factor each
-// resource would need for a frame to fit a budget. Used by `fovsim budget` (docs/cost_model.md).
+// Budget what-if (docs/architecture.md "Layers and their dependencies" "Does it still fit 90 Hz if
+// the GPU had 2x shading throughput?"): a GPU profile with scaled resource throughputs, and the
+// throughput factor each resource would need for a frame to fit a budget. Used by `fovsim budget`
+// (docs/cost_model.md).
 #pragma once
 #include <map>
 #include <string>

@@ -1,5 +1,5 @@
-// estimate_frame (docs/architecture.md §6): sum over the passes that exist of overhead + sum coef *
-// term.
+// estimate_frame (docs/architecture.md "Cost model"): sum over the passes that exist of overhead +
+// sum coef * term.
 #include "sim/cost/cost_model.h"
 
 #include <cmath>
@@ -74,8 +74,8 @@ FrameCost estimate_frame(const GpuProfile& gpu, const CostInputs& in) {
       per_res[t.res] += finite(c->second * t.value * ws, pw.pass, "a term's time");
     }
     if (gpu.model == CostModelKind::Roofline) {
-      // Bottleneck: the pass takes as long as its slowest resource (docs/architecture.md §6); the
-      // time is charged to that resource in resource_ms.
+      // Bottleneck: the pass takes as long as its slowest resource (docs/architecture.md "Cost
+      // model"); the time is charged to that resource in resource_ms.
       Resource bound = Resource::Fixed;
       double worst = 0;
       for (auto& [r, v] : per_res)

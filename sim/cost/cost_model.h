@@ -1,5 +1,5 @@
-// GPU pipeline cost model (docs/architecture.md §6). A frame is the list of passes that exist for
-// this scene and method; each pass time is a small linear model of measured counters with
+// GPU pipeline cost model (docs/architecture.md "Cost model"). A frame is the list of passes that
+// exist for this scene and method; each pass time is a small linear model of measured counters with
 // coefficients from a GPU profile (models/gpus/*.json) plus a fixed overhead.
 #pragma once
 #include <map>
@@ -28,8 +28,8 @@ struct FrameCost {
   // Prediction interval on total_ms (interval_level 0: the profile has none),
   // combined from the passes' intervals (combine_pass_intervals, gpu_profile.h).
   double interval_level = 0, total_lo_ms = 0, total_hi_ms = 0;
-  // Counters the passes read that the method did not fill (charged as 0, docs/architecture.md §6
-  // note).
+  // Counters the passes read that the method did not fill (charged as 0, docs/architecture.md "Cost
+  // model" note).
   std::vector<std::string> missing_counters;
   // Time per resource class (geometry, raster, shading, memory, fixed = overheads); sums to total.
   std::map<std::string, double> resource_ms;

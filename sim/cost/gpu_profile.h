@@ -1,7 +1,7 @@
-// A GPU profile (docs/architecture.md §6): spec-sheet throughputs, per-pass linear coefficients (ms
-// per counter unit, see docs/cost_model.md for every term) plus a fixed overhead per pass, and the
-// calibration residuals the coefficients were fitted with. Files: models/gpus/NAME.json, written by
-// `fovsim calibrate`.
+// A GPU profile (docs/architecture.md "Cost model"): spec-sheet throughputs, per-pass linear
+// coefficients (ms per counter unit, see docs/cost_model.md for every term) plus a fixed overhead
+// per pass, and the calibration residuals the coefficients were fitted with. Files:
+// models/gpus/NAME.json, written by `fovsim calibrate`.
 #pragma once
 #include <map>
 #include <string>
@@ -33,9 +33,9 @@ struct GpuSpec {
 // The declaration of a profile's `spec` keys (parsing, docs, the order profile files write).
 const ParamTable<GpuSpec>& gpu_spec_table();
 
-// How a pass combines its terms (docs/architecture.md §6). Linear: overhead + Σ coef·value.
-// Roofline: overhead + max over resources of Σ_{terms of that resource} coef·value, i.e. the
-// pass runs at the speed of its bottleneck resource (Williams, Waterman, Patterson,
+// How a pass combines its terms (docs/architecture.md "Cost model"). Linear: overhead + Σ
+// coef·value. Roofline: overhead + max over resources of Σ_{terms of that resource} coef·value,
+// i.e. the pass runs at the speed of its bottleneck resource (Williams, Waterman, Patterson,
 // "Roofline: an insightful visual performance model for multicore architectures", CACM 2009).
 enum class CostModelKind { Linear, Roofline };
 const char* model_name(CostModelKind k);

@@ -1,4 +1,4 @@
-// Pass lists and term values (docs/architecture.md §6). Terms and their units:
+// Pass lists and term values (docs/architecture.md "Cost model"). Terms and their units:
 //   tris           triangles submitted to a raster pass (not scaled by pixel_scale); in the
 //                  G-buffer pass times workload.tri_cost (the scene's relative triangle cost)
 //   frags          rasterised fragments = pixels * overdraw
@@ -202,10 +202,11 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
   const double T = pos(w.tris(f) * w.submitted_fraction, "the submitted triangles");
   const double lights = pos(w.nlights(f), "the lights");
   const double shadowed = pos(w.nshadowed(f), "the shadowed lights");
-  // Lighting passes (docs/architecture.md §5 lighting axis): a scene with indirect light charges
-  // every method that declares the frame's RSMs for them and the VPL shading of its samples
-  // (the flc method builds VPLs on any scene); the importance / contribution / culling passes
-  // exist when its lighting strategy declares them. A scene without indirect light has none.
+  // Lighting passes (docs/architecture.md "Methods and lighting strategies" lighting axis): a scene
+  // with indirect light charges every method that declares the frame's RSMs for them and the VPL
+  // shading of its samples (the flc method builds VPLs on any scene); the importance / contribution
+  // / culling passes exist when its lighting strategy declares them. A scene without indirect light
+  // has none.
   const bool vpl = decl.frame_rsm && (f.indirect || decl.own_vpls);
   const bool has_importance = decl.importance;
   const bool has_culling = decl.culling;

@@ -1,6 +1,6 @@
-// Pass assembly (docs/architecture.md §6): which passes exist for a scene + method, and the value
-// of every term of their linear models. Shared by estimate_frame and calibration so the fit and the
-// prediction use the same equations. Term units are in docs/cost_model.md.
+// Pass assembly (docs/architecture.md "Cost model"): which passes exist for a scene + method, and
+// the value of every term of their linear models. Shared by estimate_frame and calibration so the
+// fit and the prediction use the same equations. Term units are in docs/cost_model.md.
 #pragma once
 #include <optional>
 #include <string>

@@ -12,8 +12,8 @@
 
 namespace fovsim {
 
-// Optional passes of the pipeline (docs/architecture.md §6: a pass that does not exist costs
-// nothing).
+// Optional passes of the pipeline (docs/architecture.md "Cost model": a pass that does not exist
+// costs nothing).
 struct PipelineOptions {
   bool depth_prepass = true;
   bool skybox = false;

@@ -10,8 +10,7 @@ const std::vector<MethodEntry>& method_table() {
   // <name>_params and <name>_cost. A line's third argument is not read: a method's cost is its
   // own declaration (method_cost.h).
   static const std::vector<MethodEntry> table = {
-#define FOVSIM_METHOD(name, summary, unused) \
-  {#name, summary, create_##name, name##_params, name##_cost},
+#define FOVSIM_METHOD(name, summary) {#name, summary, create_##name, name##_params, name##_cost},
 #include "sim/foveation/method_list.h"
 #undef FOVSIM_METHOD
   };

@@ -1,4 +1,5 @@
-// The one explicit factory (docs/architecture.md §5: no static self-registration).
+// The one explicit factory (docs/architecture.md "Methods and lighting strategies": no static
+// self-registration).
 #pragma once
 #include <memory>
 #include <string>

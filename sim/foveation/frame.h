@@ -1,5 +1,6 @@
-// Shared per-frame inputs (docs/architecture.md §2): camera, full-res G-buffer, reference shading
-// and eccentricity, computed once per frame and shared by every method and sweep cell.
+// Shared per-frame inputs (docs/architecture.md "Data flow of one frame"): camera, full-res
+// G-buffer, reference shading and eccentricity, computed once per frame and shared by every method
+// and sweep cell.
 #pragma once
 #include <optional>
 #include <vector>

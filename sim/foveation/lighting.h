@@ -1,10 +1,10 @@
 // Lighting strategies: which VPLs a method's samples use for the one-bounce indirect light
-// (docs/architecture.md §5 "Lighting is its own axis"). The scene states what it needs
-// (Scene::wants_indirect, Scene::vpl); the frame's VPL set is built once per frame with the shared
-// G-buffer (FrameVpls, prepare_frame) and the reference is direct + indirect from ALL of them (the
-// "tile-based deferred shading" ground truth of Yang et al., "Foveated light culling", §7).
-// Every method shades the direct light at its own samples and adds the indirect light of the
-// VPLs its strategy selects:
+// (docs/architecture.md "Methods and lighting strategies" "Lighting is its own axis"). The scene
+// states what it needs (Scene::wants_indirect, Scene::vpl); the frame's VPL set is built once per
+// frame with the shared G-buffer (FrameVpls, prepare_frame) and the reference is direct + indirect
+// from ALL of them (the "tile-based deferred shading" ground truth of Yang et al., "Foveated light
+// culling", §7). Every method shades the direct light at its own samples and adds the indirect
+// light of the VPLs its strategy selects:
 //   all_vpls  every VPL (TBDS, the ground truth)
 //   flc       foveated light culling (importance map, quasi-MH samples, eq. 14, culling)
 //   fir       foveated instant radiosity as the FLC paper describes it (visibility + position

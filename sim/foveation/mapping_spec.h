@@ -5,7 +5,8 @@
 // expected shaded samples, the iso-budget's free parameter and how it widens under tracking
 // loss. MappingSpec is the copyable handle the methods, the analytic density (`fovsim
 // density`), the analytic counters of `predict` and the iso-budget solver pass around; none of
-// them names a method. Adding a mapping method adds no field here (docs/architecture.md §13.1).
+// them names a method. Adding a mapping method adds no field here (docs/architecture.md "… a
+// method").
 #pragma once
 #include <memory>
 #include <string>

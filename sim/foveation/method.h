@@ -1,7 +1,7 @@
-// The FoveationMethod interface (docs/architecture.md §5). A method declares the G-buffer channels
-// it needs (Falcor reflect() role), renders one frame from the shared full-resolution G-buffer and
-// reference, fills per-pass counters for the cost model and may emit debug buffers. Temporal
-// methods keep state across frames and reset on request.
+// The FoveationMethod interface (docs/architecture.md "Methods and lighting strategies"). A method
+// declares the G-buffer channels it needs (Falcor reflect() role), renders one frame from the
+// shared full-resolution G-buffer and reference, fills per-pass counters for the cost model and may
+// emit debug buffers. Temporal methods keep state across frames and reset on request.
 #pragma once
 #include <memory>
 #include <optional>

@@ -1,5 +1,6 @@
-// How a method costs itself (docs/architecture.md §5, §6): what it declares to the GPU cost
-// model (sim/cost/), so that the cost layer never knows a method by its name.
+// How a method costs itself (docs/architecture.md "Methods and lighting strategies", "Cost model"):
+// what it declares to the GPU cost model (sim/cost/), so that the cost layer never knows a method
+// by its name.
 //
 // A method's cost has two parts, both in the method's own file:
 //  - its declaration `MethodCost <name>_cost()` (beside `<name>_params()`, read through the

@@ -5,7 +5,7 @@
 
 namespace fovsim::method_id {
 
-#define FOVSIM_METHOD(name, summary, family) inline constexpr const char name[] = #name;
+#define FOVSIM_METHOD(name, summary) inline constexpr const char name[] = #name;
 #include "sim/foveation/method_list.h"
 #undef FOVSIM_METHOD
 

@@ -2,27 +2,22 @@
 // table (factory.cpp) and the constructor declarations (methods.h). Adding a method = its own
 // file (which defines create_<name> and <name>_params, the ParamInfo view of its ParamTable) +
 // one line here + its test.
-//   FOVSIM_METHOD(name, summary, cost family)
-// The cost family names the pass structure the GPU cost model charges (sim/cost/passes.cpp):
-//   Full     full-resolution deferred shading
-//   Mapping  shading in a reduced buffer + the pass-2 inverse map to the screen
-//   Fvrs     forward rendering with coarse shading rates
-//   Twfr     reprojection + push-pull + confidence + redraw of marked pixels
-//   Flc      RSM + importance + contribution + light culling + VPL shading
-// Mapping-family methods also expose their MappingSpec (FoveationMethod::mapping_spec), which
+//   FOVSIM_METHOD(name, summary)
+// The name is spelled here only: the method's file names itself with method_id::<name>
+// (method_ids.h). What the GPU cost model charges the method declares in its own file
+// (<name>_cost(), sim/foveation/method_cost.h; docs/architecture.md "Cost model").
+// Mapping methods also expose their MappingSpec (FoveationMethod::mapping_spec), which
 // `fovsim density` and the analytic counters of `predict` evaluate.
-FOVSIM_METHOD(full, "full-resolution deferred shading (reference pipeline)", Full)
-FOVSIM_METHOD(flc, "foveated light culling of VPLs for indirect light (Yang et al. 2021)", Flc)
-FOVSIM_METHOD(kfr, "kernel log-polar foveated rendering (Meng 2018 ch. 2)", Mapping)
-FOVSIM_METHOD(rmfr, "rectangular mapping-based foveated rendering (Ye et al. 2022 §3.2)", Mapping)
-FOVSIM_METHOD(hyperbolic, "Guenter three-layer baseline (Ye et al. 2022 §5.1)", Mapping)
-FOVSIM_METHOD(linear, "Weier linear fall-off baseline (Ye et al. 2022 §5.1)", Mapping)
-FOVSIM_METHOD(fvrs, "foveated coarse-pixel shading baseline (Franke et al. 2021 §8.4)", Fvrs)
+FOVSIM_METHOD(full, "full-resolution deferred shading (reference pipeline)")
+FOVSIM_METHOD(flc, "foveated light culling of VPLs for indirect light (Yang et al. 2021)")
+FOVSIM_METHOD(kfr, "kernel log-polar foveated rendering (Meng 2018 ch. 2)")
+FOVSIM_METHOD(rmfr, "rectangular mapping-based foveated rendering (Ye et al. 2022 §3.2)")
+FOVSIM_METHOD(hyperbolic, "Guenter three-layer baseline (Ye et al. 2022 §5.1)")
+FOVSIM_METHOD(linear, "Weier linear fall-off baseline (Ye et al. 2022 §5.1)")
+FOVSIM_METHOD(fvrs, "foveated coarse-pixel shading baseline (Franke et al. 2021 §8.4)")
 FOVSIM_METHOD(
-    twfr, "time-warped foveated rendering: reprojection + confidence redraw (Franke et al. 2021)",
-    Twfr)
+    twfr, "time-warped foveated rendering: reprojection + confidence redraw (Franke et al. 2021)")
 FOVSIM_METHOD(
     rmfr_auto,
     "RMFR with f_x, f_y chosen per frame from peripheral edge orientation (Ye et al. 2022 "
-    "§4.4.1, §7 future work)",
-    Mapping)
+    "§4.4.1, §7 future work)")

@@ -10,7 +10,7 @@
 
 namespace fovsim {
 
-#define FOVSIM_METHOD(name, summary, unused)                 \
+#define FOVSIM_METHOD(name, summary)                         \
   std::unique_ptr<FoveationMethod> create_##name(Params& p); \
   const std::vector<ParamInfo>& name##_params();             \
   const MethodCost& name##_cost();

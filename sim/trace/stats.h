@@ -30,8 +30,8 @@ struct TraceStats {
   // "line 812 (t=3.456 s): 13.2 deg in 10.0 ms (1320 deg/s)".
   std::vector<std::string> head_jumps;
   // Plausibility: one line per value outside human ranges (eye-speed p99 > 700 deg/s: saccade
-  // peak velocities saturate near 500-700 deg/s, docs/architecture.md §3; eccentricity p95 > 35
-  // deg; bursts).
+  // peak velocities saturate near 500-700 deg/s, docs/architecture.md "Inputs: displays, traces,
+  // scenes, configs"; eccentricity p95 > 35 deg; bursts).
   std::vector<std::string> warnings;
 };
 

@@ -1,5 +1,6 @@
-// Synthetic eye-movement generator (docs/architecture.md §3). Parameter table: sim/trace/synth.h
-// and models/eyemodel/default.json (sources in traces/README.md "Synthetic traces").
+// Synthetic eye-movement generator (docs/architecture.md "Inputs: displays, traces, scenes,
+// configs"). Parameter table: sim/trace/synth.h and models/eyemodel/default.json (sources in
+// traces/README.md "Synthetic traces").
 //
 // Model, simulated at internal_rate_hz (1 kHz):
 // - gaze-in-world G(t) and head orientation H(t) are simulated; eye-in-head = H^-1 G;

@@ -1,5 +1,6 @@
-// Synthetic head + eye-movement traces (docs/architecture.md §3; parameters and sources in
-// models/eyemodel/default.json and traces/README.md "Synthetic traces").
+// Synthetic head + eye-movement traces (docs/architecture.md "Inputs: displays, traces, scenes,
+// configs"; parameters and sources in models/eyemodel/default.json and traces/README.md "Synthetic
+// traces").
 #pragma once
 #include <cstdint>
 #include <string>

@@ -1,4 +1,5 @@
-// Head+gaze traces (docs/architecture.md §3). Canonical CSV documented in traces/README.md.
+// Head+gaze traces (docs/architecture.md "Inputs: displays, traces, scenes, configs"). Canonical
+// CSV documented in traces/README.md.
 #pragma once
 #include <cmath>
 #include <string>

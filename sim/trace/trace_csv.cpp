@@ -1,5 +1,5 @@
-// Canonical trace CSV (docs/architecture.md §3, traces/README.md): reading with validation and a
-// bad-sample policy, and writing.
+// Canonical trace CSV (docs/architecture.md "Inputs: displays, traces, scenes, configs",
+// traces/README.md): reading with validation and a bad-sample policy, and writing.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

@@ -37,12 +37,4 @@ inline std::vector<std::string> radial_methods() {
   return methods_with_key("radius_scale");
 }
 
-// The methods of one cost family (method_list.h).
-inline std::vector<std::string> methods_of_family(CostFamily f) {
-  std::vector<std::string> out;
-  for (const MethodEntry& e : method_table())
-    if (e.family == f) out.push_back(e.name);
-  return out;
-}
-
 }  // namespace fovsim::test

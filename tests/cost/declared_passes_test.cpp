@@ -1,6 +1,6 @@
-// Declared counters and passes (docs/architecture.md §6): every counter a method or strategy
-// fills is in the one list (sim/core/counter_list.h) and reads back by its column name; the
-// passes the cost model charges are the ones the method and its lighting strategy declare
+// Declared counters and passes (docs/architecture.md "Cost model"): every counter a method or
+// strategy fills is in the one list (sim/core/counter_list.h) and reads back by its column name;
+// the passes the cost model charges are the ones the method and its lighting strategy declare
 // (CostPasses), never inferred from which counters are present; a declared pass whose counter
 // was not filled is named in missing_counters; the frame's shared RSMs are charged from the
 // declaration.

@@ -1,5 +1,5 @@
-// The cost layer knows no method by its name (docs/architecture.md §6): a method declares its
-// cost in its own file (sim/foveation/method_cost.h), so no file under sim/cost/ compares with,
+// The cost layer knows no method by its name (docs/architecture.md "Cost model"): a method declares
+// its cost in its own file (sim/foveation/method_cost.h), so no file under sim/cost/ compares with,
 // or branches on, a method's or lighting strategy's name. The names come from the registry
 // (method_list.h, lighting_list.h) when the test runs, so a new method is covered the day it
 // is registered.
