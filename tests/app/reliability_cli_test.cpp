@@ -396,8 +396,9 @@ TEST(Reliability, MisleadingMessagesAreFixed) {
   // A command group without its command names the group and its commands.
   expect_user_error(run_cmd(bin + " trace"),
                     "fovsim trace needs a command (one of: import, validate, stats, synth");
-  expect_user_error(run_cmd(bin + " trace --json frobnicate"),
-                    "unknown command 'frobnicate' (commands: import, validate, stats, synth)");
+  expect_user_error(
+      run_cmd(bin + " trace --json frobnicate"),
+      "unknown command 'frobnicate' (commands: import, validate, stats, synth, keys)");
   // Scene files obey FOVSIM_MAX_INPUT_MB like every other input.
   write_text(d + "/big.obj", std::string(2 << 20, '#'));
   write_text(d + "/big.json", small_config(R"({"type": "file", "path": ")" + d + R"(/big.obj"})"));
