@@ -20,8 +20,14 @@ Json widened_method_params(const std::string& method, const Json& params, double
   // with its defaults): a mapping method through its SamplingGeometry, rmfr_auto its sigma as
   // rmfr does, flc its log-polar lp_sigma. Invalid keys are left to the analytic parse that
   // follows, which reports them at their location.
+  // The method's analytic-only keys (MethodCost::analytic_keys: filter_taps_per_pixel, ...) are
+  // not its parser's: without them the method parses, so such a key does not silently stop the
+  // widening; they stay in the returned keys for the analytic parse.
+  Json method_keys = p;
+  if (e)
+    for (const std::string& key : e->cost().analytic_keys) method_keys.erase(key);
   try {
-    Params mp(p, "widen", "");
+    Params mp(method_keys, "widen", "");
     const std::unique_ptr<FoveationMethod> inst = make_method(method, mp);
     // An iso-budget target on display d: a run widens the resolved geometry, so the widened
     // keys are the solution's and the target is dropped (else predict would solve it again).

@@ -31,6 +31,15 @@ TEST(TrackingCost, WidenedParametersPerMethod) {
                    1.5);
   EXPECT_DOUBLE_EQ(widened_method_params("flc", Json{{"log_polar", true}}, 4, nullptr)["lp_sigma"],
                    1.0);
+  // An analytic-only key (predict's filter_taps_per_pixel, shaded_fraction) is not the method's
+  // parser's, yet the method's own keys still widen and the analytic key is kept for the
+  // analytic parse (before, the parse failed on it and nothing widened, silently).
+  const Json ka = widened_method_params(
+      "kfr", Json{{"sigma", 1.2}, {"filter_taps_per_pixel", 3}, {"shaded_fraction", 0.3}}, 2,
+      nullptr);
+  EXPECT_DOUBLE_EQ(ka["sigma"].get<double>(), 1.0);
+  EXPECT_DOUBLE_EQ(ka["filter_taps_per_pixel"].get<double>(), 3);
+  EXPECT_DOUBLE_EQ(ka["shaded_fraction"].get<double>(), 0.3);
   // rmfr_auto renders through rmfr, which widens its RS-buffer in a run: its own sigma key
   // widens the same way (its f_x, f_y are not keys).
   const Json ra = widened_method_params("rmfr_auto", Json{{"f_sum", 0.6}}, 2, nullptr);
