@@ -35,6 +35,12 @@
 
 namespace fovsim {
 
+std::unique_ptr<tbb::global_control> thread_limit(int threads) {
+  if (threads <= 0) return nullptr;
+  return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                               size_t(threads));
+}
+
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 

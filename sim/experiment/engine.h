@@ -5,7 +5,10 @@
 // on it in parallel (TBB), each cell writing its own results folder. Frames stream; no whole-trace
 // image storage.
 #pragma once
+#include <tbb/global_control.h>
+
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -48,6 +51,10 @@ struct EngineOptions {
   // run.memory_gb; 0: run.memory_gb, else 75% of the machine's MemAvailable at the start.
   double memory_budget_gb = 0;
 };
+
+// TBB's thread limit at `threads` while the result lives; none (nullptr) for threads <= 0
+// (`fovsim run`, `sweep` and `search` -j).
+std::unique_ptr<tbb::global_control> thread_limit(int threads);
 
 struct CellResult {
   std::string out_dir;

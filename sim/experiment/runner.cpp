@@ -39,10 +39,7 @@ RunResult result_of(CellResult& c, const GroupStats& gs) {
 }  // namespace
 
 RunResult run_experiment(const LoadedConfig& cfg, const RunOptions& opt) {
-  std::unique_ptr<tbb::global_control> threads;
-  if (opt.threads > 0)
-    threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                                    size_t(opt.threads));
+  const auto threads = thread_limit(opt.threads);
   if (cfg.doc.is_object() && cfg.doc.contains("sweep"))
     throw Error(cfg.file + ": sweep", "this is a sweep config: run it with `fovsim sweep " +
                                           cfg.file + "` (`fovsim run` runs one config)");

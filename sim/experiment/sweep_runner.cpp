@@ -327,12 +327,6 @@ bool shard_from_env(int& index, int& count) {
   return true;
 }
 
-std::unique_ptr<tbb::global_control> thread_limit(int threads) {
-  if (threads <= 0) return nullptr;
-  return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                               size_t(threads));
-}
-
 std::string sweep_out_dir(const SweepPlan& plan, const std::string& out_dir) {
   return out_dir.empty() ? "results/" + safe_file_name(plan.name) : out_dir;
 }

@@ -63,8 +63,6 @@ bool shard_from_env(int& index, int& count);
 void parse_shard(const std::string& s, int& index, int& count);
 
 std::string sweep_out_dir(const SweepPlan& plan, const std::string& out_dir);
-// TBB's thread limit at `threads` while the result lives; none (nullptr) for threads <= 0.
-std::unique_ptr<tbb::global_control> thread_limit(int threads);
 
 SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const SweepOptions& opt);
 
