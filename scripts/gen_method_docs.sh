@@ -2,7 +2,9 @@
 # Regenerates the method parameter tables in docs/methods.md and configs/README.md from the
 # methods' declarations (`fovsim methods --markdown`), between the BEGIN/END GENERATED markers,
 # configs/README.md's tables of every other run-config key from their declarations
-# (`fovsim methods --markdown --config-keys`), between BEGIN/END GENERATED KEYS, and
+# (`fovsim methods --markdown --config-keys`), between BEGIN/END GENERATED KEYS,
+# docs/cost_model.md's counters and GPU-profile keys (`--counters`, `--gpu-profile-keys`),
+# between BEGIN/END GENERATED COUNTERS and BEGIN/END GENERATED GPU PROFILE KEYS, and
 # traces/README.md's column-map keys (`fovsim trace keys --markdown`), between BEGIN/END
 # GENERATED MAP KEYS.
 # Usage: scripts/gen_method_docs.sh [BUILD_DIR]   (make docs). tests/app/docs_test.cpp checks it.
@@ -42,6 +44,17 @@ s = open(path).read()
 b = s.index("<!-- BEGIN GENERATED COUNTERS")
 b = s.index("\n", b) + 1
 e = s.index("<!-- END GENERATED COUNTERS -->")
+open(path, "w").write(s[:b] + "\n" + gen + s[e:])
+PY
+# The GPU profile file's keys (sim/cost/gpu_profile.cpp, gpu_profile_keys()).
+"$B/fovsim" methods --markdown --gpu-profile-keys > "$gen"
+python3 - docs/cost_model.md "$gen" <<'PY'
+import sys
+path, gen = sys.argv[1], open(sys.argv[2]).read()
+s = open(path).read()
+b = s.index("<!-- BEGIN GENERATED GPU PROFILE KEYS")
+b = s.index("\n", b) + 1
+e = s.index("<!-- END GENERATED GPU PROFILE KEYS -->")
 open(path, "w").write(s[:b] + "\n" + gen + s[e:])
 PY
 # The column map's keys (sim/trace/map_keys.cpp).

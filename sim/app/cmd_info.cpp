@@ -5,6 +5,7 @@
 #include "sim/app/commands.h"
 #include "sim/core/counter_list.h"
 #include "sim/core/version.h"
+#include "sim/cost/gpu_profile.h"
 #include "sim/experiment/code_paths.h"
 #include "sim/experiment/info.h"
 #include "sim/experiment/run_config.h"
@@ -55,7 +56,7 @@ void register_methods(CLI::App& app, Action& action) {
   auto* cmd = app.add_subcommand(
       "methods", "List the foveation methods and their parameters (from their declarations)");
   auto md = std::make_shared<bool>(false), keys = std::make_shared<bool>(false),
-       counters = std::make_shared<bool>(false);
+       counters = std::make_shared<bool>(false), profile_keys = std::make_shared<bool>(false);
   cmd->add_flag("--markdown", *md,
                 "Print the parameter tables as Markdown (embedded in docs/methods.md)");
   cmd->add_flag("--config-keys", *keys,
@@ -65,8 +66,15 @@ void register_methods(CLI::App& app, Action& action) {
   cmd->add_flag("--counters", *counters,
                 "With --markdown: print the counter table instead (sim/core/counter_list.h; "
                 "embedded in docs/cost_model.md)");
-  cmd->callback([&action, md, keys, counters]() {
-    action = [md, keys, counters]() {
+  cmd->add_flag("--gpu-profile-keys", *profile_keys,
+                "With --markdown: print the GPU profile file's key table instead "
+                "(sim/cost/gpu_profile.cpp; embedded in docs/cost_model.md)");
+  cmd->callback([&action, md, keys, counters, profile_keys]() {
+    action = [md, keys, counters, profile_keys]() {
+      if (*md && *profile_keys) {
+        std::printf("%s", gpu_profile_keys_markdown().c_str());
+        return 0;
+      }
       if (*md && *counters) {
         std::printf("%s", counters_markdown().c_str());
         return 0;

@@ -1,4 +1,5 @@
-// GPU profile files (models/gpus/*.json). Format in docs/cost_model.md.
+// GPU profile files (models/gpus/*.json). Their keys are gpu_profile_keys() (docs/cost_model.md
+// "GPU profile" is generated from it; `spec` keys are gpu_spec_table()).
 #include "sim/cost/gpu_profile.h"
 
 #include <algorithm>
@@ -71,6 +72,272 @@ const ParamTable<GpuSpec>& gpu_spec_table() {
   return t;
 }
 
+namespace {
+
+// Builds the rows in order; the modifiers change the last row.
+class ProfileRows {
+ public:
+  ProfileRows& text(const char* path, const char* def, std::vector<std::string> allowed = {}) {
+    add(path, ProfileKeyType::String, def ? Json(def) : Json());
+    v_.back().allowed = std::move(allowed);
+    return *this;
+  }
+  ProfileRows& boolean(const char* path, bool def) {
+    return add(path, ProfileKeyType::Bool, Json(def));
+  }
+  ProfileRows& integer(const char* path, int def, Range r) {
+    add(path, ProfileKeyType::Int, Json(def));
+    v_.back().range = r;
+    return *this;
+  }
+  ProfileRows& number(const char* path, double def, Range r) {
+    add(path, ProfileKeyType::Number, Json(def));
+    v_.back().range = r;
+    return *this;
+  }
+  ProfileRows& numbers(const char* path, Range r) {
+    add(path, ProfileKeyType::Numbers, Json::array());
+    v_.back().range = r;
+    return *this;
+  }
+  ProfileRows& strings(const char* path) { return add(path, ProfileKeyType::Strings, Json()); }
+  ProfileRows& object(const char* path) { return add(path, ProfileKeyType::Object, Json()); }
+  // No default: the key must be given (where its parent is).
+  ProfileRows& required() {
+    v_.back().def = Json();
+    v_.back().required = true;
+    return *this;
+  }
+  // No default: read only when given.
+  ProfileRows& optional() {
+    v_.back().def = Json();
+    return *this;
+  }
+  ProfileRows& doc(const char* d) {
+    v_.back().doc = d;
+    return *this;
+  }
+  std::vector<ProfileKey> rows() && { return std::move(v_); }
+
+ private:
+  ProfileRows& add(const char* path, ProfileKeyType t, Json def) {
+    ProfileKey k;
+    k.path = path;
+    k.type = t;
+    k.def = std::move(def);
+    v_.push_back(std::move(k));
+    return *this;
+  }
+  std::vector<ProfileKey> v_;
+};
+
+// The interval factors of `prefix` ("interval", "interval.total", "interval.passes.{pass}").
+void factor_keys(ProfileRows& r, const std::string& prefix, const char* what) {
+  const std::string lo = prefix + ".lo_factor", hi = prefix + ".hi_factor", n = prefix + ".n";
+  r.number(lo.c_str(), 0, Range::above(0, 1))
+      .required()
+      .doc((std::string("lower multiplicative factor (") + what + ")").c_str())
+      .number(hi.c_str(), 0, Range::closed(1, 1e3))
+      .required()
+      .doc((std::string("upper multiplicative factor (") + what + ")").c_str())
+      .integer(n.c_str(), 0, Range::at_least(0))
+      .doc("held-out rows the factors came from");
+}
+
+std::vector<ProfileKey> gpu_profile_key_table() {
+  ProfileRows r;
+  r.text("name", nullptr)
+      .required()
+      .doc("profile name")
+      .text("description", "")
+      .doc("what the profile is")
+      .boolean("calibrated", false)
+      .doc("false: coefficients transferred through spec ratios only")
+      .text("architecture", nullptr)
+      .optional()
+      .doc("what a spec transfer assumes (uncalibrated profiles)")
+      .text("model", "linear", {"linear", "roofline"})
+      .doc("how a pass combines its terms (docs/architecture.md \"Cost model\")")
+      .text("comment", nullptr)
+      .optional()
+      .doc("free text, ignored")
+      .object("interval")
+      .optional()
+      .doc("prediction interval (optional; none: point estimates only)")
+      .number("interval.level", 0, Range::above(0, 1))
+      .required()
+      .doc("coverage the factors were made for");
+  factor_keys(r, "interval", "pooled over every held-out row");
+  r.text("interval.method", "")
+      .doc("how the factors were made")
+      .number("interval.widen", 1.0, Range::closed(1, 10))
+      .doc("extrapolation: log-widths are multiplied by this")
+      .object("interval.total")
+      .optional()
+      .doc("split-conformal factors of the frame total (none: its passes' intervals combine)");
+  factor_keys(r, "interval.total", "frame total");
+  r.numbers("interval.total_scores", Range::closed(-20, 20))
+      .doc("held-out log(published / model) of frame totals (sorted when read)")
+      .object("interval.passes")
+      .optional()
+      .doc("pass -> factors (optional; a pass not listed takes the pooled factors)");
+  factor_keys(r, "interval.passes.{pass}", "that pass");
+  r.object("spec")
+      .required()
+      .doc("spec-sheet rates: every key is in configs/README.md \"GPU spec\" (gpu_spec_table())")
+      .object("passes")
+      .required()
+      .doc("per-pass coefficients; every pass the costed method declares")
+      .number("passes.{pass}.overhead_ms", 0.0, Range::closed(0, 1e4))
+      .doc("fixed time of the pass, ms")
+      .object("passes.{pass}.terms")
+      .required()
+      .doc("term -> coefficient; the terms of docs/cost_model.md")
+      .number("passes.{pass}.terms.{term}", 0, Range::closed(0, 1e3))
+      .required()
+      .doc("ms per counter unit")
+      .object("calibration")
+      .optional()
+      .doc("how the coefficients were fitted (`fovsim calibrate`)")
+      .text("calibration.comment", "")
+      .doc("free text")
+      .object("calibration.fit")
+      .optional()
+      .doc("fit diagnostics, ignored when read")
+      .strings("calibration.tables")
+      .optional()
+      .doc("\"id: source\" of the tables fitted")
+      .object("calibration.residuals")
+      .optional()
+      .doc("array, one entry per calibration row")
+      .text("calibration.residuals[i].id", nullptr)
+      .required()
+      .doc("calibration entry id")
+      .boolean("calibration.residuals[i].fitted", true)
+      .doc("false: a check row (compared, not fitted)")
+      .number("calibration.residuals[i].published_ms", 0, Range::closed(0, 1e6))
+      .required()
+      .doc("published time, ms")
+      .number("calibration.residuals[i].model_ms", 0, Range::closed(0, 1e6))
+      .required()
+      .doc("model time, ms")
+      .number("calibration.residuals[i].rel_err", 0, Range::closed(-1e6, 1e6))
+      .required()
+      .doc("(model - published) / published");
+  return std::move(r).rows();
+}
+
+// The JSON key of a path: its last part.
+std::string json_key(const std::string& path) {
+  const auto dot = path.rfind('.');
+  return dot == std::string::npos ? path : path.substr(dot + 1);
+}
+
+const ProfileKey& typed_key(const std::string& path, ProfileKeyType t) {
+  const ProfileKey& k = gpu_profile_key(path);
+  FOVSIM_CHECK(k.type == t, "GPU profile key \"" + path + "\" read with the wrong type");
+  return k;
+}
+
+std::string cell(const std::string& s) {
+  std::string r;
+  for (char c : s) r += (c == '|') ? std::string("\\|") : std::string(1, c);
+  return r.empty() ? std::string(" ") : r;
+}
+
+std::string type_text(const ProfileKey& k) {
+  switch (k.type) {
+    case ProfileKeyType::String:
+      return "string";
+    case ProfileKeyType::Bool:
+      return "bool";
+    case ProfileKeyType::Int:
+      return "int";
+    case ProfileKeyType::Number:
+      return "number";
+    case ProfileKeyType::Numbers:
+      return "number[]";
+    case ProfileKeyType::Strings:
+      return "string[]";
+    case ProfileKeyType::Object:
+      return k.path == "calibration.residuals" ? "object[]" : "object";
+  }
+  return "";
+}
+
+std::string values_text(const ProfileKey& k) {
+  if (k.type == ProfileKeyType::String) {
+    std::string s;
+    for (const auto& a : k.allowed) s += (s.empty() ? "`" : ", `") + a + "`";
+    return s;
+  }
+  if (k.type == ProfileKeyType::Bool) return "`true`, `false`";
+  if ((k.type == ProfileKeyType::Int || k.type == ProfileKeyType::Number ||
+       k.type == ProfileKeyType::Numbers) &&
+      !(k.range.lo <= -1e299 && k.range.hi >= 1e299))
+    return param_doc_range(k.range) + (k.type == ProfileKeyType::Numbers ? " each" : "");
+  return "";
+}
+
+std::string default_text(const ProfileKey& k) {
+  if (k.required) return "required";
+  if (k.def.is_null()) return "none";
+  if (k.def.is_string())
+    return k.def.get<std::string>().empty() ? "`\"\"`" : "`" + k.def.get<std::string>() + "`";
+  return "`" + param_def_text(k.def, false) + "`";
+}
+
+}  // namespace
+
+const std::vector<ProfileKey>& gpu_profile_keys() {
+  static const std::vector<ProfileKey> keys = gpu_profile_key_table();
+  return keys;
+}
+
+const ProfileKey& gpu_profile_key(const std::string& path) {
+  for (const ProfileKey& k : gpu_profile_keys())
+    if (k.path == path) return k;
+  FOVSIM_CHECK(false, "GPU profile key \"" + path + "\" is not in gpu_profile.cpp");
+  return gpu_profile_keys().front();
+}
+
+std::string profile_string(Params& p, const std::string& path) {
+  const ProfileKey& k = typed_key(path, ProfileKeyType::String);
+  const std::string key = json_key(path);
+  return k.def.is_null() ? p.string(key, k.allowed)
+                         : p.string(key, k.def.get<std::string>(), k.allowed);
+}
+
+bool profile_boolean(Params& p, const std::string& path) {
+  const ProfileKey& k = typed_key(path, ProfileKeyType::Bool);
+  return p.boolean(json_key(path), k.def.get<bool>());
+}
+
+int profile_integer(Params& p, const std::string& path) {
+  const ProfileKey& k = typed_key(path, ProfileKeyType::Int);
+  const std::string key = json_key(path);
+  return k.required ? p.integer(key, k.range) : p.integer(key, k.def.get<int>(), k.range);
+}
+
+double profile_number(Params& p, const std::string& path, const std::string& key) {
+  const ProfileKey& k = typed_key(path, ProfileKeyType::Number);
+  const std::string jk = key.empty() ? json_key(path) : key;
+  return k.required ? p.number(jk, k.range) : p.number(jk, k.def.get<double>(), k.range);
+}
+
+std::vector<double> profile_numbers(Params& p, const std::string& path) {
+  const ProfileKey& k = typed_key(path, ProfileKeyType::Numbers);
+  return p.numbers(json_key(path), k.def.get<std::vector<double>>(), k.range);
+}
+
+std::string gpu_profile_keys_markdown() {
+  std::string md = "| key | type | default | values | meaning |\n|---|---|---|---|---|\n";
+  for (const ProfileKey& k : gpu_profile_keys())
+    md += "| `" + k.path + "` | " + cell(type_text(k)) + " | " + cell(default_text(k)) + " | " +
+          cell(values_text(k)) + " | " + cell(k.doc) + " |\n";
+  return md;
+}
+
 double GpuSpec::rate_per_ms(Resource r) const {
   switch (r) {
     case Resource::Geometry:
@@ -138,35 +405,34 @@ GpuProfile GpuProfile::from_json(const Json& j, const std::string& file) {
   GpuProfile g;
   g.file = file;
   g.data = j;
-  g.name = p.string("name");
-  g.description = p.string("description", "");
-  g.calibrated = p.boolean("calibrated", false);
-  g.model = p.string("model", "linear", {"linear", "roofline"}) == "roofline"
-                ? CostModelKind::Roofline
-                : CostModelKind::Linear;
+  g.name = profile_string(p, "name");
+  g.description = profile_string(p, "description");
+  g.calibrated = profile_boolean(p, "calibrated");
+  g.model =
+      profile_string(p, "model") == "roofline" ? CostModelKind::Roofline : CostModelKind::Linear;
   if (p.has("interval")) {
     Params iv = p.child("interval");
-    g.interval.level = iv.number("level", Range::above(0, 1));
+    g.interval.level = profile_number(iv, "interval.level");
     // Multiplicative factors around the estimate: lo <= 1 <= hi (gpu_profile.h).
-    auto factors = [](Params& f, IntervalFactors& out) {
-      out.lo_factor = f.number("lo_factor", kProfileRanges.lo_factor);
-      out.hi_factor = f.number("hi_factor", kProfileRanges.hi_factor);
-      out.n = f.integer("n", 0, Range::at_least(0));
+    auto factors = [](Params& f, IntervalFactors& out, const std::string& prefix) {
+      out.lo_factor = profile_number(f, prefix + ".lo_factor");
+      out.hi_factor = profile_number(f, prefix + ".hi_factor");
+      out.n = profile_integer(f, prefix + ".n");
     };
     IntervalFactors pooled;
-    factors(iv, pooled);
+    factors(iv, pooled, "interval");
     g.interval.lo_factor = pooled.lo_factor;
     g.interval.hi_factor = pooled.hi_factor;
     g.interval.n = pooled.n;
-    g.interval.method = iv.string("method", "");
-    g.interval.widen = iv.number("widen", 1.0, Range::closed(1, 10));
+    g.interval.method = profile_string(iv, "interval.method");
+    g.interval.widen = profile_number(iv, "interval.widen");
     if (iv.has("total")) {
       Params t = iv.child("total");
-      factors(t, g.interval.total);
+      factors(t, g.interval.total, "interval.total");
       t.finish();
     }
     if (iv.has("total_scores")) {
-      g.interval.total_scores = iv.numbers("total_scores", {}, kProfileRanges.score);
+      g.interval.total_scores = profile_numbers(iv, "interval.total_scores");
       std::sort(g.interval.total_scores.begin(), g.interval.total_scores.end());
     }
     if (iv.has("passes")) {
@@ -176,7 +442,7 @@ GpuProfile GpuProfile::from_json(const Json& j, const std::string& file) {
       for (auto it = ps.json().begin(); it != ps.json().end(); ++it) {
         if (!is_known_pass(it.key())) ps.fail(it.key(), "unknown pass '" + it.key() + "'");
         Params f = ps.child(it.key());
-        factors(f, g.interval.passes[it.key()]);
+        factors(f, g.interval.passes[it.key()], "interval.passes.{pass}");
         f.finish();
       }
     }
@@ -198,33 +464,33 @@ GpuProfile GpuProfile::from_json(const Json& j, const std::string& file) {
       ps.fail(pass, "unknown pass '" + pass + "' (known: " + all + ")");
     }
     PassCoef pc;
-    pc.overhead_ms = pp.number("overhead_ms", 0.0, kProfileRanges.overhead_ms);
+    pc.overhead_ms = profile_number(pp, "passes.{pass}.overhead_ms");
     Params terms = pp.child("terms");
     if (!terms.json().is_object()) terms.fail("", "must be an object term -> ms per unit");
     for (auto t = terms.json().begin(); t != terms.json().end(); ++t) {
       term_resource(pass, t.key(), terms.where(t.key()));
-      pc.terms[t.key()] = terms.number(t.key(), kProfileRanges.coefficient);
+      pc.terms[t.key()] = profile_number(terms, "passes.{pass}.terms.{term}", t.key());
     }
     g.passes[pass] = pc;
   }
   if (p.has("calibration")) {
     Params cal = p.child("calibration");
-    g.calibration_comment = cal.string("comment", "");
+    g.calibration_comment = profile_string(cal, "calibration.comment");
     cal.ignore("fit");
     if (cal.has("tables"))
       for (auto& t : cal.raw("tables")) g.calibration_tables.push_back(t.get<std::string>());
     for (Params r : cal.children("residuals")) {
       CalibrationResidual cr;
-      cr.id = r.string("id");
-      cr.published_ms = r.number("published_ms", kProfileRanges.residual_ms);
-      cr.model_ms = r.number("model_ms", kProfileRanges.residual_ms);
-      cr.rel_err = r.number("rel_err", kProfileRanges.rel_err);
-      cr.fitted = r.boolean("fitted", true);
+      cr.id = profile_string(r, "calibration.residuals[i].id");
+      cr.published_ms = profile_number(r, "calibration.residuals[i].published_ms");
+      cr.model_ms = profile_number(r, "calibration.residuals[i].model_ms");
+      cr.rel_err = profile_number(r, "calibration.residuals[i].rel_err");
+      cr.fitted = profile_boolean(r, "calibration.residuals[i].fitted");
       g.residuals.push_back(cr);
     }
   }
   p.ignore("comment");
-  if (p.has("architecture")) g.architecture = p.string("architecture");
+  if (p.has("architecture")) g.architecture = profile_string(p, "architecture");
   p.finish();
   return g;
 }

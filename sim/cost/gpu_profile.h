@@ -112,17 +112,55 @@ struct CalibrationResidual {
 // written; Python reads it as fovsim.DEFAULT_GPU).
 inline constexpr const char* kDefaultGpu = "gtx1080";
 
-// The ranges of a profile's numbers outside `spec` (gpu_spec_table has those), as
-// GpuProfile::from_json checks them and docs/cost_model.md "Profile format" states them. They
-// keep every product of the cost evaluation finite for inputs in the workload's ranges.
+// The keys of a profile document, declared once (path, type, default, range, allowed values,
+// meaning): GpuProfile::from_json reads every typed key through the getters below, so a default
+// or a range is written only in the table, and docs/cost_model.md "GPU profile" is generated
+// from it (`fovsim methods --markdown --gpu-profile-keys`, scripts/gen_method_docs.sh;
+// tests/app/docs_test.cpp checks they match). `spec` keys are gpu_spec_table().
+//
+// Adding a GPU-profile key is one row in gpu_profile.cpp (`gpu_profile_key_table`), its member
+// in GpuProfile (or the struct it belongs to), one getter call in from_json and its line in
+// to_json, then `make docs`.
+enum class ProfileKeyType { String, Bool, Int, Number, Numbers, Strings, Object };
+struct ProfileKey {
+  std::string path;  // "interval.total.lo_factor", "passes.{pass}.terms.{term}"
+  ProfileKeyType type = ProfileKeyType::Object;
+  Json def;               // null: no default (required, or read only when given)
+  bool required = false;  // the key must be given (where its parent is)
+  Range range;
+  std::vector<std::string> allowed;  // String: the accepted values (empty: any)
+  std::string doc;
+};
+// Every key, in the order of the generated table.
+const std::vector<ProfileKey>& gpu_profile_keys();
+// The row of `path`; an unknown one is a bug (FOVSIM_CHECK).
+const ProfileKey& gpu_profile_key(const std::string& path);
+// Read the key of `path` from `p`, the object that holds it, with the row's default, range and
+// values. `key`: the JSON key when the path's last part is a placeholder ("{term}"); "" for
+// the path's last part.
+std::string profile_string(Params& p, const std::string& path);
+bool profile_boolean(Params& p, const std::string& path);
+int profile_integer(Params& p, const std::string& path);
+double profile_number(Params& p, const std::string& path, const std::string& key = "");
+std::vector<double> profile_numbers(Params& p, const std::string& path);
+// The table as Markdown (key, type, default, values, meaning).
+std::string gpu_profile_keys_markdown();
+inline constexpr const char* kProfileKeyDocsBegin =
+    "<!-- BEGIN GENERATED GPU PROFILE KEYS by `fovsim methods --markdown --gpu-profile-keys` "
+    "(scripts/gen_method_docs.sh); do not edit -->";
+inline constexpr const char* kProfileKeyDocsEnd = "<!-- END GENERATED GPU PROFILE KEYS -->";
+
+// The ranges of a profile's numbers outside `spec` (gpu_spec_table has those), read from
+// gpu_profile_keys(). They keep every product of the cost evaluation finite for inputs in the
+// workload's ranges.
 struct ProfileRanges {
-  Range overhead_ms = Range::closed(0, 1e4);  // passes.P.overhead_ms, ms
-  Range coefficient = Range::closed(0, 1e3);  // passes.P.terms.T, ms per unit
-  Range lo_factor = Range::above(0, 1);       // interval[.total|.passes.P].lo_factor
-  Range hi_factor = Range::closed(1, 1e3);    // interval[.total|.passes.P].hi_factor
-  Range score = Range::closed(-20, 20);       // interval.total_scores[i], log(published/model)
-  Range residual_ms = Range::closed(0, 1e6);  // calibration.residuals[i].published_ms, model_ms
-  Range rel_err = Range::closed(-1e6, 1e6);   // calibration.residuals[i].rel_err
+  Range overhead_ms = gpu_profile_key("passes.{pass}.overhead_ms").range;
+  Range coefficient = gpu_profile_key("passes.{pass}.terms.{term}").range;
+  Range lo_factor = gpu_profile_key("interval.lo_factor").range;
+  Range hi_factor = gpu_profile_key("interval.hi_factor").range;
+  Range score = gpu_profile_key("interval.total_scores").range;
+  Range residual_ms = gpu_profile_key("calibration.residuals[i].published_ms").range;
+  Range rel_err = gpu_profile_key("calibration.residuals[i].rel_err").range;
 };
 inline const ProfileRanges kProfileRanges{};
 

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "sim/core/counter_list.h"
+#include "sim/cost/gpu_profile.h"
 #include "sim/experiment/run_config.h"
 #include "sim/foveation/factory.h"
 #include "sim/trace/map_keys.h"
@@ -53,6 +54,15 @@ TEST(Docs, MapKeyTableMatchesDeclarations) {
   EXPECT_EQ(generated_section("traces/README.md", fovsim::kMapKeyDocsBegin, fovsim::kMapKeyDocsEnd),
             want)
       << "traces/README.md differs from the map-key declarations: run `make docs`";
+}
+
+// docs/cost_model.md "GPU profile" is the table generated from gpu_profile_keys().
+TEST(Docs, GpuProfileKeyTableMatchesDeclarations) {
+  const std::string want = "\n" + fovsim::gpu_profile_keys_markdown();
+  EXPECT_EQ(generated_section("docs/cost_model.md", fovsim::kProfileKeyDocsBegin,
+                              fovsim::kProfileKeyDocsEnd),
+            want)
+      << "docs/cost_model.md differs from the GPU-profile key declarations: run `make docs`";
 }
 
 // Docs, --help and every comment name papers by author and year (README.md "References") and

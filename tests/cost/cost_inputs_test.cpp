@@ -59,6 +59,11 @@ TEST(CostInputs, EveryWorkloadAndProfileNumberHasABoundedRange) {
                          kProfileRanges.lo_factor, kProfileRanges.hi_factor, kProfileRanges.score,
                          kProfileRanges.residual_ms, kProfileRanges.rel_err})
     EXPECT_LT(r.hi, 1e300) << r.str();
+  for (const ProfileKey& k : gpu_profile_keys()) {  // every number of the declared profile keys
+    if (k.type == ProfileKeyType::Number || k.type == ProfileKeyType::Numbers) {
+      EXPECT_LT(k.range.hi, 1e300) << k.path << " " << k.range.str();
+    }
+  }
   // The documented range is the checked one (configs/README.md "Workload" is generated).
   for (const ParamInfo& i : workload_table().info())
     if (std::string(i.name) == "lights") {
