@@ -285,12 +285,11 @@ std::string check_header(const OIIO::ImageSpec& spec, double max_pixels) {
   return "";
 }
 
-// "" on success, else why the image could not be used.
-std::string load_image_file(const std::string& path, bool srgb, double max_pixels,
-                            TextureImage& out) {
-  QuietStderr quiet;  // libpng's own error line: the error is returned (and printed once)
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) return "cannot read image: " + one_line(OIIO::geterror());
+// Decodes an opened image into texels: "" on success, else why it could not be used. `what`:
+// "image" or "embedded image" (the file and the in-memory texture share this one decoder).
+std::string decode_opened(std::unique_ptr<OIIO::ImageInput> in, const char* what, bool srgb,
+                          double max_pixels, TextureImage& out) {
+  if (!in) return std::string("cannot read ") + what + ": " + one_line(OIIO::geterror());
   const OIIO::ImageSpec& spec = in->spec();
   std::string why = check_header(spec, max_pixels);
   if (!why.empty()) return why;
@@ -299,12 +298,19 @@ std::string load_image_file(const std::string& path, bool srgb, double max_pixel
   bool ok = in->read_image(0, 0, 0, nc, OIIO::TypeDesc::FLOAT, px.data());
   const std::string err = ok ? "" : one_line(in->geterror());
   in->close();
-  if (!ok) return "cannot decode image (truncated or corrupt): " + err;
+  if (!ok) return std::string("cannot decode ") + what + " (truncated or corrupt): " + err;
   out.width = spec.width;
   out.height = spec.height;
   out.texels.resize(size_t(spec.width) * size_t(spec.height));
   fill_texels(px.data(), nc, srgb, out);
   return check_texels(out);
+}
+
+// "" on success, else why the image could not be used.
+std::string load_image_file(const std::string& path, bool srgb, double max_pixels,
+                            TextureImage& out) {
+  QuietStderr quiet;  // libpng's own error line: the error is returned (and printed once)
+  return decode_opened(OIIO::ImageInput::open(path), "image", srgb, max_pixels, out);
 }
 
 std::string load_image_memory(const aiTexture* t, bool srgb, double max_pixels, TextureImage& out) {
@@ -315,22 +321,8 @@ std::string load_image_memory(const aiTexture* t, bool srgb, double max_pixels, 
     OIIO::ImageSpec config;
     config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &ptr);
     std::string ext = std::string("x.") + (t->achFormatHint[0] ? t->achFormatHint : "png");
-    auto in = OIIO::ImageInput::open(ext, &config);
-    if (!in) return "cannot read embedded image: " + one_line(OIIO::geterror());
-    const OIIO::ImageSpec& spec = in->spec();
-    std::string why = check_header(spec, max_pixels);
-    if (!why.empty()) return why;
-    int nc = spec.nchannels;
-    std::vector<float> px(size_t(spec.width) * size_t(spec.height) * size_t(nc));
-    bool ok = in->read_image(0, 0, 0, nc, OIIO::TypeDesc::FLOAT, px.data());
-    const std::string err = ok ? "" : one_line(in->geterror());
-    in->close();
-    if (!ok) return "cannot decode embedded image (truncated or corrupt): " + err;
-    out.width = spec.width;
-    out.height = spec.height;
-    out.texels.resize(size_t(spec.width) * size_t(spec.height));
-    fill_texels(px.data(), nc, srgb, out);
-    return check_texels(out);
+    return decode_opened(OIIO::ImageInput::open(ext, &config), "embedded image", srgb, max_pixels,
+                         out);
   }
   if (t->mWidth == 0 || double(t->mWidth) * double(t->mHeight) > max_pixels)
     return "embedded image of " + std::to_string(t->mWidth) + "x" + std::to_string(t->mHeight) +
