@@ -179,7 +179,9 @@ class RunBased(unittest.TestCase):
         kfr = df[(df.config_id == "kfr") & (df.metric == "est_ms_total")]["value"].mean()
         summ = fovsim.load_run(self.res["out_dir"], as_frame=True)["summary"]
         self.assertIsInstance(summ, pd.DataFrame)
-        self.assertAlmostEqual(kfr, float(summ[summ.config_id == "kfr"]["est_ms_total"].iloc[0]), places=9)
+        # summary.csv holds 10 significant digits (1e-8 at 14 ms); the frames vary with KFR's
+        # TAA jitter, so their mean has more.
+        self.assertAlmostEqual(kfr, float(summ[summ.config_id == "kfr"]["est_ms_total"].iloc[0]), places=7)
 
     def test_plots_from_python(self):
         try:

@@ -47,7 +47,7 @@
   X(fovea_splats_discarded, "splats", Pixels, "twfr: splats discarded in the new fovea")           \
   X(holes_filled, "pixels", Pixels, "twfr: pixels filled by push-pull")                            \
   X(holes_mip, "pixels", Pixels, "twfr: of those, filled at mip level k (column holes_mip<k>)")    \
-  X(taa_pixels, "pixels", Pixels, "twfr with taa: pixels through TAA")                             \
+  X(taa_pixels, "pixels", Pixels, "with taa: pixels that blended a reprojected history")           \
   X(motion_smoothed_pixels, "pixels", Pixels, "twfr with taa: pixels through motion smoothing")    \
   X(prims_submitted, "triangles", Primitives, "primitives submitted to the G-buffer pass")         \
   X(prims_culled, "triangles", Primitives, "primitives culled by the method")                      \

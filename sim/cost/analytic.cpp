@@ -97,6 +97,8 @@ Counters analytic_counters(const std::string& method, const Json& params, const 
   f.geometry = resolved ? &*resolved : nullptr;
   Counters c;
   inst->analytic_counters(f, c);  // the method's own (method_cost.h)
+  // Its TAA post pass (taa.h) runs over every pixel, as a run counts it (passes.cpp "taa").
+  if (inst->taa().enabled) c.set(Counter::taa_pixels, f.pixels);
   if (indirect && decl.frame_rsm && !decl.own_vpls) {
     // One lighting model per scene: the method's samples also get the indirect light of its
     // strategy (lighting.h). all_vpls (the default) shades every VPL; flc / fir keep at most

@@ -311,7 +311,12 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
   if (w.pipeline.ssao)
     add("ssao", {{"pixels", Resource::Memory, post_px * eyes}});  // TWFR skips reprojected
   if (w.pipeline.tonemap) add("tonemap", {{"pixels", Resource::Memory, post_px * eyes}});
-  if (w.pipeline.taa) add("taa", {{"pixels", Resource::Memory, P * eyes}});
+  // TAA: the workload's pipeline has it (the seeds' tables; `predict`), or the method ran the
+  // pass this frame (counter taa_pixels: the shared TAA post pass of taa.h, twfr's §6.2). The
+  // pass reads and writes every pixel whether or not it found a history. FLC's post_aa
+  // already holds its TAA (Yang et al. 2021 §6).
+  const bool taa = w.pipeline.taa || (!w.pipeline.post_aa && c.has(Counter::taa_pixels));
+  if (taa) add("taa", {{"pixels", Resource::Memory, P * eyes}});
   if (w.pipeline.post_aa)  // Yang et al. 2021 §6: 3x3 Gaussian + TAA with clamp size eta (eq. 15)
     add("post_aa", {{"taps", Resource::Memory,
                      P * post_aa_taps_per_pixel(in.display.width, in.display.height) * eyes}});

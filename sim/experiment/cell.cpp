@@ -42,7 +42,8 @@ void Cell::parse(Params& root, const std::string& models, bool default_print) {
                   "\", as " + st->second +
                   " is (labels keep only [A-Za-z0-9._+-]; give it another label)");
     m.impl = make_method(m.method, mp);
-    channels |= m.impl->required_channels();
+    // With TAA the shared pass (or `full` as its foveation-loss reference) reads screen motion.
+    channels |= m.impl->required_channels() | (m.impl->taa().enabled ? uint32_t(kMotion) : 0u);
     methods.push_back(std::move(m));
   }
   {
@@ -162,6 +163,14 @@ std::string side_key(const Cell& c) {
   return res.contains("metrics") ? res["metrics"].dump() : std::string();
 }
 
+TaaSettings side_taa(const Cell& c, const MethodRun& m) {
+  return c.metric.cfg.foveation_loss ? m.impl->taa() : TaaSettings{};
+}
+
+std::string method_side_key(const Cell& c, const MethodRun& m) {
+  return side_key(c) + "|" + side_taa(c, m).keys().dump();
+}
+
 void MethodStreams::reset() {
   temporal.reset();
   for (auto& t : seq) t->reset();
@@ -171,8 +180,7 @@ void MethodStreams::reset() {
 
 void Cell::reset_temporal() {
   for (auto& m : methods) {
-    m.impl->reset();
-    if (m.impl->lighting()) m.impl->lighting()->reset();
+    m.impl->restart();
     m.streams.reset();
   }
   gaze->reset();

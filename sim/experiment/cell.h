@@ -42,6 +42,9 @@ struct MethodRun {
   MethodStreams streams;  // its history in the cell's metrics
   FrameOutput fo;         // reused every frame (its image keeps its storage)
   MethodMemoState memo;   // replayed or recorded (method_memo.h)
+  // Its reference side (reference_side.h): the cell's `metrics` block with the foveation-loss
+  // reference made with its TAA settings (set by share_reference_sides).
+  RefSide* side = nullptr;
 };
 
 // --target (intervals.h): each cell stops on its own once its targets hold, so its frames do
@@ -146,5 +149,9 @@ struct Cell {
 
 // The key of the reference side (RefSide) a cell shares: its resolved `metrics` block.
 std::string side_key(const Cell& c);
+// The TAA of method m's foveation-loss reference (its own; none without the foveation loss).
+TaaSettings side_taa(const Cell& c, const MethodRun& m);
+// The key of method m's reference side: the cell's plus the TAA of its foveation-loss reference.
+std::string method_side_key(const Cell& c, const MethodRun& m);
 
 }  // namespace fovsim

@@ -13,7 +13,8 @@ MetricValues Cell::measure(const FrameIn& in, MethodRun& m,
       compute_metrics(metric.cfg, out_display, in.ref_display, fd.camera, fd.eccentricity,
                       &m.streams.temporal, &metric.scratch);
   MetricValues metrics = image_metrics;
-  const std::vector<RefSide::Seq>& seq = metric.side->seq;
+  const RefSide& side = *m.side;  // the cell's metrics with this method's TAA (foveation loss)
+  const std::vector<RefSide::Seq>& seq = side.seq;
   std::vector<double> seq_q(seq.size());
   std::vector<size_t> seq_heat(seq.size(), SIZE_MAX);  // index into `heat`
   for (size_t k = 0; k < seq.size(); ++k) {
@@ -31,16 +32,16 @@ MetricValues Cell::measure(const FrameIn& in, MethodRun& m,
     }
   }
   if (metric.cfg.foveation_loss) {  // every metric against full at the same sampling rate
-    if (metric.side->fl_aliased()) {
+    if (side.fl_aliased()) {
       // The foveation-loss reference is the reference: the values above, but for
       // the metrics measured against the reference only (temporal_error; fl_mcfg has them off).
       for (auto& [k, v] : image_metrics.items())
         if (!is_reference_only_column(metric.cfg, k)) metrics.set(k + kFoveationLossSuffix, v);
     } else {
       // The same test image: the metrics may reuse their preparations of it from the call above.
-      MetricValues fl = compute_metrics(metric.side->fl_mcfg, out_display, *metric.side->fl_ref,
-                                        fd.camera, fd.eccentricity, &m.streams.temporal_fl,
-                                        &metric.fl_scratch, &metric.scratch);
+      MetricValues fl =
+          compute_metrics(side.fl_mcfg, out_display, *side.fl_ref, fd.camera, fd.eccentricity,
+                          &m.streams.temporal_fl, &metric.fl_scratch, &metric.scratch);
       for (auto& [k, v] : fl.items()) metrics.set(k + kFoveationLossSuffix, v);
     }
     for (size_t k = 0; k < seq.size(); ++k) {
@@ -48,15 +49,15 @@ MetricValues Cell::measure(const FrameIn& in, MethodRun& m,
       const bool h = in.want_images && *d.sequence->heatmap_suffix;
       Image img;
       double q = seq_q[k];
-      if (metric.side->fl_aliased()) {
+      if (side.fl_aliased()) {
         // The foveation-loss reference is the reference: the same test against the same
         // frames (no second test stream per method).
         if (h) img = heat[seq_heat[k]].second;
       } else {
         if (m.streams.seq_fl.size() <= k)
-          m.streams.seq_fl.push_back(d.sequence->make_test(metric.side->ref_fl(k)));
+          m.streams.seq_fl.push_back(d.sequence->make_test(side.ref_fl(k)));
         // The same test frame as m.streams.seq[k]'s push above: its work on the frame is reused.
-        q = m.streams.seq_fl[k]->push_same(out_display, metric.side->ref_fl(k), h ? &img : nullptr,
+        q = m.streams.seq_fl[k]->push_same(out_display, side.ref_fl(k), h ? &img : nullptr,
                                            *m.streams.seq[k], *seq[k].ref);
       }
       metrics.set(d.pooled_column + kFoveationLossSuffix, q);

@@ -29,7 +29,8 @@ struct CellMetrics {
   MetricsScratch scratch, fl_scratch;  // per-cell scratch, reused every frame
   // The reference side of the sequence metrics and the foveation-loss reference, shared with
   // the other cells of the group whose `metrics` block is the same (made by
-  // share_reference_sides before the first frame).
+  // share_reference_sides before the first frame): its first method's (MethodRun::side; the
+  // methods' sides differ only in the TAA of the foveation-loss reference).
   RefSide* side = nullptr;
 };
 

@@ -70,7 +70,11 @@ CellResult write_cell_outputs(Cell& c, const Shared& sh, const GroupOutputs& g) 
   r.notes = startup.notes;
   for (auto& n : interval_notes(r.summary)) r.notes.push_back(n);
   if (c.metric.cfg.foveation_loss)
-    mark_reference_floor(r.summary, means, c.metric.side->floor_vals);
+    mark_reference_floor(r.summary, means, [&c](const std::string& label) -> const FloorValues* {
+      for (auto& m : c.methods)
+        if (m.label == label) return &m.side->floor_vals;
+      return nullptr;
+    });
   if (c.latency.config.enabled)
     r.summary = summarize_phases(means, r.summary, c.latency.metric_names);
   // Tracking states (docs/tracking.md): means with intervals per state, next to the phases.

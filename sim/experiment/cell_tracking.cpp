@@ -21,8 +21,7 @@ FoveationMethod& TrackingSwap::select(FoveationMethod& impl, const std::string& 
     return full_method();
   }
   if (was_full) {
-    impl.reset();
-    if (impl.lighting()) impl.lighting()->reset();
+    impl.restart();
     was_full = false;
   }
   return impl;

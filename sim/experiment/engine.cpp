@@ -214,32 +214,42 @@ bool any_temporal(const std::vector<std::unique_ptr<Cell>>& cells, const Shared&
   bool temporal = false;
   for (auto& c : cells)
     for (auto& m : c->methods)
-      temporal = temporal || m.impl->temporal() ||
+      temporal = temporal || m.impl->temporal() || m.impl->taa().enabled ||  // TAA's history
                  (sh.scene->wants_indirect && m.impl->lighting() && m.impl->lighting()->temporal());
   return temporal;
 }
 
-// The reference sides (RefSide) of a group's cells: one per distinct resolved `metrics` block,
-// in the order of each one's first cell.
+// The reference sides (RefSide) of a group's cells: one per distinct resolved `metrics` block
+// and TAA of the foveation-loss reference (the method's: docs/metrics.md "Foveation loss"), in
+// the order of each one's first method.
 std::vector<std::unique_ptr<RefSide>> share_reference_sides(
     const std::vector<std::unique_ptr<Cell>>& cells) {
   std::vector<std::unique_ptr<RefSide>> sides;
   for (auto& c : cells) {
-    const std::string key = side_key(*c);
-    RefSide* s = nullptr;
-    for (auto& o : sides)
-      if (o->key == key) s = o.get();
-    if (!s) {
-      sides.push_back(std::make_unique<RefSide>());
-      s = sides.back().get();
-      s->key = key;
-      s->file = c->job->file;
-      s->mcfg = c->metric.cfg;
-      // temporal_error and any other metric against the reference only are left out.
-      s->fl_mcfg = without_reference_only(c->metric.cfg);
+    std::vector<RefSide*> counted;
+    for (auto& m : c->methods) {
+      const TaaSettings taa = side_taa(*c, m);
+      const std::string key = method_side_key(*c, m);
+      RefSide* s = nullptr;
+      for (auto& o : sides)
+        if (o->key == key) s = o.get();
+      if (!s) {
+        sides.push_back(std::make_unique<RefSide>());
+        s = sides.back().get();
+        s->key = key;
+        s->file = c->job->file;
+        s->mcfg = c->metric.cfg;
+        // temporal_error and any other metric against the reference only are left out.
+        s->fl_mcfg = without_reference_only(c->metric.cfg);
+        s->taa = taa;
+      }
+      if (std::find(counted.begin(), counted.end(), s) == counted.end()) {
+        ++s->cells;
+        counted.push_back(s);
+      }
+      m.side = s;
     }
-    ++s->cells;
-    c->metric.side = s;
+    c->metric.side = c->methods.empty() ? nullptr : c->methods.front().side;
   }
   return sides;
 }
@@ -306,8 +316,8 @@ void write_pass_outputs(const GroupRun& g, std::vector<std::unique_ptr<Cell>>& c
   const std::string fl_reference = !m0.foveation_loss            ? "off"
                                    : sides.front()->fl_aliased() ? "the reference"
                                                                  : "full at 1 spp";
-  const Json memory =
-      g.plan.record(pass, sides.size(), g.est.side(m0), g.est.sequence(m0).first, fl_reference);
+  const Json memory = g.plan.record(pass, sides.size(), g.est.side(m0, sides.front()->taa),
+                                    g.est.sequence(m0).first, fl_reference);
   const int threads = opt.threads > 0 ? opt.threads : int(tbb::info::default_concurrency());
   const GroupOutputs go{opt,      order,        g.rcache,          g.no_cache_dir,
                         renderer, group_phases, PhaseClock::now(), threads,
@@ -370,9 +380,9 @@ void run_pass(const GroupRun& g, std::vector<std::unique_ptr<Cell>>& cells, size
       if (!c->target.stopped) {
         active.push_back(c.get());
         ++(record ? c->target.used : c->target.warmup);
-        if (std::find(active_sides.begin(), active_sides.end(), c->metric.side) ==
-            active_sides.end())
-          active_sides.push_back(c->metric.side);
+        for (auto& m : c->methods)
+          if (std::find(active_sides.begin(), active_sides.end(), m.side) == active_sides.end())
+            active_sides.push_back(m.side);
       }
     // 3. The reference side of the frame, once per group of cells sharing it.
     for (RefSide* s : active_sides)

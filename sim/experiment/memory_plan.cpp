@@ -9,12 +9,15 @@ namespace fovsim {
 
 double MemoryEstimator::cell(const Cell& c) const {
   const MetricsConfig& m = c.metric.cfg;
-  const bool fl = m.foveation_loss && !aliased();
+  bool any_fl = false;
+  for (auto& mr : c.methods) any_fl = any_fl || (m.foveation_loss && !aliased(side_taa(c, mr)));
   const double test = sequence(m).second;
-  double b = image() + scratch(m) + (fl ? scratch(m) : 0);
-  const double per_method =
-      3 * image() + frame_metrics_state_bytes(m, pixels()) + test + (fl ? 5 * plane() : 0);
-  b += double(c.methods.size()) * per_method;
+  double b = image() + scratch(m) + (any_fl ? scratch(m) : 0);
+  for (auto& mr : c.methods) {
+    const bool fl = m.foveation_loss && !aliased(side_taa(c, mr));
+    b += 3 * image() + frame_metrics_state_bytes(m, pixels()) + test + (fl ? 5 * plane() : 0) +
+         double(TaaPass::bytes(sh.sim_display.width, sh.sim_display.height, mr.impl->taa()));
+  }
   b += double(sh.count) * double(c.methods.size() * c.cost.gpus.size()) * 4096;
   return b;
 }
@@ -64,18 +67,30 @@ MemoryPlan plan_memory(const EngineOptions& opt, const Shared& sh,
   std::vector<std::string> keys;  // the metrics blocks of the current pass (one side each)
   double used = 0;
   for (size_t i = 0; i < cells.size(); ++i) {
-    p.cell.push_back(est.cell(*cells[i]));
-    const std::string key = side_key(*cells[i]);
-    const bool new_side = std::find(keys.begin(), keys.end(), key) == keys.end();
-    const double cost = p.cell.back() + (new_side ? est.side(cells[i]->metric.cfg) : 0);
+    const Cell& c = *cells[i];
+    p.cell.push_back(est.cell(c));
+    // The reference sides its methods need that the pass does not hold yet.
+    auto new_sides = [&] {
+      double b = 0;
+      std::vector<std::string> seen = keys;
+      for (auto& m : c.methods) {
+        const std::string key = method_side_key(c, m);
+        if (std::find(seen.begin(), seen.end(), key) != seen.end()) continue;
+        seen.push_back(key);
+        b += est.side(c.metric.cfg, side_taa(c, m));
+      }
+      return b;
+    };
+    const double cost = p.cell.back() + new_sides();
     if (p.passes.empty() || (used + cost > room && !p.passes.back().empty())) {
       p.passes.emplace_back();
       keys.clear();
       used = 0;
     }
-    if (std::find(keys.begin(), keys.end(), key) == keys.end()) {
-      keys.push_back(key);
-      used += est.side(cells[i]->metric.cfg);
+    used += new_sides();
+    for (auto& m : c.methods) {
+      const std::string key = method_side_key(c, m);
+      if (std::find(keys.begin(), keys.end(), key) == keys.end()) keys.push_back(key);
     }
     used += p.cell.back();
     p.passes.back().push_back(i);

@@ -12,6 +12,7 @@
 #include "sim/core/params.h"
 #include "sim/experiment/engine.h"
 #include "sim/experiment/shared_config.h"
+#include "sim/foveation/taa.h"
 #include "sim/metrics/frame_metric.h"
 #include "sim/metrics/metrics.h"
 #include "sim/metrics/registry.h"
@@ -29,8 +30,9 @@ struct MemoryEstimator {
   double pixels() const { return double(sh.sim_display.width) * double(sh.sim_display.height); }
   double image() const { return 12 * pixels(); }  // RGB float
   double plane() const { return 4 * pixels(); }
-  // At render.spp 1 `full` is the reference: the foveation-loss reference is aliased.
-  bool aliased() const { return sh.rs.spp <= 1; }
+  // At render.spp 1 `full` is the reference: the foveation-loss reference is aliased, unless
+  // it is made with a TAA pass (the method's, taa.h).
+  bool aliased(const TaaSettings& taa) const { return sh.rs.spp <= 1 && !taa.enabled; }
   // Once per group: the frame's reference, direct light, G-buffer (up to ~16 floats a pixel)
   // and eccentricity, the tone-mapped reference, a saved frame's image jobs.
   double group() const { return 5 * image() + 17 * plane(); }
@@ -55,18 +57,20 @@ struct MemoryEstimator {
   }
   // A reference side (RefSide): the streams against the reference; with the foveation loss the
   // floor's test streams and scratch and, unless aliased, `full`'s images and streams.
-  double side(const MetricsConfig& m) const {
+  double side(const MetricsConfig& m, const TaaSettings& taa) const {
     const auto [ref, test] = sequence(m);
     double b = ref;
     if (m.foveation_loss) {
       b += test + scratch(m);
-      if (!aliased()) b += ref + 2 * image();
+      if (!aliased(taa))
+        b += ref + 2 * image() +
+             double(TaaPass::bytes(sh.sim_display.width, sh.sim_display.height, taa));
     }
     return b;
   }
   // A cell: its tone-mapped image and scratch; per method its image and working buffers,
   // its per-frame metrics' state (temporal_error's planes), its test streams (against `full` too
-  // unless aliased); rows.
+  // unless aliased), its TAA pass's history; rows.
   double cell(const Cell& c) const;
 };
 

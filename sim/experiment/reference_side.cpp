@@ -32,11 +32,15 @@ void RefSide::frame(const Shared& sh, const Renderer& renderer, const FrameData&
   if (!seq.empty()) pc = ph.lap("metrics", pc);
   if (!mcfg.foveation_loss) return;
   if (!fl_full) {
-    Params fp(Json{{"method", "full"}}, file, "metrics.foveation_loss");
+    Json j = taa.keys();  // `full` with the method's TAA (its jitter is the method's own)
+    j["method"] = "full";
+    Params fp(j, file, "metrics.foveation_loss");
     (void)fp.string("method");
     fl_full = make_method("full", fp);
+    fp.finish();
   }
   FrameContext fctx = fd.context(*sh.scene, renderer, sh.sim_display, false);
+  fctx.render_scale = sh.scale;  // as the methods' (the TAA's clamp window is in display pixels)
   fl_fo.image_is_reference = false;
   fl_fo.counters.clear();
   fl_fo.debug.clear();
@@ -78,7 +82,7 @@ void RefSide::reset() {
     if (q.ref_fl) q.ref_fl->reset();
     if (q.floor) q.floor->reset();
   }
-  if (fl_full) fl_full->reset();
+  if (fl_full) fl_full->restart();
 }
 
 }  // namespace fovsim

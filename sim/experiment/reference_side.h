@@ -39,6 +39,9 @@ struct RefSide {
   bool ready = false;
   bool video = true;  // consecutive frames at the refresh rate (describe_sequence_metrics)
   SequenceSetup setup;
+  // The TAA of the foveation-loss reference: the method's (taa.h), so that `full` and the
+  // method it is compared with end with the same post pass.
+  TaaSettings taa;
   std::unique_ptr<FoveationMethod> fl_full;
   FrameOutput fl_fo;
   Image fl_display;

@@ -223,7 +223,7 @@ std::vector<std::string> interval_notes(const ResultTable& summary) {
 }
 
 void mark_reference_floor(ResultTable& summary, const ResultTable& frames,
-                          const std::map<std::string, std::map<int, double>>& floor) {
+                          const std::function<const FloorValues*(const std::string&)>& floor_of) {
   std::map<std::string, std::vector<const ResultRow*>> by_config;
   for (auto& r : frames.rows()) {
     const std::string* id = r.text_of("config_id");
@@ -234,6 +234,13 @@ void mark_reference_floor(ResultTable& summary, const ResultTable& frames,
     const std::string* id = row.text_of("config_id");
     const auto& rows = by_config[id ? *id : ""];
     std::string names;
+    const std::string* label = row.text_of("label");
+    const FloorValues* fp = floor_of(label ? *label : std::string());
+    if (!fp) {
+      out.add(ResultRow(row));
+      continue;
+    }
+    const FloorValues& floor = *fp;
     for (auto& d : metric_registry()) {
       if (d.family) continue;
       const std::string col = d.pooling == Pooling::sequence ? d.pooled_column : d.name;

@@ -4,6 +4,7 @@
 // the frame engine for every cell (write_cell_outputs, cell_outputs.cpp); merge, recost and the
 // tests call it on their own tables.
 #pragma once
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -37,7 +38,10 @@ std::vector<std::string> interval_notes(const ResultTable& summary);
 // floor's: the 95% batch-means interval of the paired per-frame differences contains 0 (below
 // 20 frames: every difference within 1e-9 relative). Such a metric measures the 1-spp aliasing
 // of the reference comparison, not the method: read its `_fl` column instead.
+// `floor_of(label)` is the floor of the method entry with that label (its foveation-loss
+// reference: `full` with the entry's TAA settings), nullptr when it has none.
+using FloorValues = std::map<std::string, std::map<int, double>>;
 void mark_reference_floor(ResultTable& summary, const ResultTable& frames,
-                          const std::map<std::string, std::map<int, double>>& floor);
+                          const std::function<const FloorValues*(const std::string&)>& floor_of);
 
 }  // namespace fovsim

@@ -49,6 +49,7 @@ struct FlcShadeSettings {
   bool log_polar = false;
   double lp_sigma = 2.0;
   int interleave = 1;
+  TaaSettings taa;  // §6: TAA whose history clamp is eq. 15's eta x eta window
 };
 
 class FlcMethod final : public FoveationMethod {
@@ -61,6 +62,7 @@ class FlcMethod final : public FoveationMethod {
   std::string name() const override { return method_id::flc; }
   uint32_t required_channels() const override { return kShadingChannels; }
   bool own_lighting() const override { return true; }
+  TaaSettings taa() const override { return s_.taa; }
   std::vector<std::pair<std::string, double>> param_columns() const override {
     return {{"log_polar", s_.log_polar ? 1.0 : 0.0},
             {"lp_sigma", s_.log_polar ? s_.lp_sigma : 1.0},
@@ -190,13 +192,21 @@ namespace {
 // (flc_lighting_table).
 const ParamTable<FlcShadeSettings>& flc_shade_table() {
   using S = FlcShadeSettings;
-  static const auto t = ParamTable<S>()
-                            .boolean("log_polar", false, &S::log_polar)
-                            .doc("§6", "log-polar shading")
-                            .number("lp_sigma", 2.0, Range::closed(1, 32), &S::lp_sigma)
-                            .doc("§6", "log-polar buffer reduction")
-                            .integer("interleave", 1, Range::closed(1, 2), &S::interleave)
-                            .doc("§6", "interleaved sampling n");
+  static const ParamTable<S> t = [] {
+    ParamTable<S> t;
+    t.boolean("log_polar", false, &S::log_polar)
+        .doc("§6", "log-polar shading")
+        .number("lp_sigma", 2.0, Range::closed(1, 32), &S::lp_sigma)
+        .doc("§6", "log-polar buffer reduction")
+        .integer("interleave", 1, Range::closed(1, 2), &S::interleave)
+        .doc("§6", "interleaved sampling n");
+    // §6: the post-antialiasing pass ends with TAA whose history clamp is the eta x eta window
+    // of eq. 15 (no reduced buffer of direct light to jitter: no jitter row).
+    add_taa_rows(
+        t, [](auto& s) -> auto& { return s.taa; },
+        TaaDefaults{true, 0.1, "eta", false, "§6 eq. 15", false});
+    return t;
+  }();
   return t;
 }
 }  // namespace

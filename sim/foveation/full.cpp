@@ -8,14 +8,34 @@
 // range, seed section, meaning); docs/methods.md and configs/README.md are generated from it.
 #include <algorithm>
 
+#include "sim/core/param_table.h"
 #include "sim/foveation/methods.h"
 
 namespace fovsim {
 namespace {
 
+struct FullParams {
+  TaaSettings taa;
+};
+
+// Its keys: the TAA post pass only (off; `full` as the foveation-loss reference of a method
+// with TAA is made with that method's settings, docs/metrics.md "Foveation loss").
+const ParamTable<FullParams>& full_table() {
+  static const ParamTable<FullParams> t = [] {
+    ParamTable<FullParams> t;
+    add_taa_rows(
+        t, [](auto& s) -> auto& { return s.taa; },
+        TaaDefaults{false, 0.1, "box3", false, "", false});
+    return t;
+  }();
+  return t;
+}
+
 class FullMethod final : public FoveationMethod {
  public:
+  explicit FullMethod(const FullParams& p) : p_(p) {}
   std::string name() const override { return method_id::full; }
+  TaaSettings taa() const override { return p_.taa; }
   uint32_t required_channels() const override { return kShadingChannels; }
   // Every pixel is shaded (its declaration: full_resolution).
   void analytic_counters(const AnalyticFrame& f, Counters& c) const override {
@@ -43,16 +63,18 @@ class FullMethod final : public FoveationMethod {
     if (ctx.vpls && ctx.lighting)
       ctx.lighting->shade(ctx, *ctx.gbuffer, nullptr, out.image, out.counters);
   }
+
+ private:
+  FullParams p_;
 };
 
 }  // namespace
 
-std::unique_ptr<FoveationMethod> create_full(Params&) {
-  return std::make_unique<FullMethod>();
+std::unique_ptr<FoveationMethod> create_full(Params& p) {
+  return std::make_unique<FullMethod>(full_table().read(p));
 }
 const std::vector<ParamInfo>& full_params() {
-  static const std::vector<ParamInfo> t;
-  return t;
+  return full_table().info();
 }
 
 // Deferred shading of every pixel: the unfoveated pipeline the others are compared with.

@@ -4,7 +4,8 @@
 // samples landing on the screen are shaded (KFR leaves LP corners unused); a 3x3 Gaussian is
 // applied to the peripheral (right) part of the LP-buffer (§2.2.3). Pass 2: each screen pixel
 // maps forward (eq. 2.10) and reads the LP-buffer bilinearly, then the eq. 2.14 Gaussian
-// post filter with size eta(r / e^L) runs (§2.3.2; TAA with Halton jitter is not simulated).
+// post filter with size eta(r / e^L) runs (§2.3.2), then TAA with Halton jitter of the LP-buffer's
+// samples (taa.h; rows taa*, on by default; the pass runs in render_with_lighting).
 // Both filters are sizes in display pixels, applied at render.scale times that size
 // (docs/fidelity.md "Scale invariance of the methods"); a filter narrower than a simulated
 // pixel keeps its variance and flags kfr_filter_below_pixel.
@@ -107,7 +108,9 @@ class KfrMethod final : public MappingMethod<KfrGeometry> {
 
     // Pass 1: forward kernel log-polar transformation of the G-buffer (§2.2.1-2.2.2): the
     // LP-buffer is an index into the shared G-buffer, shaded through it (same values as a copy).
-    const size_t n_used = lp_gather(gb, map, lp_index_, used_);
+    // TAA (§2.3.2): Halton sub-pixel jitter of the LP-buffer's samples (zero without TAA).
+    const glm::dvec2 jit = taa_jitter(s.taa, ctx.frame);
+    const size_t n_used = lp_gather(gb, map, lp_index_, used_, jit);
     shade_buffer(ctx, GBufferRef(gb, lp_index_.data(), w, h), lp_col_, &used_, out);
     extend_unused(lp_col_, used_);
     double taps = 0;
@@ -125,7 +128,7 @@ class KfrMethod final : public MappingMethod<KfrGeometry> {
 
     // Pass 2: inverse transformation by sampling the LP-buffer at each pixel's forward map
     // (Alg. 2 as a gather), bilinear, angle wrapping.
-    lp_reconstruct(lp_col_, map, W, H, out.image);
+    lp_reconstruct(lp_col_, map, W, H, out.image, jit);
     taps += 4.0 * W * H;
 
     // §2.3.2 post anti-aliasing, eq. 2.14: eta = 3 + 2 ceil((r / e^L - 0.10) / 0.05);
@@ -247,6 +250,10 @@ const ParamTable<MappingSpec>& KfrGeometry::params_table() {
         .doc("Meng 2018 §2.2.3", "u/w where the filtered part starts")
         .boolean("post_aa", true, field<G>(&G::post_aa))
         .doc("Meng 2018 §2.3.2 eq. 2.14", "eccentricity-sized Gaussian post filter");
+    // §2.3.2: "temporal anti-aliasing with Halton sampling" after the post filter.
+    add_taa_rows(
+        t, [](auto& s) -> auto& { return s.template as<G>().taa; },
+        TaaDefaults{true, 0.1, "box3", true, "Meng 2018 §2.3.2", true});
     add_target_row(t, "sigma");
     return t;
   }();

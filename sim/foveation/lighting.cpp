@@ -179,9 +179,19 @@ void render_with_lighting(FoveationMethod& m, FrameContext ctx, FrameOutput& out
   ctx.lighting = L;
   if (L) L->begin_frame(ctx, out.counters);
   m.render(ctx, out);
-  if (!L) return;
-  L->end_frame(ctx, out.image_is_reference ? *ctx.reference : out.image);
-  if (ctx.want_debug) L->debug_images(out.debug);
+  if (L) {
+    L->end_frame(ctx, out.image_is_reference ? *ctx.reference : out.image);
+    if (ctx.want_debug) L->debug_images(out.debug);
+  }
+  // The shared TAA post pass (taa.h) on the final image, unless the method runs its own.
+  const TaaSettings taa = m.taa();
+  if (taa.enabled && !m.own_taa()) {
+    if (out.image_is_reference) {  // `full` at 1 spp: its image is the reference, before TAA
+      out.image = *ctx.reference;
+      out.image_is_reference = false;
+    }
+    m.taa_pass().apply(taa, ctx, out.image, out.counters);
+  }
 }
 
 // ---- all_vpls ------------------------------------------------------------------------------

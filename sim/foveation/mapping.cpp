@@ -181,14 +181,16 @@ int reduced_size(int S, double sigma) {
 
 // ---- buffer passes ------------------------------------------------------------------------
 size_t lp_gather(const GBuffer& src, const LogPolarMap& map, std::vector<uint32_t>& index,
-                 std::vector<uint8_t>& used) {
+                 std::vector<uint8_t>& used, glm::dvec2 jitter) {
   const int w = int(map.w), h = int(map.h);
   // LogPolarMap::inverse(iu + 0.5, iv + 0.5) split into its column and row factors.
   std::vector<double> rad(size_t(std::max(w, 0))), cs(size_t(std::max(h, 0))),
       sn(size_t(std::max(h, 0)));
-  for (int iu = 0; iu < w; ++iu) rad[size_t(iu)] = std::exp(map.L * map.k.Kinv((iu + 0.5) / map.w));
+  for (int iu = 0; iu < w; ++iu)
+    rad[size_t(iu)] =
+        std::exp(map.L * map.k.Kinv((iu + 0.5 + jitter.x) / map.w));  // Kinv clamps to [0, 1]
   for (int iv = 0; iv < h; ++iv) {
-    const double th = (iv + 0.5) * 2.0 * kPi / map.h;
+    const double th = (iv + 0.5 + jitter.y) * 2.0 * kPi / map.h;
     cs[size_t(iv)] = std::cos(th);
     sn[size_t(iv)] = std::sin(th);
   }
@@ -285,7 +287,8 @@ void lp_reconstruct_exact(const Image& lp, const LogPolarMap& map, int W, int H,
   }
 }
 
-void lp_reconstruct(const Image& lp, const LogPolarMap& map, int W, int H, Image& out) {
+void lp_reconstruct(const Image& lp, const LogPolarMap& map, int W, int H, Image& out,
+                    glm::dvec2 jitter) {
   ensure_shape(out, W, H, 3);
   if (W <= 0 || H <= 0) return;
   const KernelFn k = map.k;
@@ -300,6 +303,7 @@ void lp_reconstruct(const Image& lp, const LogPolarMap& map, int W, int H, Image
   for (int x = 0; x < W; ++x) dxs[size_t(x)] = float((x + 0.5) - map.gx);
   const float half_inv_L = float(0.5 / map.L), w = float(map.w), h = float(map.h);
   const float v_per_rad = float(map.h / (2.0 * kPi));
+  const float jx = float(jitter.x), jy = float(jitter.y);
   const float* dx = dxs.data();
   parallel_rows(H, [&, dx](int y) {
     thread_local std::vector<float> urow, vrow;  // per-thread row scratch, reused
@@ -311,6 +315,13 @@ void lp_reconstruct(const Image& lp, const LogPolarMap& map, int W, int H, Image
       for (int x = 0; x < W; ++x) {
         const double t = urow[size_t(x)];
         urow[size_t(x)] = float((int_alpha ? ipow(t, ia) : k.K(t)) * map.w);
+      }
+    if (jx != 0.f || jy != 0.f)  // TAA jitter: read where the jittered gather put the point
+      for (int x = 0; x < W; ++x) {
+        urow[size_t(x)] = std::clamp(urow[size_t(x)] - jx, 0.f, w);
+        float v = vrow[size_t(x)] - jy;
+        v = v < 0.f ? v + h : (v >= h ? v - h : v);
+        vrow[size_t(x)] = v < h ? v : 0.f;
       }
     simd_bilinear_wrap_row(out.row(y), urow.data(), vrow.data(), W, lp.data.data(), lp.width,
                            lp.height);

@@ -250,8 +250,10 @@ void polar_angle_row(double* v, int n, double gx, double dy, double v_per_rad);
 // Returns the number of used slots. Alg. 2 is separable in polar form: the radius
 // exp(L K^-1(u/w)) depends on the column only and cos/sin(B v) on the row only, so both are
 // tabulated once per frame (the same double expressions as LogPolarMap::inverse).
+// `jitter` (LP pixels, TAA's Halton offset, taa.h) moves every slot's point to
+// map.inverse(u + jitter.x, v + jitter.y); zero leaves the bits as without it.
 size_t lp_gather(const GBuffer& src, const LogPolarMap& map, std::vector<uint32_t>& index,
-                 std::vector<uint8_t>& used);
+                 std::vector<uint8_t>& used, glm::dvec2 jitter = {0.0, 0.0});
 // Inverse map / pass 2 (Alg. 2 as a gather): every pixel of the W x H output maps forward
 // (eq. 2.10) and reads the RGB LP-buffer (lp: map.w x map.h) bilinearly, angle (y) wrapping.
 // Parallel over rows. Float SIMD (simd_lp_uv_row + simd_bilinear_wrap_row, the same bits on
@@ -260,7 +262,11 @@ size_t lp_gather(const GBuffer& src, const LogPolarMap& map, std::vector<uint32_
 // MappingFastPath.LpReconstructFloatWithinBound): the LP coordinates differ by |du|, |dv| <=
 // 2e-3 LP pixels (measured 3.4e-4 and 8.4e-5 at 1440x1600), so each output value differs by at most
 // (|du| + |dv|) times the largest difference between neighbouring LP values, plus 1e-6.
-void lp_reconstruct(const Image& lp, const LogPolarMap& map, int W, int H, Image& out);
+// `jitter`: the LP-buffer was gathered with that offset (lp_gather); each pixel reads the buffer at
+// its forward map minus the offset (u clamped to [0, w], v wrapped), so the image does not move
+// with the jitter. Zero leaves the bits as without it.
+void lp_reconstruct(const Image& lp, const LogPolarMap& map, int W, int H, Image& out,
+                    glm::dvec2 jitter = {0.0, 0.0});
 // The double-precision form (LogPolarMap::forward + bilinear() per pixel, per-row terms
 // hoisted, integer alpha by ipow): the reference of lp_reconstruct's float path.
 void lp_reconstruct_exact(const Image& lp, const LogPolarMap& map, int W, int H, Image& out);

@@ -34,6 +34,7 @@ class MappingMethodBase : public FoveationMethod {
     return active_.geometry().budget_knob();
   }
   void widen_cost_keys(double k, Json& p) const override { active_.geometry().widen_keys(k, p); }
+  TaaSettings taa() const override { return active_.geometry().taa; }
 
  protected:
   // Resolves target_shaded_fraction (if any) for this screen: solves the free parameter with

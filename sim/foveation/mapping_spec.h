@@ -19,6 +19,7 @@
 #include "sim/core/params.h"
 #include "sim/foveation/mapping.h"  // parallel_rows
 #include "sim/foveation/method_cost.h"
+#include "sim/foveation/taa.h"
 
 namespace fovsim {
 
@@ -75,6 +76,8 @@ class SamplingGeometry {
 
   // Shared by every mapping method: > 0 asks the iso-budget solver for this shaded fraction.
   double target_shaded_fraction = 0;
+  // Its TAA post pass (taa.h): rows in the tables of the methods whose seed has one (kfr, rmfr).
+  TaaSettings taa;
 };
 
 // Copyable handle of a method's SamplingGeometry (deep copy).

@@ -17,6 +17,7 @@
 #include "sim/foveation/cost_passes.h"
 #include "sim/foveation/lighting.h"
 #include "sim/foveation/method_cost.h"
+#include "sim/foveation/taa.h"
 #include "sim/render/gbuffer.h"
 #include "sim/render/renderer.h"
 #include "sim/scene/scene.h"
@@ -87,6 +88,22 @@ class FoveationMethod {
   // counters); nullptr for the others.
   virtual const MappingSpec* mapping_spec() const { return nullptr; }
 
+  // Temporal anti-aliasing (taa.h, docs/methods.md "Temporal anti-aliasing"): the settings of
+  // its TAA post pass, on by default where its seed's pipeline ends with one; off by default.
+  // render_with_lighting applies the shared pass (TaaPass) after the method's image is final,
+  // unless the method applies its own (own_taa(): twfr's §6.2 pass); `full` as the
+  // foveation-loss reference is made with the same settings (TaaSettings::keys).
+  virtual TaaSettings taa() const { return {}; }
+  virtual bool own_taa() const { return false; }
+  // Back to the state before its first frame: reset(), its lighting strategy's history and the
+  // shared TAA pass's history. What the engine calls.
+  void restart() {
+    reset();
+    if (lighting_) lighting_->reset();
+    taa_pass_.reset();
+  }
+  TaaPass& taa_pass() { return taa_pass_; }
+
   // Lighting strategy (lighting.h): the config's `lighting` block, all_vpls by default. Used
   // only when the scene has indirect light.
   LightingStrategy* lighting() const { return lighting_.get(); }
@@ -108,6 +125,7 @@ class FoveationMethod {
 
  protected:
   std::unique_ptr<LightingStrategy> lighting_;
+  TaaPass taa_pass_;  // the shared TAA pass's history (when taa().enabled and !own_taa())
 };
 
 }  // namespace fovsim

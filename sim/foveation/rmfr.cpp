@@ -4,7 +4,8 @@
 // of eq. 5 uses W - x^ right of the gaze and x^ left of it, likewise in y); the TG-buffer is
 // shaded in full (RMFR uses the whole buffer, §3.3.3). Pass 2: each screen pixel maps forward
 // (eqs. 4-5) and reads the RS-buffer bilinearly. A gaze off the screen is clamped to the
-// nearest edge (eq. 5 needs 0 <= x^ <= W). TAA (Table 3) is not simulated.
+// nearest edge (eq. 5 needs 0 <= x^ <= W). Table 3's TAA: the shared pass of taa.h with Halton
+// jitter of the RS-buffer's samples (rows taa*, on by default).
 //
 // Parameters: the declaration rmfr_params() at the end of this file (name, type, default,
 // range, seed section, meaning); docs/methods.md and configs/README.md are generated from it.
@@ -85,8 +86,11 @@ class RmfrMethod final : public MappingMethod<RmfrGeometry> {
 
     // Rectangular mapping of the G-buffer into the TG-buffer, shading into the RS-buffer.
     // The TG-buffer is an index into the shared G-buffer, shaded through it (gather_gbuffer).
+    // TAA (Table 3): Halton sub-pixel jitter of the RS-buffer's samples (zero without TAA).
+    const glm::dvec2 jit = taa_jitter(s.taa, ctx.frame);
     const size_t n_used = gather_gbuffer(
-        gb, w, h, [&](double u, double v) { return map.inverse(u, v); }, rs_index_, used_);
+        gb, w, h, [&](double u, double v) { return map.inverse(u + jit.x, v + jit.y); }, rs_index_,
+        used_);
     shade_buffer(ctx, GBufferRef(gb, rs_index_.data(), w, h), rs_col_, &used_, out);
 
     // Rendering to the screen: inverse rectangular mapping as a per-pixel gather (eqs. 4-5).
@@ -97,7 +101,7 @@ class RmfrMethod final : public MappingMethod<RmfrGeometry> {
     for (int y = 0; y < H; ++y) vy[size_t(y)] = map.ay.forward(y + 0.5);
     parallel_rows(H, [&](int y) {
       for (int x = 0; x < W; ++x) {
-        glm::vec3 c = bilinear(rs_col_, ux[size_t(x)], vy[size_t(y)], false);
+        glm::vec3 c = bilinear(rs_col_, ux[size_t(x)] - jit.x, vy[size_t(y)] - jit.y, false);
         float* o = out.image.at(x, y);
         o[0] = c.x;
         o[1] = c.y;
@@ -162,6 +166,10 @@ const ParamTable<MappingSpec>& RmfrGeometry::params_table() {
           if (p.has("fy") && p.has("fy_px"))
             p.fail("fy_px", "give either fy (fraction of H) or fy_px, not both");
         });
+    // Table 3's pipeline ends with a TAA pass (0.87 ms of its full-resolution frame).
+    add_taa_rows(
+        t, [](auto& s) -> auto& { return s.template as<G>().taa; },
+        TaaDefaults{true, 0.1, "box3", true, "Ye et al. 2022 Table 3", true});
     add_target_row(t, "sigma");
     return t;
   }();

@@ -27,6 +27,7 @@ namespace {
 // Defaults: auto_table() (ParamTable::read sets every key).
 struct AutoParams {
   double sigma = 0, f_sum = 0, f_min = 0, f_max = 0, adapt = 0, periphery_deg = 0;
+  TaaSettings taa;  // RMFR's (Ye et al. 2022 Table 3); its inner RMFRs jitter with it
 };
 
 class RmfrAutoMethod final : public FoveationMethod {
@@ -35,6 +36,7 @@ class RmfrAutoMethod final : public FoveationMethod {
   std::string name() const override { return method_id::rmfr_auto; }
   uint32_t required_channels() const override { return kShadingChannels; }
   bool temporal() const override { return true; }
+  TaaSettings taa() const override { return p_.taa; }
   void reset() override {
     fx_ = fy_ = 0.5 * p_.f_sum;
     has_prev_ = false;
@@ -105,7 +107,14 @@ class RmfrAutoMethod final : public FoveationMethod {
     const auto key = std::make_pair(int(std::lround(fx * 50)), int(std::lround(fy * 50)));
     auto it = cache_.find(key);
     if (it == cache_.end()) {
-      Params p(Json{{"sigma", p_.sigma}, {"fx", fx}, {"fy", fy}}, method_id::rmfr_auto, "");
+      // With its TAA keys: the inner RMFR jitters its RS-buffer as the TAA asks (the pass itself
+      // runs once, on this method's output).
+      Json j = p_.taa.keys();
+      if (p_.taa.enabled) j["taa_jitter"] = p_.taa.jitter;
+      j["sigma"] = p_.sigma;
+      j["fx"] = fx;
+      j["fy"] = fy;
+      Params p(j, method_id::rmfr_auto, "");
       it = cache_.emplace(key, create_rmfr(p)).first;
     }
     return *it->second;
@@ -121,25 +130,30 @@ class RmfrAutoMethod final : public FoveationMethod {
 
 // The declaration of every key (parsing, defaults, ranges, docs, columns).
 const ParamTable<AutoParams>& auto_table() {
-  static const auto t =
-      ParamTable<AutoParams>()
-          .number("sigma", 2.6, Range::at_least(1), &AutoParams::sigma)
-          .doc("Ye et al. 2022 §3.2, §4.4.2", "W / w = H / h of the RS-buffer")
-          .column()
-          .number("f_sum", 0.76, Range::above(0, 2), &AutoParams::f_sum)
-          .doc("ours (2 x RMFR's 0.38)", "f_x + f_y (fractions of W, H) split by edge orientation")
-          .column()
-          .number("f_min", 0.1, Range::closed(0.01, 1), &AutoParams::f_min)
-          .doc("Ye et al. 2022 Fig. 9 range", "lower clamp of f_x, f_y (at least RMFR's 0.01)")
-          .number("f_max", 0.8, Range::above(0, 2), &AutoParams::f_max)
-          .doc("Ye et al. 2022 Fig. 9 range", "upper clamp of f_x, f_y")
-          .number("adapt", 0.5, Range::above(0, 1), &AutoParams::adapt)
-          .doc("ours", "weight of the newest estimate (temporal smoothing)")
-          .number("periphery_deg", 10.0, Range::closed(0, 180), &AutoParams::periphery_deg)
-          .doc("ours", "edges counted beyond this eccentricity (deg)")
-          .validate([](const AutoParams& a, Params& p) {
-            if (a.f_max < a.f_min) p.fail("f_max", "must be >= f_min");
-          });
+  static const ParamTable<AutoParams> t = [] {
+    ParamTable<AutoParams> t;
+    t.number("sigma", 2.6, Range::at_least(1), &AutoParams::sigma)
+        .doc("Ye et al. 2022 §3.2, §4.4.2", "W / w = H / h of the RS-buffer")
+        .column()
+        .number("f_sum", 0.76, Range::above(0, 2), &AutoParams::f_sum)
+        .doc("ours (2 x RMFR's 0.38)", "f_x + f_y (fractions of W, H) split by edge orientation")
+        .column()
+        .number("f_min", 0.1, Range::closed(0.01, 1), &AutoParams::f_min)
+        .doc("Ye et al. 2022 Fig. 9 range", "lower clamp of f_x, f_y (at least RMFR's 0.01)")
+        .number("f_max", 0.8, Range::above(0, 2), &AutoParams::f_max)
+        .doc("Ye et al. 2022 Fig. 9 range", "upper clamp of f_x, f_y")
+        .number("adapt", 0.5, Range::above(0, 1), &AutoParams::adapt)
+        .doc("ours", "weight of the newest estimate (temporal smoothing)")
+        .number("periphery_deg", 10.0, Range::closed(0, 180), &AutoParams::periphery_deg)
+        .doc("ours", "edges counted beyond this eccentricity (deg)")
+        .validate([](const AutoParams& a, Params& p) {
+          if (a.f_max < a.f_min) p.fail("f_max", "must be >= f_min");
+        });
+    add_taa_rows(
+        t, [](auto& s) -> auto& { return s.taa; },
+        TaaDefaults{true, 0.1, "box3", true, "Ye et al. 2022 Table 3", true});
+    return t;
+  }();
   return t;
 }
 

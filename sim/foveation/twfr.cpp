@@ -76,7 +76,7 @@ const ParamTable<TwfrParams>& twfr_table() {
         .doc("§5.2", "hole-size confidence c_s(m) = A^m");
     row(t, "D", 0.75, Range::above(0, 1), &T::Given::D, &twfr::ConfidenceParams::D)
         .doc("§7", "dynamic confidence c_d(t) = D^t");
-    t.boolean("taa", false, &T::taa)
+    t.boolean("taa", true, &T::taa)
         .doc("§6.2", "TAA on redrawn pixels and motion smoothing on reprojected ones")
         .number("taa_alpha", 0.1, Range::above(0, 1), &T::taa_alpha)
         .doc("§6.2", "TAA / motion-smoothing accumulation factor")
@@ -433,7 +433,7 @@ void TwfrMethod::apply_taa(const FrameContext& ctx, const Image& cur, Image& out
     std::vector<glm::mat4> inv_motion(motion_.size(), glm::mat4(1.f));
     for (size_t o = 0; o < motion_.size(); ++o)
       if (object_dynamic_[o]) inv_motion[o] = glm::inverse(motion_[o]);
-    const float a = p_.taa_alpha;
+    const float a = float(p_.taa_alpha);
     struct Acc {
       size_t taa = 0, smooth = 0;
     };

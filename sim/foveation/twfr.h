@@ -17,8 +17,8 @@ namespace fovsim {
 
 struct TwfrParams {
   twfr::ConfidenceParams conf;
-  bool taa = false;                // §6.2 TAA on redrawn + motion smoothing on reprojected pixels
-  float taa_alpha = 0.1f;          // §6.2 accumulation factor
+  bool taa = true;                 // §6.2 TAA on redrawn + motion smoothing on reprojected pixels
+  double taa_alpha = 0.1;          // §6.2 accumulation factor (applied as a float)
   bool redraw_transparent = true;  // §8.5: transparent surfaces rendered every frame
   // epsilon, phi_f, phi_0, A, D as parsed (double; the CSV columns), conf holds them as float.
   struct Given {
@@ -41,6 +41,16 @@ class TwfrMethod final : public FoveationMethod {
   void render(const FrameContext& ctx, FrameOutput& out) override;
   void reset() override;
   bool temporal() const override { return true; }
+  // Its §6.2 TAA / motion smoothing is its own pass (apply_taa, on the world positions of its
+  // samples); the settings are reported so that `full` as its foveation-loss reference gets the
+  // shared pass with the same blend (3x3 clamp, taa_alpha).
+  TaaSettings taa() const override {
+    TaaSettings s;
+    s.enabled = p_.taa;
+    s.alpha = p_.taa_alpha;
+    return s;
+  }
+  bool own_taa() const override { return true; }
   // The first frame after a (re)start has no history and redraws every pixel (Franke et al.
   // 2021 §4: every later frame reprojects the previous one): on the quickstart 187 ms against a
   // median of 21.6 ms. From the second frame on the redraw is the confidence map's.

@@ -247,7 +247,7 @@ TEST(Intervals, ReferenceFloorIsFlagged) {
     floor["psnr"][i] = 20;  // both rows far above: not at the floor
   }
   ResultTable s = summarize(f, 11.1);
-  mark_reference_floor(s, f, floor);
+  mark_reference_floor(s, f, [&floor](const std::string&) { return &floor; });
   ASSERT_EQ(s.rows().size(), 2u);
   EXPECT_EQ(*s.rows()[0].text_of("at_floor"), "fvvdp_jod rmse_fovea");
   EXPECT_EQ(*s.rows()[1].text_of("at_floor"), "fvvdp_jod");

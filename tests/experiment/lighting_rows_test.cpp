@@ -46,14 +46,15 @@ std::map<std::string, const ResultRow*> by_label(const RunResult& r) {
 
 TEST(LightingRows, EveryRowAgainstTheSameReference) {
   const Json scene{{"type", "cornell"}, {"vpl", {{"rsm_size", 8}}}};
-  const Json methods =
-      Json::array({Json{{"method", "full"}},
-                   Json{{"method", "flc"}, {"label", "flc_all"}, {"vpl_budget", 100000}},
-                   Json{{"method", "flc"}, {"vpl_budget", 8}},
-                   Json{{"method", "full"},
-                        {"label", "fir"},
-                        {"lighting", {{"method", "fir"}, {"vpl_budget", 8}}}},
-                   Json{{"method", "kfr"}, {"lighting", {{"method", "flc"}, {"vpl_budget", 8}}}}});
+  const Json methods = Json::array(
+      {Json{{"method", "full"}},
+       // Without TAA: the image itself against the reference.
+       Json{{"method", "flc"}, {"label", "flc_all"}, {"vpl_budget", 100000}, {"taa", false}},
+       Json{{"method", "flc"}, {"vpl_budget", 8}},
+       Json{{"method", "full"},
+            {"label", "fir"},
+            {"lighting", {{"method", "fir"}, {"vpl_budget", 8}}}},
+       Json{{"method", "kfr"}, {"lighting", {{"method", "flc"}, {"vpl_budget", 8}}}}});
   RunResult r = run(scene, methods, "rows");
   auto m = by_label(r);
   ASSERT_EQ(m.size(), 5u);
@@ -77,9 +78,9 @@ TEST(LightingRows, EveryRowAgainstTheSameReference) {
 // FLC keeping every VPL renders exactly the same image (its difference is aliasing only).
 TEST(LightingRows, SupersampledReferenceFullAndFlcAllAgree) {
   const Json scene{{"type", "cornell"}, {"vpl", {{"rsm_size", 8}}}};
-  const Json methods =
-      Json::array({Json{{"method", "full"}},
-                   Json{{"method", "flc"}, {"label", "flc_all"}, {"vpl_budget", 100000}}});
+  const Json methods = Json::array(
+      {Json{{"method", "full"}},
+       Json{{"method", "flc"}, {"label", "flc_all"}, {"vpl_budget", 100000}, {"taa", false}}});
   RunResult r = run(scene, methods, "rows_spp4", 4);
   auto m = by_label(r);
   ASSERT_EQ(m.size(), 2u);

@@ -24,8 +24,9 @@ std::string tmp(const std::string& name) {
       .string();
 }
 
-// Three KFR cells over one reference group: tiny frames, FovVideoVDP against both references.
-LoadedConfig config(int spp) {
+// Three KFR cells over one reference group: tiny frames, FovVideoVDP against both references;
+// with KFR's TAA (its default) or without.
+LoadedConfig config(int spp, bool taa = true) {
   LoadedConfig c;
   c.file = "membudget.json";
   c.doc = Json{
@@ -36,7 +37,7 @@ LoadedConfig config(int spp) {
       {"trace", {{"synthetic", {{"scenario", "walk-through"}, {"seed", 3}, {"duration", 0.1}}}}},
       {"frames", {{"count", 3}}},
       {"metrics", {{"flip", false}}},
-      {"methods", Json::array({Json{{"method", "kfr"}}})},
+      {"methods", Json::array({Json{{"method", "kfr"}, {"taa", taa}}})},
       {"outputs", {{"print_summary", false}, {"image_frames", Json::array({1})}}},
       {"sweep",
        {{"grid", Json::array({Json{{"methods[kfr].sigma", Json::array({1.4, 2.0, 2.6})}}})}}}};
@@ -115,9 +116,11 @@ TEST(MemoryBudget, SeveralPassesGiveTheNumbersOfOne) {
 
 TEST(MemoryBudget, AtOneSampleTheReferenceIsNotDuplicated) {
   const std::string dir = tmp("alias");
-  sweep(config(1), dir + "/spp1", 1e6);
-  sweep(config(4), dir + "/spp4", 1e6);
-  for (const char* spp : {"spp1", "spp4"}) {
+  sweep(config(1, false), dir + "/spp1", 1e6);
+  sweep(config(4, false), dir + "/spp4", 1e6);
+  // With TAA `full` + TAA is the foveation-loss reference, not the reference itself.
+  sweep(config(1, true), dir + "/spp1_taa", 1e6);
+  for (const char* spp : {"spp1", "spp4", "spp1_taa"}) {
     const bool one = std::string(spp) == "spp1";
     for (auto& cell : cell_dirs(dir + "/" + spp)) {
       const Json m = Params::parse_json_file(dir + "/" + spp + "/runs/" + cell + "/manifest.json");

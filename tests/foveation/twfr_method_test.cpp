@@ -102,6 +102,7 @@ TEST(TwfrMethod, EpsilonOneRedrawsEveryPixelEveryFrame) {
   Scene s = atrium();
   TwfrParams p;
   p.conf.epsilon = 1.f;
+  p.taa = false;  // the redrawn image itself (TAA would blend the moving frames)
   Driver d(s, p);
   for (int f = 0; f < 4; ++f) {
     FrameOutput o = d.step(3.0 * f, {0.2, 0.1, -1}, glm::dvec3(0.05 * f, 0, 0));
@@ -169,7 +170,8 @@ TEST(TwfrMethod, RedrawnFractionNonDecreasingInEpsilon) {
 
 TEST(TwfrMethod, StaticSceneStaticHeadRedrawsOnlyTheFovealRegion) {
   Scene s = atrium();
-  TwfrParams p;  // defaults: eps 0.2, phi_F 10, phi_0 30
+  TwfrParams p;   // defaults: eps 0.2, phi_F 10, phi_0 30
+  p.taa = false;  // the composed image itself
   Driver d(s, p);
   d.step(5);
   for (int f = 1; f < 5; ++f) {
