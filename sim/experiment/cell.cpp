@@ -71,13 +71,16 @@ void Cell::parse(Params& root, const std::string& models, bool default_print) {
 }
 
 void Cell::process(const Shared& sh, const Renderer& renderer, const FrameData& fd,
-                   const Image& ref_display, int fi, double ref_ms, bool record) {
+                   const Image& ref_display, int fi, double ref_ms, bool record,
+                   CellWorkspaces& pool) {
   auto c0 = std::chrono::steady_clock::now();
   PhaseClock pc = PhaseClock::now();
   const bool want_images = record && images.io.frames.count(fi) > 0;
+  const CellWorkspaces::Lease ws = pool.take();
   const FrameIn in{sh,
                    fd,
                    ref_display,
+                   *ws,
                    fi,
                    ref_ms,
                    record,
@@ -152,7 +155,7 @@ Cell::Step Cell::step_method(const FrameIn& in, size_t mi, FrameContext& ctx, Ph
       "method \"" + m.label + "\" produced an image of the wrong size");
   check_finite_image(lin, "frame " + std::to_string(in.fi) + ": method \"" + m.method +
                               "\" (label \"" + m.label + "\")");
-  sh.tonemap.apply(lin, out_display);
+  sh.tonemap.apply(lin, in.ws.out_display);
   st.linear = &lin;
   pc = phases.lap("tonemap", pc);
   return st;

@@ -76,7 +76,6 @@ struct Cell {
   ResultTable frames;
   double cell_ms = 0;
   PhaseTimes phases;  // manifest "phases" (phase_times.h)
-  Image out_display;  // the method's tone-mapped image, reused every frame
 
   // The cell's own keys (per_cell_keys): methods, metrics, gpus, budget, workload, outputs,
   // latency.
@@ -87,6 +86,7 @@ struct Cell {
     const Shared& sh;
     const FrameData& fd;
     const Image& ref_display;  // the reference, tone-mapped: every row is measured against it
+    CellWorkspace& ws;         // lent for this frame (cell_metrics.h)
     int fi;
     double ref_ms;
     bool record;       // false: a warm-up frame (state advances, no rows, no images)
@@ -106,15 +106,16 @@ struct Cell {
   // This cell's work on one frame: per method the gaze (GazeSource), step_method, measure,
   // its images and build_rows; the images are written together at the end of the frame.
   // `record` false: a warm-up frame under --target or frames.warmup.
+  // `pool` lends the frame's workspace.
   void process(const Shared& sh, const Renderer& renderer, const FrameData& fd,
-               const Image& ref_display, int fi, double ref_ms, bool record = true);
+               const Image& ref_display, int fi, double ref_ms, bool record, CellWorkspaces& pool);
 
   // Method `mi` on this frame: its gaze, the method (or `full` while tracking is lost under
   // trace.on_invalid = full) with its lighting strategy, the frame's shared RSM counters, tone
-  // mapping into out_display.
+  // mapping into in.ws.out_display.
   Step step_method(const FrameIn& in, size_t mi, FrameContext& ctx, PhaseClock& pc);
 
-  // The metrics of out_display (method `m`'s frame) against the reference, at the true gaze;
+  // The metrics of in.ws.out_display (method `m`'s frame) against the reference, at the true gaze;
   // sequence metrics' pooled value and the metric of this frame alone (heat maps of the saved
   // frames into `heat`); with metrics.foveation_loss the same against `full` at the methods'
   // sampling rate.

@@ -34,11 +34,11 @@ Image error_heatmap(const Image& a, const Image& b) {
 
 void Cell::queue_method_images(const FrameIn& in, MethodRun& m, const Image& lin,
                                std::vector<std::pair<std::string, Image>>& heat) {
-  write_images(in.img_dir, m.stem, out_display, &lin, images.io, images.jobs);
+  write_images(in.img_dir, m.stem, in.ws.out_display, &lin, images.io, images.jobs);
   if (outputs.error_images)
     images.jobs.add(in.img_dir + "/" + safe_file_name(m.stem + "_error") + ".png",
-                    error_heatmap(out_display, in.ref_display));
-  for (auto& [suffix, img] : frame_metric_images(metric.cfg, metric.scratch))  // e.g. FLIP's map
+                    error_heatmap(in.ws.out_display, in.ref_display));
+  for (auto& [suffix, img] : frame_metric_images(metric.cfg, in.ws.scratch))  // e.g. FLIP's map
     images.jobs.add(in.img_dir + "/" + safe_file_name(m.stem + suffix) + ".png", std::move(img));
   for (auto& [name, img] : heat)
     images.jobs.add(in.img_dir + "/" + safe_file_name(name) + ".png", std::move(img));

@@ -9,9 +9,10 @@ namespace fovsim {
 MetricValues Cell::measure(const FrameIn& in, MethodRun& m,
                            std::vector<std::pair<std::string, Image>>& heat) {
   const FrameData& fd = in.fd;
+  const Image& out_display = in.ws.out_display;
   const MetricValues image_metrics =
       compute_metrics(metric.cfg, out_display, in.ref_display, fd.camera, fd.eccentricity,
-                      &m.streams.temporal, &metric.scratch);
+                      &m.streams.temporal, &in.ws.scratch);
   MetricValues metrics = image_metrics;
   const RefSide& side = *m.side;  // the cell's metrics with this method's TAA (foveation loss)
   const std::vector<RefSide::Seq>& seq = side.seq;
@@ -41,7 +42,7 @@ MetricValues Cell::measure(const FrameIn& in, MethodRun& m,
       // The same test image: the metrics may reuse their preparations of it from the call above.
       MetricValues fl =
           compute_metrics(side.fl_mcfg, out_display, *side.fl_ref, fd.camera, fd.eccentricity,
-                          &m.streams.temporal_fl, &metric.fl_scratch, &metric.scratch);
+                          &m.streams.temporal_fl, &in.ws.fl_scratch, &in.ws.scratch);
       for (auto& [k, v] : fl.items()) metrics.set(k + kFoveationLossSuffix, v);
     }
     for (size_t k = 0; k < seq.size(); ++k) {

@@ -2,6 +2,7 @@
 
 #include <tbb/info.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <chrono>
@@ -317,7 +318,7 @@ void write_pass_outputs(const GroupRun& g, std::vector<std::unique_ptr<Cell>>& c
                                    : sides.front()->fl_aliased() ? "the reference"
                                                                  : "full at 1 spp";
   const Json memory = g.plan.record(pass, sides.size(), g.est.side(m0, sides.front()->taa),
-                                    g.est.sequence(m0).first, fl_reference);
+                                    g.est.sequence(m0).ref, fl_reference);
   const int threads = opt.threads > 0 ? opt.threads : int(tbb::info::default_concurrency());
   const GroupOutputs go{opt,      order,        g.rcache,          g.no_cache_dir,
                         renderer, group_phases, PhaseClock::now(), threads,
@@ -344,6 +345,7 @@ void run_pass(const GroupRun& g, std::vector<std::unique_ptr<Cell>>& cells, size
   }
   FrameData fd;
   Image ref_display;
+  CellWorkspaces workspaces;  // lent per cell and frame (cell_metrics.h)
   std::optional<Camera> prev_cam;
   const std::string of_passes =
       g.plan.passes.size() > 1
@@ -386,16 +388,21 @@ void run_pass(const GroupRun& g, std::vector<std::unique_ptr<Cell>>& cells, size
       }
     // 3. The reference side of the frame, once per group of cells sharing it.
     for (RefSide* s : active_sides)
-      s->frame(sh, renderer, fd, ref_display, fi, record, group_phases);
+      s->frame(sh, renderer, fd, ref_display, fi, record, group_phases, workspaces);
     // 4. Per cell, in parallel: gaze, method, metrics, images, rows (Cell::process, cell.cpp).
     if (active.size() == 1) {
-      active[0]->process(sh, renderer, fd, ref_display, fi, ref_ms, record);
+      active[0]->process(sh, renderer, fd, ref_display, fi, ref_ms, record, workspaces);
     } else {
-      // Cells are independent (own methods, state, scratch); each row list stays in order.
+      // Cells are independent (own methods, state; a workspace lent per frame); each row list
+      // stays in order. Isolated: a thread waiting inside one cell's parallel loops does not
+      // start another cell, so at most as many cells (and workspaces) are live as threads.
       tbb::parallel_for(tbb::blocked_range<size_t>(0, active.size(), 1),
                         [&](const tbb::blocked_range<size_t>& r) {
                           for (size_t i = r.begin(); i != r.end(); ++i)
-                            active[i]->process(sh, renderer, fd, ref_display, fi, ref_ms, record);
+                            tbb::this_task_arena::isolate([&] {
+                              active[i]->process(sh, renderer, fd, ref_display, fi, ref_ms, record,
+                                                 workspaces);
+                            });
                         });
     }
     prev_cam = fd.camera;
@@ -466,6 +473,7 @@ std::vector<CellResult> run_cells_impl(const std::vector<CellJob>& jobs, const E
 
   const bool temporal = any_temporal(cells, sh);
   MemoryEstimator est{sh};
+  est.threads = opt.threads > 0 ? opt.threads : int(tbb::info::default_concurrency());
   est.video = sh.stride == 1 &&
               !FrameOrder(sh.count, sh.warmup, !opt.targets.empty(), !temporal, sh.seed).shuffled();
   const MemoryPlan plan = plan_memory(opt, sh, cells, est);

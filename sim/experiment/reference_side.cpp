@@ -24,7 +24,8 @@ void RefSide::begin(const Shared& sh) {
 }
 
 void RefSide::frame(const Shared& sh, const Renderer& renderer, const FrameData& fd,
-                    const Image& ref_display, int fi, bool record, PhaseTimes& ph) {
+                    const Image& ref_display, int fi, bool record, PhaseTimes& ph,
+                    CellWorkspaces& pool) {
   PhaseClock pc = PhaseClock::now();
   begin(sh);
   // The true gaze (also under the latency what-if), a screen point (pixel centres at i + 0.5).
@@ -64,13 +65,17 @@ void RefSide::frame(const Shared& sh, const Renderer& renderer, const FrameData&
     }
   // The reference's floor: `full` at the methods' sampling rate against the reference.
   if (record) {
+    const CellWorkspaces::Lease ws = pool.take();  // its reference preparation is the cells'
     MetricValues fl = compute_metrics(fl_mcfg, *fl_ref, ref_display, fd.camera, fd.eccentricity,
-                                      nullptr, &floor_scratch);
+                                      nullptr, &ws->scratch);
     for (auto& [k, v] : fl.items()) floor_vals[k][fi] = v;
   }
   for (auto& q : seq) {
     if (!q.floor) q.floor = q.decl->sequence->make_test(*q.ref);
-    const double v = q.floor->push(*fl_ref, *q.ref, nullptr);
+    // The same frame as the foveation-loss reference stream's (or the reference's, aliased):
+    // its work on the frame is reused (FovVideoVDP: no second temporal window).
+    const double v =
+        q.floor->push_frames_of(*fl_ref, *q.ref, nullptr, ref_fl(size_t(&q - seq.data())));
     if (record) floor_vals[q.decl->pooled_column][fi] = v;
   }
   ph.lap("metrics", pc);

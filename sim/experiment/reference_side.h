@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "sim/experiment/cell_metrics.h"
 #include "sim/experiment/phase_times.h"
 #include "sim/experiment/shared_config.h"
 #include "sim/foveation/frame.h"
@@ -47,7 +48,6 @@ struct RefSide {
   Image fl_display;
   const Image* fl_ref = nullptr;  // the foveation-loss reference: &fl_display or the reference
   int aliased = -1;               // -1 before the first frame; 1: fl_ref is the reference
-  MetricsScratch floor_scratch;
   // The reference's floor: every metric of `full` at the methods' sampling rate against the
   // converged reference, per recorded frame (column -> frame -> value); summary `at_floor`
   // names the metrics a method cannot be told from it by (mark_reference_floor, summary.h).
@@ -62,9 +62,10 @@ struct RefSide {
   // The sequence metrics' reference streams, made on the first frame.
   void begin(const Shared& sh);
   // Frame `fi`'s reference side: the streams pushed at the true gaze, then (foveation loss)
-  // `full` at the methods' sampling rate, its streams and the floor. Phases go to `ph`.
+  // `full` at the methods' sampling rate, its streams and the floor (with a workspace from
+  // `pool`). Phases go to `ph`.
   void frame(const Shared& sh, const Renderer& renderer, const FrameData& fd,
-             const Image& ref_display, int fi, bool record, PhaseTimes& ph);
+             const Image& ref_display, int fi, bool record, PhaseTimes& ph, CellWorkspaces& pool);
   // Forget the frame history before a non-contiguous frame.
   void reset();
 };

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "sim/core/error.h"
+#include "sim/core/scratch_pool.h"
 #include "sim/foveation/mapping.h"  // parallel_rows
 #include "sim/foveation/method.h"
 
@@ -30,6 +31,21 @@ double radical_inverse(int i, int b) {
 }
 }  // namespace
 
+// The working buffers of one apply(): the output being formed and the eta clamp's row min/max
+// and half sizes, lent for the call (sim/core/scratch_pool.h): as many exist as passes ran at
+// once, not one per method.
+struct TaaScratch {
+  Image out, rowmin, rowmax;
+  std::vector<uint8_t> half;  // per pixel the clamp window's half size (eta / 2)
+};
+
+namespace {
+ScratchPool<TaaScratch>& taa_scratch() {
+  static ScratchPool<TaaScratch> pool;
+  return pool;
+}
+}  // namespace
+
 glm::dvec2 taa_jitter(const TaaSettings& s, int frame) {
   if (!s.enabled || !s.jitter) return {0.0, 0.0};
   const int i = ((frame % 16) + 16) % 16 + 1;  // points 1..16 (point 0 is the origin)
@@ -47,7 +63,9 @@ int taa_eta_half(double r_over_eL, double render_scale) {
 
 // The eta clamp's per-pixel half sizes (eq. 15) and the row min/max of the current image over
 // each pixel's own row window (the first of the separable passes).
-void TaaPass::prepare_eta(const FrameContext& ctx, const Image& img) {
+void TaaPass::prepare_eta(const FrameContext& ctx, const Image& img, TaaScratch& sc) {
+  std::vector<uint8_t>& half_ = sc.half;
+  Image &rowmin_ = sc.rowmin, &rowmax_ = sc.rowmax;
   const int W = img.width, H = img.height;
   half_.resize(size_t(W) * size_t(H));
   double eL = 0;  // the largest gaze-to-corner distance (simulated pixels)
@@ -105,7 +123,12 @@ void TaaPass::apply(const TaaSettings& s, const FrameContext& ctx, Image& img, C
   const float a = float(s.alpha);
   // The clamp window's half size per pixel: 1 (3x3, Karis 2014) or eq. 15's eta / 2.
   const bool eta = s.clamp == TaaClamp::Eta;
-  if (eta) prepare_eta(ctx, img);
+  const ScratchPool<TaaScratch>::Lease lease = taa_scratch().take();
+  TaaScratch& sc = *lease;
+  if (eta) prepare_eta(ctx, img, sc);
+  const std::vector<uint8_t>& half_ = sc.half;
+  const Image &rowmin_ = sc.rowmin, &rowmax_ = sc.rowmax;
+  Image& next_ = sc.out;
   next_.resize(W, H, 3);
   std::vector<size_t> blended(size_t(H), 0);
   parallel_rows(H, [&](int y) {
@@ -170,7 +193,7 @@ void TaaPass::apply(const TaaSettings& s, const FrameContext& ctx, Image& img, C
   });
   size_t total = 0;
   for (size_t n : blended) total += n;
-  std::swap(history_, next_);  // the output is the next frame's history
+  std::swap(history_, next_);  // the output is the next frame's history (the pool keeps the old)
   std::copy(history_.data.begin(), history_.data.end(), img.data.begin());
   c.set(Counter::taa_pixels, double(total));
 }
@@ -178,7 +201,13 @@ void TaaPass::apply(const TaaSettings& s, const FrameContext& ctx, Image& img, C
 size_t TaaPass::bytes(int width, int height, const TaaSettings& s) {
   if (!s.enabled) return 0;
   const size_t px = size_t(std::max(width, 0)) * size_t(std::max(height, 0));
-  size_t b = 2 * px * 3 * sizeof(float);  // history + the output being formed
+  return px * 3 * sizeof(float);  // the history
+}
+
+size_t TaaPass::scratch_bytes(int width, int height, const TaaSettings& s) {
+  if (!s.enabled) return 0;
+  const size_t px = size_t(std::max(width, 0)) * size_t(std::max(height, 0));
+  size_t b = px * 3 * sizeof(float);                                   // the output being formed
   if (s.clamp == TaaClamp::Eta) b += 2 * px * 3 * sizeof(float) + px;  // row min/max, half sizes
   return b;
 }

@@ -88,8 +88,10 @@ void add_taa_rows(ParamTable<T>& t, Acc acc, const TaaDefaults& d) {
         .doc(d.source, "TAA: Halton(2, 3) sub-pixel jitter of the reduced buffer's samples");
 }
 
-// The pass's state: the previous output (history) and its scratch, kept across frames (no
-// per-frame allocation of full-frame buffers).
+struct TaaScratch;  // one apply()'s working buffers (taa.cpp)
+
+// The pass's state: the previous output (history), kept across frames; its working buffers
+// are lent per call from a pool (no per-frame allocation of full-frame buffers).
 class TaaPass {
  public:
   // Replaces `img` (linear RGB, the method's output) by its TAA: per pixel the history at
@@ -102,11 +104,13 @@ class TaaPass {
   void reset() { has_history_ = false; }
   // The bytes it keeps per method instance at a width x height image (memory plan).
   static size_t bytes(int width, int height, const TaaSettings& s);
+  // The bytes of one apply()'s working buffers, lent from a pool shared by every TaaPass (one
+  // per pass running at once; memory plan).
+  static size_t scratch_bytes(int width, int height, const TaaSettings& s);
 
  private:
-  void prepare_eta(const FrameContext& ctx, const Image& img);
-  Image history_, next_, rowmin_, rowmax_;
-  std::vector<uint8_t> half_;  // per pixel the clamp window's half size (eta / 2)
+  void prepare_eta(const FrameContext& ctx, const Image& img, TaaScratch& sc);
+  Image history_;
   bool has_history_ = false;
 };
 

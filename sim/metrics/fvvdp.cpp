@@ -14,6 +14,7 @@
 #include "sim/core/error.h"
 #include "sim/core/powf_det.h"
 #include "sim/core/powf_lanes.h"
+#include "sim/core/scratch_pool.h"
 #include "sim/metrics/metrics.h"
 #include "sim/metrics/registry.h"
 
@@ -482,27 +483,29 @@ struct Frame {
   Gaussian pyr[2];
   std::vector<float> tmp;
 
+  // The sizes only: the planes are allocated by the first push(), so a test stream that scores
+  // with another stream's frames (FvvdpTestStream::push with `same`) holds none.
   void init(int w, int h, bool vid, int L, int nb) {
     W = w;
     H = h;
     video = vid;
-    Y.assign(size_t(W) * size_t(H), 0.f);
     ring.ring.assign(vid ? size_t(L) : 0, {});
     ring.reset();
-    if (vid)
-      for (auto& x : X) x.assign(Y.size(), 0.f);
     lv = level_sizes(W, H, nb);
   }
   // Luminance, temporal filtering (video) and the Gaussian pyramids of the planes.
   void push(const Image& img, const FvvdpDisplay& d, const std::vector<double>& fs,
             const std::vector<double>& ft) {
+    const size_t n = size_t(W) * size_t(H);
     if (!video) {
+      Y.resize(n);
       to_luminance(img, d, Y.data());
       pyr[0].build(Y.data(), lv, tmp);
       return;
     }
+    for (auto& x : X) x.resize(n);  // Y is not used: the luminance goes into the ring
     const bool first = ring.head < 0;
-    float* slot = ring.push_slot(Y.size());
+    float* slot = ring.push_slot(n);
     to_luminance(img, d, slot);
     if (first) ring.replicate_first();
     ring.filter2(fs, ft, W, H, X[0].data(), X[1].data());
@@ -513,6 +516,9 @@ struct Frame {
 };
 
 }  // namespace
+
+// A stream's frames: what FvvdpTestStream::push with another stream's frames reads.
+struct FvvdpFrames : Frame {};
 
 // ---------------------------------------------------------------------------------------------
 // Public detail functions.
@@ -724,7 +730,7 @@ struct FvvdpBandState {
 };
 
 struct FvvdpReferenceStream::Impl {
-  Frame frame;
+  FvvdpFrames frame;
   std::vector<FvvdpBandState> bands;
   std::vector<float> E, lap;
 };
@@ -883,12 +889,54 @@ void FvvdpReferenceStream::push(const Image& ref, double gx, double gy) {
 // Test side.
 
 struct FvvdpTestStream::Impl {
-  Frame frame;
-  std::vector<float> E, up;
+  FvvdpFrames frame;  // its own test frames (no planes while it scores with another stream's)
+};
+
+namespace {
+
+// The working planes of one score (FvvdpTestStream::score), lent for the call from a pool
+// (sim/core/scratch_pool.h): as many exist as scores ran at once, not one per stream.
+struct ScoreScratch {
+  std::vector<float> E, up, tmp;
   std::vector<float> dpow;  // D^beta of the band's pixels in row-major order (torch_cpu_sum)
   std::vector<std::vector<float>> Dmap;  // heat map: per-band D (sustained + 0.25 transient)
   std::vector<double> row_sum;
 };
+
+ScratchPool<ScoreScratch>& score_scratch() {
+  static ScratchPool<ScoreScratch> pool;
+  return pool;
+}
+
+// The heat map of a score (FvvdpTestStream::enable_heatmap): the per-band D maps collapsed from
+// the coarsest scored band to the frame, then to JOD-like units.
+void collapse_heat(ScoreScratch& I, const std::vector<Level>& lv, int nb, Image& heat) {
+  std::vector<float> acc = I.Dmap[size_t(nb) - 1];
+  for (int b = nb - 2; b >= 0; --b) {
+    const Level &lo = lv[size_t(b) + 1], &hi = lv[size_t(b)];
+    I.up.resize(size_t(hi.w) * size_t(hi.h));
+    expand(acc.data(), lo.w, lo.h, hi.w, hi.h, I.up.data(), I.tmp);
+    const std::vector<float>& d = I.Dmap[size_t(b)];
+    for (size_t k = 0; k < I.up.size(); ++k) I.up[k] += d[k];
+    acc.swap(I.up);
+  }
+  heat.resize(lv[0].w, lv[0].h, 1);
+  const float a = float(-kJodA), bj = float(std::pow(10.0, kLogJodExp));
+  for (size_t k = 0; k < acc.size(); ++k)
+    heat.data[k] = acc[k] > 0.f ? a * std::pow(acc[k], bj) : 0.f;
+}
+
+// Whether frames pushed to `a` give the same luminance, temporal filtering and pyramids as to
+// `b` (FvvdpTestStream::push with another stream's frames).
+bool same_planes(const FvvdpReferenceStream& a, const FvvdpReferenceStream& b) {
+  const FvvdpDisplay &da = a.display(), &db = b.display();
+  return a.width() == b.width() && a.height() == b.height() && a.bands() == b.bands() &&
+         a.channels() == b.channels() && da.y_peak == db.y_peak && da.y_black == db.y_black &&
+         a.temporal_sustained() == b.temporal_sustained() &&
+         a.temporal_transient() == b.temporal_transient();
+}
+
+}  // namespace
 
 FvvdpTestStream::FvvdpTestStream(const FvvdpReferenceStream& ref)
     : impl_(std::make_unique<Impl>()) {
@@ -908,17 +956,20 @@ void FvvdpTestStream::reset() {
 
 double FvvdpTestStream::push(const Image& test, const FvvdpReferenceStream& ref,
                              const FvvdpTestStream& same, const FvvdpReferenceStream& same_ref) {
-  const FvvdpDisplay &a = ref.display(), &b = same_ref.display();
-  const bool ok = &same != this && same.frames() == frames() + 1 &&
-                  same_ref.frames() == ref.frames() && same_ref.width() == ref.width() &&
-                  same_ref.height() == ref.height() && same_ref.bands() == ref.bands() &&
-                  same_ref.channels() == ref.channels() && a.y_peak == b.y_peak &&
-                  a.y_black == b.y_black &&
-                  same_ref.temporal_sustained() == ref.temporal_sustained() &&
-                  same_ref.temporal_transient() == ref.temporal_transient();
+  const bool ok = &same != this && !same.borrowed_ && same.frames() == frames() + 1 &&
+                  same_ref.frames() == ref.frames() && same_planes(same_ref, ref);
   if (!ok) return push(test, ref);
   borrowed_ = true;
-  return score(test, ref, same.impl_.get());
+  return score(test, ref, &same.impl_->frame);
+}
+
+double FvvdpTestStream::push(const Image& test, const FvvdpReferenceStream& ref,
+                             const FvvdpReferenceStream& frames_of) {
+  const bool ok = frames_of.frames() == frames() + 1 && frames_of.frames() == ref.frames() &&
+                  same_planes(frames_of, ref);
+  if (!ok) return push(test, ref);
+  borrowed_ = true;
+  return score(test, ref, &frames_of.impl_->frame);
 }
 
 double FvvdpTestStream::push(const Image& test, const FvvdpReferenceStream& ref) {
@@ -929,7 +980,7 @@ double FvvdpTestStream::push(const Image& test, const FvvdpReferenceStream& ref)
 }
 
 double FvvdpTestStream::score(const Image& test, const FvvdpReferenceStream& ref,
-                              const Impl* shared) {
+                              const FvvdpFrames* shared) {
   if (test.width != ref.width() || test.height != ref.height() ||
       (test.channels != 1 && test.channels < 3))
     throw Error(kWhere, "test frame is " + std::to_string(test.width) + "x" +
@@ -940,11 +991,13 @@ double FvvdpTestStream::score(const Image& test, const FvvdpReferenceStream& ref
     throw Error(kWhere, "test frame " + std::to_string(frames()) +
                             " pushed while the reference stream is at frame " +
                             std::to_string(ref.frames() - 1) + " (push the reference first)");
-  Impl& I = *impl_;
+  Impl& own = *impl_;
   const FvvdpReferenceStream::Impl& R = *ref.impl_;
   if (!shared)
-    I.frame.push(test, ref.display(), ref.temporal_sustained(), ref.temporal_transient());
-  const Frame& F = shared ? shared->frame : I.frame;  // the test frame's planes and pyramids
+    own.frame.push(test, ref.display(), ref.temporal_sustained(), ref.temporal_transient());
+  const Frame& F = shared ? *shared : own.frame;  // the test frame's planes and pyramids
+  const ScratchPool<ScoreScratch>::Lease lease = score_scratch().take();
+  ScoreScratch& I = *lease;
   const int nb = ref.bands(), nc = ref.channels();
   last_q_.assign(size_t(nb), {0.0, 0.0});
   const float kM = float(std::pow(10.0, kMaskC));
@@ -972,7 +1025,7 @@ double FvvdpTestStream::score(const Image& test, const FvvdpReferenceStream& ref
     }
     for (int c = 0; c < nc; ++c) {
       const float wc = c == 0 ? 1.f : float(kWTransient);
-      expand(F.level(c, b + 1), up.w, up.h, B.w, B.h, I.E.data(), I.frame.tmp);
+      expand(F.level(c, b + 1), up.w, up.h, B.w, B.h, I.E.data(), I.tmp);
       const float* G = F.level(c, b);
       const float q = float(kMaskQ[c]);
       for_rows(B.h, B.w, [&](int y) {
@@ -1019,22 +1072,7 @@ double FvvdpTestStream::score(const Image& test, const FvvdpReferenceStream& ref
       last_q_[size_t(b)][size_t(c)] = std::pow(sum / double(n), 1.0 / kBeta);
     }
   }
-  if (heat_on_) {
-    // Collapse the D pyramid from the coarsest scored band to the frame, then to JOD units.
-    std::vector<float> acc = I.Dmap[size_t(nb) - 1];
-    for (int b = nb - 2; b >= 0; --b) {
-      const Level &lo = F.lv[size_t(b) + 1], &hi = F.lv[size_t(b)];
-      I.up.resize(size_t(hi.w) * size_t(hi.h));
-      expand(acc.data(), lo.w, lo.h, hi.w, hi.h, I.up.data(), I.frame.tmp);
-      const std::vector<float>& d = I.Dmap[size_t(b)];
-      for (size_t k = 0; k < I.up.size(); ++k) I.up[k] += d[k];
-      acc.swap(I.up);
-    }
-    heat_.resize(ref.width(), ref.height(), 1);
-    const float a = float(-kJodA), bj = float(std::pow(10.0, kLogJodExp));
-    for (size_t k = 0; k < acc.size(); ++k)
-      heat_.data[k] = acc[k] > 0.f ? a * std::pow(acc[k], bj) : 0.f;
-  }
+  if (heat_on_) collapse_heat(I, F.lv, nb, heat_);
   // §10 (2), (3).
   double qsc[2] = {0, 0};
   for (int b = 0; b < nb; ++b) {
@@ -1146,6 +1184,16 @@ class FvvdpRunTest final : public SequenceTest {
     stream.enable_heatmap(false);
     return q;
   }
+  double push_frames_of(const Image& test, const SequenceReference& r, Image* heat,
+                        const SequenceReference& frames_of) override {
+    const auto* f = dynamic_cast<const FvvdpRunReference*>(&frames_of);
+    if (!f) return push(test, r, heat);
+    stream.enable_heatmap(heat != nullptr);
+    const double q = stream.push(test, static_cast<const FvvdpRunReference&>(r).stream, f->stream);
+    if (heat) *heat = heatmap(stream.heatmap(), 0.f, 1.f);
+    stream.enable_heatmap(false);
+    return q;
+  }
   void reset() override { stream.reset(); }
   FvvdpTestStream stream;
 };
@@ -1175,18 +1223,25 @@ const SequenceMetric& fvvdp_sequence_metric() {
       const bool video = s.fps > 0;
       const double c = video ? 2 : 1;
       const double L = video ? fvvdp_detail::filter_length(s.fps) : 0;
-      const double frame = plane * (1 + L + (video ? 2 : 0) + c / 3);
+      const double frame = plane * ((video ? L + 2 : 1) + c / 3);
       const double bands = plane * (1 + 2 * c) * 4 / 3;
       const double rho = s.config && s.config->fvvdp_foveated ? 6 * n * 4 / 3 : 0;
       return frame + bands + rho + 2 * plane;
     };
+    // Frame: the temporal window of L frames and the two filtered planes (video) or the
+    // luminance (image), with the Gaussian pyramids (1/3 of a plane each).
     x.test_bytes = [](const SequenceSetup& s) {
       const double plane = 4 * double(s.width) * double(s.height);
       const bool video = s.fps > 0;
       const double c = video ? 2 : 1;
       const double L = video ? fvvdp_detail::filter_length(s.fps) : 0;
-      return plane * (1 + L + (video ? 2 : 0) + c / 3) + 2 * plane;
+      return plane * ((video ? L + 2 : 1) + c / 3);
     };
+    // A score's E, D^beta and expand planes (ScoreScratch).
+    x.scratch_bytes = [](const SequenceSetup& s) {
+      return 4 * double(s.width) * double(s.height) * 2.5;
+    };
+    x.borrowing_holds_nothing = true;
     x.manifest_key = "fvvdp";
     x.settle_frames = [](double fps) { return fvvdp_detail::settle_frames(fps); };
     x.heatmap_suffix = "_fvvdp";

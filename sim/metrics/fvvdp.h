@@ -77,6 +77,7 @@ struct FvvdpOptions {
 };
 
 struct FvvdpBandState;  // per-band reference data (internal)
+struct FvvdpFrames;     // a stream's luminance, temporal filtering and pyramids (internal)
 
 class FvvdpReferenceStream {
  public:
@@ -141,6 +142,13 @@ class FvvdpTestStream {
   // so until reset(): its own history is not kept (an InternalError otherwise).
   double push(const Image& test, const FvvdpReferenceStream& ref, const FvvdpTestStream& same,
               const FvvdpReferenceStream& same_ref);
+  // push() of a test frame that the reference stream `frames_of` (of the same display and
+  // filters as `ref`) has just been pushed: its luminance, temporal filtering and pyramids are
+  // used (metrics.foveation_loss's floor: `full` scored against the reference while it is the
+  // foveation-loss reference too). The same value as push(test, ref); where the streams differ
+  // it is push(test, ref). The borrowing rule above applies.
+  double push(const Image& test, const FvvdpReferenceStream& ref,
+              const FvvdpReferenceStream& frames_of);
   void reset();
 
   int frames() const { return int(q_tc_.size()); }
@@ -160,8 +168,8 @@ class FvvdpTestStream {
 
  private:
   struct Impl;
-  // The scoring of push(); `shared`: another stream's state holding this test frame's planes.
-  double score(const Image& test, const FvvdpReferenceStream& ref, const Impl* shared);
+  // The scoring of push(); `shared`: another stream's frames holding this test frame's planes.
+  double score(const Image& test, const FvvdpReferenceStream& ref, const FvvdpFrames* shared);
   std::unique_ptr<Impl> impl_;
   std::vector<double> q_tc_;
   std::vector<std::array<double, 2>> last_q_;

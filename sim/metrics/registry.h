@@ -61,6 +61,14 @@ class SequenceTest {
     (void)same_ref;
     return push(test, ref, heatmap);
   }
+  // push() of a test frame that the reference `frames_of` (of the same metric and setup) has
+  // just been pushed: a metric may reuse its work on the frame; the same value as push(test,
+  // ref, heatmap), which is what this default does.
+  virtual double push_frames_of(const Image& test, const SequenceReference& ref, Image* heatmap,
+                                const SequenceReference& frames_of) {
+    (void)frames_of;
+    return push(test, ref, heatmap);
+  }
   virtual void reset() = 0;
 };
 
@@ -79,10 +87,14 @@ struct SequenceMetric {
   // Saved frames get `<label><heatmap_suffix>.png` (and `<label><heatmap_suffix>_fl.png`
   // against `full` at the same sampling); "" = no heat map.
   const char* heatmap_suffix = "";
-  // Bytes one reference stream and one test stream of `setup` hold once they run (the run
+  // Bytes one reference stream and one test stream of `setup` hold once they run, and the
+  // working buffers of one push lent from a pool (one per push running at once) (the run
   // engine's memory estimate, docs/architecture.md "Memory"); nullptr: negligible.
   double (*reference_bytes)(const SequenceSetup&) = nullptr;
   double (*test_bytes)(const SequenceSetup&) = nullptr;
+  double (*scratch_bytes)(const SequenceSetup&) = nullptr;
+  // Whether a test stream fed by push_same or push_frames_of holds nothing of its own.
+  bool borrowing_holds_nothing = false;
 };
 
 enum class Better { higher, lower };

@@ -2,10 +2,13 @@
 // time runs its cells in several passes over the frames and gives the numbers of one pass; the
 // manifest records the passes and the peak resident memory; at render.spp 1 the cells of a group
 // share one reference side, whose foveation-loss reference is the reference itself (aliased, not
-// a second copy), and the estimate counts it once.
+// a second copy), and the estimate counts it once; the cells' per-frame workspaces are counted
+// once per cell running at once.
 #include <gtest/gtest.h>
+#include <tbb/info.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <string>
 
@@ -95,6 +98,12 @@ TEST(MemoryBudget, SeveralPassesGiveTheNumbersOfOne) {
     EXPECT_EQ(mb["memory"]["budget_from"], "--memory-budget");
     EXPECT_GT(mb["memory"]["peak_rss_bytes"].get<double>(), 0);
     EXPECT_GT(mb["memory"]["estimate_bytes"]["cell"].get<double>(), 0);
+    // Workspaces are lent per frame to the cells running at once: one for a pass of one cell,
+    // as many as threads (at most the cells) for the pass of three.
+    const double ws1 = mb["memory"]["estimate_bytes"]["workspaces"].get<double>();
+    EXPECT_GT(ws1, 0);
+    EXPECT_DOUBLE_EQ(ma["memory"]["estimate_bytes"]["workspaces"].get<double>(),
+                     ws1 * double(std::min(3, int(tbb::info::default_concurrency()))));
   }
   // The config's run.memory_gb when no --memory-budget is given.
   LoadedConfig k = c;

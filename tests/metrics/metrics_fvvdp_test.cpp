@@ -322,6 +322,49 @@ TEST(Fvvdp, SharedTestFramesGiveTheSameNumbers) {
   EXPECT_NO_THROW(b.push(t[1], b_ref, b, b_ref));  // itself as `same`: its own work
 }
 
+// The floor of metrics.foveation_loss: the test frames are the ones a second reference stream was
+// just pushed (`full` at the methods' sampling rate); scored with that stream's frames (push
+// with `frames_of`) they give the numbers of a stream of their own, as a video and as still
+// images, and the borrowing stream holds no frames of its own.
+TEST(Fvvdp, ReferenceFramesGiveTheFloorTheNumbersOfItsOwnStream) {
+  const FvvdpDisplay d = FvvdpDisplay::standard("standard_fhd");
+  for (double fps : {60.0, 0.0}) {
+    FvvdpReferenceStream a_ref(d, 96, 64, {fps, true}), b_ref(d, 96, 64, {fps, true});
+    FvvdpTestStream floor(a_ref), own(a_ref);
+    floor.enable_heatmap(true);
+    own.enable_heatmap(true);
+    for (int k = 0; k < 5; ++k) {
+      const Image r = grating(64, 96, 10, 12, 128, 0.5 * k);
+      const Image f = grating(64, 96, 11, 12, 128, 0.45 * k);  // `full`: b_ref's frames
+      a_ref.push(r, 20, 30);
+      b_ref.push(f, 20, 30);
+      const double q_own = own.push(f, a_ref);
+      EXPECT_EQ(floor.push(f, a_ref, b_ref), q_own) << "fps " << fps << " frame " << k;
+      ASSERT_EQ(floor.heatmap().data, own.heatmap().data) << "frame " << k;
+      if (fps == 0) {  // still images: every push starts again
+        a_ref.reset();
+        b_ref.reset();
+        floor.reset();
+        own.reset();
+      }
+    }
+    if (fps > 0) {
+      EXPECT_EQ(floor.jod(), own.jod());
+      EXPECT_THROW(floor.push(grating(64, 96, 11, 12, 128, 0), a_ref), InternalError);
+    }
+  }
+  // A reference stream of another display (other luminance): the floor's own work, the same
+  // numbers.
+  FvvdpDisplay other = d;
+  other.y_peak *= 2;
+  FvvdpReferenceStream a_ref(d, 96, 64, {60, true}), c_ref(other, 96, 64, {60, true});
+  FvvdpTestStream floor(a_ref), own(a_ref);
+  const Image r = grating(64, 96, 10, 12, 128, 0), f = grating(64, 96, 11, 12, 128, 0);
+  a_ref.push(r, 20, 30);
+  c_ref.push(f, 20, 30);
+  EXPECT_EQ(floor.push(f, a_ref, c_ref), own.push(f, a_ref));
+}
+
 TEST(Fvvdp, BadInput) {
   const FvvdpDisplay d = FvvdpDisplay::standard("standard_fhd");
   const Image a = uniform(32, 32, 10), b = uniform(32, 40, 10);
