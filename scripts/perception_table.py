@@ -47,12 +47,14 @@ def num(row, key):
 
 
 def stamp(d):
-    """(version, plan text, JOD record of the run's fidelity: manifest fidelity.jod)."""
-    version, plan, extra, jod = "?", "?", "", {}
+    """(version, plan text, JOD record of the run's fidelity: manifest fidelity.jod, the
+    reference's render.spp)."""
+    version, plan, extra, jod, spp = "?", "?", "", {}, "?"
     for m in sorted(glob.glob(os.path.join(d, "runs", "*", "manifest.json")))[:1]:
         with open(m) as f:
             j = json.load(f)
         version = f"{j.get('version', '?')} ({j.get('git_commit', '?')})"
+        spp = j.get("resolved_config", {}).get("render", {}).get("spp", "?")
         fv = j.get("fvvdp", {})
         extra = f"; {fv.get('mode', '?')} at {fv.get('fps', '?')} Hz; {fv.get('display', '')}"
         jod = j.get("fidelity", {}).get("jod") or {}
@@ -67,7 +69,7 @@ def stamp(d):
     if os.path.exists(sj):
         with open(sj) as f:
             plan = json.load(f).get("plan_hash", "?")
-    return version, plan + extra, jod
+    return version, plan + extra, jod, spp
 
 
 def table(d):
@@ -76,12 +78,12 @@ def table(d):
     if not rows:
         return
     axes = [k for k in rows[0] if k.startswith("methods[")]
-    version, plan, jod = stamp(d)
+    version, plan, jod, spp = stamp(d)
     native = jod.get("native", False) if jod else False
     bias = 0.0 if native else (jod.get("bias") or {}).get("fvvdp_jod_fl") if jod else None
     print(f"\n#### {os.path.basename(os.path.normpath(d))} (fovsim {version}, plan {plan})\n")
     head = axes + ["shaded", "fpsnr_fl [dB]", "fvvdp_jod_fl", "ΔJOD [95%]", "P(prefer full)",
-                   "verdict", "fvvdp_jod (vs 16 spp)"]
+                   "verdict", f"fvvdp_jod (vs the {spp}-spp reference)"]
     print("| " + " | ".join(head) + " |")
     print("|" + "---|" * len(head))
     best_jod = max(rows, key=lambda r: num(r, "fvvdp_jod_fl"))

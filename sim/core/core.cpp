@@ -121,8 +121,11 @@ std::string short_hash(std::string_view s) {
 std::string version_string() {
   return FOVSIM_VERSION;
 }
+namespace detail {
+extern const char* const kGitCommit;  // build/generated/git_commit.cpp (cmake/git_commit.cmake)
+}
 std::string git_commit() {
-  return FOVSIM_GIT_COMMIT;
+  return detail::kGitCommit;
 }
 
 // A path with an embedded NUL would be cut there by every system call (Python strings can
