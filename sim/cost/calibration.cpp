@@ -533,7 +533,11 @@ void finish_priors(CostFit& fit) {
   for (const std::string& pass : known_passes()) {
     if (fit.unseen(pass)) continue;
     std::set<Resource> res;
-    for (const char* term : {"pixels", "taps", "samples", "flops", "vpls", "holes"}) {
+    // Not the "taps" terms: their nominal bytes count every filter tap as an uncached texel,
+    // which neighbouring windows share through the caches (pass 2 and FLC's post-AA fit at
+    // 1.2-4x the peak DRAM bandwidth by that count, which DRAM cannot do), so they do not
+    // measure how close a pass gets to the bandwidth; the streaming terms' bytes do.
+    for (const char* term : {"pixels", "samples", "flops", "vpls", "holes"}) {
       std::string like;
       const double w = nominal_work(pass, term, &like);
       if (!like.empty() || !(w > 0)) continue;
