@@ -1165,37 +1165,38 @@ class FvvdpRunTest final : public SequenceTest {
   explicit FvvdpRunTest(const SequenceReference& r)
       : stream(static_cast<const FvvdpRunReference&>(r).stream) {}
   double push(const Image& test, const SequenceReference& r, Image* heat) override {
-    stream.enable_heatmap(heat != nullptr);
-    const double q = stream.push(test, static_cast<const FvvdpRunReference&>(r).stream);
-    // JOD-like units per pixel (0 = no visible difference), colour ramp 0 .. 1.
-    if (heat) *heat = heatmap(stream.heatmap(), 0.f, 1.f);
-    stream.enable_heatmap(false);
-    return q;
+    return scored(heat, [&] { return stream.push(test, ref_of(r)); });
   }
   double push_same(const Image& test, const SequenceReference& r, Image* heat,
                    const SequenceTest& same, const SequenceReference& same_r) override {
     const auto* s = dynamic_cast<const FvvdpRunTest*>(&same);
     const auto* sr = dynamic_cast<const FvvdpRunReference*>(&same_r);
     if (!s || !sr) return push(test, r, heat);
-    stream.enable_heatmap(heat != nullptr);
-    const double q =
-        stream.push(test, static_cast<const FvvdpRunReference&>(r).stream, s->stream, sr->stream);
-    if (heat) *heat = heatmap(stream.heatmap(), 0.f, 1.f);
-    stream.enable_heatmap(false);
-    return q;
+    return scored(heat, [&] { return stream.push(test, ref_of(r), s->stream, sr->stream); });
   }
   double push_frames_of(const Image& test, const SequenceReference& r, Image* heat,
                         const SequenceReference& frames_of) override {
     const auto* f = dynamic_cast<const FvvdpRunReference*>(&frames_of);
     if (!f) return push(test, r, heat);
+    return scored(heat, [&] { return stream.push(test, ref_of(r), f->stream); });
+  }
+  void reset() override { stream.reset(); }
+  FvvdpTestStream stream;
+
+ private:
+  static const FvvdpReferenceStream& ref_of(const SequenceReference& r) {
+    return static_cast<const FvvdpRunReference&>(r).stream;
+  }
+  // One push with the heat map on when `heat` is given: JOD-like units per pixel (0 = no
+  // visible difference), colour ramp 0 .. 1.
+  template <class Push>
+  double scored(Image* heat, Push push) {
     stream.enable_heatmap(heat != nullptr);
-    const double q = stream.push(test, static_cast<const FvvdpRunReference&>(r).stream, f->stream);
+    const double q = push();
     if (heat) *heat = heatmap(stream.heatmap(), 0.f, 1.f);
     stream.enable_heatmap(false);
     return q;
   }
-  void reset() override { stream.reset(); }
-  FvvdpTestStream stream;
 };
 
 }  // namespace
