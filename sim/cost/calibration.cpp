@@ -232,17 +232,11 @@ GpuProfile profile_from_fit(const CostFit& fit, const std::string& gpu, const Ca
     // the frame's rest (present, UI) has no nominal work and stays 0.
     const bool unseen = fit.unseen(pass);
     if (unseen) pc.overhead_ms = pass == "frame" ? 0.0 : fit.prior_overhead_ms;
-    // Every term the model knows for this pass (term_resource validates the pair).
-    for (const char* term :
-         {"tris", "frags", "gbuffer_bytes", "shadow_tris", "shadow_texels", "texels", "pixels",
-          "holes", "samples", "flops", "vpls", "shade_flops", "vpl_flops", "taps"}) {
-      Resource r;
-      try {
-        r = term_resource(pass, term, "");
-      } catch (const Error&) {
-        continue;
-      }
-      double rate = se.spec.rate_per_ms(r);
+    // Every term the model knows for this pass.
+    for (const std::string& term : term_names()) {
+      const std::optional<Resource> r = find_term_resource(pass, term);
+      if (!r) continue;
+      double rate = se.spec.rate_per_ms(*r);
       if (pass == "lighting") {  // unit work: the workload carries the (fitted) flops
         pc.terms[term] = 1.0 / rate;
         continue;
@@ -300,11 +294,12 @@ Row design_row(const CostFit& fit, const CalData& data, const CalEntry& e) {
       continue;
     if (std::find(e.except.begin(), e.except.end(), pw.pass) != e.except.end()) continue;
     r.x[pw.pass + ".overhead_ms"] += 1.0;
-    // Roofline: only the bottleneck resource's terms (with the current theta) enter the row.
+    // Roofline: only the bottleneck resource's terms of each dispatch (with the current theta)
+    // enter the row.
     bool use_all = fit.model != CostModelKind::Roofline || pw.pass == "lighting";
-    Resource active = Resource::Fixed;
+    std::map<int, Resource> active;  // per dispatch (Term::stage)
     if (!use_all) {
-      std::map<Resource, double> t_res;
+      std::map<int, std::map<Resource, double>> t_res;
       for (const Term& t : pw.terms) {
         auto it = fit.theta.find(col(pw.pass, t.name));
         double th0 = it == fit.theta.end() ? 0.0 : it->second;
@@ -313,15 +308,18 @@ Row design_row(const CostFit& fit, const CalData& data, const CalEntry& e) {
           th0 = m == fit.theta.end() ? 0.0 : m->second * w.tri_cost;
         }
         double th = std::max(theta_floor(pw.pass, t.name), th0);
-        t_res[t.res] += th * t.value * working_set_factor(pw.pass, t.name, spec, e.display) /
-                        spec.rate_per_ms(t.res);
+        t_res[t.stage][t.res] += th * t.value *
+                                 working_set_factor(pw.pass, t.name, spec, e.display) /
+                                 spec.rate_per_ms(t.res);
       }
-      double worst = -1;
-      for (auto& [res, v] : t_res)
-        if (v > worst) worst = v, active = res;
+      for (auto& [stage, per_res] : t_res) {
+        double worst = -1;
+        for (auto& [res, v] : per_res)
+          if (v > worst) worst = v, active[stage] = res;
+      }
     }
     for (const Term& t : pw.terms) {
-      if (!use_all && t.res != active) continue;
+      if (!use_all && t.res != active[t.stage]) continue;
       double v = t.value / spec.rate_per_ms(t.res);
       if (fit.model == CostModelKind::Roofline)
         v *= working_set_factor(pw.pass, t.name, spec, e.display);
@@ -440,7 +438,8 @@ double fit_loss(const CostFit& fit, const CalData& data, const std::vector<const
 
 double theta_floor(const std::string& pass, const std::string& term) {
   (void)pass;
-  for (const char* t : {"tris", "frags", "gbuffer_bytes", "shadow_tris", "shadow_texels", "texels"})
+  for (const char* t :
+       {"tris", "frags", "gbuffer_bytes", "shadow_tris", "shadow_texels", "texels", "sprites"})
     if (term == t) return 1.0;
   return 0.0;
 }
@@ -455,10 +454,16 @@ double nominal_work(const std::string& pass, const std::string& term, std::strin
   // Bytes per unit (memory terms) or FP32 operations per unit (shading terms) at 100%
   // efficiency, from each pass's algorithm as its paper states it. Not fitted.
   static const Nominal table[] = {
-      {"reproject", "pixels", 105, "",
-       "Franke et al. 2021 §4: each previous pixel is a point sprite of colour (RGBA8, 4 B) and "
-       "world position (XYZW 32-bit, 16 B), read and written with a depth test (44 B); push-pull "
-       "hole filling over the mip chain (4/3 x 40 B = 53 B); confidence (8 B)"},
+      {"reproject", "sprites", 1, "depth.tris",
+       "Franke et al. 2021 §4: each pixel of the previous frame is a pixel-sized point sprite "
+       "rasterised again, one primitive through the same vertex and setup stages as a depth-pass "
+       "triangle"},
+      {"reproject", "pixels", 44, "",
+       "Franke et al. 2021 §4: a sprite's colour (RGBA8, 4 B) and world position (XYZW 32-bit, "
+       "16 B) read, and written with its depth (24 B) where it wins the depth test"},
+      {"reproject", "fill_pixels", 61, "",
+       "Franke et al. 2021 §5: push-pull hole filling builds and reads the mip chain of colour, "
+       "depth and confidence (4/3 x 40 B = 53 B), then the confidence per pixel (8 B)"},
       {"ssao", "pixels", 42, "",
        "Franke et al. 2021 §8.4: SSAO at half resolution, 32 samples per pixel: 32 x 4 B depth + "
        "8 B normal + 1 B written per half-resolution pixel = 137 B / 4 = 34 B per pixel, plus a "
@@ -537,7 +542,7 @@ void finish_priors(CostFit& fit) {
     // which neighbouring windows share through the caches (pass 2 and FLC's post-AA fit at
     // 1.2-4x the peak DRAM bandwidth by that count, which DRAM cannot do), so they do not
     // measure how close a pass gets to the bandwidth; the streaming terms' bytes do.
-    for (const char* term : {"pixels", "samples", "flops", "vpls", "holes"}) {
+    for (const char* term : {"pixels", "fill_pixels", "samples", "flops", "vpls", "holes"}) {
       std::string like;
       const double w = nominal_work(pass, term, &like);
       if (!like.empty() || !(w > 0)) continue;

@@ -334,7 +334,7 @@ void report_nominal_work(std::ostream& txt, const ValidationOutputs& v, const Va
     const CostFit full = fit_cost_model(data, o);
     std::string flagged;
     for (const std::string& pass : known_passes())
-      for (const char* term : {"pixels", "taps", "samples", "flops", "vpls", "tris", "texels"}) {
+      for (const std::string& term : term_names()) {
         std::string like, why;
         const double w = nominal_work(pass, term, &like, &why);
         if (!(w > 0)) continue;
@@ -342,7 +342,7 @@ void report_nominal_work(std::ostream& txt, const ValidationOutputs& v, const Va
         without.seen_passes.erase(pass);
         if (without.seen_passes.empty()) without.seen_passes.insert("-");
         auto it = full.theta.find(pass + "." + std::string(term));
-        txt << "  " << pad(pass + "." + term, 20)
+        txt << "  " << pad(pass + "." + term, 22)
             << (like.empty() ? fmt("nominal %-8.4g", w) : pad(fmt("%.4g x ", w) + like, 30))
             << fmt(" prior %-10.4g", prior_theta(without, pass, term))
             << (it == full.theta.end() ? std::string(" fitted (floor)")

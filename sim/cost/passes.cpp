@@ -8,7 +8,9 @@
 //   shade_flops    shaded samples * lights * workload.shading_flops
 //   vpl_flops      (FLC) shaded sample-VPL pairs * workload.vpl_flops
 //   taps           (pass 2) full-resolution pixels * filter taps
-//   pixels         full-resolution pixels a screen pass touches
+//   pixels         full-resolution pixels a screen pass touches (reproject: sprites that land)
+//   sprites        (TWFR) point sprites of the reprojection's warp, one per display pixel
+//   fill_pixels    (TWFR) pixels push-pull and the confidence pass run over
 //   holes          (TWFR) hole pixels filled by push-pull, summed over mip levels
 //   texels         (FLC) RSM texels; samples: importance samples * chain length;
 //   flops          (contribution) FP32 operations the paper's algorithm states: eq. 14 per
@@ -20,6 +22,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "sim/core/error.h"
 #include "sim/core/message_text.h"
@@ -33,6 +36,7 @@ struct TermDef {
   const char* pass;
   const char* term;
   Resource res;
+  int stage = 0;  // dispatch within the pass (Term::stage)
 };
 
 const std::vector<TermDef>& term_table() {
@@ -47,8 +51,12 @@ const std::vector<TermDef>& term_table() {
       {"gbuffer", "frags", Resource::Raster},
       {"gbuffer", "gbuffer_bytes", Resource::Memory},
       {"skybox", "pixels", Resource::Raster},
-      {"reproject", "pixels", Resource::Memory},
-      {"reproject", "holes", Resource::Memory},
+      // Franke et al. 2021 §4-§5: the point-sprite warp (one primitive per previous pixel,
+      // depth-tested), then push-pull over the mip chain and the confidence: two dispatches.
+      {"reproject", "sprites", Resource::Geometry, 0},
+      {"reproject", "pixels", Resource::Memory, 0},
+      {"reproject", "fill_pixels", Resource::Memory, 1},
+      {"reproject", "holes", Resource::Memory, 1},
       {"importance", "pixels", Resource::Memory},
       {"importance", "samples", Resource::Shading},
       {"contribution", "flops", Resource::Shading},
@@ -100,6 +108,39 @@ std::optional<Resource> find_term_resource(const std::string& pass, const std::s
   return std::nullopt;
 }
 
+const std::vector<std::string>& term_names() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> v;
+    for (auto& d : term_table())
+      if (std::find(v.begin(), v.end(), d.term) == v.end()) v.push_back(d.term);
+    return v;
+  }();
+  return names;
+}
+
+int term_stage(const std::string& pass, const std::string& term) {
+  for (auto& d : term_table())
+    if (pass == d.pass && term == d.term) return d.stage;
+  return 0;
+}
+
+double roofline_ms(const std::vector<Term>& terms, const std::vector<double>& term_ms,
+                   std::vector<std::pair<Resource, double>>* bound) {
+  std::map<int, std::map<Resource, double>> per_stage;  // work / throughput per resource (ms)
+  for (size_t i = 0; i < terms.size() && i < term_ms.size(); ++i)
+    per_stage[terms[i].stage][terms[i].res] += term_ms[i];
+  double ms = 0;
+  for (auto& [stage, per_res] : per_stage) {
+    Resource b = Resource::Fixed;
+    double worst = 0;
+    for (auto& [r, v] : per_res)
+      if (v > worst) worst = v, b = r;
+    ms += worst;
+    if (bound) bound->push_back({b, worst});
+  }
+  return ms;
+}
+
 Resource term_resource(const std::string& pass, const std::string& term, const std::string& where) {
   if (const auto r = find_term_resource(pass, term)) return *r;
   std::string known;
@@ -139,7 +180,7 @@ double post_aa_taps_per_pixel(int width, int height) {
 
 double working_set_factor(const std::string& pass, const std::string& term, const GpuSpec& spec,
                           const Display& display) {
-  if (pass != "reproject" || term != "pixels") return 1.0;
+  if (pass != "reproject" || term == "holes") return 1.0;
   const double px = double(std::max(0, display.width)) * double(std::max(0, display.height));
   return l2_miss_fraction(spec, px * kReprojectBytesPerPixel);
 }
@@ -224,7 +265,10 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
 
   std::vector<PassWork> out;
   auto add = [&](const char* pass, std::vector<Term> terms) {
-    for (auto& t : terms) t.value = pos(t.value, "pass " + std::string(pass) + ", term " + t.name);
+    for (auto& t : terms) {
+      t.value = pos(t.value, "pass " + std::string(pass) + ", term " + t.name);
+      t.stage = term_stage(pass, t.name);
+    }
     out.push_back({pass, std::move(terms)});
   };
   const double Tsub = decl.culls_primitives ? need(Counter::prims_submitted, T)
@@ -249,12 +293,18 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
                 {"texels", Resource::Raster, texels}});
   }
   if (decl.reprojection) {  // reprojection + push-pull + confidence (Franke et al. 2021 §4-§5)
+    // The warp: "a uniform grid with a resolution equal to that of the input image ... each
+    // cell ... a pixel-sized point sprite" (§4), so one primitive per display pixel, and the
+    // bytes of the sprites that land (depth-test winners); then push-pull builds and reads the
+    // mip chain of the whole image and the confidence is computed per pixel (§5).
     double rp = need(Counter::reprojected_pixels, P);
     double holes = 0;
     for (auto& e : c.entries())
       if (e.key.id == Counter::holes_mip) holes += pos(e.value, "counter holes_mip");
     add("reproject",
-        {{"pixels", Resource::Memory, rp * eyes},
+        {{"sprites", Resource::Geometry, P * eyes},
+         {"pixels", Resource::Memory, rp * eyes},
+         {"fill_pixels", Resource::Memory, P * eyes},
          {"holes", Resource::Memory, holes * display_scale(Counter::holes_mip, scale) * eyes}});
   }
   // G-buffer (deferred) or forward geometry pass (fVRS); TWFR discards confident pixels.

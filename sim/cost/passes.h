@@ -17,6 +17,10 @@ struct Term {
   std::string name;
   Resource res;
   double value = 0;  // counter units for the whole frame (all eyes)
+  // The dispatch of the pass the term belongs to (term_stage): a pass of several dependent
+  // dispatches (TWFR's reprojection: the point-sprite warp, then push-pull and confidence)
+  // costs the sum of each dispatch's roofline, not one roofline over all its terms.
+  int stage = 0;
 };
 
 struct PassWork {
@@ -33,14 +37,25 @@ const std::vector<std::string>& cost_methods();
 Resource term_resource(const std::string& pass, const std::string& term, const std::string& where);
 // The same lookup without an error: nullopt when (pass, term) is not a cost term.
 std::optional<Resource> find_term_resource(const std::string& pass, const std::string& term);
+// Every term name of the term table, each once, in the table's order.
+const std::vector<std::string>& term_names();
+// The dispatch (0, 1, ...) of a (pass, term) within its pass: 0 for every single-dispatch pass.
+int term_stage(const std::string& pass, const std::string& term);
+// Roofline time (ms) of a pass's terms given each term's time: the slowest resource of each
+// dispatch, summed over the dispatches; `bound` (optional) receives each dispatch's slowest
+// resource and its time.
+double roofline_ms(const std::vector<Term>& terms, const std::vector<double>& term_ms,
+                   std::vector<std::pair<Resource, double>>* bound = nullptr);
 // Every pass name the model knows, in pipeline order (est_ms_<pass> columns).
 const std::vector<std::string>& known_passes();
 bool is_known_pass(const std::string& p);
 
 // Roofline model only: factor on a term's work for the working-set effect. TWFR's
-// reprojection gathers the previous frame at reprojected positions (Franke et al. 2021 §4), so its
+// reprojection warps the previous frame to reprojected positions (Franke et al. 2021 §4), so its
 // DRAM traffic is the L2 miss fraction of a W*H*kReprojectBytesPerPixel buffer (one eye at
-// a time); every other term streams and is 1.
+// a time), and its sprites, each waiting on the fetch of its world position, stall on the same
+// misses (estimate_frame keeps them at or above the peak primitive rate); the hole counts and
+// every other term stream and are 1.
 // FLC's contribution pass (Yang et al. 2021 §5) in FP32 operations of the algorithm as the paper
 // states it: per VPL-sample pair eq. 14 (geometry term, the eq. 11 mix, the summand) and per BLSO
 // lookup eqs. 12-13 (a position in the cone around d, its light-space projection, the depth

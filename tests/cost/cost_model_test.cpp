@@ -285,3 +285,38 @@ TEST(CostModel, RooflineTakesTheBottleneckResource) {
   j["interval"]["hi_factor"] = 0.5;
   EXPECT_THROW(GpuProfile::from_json(j, "toy.json"), Error);
 }
+
+// A pass of several dependent dispatches costs the sum of their rooflines: TWFR's
+// reprojection is the point-sprite warp (sprites vs. their bytes: the slower) and then
+// push-pull with the confidence (Franke et al. 2021 §4-§5), so its time is overhead +
+// max(sprites, warp bytes) + fill bytes, never the max of all three.
+TEST(CostModel, RooflineAddsTheDispatchesOfAPass) {
+  const std::vector<Term> terms = {{"sprites", Resource::Geometry, 0, 0},
+                                   {"pixels", Resource::Memory, 0, 0},
+                                   {"fill_pixels", Resource::Memory, 0, 1},
+                                   {"holes", Resource::Memory, 0, 1}};
+  std::vector<std::pair<Resource, double>> bound;
+  EXPECT_DOUBLE_EQ(roofline_ms(terms, {2.0, 0.5, 1.0, 0.25}, &bound), 2.0 + 1.25);
+  ASSERT_EQ(bound.size(), 2u);
+  EXPECT_EQ(bound[0].first, Resource::Geometry);
+  EXPECT_EQ(bound[1].first, Resource::Memory);
+  EXPECT_DOUBLE_EQ(roofline_ms(terms, {0.5, 2.0, 1.0, 0.0}), 2.0 + 1.0);
+
+  Json j = Json::parse(R"({"name": "toy", "model": "roofline",
+    "spec": {"fp32_gflops": 1, "mem_gbps": 1, "fill_gpix": 1, "tri_gtris": 1, "l2_mb": 0},
+    "passes": {"reproject": {"overhead_ms": 0.1, "terms": {"sprites": 3e-7, "pixels": 1e-7, "fill_pixels": 2e-7, "holes": 0}},
+               "gbuffer": {"overhead_ms": 0, "terms": {}},
+               "lighting": {"overhead_ms": 0, "terms": {}}}})");
+  const GpuProfile roof = GpuProfile::from_json(j, "toy.json");
+  Counters c;
+  CostInputs in = base_inputs("twfr", &c);
+  Workload w;
+  w.pipeline.depth_prepass = false, w.pipeline.tonemap = false, w.pipeline.ssao = false;
+  w.pipeline.taa = false, w.pipeline.skybox = false, w.shadowed_lights = 0;
+  in.workload = &w;
+  in.display.eyes = 1;
+  const double P = 1440.0 * 1600.0;  // every pixel reprojected (the analytic fallback)
+  const FrameCost r = estimate_frame(roof, in);
+  EXPECT_NEAR(r.pass_ms("reproject"), 0.1 + std::max(3e-7, 1e-7) * P + 2e-7 * P, 1e-9);
+  EXPECT_NEAR(r.resource_ms.at("geometry"), 3e-7 * P, 1e-9);
+}

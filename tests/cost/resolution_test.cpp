@@ -125,6 +125,24 @@ TEST(ResolutionSlopes, ReprojectionMissFractionFollowsTheProfilesL2) {
   none.l2_mb = 0;  // unknown cache: no working-set effect
   EXPECT_EQ(working_set_factor("reproject", "pixels", none, fove), 1.0);
   EXPECT_EQ(working_set_factor("taa", "pixels", s, k8), 1.0);
+  // Both dispatches of the reprojection (the sprite warp and push-pull) see the same miss
+  // fraction; the hole counts are already per mip level.
+  EXPECT_EQ(working_set_factor("reproject", "sprites", s, fove), f1);
+  EXPECT_EQ(working_set_factor("reproject", "fill_pixels", s, fove), f1);
+  EXPECT_EQ(working_set_factor("reproject", "holes", s, fove), 1.0);
+  // An L2 that holds the eye's buffers (RTX 4090, 72 MB) takes the DRAM traffic away, not the
+  // sprites' primitive work: they still cost one primitive each at the peak rate.
+  const GpuProfile g4090 = GpuProfile::load("rtx4090", kModels);
+  EXPECT_EQ(working_set_factor("reproject", "sprites", g4090.spec, fove), 0.0);
+  const double sprites_at_peak = 1280.0 * 1440 * 2 / g4090.spec.rate_per_ms(Resource::Geometry);
+  EXPECT_GE(
+      predict("rtx4090", "twfr_bistro", "fove_1280x1440", 1280, 1440, "twfr").pass_ms("reproject"),
+      sprites_at_peak);
+  // On the calibrated GPU the fitted sprite cost stays above the peak rate (the floor above is
+  // not what the fit saw).
+  const GpuProfile g2070 = GpuProfile::load("rtx2070", kModels);
+  EXPECT_GT(g2070.coef("reproject", "sprites") * f1 * g2070.spec.rate_per_ms(Resource::Geometry),
+            1.0);
   const double a =
       predict("rtx2070", "twfr_bistro", "fove_1280x1440", 1280, 1440, "twfr").pass_ms("reproject");
   const double b =
