@@ -471,6 +471,18 @@ GpuProfile GpuProfile::from_json(const Json& j, const std::string& file) {
       term_resource(pass, t.key(), terms.where(t.key()));
       pc.terms[t.key()] = profile_number(terms, "passes.{pass}.terms.{term}", t.key());
     }
+    // Every term of the pass is required: a profile written before a term existed (e.g. the
+    // reprojection's sprites) would otherwise charge nothing for its work.
+    std::string all, missing;
+    for (const std::string& term : term_names())
+      if (find_term_resource(pass, term)) {
+        all += (all.empty() ? "" : ", ") + term;
+        if (!pc.terms.count(term)) missing += (missing.empty() ? "" : ", ") + term;
+      }
+    if (!missing.empty())
+      terms.fail("", "missing term(s) " + missing + " of pass '" + pass + "' (its terms: " + all +
+                         "; write 0 for work that costs nothing on this GPU, or recalibrate with "
+                         "`fovsim calibrate`)");
     g.passes[pass] = pc;
   }
   if (p.has("calibration")) {

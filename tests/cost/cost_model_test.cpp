@@ -231,6 +231,19 @@ TEST(CostModel, BadProfilesAndUnknownNamesNameTheLocation) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("spec.fp32_gflops"), std::string::npos) << e.what();
   }
+  // A pass must list every one of its terms: a profile written before the reprojection had
+  // its sprites would otherwise warp for free.
+  bad = j;
+  bad["passes"]["reproject"]["terms"] = {{"pixels", 7e-7}, {"holes", 0.0}};
+  try {
+    GpuProfile::from_json(bad, "old.json");
+    FAIL();
+  } catch (const Error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("old.json: passes.reproject.terms"), std::string::npos) << m;
+    EXPECT_NE(m.find("missing term(s) sprites, fill_pixels"), std::string::npos) << m;
+    EXPECT_NE(m.find("write 0"), std::string::npos) << m;
+  }
   bad = j;
   bad["typo_key"] = 1;
   EXPECT_THROW(GpuProfile::from_json(bad, "x.json"), Error);
@@ -255,7 +268,7 @@ TEST(CostModel, RooflineTakesTheBottleneckResource) {
   Json j = Json::parse(R"({"name": "toy", "model": "roofline",
     "spec": {"fp32_gflops": 1, "mem_gbps": 1, "fill_gpix": 1, "tri_gtris": 1},
     "passes": {"gbuffer": {"overhead_ms": 0.5, "terms": {"tris": 1e-6, "frags": 1e-7, "gbuffer_bytes": 1e-8}},
-               "lighting": {"overhead_ms": 0, "terms": {}}},
+               "lighting": {"overhead_ms": 0, "terms": {"shade_flops": 0, "vpl_flops": 0}}},
     "interval": {"level": 0.8, "lo_factor": 0.9, "hi_factor": 1.3, "n": 10}})");
   GpuProfile roof = GpuProfile::from_json(j, "toy.json");
   j["model"] = "linear";
@@ -305,8 +318,8 @@ TEST(CostModel, RooflineAddsTheDispatchesOfAPass) {
   Json j = Json::parse(R"({"name": "toy", "model": "roofline",
     "spec": {"fp32_gflops": 1, "mem_gbps": 1, "fill_gpix": 1, "tri_gtris": 1, "l2_mb": 0},
     "passes": {"reproject": {"overhead_ms": 0.1, "terms": {"sprites": 3e-7, "pixels": 1e-7, "fill_pixels": 2e-7, "holes": 0}},
-               "gbuffer": {"overhead_ms": 0, "terms": {}},
-               "lighting": {"overhead_ms": 0, "terms": {}}}})");
+               "gbuffer": {"overhead_ms": 0, "terms": {"tris": 0, "frags": 0, "gbuffer_bytes": 0}},
+               "lighting": {"overhead_ms": 0, "terms": {"shade_flops": 0, "vpl_flops": 0}}}})");
   const GpuProfile roof = GpuProfile::from_json(j, "toy.json");
   Counters c;
   CostInputs in = base_inputs("twfr", &c);
