@@ -9,7 +9,7 @@
 //   vpl_flops      (FLC) shaded sample-VPL pairs * workload.vpl_flops
 //   taps           (pass 2) full-resolution pixels * filter taps
 //   pixels         full-resolution pixels a screen pass touches (reproject: sprites that land)
-//   sprites        (TWFR) point sprites of the reprojection's warp, one per display pixel
+//   sprites        (TWFR) point sprites of the reprojection's warp (reproject_splats)
 //   fill_pixels    (TWFR) pixels push-pull and the confidence pass run over
 //   holes          (TWFR) hole pixels filled by push-pull, summed over mip levels
 //   texels         (FLC) RSM texels; samples: importance samples * chain length;
@@ -294,15 +294,18 @@ std::vector<PassWork> assemble_passes(const CostInputs& in, const Workload& w,
   }
   if (decl.reprojection) {  // reprojection + push-pull + confidence (Franke et al. 2021 §4-§5)
     // The warp: "a uniform grid with a resolution equal to that of the input image ... each
-    // cell ... a pixel-sized point sprite" (§4), so one primitive per display pixel, and the
-    // bytes of the sprites that land (depth-test winners); then push-pull builds and reads the
-    // mip chain of the whole image and the confidence is computed per pixel (§5).
+    // cell ... a pixel-sized point sprite" (§4), so one primitive per previous pixel that
+    // carries a world position (hole-filled pixels have none: "the point sprite's vertex will be
+    // clipped"; counter reproject_splats, every pixel without counters), and the bytes of the
+    // sprites that land (depth-test winners); then push-pull builds and reads the mip chain of
+    // the whole image and the confidence is computed per pixel (§5).
+    double sprites = need(Counter::reproject_splats, P);
     double rp = need(Counter::reprojected_pixels, P);
     double holes = 0;
     for (auto& e : c.entries())
       if (e.key.id == Counter::holes_mip) holes += pos(e.value, "counter holes_mip");
     add("reproject",
-        {{"sprites", Resource::Geometry, P * eyes},
+        {{"sprites", Resource::Geometry, sprites * eyes},
          {"pixels", Resource::Memory, rp * eyes},
          {"fill_pixels", Resource::Memory, P * eyes},
          {"holes", Resource::Memory, holes * display_scale(Counter::holes_mip, scale) * eyes}});

@@ -113,6 +113,7 @@ void TwfrMethod::analytic_counters(const AnalyticFrame& f, Counters& c) const {
   c.set(Counter::shaded_samples, rf * P);
   c.set(Counter::gbuffer_samples, rf * P);
   c.set(Counter::pixels_redrawn, rf * P);
+  c.set(Counter::reproject_splats, P);  // every previous pixel carries a position
   c.set(Counter::reprojected_pixels, P);
   c.set(Counter::prims_submitted, pf * T);
   c.set(Counter::prims_culled, (1 - pf) * T);

@@ -332,4 +332,12 @@ TEST(CostModel, RooflineAddsTheDispatchesOfAPass) {
   const FrameCost r = estimate_frame(roof, in);
   EXPECT_NEAR(r.pass_ms("reproject"), 0.1 + std::max(3e-7, 1e-7) * P + 2e-7 * P, 1e-9);
   EXPECT_NEAR(r.resource_ms.at("geometry"), 3e-7 * P, 1e-9);
+  // A run's sprites are the previous pixels that carried a world position (hole-filled ones
+  // are never warped, Franke et al. 2021 §4): counter reproject_splats; push-pull still runs
+  // over every pixel.
+  c.set(Counter::reproject_splats, 0.25 * P);
+  c.set(Counter::reprojected_pixels, 0.2 * P);
+  const FrameCost run = estimate_frame(roof, in);
+  EXPECT_NEAR(run.pass_ms("reproject"), 0.1 + std::max(3e-7 * 0.25 * P, 1e-7 * 0.2 * P) + 2e-7 * P,
+              1e-9);
 }
