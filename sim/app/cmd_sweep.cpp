@@ -10,6 +10,7 @@
 #include "sim/core/disk_cache.h"
 #include "sim/core/error.h"
 #include "sim/core/files.h"
+#include "sim/core/version.h"
 #include "sim/experiment/intervals.h"
 #include "sim/experiment/plots.h"
 #include "sim/experiment/search_runner.h"
@@ -69,6 +70,12 @@ void print_sweep_report(const SweepArgs& a, const SweepPlan& plan, const SweepOp
     if (r.reference_frames_from_cache > 0)
       std::printf(", %d from the reference cache", r.reference_frames_from_cache);
     std::printf("); peak resident memory %.2f GB\n", double(r.peak_rss_bytes) / 1e9);
+    if (r.cells_other_build)
+      std::printf(
+          "note: %d complete cell%s in %s/runs came from another build of fovsim (not %s) "
+          "and %s computed again\n",
+          r.cells_other_build, r.cells_other_build == 1 ? "" : "s", r.out_dir.c_str(),
+          fovsim::git_commit().c_str(), r.cells_other_build == 1 ? "was" : "were");
     if (r.stale_dirs)
       std::printf(
           "note: %d folder%s in %s/runs belong to cells no longer in this config (ignored)\n",

@@ -12,6 +12,7 @@
 #include "sim/core/files.h"
 #include "sim/core/hash.h"
 #include "sim/core/progress.h"
+#include "sim/core/version.h"
 #include "sim/experiment/engine.h"
 #include "sim/experiment/jod_fidelity.h"
 #include "sim/experiment/search.h"
@@ -32,8 +33,10 @@ const ResultRow* scored_row(const ResultTable& t, const std::string& label) {
 
 // True when a cached evaluation holds every column this search scores (done.json is written
 // last, so its presence means the run completed; a run cached by a search with another
-// objective or constraint lacks their columns and is evaluated again).
-bool cached_eval_complete(const std::string& done_path, const SearchSpec& sp) {
+// objective or constraint lacks their columns and is evaluated again) and was made by this
+// build (`git_commit`: a rebuilt cost model or metric must not be answered from the numbers of
+// the previous one; `stale` counts those).
+bool cached_eval_complete(const std::string& done_path, const SearchSpec& sp, int& stale) {
   if (!file_exists(done_path)) return false;
   Json d;
   try {
@@ -42,6 +45,10 @@ bool cached_eval_complete(const std::string& done_path, const SearchSpec& sp) {
     return false;
   }
   if (!d.is_object() || !d.contains("columns") || !d["columns"].is_object()) return false;
+  if (!d.contains("git_commit") || d["git_commit"] != git_commit()) {
+    ++stale;
+    return false;
+  }
   if (!d["columns"].contains(sp.objective.column)) return false;
   for (auto& k : sp.constraints)
     if (!d["columns"].contains(k.column)) return false;
@@ -97,7 +104,7 @@ namespace {
 std::vector<CellJob> batch_jobs(const std::vector<std::vector<double>>& pts, const SweepCell& ctx,
                                 int ci, const SearchSpec& sp, const std::string& evals_dir,
                                 const LoadedConfig& cfg, const SweepOptions& opt,
-                                std::vector<std::string>& dirs, int& cached) {
+                                std::vector<std::string>& dirs, int& cached, int& stale) {
   std::vector<CellJob> jobs;
   for (auto& x : pts) {
     Json doc = ctx.doc;
@@ -106,7 +113,7 @@ std::vector<CellJob> batch_jobs(const std::vector<std::vector<double>>& pts, con
     std::string h = short_hash(doc.dump());
     std::string dir = evals_dir + "/" + h;
     dirs.push_back(dir);
-    if (cached_eval_complete(dir + "/done.json", sp)) {
+    if (cached_eval_complete(dir + "/done.json", sp, stale)) {
       ++cached;
       continue;
     }
@@ -194,7 +201,8 @@ void run_batch(std::vector<CellJob>& jobs, const EngineOptions& eo, const SweepP
       // Every candidate's probability of fitting the budget (sim/cost/budget.h), constrained
       // or not: search_history.csv reports it.
       cols["p_fit"] = num(r->get("p_fit", NAN));
-      Json done{{"score", cols[sp.objective.column]}, {"columns", cols}};
+      Json done{
+          {"score", cols[sp.objective.column]}, {"columns", cols}, {"git_commit", git_commit()}};
       // What the verdict (search_verdict.h) needs: the frame time against the budget, the
       // score's interval and per-frame values, and `full`'s frame time when the run has it.
       done["verdict"] = verdict_inputs(res[i], *r, sp);
@@ -424,7 +432,8 @@ ContextSearch search_context(const SweepPlan& plan, const SweepCell& ctx, int ci
     if (pts.empty()) break;
     if (int(pts.size()) > sp.evaluations - n) pts.resize(size_t(sp.evaluations - n));
     std::vector<std::string> dirs;
-    std::vector<CellJob> jobs = batch_jobs(pts, ctx, ci, sp, evals_dir, cfg, opt, dirs, rep.cached);
+    std::vector<CellJob> jobs =
+        batch_jobs(pts, ctx, ci, sp, evals_dir, cfg, opt, dirs, rep.cached, rep.stale);
     run_batch(jobs, eo, plan, cfg);
     std::vector<SearchEval> ev;
     for (size_t i = 0; i < pts.size(); ++i) {
@@ -596,6 +605,11 @@ SearchReport run_search(const SweepPlan& plan, const LoadedConfig& cfg, const Sw
   write_file_atomic(rep.out_dir + "/search_best" + suffix + ".csv", best.to_csv());
   write_file_atomic(rep.out_dir + "/search_verdict" + suffix + ".json", verdicts.dump(2) + "\n");
   rep.best = std::move(best);
+  if (rep.stale > 0)
+    rep.notes.push_back(
+        std::to_string(rep.stale) + " evaluation" + (rep.stale == 1 ? "" : "s") + " found in " +
+        rep.out_dir + " came from another build of fovsim (git_commit differs from " +
+        git_commit() + ") and " + (rep.stale == 1 ? "was" : "were") + " evaluated again");
   return rep;
 }
 

@@ -15,6 +15,8 @@ namespace fovsim {
 struct SearchReport {
   std::string out_dir;
   int contexts = 0, evaluations = 0, cached = 0;
+  // Evaluations found in the output folder but made by another build (git_commit): run again.
+  int stale = 0;
   ResultTable best;  // per context; with a constraint: its value and "violation" (0 = met)
   // One line per context where no evaluated point met the constraint (its least violation).
   std::vector<std::string> notes;

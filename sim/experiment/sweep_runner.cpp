@@ -95,8 +95,9 @@ void write_cell_json(const std::string& dir, const SweepCell& c, const ResultTab
     for (auto& [k, v] : r.num) n.push_back(Json::array({k, num_json(v)}));  // keeps column order
     rows.push_back(Json{{"text", t}, {"num", n}});
   }
-  Json j{{"status", "complete"},     {"index", c.index},   {"hash", c.hash},
-         {"assign", assign_json(c)}, {"cell_ms", cell_ms}, {"summary", rows}};
+  Json j{{"status", "complete"},      {"index", c.index},   {"hash", c.hash},
+         {"assign", assign_json(c)},  {"cell_ms", cell_ms}, {"summary", rows},
+         {"git_commit", git_commit()}};
   if (target.is_object()) j["target"] = target;  // --target: frames used, achieved half-widths
   write_file_atomic(dir + "/cell.json", j.dump(1) + "\n");
 }
@@ -343,6 +344,36 @@ bool cell_complete(const std::string& dir, const std::string& hash) {
   }
 }
 
+// The build (git_commit) a complete cell was computed by; "" for a cell written before cells
+// recorded it, or an unreadable one.
+static std::string cell_build(const std::string& dir) {
+  try {
+    Json j = parse_json_text(read_file(dir + "/cell.json"), dir + "/cell.json");
+    return j.contains("git_commit") && j["git_commit"].is_string()
+               ? j["git_commit"].get<std::string>()
+               : std::string();
+  } catch (...) {
+    return "";
+  }
+}
+
+// One summary, one build: cells that different builds computed (shards run with different
+// binaries) would mix two versions of the numbers. `builds`: git_commit -> cells.
+static void refuse_mixed_builds(const std::string& out_dir,
+                                const std::map<std::string, std::vector<int>>& builds) {
+  if (builds.size() <= 1) return;
+  std::string list;
+  for (auto& [b, cells] : builds) {
+    list += (list.empty() ? "" : "; ") + (b.empty() ? std::string("unrecorded") : b) + ": ";
+    for (size_t i = 0; i < cells.size() && i < 8; ++i)
+      list += (i ? ", " : "") + std::to_string(cells[i]);
+    if (cells.size() > 8) list += ", ... (" + std::to_string(cells.size()) + " cells)";
+  }
+  throw Error(out_dir, "the cells were computed by " + std::to_string(builds.size()) +
+                           " different builds of fovsim (git_commit " + list +
+                           "): rerun `fovsim sweep` with one build to recompute the others");
+}
+
 // A complete cell counts for a rerun only when it ran with the same --target specs (none =
 // the whole frame range): a cell stopped early is not the full run's cell, and vice versa.
 static bool cell_targets_match(const std::string& dir, const std::vector<std::string>& specs) {
@@ -449,8 +480,13 @@ SweepReport run_sweep(const SweepPlan& plan, const LoadedConfig& cfg, const Swee
   bool columns_checked = false;  // objectives & co. name columns of the cells' summary
   for (int i = first; i < last; ++i) {
     const SweepCell& c = plan.cells[size_t(i)];
-    if (cell_complete(cell_dir(out, c), c.hash) &&
-        cell_targets_match(cell_dir(out, c), opt.targets)) {
+    // A cell another build computed is computed again: a sweep never mixes numbers of two
+    // versions of the cost model, the metrics or the methods.
+    const bool complete = cell_complete(cell_dir(out, c), c.hash) &&
+                          cell_targets_match(cell_dir(out, c), opt.targets);
+    const bool other_build = complete && cell_build(cell_dir(out, c)) != git_commit();
+    if (other_build) ++rep.cells_other_build;
+    if (complete && !other_build) {
       ++rep.cells_done_before;
       if (!columns_checked) {
         ResultTable t;
@@ -568,6 +604,7 @@ static MergeReport merge_cells(const std::string& out_dir, const std::vector<std
   MergeReport rep;
   rep.cells = int(plan.cells.size());
   ResultTable summary;
+  std::map<std::string, std::vector<int>> builds;  // git_commit -> cells
   for (auto& c : plan.cells) {
     std::string here = cell_dir(out_dir, c);
     bool ok = cell_complete(here, c.hash);
@@ -596,8 +633,10 @@ static MergeReport merge_cells(const std::string& out_dir, const std::vector<std
       continue;
     }
     ++rep.found;
+    builds[cell_build(here)].push_back(c.index);
     add_cell_rows(summary, c, read_cell_summary(here));
   }
+  refuse_mixed_builds(out_dir, builds);
   if (!rep.missing.empty() && !allow_partial) {
     std::string list;
     for (size_t i = 0; i < rep.missing.size() && i < 20; ++i)

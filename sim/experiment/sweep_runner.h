@@ -39,6 +39,7 @@ struct SweepReport {
   int cells_done_before = 0;  // found complete (resumed), not recomputed
   int cells_run = 0;
   int stale_dirs = 0;           // runs/ folders of cells that no longer exist in this config
+  int cells_other_build = 0;    // complete cells another build computed: computed again
   int groups = 0;               // distinct reference keys among cells run
   int reference_passes = 0;     // frame loops (groups x batches x memory-budget passes)
   uint64_t peak_rss_bytes = 0;  // the process's peak resident memory (ru_maxrss) at the end

@@ -144,6 +144,33 @@ TEST(SweepCli, ResumeAfterSigkillAndShardsMergeEqual) {
   ASSERT_EQ(m.code, 0) << m.output;
   EXPECT_EQ(deterministic_rows(dir + "/shard0/summary.csv"), want);
   EXPECT_TRUE(fs::exists(dir + "/shard0/pareto.csv"));
+  // Cells of two builds never make one summary: merge refuses, naming the builds and cells;
+  // a resumed sweep computes the other build's cell again and says so.
+  std::string cell;
+  for (auto& e : fs::directory_iterator(dir + "/shard0/runs"))
+    if (fs::exists(e.path() / "cell.json")) cell = (e.path() / "cell.json").string();
+  ASSERT_FALSE(cell.empty());
+  std::string text = read_text(cell);
+  const size_t at = text.find("\"git_commit\": \"");
+  ASSERT_NE(at, std::string::npos) << text;
+  text.insert(at + 15, "older-");
+  write_text(cell, text);
+  auto mixed = run_cmd(fovsim_bin() + " merge " + dir + "/shard0 --no-plots");
+  EXPECT_EQ(mixed.code, 2) << mixed.output;
+  EXPECT_NE(mixed.output.find("computed by 2 different builds of fovsim (git_commit "),
+            std::string::npos)
+      << mixed.output;
+  EXPECT_NE(mixed.output.find("older-"), std::string::npos) << mixed.output;
+  auto redo =
+      run_cmd(fovsim_bin() + " sweep " + dir + "/s.json --out " + dir + "/shard0 --no-plots");
+  ASSERT_EQ(redo.code, 0) << redo.output;
+  EXPECT_NE(redo.output.find("5 already complete (skipped), 1 run"), std::string::npos)
+      << redo.output;
+  EXPECT_NE(redo.output.find("note: 1 complete cell in " + dir +
+                             "/shard0/runs came from another build of fovsim"),
+            std::string::npos)
+      << redo.output;
+  EXPECT_EQ(deterministic_rows(dir + "/shard0/summary.csv"), want);
 
   // Slurm's array variables select the shard when --shard is absent.
   auto sl = run_cmd("SLURM_ARRAY_TASK_ID=1 SLURM_ARRAY_TASK_COUNT=3 " + fovsim_bin() + " sweep " +

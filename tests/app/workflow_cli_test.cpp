@@ -150,6 +150,27 @@ TEST(Workflow, SearchWithoutFeasiblePointSaysSo) {
   ASSERT_EQ(b.rows.size(), 1u);
   EXPECT_EQ(b.rows[0][b.col("feasible")], "0");
   EXPECT_GT(std::stod(b.rows[0][b.col("violation")]), 0);
+  // A rerun replays the evaluations from the folder, but only those this build made: one
+  // whose done.json names another build is evaluated again, and the search says so.
+  auto again = run_cmd(fovsim_bin() + " search " + d + "/s.json --out " + d + "/o");
+  ASSERT_EQ(again.code, 0) << again.output;
+  EXPECT_NE(again.output.find("3 evaluations (3 from cache)"), std::string::npos) << again.output;
+  std::string one;
+  for (auto& e : std::filesystem::directory_iterator(d + "/o/search/evals"))
+    if (std::filesystem::exists(e.path() / "done.json")) one = (e.path() / "done.json").string();
+  ASSERT_FALSE(one.empty());
+  std::string text = read_text(one);
+  const size_t at = text.find("\"git_commit\":\"");
+  ASSERT_NE(at, std::string::npos) << text;
+  text.insert(at + 14, "older-");
+  write_text(one, text);
+  auto stale = run_cmd(fovsim_bin() + " search " + d + "/s.json --out " + d + "/o");
+  ASSERT_EQ(stale.code, 0) << stale.output;
+  EXPECT_NE(stale.output.find("3 evaluations (2 from cache)"), std::string::npos) << stale.output;
+  EXPECT_NE(stale.output.find("1 evaluation found in " + d + "/o came from another build"),
+            std::string::npos)
+      << stale.output;
+  EXPECT_EQ(read_text(one).find("older-"), std::string::npos);  // rewritten by this build
 }
 
 // On the RTX 3090 profile the Vive Pro Eye's 90 Hz budget never binds: even unfoveated `full`
