@@ -55,6 +55,24 @@ inline std::string read_text(const std::string& path) {
   return ss.str();
 }
 
+// Makes one `name` file below `dir` (a sweep's cell.json, a search's done.json) look as if another
+// build of fovsim wrote it: its git_commit gets the prefix "older-". Returns the file, or "" when
+// none has a git_commit.
+inline std::string stamp_other_build(const std::string& dir, const std::string& name) {
+  for (auto& e : std::filesystem::recursive_directory_iterator(dir)) {
+    if (e.path().filename() != name) continue;
+    std::string text = read_text(e.path().string());
+    const size_t key = text.find("\"git_commit\"");
+    if (key == std::string::npos) continue;
+    const size_t value = text.find('"', text.find(':', key));
+    if (value == std::string::npos) continue;
+    text.insert(value + 1, "older-");
+    write_text(e.path().string(), text);
+    return e.path().string();
+  }
+  return "";
+}
+
 // Parses a CSV with a header into columns (no quoted commas expected in numeric files).
 struct Csv {
   std::vector<std::string> header;

@@ -146,15 +146,7 @@ TEST(SweepCli, ResumeAfterSigkillAndShardsMergeEqual) {
   EXPECT_TRUE(fs::exists(dir + "/shard0/pareto.csv"));
   // Cells of two builds never make one summary: merge refuses, naming the builds and cells;
   // a resumed sweep computes the other build's cell again and says so.
-  std::string cell;
-  for (auto& e : fs::directory_iterator(dir + "/shard0/runs"))
-    if (fs::exists(e.path() / "cell.json")) cell = (e.path() / "cell.json").string();
-  ASSERT_FALSE(cell.empty());
-  std::string text = read_text(cell);
-  const size_t at = text.find("\"git_commit\": \"");
-  ASSERT_NE(at, std::string::npos) << text;
-  text.insert(at + 15, "older-");
-  write_text(cell, text);
+  ASSERT_FALSE(stamp_other_build(dir + "/shard0/runs", "cell.json").empty());
   auto mixed = run_cmd(fovsim_bin() + " merge " + dir + "/shard0 --no-plots");
   EXPECT_EQ(mixed.code, 2) << mixed.output;
   EXPECT_NE(mixed.output.find("computed by 2 different builds of fovsim (git_commit "),
