@@ -12,8 +12,9 @@ else()
                   RESULT_VARIABLE dirty OUTPUT_QUIET ERROR_QUIET)
   if(dirty EQUAL 1)
     # The local changes' own hash: two different uncommitted states must not share a stamp,
-    # since the reference and search caches key on it (a rebuilt cost model would otherwise be
-    # answered from the cache of the previous edit).
+    # since a sweep's cells and a search's evaluations are reused only under the same stamp
+    # (a rebuilt cost model would otherwise be answered from the previous edit's numbers; the
+    # reference cache also keys on the binary itself, code_fingerprint).
     execute_process(COMMAND git diff HEAD --binary -- WORKING_DIRECTORY "${SRC}"
                     OUTPUT_VARIABLE diff ERROR_QUIET)
     string(SHA1 diff_hash "${diff}")
