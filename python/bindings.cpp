@@ -119,6 +119,7 @@ py::dict sweep_py(const std::string& config, const std::vector<std::string>& ove
   d["cells_total"] = r.cells_total;
   d["cells_run"] = r.cells_run;
   d["cells_done_before"] = r.cells_done_before;
+  d["cells_other_build"] = r.cells_other_build;  // complete cells another build made: recomputed
   d["complete"] = r.complete;
   return d;
 }

@@ -129,6 +129,19 @@ class EngineTest(unittest.TestCase):
         self.assertEqual(len(s["cells"]), 2)
         again = fovsim.sweep(path, out=os.path.join(self.d, "sw"))
         self.assertEqual(again["cells_done_before"], 2)  # resumed, nothing recomputed
+        self.assertEqual(again["cells_other_build"], 0)
+        # A cell another build of fovsim computed is computed again, as `fovsim sweep` does.
+        runs = os.path.join(rep["out_dir"], "runs")
+        cell = os.path.join(runs, sorted(os.listdir(runs))[0], "cell.json")
+        with open(cell) as f:
+            text = f.read()
+        self.assertIn('"git_commit": "', text)
+        with open(cell, "w") as f:
+            f.write(text.replace('"git_commit": "', '"git_commit": "older-', 1))
+        third = fovsim.sweep(path, out=os.path.join(self.d, "sw"))
+        self.assertEqual(third["cells_other_build"], 1)
+        self.assertEqual(third["cells_done_before"], 1)
+        self.assertEqual(third["cells_run"], 1)
 
     def test_example_script(self):
         sys.path.insert(0, os.path.join(REPO, "python", "examples"))
